@@ -1,0 +1,35 @@
+/* The nbrdf command-line tool: each subcommand lives in its own cmd_<name>.c
+ * and is listed in commands.c. Subcommands parse, call the library, print. */
+#ifndef NBRDF_CLI_H
+#define NBRDF_CLI_H
+
+#include <stdio.h>
+
+#include "nbrdf/status.h"
+
+enum { CLI_EXIT_OK = 0, CLI_EXIT_FAILURE = 1, CLI_EXIT_USAGE = 2 };
+
+typedef struct cli_command {
+  const char *name;
+  const char *summary;
+  int (*run)(int argc, char **argv); /* argv[0] is the subcommand's name */
+  void (*usage)(FILE *out);
+} cli_command;
+
+extern const cli_command cli_commands[];
+extern const int cli_command_count;
+
+/* Prints "nbrdf <cmd>: <message>" and a hint to stderr; returns CLI_EXIT_USAGE. */
+int cli_usage_error(const char *cmd, const char *fmt, ...);
+/* Prints "nbrdf <cmd>: <message>" to stderr; returns CLI_EXIT_FAILURE. */
+int cli_fail(const char *cmd, const char *fmt, ...);
+/* Prints an nbrdf_error; returns CLI_EXIT_FAILURE. */
+int cli_fail_error(const char *cmd, const nbrdf_error *err);
+
+/* Strict number parsing: the whole string must be a finite number. */
+int cli_parse_double(const char *text, double *out);
+int cli_parse_int(const char *text, long lo, long hi, long *out);
+/* True for "-h" and "--help". */
+int cli_is_help(const char *arg);
+
+#endif

@@ -1,0 +1,53 @@
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+
+int cli_usage_error(const char *cmd, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  fprintf(stderr, "nbrdf %s: ", cmd);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fprintf(stderr, "\n(see 'nbrdf %s --help')\n", cmd);
+  return CLI_EXIT_USAGE;
+}
+
+int cli_fail(const char *cmd, const char *fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  fprintf(stderr, "nbrdf %s: ", cmd);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fputc('\n', stderr);
+  return CLI_EXIT_FAILURE;
+}
+
+int cli_fail_error(const char *cmd, const nbrdf_error *err) {
+  return cli_fail(cmd, "%s", err->message[0] ? err->message : nbrdf_status_name(err->status));
+}
+
+int cli_parse_double(const char *text, double *out) {
+  if (!text || !*text) return 0;
+  char *end;
+  errno = 0;
+  double v = strtod(text, &end);
+  if (*end != '\0' || errno == ERANGE || !isfinite(v)) return 0;
+  *out = v;
+  return 1;
+}
+
+int cli_parse_int(const char *text, long lo, long hi, long *out) {
+  if (!text || !*text) return 0;
+  char *end;
+  errno = 0;
+  long v = strtol(text, &end, 10);
+  if (*end != '\0' || errno == ERANGE || v < lo || v > hi) return 0;
+  *out = v;
+  return 1;
+}
+
+int cli_is_help(const char *arg) { return !strcmp(arg, "-h") || !strcmp(arg, "--help"); }

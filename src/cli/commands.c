@@ -1,0 +1,12 @@
+#include "cli/cli.h"
+
+/* One line per subcommand; each is defined in cmd_<name>.c. */
+#define DECLARE(name)                                                                            \
+  int cmd_##name(int argc, char **argv);                                                         \
+  void cmd_##name##_usage(FILE *out);
+DECLARE(help)
+
+const cli_command cli_commands[] = {
+    {"help", "show help for nbrdf or one of its commands", cmd_help, cmd_help_usage},
+};
+const int cli_command_count = (int)(sizeof cli_commands / sizeof cli_commands[0]);

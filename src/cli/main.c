@@ -1,0 +1,29 @@
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "nbrdf/nbrdf.h"
+
+int main(int argc, char **argv) {
+  if (argc < 2) {
+    cli_commands[0].run(1, argv); /* the overview of 'help' */
+    return CLI_EXIT_USAGE;
+  }
+  const char *name = argv[1];
+  if (!strcmp(name, "--version") || !strcmp(name, "version")) {
+    printf("nbrdf %s\n", nbrdf_version());
+    return CLI_EXIT_OK;
+  }
+  if (cli_is_help(name)) name = "help";
+  for (int i = 0; i < cli_command_count; i++) {
+    if (!strcmp(cli_commands[i].name, name)) {
+      if (argc > 2 && cli_is_help(argv[2])) {
+        cli_commands[i].usage(stdout);
+        return CLI_EXIT_OK;
+      }
+      return cli_commands[i].run(argc - 1, argv + 1);
+    }
+  }
+  fprintf(stderr, "nbrdf: unknown command '%s' (see 'nbrdf help')\n", name);
+  return CLI_EXIT_USAGE;
+}

@@ -1,0 +1,47 @@
+#include "testing.h"
+
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+int nbrdf_test_failures = 0;
+int nbrdf_test_checks = 0;
+static char tmpdir_path[256];
+
+void nbrdf_test_fail(const char *file, int line, const char *fmt, ...) {
+  nbrdf_test_failures++;
+  fprintf(stderr, "%s:%d: ", file, line);
+  va_list ap;
+  va_start(ap, fmt);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fputc('\n', stderr);
+}
+
+int nbrdf_test_finish(void) {
+  printf("%d checks, %d failed\n", nbrdf_test_checks, nbrdf_test_failures);
+  if (tmpdir_path[0] && nbrdf_test_failures == 0) {
+    char cmd[300];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir_path);
+    if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", tmpdir_path);
+  }
+  return nbrdf_test_failures == 0 ? 0 : 1;
+}
+
+const char *nbrdf_test_tmpdir(void) {
+  if (!tmpdir_path[0]) {
+    const char *base = getenv("TMPDIR");
+    snprintf(tmpdir_path, sizeof tmpdir_path, "%s/nbrdf-test-XXXXXX", base ? base : "/tmp");
+    if (!mkdtemp(tmpdir_path)) {
+      perror("mkdtemp");
+      exit(2);
+    }
+  }
+  return tmpdir_path;
+}
+
+const char *nbrdf_test_source_dir(void) {
+  const char *s = getenv("NBRDF_SOURCE_DIR");
+  return s ? s : ".";
+}
