@@ -1,0 +1,250 @@
+/* Dense networks with forward and backward passes on CBLAS, and Adam.
+ *
+ * The building blocks of the paper's networks (Fan et al. 2022, Fig. 3): Linear, LayerNorm
+ * with learned scale and shift, ReLU, the bottleneck residual block, the "plain" layer, and
+ * additive skip connections added before normalisation and activation. A network knows
+ * nothing about BRDFs; losses, encodings and latents live in src/model.
+ *
+ * Conventions
+ * - Activations are float32, row-major [batch x features]: row r of a buffer is one query.
+ * - A Linear layer computes y = x W^T + b with W stored row-major [out x in] (the PyTorch
+ *   nn.Linear layout, so weights trained there load as they are). The forward GEMM is
+ *   cblas_sgemm(RowMajor, NoTrans, Trans); OpenBLAS packs both operands, so this costs the
+ *   same as NoTrans/NoTrans (measured in bench/bench_nn.c).
+ * - All parameters of a network live in ONE contiguous float array (nbrdf_nn_params); each
+ *   tensor is a named view into it (nbrdf_nn_tensor). Gradients use the same layout in a
+ *   caller-owned array of nbrdf_nn_param_count floats, so that several threads can each
+ *   accumulate their own gradients against one shared network.
+ * - A network is read-only during forward/backward; a workspace (one per thread) holds every
+ *   activation the backward pass needs, allocated once for a maximum batch size. Forward and
+ *   backward allocate nothing.
+ *
+ * Block definitions (w = block width, x = block input, s = skip term, see below):
+ *   LINEAR     y = x W^T + b (+ s)                                   in -> width
+ *   LAYERNORM  y = (x - mean) / sqrt(var + 1e-5) * gamma + beta      (per row, biased var)
+ *   RELU       y = max(x, 0)
+ *   PLAIN      y = ReLU(LN(x W^T + b + s))                           in -> width
+ *   RESIDUAL   h = ReLU(LN1(x W1^T + b1))                            w -> hidden (default w/2)
+ *              y = ReLU(LN2(h W2^T + b2 + x + s))                    hidden -> w
+ * i.e. the residual and any skip term are added before normalisation and activation
+ * (paper Fig. 3), and a RESIDUAL block's input and output widths are equal.
+ *
+ * Skip connections: layer i may add an earlier activation a_j (j = 0: the network input,
+ * j = k >= 1: the output of layer k-1; j <= i) to its pre-normalisation sum. If a_j's width
+ * differs from the layer's width, the skip goes through a learned projection without bias
+ * (s = a_j P^T, P [width x width_j], tensor "layers.<i>.skip.weight"); otherwise s = a_j.
+ * LAYERNORM and RELU layers take no skip.
+ *
+ * Tensor names (PyTorch-like, <i> = index in the layer list):
+ *   LINEAR     layers.<i>.weight [out x in], layers.<i>.bias [out]
+ *   LAYERNORM  layers.<i>.weight [w] (gamma), layers.<i>.bias [w] (beta)
+ *   PLAIN      layers.<i>.fc.weight, .fc.bias, .norm.weight, .norm.bias
+ *   RESIDUAL   layers.<i>.fc1.weight, .fc1.bias, .norm1.weight, .norm1.bias,
+ *              layers.<i>.fc2.weight, .fc2.bias, .norm2.weight, .norm2.bias
+ *   any        layers.<i>.skip.weight (only when a projected skip is present)
+ * Tensors appear in the parameter array in this order, layer by layer.
+ *
+ * Initialisation (nbrdf_nn_init_params, deterministic for a seed and independent of the
+ * thread count): a weight feeding a ReLU (PLAIN fc, RESIDUAL fc1 and fc2, a LINEAR followed
+ * by RELU or LAYERNORM) is He/Kaiming uniform U(-sqrt(6/fan_in), +sqrt(6/fan_in)); any other
+ * weight (an output LINEAR, a skip projection) is LeCun uniform U(-sqrt(3/fan_in), ..);
+ * biases 0; LayerNorm gamma 1, beta 0. Each tensor draws from its own PCG32 stream
+ * (stream = tensor index), so adding a layer does not change the others' values.
+ *
+ * Threading: the GEMMs use OpenBLAS's own threads; the element-wise passes run on the calling
+ * thread. This layer never calls openblas_set_num_threads (process-global); see
+ * docs/ARCHITECTURE.md "Threads" for the measured choice. Different workspaces on one network
+ * may be used from different threads at the same time. */
+#ifndef NBRDF_NN_NN_H
+#define NBRDF_NN_NN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "nbrdf/status.h"
+
+/* ---------------------------------------------------------------- spec (architecture) -- */
+
+typedef enum nbrdf_nn_kind {
+  NBRDF_NN_LINEAR = 1,
+  NBRDF_NN_LAYERNORM,
+  NBRDF_NN_RELU,
+  NBRDF_NN_PLAIN,
+  NBRDF_NN_RESIDUAL
+} nbrdf_nn_kind;
+
+typedef struct nbrdf_nn_layer_spec {
+  nbrdf_nn_kind kind;
+  int width;     /* output width (LINEAR, PLAIN); for the others 0 or the input width */
+  int hidden;    /* RESIDUAL bottleneck width; 0 = width / 2 */
+  int has_skip;  /* non-zero: add activation `skip_from` before normalisation */
+  int skip_from; /* 0 = network input, k >= 1 = output of layer k-1; must be <= own index */
+} nbrdf_nn_layer_spec;
+
+#define NBRDF_NN_MAX_LAYERS 64
+#define NBRDF_NN_MAX_WIDTH 8192
+
+/* The architecture: a plain value (copyable, no pointers). The output width is the last
+ * layer's width. Serialises to JSON (nbrdf_nn_spec_to_json) for safetensors __metadata__. */
+typedef struct nbrdf_nn_spec {
+  int n_inputs;
+  int n_layers;
+  nbrdf_nn_layer_spec layers[NBRDF_NN_MAX_LAYERS];
+} nbrdf_nn_spec;
+
+/* Empty spec with `n_inputs` input features. */
+void nbrdf_nn_spec_init(nbrdf_nn_spec *spec, int n_inputs);
+/* Appends a layer; `width` is ignored (may be 0) for LAYERNORM, RELU and RESIDUAL, whose
+ * width equals their input's. Returns the new layer's index, or -1 when the spec is full
+ * (nbrdf_nn_spec_validate then reports it). */
+int nbrdf_nn_spec_add(nbrdf_nn_spec *spec, nbrdf_nn_kind kind, int width);
+/* Sets layer `layer`'s skip source (0 = network input, k >= 1 = output of layer k-1). */
+void nbrdf_nn_spec_skip(nbrdf_nn_spec *spec, int layer, int from);
+/* The residual MLP of the paper: PLAIN(n_inputs -> width), then n_blocks times
+ * [RESIDUAL(width), and PLAIN(width -> width) if interleave_plain], then LINEAR(width ->
+ * n_outputs). The released decoder is (38, 256, 8, 1, 1): 1,058,560 multiply-adds. */
+nbrdf_status nbrdf_nn_spec_resmlp(nbrdf_nn_spec *spec, int n_inputs, int width, int n_blocks,
+                                  int interleave_plain, int n_outputs, nbrdf_error *err);
+
+/* Checks kinds, widths (1..NBRDF_NN_MAX_WIDTH, LayerNorm >= 2, even RESIDUAL hidden > 0)
+ * and skip sources; the message names the layer ("layer 3 (residual): ..."). */
+nbrdf_status nbrdf_nn_spec_validate(const nbrdf_nn_spec *spec, nbrdf_error *err);
+/* Width of activation j (0 = input, k = output of layer k-1) of a VALID spec. */
+int nbrdf_nn_spec_width(const nbrdf_nn_spec *spec, int activation);
+int nbrdf_nn_spec_outputs(const nbrdf_nn_spec *spec);
+/* Multiply-adds of the GEMMs per query (what the paper counts). */
+int64_t nbrdf_nn_spec_macs(const nbrdf_nn_spec *spec);
+size_t nbrdf_nn_spec_param_count(const nbrdf_nn_spec *spec);
+/* "linear", "layernorm", "relu", "plain", "residual"; NULL for an unknown kind. */
+const char *nbrdf_nn_kind_name(nbrdf_nn_kind kind);
+
+/* JSON form, e.g.
+ *   {"format":"nbrdf-nn","version":1,"inputs":38,"layers":[{"kind":"plain","width":256},
+ *    {"kind":"residual","hidden":128},{"kind":"linear","width":1,"skip":0}]}
+ * ("skip" present only when has_skip). *json receives a malloc'd, NUL-terminated compact
+ * string that the caller frees with free(). */
+nbrdf_status nbrdf_nn_spec_to_json(const nbrdf_nn_spec *spec, char **json, nbrdf_error *err);
+/* Parses and validates; unknown keys, wrong types and invalid architectures are refused with
+ * a message naming the offending layer/key. `spec` is untouched on failure. */
+nbrdf_status nbrdf_nn_spec_from_json(const char *json, nbrdf_nn_spec *spec, nbrdf_error *err);
+
+/* ---------------------------------------------------------------------- the network -- */
+
+typedef struct nbrdf_nn nbrdf_nn;
+
+/* A named view into the parameter (and gradient) array: a weight is [rows = out, cols = in]
+ * row-major; a vector has rank 1, rows = length, cols = 1. */
+typedef struct nbrdf_nn_tensor {
+  char name[48];
+  size_t offset; /* in floats, from the start of the parameter array */
+  size_t count;  /* rows * cols */
+  int rank;      /* 2 for weights, 1 for biases and LayerNorm gamma/beta */
+  int rows, cols;
+} nbrdf_nn_tensor;
+
+/* Validates the spec and allocates the parameters, zero-filled (call init_params or load
+ * weights before use). */
+nbrdf_status nbrdf_nn_create(const nbrdf_nn_spec *spec, nbrdf_nn **out, nbrdf_error *err);
+void nbrdf_nn_destroy(nbrdf_nn *nn);
+
+const nbrdf_nn_spec *nbrdf_nn_get_spec(const nbrdf_nn *nn);
+int nbrdf_nn_inputs(const nbrdf_nn *nn);
+int nbrdf_nn_outputs(const nbrdf_nn *nn);
+
+/* The contiguous parameter array (64-byte aligned) and its length in floats. */
+float *nbrdf_nn_params(nbrdf_nn *nn);
+const float *nbrdf_nn_params_const(const nbrdf_nn *nn);
+size_t nbrdf_nn_param_count(const nbrdf_nn *nn);
+
+int nbrdf_nn_tensor_count(const nbrdf_nn *nn);
+const nbrdf_nn_tensor *nbrdf_nn_tensor_at(const nbrdf_nn *nn, int index);
+/* NULL when no tensor has that name. */
+const nbrdf_nn_tensor *nbrdf_nn_find_tensor(const nbrdf_nn *nn, const char *name);
+
+/* Deterministic initialisation (see the top of this file). */
+void nbrdf_nn_init_params(nbrdf_nn *nn, uint64_t seed);
+
+/* ----------------------------------------------------------------------- workspaces -- */
+
+typedef enum nbrdf_nn_mode {
+  NBRDF_NN_TRAIN = 0, /* keeps every activation: forward then backward */
+  NBRDF_NN_INFER = 1  /* ping-pong buffers only: forward only, any batch (chunked) */
+} nbrdf_nn_mode;
+
+typedef struct nbrdf_nn_workspace nbrdf_nn_workspace;
+
+/* A workspace for batches of up to `max_batch` rows of this network's architecture (it may be
+ * used with any network of an identical spec). */
+nbrdf_status nbrdf_nn_workspace_create(const nbrdf_nn *nn, int max_batch, nbrdf_nn_mode mode,
+                                       nbrdf_nn_workspace **out, nbrdf_error *err);
+void nbrdf_nn_workspace_destroy(nbrdf_nn_workspace *ws);
+int nbrdf_nn_workspace_max_batch(const nbrdf_nn_workspace *ws);
+/* Bytes a workspace for this spec, batch and mode allocates. */
+size_t nbrdf_nn_workspace_bytes(const nbrdf_nn_spec *spec, int max_batch, nbrdf_nn_mode mode);
+
+/* ----------------------------------------------------------------- forward / backward -- */
+
+/* y[batch x outputs] = network(x[batch x inputs]). In TRAIN mode batch <= max_batch and the
+ * workspace keeps what backward needs (x is copied; the caller may reuse it). In INFER mode
+ * any batch >= 1 is processed in chunks of max_batch. `y` may alias nothing in `ws`.
+ * Non-finite inputs are not checked here (hot path); they propagate. */
+nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x,
+                              int batch, float *y, nbrdf_error *err);
+
+/* Backward pass of the LAST forward on `ws` (TRAIN mode), with dy = dL/dy [batch x outputs]:
+ * - dx: if non-NULL, receives dL/dx [batch x inputs] (overwritten), e.g. for a latent that
+ *   is part of the input;
+ * - grad: if non-NULL, dL/dparams is ADDED into it (same layout as nbrdf_nn_params; zero it
+ *   before the first batch of a step). With grad == NULL the weight-gradient GEMMs are
+ *   skipped (a frozen network, as in projection).
+ * The stored activations are consumed: call forward again before another backward. */
+nbrdf_status nbrdf_nn_backward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *dy,
+                               float *dx, float *grad, nbrdf_error *err);
+
+/* -------------------------------------------------------------------------------- Adam -- */
+
+/* Adam (Kingma & Ba 2015) with decoupled weight decay (AdamW, Loshchilov & Hutter 2019) and
+ * the paper's step decay: lr(t) = lr * gamma^floor(t / decay_every), t = steps taken. */
+typedef struct nbrdf_adam_options {
+  float lr;            /* base learning rate of the default group */
+  float beta1, beta2;  /* moment decay rates, in [0, 1) */
+  float eps;           /* added to sqrt(v_hat) */
+  float weight_decay;  /* decoupled: p -= lr(t) * weight_decay * p; 0 = none */
+  int decay_every;     /* steps between learning-rate decays; 0 = never */
+  float decay_gamma;   /* factor per decay, in (0, 1] */
+} nbrdf_adam_options;
+
+#define NBRDF_ADAM_OPTIONS_DEFAULT                                                             \
+  { 1e-3f, 0.9f, 0.999f, 1e-8f, 0.0f, 0, 1.0f }
+
+typedef struct nbrdf_adam nbrdf_adam;
+
+/* An optimiser for a float array of `n` parameters (a network's nbrdf_nn_params, or any
+ * external array such as a latent table). Moments start at zero. */
+nbrdf_status nbrdf_adam_create(size_t n, const nbrdf_adam_options *opts, nbrdf_adam **out,
+                               nbrdf_error *err);
+void nbrdf_adam_destroy(nbrdf_adam *adam);
+
+/* Gives parameters [offset, offset + count) their own base learning rate and weight decay
+ * (a parameter group). Later groups override earlier ones where they overlap; parameters in
+ * no group use the options' lr and weight_decay. Returns the group's id (>= 1) in *group. */
+nbrdf_status nbrdf_adam_add_group(nbrdf_adam *adam, size_t offset, size_t count, float lr,
+                                  float weight_decay, int *group, nbrdf_error *err);
+/* Same, for every tensor of `nn` whose name contains `name_part` (e.g. ".weight", "norm");
+ * fails if none matches. */
+nbrdf_status nbrdf_adam_add_group_tensors(nbrdf_adam *adam, const nbrdf_nn *nn,
+                                          const char *name_part, float lr, float weight_decay,
+                                          int *group, nbrdf_error *err);
+
+/* One step on all n parameters: params -= lr(t) * m_hat / (sqrt(v_hat) + eps) (+ decay).
+ * Non-finite gradients are refused (nothing is updated) with the index of the first one. */
+nbrdf_status nbrdf_adam_step(nbrdf_adam *adam, float *params, const float *grads,
+                             nbrdf_error *err);
+/* Learning rate the NEXT step will use for `group` (0 = default). */
+float nbrdf_adam_lr(const nbrdf_adam *adam, int group);
+/* Steps taken so far. */
+int64_t nbrdf_adam_steps(const nbrdf_adam *adam);
+/* Forgets moments and step count (e.g. to reuse one optimiser for a new projection). */
+void nbrdf_adam_reset(nbrdf_adam *adam);
+
+#endif
