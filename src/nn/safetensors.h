@@ -1,0 +1,154 @@
+/* Weights on disk: a reader and a writer for the safetensors format
+ * (https://github.com/huggingface/safetensors), so that nbrdf's own models and models
+ * trained elsewhere (PyTorch) load through the same code.
+ *
+ * The format: an 8-byte little-endian unsigned header length N; N bytes of UTF-8 JSON,
+ * an object mapping each tensor name to
+ *   {"dtype": "F32", "shape": [d0, d1, ...], "data_offsets": [begin, end]}
+ * (byte offsets relative to the first byte after the header) plus an optional
+ * "__metadata__" object of string -> string; then the data buffer, little-endian,
+ * row-major, which the tensors must cover exactly (no overlap, no hole, nothing after).
+ *
+ * This is a generic named-tensor container: it knows nothing about networks. The model
+ * layer puts its architecture into the metadata and checks shapes with nbrdf_st_expect.
+ *
+ * Reading: the whole file is validated before anything is returned (every name, dtype,
+ * shape, offset and the file size; see DESIGN.md "Formats"); a malformed or truncated file
+ * is refused with NBRDF_ERR_FORMAT and a message "<label>: <what is wrong>", never a
+ * crash or an allocation larger than a small multiple of the input's real size. Tensor data
+ * is converted to float at open: F32 is nbrdf's own dtype; F16, BF16 (exactly) and F64
+ * (rounded to nearest, out-of-range values become +-inf) are accepted because PyTorch
+ * exports often use them. Any other dtype of the format (BOOL, integers, FP8...) is refused
+ * with NBRDF_ERR_UNSUPPORTED naming the tensor; an unknown dtype string is NBRDF_ERR_FORMAT.
+ * The reader does not keep a reference to the file or buffer it was opened from.
+ *
+ * Limits (documented refusals, NBRDF_ERR_FORMAT): header at most NBRDF_ST_MAX_HEADER bytes,
+ * at most NBRDF_ST_MAX_JSON_VALUES JSON values in it, tensors of at most NBRDF_ST_MAX_DIMS
+ * dimensions (NBRDF_ERR_UNSUPPORTED), offsets and dimensions at most 2^53 (JSON numbers
+ * are read as doubles). Integers written as 1e3 or 1.0 are accepted as their value.
+ *
+ * A reader is immutable after open: several threads may read one reader at once.
+ * A writer must be used by one thread at a time. */
+#ifndef NBRDF_NN_SAFETENSORS_H
+#define NBRDF_NN_SAFETENSORS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "nbrdf/status.h"
+
+#define NBRDF_ST_MAX_DIMS 8
+#define NBRDF_ST_MAX_HEADER (16u << 20)
+#define NBRDF_ST_MAX_JSON_VALUES 1000000
+
+typedef enum nbrdf_st_dtype {
+  NBRDF_ST_F32 = 0,
+  NBRDF_ST_F16,
+  NBRDF_ST_BF16,
+  NBRDF_ST_F64
+} nbrdf_st_dtype;
+
+/* "F32", "F16", "BF16", "F64". */
+const char *nbrdf_st_dtype_name(nbrdf_st_dtype dtype);
+
+/* One tensor of a reader; owned by the reader, valid until nbrdf_st_close. */
+typedef struct nbrdf_st_tensor {
+  const char *name;
+  nbrdf_st_dtype dtype;             /* as stored in the file */
+  int ndim;                         /* 0 for a scalar */
+  int64_t shape[NBRDF_ST_MAX_DIMS]; /* row-major; entries past ndim are 0 */
+  size_t count;                     /* product of the shape (1 for a scalar) */
+  const float *data;                /* count floats, converted from dtype; NULL iff count == 0 */
+} nbrdf_st_tensor;
+
+/* ---------------------------------------------------------------- reading */
+
+typedef struct nbrdf_st_reader nbrdf_st_reader;
+
+/* Opens and validates a file; messages start with `path`. */
+nbrdf_status nbrdf_st_open(const char *path, nbrdf_st_reader **out, nbrdf_error *err);
+
+/* The same from memory (the bytes of a file); `label` (e.g. a file name) starts every
+ * message and is returned by nbrdf_st_label. The buffer is not used after the call. */
+nbrdf_status nbrdf_st_open_memory(const void *bytes, size_t size, const char *label,
+                                  nbrdf_st_reader **out, nbrdf_error *err);
+
+void nbrdf_st_close(nbrdf_st_reader *reader); /* NULL is allowed */
+
+const char *nbrdf_st_label(const nbrdf_st_reader *reader);
+
+/* Tensors in increasing strcmp order of their names (not file order). */
+size_t nbrdf_st_tensor_count(const nbrdf_st_reader *reader);
+const nbrdf_st_tensor *nbrdf_st_tensor_at(const nbrdf_st_reader *reader, size_t index);
+/* NULL when there is no tensor of that name. */
+const nbrdf_st_tensor *nbrdf_st_find(const nbrdf_st_reader *reader, const char *name);
+
+/* The tensor `name` with exactly the given shape (ndim entries) and only finite values,
+ * for loading nbrdf's own weights. Fails with NBRDF_ERR_MISMATCH and a message such as
+ * "decoder.safetensors: tensor 'block3.fc1.weight' has shape [128, 256], expected
+ * [256, 128]" (or "has no tensor 'x'"), or NBRDF_ERR_FORMAT if a value is NaN or
+ * infinite. On success *data points to the reader's floats (valid until close). */
+nbrdf_status nbrdf_st_expect(const nbrdf_st_reader *reader, const char *name, int ndim,
+                             const int64_t *shape, const float **data, nbrdf_error *err);
+/* nbrdf_st_expect, then copies the values into dst (room for the product of shape). */
+nbrdf_status nbrdf_st_expect_copy(const nbrdf_st_reader *reader, const char *name, int ndim,
+                                  const int64_t *shape, float *dst, nbrdf_error *err);
+
+/* Metadata, in increasing strcmp order of keys. nbrdf_st_metadata_get returns NULL when
+ * the key is absent; nbrdf_st_metadata_require fails with NBRDF_ERR_MISMATCH instead. */
+size_t nbrdf_st_metadata_count(const nbrdf_st_reader *reader);
+const char *nbrdf_st_metadata_key(const nbrdf_st_reader *reader, size_t index);
+const char *nbrdf_st_metadata_value(const nbrdf_st_reader *reader, size_t index);
+const char *nbrdf_st_metadata_get(const nbrdf_st_reader *reader, const char *key);
+nbrdf_status nbrdf_st_metadata_require(const nbrdf_st_reader *reader, const char *key,
+                                       const char **value, nbrdf_error *err);
+
+/* ---------------------------------------------------------------- checksum */
+
+/* The checksum of a weights file is FNV-1a 64-bit over every byte of the file, as read
+ * (header included, so metadata changes change it). It identifies a model, e.g. in a
+ * latent texture's header so that a texture baked with another model is refused; it
+ * detects accidents, not forgery. The writer's output is deterministic, so the same
+ * weights and metadata always give the same checksum. Format it with "%016" PRIx64. */
+#define NBRDF_ST_FNV1A64_INIT UINT64_C(0xcbf29ce484222325)
+/* Continues a running checksum (start from NBRDF_ST_FNV1A64_INIT) over more bytes. */
+uint64_t nbrdf_st_fnv1a64(uint64_t hash, const void *bytes, size_t size);
+/* The checksum of the file or buffer the reader was opened from. */
+uint64_t nbrdf_st_checksum(const nbrdf_st_reader *reader);
+
+/* ---------------------------------------------------------------- writing */
+
+typedef struct nbrdf_st_writer nbrdf_st_writer;
+
+nbrdf_status nbrdf_st_writer_create(nbrdf_st_writer **out, nbrdf_error *err);
+void nbrdf_st_writer_destroy(nbrdf_st_writer *writer); /* NULL is allowed */
+
+/* Adds an F32 tensor of the given shape (ndim <= NBRDF_ST_MAX_DIMS, each dim >= 0; data
+ * may be NULL only if a dim is 0). The data is COPIED: the caller may reuse its buffer at
+ * once. Fails with NBRDF_ERR_ARGUMENT for an empty name, "__metadata__", a name that is not
+ * UTF-8 or contains NUL, or a name already added. Values are written as given (NaN too). */
+nbrdf_status nbrdf_st_writer_add(nbrdf_st_writer *writer, const char *name, int ndim,
+                                 const int64_t *shape, const float *data, nbrdf_error *err);
+/* The same without the copy: `data` is BORROWED and must stay valid and unchanged until
+ * the last nbrdf_st_writer_save / _serialize call or nbrdf_st_writer_destroy. */
+nbrdf_status nbrdf_st_writer_add_borrowed(nbrdf_st_writer *writer, const char *name, int ndim,
+                                          const int64_t *shape, const float *data,
+                                          nbrdf_error *err);
+
+/* Sets (or replaces) a metadata entry; both strings are copied and must be UTF-8. */
+nbrdf_status nbrdf_st_writer_set_metadata(nbrdf_st_writer *writer, const char *key,
+                                          const char *value, nbrdf_error *err);
+
+/* Writes the file atomically: into a temporary file in the same directory, flushed and
+ * synced, then renamed over `path`. On any failure nothing is left behind and an existing
+ * file at `path` is untouched. Tensors are written sorted by name, metadata sorted by key,
+ * the header padded with spaces to a multiple of 8 bytes so that the data is 8-aligned in
+ * the file. `checksum` (may be NULL) receives the checksum of the written bytes. */
+nbrdf_status nbrdf_st_writer_save(const nbrdf_st_writer *writer, const char *path,
+                                  uint64_t *checksum, nbrdf_error *err);
+
+/* The same bytes into a malloc'ed buffer (caller frees with free()). */
+nbrdf_status nbrdf_st_writer_serialize(const nbrdf_st_writer *writer, void **bytes, size_t *size,
+                                       nbrdf_error *err);
+
+#endif
