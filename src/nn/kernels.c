@@ -1,0 +1,161 @@
+/* The element-wise and GEMM kernels of the layers. Everything outside the GEMMs is a single
+ * pass over rows that the compiler vectorises; reductions keep 8 independent partial sums
+ * (vectorisable without -ffast-math and bit-reproducible), and sums over the batch are kept
+ * in double because they run over up to 65536 rows. */
+#include <cblas.h>
+#include <math.h>
+#include <string.h>
+
+#include "nn/internal.h"
+
+#define LN_EPS 1e-5f
+#define LANES 8
+
+void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta,
+                 float *y) {
+  if (rows == 1) {
+    /* A single query is a matrix-vector product; sgemm's packing would dominate. */
+    cblas_sgemv(CblasRowMajor, CblasNoTrans, out, in, 1.0f, w, in, x, 1, beta, y, 1);
+    return;
+  }
+  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, rows, out, in, 1.0f, x, in, w, in, beta,
+              y, out);
+}
+
+static double sum_lanes(const float *v, int w) {
+  float part[LANES] = {0};
+  int c = 0;
+  for (; c + LANES <= w; c += LANES)
+    for (int k = 0; k < LANES; k++) part[k] += v[c + k];
+  double s = 0;
+  for (int k = 0; k < LANES; k++) s += part[k];
+  for (; c < w; c++) s += v[c];
+  return s;
+}
+
+static double sumsq_dev_lanes(const float *v, int w, float mean) {
+  float part[LANES] = {0};
+  int c = 0;
+  for (; c + LANES <= w; c += LANES)
+    for (int k = 0; k < LANES; k++) {
+      float d = v[c + k] - mean;
+      part[k] += d * d;
+    }
+  double s = 0;
+  for (int k = 0; k < LANES; k++) s += part[k];
+  for (; c < w; c++) {
+    double d = v[c] - mean;
+    s += d * d;
+  }
+  return s;
+}
+
+static double dot_lanes(const float *a, const float *b, int w) {
+  float part[LANES] = {0};
+  int c = 0;
+  for (; c + LANES <= w; c += LANES)
+    for (int k = 0; k < LANES; k++) part[k] += a[c + k] * b[c + k];
+  double s = 0;
+  for (int k = 0; k < LANES; k++) s += part[k];
+  for (; c < w; c++) s += (double)a[c] * b[c];
+  return s;
+}
+
+/* u = z + bias + add1 + add2 (the pre-normalisation sum: residual and skips are added here,
+ * paper Fig. 3); xhat = (u - mean) / sqrt(var + eps) (two-pass, biased variance as PyTorch);
+ * y = [ReLU](xhat * gamma + beta). xhat may alias z; y must not alias z or xhat. */
+void nn_ln_forward(int rows, int w, const float *z, const float *bias, const float *add1,
+                   const float *add2, const float *gamma, const float *beta, float *xhat,
+                   float *rstd, float *y, int relu) {
+  for (int r = 0; r < rows; r++) {
+    const float *zr = z + (size_t)r * w;
+    float *u = xhat + (size_t)r * w, *yr = y + (size_t)r * w;
+    if (bias)
+      for (int c = 0; c < w; c++) u[c] = zr[c] + bias[c];
+    else if (u != zr)
+      memcpy(u, zr, sizeof(float) * (size_t)w);
+    if (add1) {
+      const float *a = add1 + (size_t)r * w;
+      for (int c = 0; c < w; c++) u[c] += a[c];
+    }
+    if (add2) {
+      const float *a = add2 + (size_t)r * w;
+      for (int c = 0; c < w; c++) u[c] += a[c];
+    }
+    float mean = (float)(sum_lanes(u, w) / w);
+    float var = (float)(sumsq_dev_lanes(u, w, mean) / w);
+    float rs = 1.0f / sqrtf(var + LN_EPS);
+    rstd[r] = rs;
+    for (int c = 0; c < w; c++) {
+      float xh = (u[c] - mean) * rs;
+      u[c] = xh;
+      float v = xh * gamma[c] + beta[c];
+      /* Written so that NaN passes through (maxps keeps its second operand). */
+      yr[c] = relu ? (0.0f > v ? 0.0f : v) : v;
+    }
+  }
+}
+
+/* In place: g = dL/dy on entry, dL/du on return (u the pre-normalisation sum). With y_relu,
+ * y_relu is the layer's output and the ReLU's mask is y > 0. dgamma, dbeta and dbias (any may
+ * be NULL) accumulate the column sums of dL/dy * xhat, dL/dy and dL/du. */
+void nn_ln_backward(int rows, int w, float *g, const float *y_relu, const float *xhat,
+                    const float *rstd, const float *gamma, double *dgamma, double *dbeta,
+                    double *dbias) {
+  float dxh[NBRDF_NN_MAX_WIDTH];
+  for (int r = 0; r < rows; r++) {
+    float *gr = g + (size_t)r * w;
+    const float *xr = xhat + (size_t)r * w;
+    if (y_relu) {
+      const float *yr = y_relu + (size_t)r * w;
+      for (int c = 0; c < w; c++) gr[c] = yr[c] > 0.0f ? gr[c] : 0.0f;
+    }
+    if (dbeta)
+      for (int c = 0; c < w; c++) dbeta[c] += gr[c];
+    if (dgamma)
+      for (int c = 0; c < w; c++) dgamma[c] += (double)(gr[c] * xr[c]);
+    for (int c = 0; c < w; c++) dxh[c] = gr[c] * gamma[c];
+    /* dL/du = rstd * (dxh - mean(dxh) - xhat * mean(dxh * xhat)) */
+    float m1 = (float)(sum_lanes(dxh, w) / w);
+    float m2 = (float)(dot_lanes(dxh, xr, w) / w);
+    float rs = rstd[r];
+    for (int c = 0; c < w; c++) gr[c] = rs * (dxh[c] - m1 - xr[c] * m2);
+    if (dbias)
+      for (int c = 0; c < w; c++) dbias[c] += gr[c];
+  }
+}
+
+void nn_add_rows(int rows, int w, float *y, const float *bias, const float *add) {
+  for (int r = 0; r < rows; r++) {
+    float *yr = y + (size_t)r * w;
+    if (bias)
+      for (int c = 0; c < w; c++) yr[c] += bias[c];
+    if (add) {
+      const float *a = add + (size_t)r * w;
+      for (int c = 0; c < w; c++) yr[c] += a[c];
+    }
+  }
+}
+
+void nn_relu_forward(size_t n, const float *x, float *y) {
+  for (size_t i = 0; i < n; i++) y[i] = 0.0f > x[i] ? 0.0f : x[i];
+}
+
+void nn_relu_backward(size_t n, float *g, const float *y) {
+  for (size_t i = 0; i < n; i++) g[i] = y[i] > 0.0f ? g[i] : 0.0f;
+}
+
+void nn_colsum(int rows, int w, const float *g, double *acc) {
+  for (int r = 0; r < rows; r++) {
+    const float *gr = g + (size_t)r * w;
+    for (int c = 0; c < w; c++) acc[c] += gr[c];
+  }
+}
+
+/* grad += acc, then acc = 0 for the next tensor. */
+void nn_flush(int w, double *acc, float *grad) {
+  for (int c = 0; c < w; c++) {
+    grad[c] += (float)acc[c];
+    acc[c] = 0.0;
+  }
+}
