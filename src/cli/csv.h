@@ -1,0 +1,60 @@
+/* A small CSV reader for the CLI's point queries (`nbrdf eval`).
+ *
+ * Records are separated by LF or CRLF; fields by commas. A field that starts
+ * with '"' is quoted (RFC 4180): it may hold commas, newlines and doubled
+ * quotes. Each field keeps its raw text (quotes and surrounding spaces
+ * included) so that columns the caller does not interpret can be written back
+ * byte for byte. Blank lines (empty or only spaces/tabs) are skipped wherever
+ * they are; a UTF-8 byte-order mark before the header is dropped. Line numbers
+ * are physical lines of the input, counted from 1 (the header's line); parse
+ * errors name the line and leave `name` (the input's name) to I/O errors. */
+#ifndef NBRDF_CLI_CSV_H
+#define NBRDF_CLI_CSV_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "nbrdf/status.h"
+
+typedef struct csv_span {
+  size_t start; /* offset into csv_table.text */
+  size_t len;
+} csv_span;
+
+typedef struct csv_table {
+  char *text; /* the whole input, owned */
+  size_t text_len;
+  size_t n_records;    /* header included; 0 for an empty input */
+  size_t *first_field; /* record r has fields first_field[r] .. first_field[r + 1] - 1 */
+  size_t *line;        /* record r starts on this physical line */
+  csv_span *fields;
+  size_t n_fields;
+} csv_table;
+
+/* Reads `in` to its end and splits it into records. `name` ("stdin") prefixes
+ * error messages. On failure the table is left empty (csv_free is harmless). */
+nbrdf_status csv_read(FILE *in, const char *name, csv_table *table, nbrdf_error *err);
+
+/* Splits text[0..len) (taking ownership of `text`, which must come from malloc). */
+nbrdf_status csv_parse(char *text, size_t len, const char *name, csv_table *table,
+                       nbrdf_error *err);
+
+void csv_free(csv_table *table);
+
+static inline size_t csv_record_width(const csv_table *t, size_t record) {
+  return t->first_field[record + 1] - t->first_field[record];
+}
+
+static inline csv_span csv_field(const csv_table *t, size_t record, size_t column) {
+  return t->fields[t->first_field[record] + column];
+}
+
+/* The field's value: quotes removed ("" -> "), leading and trailing spaces and
+ * tabs trimmed, NUL-terminated in `buf` (cap bytes). Returns the value's
+ * length, which may exceed cap - 1 (the copy is then truncated). */
+size_t csv_value(const csv_table *t, size_t record, size_t column, char *buf, size_t cap);
+
+/* Writes a field's raw text unchanged. */
+void csv_write_raw(FILE *out, const csv_table *t, size_t record, size_t column);
+
+#endif
