@@ -1,0 +1,236 @@
+/* Forward pass against a naive double-precision reference written from the block definitions
+ * in src/nn/nn.h; training vs inference workspaces, chunking, batch 1; misuse is refused. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/rng.h"
+#include "nn/nn.h"
+#include "testing.h"
+
+#define MAXW 64
+
+/* ---- reference: one row at a time, in double, straight from the definitions ---- */
+
+static void ref_linear(const float *w, const float *b, int in, int out, const double *x,
+                       double *y) {
+  for (int o = 0; o < out; o++) {
+    double s = b ? b[o] : 0.0;
+    for (int i = 0; i < in; i++) s += (double)w[(size_t)o * in + i] * x[i];
+    y[o] = s;
+  }
+}
+
+static void ref_ln(const float *gamma, const float *beta, int w, double *u, int relu) {
+  double mean = 0, var = 0;
+  for (int c = 0; c < w; c++) mean += u[c];
+  mean /= w;
+  for (int c = 0; c < w; c++) var += (u[c] - mean) * (u[c] - mean);
+  var /= w;
+  for (int c = 0; c < w; c++) {
+    double v = (u[c] - mean) / sqrt(var + 1e-5) * gamma[c] + beta[c];
+    u[c] = relu && v < 0 ? 0 : v;
+  }
+}
+
+static const float *P(const nbrdf_nn *nn, int layer, const char *part) {
+  char name[64];
+  snprintf(name, sizeof name, "layers.%d.%s", layer, part);
+  const nbrdf_nn_tensor *t = nbrdf_nn_find_tensor(nn, name);
+  return t ? nbrdf_nn_params_const(nn) + t->offset : NULL;
+}
+
+static void ref_forward(const nbrdf_nn *nn, const float *x, double *y) {
+  const nbrdf_nn_spec *s = nbrdf_nn_get_spec(nn);
+  static double act[NBRDF_NN_MAX_LAYERS + 1][MAXW];
+  int w[NBRDF_NN_MAX_LAYERS + 1];
+  w[0] = s->n_inputs;
+  for (int c = 0; c < w[0]; c++) act[0][c] = x[c];
+  for (int i = 0; i < s->n_layers; i++) {
+    const nbrdf_nn_layer_spec *l = &s->layers[i];
+    const double *in = act[i];
+    double *out = act[i + 1], skip[MAXW] = {0}, h[MAXW];
+    int win = w[i];
+    int wout = l->kind == NBRDF_NN_LINEAR || l->kind == NBRDF_NN_PLAIN ? l->width : win;
+    w[i + 1] = wout;
+    if (l->has_skip) {
+      const float *ps = P(nn, i, "skip.weight");
+      if (ps)
+        ref_linear(ps, NULL, w[l->skip_from], wout, act[l->skip_from], skip);
+      else
+        for (int c = 0; c < wout; c++) skip[c] = act[l->skip_from][c];
+    }
+    switch (l->kind) {
+    case NBRDF_NN_LINEAR:
+      ref_linear(P(nn, i, "weight"), P(nn, i, "bias"), win, wout, in, out);
+      for (int c = 0; c < wout; c++) out[c] += skip[c];
+      break;
+    case NBRDF_NN_PLAIN:
+      ref_linear(P(nn, i, "fc.weight"), P(nn, i, "fc.bias"), win, wout, in, out);
+      for (int c = 0; c < wout; c++) out[c] += skip[c];
+      ref_ln(P(nn, i, "norm.weight"), P(nn, i, "norm.bias"), wout, out, 1);
+      break;
+    case NBRDF_NN_RESIDUAL: {
+      int hid = l->hidden ? l->hidden : win / 2;
+      ref_linear(P(nn, i, "fc1.weight"), P(nn, i, "fc1.bias"), win, hid, in, h);
+      ref_ln(P(nn, i, "norm1.weight"), P(nn, i, "norm1.bias"), hid, h, 1);
+      ref_linear(P(nn, i, "fc2.weight"), P(nn, i, "fc2.bias"), hid, wout, h, out);
+      for (int c = 0; c < wout; c++) out[c] += in[c] + skip[c];
+      ref_ln(P(nn, i, "norm2.weight"), P(nn, i, "norm2.bias"), wout, out, 1);
+      break;
+    }
+    case NBRDF_NN_LAYERNORM:
+      for (int c = 0; c < wout; c++) out[c] = in[c];
+      ref_ln(P(nn, i, "weight"), P(nn, i, "bias"), wout, out, 0);
+      break;
+    case NBRDF_NN_RELU:
+      for (int c = 0; c < wout; c++) out[c] = in[c] < 0 ? 0 : in[c];
+      break;
+    }
+  }
+  for (int c = 0; c < w[s->n_layers]; c++) y[c] = act[s->n_layers][c];
+}
+
+/* ---- fixtures ---- */
+
+/* Every block kind, identity and projected skips, widths that are not multiples of 8. */
+static nbrdf_nn *make_mixed(uint64_t seed) {
+  nbrdf_error err_s, *err = &err_s;
+  nbrdf_nn_spec s;
+  nbrdf_nn_spec_init(&s, 13);
+  nbrdf_nn_spec_add(&s, NBRDF_NN_PLAIN, 36);
+  int r = nbrdf_nn_spec_add(&s, NBRDF_NN_RESIDUAL, 0);
+  nbrdf_nn_spec_skip(&s, r, 0);
+  nbrdf_nn_spec_add(&s, NBRDF_NN_LINEAR, 20);
+  nbrdf_nn_spec_add(&s, NBRDF_NN_LAYERNORM, 0);
+  nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0);
+  int p = nbrdf_nn_spec_add(&s, NBRDF_NN_PLAIN, 36);
+  nbrdf_nn_spec_skip(&s, p, 2);
+  int o = nbrdf_nn_spec_add(&s, NBRDF_NN_LINEAR, 3);
+  nbrdf_nn_spec_skip(&s, o, 0);
+  nbrdf_nn *nn = NULL;
+  CHECK_OK(nbrdf_nn_create(&s, &nn, err), err);
+  if (!nn) return NULL;
+  nbrdf_nn_init_params(nn, seed);
+  nbrdf_rng rng;
+  nbrdf_rng_init(&rng, seed, 5);
+  float *q = nbrdf_nn_params(nn);
+  for (size_t i = 0; i < nbrdf_nn_param_count(nn); i++)
+    q[i] += (float)(0.2 * nbrdf_rng_normal(&rng));
+  return nn;
+}
+
+static float *random_rows(int rows, int w, uint64_t seed) {
+  float *x = malloc(sizeof(float) * (size_t)rows * w);
+  nbrdf_rng rng;
+  nbrdf_rng_init(&rng, seed, 0);
+  for (int i = 0; i < rows * w; i++) x[i] = (float)nbrdf_rng_normal(&rng);
+  return x;
+}
+
+static void test_matches_reference(void) {
+  nbrdf_error err_s, *err = &err_s;
+  nbrdf_nn *nn = make_mixed(3);
+  if (!nn) return;
+  const int rows = 37, in = nbrdf_nn_inputs(nn), out = nbrdf_nn_outputs(nn);
+  float *x = random_rows(rows, in, 11), y[37 * 3];
+  nbrdf_nn_workspace *ws = NULL;
+  CHECK_OK(nbrdf_nn_workspace_create(nn, rows, NBRDF_NN_TRAIN, &ws, err), err);
+  CHECK_OK(nbrdf_nn_forward(nn, ws, x, rows, y, err), err);
+  /* Float32 rounding through seven layers: about 1e-6 of the outputs' scale. */
+  static double ref[37][MAXW];
+  double rms = 0, worst = 0;
+  for (int r = 0; r < rows; r++) {
+    ref_forward(nn, x + r * in, ref[r]);
+    for (int c = 0; c < out; c++) rms += ref[r][c] * ref[r][c] / (rows * out);
+  }
+  rms = sqrt(rms);
+  CHECK(rms > 0.1);
+  for (int r = 0; r < rows; r++)
+    for (int c = 0; c < out; c++) {
+      double e = fabs(y[r * out + c] - ref[r][c]) / (rms + fabs(ref[r][c]));
+      if (e > worst) worst = e;
+    }
+  CHECK_MSG(worst < 1e-5, "forward differs from the reference by %.3g (relative)", worst);
+  nbrdf_nn_workspace_destroy(ws);
+  free(x);
+  nbrdf_nn_destroy(nn);
+}
+
+/* Inference (ping-pong buffers, chunks of max_batch, sgemv for one row) agrees with training
+ * mode; the same input row gives the same output whatever batch it comes in. */
+static void test_modes_and_chunks(void) {
+  nbrdf_error err_s, *err = &err_s;
+  nbrdf_nn *nn = make_mixed(4);
+  if (!nn) return;
+  const int rows = 100, in = nbrdf_nn_inputs(nn), out = nbrdf_nn_outputs(nn);
+  float *x = random_rows(rows, in, 12), ya[300], yb[300], yc[300];
+  nbrdf_nn_workspace *wt = NULL, *wi = NULL, *w1 = NULL;
+  CHECK_OK(nbrdf_nn_workspace_create(nn, rows, NBRDF_NN_TRAIN, &wt, err), err);
+  CHECK_OK(nbrdf_nn_workspace_create(nn, 7, NBRDF_NN_INFER, &wi, err), err);
+  CHECK_OK(nbrdf_nn_workspace_create(nn, 1, NBRDF_NN_INFER, &w1, err), err);
+  CHECK(nbrdf_nn_workspace_max_batch(wi) == 7);
+  CHECK_OK(nbrdf_nn_forward(nn, wt, x, rows, ya, err), err);
+  CHECK_OK(nbrdf_nn_forward(nn, wi, x, rows, yb, err), err);
+  CHECK_OK(nbrdf_nn_forward(nn, w1, x, rows, yc, err), err);
+  for (int i = 0; i < rows * out; i++) {
+    CHECK_REL(ya[i], yb[i], 1e-5, 1e-6);
+    CHECK_REL(ya[i], yc[i], 1e-5, 1e-6);
+  }
+  /* Deterministic: the same call twice gives the same bits. */
+  CHECK_OK(nbrdf_nn_forward(nn, wi, x, rows, yc, err), err);
+  CHECK(memcmp(yb, yc, sizeof(float) * rows * out) == 0);
+  size_t train = nbrdf_nn_workspace_bytes(nbrdf_nn_get_spec(nn), 1000, NBRDF_NN_TRAIN);
+  size_t infer = nbrdf_nn_workspace_bytes(nbrdf_nn_get_spec(nn), 1000, NBRDF_NN_INFER);
+  CHECK(infer > 0 && train > 2 * infer);
+  nbrdf_nn_workspace_destroy(wt);
+  nbrdf_nn_workspace_destroy(wi);
+  nbrdf_nn_workspace_destroy(w1);
+  free(x);
+  nbrdf_nn_destroy(nn);
+}
+
+static void test_misuse_refused(void) {
+  nbrdf_error err_s, *err = &err_s;
+  nbrdf_nn *nn = make_mixed(5);
+  if (!nn) return;
+  float x[4 * 13] = {0}, y[4 * 3], g[4 * 3] = {0};
+  nbrdf_nn_workspace *wt = NULL, *wi = NULL, *other = NULL;
+  CHECK_FAILS(nbrdf_nn_workspace_create(nn, 0, NBRDF_NN_TRAIN, &wt, err), NBRDF_ERR_ARGUMENT,
+              err, "max_batch = 0");
+  CHECK(wt == NULL);
+  CHECK_OK(nbrdf_nn_workspace_create(nn, 2, NBRDF_NN_TRAIN, &wt, err), err);
+  CHECK_OK(nbrdf_nn_workspace_create(nn, 2, NBRDF_NN_INFER, &wi, err), err);
+  CHECK_FAILS(nbrdf_nn_backward(nn, wt, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "no forward pass");
+  CHECK_FAILS(nbrdf_nn_forward(nn, wt, x, 4, y, err), NBRDF_ERR_ARGUMENT, err,
+              "batch 4 exceeds");
+  CHECK_FAILS(nbrdf_nn_forward(nn, wt, x, 0, y, err), NBRDF_ERR_ARGUMENT, err, "batch = 0");
+  CHECK_FAILS(nbrdf_nn_forward(nn, wt, NULL, 1, y, err), NBRDF_ERR_ARGUMENT, err, "NULL input");
+  CHECK_OK(nbrdf_nn_forward(nn, wi, x, 4, y, err), err); /* inference chunks instead */
+  CHECK_FAILS(nbrdf_nn_backward(nn, wi, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "inference only");
+  CHECK_OK(nbrdf_nn_forward(nn, wt, x, 2, y, err), err);
+  CHECK_OK(nbrdf_nn_backward(nn, wt, g, NULL, NULL, err), err);
+  CHECK_FAILS(nbrdf_nn_backward(nn, wt, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "each forward allows one backward");
+  nbrdf_nn_spec s;
+  nbrdf_nn_spec_init(&s, 13);
+  nbrdf_nn_spec_add(&s, NBRDF_NN_LINEAR, 3);
+  nbrdf_nn *small = NULL;
+  CHECK_OK(nbrdf_nn_create(&s, &small, err), err);
+  CHECK_OK(nbrdf_nn_workspace_create(small, 2, NBRDF_NN_INFER, &other, err), err);
+  CHECK_FAILS(nbrdf_nn_forward(nn, other, x, 1, y, err), NBRDF_ERR_MISMATCH, err,
+              "another architecture");
+  nbrdf_nn_workspace_destroy(wt);
+  nbrdf_nn_workspace_destroy(wi);
+  nbrdf_nn_workspace_destroy(other);
+  nbrdf_nn_destroy(small);
+  nbrdf_nn_destroy(nn);
+}
+
+int main(void) {
+  RUN(test_matches_reference);
+  RUN(test_modes_and_chunks);
+  RUN(test_misuse_refused);
+  return nbrdf_test_finish();
+}
