@@ -22,10 +22,15 @@
  * with NBRDF_ERR_UNSUPPORTED naming the tensor; an unknown dtype string is NBRDF_ERR_FORMAT.
  * The reader does not keep a reference to the file or buffer it was opened from.
  *
- * Limits (documented refusals, NBRDF_ERR_FORMAT): header at most NBRDF_ST_MAX_HEADER bytes,
- * at most NBRDF_ST_MAX_JSON_VALUES JSON values in it, tensors of at most NBRDF_ST_MAX_DIMS
- * dimensions (NBRDF_ERR_UNSUPPORTED), offsets and dimensions at most 2^53 (JSON numbers
- * are read as doubles). Integers written as 1e3 or 1.0 are accepted as their value.
+ * Strictness and limits (documented refusals, NBRDF_ERR_FORMAT unless said): the header
+ * must start with '{', be at most 100,000,000 bytes (the reference implementation's limit)
+ * and end with nothing but JSON whitespace; shapes and offsets are plain non-negative JSON
+ * integers below 2^64 (1.0, 1e3, -0 are refused, as serde does), dimensions at most 2^63-1;
+ * a tensor entry has exactly the fields dtype, shape, data_offsets (unknown fields are
+ * refused); "__metadata__": null is read as no metadata; at most NBRDF_ST_MAX_DIMS
+ * dimensions (NBRDF_ERR_UNSUPPORTED); names, keys and values may not contain NUL.
+ * The JSON is parsed by a small strict parser of this one schema, not cJSON: see why in
+ * safetensors_header.c.
  *
  * A reader is immutable after open: several threads may read one reader at once.
  * A writer must be used by one thread at a time. */
@@ -38,8 +43,6 @@
 #include "nbrdf/status.h"
 
 #define NBRDF_ST_MAX_DIMS 8
-#define NBRDF_ST_MAX_HEADER (16u << 20)
-#define NBRDF_ST_MAX_JSON_VALUES 1000000
 
 typedef enum nbrdf_st_dtype {
   NBRDF_ST_F32 = 0,

@@ -1,0 +1,61 @@
+/* Shared by the safetensors reader and writer only (src/nn/safetensors_*.c). */
+#ifndef NBRDF_NN_SAFETENSORS_INTERNAL_H
+#define NBRDF_NN_SAFETENSORS_INTERNAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "nn/safetensors.h"
+
+/* The reference implementation's limit on the header length. */
+#define ST_MAX_HEADER UINT64_C(100000000)
+
+/* Looks a dtype string up. Returns 1 and sets *dtype and *size for a dtype nbrdf reads,
+ * 0 for a dtype of the format nbrdf refuses, -1 for an unknown string. */
+int nbrdf_st_dtype_lookup(const char *name, nbrdf_st_dtype *dtype, size_t *size);
+size_t nbrdf_st_dtype_size(nbrdf_st_dtype dtype);
+
+/* Converts `count` little-endian values of `dtype` at `src` (any alignment) to float. */
+void nbrdf_st_convert(nbrdf_st_dtype dtype, const unsigned char *src, size_t count, float *dst);
+
+/* Index of the first byte that is not part of valid UTF-8 (no overlongs, no surrogates,
+ * nothing above U+10FFFF), or `size` if all are valid. */
+size_t nbrdf_st_utf8_invalid_at(const unsigned char *s, size_t size);
+
+/* a * b into *out; 0 on overflow. */
+static inline int st_mul_u64(uint64_t a, uint64_t b, uint64_t *out) {
+  if (a != 0 && b > UINT64_MAX / a) return 0;
+  *out = a * b;
+  return 1;
+}
+
+/* "[2, 3]" into buf (truncated with "..." if it does not fit). */
+void nbrdf_st_format_shape(char *buf, size_t size, int ndim, const uint64_t *shape);
+
+/* One tensor entry of a header, as parsed (nothing checked beyond JSON types). */
+typedef struct st_entry {
+  char *name;
+  char *dtype;
+  int ndim;
+  uint64_t shape[NBRDF_ST_MAX_DIMS];
+  uint64_t begin, end;
+} st_entry;
+
+typedef struct st_meta {
+  char *key, *value;
+} st_meta;
+
+typedef struct st_header {
+  st_entry *entries;
+  size_t count, cap;
+  st_meta *meta;
+  size_t meta_count, meta_cap;
+} st_header;
+
+/* Parses the JSON header (exactly `size` bytes, already checked to be UTF-8) into `out`,
+ * which the caller zero-initialises and frees with nbrdf_st_header_free even on failure.
+ * Messages carry no file name (the caller prefixes it). */
+nbrdf_status nbrdf_st_parse_header(const char *json, size_t size, st_header *out, nbrdf_error *err);
+void nbrdf_st_header_free(st_header *header);
+
+#endif
