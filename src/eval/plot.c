@@ -84,6 +84,11 @@ static const rgb8 BLACK = {0, 0, 0}, GRID = {220, 220, 220}, MINOR = {240, 240, 
                   WHITE = {255, 255, 255}, FRAME = {160, 160, 160};
 enum { TEXT_SCALE = 2, GLYPH_ADVANCE = 6 * TEXT_SCALE, GLYPH_HEIGHT = 7 * TEXT_SCALE };
 
+static rgb8 series_colour(const nbrdf_plot_series *s, int i) {
+  int k = s[i].color > 0 ? s[i].color - 1 : i;
+  return PALETTE[k % (int)(sizeof PALETTE / sizeof PALETTE[0])];
+}
+
 typedef struct canvas {
   int w, h;
   unsigned char *rgb;
@@ -246,7 +251,7 @@ static void draw_legend(canvas *c, const frame *f, int n, const nbrdf_plot_serie
   int y = y0 + 6;
   for (int i = 0; i < n; i++) {
     if (!s[i].label) continue;
-    rgb8 col = PALETTE[i % (int)(sizeof PALETTE / sizeof PALETTE[0])];
+    rgb8 col = series_colour(s, i);
     double dash = 0.0;
     line(c, x0 + 8, y + GLYPH_HEIGHT / 2, x0 + 38, y + GLYPH_HEIGHT / 2, col, 2, s[i].dashed,
          &dash);
@@ -292,7 +297,7 @@ nbrdf_status nbrdf_plot_render(const nbrdf_plot_options *options, int n_series,
   fill(&c, f.left, f.top, f.left, f.bottom, BLACK);
   fill(&c, f.right, f.top, f.right, f.bottom, BLACK);
   for (int i = 0; i < n_series; i++)
-    draw_series(&c, &f, &series[i], PALETTE[i % (int)(sizeof PALETTE / sizeof PALETTE[0])]);
+    draw_series(&c, &f, &series[i], series_colour(series, i));
   draw_legend(&c, &f, n_series, series);
   text(&c, (w - text_width(o.title)) / 2, 10, o.title, BLACK);
   text(&c, f.left, f.top - 22, o.y_label, BLACK);

@@ -12,6 +12,7 @@ typedef struct nbrdf_plot_series {
   int n;
   const double *x, *y; /* n points; non-finite ones (and ≤ 0 on a log axis) are skipped */
   int dashed;          /* a dashed line without markers (e.g. a noise floor) */
+  int color;           /* 0: the series' own palette colour; k > 0: that of series k − 1 */
 } nbrdf_plot_series;
 
 typedef struct nbrdf_plot_options {

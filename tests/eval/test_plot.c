@@ -49,11 +49,13 @@ static void test_points_land_where_the_axes_say(void) {
   nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
   o.log_x = o.log_y = 1;
   o.title = "lobe error vs spp";
-  nbrdf_plot_series s = {"coat", 3, XS, YS, 0};
+  /* A dashed floor at y = 1 in the colour of palette entry 2 (orange). */
+  static const double ones[3] = {1, 1, 1};
+  nbrdf_plot_series s[2] = {{"coat", 3, XS, YS, 0, 0}, {"floor", 3, XS, ones, 1, 2}};
   unsigned char *rgb = NULL;
   int w = 0, h = 0;
   nbrdf_error err = {0}, *e = &err;
-  CHECK_OK(nbrdf_plot_render(&o, 1, &s, &rgb, &w, &h, &err), e);
+  CHECK_OK(nbrdf_plot_render(&o, 2, s, &rgb, &w, &h, &err), e);
   if (!rgb) return;
   CHECK(w == 800 && h == 520);
   /* Data from 1 to 100 on both log axes: (1, 1) is the lower-left corner of the
@@ -65,6 +67,7 @@ static void test_points_land_where_the_axes_say(void) {
   /* ... and nowhere near the other two corners, where there is no data. */
   CHECK(colour_near(rgb, w, left + 20, top + 20, 10, 31, 119, 180) == 0);
   CHECK(colour_near(rgb, w, right - 20, bottom - 20, 10, 31, 119, 180) == 0);
+  CHECK(colour_near(rgb, w, right - 100, bottom, 10, 255, 127, 14) > 10);
   /* The title is drawn in black above the plot area. */
   int black = 0;
   for (int y = 0; y < top - 24; y++)
@@ -82,7 +85,7 @@ static void test_write_and_failures(void) {
   o.width = 640;
   o.height = 400;
   const double nan_y[3] = {1, NAN, -1}; /* skipped points must not break the plot */
-  nbrdf_plot_series s[2] = {{"a", 3, XS, YS, 0}, {"floor", 3, XS, nan_y, 1}};
+  nbrdf_plot_series s[2] = {{"a", 3, XS, YS, 0, 0}, {"floor", 3, XS, nan_y, 1, 0}};
   nbrdf_error err = {0}, *e = &err;
   CHECK_OK(nbrdf_plot_write_png(path, &o, 2, s, &err), e);
   int w = 0, h = 0;
