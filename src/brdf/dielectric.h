@@ -1,0 +1,29 @@
+/* GGX rough dielectric interface (Walter et al. 2007): reflection and
+ * transmission, exact Fresnel, from either side. Upper side = outside,
+ * eta = η_inside / η_outside. eta == 1 is an invisible, index-matched
+ * interface: a Dirac pass-through (eval and pdf are 0, sample returns
+ * wi = −wo with weight 1 and BSDF_DELTA). */
+#ifndef NBRDF_BRDF_DIELECTRIC_H
+#define NBRDF_BRDF_DIELECTRIC_H
+
+#include "brdf/bsdf.h"
+
+/* Reflection: D G2 F / (4 |cos θo cos θi|) (Walter eq. 20).
+ * Transmission: D G2 (1 − F) |wi·m| |wo·m| / (|cos θo cos θi| (wi·m + wo·m/η')²)
+ * (Walter eq. 21 with η' = η_wi / η_wo), divided by η'² in radiance mode. */
+double bsdf_dielectric_eval(const bsdf_dielectric *d, vec3 wo, vec3 wi, bsdf_mode mode);
+/* Density of wi from bsdf_dielectric_sample(wo, ·, flags): VNDF of wo times the
+ * Jacobian of the reflected (1 / 4|wo·m|) or refracted (|wi·m| / (wi·m + wo·m/η')²,
+ * Walter eq. 17) direction, times the probability of choosing the lobe (R or
+ * T over what `flags` allow). Independent of the transport mode. */
+double bsdf_dielectric_pdf(const bsdf_dielectric *d, vec3 wo, vec3 wi, int flags);
+/* Samples a visible normal of wo, then reflection or refraction by Fresnel
+ * (restricted to `flags`). uc picks the lobe, (u1, u2) the normal. */
+int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
+                           double uc, double u1, double u2, bsdf_sample *s);
+/* The same, drawing its random numbers from rng (the lobe number only when
+ * both lobes are allowed). */
+int bsdf_dielectric_sample_rng(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
+                               nbrdf_rng *rng, bsdf_sample *s);
+
+#endif
