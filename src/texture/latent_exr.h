@@ -1,0 +1,137 @@
+/* Latent textures on disk: one-part, tiled, mip-mapped OpenEXR files
+ * written and read through the OpenEXRCore C API. The layout (channel names,
+ * attributes, mip filter, compression) is documented in
+ * docs/LATENT-TEXTURE.md; channel naming lives in latent_layout.h and the mip
+ * filter in mip_chain.h.
+ *
+ * Handles are not shared between threads while in use; open one reader per
+ * thread to read a texture in parallel. */
+#ifndef NBRDF_TEXTURE_LATENT_EXR_H
+#define NBRDF_TEXTURE_LATENT_EXR_H
+
+#include <stdint.h>
+
+#include "nbrdf/status.h"
+#include "texture/latent_layout.h"
+
+typedef enum nbrdf_latent_storage {
+  NBRDF_LATENT_HALF = 0, /* 16-bit floats: half the size, ~3 significant digits */
+  NBRDF_LATENT_FLOAT = 1 /* 32-bit floats */
+} nbrdf_latent_storage;
+
+/* Lossless OpenEXR compressions. ZIP and ZIPS are deflate over 16 and 1
+ * scanlines of a tile, PIZ a wavelet + Huffman coder, RLE run lengths. */
+typedef enum nbrdf_latent_compression {
+  NBRDF_LATENT_ZIP = 0,
+  NBRDF_LATENT_PIZ,
+  NBRDF_LATENT_ZIPS,
+  NBRDF_LATENT_RLE,
+  NBRDF_LATENT_NONE
+} nbrdf_latent_compression;
+
+/* Called with each finished row of a mip level >= 1 (logical order, texels
+ * of the level's width) before it is stored: the bake uses it to recompute
+ * the proxy's sigma and w from the averaged latents instead of averaging
+ * them. */
+typedef nbrdf_status (*nbrdf_latent_mip_row_fn)(void *user, int level, int y, float *row,
+                                                int width, nbrdf_error *err);
+
+typedef struct nbrdf_latent_exr_options {
+  nbrdf_latent_storage storage;
+  nbrdf_latent_compression compression;
+  int tile_size;    /* tile edge in texels, 8..1024 */
+  int mip_levels;   /* 0: the full chain; 1: level 0 only (OpenEXR's mip-maps are always
+                       complete, so no value in between exists) */
+  nbrdf_latent_mip_row_fn mip_row; /* optional, see above */
+  void *mip_row_user;
+} nbrdf_latent_exr_options;
+
+/* PIZ: measured smaller and faster than ZIP on latent textures
+ * (docs/LATENT-TEXTURE.md, "Compression"). */
+#define NBRDF_LATENT_EXR_OPTIONS_DEFAULT {NBRDF_LATENT_HALF, NBRDF_LATENT_PIZ, 64, 0, NULL, NULL}
+
+/* Provenance stored in the header. Strings may be NULL (stored empty). */
+typedef struct nbrdf_latent_meta {
+  const char *model_name;     /* the model bundle's name */
+  const char *model_checksum; /* the bundle's checksum; readers refuse another */
+  const char *sources;        /* the six parameter sources, "alpha1=a.png; eta=1.5; ..." */
+  const char *settings;       /* bake settings, "key=value; ..." */
+} nbrdf_latent_meta;
+
+const char *nbrdf_latent_compression_name(nbrdf_latent_compression c);
+/* "zip", "piz", "zips", "rle", "none"; returns 0 for anything else. */
+int nbrdf_latent_compression_parse(const char *name, nbrdf_latent_compression *out);
+const char *nbrdf_latent_storage_name(nbrdf_latent_storage s);
+
+/* ---- Writer ----
+ * Level-0 texels arrive a band of rows at a time, top to bottom; coarser
+ * levels are averaged on the fly and tiles are written as they complete, so
+ * memory grows with the texture's width (about 2 * tile_size rows of it),
+ * not its area. The file appears at `path` only when nbrdf_latent_writer_finish
+ * succeeds. */
+typedef struct nbrdf_latent_writer nbrdf_latent_writer;
+
+/* Starts a width x height texture. `inputs` (n_inputs paths, may be NULL)
+ * are files the output must not overwrite. `opts` NULL means defaults. */
+nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *path, int width,
+                                        int height, const nbrdf_latent_layout *layout,
+                                        const nbrdf_latent_meta *meta,
+                                        const nbrdf_latent_exr_options *opts,
+                                        const char *const *inputs, int n_inputs,
+                                        nbrdf_error *err);
+/* Appends `rows` rows of level 0: rows * width texels of
+ * nbrdf_latent_channel_count floats each, in logical order. Values must be
+ * finite (and within +-65504 for half storage). After any error the
+ * temporary file is already gone; release the writer with _abort. */
+nbrdf_status nbrdf_latent_writer_write_rows(nbrdf_latent_writer *w, const float *texels,
+                                            int rows, nbrdf_error *err);
+/* Completes the file and renames it into place; fails if rows are missing.
+ * Releases `w` whatever the outcome. */
+nbrdf_status nbrdf_latent_writer_finish(nbrdf_latent_writer *w, nbrdf_error *err);
+/* Cancels: removes the temporary file and releases `w` (NULL is fine). */
+void nbrdf_latent_writer_abort(nbrdf_latent_writer *w);
+
+/* ---- Reader ---- */
+typedef struct nbrdf_latent_info {
+  int format_version;
+  int width, height; /* level 0 */
+  int levels;        /* mip levels in the file (1 for a single-level texture) */
+  int tile_width, tile_height;
+  nbrdf_latent_layout layout;
+  int channels; /* nbrdf_latent_channel_count(&layout) */
+  nbrdf_latent_storage storage; /* HALF if any latent channel is half */
+  nbrdf_latent_compression compression;
+  const char *model_name, *model_checksum; /* never NULL ("" when absent) */
+  const char *sources, *settings, *mip_filter, *writer;
+  int64_t file_size; /* bytes */
+} nbrdf_latent_info;
+
+typedef struct nbrdf_latent_reader nbrdf_latent_reader;
+
+/* Opens and validates a latent texture: a single tiled part with mip-map or
+ * single-level tiles rounded down, every channel its header declares, a
+ * known format version no newer than this build's. Corrupted or truncated
+ * files give NBRDF_ERR_FORMAT (or _IO) with the path in the message. */
+nbrdf_status nbrdf_latent_reader_open(nbrdf_latent_reader **out, const char *path,
+                                      nbrdf_error *err);
+const nbrdf_latent_info *nbrdf_latent_reader_info(const nbrdf_latent_reader *r);
+/* Size of mip level `level`. */
+nbrdf_status nbrdf_latent_reader_level_size(const nbrdf_latent_reader *r, int level, int *width,
+                                            int *height, nbrdf_error *err);
+/* Reads the rectangle [x, x+w) x [y, y+h) of a level: all channels, texel
+ * after texel in logical order (w * h * info.channels floats). */
+nbrdf_status nbrdf_latent_reader_read(nbrdf_latent_reader *r, int level, int x, int y, int w,
+                                      int h, float *out, nbrdf_error *err);
+/* As _read, but only the named channels, in the order given (w * h * n
+ * floats). Any channel of the file may be named, nbrdf's or not. */
+nbrdf_status nbrdf_latent_reader_read_channels(nbrdf_latent_reader *r, int level, int x, int y,
+                                               int w, int h, const char *const *names, int n,
+                                               float *out, nbrdf_error *err);
+void nbrdf_latent_reader_close(nbrdf_latent_reader *r);
+
+/* NBRDF_ERR_MISMATCH unless the texture was baked with this model. */
+nbrdf_status nbrdf_latent_check_model(const nbrdf_latent_info *info, const char *path,
+                                      const char *model_name, const char *model_checksum,
+                                      nbrdf_error *err);
+
+#endif

@@ -1,0 +1,340 @@
+/* Streaming writer of latent textures (docs/LATENT-TEXTURE.md). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "nbrdf/nbrdf.h"
+#include "texture/exr_io.h"
+#include "texture/latent_exr.h"
+#include "texture/mip_chain.h"
+
+#define HALF_MAX 65504.0f
+
+struct nbrdf_latent_writer {
+  nbrdf_output_file out;
+  nbrdf_exr_stream stream;
+  exr_context_t exr;
+  int part;
+  nbrdf_latent_layout layout;
+  nbrdf_latent_exr_options opts;
+  int channels; /* floats per texel */
+  int width, height, levels, tile;
+  int lw[NBRDF_MIP_MAX_LEVELS], lh[NBRDF_MIP_MAX_LEVELS];
+  /* band[l]: the tile row of level l being filled, tile * lw[l] texels. */
+  float *band[NBRDF_MIP_MAX_LEVELS];
+  nbrdf_mip_builder *mip;
+  int *logical; /* logical index of each EXR channel, in the file's (sorted) order */
+  int exr_channels;
+  exr_encode_pipeline_t enc;
+  int enc_ready;
+  int64_t chunks_written;
+  int failed;
+};
+
+/* Tears down after an error: the temporary file disappears at once. */
+static void discard(nbrdf_latent_writer *w) {
+  if (w->enc_ready) exr_encoding_destroy(w->exr, &w->enc);
+  w->enc_ready = 0;
+  if (w->exr) exr_finish(&w->exr);
+  w->exr = NULL;
+  nbrdf_output_file_abort(&w->out);
+  w->failed = 1;
+}
+
+static void release(nbrdf_latent_writer *w) {
+  for (int l = 0; l < NBRDF_MIP_MAX_LEVELS; l++) free(w->band[l]);
+  nbrdf_mip_builder_free(w->mip);
+  free(w->logical);
+  free(w);
+}
+
+static nbrdf_status write_tile(nbrdf_latent_writer *w, int level, int tx, int ty,
+                               nbrdf_error *err) {
+  exr_chunk_info_t cinfo;
+  exr_result_t rv = exr_write_tile_chunk_info(w->exr, w->part, tx, ty, level, level, &cinfo);
+  if (rv != EXR_ERR_SUCCESS)
+    return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path, "tile layout");
+  /* OpenEXRCore 3.1.5 sizes edge tiles of levels > 0 against level 0
+   * (ECOSYSTEM-NOTES.md): size the chunk by the level's own edge. */
+  int T = w->tile, lw = w->lw[level];
+  int tw = lw - tx * T < T ? lw - tx * T : T;
+  int th = w->lh[level] - ty * T < T ? w->lh[level] - ty * T : T;
+  size_t bytes = w->opts.storage == NBRDF_LATENT_HALF ? 2 : 4;
+  cinfo.width = tw;
+  cinfo.height = th;
+  cinfo.unpacked_size = (uint64_t)tw * (uint64_t)th * (uint64_t)w->exr_channels * bytes;
+
+  rv = w->enc_ready ? exr_encoding_update(w->exr, w->part, &cinfo, &w->enc)
+                    : exr_encoding_initialize(w->exr, w->part, &cinfo, &w->enc);
+  if (rv != EXR_ERR_SUCCESS)
+    return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path,
+                          "encoder set-up");
+  w->enc_ready = 1;
+  const float *origin = w->band[level] + (size_t)tx * T * w->channels;
+  for (int k = 0; k < w->enc.channel_count; k++) {
+    exr_coding_channel_info_t *ch = &w->enc.channels[k];
+    ch->user_bytes_per_element = 4;
+    ch->user_data_type = EXR_PIXEL_FLOAT; /* the library converts to half */
+    ch->user_pixel_stride = (int32_t)(w->channels * sizeof(float));
+    ch->user_line_stride = (int32_t)((size_t)lw * w->channels * sizeof(float));
+    ch->encode_from_ptr = (const uint8_t *)(origin + w->logical[k]);
+  }
+  rv = exr_encoding_choose_default_routines(w->exr, w->part, &w->enc);
+  if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(w->exr, w->part, &w->enc);
+  if (rv != EXR_ERR_SUCCESS) {
+    char what[64];
+    snprintf(what, sizeof what, "writing tile (%d, %d) of level %d", tx, ty, level);
+    return nbrdf_exr_fail(err, NBRDF_ERR_IO, &w->stream, rv, w->out.path, what);
+  }
+  w->chunks_written++;
+  return NBRDF_OK;
+}
+
+/* The mip builder's sink: row y of `level` goes into that level's band; a
+ * full band (or the level's last row) is written out as a row of tiles. */
+static nbrdf_status on_row(void *user, int level, int y, float *row, nbrdf_error *err) {
+  nbrdf_latent_writer *w = user;
+  int lw = w->lw[level];
+  if (level > 0 && w->opts.mip_row) {
+    nbrdf_status st = w->opts.mip_row(w->opts.mip_row_user, level, y, row, lw, err);
+    if (st != NBRDF_OK) return st;
+  }
+  size_t n = (size_t)lw * w->channels;
+  memcpy(w->band[level] + (size_t)(y % w->tile) * n, row, n * sizeof(float));
+  if (y % w->tile != w->tile - 1 && y != w->lh[level] - 1) return NBRDF_OK;
+  int ty = y / w->tile, tiles_x = (lw + w->tile - 1) / w->tile;
+  for (int tx = 0; tx < tiles_x; tx++) {
+    nbrdf_status st = write_tile(w, level, tx, ty, err);
+    if (st != NBRDF_OK) return st;
+  }
+  return NBRDF_OK;
+}
+
+static nbrdf_status check_args(int width, int height, const nbrdf_latent_layout *layout,
+                               const nbrdf_latent_exr_options *o, const char *path,
+                               nbrdf_error *err) {
+  if (width < 1 || height < 1 || width > 65536 || height > 65536)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: size %dx%d is outside 1..65536", path,
+                      width, height);
+  nbrdf_status st = nbrdf_latent_layout_check(layout, err);
+  if (st != NBRDF_OK) {
+    nbrdf_error_prefix(err, "%s: ", path);
+    return st;
+  }
+  if (o->tile_size < 8 || o->tile_size > 1024)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: tile size %d is outside 8..1024", path,
+                      o->tile_size);
+  if (o->mip_levels != 0 && o->mip_levels != 1)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "%s: mip levels %d: OpenEXR stores either the full chain (0) or "
+                      "level 0 alone (1)",
+                      path, o->mip_levels);
+  if (o->storage != NBRDF_LATENT_HALF && o->storage != NBRDF_LATENT_FLOAT)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: unknown storage %d", path, (int)o->storage);
+  if ((unsigned)o->compression > NBRDF_LATENT_NONE)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: unknown compression %d", path,
+                      (int)o->compression);
+  return NBRDF_OK;
+}
+
+/* Declares the part, its channels and attributes, and writes the header. */
+static exr_result_t define_header(nbrdf_latent_writer *w, const nbrdf_latent_meta *meta) {
+  exr_context_t c = w->exr;
+  exr_result_t rv = exr_add_part(c, "", EXR_STORAGE_TILED, &w->part);
+  int p = w->part;
+  if (!rv)
+    rv = exr_initialize_required_attr_simple(c, p, w->width, w->height,
+                                             nbrdf_exr_compression(w->opts.compression));
+  if (!rv)
+    rv = exr_set_tile_descriptor(c, p, (uint32_t)w->tile, (uint32_t)w->tile,
+                                 w->levels > 1 ? EXR_TILE_MIPMAP_LEVELS : EXR_TILE_ONE_LEVEL,
+                                 EXR_TILE_ROUND_DOWN);
+  /* Coarse levels complete while finer ones are still being written, so
+   * tiles of several levels interleave: only RANDOM_Y allows that. */
+  if (!rv) rv = exr_set_lineorder(c, p, EXR_LINEORDER_RANDOM_Y);
+  exr_pixel_type_t type = w->opts.storage == NBRDF_LATENT_HALF ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT;
+  char name[32];
+  for (int i = 0; !rv && i < w->channels; i++) {
+    nbrdf_latent_channel_name(&w->layout, i, name, sizeof name);
+    rv = exr_add_channel(c, p, name, type, EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
+  }
+  char writer[64];
+  snprintf(writer, sizeof writer, "nbrdf %s", nbrdf_version());
+  const nbrdf_latent_meta none = {0};
+  if (!meta) meta = &none;
+#define STR(s) ((s) ? (s) : "")
+  if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_VERSION);
+  if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_LATENT_DIM, w->layout.latent_dim);
+  if (!rv)
+    rv = exr_attr_set_string(c, p, NBRDF_ATTR_COLOUR_MODE,
+                             nbrdf_colour_mode_name(w->layout.colour));
+  if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_PROXY, w->layout.proxy);
+  if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_MODEL_NAME, STR(meta->model_name));
+  if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_MODEL_CHECKSUM, STR(meta->model_checksum));
+  if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_SOURCES, STR(meta->sources));
+  if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_SETTINGS, STR(meta->settings));
+  if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_MIP_FILTER, NBRDF_MIP_FILTER_BOX);
+  if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_WRITER, writer);
+#undef STR
+  if (!rv) rv = exr_write_header(c);
+  return rv;
+}
+
+/* Maps the file's channel order to logical indices and checks that the
+ * library's level sizes agree with ours (mip_chain.h). */
+static nbrdf_status check_layout(nbrdf_latent_writer *w, nbrdf_error *err) {
+  const exr_attr_chlist_t *list = NULL;
+  int32_t lx = 0, ly = 0;
+  exr_result_t rv = exr_get_channels(w->exr, w->part, &list);
+  if (!rv) rv = exr_get_tile_levels(w->exr, w->part, &lx, &ly);
+  if (rv)
+    return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path, "header");
+  if (lx != w->levels || list->num_channels != w->channels)
+    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: OpenEXR made %d levels and %d channels",
+                      w->out.path, lx, list->num_channels);
+  w->exr_channels = list->num_channels;
+  w->logical = malloc(sizeof(int) * (size_t)list->num_channels);
+  if (!w->logical) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", w->out.path);
+  for (int k = 0; k < list->num_channels; k++)
+    w->logical[k] = nbrdf_latent_channel_index(&w->layout, list->entries[k].name.str);
+  for (int l = 0; l < w->levels; l++) {
+    int32_t sx = 0, sy = 0;
+    rv = exr_get_level_sizes(w->exr, w->part, l, l, &sx, &sy);
+    if (rv || sx != w->lw[l] || sy != w->lh[l])
+      return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: level %d is %dx%d in OpenEXR, %dx%d here",
+                        w->out.path, l, sx, sy, w->lw[l], w->lh[l]);
+  }
+  return NBRDF_OK;
+}
+
+nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *path, int width,
+                                        int height, const nbrdf_latent_layout *layout,
+                                        const nbrdf_latent_meta *meta,
+                                        const nbrdf_latent_exr_options *opts,
+                                        const char *const *inputs, int n_inputs,
+                                        nbrdf_error *err) {
+  *out = NULL;
+  const nbrdf_latent_exr_options defaults = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  if (!opts) opts = &defaults;
+  if (!path) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "output path is NULL");
+  nbrdf_status st = check_args(width, height, layout, opts, path, err);
+  if (st != NBRDF_OK) return st;
+  nbrdf_latent_writer *w = calloc(1, sizeof *w);
+  if (!w) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+  w->layout = *layout;
+  w->opts = *opts;
+  w->channels = nbrdf_latent_channel_count(layout);
+  w->width = width;
+  w->height = height;
+  w->tile = opts->tile_size;
+  w->levels = opts->mip_levels == 1 ? 1 : nbrdf_mip_level_count(width, height);
+  w->stream.fd = -1;
+  w->stream.out = &w->out;
+  for (int l = 0; l < w->levels; l++) {
+    w->lw[l] = nbrdf_mip_level_dim(width, l);
+    w->lh[l] = nbrdf_mip_level_dim(height, l);
+    int rows = w->lh[l] < w->tile ? w->lh[l] : w->tile;
+    w->band[l] = malloc((size_t)rows * (size_t)w->lw[l] * (size_t)w->channels * sizeof(float));
+    if (!w->band[l]) {
+      release(w);
+      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d texel wide tiles",
+                        path, width);
+    }
+  }
+  st = nbrdf_output_file_open(&w->out, path, inputs, n_inputs, err);
+  if (st != NBRDF_OK) {
+    release(w);
+    return st;
+  }
+  exr_context_initializer_t init = nbrdf_exr_initializer(&w->stream, 1);
+  exr_result_t rv = exr_start_write(&w->exr, path, EXR_WRITE_FILE_DIRECTLY, &init);
+  if (!rv) rv = define_header(w, meta);
+  if (rv) st = nbrdf_exr_fail(err, NBRDF_ERR_IO, &w->stream, rv, path, "writing the header");
+  if (st == NBRDF_OK) st = check_layout(w, err);
+  if (st == NBRDF_OK)
+    st = nbrdf_mip_builder_create(width, height, w->channels, w->levels, on_row, w, &w->mip,
+                                  err);
+  if (st != NBRDF_OK) {
+    discard(w);
+    release(w);
+    return st;
+  }
+  *out = w;
+  return NBRDF_OK;
+}
+
+static nbrdf_status check_values(const nbrdf_latent_writer *w, const float *texels, int rows,
+                                 nbrdf_error *err) {
+  int y0 = nbrdf_mip_builder_rows(w->mip);
+  float limit = w->opts.storage == NBRDF_LATENT_HALF ? HALF_MAX : INFINITY;
+  size_t n = (size_t)rows * w->width * w->channels;
+  for (size_t i = 0; i < n; i++) {
+    float v = texels[i];
+    if (isfinite(v) && fabsf(v) <= limit) continue;
+    size_t texel = i / (size_t)w->channels;
+    char name[32];
+    nbrdf_latent_channel_name(&w->layout, (int)(i % (size_t)w->channels), name, sizeof name);
+    int x = (int)(texel % (size_t)w->width), y = y0 + (int)(texel / (size_t)w->width);
+    if (!isfinite(v))
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: texel (%d, %d) %s is %s", w->out.path, x,
+                        y, name, isnan(v) ? "NaN" : "infinite");
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "%s: texel (%d, %d) %s = %g exceeds the half range; store as float",
+                      w->out.path, x, y, name, (double)v);
+  }
+  return NBRDF_OK;
+}
+
+nbrdf_status nbrdf_latent_writer_write_rows(nbrdf_latent_writer *w, const float *texels,
+                                            int rows, nbrdf_error *err) {
+  if (w->failed)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "latent writer already failed; abort it");
+  int done = nbrdf_mip_builder_rows(w->mip);
+  nbrdf_status st = NBRDF_OK;
+  if (rows < 0 || rows > w->height - done)
+    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %d rows after %d of %d", w->out.path, rows,
+                    done, w->height);
+  if (st == NBRDF_OK) st = check_values(w, texels, rows, err);
+  size_t row_floats = (size_t)w->width * w->channels;
+  for (int j = 0; st == NBRDF_OK && j < rows; j++)
+    st = nbrdf_mip_builder_push_row(w->mip, texels + (size_t)j * row_floats, err);
+  if (st != NBRDF_OK) discard(w);
+  return st;
+}
+
+nbrdf_status nbrdf_latent_writer_finish(nbrdf_latent_writer *w, nbrdf_error *err) {
+  nbrdf_status st = NBRDF_OK;
+  if (w->failed)
+    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "latent writer already failed; nothing written");
+  int done = st == NBRDF_OK ? nbrdf_mip_builder_rows(w->mip) : 0;
+  if (st == NBRDF_OK && done != w->height)
+    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: only %d of %d rows were written",
+                    w->out.path, done, w->height);
+  int32_t chunks = 0;
+  if (st == NBRDF_OK && (exr_get_chunk_count(w->exr, w->part, &chunks) != EXR_ERR_SUCCESS ||
+                         chunks != w->chunks_written))
+    st = nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: %lld of %d tiles written", w->out.path,
+                    (long long)w->chunks_written, chunks);
+  if (st == NBRDF_OK) {
+    if (w->enc_ready) exr_encoding_destroy(w->exr, &w->enc);
+    w->enc_ready = 0;
+    exr_result_t rv = exr_finish(&w->exr);
+    w->exr = NULL;
+    if (rv != EXR_ERR_SUCCESS)
+      st = nbrdf_exr_fail(err, NBRDF_ERR_IO, &w->stream, rv, w->out.path, "finishing");
+  }
+  if (st == NBRDF_OK)
+    st = nbrdf_output_file_commit(&w->out, err);
+  else if (!w->failed)
+    discard(w);
+  release(w);
+  return st;
+}
+
+void nbrdf_latent_writer_abort(nbrdf_latent_writer *w) {
+  if (!w) return;
+  if (!w->failed) discard(w);
+  release(w);
+}

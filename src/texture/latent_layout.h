@@ -1,0 +1,74 @@
+/* What a latent texture's texel holds, and what its channels and header
+ * attributes are called on disk (docs/LATENT-TEXTURE.md is the reference).
+ *
+ * In memory a texel is a run of floats in "logical order": for each colour
+ * channel (Y for mono; R, G, B for RGB, paper §3.2) its latent_dim latents,
+ * followed, when the sampling proxy is stored, by that channel's proxy
+ * parameters sigma and w. The EXR file stores the same values under names
+ * (latent.L00.R, proxy.sigma.R, ...); OpenEXR sorts channels by name, so code
+ * maps through names, never through the order of the channel list. */
+#ifndef NBRDF_TEXTURE_LATENT_LAYOUT_H
+#define NBRDF_TEXTURE_LATENT_LAYOUT_H
+
+#include <stddef.h>
+
+#include "nbrdf/status.h"
+
+/* Bumped when a reader of the previous version would misread a new file. */
+#define NBRDF_LATENT_FORMAT_VERSION 1
+#define NBRDF_LATENT_MAX_DIM 999
+
+/* Header attributes (OpenEXR attribute names, "nbrdf:" namespace). */
+#define NBRDF_ATTR_FORMAT_VERSION "nbrdf:formatVersion" /* int */
+#define NBRDF_ATTR_LATENT_DIM "nbrdf:latentDim"         /* int */
+#define NBRDF_ATTR_COLOUR_MODE "nbrdf:colourMode"       /* string: "mono" | "rgb" */
+#define NBRDF_ATTR_PROXY "nbrdf:proxy"                  /* int: 0 | 1 */
+#define NBRDF_ATTR_MODEL_NAME "nbrdf:modelName"         /* string */
+#define NBRDF_ATTR_MODEL_CHECKSUM "nbrdf:modelChecksum" /* string */
+#define NBRDF_ATTR_SOURCES "nbrdf:parameterSources"     /* string */
+#define NBRDF_ATTR_SETTINGS "nbrdf:bakeSettings"        /* string */
+#define NBRDF_ATTR_MIP_FILTER "nbrdf:mipFilter"         /* string */
+#define NBRDF_ATTR_WRITER "nbrdf:writer"                /* string: "nbrdf X.Y.Z" */
+
+/* The one mip filter this version writes: the unweighted mean of the
+ * level-0 latents in a texel's footprint (see mip_chain.h). */
+#define NBRDF_MIP_FILTER_BOX "box-latent-mean"
+
+typedef enum nbrdf_colour_mode {
+  NBRDF_COLOUR_MONO = 1, /* one BRDF per texel, channel suffix .Y */
+  NBRDF_COLOUR_RGB = 3   /* an independent BRDF per R, G, B channel */
+} nbrdf_colour_mode;
+
+typedef struct nbrdf_latent_layout {
+  int latent_dim;           /* latents per colour channel (the paper uses 32) */
+  nbrdf_colour_mode colour; /* mono or RGB */
+  int proxy;                /* 1: sigma and w of the sampling proxy follow each latent */
+} nbrdf_latent_layout;
+
+/* A layout the format can hold: 1 <= latent_dim <= NBRDF_LATENT_MAX_DIM, a
+ * known colour mode, proxy 0 or 1. */
+nbrdf_status nbrdf_latent_layout_check(const nbrdf_latent_layout *layout, nbrdf_error *err);
+
+int nbrdf_latent_colours(const nbrdf_latent_layout *layout);
+/* Floats per colour channel: latent_dim, plus 2 with the proxy. */
+int nbrdf_latent_block(const nbrdf_latent_layout *layout);
+/* Floats per texel. */
+int nbrdf_latent_channel_count(const nbrdf_latent_layout *layout);
+
+/* Logical indices of latent k, sigma and w of colour channel c. */
+int nbrdf_latent_index_latent(const nbrdf_latent_layout *layout, int c, int k);
+int nbrdf_latent_index_sigma(const nbrdf_latent_layout *layout, int c);
+int nbrdf_latent_index_w(const nbrdf_latent_layout *layout, int c);
+
+/* The EXR channel name of logical index i ("latent.L07.G", "proxy.w.Y").
+ * `buf` needs at most 24 bytes. */
+void nbrdf_latent_channel_name(const nbrdf_latent_layout *layout, int i, char *buf, size_t n);
+/* The logical index of an EXR channel name, or -1 if the layout has no
+ * such channel. */
+int nbrdf_latent_channel_index(const nbrdf_latent_layout *layout, const char *name);
+
+const char *nbrdf_colour_mode_name(nbrdf_colour_mode mode);
+/* "mono" or "rgb"; returns 0 for anything else. */
+int nbrdf_colour_mode_parse(const char *name, nbrdf_colour_mode *out);
+
+#endif

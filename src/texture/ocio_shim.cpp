@@ -1,0 +1,140 @@
+// The OpenColorIO side of ocio_shim.h.
+#include "texture/ocio_shim.h"
+
+#include <OpenColorIO/OpenColorIO.h>
+
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+
+extern "C" {
+#include "core/error.h"
+}
+
+namespace OCIO = OCIO_NAMESPACE;
+
+struct nbrdf_colour_xform {
+  std::string description;
+  OCIO::ConstCPUProcessorRcPtr cpu; /* null for the identity */
+};
+
+namespace {
+
+bool equals_nocase(const char *a, const char *b) {
+  for (; *a && *b; a++, b++)
+    if (std::tolower((unsigned char)*a) != std::tolower((unsigned char)*b)) return false;
+  return *a == *b;
+}
+
+bool is_identity_name(const char *name) {
+  return equals_nocase(name, "linear") || equals_nocase(name, "raw") ||
+         equals_nocase(name, "data");
+}
+
+// sRGB's electro-optical curve: v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055)^2.4.
+// OCIO's forward ExponentWithLinearTransform is exactly this decoding direction.
+OCIO::ConstProcessorRcPtr builtin_srgb() {
+  OCIO::ExponentWithLinearTransformRcPtr t = OCIO::ExponentWithLinearTransform::Create();
+  const double gamma[4] = {2.4, 2.4, 2.4, 1.0};
+  const double offset[4] = {0.055, 0.055, 0.055, 0.0};
+  t->setGamma(gamma);
+  t->setOffset(offset);
+  t->setDirection(OCIO::TRANSFORM_DIR_FORWARD);
+  return OCIO::Config::CreateRaw()->getProcessor(t);
+}
+
+OCIO::ConstCPUProcessorRcPtr exact_cpu(const OCIO::ConstProcessorRcPtr &p) {
+  // No lossy optimisation: the curve must match IEC 61966-2-1 to float precision.
+  return p->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
+                                     OCIO::OPTIMIZATION_LOSSLESS);
+}
+
+}  // namespace
+
+extern "C" nbrdf_status nbrdf_colour_xform_create(const char *colour_space,
+                                                  const char *config_path,
+                                                  nbrdf_colour_xform **out, nbrdf_error *err) {
+  *out = nullptr;
+  if (!colour_space || !colour_space[0])
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "colour space name is empty");
+  const char *config = config_path ? config_path : std::getenv("OCIO");
+  if (config && !config[0]) config = nullptr;
+  try {
+    std::unique_ptr<nbrdf_colour_xform> x(new nbrdf_colour_xform);
+    if (config) {
+      OCIO::ConstConfigRcPtr cfg = OCIO::Config::CreateFromFile(config);
+      if (cfg->getColorSpace(colour_space)) {
+        if (!cfg->hasRole(OCIO::ROLE_SCENE_LINEAR))
+          return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "OCIO config %s has no scene_linear role",
+                            config);
+        x->cpu = exact_cpu(cfg->getProcessor(colour_space, OCIO::ROLE_SCENE_LINEAR));
+        x->description = std::string(colour_space) + " (" + config + ") -> scene_linear";
+        *out = x.release();
+        return NBRDF_OK;
+      }
+    }
+    if (equals_nocase(colour_space, "srgb")) {
+      x->cpu = exact_cpu(builtin_srgb());
+      x->description = "sRGB (built in) -> linear";
+    } else if (is_identity_name(colour_space)) {
+      x->description = "linear (no conversion)";
+    } else if (config) {
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "colour space '%s' is not in the OCIO config %s",
+                        colour_space, config);
+    } else {
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                        "unknown colour space '%s' (built in: srgb, linear, raw; for others "
+                        "give an OCIO config or set $OCIO)",
+                        colour_space);
+    }
+    *out = x.release();
+    return NBRDF_OK;
+  } catch (const std::exception &e) {
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "colour space '%s'%s%s: %s", colour_space,
+                      config ? " in OCIO config " : "", config ? config : "", e.what());
+  }
+}
+
+extern "C" int nbrdf_colour_xform_is_identity(const nbrdf_colour_xform *x) { return !x->cpu; }
+
+extern "C" const char *nbrdf_colour_xform_describe(const nbrdf_colour_xform *x) {
+  return x->description.c_str();
+}
+
+extern "C" nbrdf_status nbrdf_colour_xform_apply_rgb(const nbrdf_colour_xform *x, float *rgb,
+                                                     size_t n, nbrdf_error *err) {
+  if (!x->cpu || n == 0) return NBRDF_OK;
+  try {
+    // One row per call keeps the width within OCIO's long, whatever n is.
+    const size_t chunk = 1 << 20;
+    for (size_t i = 0; i < n; i += chunk) {
+      size_t m = n - i < chunk ? n - i : chunk;
+      OCIO::PackedImageDesc desc(rgb + 3 * i, (long)m, 1, 3);
+      x->cpu->apply(desc);
+    }
+    return NBRDF_OK;
+  } catch (const std::exception &e) {
+    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "colour conversion %s: %s",
+                      x->description.c_str(), e.what());
+  }
+}
+
+extern "C" nbrdf_status nbrdf_colour_xform_apply_grey(const nbrdf_colour_xform *x, float *v,
+                                                      size_t n, nbrdf_error *err) {
+  if (!x->cpu || n == 0) return NBRDF_OK;
+  constexpr size_t CHUNK = 4096;
+  float rgb[3 * CHUNK];
+  for (size_t i = 0; i < n; i += CHUNK) {
+    size_t m = n - i < CHUNK ? n - i : CHUNK;
+    for (size_t j = 0; j < m; j++) rgb[3 * j] = rgb[3 * j + 1] = rgb[3 * j + 2] = v[i + j];
+    nbrdf_status st = nbrdf_colour_xform_apply_rgb(x, rgb, m, err);
+    if (st != NBRDF_OK) return st;
+    for (size_t j = 0; j < m; j++)
+      v[i + j] = (rgb[3 * j] + rgb[3 * j + 1] + rgb[3 * j + 2]) / 3.0f;
+  }
+  return NBRDF_OK;
+}
+
+extern "C" void nbrdf_colour_xform_free(nbrdf_colour_xform *x) { delete x; }

@@ -1,0 +1,196 @@
+// The OpenImageIO side of oiio_shim.h. Every entry point catches exceptions
+// and turns OIIO's error strings into nbrdf_error messages naming the file.
+#include "texture/oiio_shim.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include <unistd.h>
+
+extern "C" {
+#include "core/error.h"
+#include "texture/output_file.h"
+}
+
+using OIIO::ImageInput;
+using OIIO::ImageOutput;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+struct nbrdf_image_in {
+  std::string path;
+  std::unique_ptr<ImageInput> in;
+  ImageSpec spec;
+};
+
+namespace {
+
+std::string first_line(std::string s) {
+  size_t nl = s.find('\n');
+  if (nl != std::string::npos) s.resize(nl);
+  return s.empty() ? std::string("unknown error") : s;
+}
+
+nbrdf_pixel_format classify(TypeDesc t) {
+  switch (t.basetype) {
+  case TypeDesc::UINT8: return NBRDF_PIXEL_U8;
+  case TypeDesc::UINT16: return NBRDF_PIXEL_U16;
+  case TypeDesc::HALF: return NBRDF_PIXEL_HALF;
+  case TypeDesc::FLOAT: return NBRDF_PIXEL_FLOAT;
+  default: return NBRDF_PIXEL_OTHER;
+  }
+}
+
+TypeDesc to_type(nbrdf_pixel_format f) {
+  switch (f) {
+  case NBRDF_PIXEL_U8: return TypeDesc::UINT8;
+  case NBRDF_PIXEL_U16: return TypeDesc::UINT16;
+  case NBRDF_PIXEL_HALF: return TypeDesc::HALF;
+  default: return TypeDesc::FLOAT;
+  }
+}
+
+void copy_string(char *dst, size_t n, const std::string &src) {
+  std::snprintf(dst, n, "%s", src.c_str());
+}
+
+}  // namespace
+
+extern "C" const char *nbrdf_pixel_format_name(nbrdf_pixel_format format) {
+  switch (format) {
+  case NBRDF_PIXEL_U8: return "uint8";
+  case NBRDF_PIXEL_U16: return "uint16";
+  case NBRDF_PIXEL_HALF: return "half";
+  case NBRDF_PIXEL_FLOAT: return "float";
+  case NBRDF_PIXEL_OTHER: break;
+  }
+  return "other";
+}
+
+extern "C" nbrdf_status nbrdf_image_open(const char *path, nbrdf_image_in **out,
+                                         nbrdf_image_info *info, nbrdf_error *err) {
+  *out = nullptr;
+  if (!path) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "image path is NULL");
+  try {
+    std::unique_ptr<nbrdf_image_in> img(new nbrdf_image_in);
+    img->path = path;
+    img->in = ImageInput::open(path);
+    if (!img->in)
+      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path,
+                        first_line(OIIO::geterror()).c_str());
+    img->spec = img->in->spec();
+    const ImageSpec &s = img->spec;
+    if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
+      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
+                        path, s.width, s.height, s.depth, s.nchannels);
+    std::memset(info, 0, sizeof *info);
+    info->width = s.width;
+    info->height = s.height;
+    info->channels = s.nchannels;
+    info->alpha_channel = s.alpha_channel;
+    info->format = classify(s.format);
+    info->bits_per_sample = s.get_int_attribute("oiio:BitsPerSample", (int)s.format.size() * 8);
+    copy_string(info->format_name, sizeof info->format_name, s.format.c_str());
+    copy_string(info->file_format, sizeof info->file_format, img->in->format_name());
+    copy_string(info->colour_space, sizeof info->colour_space,
+                s.get_string_attribute("oiio:ColorSpace"));
+    int levels = 1;
+    while (levels < 32 && img->in->spec_dimensions(0, levels).width > 0) levels++;
+    info->mip_levels = levels;
+    *out = img.release();
+    return NBRDF_OK;
+  } catch (const std::exception &e) {
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path, e.what());
+  } catch (...) {
+    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", path);
+  }
+}
+
+extern "C" const char *nbrdf_image_channel_name(const nbrdf_image_in *img, int c) {
+  if (c < 0 || c >= (int)img->spec.channelnames.size()) return "";
+  return img->spec.channelnames[(size_t)c].c_str();
+}
+
+extern "C" nbrdf_status nbrdf_image_level_size(nbrdf_image_in *img, int level, int *width,
+                                               int *height, nbrdf_error *err) {
+  try {
+    ImageSpec s = level == 0 ? img->spec : img->in->spec_dimensions(0, level);
+    if (level < 0 || s.width < 1)
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d", img->path.c_str(),
+                        level);
+    *width = s.width;
+    *height = s.height;
+    return NBRDF_OK;
+  } catch (const std::exception &e) {
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: %s", img->path.c_str(), e.what());
+  }
+}
+
+extern "C" nbrdf_status nbrdf_image_read_rows(nbrdf_image_in *img, int level, int y0, int y1,
+                                              int c0, int c1, float *out, nbrdf_error *err) {
+  const char *path = img->path.c_str();
+  try {
+    ImageSpec s = level == 0 ? img->spec : img->in->spec_dimensions(0, level);
+    if (level < 0 || s.width < 1)
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d", path, level);
+    if (y0 < 0 || y1 > s.height || y0 >= y1 || c0 < 0 || c1 > s.nchannels || c0 >= c1)
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows [%d, %d) channels [%d, %d) of %dx%d",
+                        path, y0, y1, c0, c1, s.width, s.height);
+    if (!img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT,
+                                 out))
+      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read rows %d..%d: %s", path, y0, y1 - 1,
+                        first_line(img->in->geterror()).c_str());
+    return NBRDF_OK;
+  } catch (const std::exception &e) {
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: %s", path, e.what());
+  } catch (...) {
+    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", path);
+  }
+}
+
+extern "C" void nbrdf_image_close(nbrdf_image_in *img) {
+  if (!img) return;
+  try {
+    if (img->in) img->in->close();
+  } catch (...) {
+  }
+  delete img;
+}
+
+extern "C" nbrdf_status nbrdf_image_write(const char *path, int width, int height, int channels,
+                                          const float *pixels, nbrdf_pixel_format format,
+                                          nbrdf_error *err) {
+  if (!path || width < 1 || height < 1 || channels < 1 || channels > 4 || !pixels)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: cannot write a %dx%d image of %d channels",
+                      path ? path : "(null)", width, height, channels);
+  nbrdf_output_file f;
+  nbrdf_status st = nbrdf_output_file_open(&f, path, nullptr, 0, err);
+  if (st != NBRDF_OK) return st;
+  close(f.fd); /* OpenImageIO reopens the temporary file by name */
+  f.fd = -1;
+  try {
+    std::unique_ptr<ImageOutput> out = ImageOutput::create(path);
+    if (!out) {
+      nbrdf_output_file_abort(&f);
+      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: no image format for this name: %s",
+                        path, first_line(OIIO::geterror()).c_str());
+    }
+    ImageSpec spec(width, height, channels, to_type(format));
+    if (channels == 4) spec.alpha_channel = 3;
+    bool ok = out->open(f.temp_path, spec) && out->write_image(TypeDesc::FLOAT, pixels);
+    std::string why = ok ? std::string() : first_line(out->geterror());
+    ok = out->close() && ok;
+    if (!ok) {
+      nbrdf_output_file_abort(&f);
+      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, why.c_str());
+    }
+  } catch (const std::exception &e) {
+    nbrdf_output_file_abort(&f);
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, e.what());
+  }
+  return nbrdf_output_file_commit(&f, err);
+}
