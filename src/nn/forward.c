@@ -23,21 +23,22 @@ static void layer_forward(const nbrdf_nn *nn, int i, int rows, const float *x,
   case NBRDF_NN_PLAIN:
     if (projected) nn_gemm_xwt(rows, l->skip_width, l->out, skip, p + l->wskip, 0.0f, b->z1);
     nn_gemm_xwt(rows, l->in, l->out, x, p + l->w1, projected ? 1.0f : 0.0f, b->z1);
-    nn_ln_forward(rows, l->out, b->z1, p + l->b1, skip_add, NULL, p + l->g1, p + l->be1, b->z1,
-                  b->r1, y, 1);
+    nn_ln_forward(rows, l->out, b->z1, p + l->b1, skip_add, NULL, p + l->g1, p + l->be1, b->r1,
+                  y, 1);
     break;
   case NBRDF_NN_RESIDUAL:
     nn_gemm_xwt(rows, l->in, l->hidden, x, p + l->w1, 0.0f, b->z1);
-    nn_ln_forward(rows, l->hidden, b->z1, p + l->b1, NULL, NULL, p + l->g1, p + l->be1, b->z1,
-                  b->r1, b->h, 1);
+    nn_ln_forward(rows, l->hidden, b->z1, p + l->b1, NULL, NULL, p + l->g1, p + l->be1, b->r1,
+                  b->h, 1);
     if (projected) nn_gemm_xwt(rows, l->skip_width, l->out, skip, p + l->wskip, 0.0f, b->z2);
     nn_gemm_xwt(rows, l->hidden, l->out, b->h, p + l->w2, projected ? 1.0f : 0.0f, b->z2);
     /* The block's input is added before normalisation and activation (paper Fig. 3). */
-    nn_ln_forward(rows, l->out, b->z2, p + l->b2, x, skip_add, p + l->g2, p + l->be2, b->z2,
-                  b->r2, y, 1);
+    nn_ln_forward(rows, l->out, b->z2, p + l->b2, x, skip_add, p + l->g2, p + l->be2, b->r2, y,
+                  1);
     break;
   case NBRDF_NN_LAYERNORM:
-    nn_ln_forward(rows, l->out, x, NULL, NULL, NULL, p + l->g1, p + l->be1, b->z1, b->r1, y, 0);
+    memcpy(b->z1, x, sizeof(float) * (size_t)rows * l->out);
+    nn_ln_forward(rows, l->out, b->z1, NULL, NULL, NULL, p + l->g1, p + l->be1, b->r1, y, 0);
     break;
   case NBRDF_NN_RELU: nn_relu_forward((size_t)rows * l->out, x, y); break;
   }

@@ -68,9 +68,9 @@ int nn_same_spec(const nbrdf_nn_spec *a, const nbrdf_nn_spec *b);
 /* Layer kernels over rows x w buffers (src/nn/kernels.c). */
 void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta,
                  float *y);
-void nn_ln_forward(int rows, int w, const float *z, const float *bias, const float *add1,
-                   const float *add2, const float *gamma, const float *beta, float *xhat,
-                   float *rstd, float *y, int relu);
+void nn_ln_forward(int rows, int w, float *u, const float *bias, const float *add1,
+                   const float *add2, const float *gamma, const float *beta, float *rstd,
+                   float *y, int relu);
 void nn_ln_backward(int rows, int w, float *g, const float *y_relu, const float *xhat,
                     const float *rstd, const float *gamma, double *dgamma, double *dbeta,
                     double *dbias);

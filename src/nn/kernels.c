@@ -8,6 +8,19 @@
 
 #include "nn/internal.h"
 
+/* The project builds at -O2, where GCC 12 vectorises almost nothing; these loops are the
+ * whole cost of a network outside the GEMMs (bench/bench_nn.c measures it). AVX2 clones are
+ * picked at run time; every lane computes the same IEEE operations, so the results are
+ * identical bit for bit on every path. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("O3")
+#endif
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#define NN_HOT __attribute__((target_clones("avx2", "default")))
+#else
+#define NN_HOT
+#endif
+
 #define LN_EPS 1e-5f
 #define LANES 8
 
@@ -61,53 +74,54 @@ static double dot_lanes(const float *a, const float *b, int w) {
   return s;
 }
 
-/* u = z + bias + add1 + add2 (the pre-normalisation sum: residual and skips are added here,
- * paper Fig. 3); xhat = (u - mean) / sqrt(var + eps) (two-pass, biased variance as PyTorch);
- * y = [ReLU](xhat * gamma + beta). xhat may alias z; y must not alias z or xhat. */
-void nn_ln_forward(int rows, int w, const float *z, const float *bias, const float *add1,
-                   const float *add2, const float *gamma, const float *beta, float *xhat,
-                   float *rstd, float *y, int relu) {
+/* In place: u = pre-normalisation sum on entry (GEMM output, without bias), xhat on return.
+ * u += bias + add1 + add2 (residual and skips are added here, paper Fig. 3), then
+ * xhat = (u - mean) / sqrt(var + eps) (two-pass, biased variance as PyTorch), and
+ * y = [ReLU](xhat * gamma + beta). add1 and add2 may be NULL (and may be the same array). */
+NN_HOT void nn_ln_forward(int rows, int w, float *restrict u_all, const float *restrict bias,
+                          const float *restrict add1, const float *restrict add2,
+                          const float *restrict gamma, const float *restrict beta,
+                          float *restrict rstd, float *restrict y, int relu) {
   for (int r = 0; r < rows; r++) {
-    const float *zr = z + (size_t)r * w;
-    float *u = xhat + (size_t)r * w, *yr = y + (size_t)r * w;
+    float *restrict u = u_all + (size_t)r * w;
+    float *restrict yr = y + (size_t)r * w;
+    const float *restrict a1 = add1 ? add1 + (size_t)r * w : NULL;
+    const float *restrict a2 = add2 ? add2 + (size_t)r * w : NULL;
     if (bias)
-      for (int c = 0; c < w; c++) u[c] = zr[c] + bias[c];
-    else if (u != zr)
-      memcpy(u, zr, sizeof(float) * (size_t)w);
-    if (add1) {
-      const float *a = add1 + (size_t)r * w;
-      for (int c = 0; c < w; c++) u[c] += a[c];
-    }
-    if (add2) {
-      const float *a = add2 + (size_t)r * w;
-      for (int c = 0; c < w; c++) u[c] += a[c];
-    }
+      for (int c = 0; c < w; c++) u[c] += bias[c];
+    if (a1)
+      for (int c = 0; c < w; c++) u[c] += a1[c];
+    if (a2)
+      for (int c = 0; c < w; c++) u[c] += a2[c];
     float mean = (float)(sum_lanes(u, w) / w);
     float var = (float)(sumsq_dev_lanes(u, w, mean) / w);
     float rs = 1.0f / sqrtf(var + LN_EPS);
     rstd[r] = rs;
-    for (int c = 0; c < w; c++) {
-      float xh = (u[c] - mean) * rs;
-      u[c] = xh;
-      float v = xh * gamma[c] + beta[c];
-      /* Written so that NaN passes through (maxps keeps its second operand). */
-      yr[c] = relu ? (0.0f > v ? 0.0f : v) : v;
-    }
+    for (int c = 0; c < w; c++) u[c] = (u[c] - mean) * rs;
+    if (relu)
+      for (int c = 0; c < w; c++) {
+        float v = u[c] * gamma[c] + beta[c];
+        /* Written so that NaN passes through (maxps keeps its second operand). */
+        yr[c] = 0.0f > v ? 0.0f : v;
+      }
+    else
+      for (int c = 0; c < w; c++) yr[c] = u[c] * gamma[c] + beta[c];
   }
 }
 
 /* In place: g = dL/dy on entry, dL/du on return (u the pre-normalisation sum). With y_relu,
  * y_relu is the layer's output and the ReLU's mask is y > 0. dgamma, dbeta and dbias (any may
  * be NULL) accumulate the column sums of dL/dy * xhat, dL/dy and dL/du. */
-void nn_ln_backward(int rows, int w, float *g, const float *y_relu, const float *xhat,
-                    const float *rstd, const float *gamma, double *dgamma, double *dbeta,
-                    double *dbias) {
+NN_HOT void nn_ln_backward(int rows, int w, float *restrict g, const float *restrict y_relu,
+                           const float *restrict xhat, const float *restrict rstd,
+                           const float *restrict gamma, double *restrict dgamma,
+                           double *restrict dbeta, double *restrict dbias) {
   float dxh[NBRDF_NN_MAX_WIDTH];
   for (int r = 0; r < rows; r++) {
-    float *gr = g + (size_t)r * w;
-    const float *xr = xhat + (size_t)r * w;
+    float *restrict gr = g + (size_t)r * w;
+    const float *restrict xr = xhat + (size_t)r * w;
     if (y_relu) {
-      const float *yr = y_relu + (size_t)r * w;
+      const float *restrict yr = y_relu + (size_t)r * w;
       for (int c = 0; c < w; c++) gr[c] = yr[c] > 0.0f ? gr[c] : 0.0f;
     }
     if (dbeta)
@@ -125,7 +139,7 @@ void nn_ln_backward(int rows, int w, float *g, const float *y_relu, const float 
   }
 }
 
-void nn_add_rows(int rows, int w, float *y, const float *bias, const float *add) {
+NN_HOT void nn_add_rows(int rows, int w, float *y, const float *bias, const float *add) {
   for (int r = 0; r < rows; r++) {
     float *yr = y + (size_t)r * w;
     if (bias)
@@ -137,15 +151,15 @@ void nn_add_rows(int rows, int w, float *y, const float *bias, const float *add)
   }
 }
 
-void nn_relu_forward(size_t n, const float *x, float *y) {
+NN_HOT void nn_relu_forward(size_t n, const float *x, float *y) {
   for (size_t i = 0; i < n; i++) y[i] = 0.0f > x[i] ? 0.0f : x[i];
 }
 
-void nn_relu_backward(size_t n, float *g, const float *y) {
+NN_HOT void nn_relu_backward(size_t n, float *g, const float *y) {
   for (size_t i = 0; i < n; i++) g[i] = y[i] > 0.0f ? g[i] : 0.0f;
 }
 
-void nn_colsum(int rows, int w, const float *g, double *acc) {
+NN_HOT void nn_colsum(int rows, int w, const float *g, double *acc) {
   for (int r = 0; r < rows; r++) {
     const float *gr = g + (size_t)r * w;
     for (int c = 0; c < w; c++) acc[c] += gr[c];
@@ -153,7 +167,7 @@ void nn_colsum(int rows, int w, const float *g, double *acc) {
 }
 
 /* grad += acc, then acc = 0 for the next tensor. */
-void nn_flush(int w, double *acc, float *grad) {
+NN_HOT void nn_flush(int w, double *acc, float *grad) {
   for (int c = 0; c < w; c++) {
     grad[c] += (float)acc[c];
     acc[c] = 0.0;
