@@ -1,0 +1,166 @@
+/* The neural BRDF model of Fan et al. 2022: a bundle of three networks and the
+ * latent tables of the base BRDFs, loaded from a folder models/<name>/.
+ *
+ * A BRDF is a latent vector of nbrdf_model_latent_dim() floats (32) per colour
+ * channel; every colour channel is an independent single-channel BRDF (paper
+ * §3.2), so all calls below work on rows of one latent each.
+ *
+ * Bundle layout (docs/MODEL_BUNDLE.md):
+ *   decoder.safetensors      latent + directions -> f (no cosine)
+ *   layering.safetensors     (top, bottom, A, sigma_t) -> layered latent
+ *   sampler.safetensors      latent -> (sigma, w) of the pdf proxy
+ *   base_tables.safetensors  latents of the top dielectric on an (alpha1, eta)
+ *                            grid and of the bottom conductor on (alpha2, r0)
+ *   model.json, MODEL_CARD.md
+ * Each network file carries its architecture in the safetensors __metadata__;
+ * loading validates the files against each other.
+ *
+ * The checksum is FNV-1a 64 over the bytes of the four .safetensors files in
+ * the order above (not model.json or the card, which describe the model), as
+ * 16 lower-case hex digits; a latent texture records it so that a texture
+ * baked with another model is refused.
+ *
+ * A loaded model is immutable: any call may run on one model from several
+ * threads at once (each call allocates its own scratch buffers). */
+#ifndef NBRDF_MODEL_H
+#define NBRDF_MODEL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "nbrdf/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct nbrdf_model nbrdf_model;
+
+/* Loads and validates the bundle in folder `dir`. Messages name the file
+ * ("models/x/layering.safetensors: ..."). */
+nbrdf_status nbrdf_model_load(const char *dir, nbrdf_model **out, nbrdf_error *err);
+void nbrdf_model_destroy(nbrdf_model *model); /* NULL is allowed */
+
+/* model.json's "name" (e.g. "default"). */
+const char *nbrdf_model_name(const nbrdf_model *model);
+/* The bundle checksum, 16 hex digits (see above). */
+const char *nbrdf_model_checksum(const nbrdf_model *model);
+/* Latent floats per colour channel. */
+int nbrdf_model_latent_dim(const nbrdf_model *model);
+/* 0 for a bundle of randomly initialised networks (`nbrdf bundle init`). */
+int nbrdf_model_is_trained(const nbrdf_model *model);
+/* Multiply-adds per decoder query (one channel) and per layering evaluation. */
+int64_t nbrdf_model_decoder_macs(const nbrdf_model *model);
+int64_t nbrdf_model_layering_macs(const nbrdf_model *model);
+
+/* ------------------------------------------------------------------ decoding */
+
+/* f(ωi, ωo) WITHOUT the cosine factor for n direction pairs × `channels`
+ * latents: latents [n × channels × D] (row-major: query k, channel c at
+ * (k·channels + c)·D); wi, wo [n × 3] unit vectors in the shading frame
+ * (z up), both with z > 0; f [n × channels], >= 0 and finite. A direction
+ * that is not finite, not unit (|‖ω‖ − 1| > 1e-3) or not above the horizon
+ * fails with NBRDF_ERR_ARGUMENT naming the query. */
+nbrdf_status nbrdf_model_decode(const nbrdf_model *model, size_t n, int channels,
+                                const float *latents, const float *wi, const float *wo, float *f,
+                                nbrdf_error *err);
+
+/* ------------------------------------------------------------- base latents */
+
+typedef enum nbrdf_base_kind {
+  NBRDF_BASE_DIELECTRIC = 0, /* top coat: params (alpha1, eta) */
+  NBRDF_BASE_CONDUCTOR = 1   /* bottom:   params (alpha2, r0) */
+} nbrdf_base_kind;
+
+typedef enum nbrdf_range_policy {
+  NBRDF_RANGE_CLAMP = 0, /* clamp to the table's grid and flag the query */
+  NBRDF_RANGE_REFUSE = 1 /* fail with NBRDF_ERR_ARGUMENT naming the parameter and query */
+} nbrdf_range_policy;
+
+/* Flags of a clamped query (bits of `clamped[k]`). */
+#define NBRDF_CLAMPED_PARAM0 1u /* alpha1 / alpha2 */
+#define NBRDF_CLAMPED_PARAM1 2u /* eta / r0 */
+
+/* Latents of n base BRDFs by bilinear look-up in the model's table:
+ * (p0, p1) = (alpha1, eta) for the dielectric, (alpha2, r0) for the
+ * conductor; alpha is the GGX roughness used directly (no remapping), eta the
+ * coat's IOR relative to outside, r0 the Schlick reflectance at normal
+ * incidence. out [n × D]; clamped (may be NULL) receives the flags above.
+ * NaN/Inf parameters always fail. */
+nbrdf_status nbrdf_model_base_latents(const nbrdf_model *model, nbrdf_base_kind kind, size_t n,
+                                      const double *p0, const double *p1,
+                                      nbrdf_range_policy policy, float *out,
+                                      unsigned char *clamped, nbrdf_error *err);
+
+/* The table grid: node counts and axis values (owned by the model). */
+void nbrdf_model_base_grid(const nbrdf_model *model, nbrdf_base_kind kind, int *n0,
+                           const float **axis0, int *n1, const float **axis1);
+
+/* ----------------------------------------------------------------- layering */
+
+/* Layered latents of n (top, bottom) pairs [n × D] each, with the slab's
+ * single-scattering albedo A ∈ [0, 1] and optical depth sigma_t >= 0 (unit
+ * thickness; the paper trains σT ∈ {0, 1, 2, 5}); out [n × D] must not alias
+ * the inputs. Three layers: pass a layered latent as `bottom`. */
+nbrdf_status nbrdf_model_layer(const nbrdf_model *model, size_t n, const float *top,
+                               const float *bottom, const float *albedo, const float *sigma_t,
+                               float *out, nbrdf_error *err);
+
+/* ------------------------------------------------------- importance sampling */
+
+/* Proxy parameters of n latents: sigma > 0, w ∈ [0, 1] (paper Eq. 6). */
+nbrdf_status nbrdf_model_proxy_params(const nbrdf_model *model, size_t n, const float *latents,
+                                      float *sigma, float *w, nbrdf_error *err);
+
+/* The proxy pdf p(ωo | ωi) = (1 − w) p_G + w cos θo / π per unit solid angle
+ * (see src/model/proxy.h for p_G, a Gaussian over the projected half vector).
+ * 0 when either direction is at or below the horizon. */
+double nbrdf_proxy_pdf(double sigma, double w, const double wi[3], const double wo[3]);
+/* Draws ωo from three uniforms u ∈ [0, 1)³ (u[0] picks the lobe). Returns 1
+ * with *pdf = nbrdf_proxy_pdf(ωo) > 0, or 0 when the reflected direction
+ * falls below the horizon (the sample is lost; *pdf = 0). */
+int nbrdf_proxy_sample(double sigma, double w, const double wi[3], const double u[3],
+                       double wo[3], double *pdf);
+
+/* --------------------------------------------------------------- projection */
+
+typedef enum nbrdf_loss {
+  NBRDF_LOSS_L1_LOG1P = 0, /* |log(1 + f̂) − log(1 + f)|: default, far better on sharp lobes */
+  NBRDF_LOSS_L1 = 1        /* |f̂ − f|: the paper's */
+} nbrdf_loss;
+
+typedef struct nbrdf_project_options {
+  int steps;            /* Adam steps */
+  int rows_per_brdf;    /* samples drawn per BRDF per step */
+  float learning_rate;  /* Adam, on the latents */
+  nbrdf_loss loss;
+  int init_from_out;    /* non-zero: start from the latents in `out`; else from zero */
+  uint64_t seed;
+} nbrdf_project_options;
+
+#define NBRDF_PROJECT_OPTIONS_DEFAULT {1000, 256, 1e-2f, NBRDF_LOSS_L1_LOG1P, 0, 0u}
+
+/* Projects n_brdfs single-channel BRDFs into latents with the decoder frozen,
+ * all optimised together in one batch. BRDF b's samples are rows
+ * offsets[b] .. offsets[b+1]−1 of wi, wo [rows × 3] (unit, z > 0) and
+ * f [rows] (>= 0, finite, without cosine); offsets[0] = 0 and every BRDF has at
+ * least one sample. out [n_brdfs × D]; final_loss (may be NULL) receives each
+ * BRDF's mean loss over all its samples after the last step. */
+nbrdf_status nbrdf_model_project(const nbrdf_model *model, size_t n_brdfs, const size_t *offsets,
+                                 const float *wi, const float *wo, const float *f,
+                                 const nbrdf_project_options *options, float *out,
+                                 double *final_loss, nbrdf_error *err);
+
+/* ------------------------------------------------------------ interpolation */
+
+/* out = Σ_k weights[k] · latents[k] / Σ_k weights[k] over `count` latents of
+ * `dim` floats (the paper's latent interpolation; mip levels average 2×2
+ * texels this way). Weights must be finite and >= 0 with a positive sum; they
+ * need not sum to 1. */
+nbrdf_status nbrdf_latent_interpolate(size_t count, int dim, const float *latents,
+                                      const double *weights, float *out, nbrdf_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,71 @@
+/* The model bundle on disk (include/nbrdf/model.h has the layout) and the
+ * internal layout of the public nbrdf_model handle.
+ *
+ * model.json:
+ *   {"format": "nbrdf-model", "version": 1, "name": "...", "trained": false,
+ *    "latent_dim": 32, "seed": 1, "checksum": "<16 hex>",
+ *    "decoder": {"preset", "encoding", "octaves", "output", "macs", "params"},
+ *    "layering": {"preset", "macs", "params", "sigma_t_input": "log1p"},
+ *    "sampler": {"preset", "macs", "params", "sigma_min"},
+ *    "base_tables": {"dielectric": {"alpha1": [..], "eta": [..]},
+ *                    "conductor": {"alpha2": [..], "r0": [..]}},
+ *    "note": "..."}
+ * Load reads name, trained and latent_dim from it (latent_dim must agree with
+ * every file); everything else is a summary for people and tools, the
+ * safetensors files being the truth. A stored checksum that differs from the
+ * files' is refused (a file was replaced without rewriting model.json). */
+#ifndef NBRDF_MODEL_BUNDLE_H
+#define NBRDF_MODEL_BUNDLE_H
+
+#include <stdint.h>
+
+#include "model/base_table.h"
+#include "model/decoder.h"
+#include "model/layering.h"
+#include "model/sampler.h"
+#include "nbrdf/model.h"
+
+#define MODEL_BUNDLE_FORMAT "nbrdf-model"
+#define MODEL_BUNDLE_VERSION 1
+
+/* The four weight files, in checksum order. */
+extern const char *const model_bundle_files[4];
+
+struct nbrdf_model {
+  char name[64];
+  int trained;
+  int latent_dim;
+  uint64_t checksum;
+  char checksum_hex[17];
+  model_decoder *decoder;
+  model_layering *layering;
+  model_sampler *sampler;
+  model_base_table tables[2]; /* indexed by nbrdf_base_kind */
+};
+
+/* What a bundle is made of, for saving (all borrowed). */
+typedef struct model_bundle_parts {
+  const char *name;
+  int trained;
+  uint64_t seed;            /* recorded in model.json (0 = not applicable) */
+  const char *note;         /* one line for model.json, may be NULL */
+  const char *card;         /* MODEL_CARD.md text; NULL = a generated summary */
+  const model_decoder *decoder;
+  const model_layering *layering;
+  const model_sampler *sampler;
+  const model_base_table *tables[2];
+} model_bundle_parts;
+
+/* Writes a bundle into `dir` (created if missing): each file atomically; the
+ * checksum of the result in *checksum (may be NULL). Dimensions are checked
+ * before anything is written. */
+nbrdf_status model_bundle_save(const char *dir, const model_bundle_parts *parts,
+                               uint64_t *checksum, nbrdf_error *err);
+
+/* `nbrdf bundle init`: random networks (decoder preset `decoder_preset`,
+ * layering "paper", sampler "default") and base tables of smooth random
+ * latents over the paper's parameter ranges, marked untrained. */
+nbrdf_status model_bundle_init_random(const char *dir, const char *name, uint64_t seed,
+                                      const char *decoder_preset, nbrdf_error *err);
+
+#endif

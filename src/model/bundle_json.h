@@ -1,0 +1,22 @@
+/* model.json and MODEL_CARD.md of a bundle (layout in bundle.h). */
+#ifndef NBRDF_MODEL_BUNDLE_JSON_H
+#define NBRDF_MODEL_BUNDLE_JSON_H
+
+#include <stdint.h>
+
+#include "model/bundle.h"
+
+/* Reads dir/model.json into m->name, m->trained, m->latent_dim; copies its
+ * "checksum" (16 hex digits, or "" when absent) into checksum[17]. */
+nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checksum[17],
+                                    nbrdf_error *err);
+
+nbrdf_status model_bundle_write_json(const char *dir, const model_bundle_parts *p,
+                                     uint64_t checksum, nbrdf_error *err);
+
+/* parts->card, or a generated card naming the architecture, the checksum and,
+ * for an untrained bundle, the warning that its outputs mean nothing. */
+nbrdf_status model_bundle_write_card(const char *dir, const model_bundle_parts *p,
+                                     uint64_t checksum, nbrdf_error *err);
+
+#endif
