@@ -18,6 +18,7 @@
 #define NBRDF_MODEL_BUNDLE_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include "model/base_table.h"
 #include "model/decoder.h"
@@ -67,5 +68,9 @@ nbrdf_status model_bundle_save(const char *dir, const model_bundle_parts *parts,
  * latents over the paper's parameter ranges, marked untrained. */
 nbrdf_status model_bundle_init_random(const char *dir, const char *name, uint64_t seed,
                                       const char *decoder_preset, nbrdf_error *err);
+
+/* Prints name, training state, checksum, architecture, MACs per query and
+ * table grids (`nbrdf bundle info`). */
+void model_bundle_describe(const nbrdf_model *model, FILE *out);
 
 #endif

@@ -10,7 +10,7 @@
  * unconstrained vectors. Three layers = recursive application (the bottom is
  * itself a layered latent).
  *
- * Presets: "paper" width 512, 4 residual blocks (1.12 M MACs at D = 32),
+ * Presets: "paper" width 512, 4 residual blocks (1,098,752 MACs at D = 32),
  * "small" width 128, 2 residual blocks.
  * File metadata (besides netio.h's): nbrdf.sigma_t_input = "log1p", nbrdf.preset. */
 #ifndef NBRDF_MODEL_LAYERING_H
