@@ -5,8 +5,10 @@
   int cmd_##name(int argc, char **argv);                                                         \
   void cmd_##name##_usage(FILE *out);
 DECLARE(help)
+DECLARE(bundle)
 
 const cli_command cli_commands[] = {
     {"help", "show help for nbrdf or one of its commands", cmd_help, cmd_help_usage},
+    {"bundle", "create an untrained model bundle, or describe one", cmd_bundle, cmd_bundle_usage},
 };
 const int cli_command_count = (int)(sizeof cli_commands / sizeof cli_commands[0]);
