@@ -1,0 +1,323 @@
+/* Ground-truth benchmark (issue 2, METRICS.md): Monte Carlo random walks per
+ * second per core, and the lobe error of the layered estimator against a
+ * high-sample-count reference as a function of walks (samples) per query, for
+ * three representative layered BRDFs. Prints a markdown table, writes it to a
+ * file and plots lobe error against spp. docs/GROUND-TRUTH.md has the figures
+ * and the command that produced them. */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "eval/lobe.h"
+#include "eval/lobe_png.h"
+#include "eval/plot.h"
+#include "nbrdf/brdf.h"
+
+enum { MAX_SPP = 16, N_BRDF = 3, N_THETA = NBRDF_LOBE_N_THETA };
+
+typedef struct preset {
+  const char *name, *label;
+  double alpha1, eta, alpha2, r0, albedo, sigma_t;
+} preset;
+
+static const preset PRESETS[N_BRDF] = {
+    {"coat", "smooth coat over rough metal", 0.02, 1.5, 0.5, 0.9, 0.5, 0.0},
+    {"rough", "rough over smooth", 0.6, 1.5, 0.02, 0.9, 0.8, 1.0},
+    {"thick", "thick scattering medium", 0.1, 1.5, 0.3, 0.5, 0.95, 5.0},
+};
+
+typedef struct config {
+  int spp[MAX_SPP], n_spp, ref_spp, res, threads, speed_spp;
+  const char *only, *out, *plot, *lobes;
+} config;
+
+static void usage(FILE *f) {
+  fprintf(f,
+          "usage: bench_groundtruth [--spp 16,64,256,1024] [--ref-spp 2048] [--res 64]\n"
+          "                         [--threads T] [--brdf coat|rough|thick] [--out FILE.md]\n"
+          "                         [--plot FILE.png] [--lobes DIR]\n"
+          "Lobe error (METRICS.md: 64x64 images at theta_i = 0, 30, 60, 80 deg) of the layered\n"
+          "Monte Carlo estimator at each spp, against a reference that is the mean of two runs\n"
+          "of --ref-spp walks per pixel (their seed-to-seed error is reported beside it), and\n"
+          "the paired error of two runs at that spp (no reference noise in it). Walks per second\n"
+          "on 1 thread and on T threads (0 = all cores). --lobes DIR writes reference |\n"
+          "estimate | difference PNGs at the lowest spp. Defaults: groundtruth.md and .png.\n");
+}
+
+static int parse_args(int argc, char **argv, config *c) {
+  *c = (config){{16, 64, 256, 1024}, 4,   2048, NBRDF_LOBE_RES, 0, 64, NULL, "groundtruth.md",
+                "groundtruth.png",   NULL};
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+      usage(stdout);
+      exit(0);
+    }
+    if (i + 1 >= argc) {
+      fprintf(stderr, "bench_groundtruth: %s needs a value\n", a);
+      return 0;
+    }
+    const char *v = argv[++i];
+    if (!strcmp(a, "--spp")) {
+      c->n_spp = 0;
+      for (char *s = (char *)v; *s && c->n_spp < MAX_SPP;) {
+        c->spp[c->n_spp++] = (int)strtol(s, &s, 10);
+        if (*s == ',')
+          s++;
+        else if (*s)
+          c->spp[c->n_spp - 1] = 0, s = ""; /* rejected below */
+      }
+    } else if (!strcmp(a, "--ref-spp")) {
+      c->ref_spp = atoi(v);
+    } else if (!strcmp(a, "--res")) {
+      c->res = atoi(v);
+    } else if (!strcmp(a, "--threads")) {
+      c->threads = atoi(v);
+    } else if (!strcmp(a, "--brdf")) {
+      c->only = v;
+    } else if (!strcmp(a, "--out")) {
+      c->out = v;
+    } else if (!strcmp(a, "--plot")) {
+      c->plot = v;
+    } else if (!strcmp(a, "--lobes")) {
+      c->lobes = v;
+    } else {
+      fprintf(stderr, "bench_groundtruth: unknown option %s\n", a);
+      return 0;
+    }
+  }
+  for (int k = 0; k < c->n_spp; k++)
+    if (c->spp[k] < 1) c->n_spp = 0;
+  int known = !c->only;
+  for (int i = 0; i < N_BRDF; i++)
+    known |= c->only && !strcmp(c->only, PRESETS[i].name);
+  if (!known) {
+    fprintf(stderr, "bench_groundtruth: --brdf must be coat, rough or thick\n");
+    return 0;
+  }
+  if (c->n_spp == 0 || c->ref_spp < 1 || c->res < 8 || c->res > 1024 || c->threads < 0) {
+    fprintf(stderr, "bench_groundtruth: bad --spp, --ref-spp, --res or --threads\n");
+    return 0;
+  }
+  return 1;
+}
+
+static double now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void cpu_model(char *buf, size_t cap) {
+  snprintf(buf, cap, "unknown CPU");
+  FILE *f = fopen("/proc/cpuinfo", "r");
+  char line[512];
+  while (f && fgets(line, sizeof line, f)) {
+    char *colon = strchr(line, ':');
+    if (strncmp(line, "model name", 10) || !colon) continue;
+    snprintf(buf, cap, "%s", colon + 2);
+    buf[strcspn(buf, "\n")] = '\0';
+    break;
+  }
+  if (f) fclose(f);
+}
+
+static double load_average(void) {
+  double l = -1;
+  FILE *f = fopen("/proc/loadavg", "r");
+  if (f && fscanf(f, "%lf", &l) != 1) l = -1;
+  if (f) fclose(f);
+  return l;
+}
+
+/* Lobe images of `b` with `spp` walks per pixel and `seed`; returns seconds. */
+static double lobe_set(const nbrdf_brdf *b, int res, int spp, uint64_t seed, int threads,
+                       double *images) {
+  nbrdf_lobe_brdf lb = {b, {seed, spp, threads}};
+  nbrdf_error err = {0};
+  double t0 = now();
+  if (nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, res, N_THETA, nbrdf_lobe_theta_deg, images,
+                        &err) != NBRDF_OK) {
+    fprintf(stderr, "bench_groundtruth: %s\n", err.message);
+    exit(1);
+  }
+  return now() - t0;
+}
+
+/* Σ|x − y| / Σ|ref| / √2. For an unbiased estimator with independent errors,
+ * E|x − y| = √2 E|x − truth| (exact for Gaussian errors), so this is the lobe
+ * error of one run without the reference's own noise in it. */
+static double paired_error(size_t n, const double *ref, const double *x, const double *y) {
+  double num = 0, den = 0;
+  for (size_t k = 0; k < n; k++)
+    num += fabs(x[k] - y[k]), den += fabs(ref[k]);
+  return den > 0 ? num / den / sqrt(2.0) : 0.0;
+}
+
+typedef struct result {
+  double err[MAX_SPP];        /* lobe error against the reference */
+  double paired[MAX_SPP];     /* see paired_error() */
+  double albedo_err[MAX_SPP]; /* mean |albedo − reference albedo| over the four images */
+  double rate[MAX_SPP];       /* walks per second, all threads */
+  double ref_noise, rate_1, ref_albedo[N_THETA];
+} result;
+
+static void run_preset(const preset *p, const config *c, result *r) {
+  nbrdf_brdf *bottom = NULL, *b = NULL;
+  nbrdf_error err = {0};
+  if (nbrdf_brdf_create_conductor(p->alpha2, p->r0, &bottom, &err) != NBRDF_OK ||
+      nbrdf_brdf_create_layered(p->alpha1, p->eta, p->albedo, p->sigma_t, bottom, &b, &err) !=
+          NBRDF_OK) {
+    fprintf(stderr, "bench_groundtruth: %s: %s\n", p->name, err.message);
+    exit(1);
+  }
+  nbrdf_brdf_destroy(bottom);
+  const size_t per_image = (size_t)c->res * (size_t)c->res, n_pix = N_THETA * per_image;
+  const double walks_per_spp = (double)N_THETA * (double)nbrdf_lobe_pixels_inside(c->res);
+  double *ref = malloc(n_pix * sizeof *ref), *x = malloc(n_pix * sizeof *x);
+  double *y = malloc(n_pix * sizeof *y);
+  if (!ref || !x || !y) exit(1);
+
+  double dt = lobe_set(b, c->res, c->speed_spp, 99, 1, x);
+  r->rate_1 = walks_per_spp * c->speed_spp / dt;
+  fprintf(stderr, "  1 thread: %.3g walks/s\n", r->rate_1);
+
+  /* The reference: the mean of two independent runs; their difference is its noise. */
+  dt = lobe_set(b, c->res, c->ref_spp, 1001, c->threads, ref);
+  dt += lobe_set(b, c->res, c->ref_spp, 1002, c->threads, y);
+  r->ref_noise = nbrdf_lobe_error(n_pix, ref, y);
+  for (size_t k = 0; k < n_pix; k++)
+    ref[k] = 0.5 * (ref[k] + y[k]);
+  for (int t = 0; t < N_THETA; t++)
+    r->ref_albedo[t] = nbrdf_lobe_albedo(c->res, ref + (size_t)t * per_image);
+  fprintf(stderr, "  reference: seed-to-seed %.2f %% (%.0f s)\n", 100 * r->ref_noise, dt);
+
+  for (int k = 0; k < c->n_spp; k++) {
+    dt = lobe_set(b, c->res, c->spp[k], 7 + 2 * (uint64_t)k, c->threads, x);
+    dt += lobe_set(b, c->res, c->spp[k], 8 + 2 * (uint64_t)k, c->threads, y);
+    r->rate[k] = 2 * walks_per_spp * c->spp[k] / dt;
+    r->err[k] = nbrdf_lobe_error(n_pix, ref, x);
+    r->paired[k] = paired_error(n_pix, ref, x, y);
+    r->albedo_err[k] = nbrdf_lobe_albedo_error(c->res, N_THETA, ref, x, NULL);
+    fprintf(stderr, "  spp %d: lobe error %.2f %%, paired %.2f %% (%.1f s)\n", c->spp[k],
+            100 * r->err[k], 100 * r->paired[k], dt);
+    if (c->lobes && k == 0) {
+      char path[1024];
+      snprintf(path, sizeof path, "%s/groundtruth_%s_spp%d.png", c->lobes, p->name, c->spp[k]);
+      if (nbrdf_lobe_write_png(path, c->res, N_THETA, ref, x, 3, &err) != NBRDF_OK)
+        fprintf(stderr, "bench_groundtruth: %s\n", err.message);
+    }
+  }
+  free(ref), free(x), free(y);
+  nbrdf_brdf_destroy(b);
+}
+
+static void print_table(FILE *f, const char *head, const config *c, int threads_used,
+                        const int *ran, const result *res, double seconds) {
+  fprintf(f, "%s\n", head);
+  fprintf(f,
+          "| BRDF (alpha1, eta, alpha2, R0, A, sigma_T) | spp | lobe error vs ref. | ref. "
+          "seed-to-seed | > 3x ref.? | paired error | albedo error | walks/s (%d thr) |\n",
+          threads_used);
+  fprintf(f, "|---|---:|---:|---:|:---:|---:|---:|---:|\n");
+  for (int i = 0; i < N_BRDF; i++) {
+    if (!ran[i]) continue;
+    const preset *p = &PRESETS[i];
+    for (int k = 0; k < c->n_spp; k++) {
+      char name[160] = "";
+      if (k == 0)
+        snprintf(name, sizeof name, "%s (%g, %g, %g, %g, %g, %g)", p->label, p->alpha1, p->eta,
+                 p->alpha2, p->r0, p->albedo, p->sigma_t);
+      fprintf(f, "| %s | %d | %.2f %% | %.2f %% | %s | %.2f %% | %.4f | %.3g |\n", name, c->spp[k],
+              100 * res[i].err[k], 100 * res[i].ref_noise,
+              res[i].err[k] > 3 * res[i].ref_noise ? "yes" : "no", 100 * res[i].paired[k],
+              res[i].albedo_err[k], res[i].rate[k]);
+    }
+  }
+  fprintf(f,
+          "\nWalks per second on one core (1 thread, %d walks per query), and walks per query "
+          "for a 3 %% and a 1 %% lobe error, extrapolated as 1/sqrt(spp) from the paired error "
+          "at the largest spp:\n",
+          c->speed_spp);
+  for (int i = 0; i < N_BRDF; i++) {
+    if (!ran[i]) continue;
+    const double e = res[i].paired[c->n_spp - 1], k2 = e * e * c->spp[c->n_spp - 1];
+    fprintf(f, "- %s: %.3g walks/s/core; %.0f spp for 3 %%, %.0f spp for 1 %%\n", PRESETS[i].label,
+            res[i].rate_1, k2 / (0.03 * 0.03), k2 / (0.01 * 0.01));
+  }
+  fprintf(f, "\nReference albedo from its lobe images (theta_i = 0, 30, 60, 80 deg):\n");
+  for (int i = 0; i < N_BRDF; i++)
+    if (ran[i])
+      fprintf(f, "- %s: %.4f, %.4f, %.4f, %.4f\n", PRESETS[i].label, res[i].ref_albedo[0],
+              res[i].ref_albedo[1], res[i].ref_albedo[2], res[i].ref_albedo[3]);
+  fprintf(f, "\nTotal time %.0f s.\n", seconds);
+}
+
+static void plot(const config *c, const int *ran, const result *res) {
+  double xs[MAX_SPP], ys[N_BRDF][MAX_SPP], floor_y[N_BRDF][MAX_SPP];
+  nbrdf_plot_series s[2 * N_BRDF];
+  int n = 0;
+  for (int k = 0; k < c->n_spp; k++)
+    xs[k] = c->spp[k];
+  for (int i = 0; i < N_BRDF; i++) {
+    if (!ran[i]) continue;
+    for (int k = 0; k < c->n_spp; k++) {
+      ys[i][k] = 100 * res[i].err[k];
+      floor_y[i][k] = 100 * res[i].ref_noise;
+    }
+    s[n++] = (nbrdf_plot_series){PRESETS[i].label, c->n_spp, xs, ys[i], 0, i + 1};
+    s[n++] = (nbrdf_plot_series){NULL, c->n_spp, xs, floor_y[i], 1, i + 1};
+  }
+  nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
+  o.title = "Layered ground truth: lobe error vs walks per query";
+  o.x_label = "walks per query (spp)";
+  o.y_label = "lobe error vs reference (%), dashed: reference seed-to-seed";
+  o.log_x = o.log_y = 1;
+  o.width = 900;
+  nbrdf_error err = {0};
+  if (nbrdf_plot_write_png(c->plot, &o, n, s, &err) != NBRDF_OK)
+    fprintf(stderr, "bench_groundtruth: %s\n", err.message);
+}
+
+int main(int argc, char **argv) {
+  config c;
+  if (!parse_args(argc, argv, &c)) {
+    usage(stderr);
+    return 2;
+  }
+  const int threads_used = c.threads > 0 ? c.threads : omp_get_max_threads();
+  char cpu[256], head[1024];
+  cpu_model(cpu, sizeof cpu);
+  snprintf(head, sizeof head,
+           "Machine: %s, %d logical cores (omp_get_max_threads), %d threads used, load average "
+           "%.2f at start.\nLobe images: %dx%d at theta_i = 0, 30, 60, 80 deg (%zu queries per "
+           "set); reference = mean of 2 runs x %d walks per pixel (seeds 1001, 1002).\n",
+           cpu, omp_get_max_threads(), threads_used, load_average(), c.res, c.res,
+           (size_t)N_THETA * nbrdf_lobe_pixels_inside(c.res), c.ref_spp);
+  fprintf(stderr, "%s", head);
+
+  result res[N_BRDF];
+  int ran[N_BRDF] = {0};
+  const double t_start = now();
+  for (int i = 0; i < N_BRDF; i++) {
+    if (c.only && strcmp(c.only, PRESETS[i].name)) continue;
+    fprintf(stderr, "%s (%s):\n", PRESETS[i].label, PRESETS[i].name);
+    run_preset(&PRESETS[i], &c, &res[i]);
+    ran[i] = 1;
+  }
+  const double seconds = now() - t_start;
+  print_table(stdout, head, &c, threads_used, ran, res, seconds);
+  FILE *out = fopen(c.out, "w");
+  if (out) {
+    print_table(out, head, &c, threads_used, ran, res, seconds);
+    fclose(out);
+  } else {
+    fprintf(stderr, "bench_groundtruth: cannot write %s\n", c.out);
+  }
+  plot(&c, ran, res);
+  fprintf(stderr, "wrote %s and %s\n", c.out, c.plot);
+  return 0;
+}

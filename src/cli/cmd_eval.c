@@ -1,0 +1,376 @@
+/* nbrdf eval: point queries of the ground-truth BRDFs, CSV in, CSV out.
+ * The contract (issue 2) is what an independent implementation of the same
+ * physics is checked against, so the format is strict and fully documented in
+ * cmd_eval_usage(). */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "cli/cli.h"
+#include "cli/csv.h"
+#include "core/vec3.h"
+#include "nbrdf/brdf.h"
+
+enum { MAX_PARAMS = 6, N_ANGLES = 4, MAX_COLUMNS = MAX_PARAMS + N_ANGLES };
+
+typedef struct column_spec {
+  const char *name;
+  double lo, hi;
+  int hi_open; /* θ = 90° is excluded: the direction would lie in the surface */
+} column_spec;
+
+typedef struct model_spec {
+  const char *name;
+  int stochastic;
+  int n_params;
+  column_spec params[MAX_PARAMS];
+} model_spec;
+
+#define ALPHA_RANGE NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, 0
+#define ETA_RANGE NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX, 0
+static const model_spec MODELS[] = {
+    {"layered",
+     1,
+     6,
+     {{"alpha1", ALPHA_RANGE},
+      {"eta", ETA_RANGE},
+      {"alpha2", ALPHA_RANGE},
+      {"r0", 0, 1, 0},
+      {"albedo", 0, 1, 0},
+      {"sigma_t", 0, NBRDF_GT_SIGMA_T_MAX, 0}}},
+    {"conductor", 0, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
+    {"dielectric", 0, 2, {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
+};
+static const column_spec ANGLES[N_ANGLES] = {
+    {"theta_i", 0, 90, 1}, {"phi_i", -360, 360, 0}, {"theta_o", 0, 90, 1}, {"phi_o", -360, 360, 0}};
+
+void cmd_eval_usage(FILE *out) {
+  fprintf(out,
+          "usage: nbrdf eval --model layered|conductor|dielectric [--spp N] "
+          "[--seed S] [--threads T]\n"
+          "\n"
+          "Evaluates ground-truth BRDF values at point queries: reads CSV on "
+          "stdin, writes CSV\n"
+          "on stdout.\n"
+          "\n"
+          "options:\n"
+          "  --model M    layered, conductor or dielectric (required)\n"
+          "  --spp N      random walks per query for stochastic models (default "
+          "1024, 1..1e9);\n"
+          "               ignored by the analytic models\n"
+          "  --seed S     base seed, an unsigned 64-bit integer (default 0)\n"
+          "  --threads T  worker threads; 0 = all cores (default 0)\n"
+          "\n"
+          "input: a header row naming the columns, then one query per row. Columns "
+          "may come in\n"
+          "any order; columns the model does not use are passed through "
+          "unchanged.\n"
+          "  layered:    alpha1,eta,alpha2,r0,albedo,sigma_t + angles\n"
+          "              rough dielectric coat (alpha1, eta) over a slab of unit "
+          "thickness with\n"
+          "              optical depth sigma_t and single-scattering albedo "
+          "(isotropic phase),\n"
+          "              over a rough conductor (alpha2, r0)\n"
+          "  conductor:  alpha,r0 + angles      (GGX, Schlick Fresnel with normal "
+          "reflectance r0)\n"
+          "  dielectric: alpha,eta + angles     (GGX, exact Fresnel; its "
+          "reflection lobe only)\n"
+          "  angles:     theta_i,phi_i,theta_o,phi_o in DEGREES; theta from the "
+          "surface normal,\n"
+          "              phi the azimuth from the x axis; both directions point "
+          "away from the\n"
+          "              surface (wi towards the light, wo towards the viewer)\n"
+          "\n"
+          "accepted ranges (anything else, NaN or Inf stops with an error naming "
+          "the row):\n"
+          "  alpha, alpha1, alpha2  [%g, %g]  GGX roughness, used directly (no "
+          "remapping)\n"
+          "  eta                    [%g, %g]  coat IOR relative to the outside\n"
+          "  r0, albedo             [0, 1]\n"
+          "  sigma_t                [0, %g]  optical depth of the slab\n"
+          "  theta_i, theta_o       [0, 90)   degrees\n"
+          "  phi_i, phi_o           [-360, 360] degrees\n"
+          "The neural models are trained on a narrower range (paper Table 2: alpha "
+          "0.01..1,\n"
+          "eta 1.05..2, sigma_t 0..5).\n"
+          "\n"
+          "output: the input columns in input order, then\n"
+          "  f          the BRDF value f(wi, wo) in 1/sr, WITHOUT the cosine "
+          "factor\n"
+          "  f_stderr   (layered only) the standard error of f, a Monte Carlo mean "
+          "over N walks\n"
+          "Numbers are printed with %%.17g, which round-trips a double exactly. "
+          "Output lines end\n"
+          "in LF. Row k always uses random stream k of the seed, so the output "
+          "depends on the\n"
+          "seed and the row order but not on --threads.\n"
+          "\n"
+          "format details: LF or CRLF line endings; blank lines are skipped; "
+          "fields may be quoted\n"
+          "(RFC 4180); spaces around numbers are ignored; a header without rows "
+          "gives a header\n"
+          "without rows. The input must not already have a column 'f' or "
+          "'f_stderr'.\n"
+          "\n"
+          "exit status: 0 success; 1 bad input (the message names the line and "
+          "column, e.g.\n"
+          "\"line 7, column 'eta': 'abc' is not a number\"); 2 bad usage.\n"
+          "\n"
+          "example:\n"
+          "  printf 'alpha,r0,theta_i,phi_i,theta_o,phi_o\\n0.5,1,0,0,0,0\\n' |\n"
+          "    nbrdf eval --model conductor\n",
+          NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX,
+          NBRDF_GT_SIGMA_T_MAX);
+}
+
+typedef struct eval_args {
+  const model_spec *model;
+  nbrdf_eval_options options;
+} eval_args;
+
+/* Accepts "--name value" and "--name=value"; returns the value or NULL. */
+static const char *option_value(int argc, char **argv, int *i, const char *name) {
+  size_t n = strlen(name);
+  if (strncmp(argv[*i], name, n)) return NULL;
+  if (argv[*i][n] == '=') return argv[*i] + n + 1;
+  if (argv[*i][n] != '\0') return NULL;
+  if (*i + 1 >= argc) return "";
+  return argv[++*i];
+}
+
+static int parse_args(int argc, char **argv, eval_args *a) {
+  a->model = NULL;
+  a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
+  for (int i = 1; i < argc; i++) {
+    const char *v;
+    long n;
+    if ((v = option_value(argc, argv, &i, "--model"))) {
+      for (size_t m = 0; m < sizeof MODELS / sizeof MODELS[0]; m++)
+        if (!strcmp(v, MODELS[m].name)) a->model = &MODELS[m];
+      if (!a->model)
+        return cli_usage_error("eval",
+                               "unknown model '%s' (expected layered, conductor or "
+                               "dielectric)",
+                               v);
+    } else if ((v = option_value(argc, argv, &i, "--spp"))) {
+      if (!cli_parse_int(v, 1, 1000000000L, &n))
+        return cli_usage_error("eval", "--spp '%s' is not an integer in [1, 1e9]", v);
+      a->options.spp = (int)n;
+    } else if ((v = option_value(argc, argv, &i, "--threads"))) {
+      if (!cli_parse_int(v, 0, 4096, &n))
+        return cli_usage_error("eval", "--threads '%s' is not an integer in [0, 4096]", v);
+      a->options.threads = (int)n;
+    } else if ((v = option_value(argc, argv, &i, "--seed"))) {
+      char *end;
+      errno = 0;
+      unsigned long long s = strtoull(v, &end, 10);
+      if (!isdigit((unsigned char)v[0]) || *end || errno == ERANGE)
+        return cli_usage_error("eval", "--seed '%s' is not an unsigned 64-bit integer", v);
+      a->options.seed = (uint64_t)s;
+    } else if (cli_is_help(argv[i])) {
+      cmd_eval_usage(stdout);
+      return -1;
+    } else {
+      return cli_usage_error("eval", "unexpected argument '%s'", argv[i]);
+    }
+  }
+  if (!a->model) return cli_usage_error("eval", "--model is required");
+  return CLI_EXIT_OK;
+}
+
+/* A field's text made safe and short for an error message. */
+static const char *printable(const char *s, char *buf, size_t cap) {
+  size_t n = 0;
+  for (; *s && n + 4 < cap; s++)
+    buf[n++] = (*s >= 32 && *s < 127) ? *s : '?';
+  if (*s) buf[n++] = '.', buf[n++] = '.', buf[n++] = '.';
+  buf[n] = '\0';
+  return buf;
+}
+
+/* Columns of the model's parameters then the four angles, as header indices. */
+typedef struct layout {
+  int n;
+  const column_spec *spec[MAX_COLUMNS];
+  size_t index[MAX_COLUMNS];
+} layout;
+
+static int find_columns(const csv_table *t, const model_spec *m, layout *lay) {
+  size_t width = csv_record_width(t, 0);
+  char name[64];
+  lay->n = m->n_params + N_ANGLES;
+  for (int c = 0; c < lay->n; c++) {
+    lay->spec[c] = c < m->n_params ? &m->params[c] : &ANGLES[c - m->n_params];
+    lay->index[c] = width;
+  }
+  for (size_t k = 0; k < width; k++) {
+    csv_value(t, 0, k, name, sizeof name);
+    if (!strcmp(name, "f") || !strcmp(name, "f_stderr"))
+      return cli_fail("eval", "line %zu: the input already has a column '%s'", t->line[0], name);
+    for (int c = 0; c < lay->n; c++) {
+      if (strcmp(name, lay->spec[c]->name)) continue;
+      if (lay->index[c] != width)
+        return cli_fail("eval", "line %zu: column '%s' appears twice", t->line[0], name);
+      lay->index[c] = k;
+    }
+  }
+  for (int c = 0; c < lay->n; c++)
+    if (lay->index[c] == width)
+      return cli_fail("eval", "missing column '%s' (model %s needs %s)", lay->spec[c]->name,
+                      m->name,
+                      m->stochastic ? "alpha1,eta,alpha2,r0,albedo,sigma_t and the angles"
+                                    : (m->params[1].name[0] == 'r' ? "alpha,r0 and the angles"
+                                                                   : "alpha,eta and the angles"));
+  return CLI_EXIT_OK;
+}
+
+/* Parses and range-checks the model's columns of one row into v[]. */
+static int parse_row(const csv_table *t, size_t r, const layout *lay, double *v) {
+  size_t width = csv_record_width(t, r), want = csv_record_width(t, 0);
+  if (width != want)
+    return cli_fail("eval", "line %zu: %zu fields, but the header has %zu columns", t->line[r],
+                    width, want);
+  char buf[128], shown[64];
+  for (int c = 0; c < lay->n; c++) {
+    const column_spec *s = lay->spec[c];
+    size_t len = csv_value(t, r, lay->index[c], buf, sizeof buf);
+    if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
+    char *end = buf;
+    double x = len < sizeof buf ? strtod(buf, &end) : 0;
+    if (end != buf + len || strlen(buf) != len)
+      return cli_fail("eval", "line %zu, column '%s': '%s' is not a number", t->line[r], s->name,
+                      printable(buf, shown, sizeof shown));
+    if (!isfinite(x))
+      return cli_fail("eval", "line %zu, column '%s': '%s' is not a finite number", t->line[r],
+                      s->name, printable(buf, shown, sizeof shown));
+    if (x < s->lo || x > s->hi || (s->hi_open && x == s->hi))
+      return cli_fail("eval", "line %zu, column '%s': %s is outside %c%g, %g%c", t->line[r],
+                      s->name, printable(buf, shown, sizeof shown), '[', s->lo, s->hi,
+                      s->hi_open ? ')' : ']');
+    v[c] = x;
+  }
+  return CLI_EXIT_OK;
+}
+
+static nbrdf_status create_brdf(const model_spec *m, const double *p, nbrdf_brdf **out,
+                                nbrdf_error *err) {
+  if (!strcmp(m->name, "conductor")) return nbrdf_brdf_create_conductor(p[0], p[1], out, err);
+  if (!strcmp(m->name, "dielectric")) return nbrdf_brdf_create_dielectric(p[0], p[1], out, err);
+  nbrdf_brdf *bottom = NULL;
+  nbrdf_status st = nbrdf_brdf_create_conductor(p[2], p[3], &bottom, err);
+  if (st == NBRDF_OK) st = nbrdf_brdf_create_layered(p[0], p[1], p[4], p[5], bottom, out, err);
+  nbrdf_brdf_destroy(bottom);
+  return st;
+}
+
+static void direction(double theta_deg, double phi_deg, double w[3]) {
+  vec3 d = v3_from_spherical(theta_deg * (M_PI / 180.0), phi_deg * (M_PI / 180.0));
+  w[0] = d.x, w[1] = d.y, w[2] = d.z;
+}
+
+typedef struct batch {
+  size_t n, n_owned;
+  const nbrdf_brdf **brdfs;
+  nbrdf_brdf **owned;
+  nbrdf_query *queries;
+  double *f, *f_stderr;
+} batch;
+
+static void batch_free(batch *b) {
+  for (size_t k = 0; k < b->n_owned; k++)
+    nbrdf_brdf_destroy(b->owned[k]);
+  free(b->brdfs), free(b->owned), free(b->queries), free(b->f), free(b->f_stderr);
+}
+
+/* One handle per row, shared by consecutive rows with the same parameters
+ * (a lobe scan repeats them), so memory stays linear and small. */
+static int build_batch(const csv_table *t, const eval_args *a, const layout *lay, batch *b) {
+  size_t n = t->n_records - 1;
+  b->n = n;
+  b->brdfs = calloc(n ? n : 1, sizeof *b->brdfs);
+  b->owned = calloc(n ? n : 1, sizeof *b->owned);
+  b->queries = calloc(n ? n : 1, sizeof *b->queries);
+  b->f = calloc(n ? n : 1, sizeof *b->f);
+  b->f_stderr = calloc(n ? n : 1, sizeof *b->f_stderr);
+  if (!b->brdfs || !b->owned || !b->queries || !b->f || !b->f_stderr)
+    return cli_fail("eval", "out of memory for %zu rows", n);
+  const int np = a->model->n_params;
+  double prev[MAX_COLUMNS];
+  for (size_t k = 0; k < n; k++) {
+    double v[MAX_COLUMNS];
+    int rc = parse_row(t, k + 1, lay, v);
+    if (rc != CLI_EXIT_OK) return rc;
+    if (k > 0 && !memcmp(v, prev, (size_t)np * sizeof *v)) {
+      b->brdfs[k] = b->brdfs[k - 1];
+    } else {
+      nbrdf_error err = {0};
+      nbrdf_brdf *h = NULL;
+      if (create_brdf(a->model, v, &h, &err) != NBRDF_OK) {
+        return cli_fail("eval", "line %zu: %s", t->line[k + 1], err.message);
+      }
+      b->owned[b->n_owned++] = h;
+      b->brdfs[k] = h;
+    }
+    memcpy(prev, v, sizeof prev);
+    direction(v[np + 0], v[np + 1], b->queries[k].wi);
+    direction(v[np + 2], v[np + 3], b->queries[k].wo);
+  }
+  return CLI_EXIT_OK;
+}
+
+static void write_row(FILE *out, const csv_table *t, size_t r) {
+  size_t width = csv_record_width(t, r);
+  for (size_t c = 0; c < width; c++) {
+    if (c) fputc(',', out);
+    csv_write_raw(out, t, r, c);
+  }
+}
+
+int cmd_eval(int argc, char **argv) {
+  eval_args a;
+  int rc = parse_args(argc, argv, &a);
+  if (rc != CLI_EXIT_OK) return rc < 0 ? CLI_EXIT_OK : rc;
+
+  if (isatty(STDIN_FILENO))
+    fprintf(stderr, "nbrdf eval: reading CSV from the terminal (end with "
+                    "Ctrl-D; see --help)\n");
+  csv_table t;
+  nbrdf_error err = {0};
+  if (csv_read(stdin, "stdin", &t, &err) != NBRDF_OK) return cli_fail_error("eval", &err);
+  if (t.n_records == 0) {
+    csv_free(&t);
+    return cli_fail("eval", "stdin: no header row (see 'nbrdf eval --help')");
+  }
+  layout lay;
+  batch b = {0};
+  rc = find_columns(&t, a.model, &lay);
+  if (rc == CLI_EXIT_OK) rc = build_batch(&t, &a, &lay, &b);
+  if (rc == CLI_EXIT_OK && b.n > 0 &&
+      nbrdf_brdf_eval_many(b.n, b.brdfs, b.queries, &a.options, b.f, b.f_stderr, &err) != NBRDF_OK)
+    rc = cli_fail_error("eval", &err);
+  for (size_t k = 0; rc == CLI_EXIT_OK && k < b.n; k++)
+    if (!isfinite(b.f[k]) || !isfinite(b.f_stderr[k]))
+      rc = cli_fail("eval", "line %zu: the model returned a non-finite value (a bug in nbrdf)",
+                    t.line[k + 1]);
+  if (rc == CLI_EXIT_OK) {
+    static char obuf[1 << 16];
+    setvbuf(stdout, obuf, _IOFBF, sizeof obuf);
+    write_row(stdout, &t, 0);
+    fputs(a.model->stochastic ? ",f,f_stderr\n" : ",f\n", stdout);
+    for (size_t k = 0; k < b.n; k++) {
+      write_row(stdout, &t, k + 1);
+      if (a.model->stochastic)
+        printf(",%.17g,%.17g\n", b.f[k], b.f_stderr[k]);
+      else
+        printf(",%.17g\n", b.f[k]);
+    }
+    if (fflush(stdout) != 0 || ferror(stdout)) rc = cli_fail("eval", "writing stdout failed");
+  }
+  batch_free(&b);
+  csv_free(&t);
+  return rc;
+}
