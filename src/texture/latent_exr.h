@@ -39,12 +39,17 @@ typedef nbrdf_status (*nbrdf_latent_mip_row_fn)(void *user, int level, int y, fl
 typedef struct nbrdf_latent_exr_options {
   nbrdf_latent_storage storage;
   nbrdf_latent_compression compression;
-  int tile_size;    /* tile edge in texels, 8..1024 */
+  int tile_size;    /* tile edge in texels, 8..1024, and a tile's bytes at most
+                       NBRDF_LATENT_MAX_TILE_BYTES */
   int mip_levels;   /* 0: the full chain; 1: level 0 only (OpenEXR's mip-maps are always
                        complete, so no value in between exists) */
   nbrdf_latent_mip_row_fn mip_row; /* optional, see above */
   void *mip_row_user;
 } nbrdf_latent_exr_options;
+
+/* Readers refuse bigger tiles, so that a damaged header cannot ask for
+ * absurd buffers; the default 64x64 tiles of 102 half channels take 0.8 MiB. */
+#define NBRDF_LATENT_MAX_TILE_BYTES (256u << 20)
 
 /* PIZ: measured smaller and faster than ZIP on latent textures
  * (docs/LATENT-TEXTURE.md, "Compression"). */

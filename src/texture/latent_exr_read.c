@@ -179,6 +179,11 @@ static nbrdf_status map_channels(nbrdf_latent_reader *r, nbrdf_error *err) {
     any_half |= e->pixel_type == EXR_PIXEL_HALF;
     r->logical_names[i] = e->name.str;
   }
+  uint64_t tile_bytes = 0;
+  for (int k = 0; k < r->chlist->num_channels; k++)
+    tile_bytes += r->chlist->entries[k].pixel_type == EXR_PIXEL_HALF ? 2 : 4;
+  tile_bytes *= (uint64_t)r->info.tile_width * (uint64_t)r->info.tile_height;
+  if (tile_bytes > NBRDF_LATENT_MAX_TILE_BYTES) return bad(err, r, "tiles are too large", NULL);
   for (int i = 0; i < n; i++)
     if (!r->logical_names[i]) {
       char name[32];

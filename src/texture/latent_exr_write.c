@@ -126,6 +126,12 @@ static nbrdf_status check_args(int width, int height, const nbrdf_latent_layout 
   if (o->tile_size < 8 || o->tile_size > 1024)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: tile size %d is outside 8..1024", path,
                       o->tile_size);
+  size_t bytes = o->storage == NBRDF_LATENT_FLOAT ? 4 : 2;
+  if ((size_t)o->tile_size * o->tile_size * nbrdf_latent_channel_count(layout) * bytes >
+      NBRDF_LATENT_MAX_TILE_BYTES)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %dx%d tiles of %d channels exceed %u MiB",
+                      path, o->tile_size, o->tile_size, nbrdf_latent_channel_count(layout),
+                      NBRDF_LATENT_MAX_TILE_BYTES >> 20);
   if (o->mip_levels != 0 && o->mip_levels != 1)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "%s: mip levels %d: OpenEXR stores either the full chain (0) or "

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -140,8 +141,25 @@ extern "C" nbrdf_status nbrdf_image_read_rows(nbrdf_image_in *img, int level, in
     if (y0 < 0 || y1 > s.height || y0 >= y1 || c0 < 0 || c1 > s.nchannels || c0 >= c1)
       return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows [%d, %d) channels [%d, %d) of %dx%d",
                         path, y0, y1, c0, c1, s.width, s.height);
-    if (!img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT,
-                                 out))
+    bool ok;
+    if (s.tile_width > 0 && s.tile_height > 0) {
+      // OIIO 2.4.7's read_scanlines dies of SIGFPE on tiled files: read the
+      // tile rows that cover [y0, y1) instead and copy the rows asked for.
+      int th = s.tile_height, ty0 = y0 / th * th, ty1 = (y1 + th - 1) / th * th;
+      if (ty1 > s.height) ty1 = s.height;
+      size_t row = (size_t)s.width * (size_t)(c1 - c0);
+      std::vector<float> band((size_t)(ty1 - ty0) * row);
+      ok = img->in->read_tiles(0, level, s.x, s.x + s.width, s.y + ty0, s.y + ty1, s.z,
+                               s.z + (s.depth > 0 ? s.depth : 1), c0, c1, TypeDesc::FLOAT,
+                               band.data());
+      if (ok)
+        std::memcpy(out, band.data() + (size_t)(y0 - ty0) * row,
+                    (size_t)(y1 - y0) * row * sizeof(float));
+    } else {
+      ok = img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT,
+                                   out);
+    }
+    if (!ok)
       return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read rows %d..%d: %s", path, y0, y1 - 1,
                         first_line(img->in->geterror()).c_str());
     return NBRDF_OK;
@@ -164,7 +182,7 @@ extern "C" void nbrdf_image_close(nbrdf_image_in *img) {
 extern "C" nbrdf_status nbrdf_image_write(const char *path, int width, int height, int channels,
                                           const float *pixels, nbrdf_pixel_format format,
                                           nbrdf_error *err) {
-  if (!path || width < 1 || height < 1 || channels < 1 || channels > 4 || !pixels)
+  if (!path || width < 1 || height < 1 || channels < 1 || channels > 16 || !pixels)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: cannot write a %dx%d image of %d channels",
                       path ? path : "(null)", width, height, channels);
   nbrdf_output_file f;

@@ -48,8 +48,8 @@ nbrdf_status nbrdf_image_read_rows(nbrdf_image_in *img, int level, int y0, int y
                                    int c1, float *out, nbrdf_error *err);
 void nbrdf_image_close(nbrdf_image_in *img);
 
-/* Writes a width x height image of `channels` floats per pixel (1: grey,
- * 3: RGB, 4: RGBA), in the format the file name's extension selects, with
+/* Writes a width x height image of `channels` (1..16) floats per pixel (1:
+ * grey, 3: RGB, 4: RGBA), in the format the file name's extension selects, with
  * samples stored as `format` (integers clamp [0, 1]). The file appears only
  * when complete (temporary file + rename). */
 nbrdf_status nbrdf_image_write(const char *path, int width, int height, int channels,
