@@ -76,7 +76,11 @@ typedef struct nbrdf_eval_options {
 
 /* Evaluates query k with brdfs[k] for k < n (the same handle may repeat).
  * f[k] is f(ωi, ωo) without cosine; f_stderr (may be NULL) receives the
- * standard error of the mean over the spp walks (0 for analytic BRDFs). */
+ * standard error of the mean over the spp walks (0 for analytic BRDFs;
+ * +Inf when spp = 1, since one walk cannot estimate its own spread).
+ * `options` may be NULL (NBRDF_EVAL_OPTIONS_DEFAULT). Every query is checked
+ * before any is evaluated; a bad one fails naming its index ("query 3: wi
+ * ... has z <= 0"). A dielectric evaluates its reflection lobe only. */
 nbrdf_status nbrdf_brdf_eval_many(size_t n, const nbrdf_brdf *const *brdfs,
                                   const nbrdf_query *queries,
                                   const nbrdf_eval_options *options, double *f,
