@@ -1,7 +1,9 @@
-/* The element-wise and GEMM kernels of the layers. Everything outside the GEMMs is a single
- * pass over rows that the compiler vectorises; reductions keep 8 independent partial sums
- * (vectorisable without -ffast-math and bit-reproducible), and sums over the batch are kept
- * in double because they run over up to 65536 rows. */
+/* The element-wise and GEMM kernels of the layers. Everything outside the GEMMs is a few
+ * passes over each row that the compiler vectorises. Sums within a row (at most a few hundred
+ * terms) keep 16 independent float partial sums combined pairwise: vectorisable without
+ * -ffast-math, two AVX registers deep, and bit-reproducible; LayerNorm's variance is two-pass.
+ * Sums over the batch (bias, gamma and beta gradients) are kept in double because they run
+ * over up to 65536 rows. */
 #include <cblas.h>
 #include <math.h>
 #include <string.h>
@@ -22,7 +24,7 @@
 #endif
 
 #define LN_EPS 1e-5f
-#define LANES 8
+#define LANES 16
 
 void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta,
                  float *y) {
@@ -35,18 +37,67 @@ void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, floa
               y, out);
 }
 
-static double sum_lanes(const float *v, int w) {
+#if defined(__GNUC__)
+#define NN_INLINE static inline __attribute__((always_inline))
+#else
+#define NN_INLINE static inline
+#endif
+
+/* Pairwise sum of the partial sums (a tree, so that it maps onto vector shuffles). */
+NN_INLINE float reduce_lanes(const float *p) {
+  float q[LANES / 2];
+  for (int k = 0; k < LANES / 2; k++) q[k] = p[k] + p[k + LANES / 2];
+  for (int k = 0; k < LANES / 4; k++) q[k] += q[k + LANES / 4];
+  for (int k = 0; k < LANES / 8; k++) q[k] += q[k + LANES / 8];
+  return q[0] + q[1];
+}
+
+/* u += sum of `terms` in one vectorised pass (no branch inside the loop), returning sum(u). */
+#define ADD_SUM_BODY(EXPR)                                                                     \
+  do {                                                                                         \
+    for (; c + LANES <= w; c += LANES)                                                         \
+      for (int k = 0; k < LANES; k++) {                                                        \
+        int i = c + k;                                                                         \
+        float v = EXPR;                                                                        \
+        u[i] = v;                                                                              \
+        part[k] += v;                                                                          \
+      }                                                                                        \
+    for (; c < w; c++) {                                                                       \
+      int i = c;                                                                               \
+      float v = EXPR;                                                                          \
+      u[i] = v;                                                                                \
+      tail += v;                                                                               \
+    }                                                                                          \
+  } while (0)
+
+/* u += bias + a1 + a2 (each may be NULL), returning the sum of the new u: one pass. */
+NN_INLINE float add_sum_lanes(float *restrict u, const float *restrict bias,
+                              const float *restrict a1, const float *restrict a2, int w) {
+  float part[LANES] = {0}, tail = 0;
+  int c = 0;
+  if (!a1 && a2) a1 = a2, a2 = NULL;
+  if (!bias)
+    ADD_SUM_BODY(u[i]);
+  else if (a2)
+    ADD_SUM_BODY(u[i] + bias[i] + a1[i] + a2[i]);
+  else if (a1)
+    ADD_SUM_BODY(u[i] + bias[i] + a1[i]);
+  else
+    ADD_SUM_BODY(u[i] + bias[i]);
+  return reduce_lanes(part) + tail;
+}
+
+NN_INLINE float sum_lanes(const float *v, int w) {
   float part[LANES] = {0};
   int c = 0;
   for (; c + LANES <= w; c += LANES)
     for (int k = 0; k < LANES; k++) part[k] += v[c + k];
-  double s = 0;
-  for (int k = 0; k < LANES; k++) s += part[k];
+  float s = reduce_lanes(part);
   for (; c < w; c++) s += v[c];
   return s;
 }
 
-static double sumsq_dev_lanes(const float *v, int w, float mean) {
+NN_INLINE float sumsq_dev_lanes(const float *v, int w, float mean) {
   float part[LANES] = {0};
   int c = 0;
   for (; c + LANES <= w; c += LANES)
@@ -54,23 +105,21 @@ static double sumsq_dev_lanes(const float *v, int w, float mean) {
       float d = v[c + k] - mean;
       part[k] += d * d;
     }
-  double s = 0;
-  for (int k = 0; k < LANES; k++) s += part[k];
+  float s = reduce_lanes(part);
   for (; c < w; c++) {
-    double d = v[c] - mean;
+    float d = v[c] - mean;
     s += d * d;
   }
   return s;
 }
 
-static double dot_lanes(const float *a, const float *b, int w) {
+NN_INLINE float dot_lanes(const float *a, const float *b, int w) {
   float part[LANES] = {0};
   int c = 0;
   for (; c + LANES <= w; c += LANES)
     for (int k = 0; k < LANES; k++) part[k] += a[c + k] * b[c + k];
-  double s = 0;
-  for (int k = 0; k < LANES; k++) s += part[k];
-  for (; c < w; c++) s += (double)a[c] * b[c];
+  float s = reduce_lanes(part);
+  for (; c < w; c++) s += a[c] * b[c];
   return s;
 }
 
@@ -87,25 +136,23 @@ NN_HOT void nn_ln_forward(int rows, int w, float *restrict u_all, const float *r
     float *restrict yr = y + (size_t)r * w;
     const float *restrict a1 = add1 ? add1 + (size_t)r * w : NULL;
     const float *restrict a2 = add2 ? add2 + (size_t)r * w : NULL;
-    if (bias)
-      for (int c = 0; c < w; c++) u[c] += bias[c];
-    if (a1)
-      for (int c = 0; c < w; c++) u[c] += a1[c];
-    if (a2)
-      for (int c = 0; c < w; c++) u[c] += a2[c];
-    float mean = (float)(sum_lanes(u, w) / w);
-    float var = (float)(sumsq_dev_lanes(u, w, mean) / w);
+    float mean = add_sum_lanes(u, bias, a1, a2, w) / (float)w;
+    float var = sumsq_dev_lanes(u, w, mean) / (float)w;
     float rs = 1.0f / sqrtf(var + LN_EPS);
     rstd[r] = rs;
-    for (int c = 0; c < w; c++) u[c] = (u[c] - mean) * rs;
     if (relu)
       for (int c = 0; c < w; c++) {
-        float v = u[c] * gamma[c] + beta[c];
+        float xh = (u[c] - mean) * rs, v = xh * gamma[c] + beta[c];
+        u[c] = xh;
         /* Written so that NaN passes through (maxps keeps its second operand). */
         yr[c] = 0.0f > v ? 0.0f : v;
       }
     else
-      for (int c = 0; c < w; c++) yr[c] = u[c] * gamma[c] + beta[c];
+      for (int c = 0; c < w; c++) {
+        float xh = (u[c] - mean) * rs;
+        u[c] = xh;
+        yr[c] = xh * gamma[c] + beta[c];
+      }
   }
 }
 
@@ -130,8 +177,8 @@ NN_HOT void nn_ln_backward(int rows, int w, float *restrict g, const float *rest
       for (int c = 0; c < w; c++) dgamma[c] += (double)(gr[c] * xr[c]);
     for (int c = 0; c < w; c++) dxh[c] = gr[c] * gamma[c];
     /* dL/du = rstd * (dxh - mean(dxh) - xhat * mean(dxh * xhat)) */
-    float m1 = (float)(sum_lanes(dxh, w) / w);
-    float m2 = (float)(dot_lanes(dxh, xr, w) / w);
+    float m1 = sum_lanes(dxh, w) / (float)w;
+    float m2 = dot_lanes(dxh, xr, w) / (float)w;
     float rs = rstd[r];
     for (int c = 0; c < w; c++) gr[c] = rs * (dxh[c] - m1 - xr[c] * m2);
     if (dbias)
