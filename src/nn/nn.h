@@ -49,12 +49,25 @@
  * by RELU or LAYERNORM) is He/Kaiming uniform U(-sqrt(6/fan_in), +sqrt(6/fan_in)); any other
  * weight (an output LINEAR, a skip projection) is LeCun uniform U(-sqrt(3/fan_in), ..);
  * biases 0; LayerNorm gamma 1, beta 0. Each tensor draws from its own PCG32 stream
- * (stream = tensor index), so adding a layer does not change the others' values.
+ * (stream = tensor index), so appending a layer does not change the earlier ones' values.
  *
- * Threading: the GEMMs use OpenBLAS's own threads; the element-wise passes run on the calling
- * thread. This layer never calls openblas_set_num_threads (process-global); see
- * docs/ARCHITECTURE.md "Threads" for the measured choice. Different workspaces on one network
- * may be used from different threads at the same time. */
+ * Threading: the GEMMs use OpenBLAS's own threads; the element-wise passes (bias, residual,
+ * LayerNorm, ReLU: vectorised, AVX2 picked at run time) run on the calling thread. This layer
+ * never calls openblas_set_num_threads (it is process-global: one library cannot know what
+ * the rest of the process wants). Measured with `bench_nn --threads` on the 2-core build
+ * machine, whose Debian OpenBLAS is the pthreads variant (libopenblas0-pthread 0.3.21):
+ * - one caller with OpenBLAS's 2 threads was the fastest way to run a batch;
+ * - two OpenMP threads each calling sgemm on half the batch were slower, much slower at small
+ *   batches, whether OpenBLAS kept 2 threads or was set to 1;
+ * - OpenMP in the element-wise passes made whole networks 3-50x slower with the default
+ *   OMP_WAIT_POLICY (libgomp's and OpenBLAS's idle threads spin against each other on 2
+ *   cores) and was no faster with OMP_WAIT_POLICY=passive. So there is no OpenMP here.
+ * Callers should therefore hand large batches to one thread rather than split them across
+ * OpenMP threads. Different workspaces on one network may still be used from different
+ * threads at the same time (tested). Results are deterministic: the same call gives the same
+ * bits for a given OpenBLAS thread count; changing OPENBLAS_NUM_THREADS (1 vs 2) changes the
+ * GEMMs' rounding in the last bits (measured), so bit-exact comparisons across machines or
+ * settings need a tolerance. */
 #ifndef NBRDF_NN_NN_H
 #define NBRDF_NN_NN_H
 

@@ -189,6 +189,31 @@ static void test_modes_and_chunks(void) {
   nbrdf_nn_destroy(nn);
 }
 
+/* One network, one workspace per thread, used at the same time: the same numbers as alone. */
+static void test_threads_share_a_network(void) {
+  nbrdf_error err_s, *err = &err_s;
+  nbrdf_nn *nn = make_mixed(6);
+  if (!nn) return;
+  enum { ROWS = 300, T = 2 };
+  const int in = nbrdf_nn_inputs(nn), out = nbrdf_nn_outputs(nn);
+  float *x = random_rows(ROWS, in, 13), alone[ROWS * 3], together[T][ROWS * 3];
+  nbrdf_nn_workspace *ws[T] = {NULL, NULL};
+  for (int t = 0; t < T; t++)
+    CHECK_OK(nbrdf_nn_workspace_create(nn, ROWS, NBRDF_NN_TRAIN, &ws[t], err), err);
+  CHECK_OK(nbrdf_nn_forward(nn, ws[0], x, ROWS, alone, err), err);
+  int failures = 0;
+#pragma omp parallel for num_threads(T) reduction(+ : failures)
+  for (int t = 0; t < T; t++)
+    for (int rep = 0; rep < 20; rep++)
+      failures += nbrdf_nn_forward(nn, ws[t], x, ROWS, together[t], NULL) != NBRDF_OK;
+  CHECK(failures == 0);
+  for (int t = 0; t < T; t++)
+    CHECK(memcmp(alone, together[t], sizeof(float) * ROWS * out) == 0);
+  for (int t = 0; t < T; t++) nbrdf_nn_workspace_destroy(ws[t]);
+  free(x);
+  nbrdf_nn_destroy(nn);
+}
+
 static void test_misuse_refused(void) {
   nbrdf_error err_s, *err = &err_s;
   nbrdf_nn *nn = make_mixed(5);
@@ -231,6 +256,7 @@ static void test_misuse_refused(void) {
 int main(void) {
   RUN(test_matches_reference);
   RUN(test_modes_and_chunks);
+  RUN(test_threads_share_a_network);
   RUN(test_misuse_refused);
   return nbrdf_test_finish();
 }
