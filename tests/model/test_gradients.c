@@ -206,6 +206,7 @@ static void test_sampler_network(void) {
   model_sampler_transform(small, &s, &w, NULL, NULL);
   CHECK(s >= 1e-3f && w == 1.0f);
   nbrdf_nn_workspace_destroy(c.ws);
+  model_sampler_destroy(c.net);
   free(grad);
 }
 
