@@ -95,13 +95,13 @@ static void replay_forward_rows(run *r, int rows) {
 
 static void gemm_gw(int rows, int out, int in, const float *g, const float *w, float beta,
                     float *dx) {
-  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, rows, in, out, 1.0f, g, out, w, in,
-              beta, dx, in);
+  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, rows, in, out, 1.0f, g, out, w, in, beta,
+              dx, in);
 }
 
 static void gemm_gtx(int rows, int out, int in, const float *g, const float *x, float *dw) {
-  cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, out, in, rows, 1.0f, g, out, x, in, 1.0f,
-              dw, in);
+  cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, out, in, rows, 1.0f, g, out, x, in, 1.0f, dw,
+              in);
 }
 
 /* The GEMMs of nbrdf_nn_backward(dx = NULL, grad != NULL). */
@@ -152,9 +152,12 @@ static double backward_macs(const nbrdf_nn *nn) {
 }
 
 static void fmt_bytes(char *s, size_t n, double b) {
-  if (b >= 1 << 30) snprintf(s, n, "%.2f GiB", b / (1 << 30));
-  else if (b >= 1 << 20) snprintf(s, n, "%.1f MiB", b / (1 << 20));
-  else snprintf(s, n, "%.0f KiB", b / 1024);
+  if (b >= 1 << 30)
+    snprintf(s, n, "%.2f GiB", b / (1 << 30));
+  else if (b >= 1 << 20)
+    snprintf(s, n, "%.1f MiB", b / (1 << 20));
+  else
+    snprintf(s, n, "%.0f KiB", b / 1024);
 }
 
 static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int *batches,
@@ -180,8 +183,10 @@ static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int
     rb = train_cap * nn->max_width * sizeof(float);
   r.a = calloc(1, rb);
   r.b = calloc(1, rb);
-  for (size_t i = 0; i < (size_t)max_b * in; i++) r.x[i] = (float)((i * 2654435761u) % 1000) / 500 - 1;
-  for (size_t i = 0; i < (size_t)max_b * out; i++) r.dy[i] = 1e-3f;
+  for (size_t i = 0; i < (size_t)max_b * in; i++)
+    r.x[i] = (float)((i * 2654435761u) % 1000) / 500 - 1;
+  for (size_t i = 0; i < (size_t)max_b * out; i++)
+    r.dy[i] = 1e-3f;
   for (int k = 0; k < n_batches; k++) {
     int B = batches[k];
     char mem_f[32], mem_t[32];
@@ -207,9 +212,10 @@ static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int
     nbrdf_nn_workspace_destroy(r.ws);
     double tq = B / un, t_gflops = 2 * (macs + bmacs) * B / un / 1e9;
     double tg_gflops = 2 * (macs + bmacs) * B / ug / 1e9;
-    printf("| %s | %.0f | %d | %.4g | %.1f | %.1f | %.2f | %s | %.4g | %.1f | %.1f | %.2f | %s%s |\n",
-           name, macs, B, fq, f_gflops, g_gflops, tg / tn, mem_f, tq, t_gflops, tg_gflops, ug / un,
-           mem_t, r.chunk < B ? " (chunks)" : "");
+    printf(
+        "| %s | %.0f | %d | %.4g | %.1f | %.1f | %.2f | %s | %.4g | %.1f | %.1f | %.2f | %s%s |\n",
+        name, macs, B, fq, f_gflops, g_gflops, tg / tn, mem_f, tq, t_gflops, tg_gflops, ug / un,
+        mem_t, r.chunk < B ? " (chunks)" : "");
     fflush(stdout);
   }
   free(r.x);
@@ -274,7 +280,8 @@ static void threads_study(double min_s) {
   struct {
     const char *name;
     int width, blocks, batch;
-  } nets[] = {{"decoder 25k", 64, 3, 4096}, {"decoder 1.06M (paper)", 256, 8, 4096},
+  } nets[] = {{"decoder 25k", 64, 3, 4096},
+              {"decoder 1.06M (paper)", 256, 8, 4096},
               {"decoder 1.06M (paper)", 256, 8, 64}};
   for (size_t c = 0; c < sizeof nets / sizeof *nets; c++) {
     nbrdf_error err;
@@ -292,8 +299,7 @@ static void threads_study(double min_s) {
       int bt = setting & 2 ? 1 : blas_threads;
       openblas_set_num_threads(bt); /* process-global: the bench may, the library does not */
       double t = time_calls(par_forward, &p, min_s);
-      printf("| %s | %d | %d | %d | %.4g |\n", nets[c].name, p.batch, p.callers, bt,
-             p.batch / t);
+      printf("| %s | %d | %d | %d | %.4g |\n", nets[c].name, p.batch, p.callers, bt, p.batch / t);
       fflush(stdout);
     }
     openblas_set_num_threads(blas_threads);
@@ -326,8 +332,10 @@ static void threads_study(double min_s) {
 int main(int argc, char **argv) {
   int quick = 0, threads = 0;
   for (int i = 1; i < argc; i++) {
-    if (!strcmp(argv[i], "--quick")) quick = 1;
-    else if (!strcmp(argv[i], "--threads")) threads = 1;
+    if (!strcmp(argv[i], "--quick"))
+      quick = 1;
+    else if (!strcmp(argv[i], "--threads"))
+      threads = 1;
     else {
       fprintf(stderr, "usage: bench_nn [--quick | --threads]\n");
       return 2;
@@ -350,10 +358,8 @@ int main(int argc, char **argv) {
     const char *name;
     int in, width, blocks, plain, out;
   } nets[] = {
-      {"decoder paper 256x(8+8)", 38, 256, 8, 1, 1},
-      {"decoder 128x(3+3)", 38, 128, 3, 1, 1},
-      {"decoder 64x(3+3)", 38, 64, 3, 1, 1},
-      {"decoder 32x(2+2)", 38, 32, 2, 1, 1},
+      {"decoder paper 256x(8+8)", 38, 256, 8, 1, 1}, {"decoder 128x(3+3)", 38, 128, 3, 1, 1},
+      {"decoder 64x(3+3)", 38, 64, 3, 1, 1},         {"decoder 32x(2+2)", 38, 32, 2, 1, 1},
       {"layering 512x4", 66, 512, 4, 0, 32},
   };
   for (size_t c = 0; c < sizeof nets / sizeof *nets; c++) {

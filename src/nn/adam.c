@@ -95,7 +95,8 @@ nbrdf_status nbrdf_adam_add_group(nbrdf_adam *adam, size_t offset, size_t count,
   int id = adam->n_groups++;
   g[id].lr = lr;
   g[id].weight_decay = weight_decay;
-  for (size_t i = offset; i < offset + count; i++) adam->group_of[i] = (uint16_t)id;
+  for (size_t i = offset; i < offset + count; i++)
+    adam->group_of[i] = (uint16_t)id;
   if (group) *group = id;
   return NBRDF_OK;
 }
@@ -104,16 +105,14 @@ nbrdf_status nbrdf_adam_add_group_tensors(nbrdf_adam *adam, const nbrdf_nn *nn,
                                           const char *name_part, float lr, float weight_decay,
                                           int *group, nbrdf_error *err) {
   if (nn->n_params != adam->n)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "adam has %zu parameters but the network has %zu", adam->n,
-                      nn->n_params);
+    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "adam has %zu parameters but the network has %zu",
+                      adam->n, nn->n_params);
   int id = -1;
   for (int k = 0; k < nn->n_tensors; k++) {
     const nbrdf_nn_tensor *t = &nn->tensors[k];
     if (!strstr(t->name, name_part)) continue;
     if (id < 0) {
-      nbrdf_status st = nbrdf_adam_add_group(adam, t->offset, t->count, lr, weight_decay, &id,
-                                             err);
+      nbrdf_status st = nbrdf_adam_add_group(adam, t->offset, t->count, lr, weight_decay, &id, err);
       if (st != NBRDF_OK) return st;
     } else {
       for (size_t i = t->offset; i < t->offset + t->count; i++)
@@ -121,8 +120,7 @@ nbrdf_status nbrdf_adam_add_group_tensors(nbrdf_adam *adam, const nbrdf_nn *nn,
     }
   }
   if (id < 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "adam: no tensor name contains \"%s\"",
-                      name_part);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "adam: no tensor name contains \"%s\"", name_part);
   if (group) *group = id;
   return NBRDF_OK;
 }
@@ -168,8 +166,7 @@ nbrdf_status nbrdf_adam_step(nbrdf_adam *adam, float *params, const float *grads
   for (size_t i = 0; i < adam->n; i++)
     if (!isfinite(grads[i]))
       return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "adam: gradient %zu is %g; no parameter was updated", i,
-                        (double)grads[i]);
+                        "adam: gradient %zu is %g; no parameter was updated", i, (double)grads[i]);
   double sched = schedule(adam, adam->t);
   adam->t++;
   double bc1 = 1.0 - pow(adam->opts.beta1, (double)adam->t);
@@ -181,7 +178,8 @@ nbrdf_status nbrdf_adam_step(nbrdf_adam *adam, float *params, const float *grads
   for (size_t i = 0; i < adam->n;) {
     size_t j = i + 1;
     uint16_t id = adam->group_of[i];
-    while (j < adam->n && adam->group_of[j] == id) j++;
+    while (j < adam->n && adam->group_of[j] == id)
+      j++;
     step_run(adam, params, grads, i, j, &adam->groups[id], sched, bc1, bc2);
     i = j;
   }

@@ -22,20 +22,19 @@ typedef struct bw {
 /* dx = g W (W [out x in]); beta = 1 adds to dx. */
 static void gemm_gw(int rows, int out, int in, const float *g, const float *w, float beta,
                     float *dx) {
-  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, rows, in, out, 1.0f, g, out, w, in,
-              beta, dx, in);
+  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, rows, in, out, 1.0f, g, out, w, in, beta,
+              dx, in);
 }
 
 /* dW += g^T x */
 static void gemm_gtx(int rows, int out, int in, const float *g, const float *x, float *dw) {
-  cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, out, in, rows, 1.0f, g, out, x, in, 1.0f,
-              dw, in);
+  cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, out, in, rows, 1.0f, g, out, x, in, 1.0f, dw,
+              in);
 }
 
-/* Gradients of a linear map given dL/d(sum) in g: weight and bias into grad, the skip's share
- * into its accumulator. */
-static void linear_params(const bw *b, const nn_layer *l, size_t w_off, size_t b_off, int out,
-                          int in, const float *g, const float *x) {
+/* Gradients of a linear map's weight (and bias, if b_off is set) given dL/d(output) in g. */
+static void linear_params(const bw *b, size_t w_off, size_t b_off, int out, int in, const float *g,
+                          const float *x) {
   if (!b->grad) return;
   gemm_gtx(b->rows, out, in, g, x, b->grad + w_off);
   if (b_off != NN_NONE) {
@@ -51,13 +50,13 @@ static void skip_backward(const bw *b, const nn_layer *l, const float *g) {
   if (l->wskip == NN_NONE) {
     float *acc = ws->grad_skip[j];
     size_t n = (size_t)b->rows * l->out;
-    for (size_t k = 0; k < n; k++) acc[k] += g[k];
+    for (size_t k = 0; k < n; k++)
+      acc[k] += g[k];
     return;
   }
   if (b->grad) gemm_gtx(b->rows, l->out, l->skip_width, g, ws->act[j], b->grad + l->wskip);
   if (j > 0 || b->want_input_grad)
-    gemm_gw(b->rows, l->out, l->skip_width, g, b->nn->params + l->wskip, 1.0f,
-            ws->grad_skip[j]);
+    gemm_gw(b->rows, l->out, l->skip_width, g, b->nn->params + l->wskip, 1.0f, ws->grad_skip[j]);
 }
 
 /* LayerNorm backward with its gamma/beta/bias gradients flushed into grad. */
@@ -66,9 +65,8 @@ static void ln_backward(const bw *b, int w, float *g, const float *y_relu, const
   double *acc = b->ws->acc;
   double *dgamma = acc, *dbeta = acc + w, *dbias = acc + 2 * (size_t)w;
   int with = b->grad != NULL;
-  nn_ln_backward(b->rows, w, g, y_relu, xhat, rstd, b->nn->params + g_off,
-                 with ? dgamma : NULL, with ? dbeta : NULL,
-                 with && bias_off != NN_NONE ? dbias : NULL);
+  nn_ln_backward(b->rows, w, g, y_relu, xhat, rstd, b->nn->params + g_off, with ? dgamma : NULL,
+                 with ? dbeta : NULL, with && bias_off != NN_NONE ? dbias : NULL);
   if (!with) return;
   nn_flush(w, dgamma, b->grad + g_off);
   nn_flush(w, dbeta, b->grad + be_off);
@@ -84,7 +82,9 @@ static float *layer_backward(const bw *b, int i, float *g, float *dx) {
   const nn_layer_buffers *lb = &ws->layer[i];
   const float *p = nn->params, *x = ws->act[i], *y = ws->act[i + 1];
   switch (l->kind) {
-  case NBRDF_NN_RELU: nn_relu_backward((size_t)b->rows * l->out, g, y); return g;
+  case NBRDF_NN_RELU:
+    nn_relu_backward((size_t)b->rows * l->out, g, y);
+    return g;
   case NBRDF_NN_LAYERNORM:
     ln_backward(b, l->out, g, NULL, lb->z1, lb->r1, l->g1, l->be1, NN_NONE);
     return g;
@@ -92,19 +92,18 @@ static float *layer_backward(const bw *b, int i, float *g, float *dx) {
   case NBRDF_NN_PLAIN:
     if (l->kind == NBRDF_NN_PLAIN)
       ln_backward(b, l->out, g, y, lb->z1, lb->r1, l->g1, l->be1, l->b1);
-    linear_params(b, l, l->w1, l->kind == NBRDF_NN_LINEAR ? l->b1 : NN_NONE, l->out, l->in, g,
-                  x);
+    linear_params(b, l->w1, l->kind == NBRDF_NN_LINEAR ? l->b1 : NN_NONE, l->out, l->in, g, x);
     skip_backward(b, l, g);
     if (dx) gemm_gw(b->rows, l->out, l->in, g, p + l->w1, 0.0f, dx);
     return dx;
   case NBRDF_NN_RESIDUAL: {
     ln_backward(b, l->out, g, y, lb->z2, lb->r2, l->g2, l->be2, l->b2);
-    linear_params(b, l, l->w2, NN_NONE, l->out, l->hidden, g, lb->h);
+    linear_params(b, l->w2, NN_NONE, l->out, l->hidden, g, lb->h);
     skip_backward(b, l, g);
     float *gh = ws->grad_hidden;
     gemm_gw(b->rows, l->out, l->hidden, g, p + l->w2, 0.0f, gh);
     ln_backward(b, l->hidden, gh, lb->h, lb->z1, lb->r1, l->g1, l->be1, l->b1);
-    linear_params(b, l, l->w1, NN_NONE, l->hidden, l->in, gh, x);
+    linear_params(b, l->w1, NN_NONE, l->hidden, l->in, gh, x);
     if (!dx) return NULL;
     /* The identity path of the block, then the bottleneck's share on top. */
     memcpy(dx, g, sizeof(float) * (size_t)b->rows * l->in);
@@ -119,7 +118,9 @@ nbrdf_status nbrdf_nn_backward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const
                                float *dx, float *grad, nbrdf_error *err) {
   if (!nn || !ws || !dy)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network backward: NULL %s",
-                      !nn ? "network" : !ws ? "workspace" : "output gradient");
+                      !nn   ? "network"
+                      : !ws ? "workspace"
+                            : "output gradient");
   if (ws->mode != NBRDF_NN_TRAIN)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "network backward: the workspace was made for inference only");
@@ -147,15 +148,14 @@ nbrdf_status nbrdf_nn_backward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const
       target = dx; /* NULL: the input's gradient is not wanted */
     /* RELU and LAYERNORM work in place: their result must still end up in dx. */
     float *got = layer_backward(&b, i, g, target);
-    if (i == 0 && dx && got != dx)
-      memcpy(dx, got, sizeof(float) * (size_t)rows * nn->widths[0]);
-    if (i > 0)
-      g = got;
+    if (i == 0 && dx && got != dx) memcpy(dx, got, sizeof(float) * (size_t)rows * nn->widths[0]);
+    if (i > 0) g = got;
     if (ws->grad_skip[i] && (i > 0 || dx)) {
       float *dst = i > 0 ? g : dx;
       const float *acc = ws->grad_skip[i];
       size_t n = (size_t)rows * nn->widths[i];
-      for (size_t k = 0; k < n; k++) dst[k] += acc[k];
+      for (size_t k = 0; k < n; k++)
+        dst[k] += acc[k];
     }
   }
   return NBRDF_OK;

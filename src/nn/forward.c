@@ -6,8 +6,8 @@
 #include "nn/internal.h"
 
 /* Layer i on `rows` rows: x -> y; `skip` is the skip source's activation (or NULL). */
-static void layer_forward(const nbrdf_nn *nn, int i, int rows, const float *x,
-                          const float *skip, float *y, const nn_layer_buffers *b) {
+static void layer_forward(const nbrdf_nn *nn, int i, int rows, const float *x, const float *skip,
+                          float *y, const nn_layer_buffers *b) {
   const nn_layer *l = &nn->layers[i];
   const float *p = nn->params;
   int has_skip = l->skip_from >= 0;
@@ -23,29 +23,30 @@ static void layer_forward(const nbrdf_nn *nn, int i, int rows, const float *x,
   case NBRDF_NN_PLAIN:
     if (projected) nn_gemm_xwt(rows, l->skip_width, l->out, skip, p + l->wskip, 0.0f, b->z1);
     nn_gemm_xwt(rows, l->in, l->out, x, p + l->w1, projected ? 1.0f : 0.0f, b->z1);
-    nn_ln_forward(rows, l->out, b->z1, p + l->b1, skip_add, NULL, p + l->g1, p + l->be1, b->r1,
-                  y, 1);
+    nn_ln_forward(rows, l->out, b->z1, p + l->b1, skip_add, NULL, p + l->g1, p + l->be1, b->r1, y,
+                  1);
     break;
   case NBRDF_NN_RESIDUAL:
     nn_gemm_xwt(rows, l->in, l->hidden, x, p + l->w1, 0.0f, b->z1);
-    nn_ln_forward(rows, l->hidden, b->z1, p + l->b1, NULL, NULL, p + l->g1, p + l->be1, b->r1,
-                  b->h, 1);
+    nn_ln_forward(rows, l->hidden, b->z1, p + l->b1, NULL, NULL, p + l->g1, p + l->be1, b->r1, b->h,
+                  1);
     if (projected) nn_gemm_xwt(rows, l->skip_width, l->out, skip, p + l->wskip, 0.0f, b->z2);
     nn_gemm_xwt(rows, l->hidden, l->out, b->h, p + l->w2, projected ? 1.0f : 0.0f, b->z2);
     /* The block's input is added before normalisation and activation (paper Fig. 3). */
-    nn_ln_forward(rows, l->out, b->z2, p + l->b2, x, skip_add, p + l->g2, p + l->be2, b->r2, y,
-                  1);
+    nn_ln_forward(rows, l->out, b->z2, p + l->b2, x, skip_add, p + l->g2, p + l->be2, b->r2, y, 1);
     break;
   case NBRDF_NN_LAYERNORM:
     memcpy(b->z1, x, sizeof(float) * (size_t)rows * l->out);
     nn_ln_forward(rows, l->out, b->z1, NULL, NULL, NULL, p + l->g1, p + l->be1, b->r1, y, 0);
     break;
-  case NBRDF_NN_RELU: nn_relu_forward((size_t)rows * l->out, x, y); break;
+  case NBRDF_NN_RELU:
+    nn_relu_forward((size_t)rows * l->out, x, y);
+    break;
   }
 }
 
-static void forward_train(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x,
-                          int rows, float *y) {
+static void forward_train(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int rows,
+                          float *y) {
   const int L = nn->spec.n_layers;
   memcpy(ws->act[0], x, sizeof(float) * (size_t)rows * nn->widths[0]);
   for (int i = 0; i < L; i++) {
@@ -60,11 +61,10 @@ static void forward_train(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const floa
 
 /* Inference: x and y are used in place, intermediate activations ping-pong between two
  * buffers unless a later skip needs them. */
-static void forward_infer(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x,
-                          int rows, float *y) {
+static void forward_infer(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int rows,
+                          float *y) {
   const int L = nn->spec.n_layers;
-  nn_layer_buffers b = {ws->scratch_z, ws->scratch_r, ws->scratch_h, ws->scratch_z,
-                        ws->scratch_r};
+  nn_layer_buffers b = {ws->scratch_z, ws->scratch_r, ws->scratch_h, ws->scratch_z, ws->scratch_r};
   const float *act[NBRDF_NN_MAX_LAYERS + 1];
   act[0] = x;
   for (int i = 0; i < L; i++) {
@@ -81,17 +81,19 @@ static void forward_infer(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const floa
   }
 }
 
-nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x,
-                              int batch, float *y, nbrdf_error *err) {
+nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int batch,
+                              float *y, nbrdf_error *err) {
   if (!nn || !ws || !x || !y)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network forward: NULL %s",
-                      !nn ? "network" : !ws ? "workspace" : !x ? "input" : "output");
+                      !nn   ? "network"
+                      : !ws ? "workspace"
+                      : !x  ? "input"
+                            : "output");
   if (!nn_same_spec(&nn->spec, &ws->spec))
     return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
                       "network forward: the workspace was made for another architecture");
   if (batch < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network forward: batch = %d, expected >= 1",
-                      batch);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network forward: batch = %d, expected >= 1", batch);
   if (ws->mode == NBRDF_NN_TRAIN) {
     if (batch > ws->max_batch)
       return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,

@@ -26,9 +26,9 @@ typedef struct nn_layer {
 struct nbrdf_nn {
   nbrdf_nn_spec spec;
   nn_layer layers[NBRDF_NN_MAX_LAYERS];
-  int widths[NBRDF_NN_MAX_LAYERS + 1];         /* width of each activation */
-  int skip_source[NBRDF_NN_MAX_LAYERS + 1];    /* non-zero: some later layer reads it */
-  int max_width;                               /* over activations and hidden widths */
+  int widths[NBRDF_NN_MAX_LAYERS + 1];      /* width of each activation */
+  int skip_source[NBRDF_NN_MAX_LAYERS + 1]; /* non-zero: some later layer reads it */
+  int max_width;                            /* over activations and hidden widths */
   float *params;
   size_t n_params;
   nbrdf_nn_tensor *tensors;
@@ -66,11 +66,10 @@ struct nbrdf_nn_workspace {
 int nn_same_spec(const nbrdf_nn_spec *a, const nbrdf_nn_spec *b);
 
 /* Layer kernels over rows x w buffers (src/nn/kernels.c). */
-void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta,
-                 float *y);
+void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta, float *y);
 void nn_ln_forward(int rows, int w, float *u, const float *bias, const float *add1,
-                   const float *add2, const float *gamma, const float *beta, float *rstd,
-                   float *y, int relu);
+                   const float *add2, const float *gamma, const float *beta, float *rstd, float *y,
+                   int relu);
 void nn_ln_backward(int rows, int w, float *g, const float *y_relu, const float *xhat,
                     const float *rstd, const float *gamma, double *dgamma, double *dbeta,
                     double *dbias);

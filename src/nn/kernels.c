@@ -26,15 +26,14 @@
 #define LN_EPS 1e-5f
 #define LANES 16
 
-void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta,
-                 float *y) {
+void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta, float *y) {
   if (rows == 1) {
     /* A single query is a matrix-vector product; sgemm's packing would dominate. */
     cblas_sgemv(CblasRowMajor, CblasNoTrans, out, in, 1.0f, w, in, x, 1, beta, y, 1);
     return;
   }
-  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, rows, out, in, 1.0f, x, in, w, in, beta,
-              y, out);
+  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, rows, out, in, 1.0f, x, in, w, in, beta, y,
+              out);
 }
 
 #if defined(__GNUC__)
@@ -46,28 +45,31 @@ void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, floa
 /* Pairwise sum of the partial sums (a tree, so that it maps onto vector shuffles). */
 NN_INLINE float reduce_lanes(const float *p) {
   float q[LANES / 2];
-  for (int k = 0; k < LANES / 2; k++) q[k] = p[k] + p[k + LANES / 2];
-  for (int k = 0; k < LANES / 4; k++) q[k] += q[k + LANES / 4];
-  for (int k = 0; k < LANES / 8; k++) q[k] += q[k + LANES / 8];
+  for (int k = 0; k < LANES / 2; k++)
+    q[k] = p[k] + p[k + LANES / 2];
+  for (int k = 0; k < LANES / 4; k++)
+    q[k] += q[k + LANES / 4];
+  for (int k = 0; k < LANES / 8; k++)
+    q[k] += q[k + LANES / 8];
   return q[0] + q[1];
 }
 
 /* u += sum of `terms` in one vectorised pass (no branch inside the loop), returning sum(u). */
-#define ADD_SUM_BODY(EXPR)                                                                     \
-  do {                                                                                         \
-    for (; c + LANES <= w; c += LANES)                                                         \
-      for (int k = 0; k < LANES; k++) {                                                        \
-        int i = c + k;                                                                         \
-        float v = EXPR;                                                                        \
-        u[i] = v;                                                                              \
-        part[k] += v;                                                                          \
-      }                                                                                        \
-    for (; c < w; c++) {                                                                       \
-      int i = c;                                                                               \
-      float v = EXPR;                                                                          \
-      u[i] = v;                                                                                \
-      tail += v;                                                                               \
-    }                                                                                          \
+#define ADD_SUM_BODY(EXPR)                                                                         \
+  do {                                                                                             \
+    for (; c + LANES <= w; c += LANES)                                                             \
+      for (int k = 0; k < LANES; k++) {                                                            \
+        int i = c + k;                                                                             \
+        float v = EXPR;                                                                            \
+        u[i] = v;                                                                                  \
+        part[k] += v;                                                                              \
+      }                                                                                            \
+    for (; c < w; c++) {                                                                           \
+      int i = c;                                                                                   \
+      float v = EXPR;                                                                              \
+      u[i] = v;                                                                                    \
+      tail += v;                                                                                   \
+    }                                                                                              \
   } while (0)
 
 /* u += bias + a1 + a2 (each may be NULL), returning the sum of the new u: one pass. */
@@ -91,9 +93,11 @@ NN_INLINE float sum_lanes(const float *v, int w) {
   float part[LANES] = {0};
   int c = 0;
   for (; c + LANES <= w; c += LANES)
-    for (int k = 0; k < LANES; k++) part[k] += v[c + k];
+    for (int k = 0; k < LANES; k++)
+      part[k] += v[c + k];
   float s = reduce_lanes(part);
-  for (; c < w; c++) s += v[c];
+  for (; c < w; c++)
+    s += v[c];
   return s;
 }
 
@@ -117,9 +121,11 @@ NN_INLINE float dot_lanes(const float *a, const float *b, int w) {
   float part[LANES] = {0};
   int c = 0;
   for (; c + LANES <= w; c += LANES)
-    for (int k = 0; k < LANES; k++) part[k] += a[c + k] * b[c + k];
+    for (int k = 0; k < LANES; k++)
+      part[k] += a[c + k] * b[c + k];
   float s = reduce_lanes(part);
-  for (; c < w; c++) s += a[c] * b[c];
+  for (; c < w; c++)
+    s += a[c] * b[c];
   return s;
 }
 
@@ -169,20 +175,26 @@ NN_HOT void nn_ln_backward(int rows, int w, float *restrict g, const float *rest
     const float *restrict xr = xhat + (size_t)r * w;
     if (y_relu) {
       const float *restrict yr = y_relu + (size_t)r * w;
-      for (int c = 0; c < w; c++) gr[c] = yr[c] > 0.0f ? gr[c] : 0.0f;
+      for (int c = 0; c < w; c++)
+        gr[c] = yr[c] > 0.0f ? gr[c] : 0.0f;
     }
     if (dbeta)
-      for (int c = 0; c < w; c++) dbeta[c] += gr[c];
+      for (int c = 0; c < w; c++)
+        dbeta[c] += gr[c];
     if (dgamma)
-      for (int c = 0; c < w; c++) dgamma[c] += (double)(gr[c] * xr[c]);
-    for (int c = 0; c < w; c++) dxh[c] = gr[c] * gamma[c];
+      for (int c = 0; c < w; c++)
+        dgamma[c] += (double)(gr[c] * xr[c]);
+    for (int c = 0; c < w; c++)
+      dxh[c] = gr[c] * gamma[c];
     /* dL/du = rstd * (dxh - mean(dxh) - xhat * mean(dxh * xhat)) */
     float m1 = sum_lanes(dxh, w) / (float)w;
     float m2 = dot_lanes(dxh, xr, w) / (float)w;
     float rs = rstd[r];
-    for (int c = 0; c < w; c++) gr[c] = rs * (dxh[c] - m1 - xr[c] * m2);
+    for (int c = 0; c < w; c++)
+      gr[c] = rs * (dxh[c] - m1 - xr[c] * m2);
     if (dbias)
-      for (int c = 0; c < w; c++) dbias[c] += gr[c];
+      for (int c = 0; c < w; c++)
+        dbias[c] += gr[c];
   }
 }
 
@@ -190,26 +202,31 @@ NN_HOT void nn_add_rows(int rows, int w, float *y, const float *bias, const floa
   for (int r = 0; r < rows; r++) {
     float *yr = y + (size_t)r * w;
     if (bias)
-      for (int c = 0; c < w; c++) yr[c] += bias[c];
+      for (int c = 0; c < w; c++)
+        yr[c] += bias[c];
     if (add) {
       const float *a = add + (size_t)r * w;
-      for (int c = 0; c < w; c++) yr[c] += a[c];
+      for (int c = 0; c < w; c++)
+        yr[c] += a[c];
     }
   }
 }
 
 NN_HOT void nn_relu_forward(size_t n, const float *x, float *y) {
-  for (size_t i = 0; i < n; i++) y[i] = 0.0f > x[i] ? 0.0f : x[i];
+  for (size_t i = 0; i < n; i++)
+    y[i] = 0.0f > x[i] ? 0.0f : x[i];
 }
 
 NN_HOT void nn_relu_backward(size_t n, float *g, const float *y) {
-  for (size_t i = 0; i < n; i++) g[i] = y[i] > 0.0f ? g[i] : 0.0f;
+  for (size_t i = 0; i < n; i++)
+    g[i] = y[i] > 0.0f ? g[i] : 0.0f;
 }
 
 NN_HOT void nn_colsum(int rows, int w, const float *g, double *acc) {
   for (int r = 0; r < rows; r++) {
     const float *gr = g + (size_t)r * w;
-    for (int c = 0; c < w; c++) acc[c] += gr[c];
+    for (int c = 0; c < w; c++)
+      acc[c] += gr[c];
   }
 }
 

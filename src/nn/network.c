@@ -54,7 +54,8 @@ void nn_resolve(nbrdf_nn *nn) {
       l->g1 = add_tensor(&tl, i, "weight", l->out, 0);
       l->be1 = add_tensor(&tl, i, "bias", l->out, 0);
       break;
-    case NBRDF_NN_RELU: break;
+    case NBRDF_NN_RELU:
+      break;
     case NBRDF_NN_PLAIN:
       l->w1 = add_tensor(&tl, i, "fc.weight", l->out, l->in);
       l->b1 = add_tensor(&tl, i, "fc.bias", l->out, 0);
@@ -162,7 +163,8 @@ void nbrdf_nn_init_params(nbrdf_nn *nn, uint64_t seed) {
     if (t->rank == 1) {
       /* LayerNorm gamma = 1, beta = 0; every bias = 0. */
       float v = is_gamma(nn, t->offset) ? 1.0f : 0.0f;
-      for (size_t i = 0; i < t->count; i++) p[i] = v;
+      for (size_t i = 0; i < t->count; i++)
+        p[i] = v;
       continue;
     }
     /* He uniform keeps the variance of ReLU activations (He et al. 2015); LeCun uniform keeps

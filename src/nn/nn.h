@@ -201,8 +201,8 @@ size_t nbrdf_nn_workspace_bytes(const nbrdf_nn_spec *spec, int max_batch, nbrdf_
  * workspace keeps what backward needs (x is copied; the caller may reuse it). In INFER mode
  * any batch >= 1 is processed in chunks of max_batch. `y` may alias nothing in `ws`.
  * Non-finite inputs are not checked here (hot path); they propagate. */
-nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x,
-                              int batch, float *y, nbrdf_error *err);
+nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int batch,
+                              float *y, nbrdf_error *err);
 
 /* Backward pass of the LAST forward on `ws` (TRAIN mode), with dy = dL/dy [batch x outputs]:
  * - dx: if non-NULL, receives dL/dx [batch x inputs] (overwritten), e.g. for a latent that
@@ -219,15 +219,15 @@ nbrdf_status nbrdf_nn_backward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const
 /* Adam (Kingma & Ba 2015) with decoupled weight decay (AdamW, Loshchilov & Hutter 2019) and
  * the paper's step decay: lr(t) = lr * gamma^floor(t / decay_every), t = steps taken. */
 typedef struct nbrdf_adam_options {
-  float lr;            /* base learning rate of the default group */
-  float beta1, beta2;  /* moment decay rates, in [0, 1) */
-  float eps;           /* added to sqrt(v_hat) */
-  float weight_decay;  /* decoupled: p -= lr(t) * weight_decay * p; 0 = none */
-  int decay_every;     /* steps between learning-rate decays; 0 = never */
-  float decay_gamma;   /* factor per decay, in (0, 1] */
+  float lr;           /* base learning rate of the default group */
+  float beta1, beta2; /* moment decay rates, in [0, 1) */
+  float eps;          /* added to sqrt(v_hat) */
+  float weight_decay; /* decoupled: p -= lr(t) * weight_decay * p; 0 = none */
+  int decay_every;    /* steps between learning-rate decays; 0 = never */
+  float decay_gamma;  /* factor per decay, in (0, 1] */
 } nbrdf_adam_options;
 
-#define NBRDF_ADAM_OPTIONS_DEFAULT                                                             \
+#define NBRDF_ADAM_OPTIONS_DEFAULT                                                                 \
   { 1e-3f, 0.9f, 0.999f, 1e-8f, 0.0f, 0, 1.0f }
 
 typedef struct nbrdf_adam nbrdf_adam;
@@ -251,8 +251,7 @@ nbrdf_status nbrdf_adam_add_group_tensors(nbrdf_adam *adam, const nbrdf_nn *nn,
 
 /* One step on all n parameters: params -= lr(t) * m_hat / (sqrt(v_hat) + eps) (+ decay).
  * Non-finite gradients are refused (nothing is updated) with the index of the first one. */
-nbrdf_status nbrdf_adam_step(nbrdf_adam *adam, float *params, const float *grads,
-                             nbrdf_error *err);
+nbrdf_status nbrdf_adam_step(nbrdf_adam *adam, float *params, const float *grads, nbrdf_error *err);
 /* Learning rate the NEXT step will use for `group` (0 = default). */
 float nbrdf_adam_lr(const nbrdf_adam *adam, int group);
 /* Steps taken so far. */

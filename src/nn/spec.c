@@ -6,11 +6,16 @@
 
 const char *nbrdf_nn_kind_name(nbrdf_nn_kind kind) {
   switch (kind) {
-  case NBRDF_NN_LINEAR: return "linear";
-  case NBRDF_NN_LAYERNORM: return "layernorm";
-  case NBRDF_NN_RELU: return "relu";
-  case NBRDF_NN_PLAIN: return "plain";
-  case NBRDF_NN_RESIDUAL: return "residual";
+  case NBRDF_NN_LINEAR:
+    return "linear";
+  case NBRDF_NN_LAYERNORM:
+    return "layernorm";
+  case NBRDF_NN_RELU:
+    return "relu";
+  case NBRDF_NN_PLAIN:
+    return "plain";
+  case NBRDF_NN_RESIDUAL:
+    return "residual";
   }
   return NULL;
 }
@@ -93,8 +98,8 @@ nbrdf_status nbrdf_nn_spec_validate(const nbrdf_nn_spec *spec, nbrdf_error *err)
     case NBRDF_NN_LINEAR:
     case NBRDF_NN_PLAIN:
       if (l->width < 1 || l->width > NBRDF_NN_MAX_WIDTH)
-        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layer %d (%s): width = %d, expected 1..%d",
-                          i, kind, l->width, NBRDF_NN_MAX_WIDTH);
+        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layer %d (%s): width = %d, expected 1..%d", i,
+                          kind, l->width, NBRDF_NN_MAX_WIDTH);
       if (l->kind == NBRDF_NN_PLAIN && l->width < 2)
         return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                           "layer %d (plain): width %d is too small for LayerNorm (>= 2)", i,
@@ -121,13 +126,13 @@ nbrdf_status nbrdf_nn_spec_validate(const nbrdf_nn_spec *spec, nbrdf_error *err)
                           l->hidden < 0 ? l->hidden : h, NBRDF_NN_MAX_WIDTH);
     } else if (l->hidden != 0) {
       return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "layer %d (%s): a hidden width is only meaningful for residual blocks",
-                        i, kind);
+                        "layer %d (%s): a hidden width is only meaningful for residual blocks", i,
+                        kind);
     }
     if (l->has_skip) {
       if (l->kind == NBRDF_NN_LAYERNORM || l->kind == NBRDF_NN_RELU)
-        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layer %d (%s) cannot take a skip connection",
-                          i, kind);
+        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layer %d (%s) cannot take a skip connection", i,
+                          kind);
       if (l->skip_from < 0 || l->skip_from > i)
         return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                           "layer %d (%s): skip from activation %d, expected 0 (network input) "
@@ -155,8 +160,7 @@ int nbrdf_nn_spec_outputs(const nbrdf_nn_spec *spec) {
 }
 
 /* Per-layer multiply-adds (GEMMs only) and parameter count, shared by the two queries. */
-static void layer_cost(const nbrdf_nn_spec *spec, int i, int in, int64_t *macs,
-                       size_t *params) {
+static void layer_cost(const nbrdf_nn_spec *spec, int i, int in, int64_t *macs, size_t *params) {
   const nbrdf_nn_layer_spec *l = &spec->layers[i];
   int out = layer_out_width(l, in);
   int64_t m = 0;
@@ -170,8 +174,11 @@ static void layer_cost(const nbrdf_nn_spec *spec, int i, int in, int64_t *macs,
     m = (int64_t)in * out;
     p = (size_t)in * out + 3 * (size_t)out;
     break;
-  case NBRDF_NN_LAYERNORM: p = 2 * (size_t)in; break;
-  case NBRDF_NN_RELU: break;
+  case NBRDF_NN_LAYERNORM:
+    p = 2 * (size_t)in;
+    break;
+  case NBRDF_NN_RELU:
+    break;
   case NBRDF_NN_RESIDUAL: {
     int h = layer_hidden(l, in);
     m = 2 * (int64_t)in * h;

@@ -44,22 +44,20 @@ nbrdf_status nbrdf_nn_spec_to_json(const nbrdf_nn_spec *spec, char **json, nbrdf
 }
 
 /* A JSON number that is an integer in [lo, hi]. */
-static nbrdf_status get_int(const cJSON *item, const char *where, const char *key, int lo,
-                            int hi, int *out, nbrdf_error *err) {
+static nbrdf_status get_int(const cJSON *item, const char *where, const char *key, int lo, int hi,
+                            int *out, nbrdf_error *err) {
   if (!cJSON_IsNumber(item))
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "network spec: %s\"%s\" must be a number", where,
-                      key);
+    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "network spec: %s\"%s\" must be a number", where, key);
   double v = item->valuedouble;
   if (!(v >= lo && v <= hi) || v != floor(v))
     return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "network spec: %s\"%s\" = %g, expected an integer in %d..%d", where, key,
-                      v, lo, hi);
+                      "network spec: %s\"%s\" = %g, expected an integer in %d..%d", where, key, v,
+                      lo, hi);
   *out = (int)v;
   return NBRDF_OK;
 }
 
-static nbrdf_status parse_layer(const cJSON *o, int i, nbrdf_nn_layer_spec *l,
-                                nbrdf_error *err) {
+static nbrdf_status parse_layer(const cJSON *o, int i, nbrdf_nn_layer_spec *l, nbrdf_error *err) {
   char where[32];
   snprintf(where, sizeof where, "layer %d: ", i);
   if (!cJSON_IsObject(o))
@@ -114,8 +112,7 @@ nbrdf_status nbrdf_nn_spec_from_json(const char *json, nbrdf_nn_spec *spec, nbrd
   if (!cJSON_IsObject(root)) {
     st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "network spec: expected a JSON object");
   } else if (!cJSON_IsString(format) || strcmp(format->valuestring, SPEC_FORMAT) != 0) {
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "network spec: \"format\" must be \"%s\"",
-                    SPEC_FORMAT);
+    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "network spec: \"format\" must be \"%s\"", SPEC_FORMAT);
   } else if ((st = get_int(version, "", "version", 1, 1000000, &v, err)) != NBRDF_OK) {
   } else if (v != SPEC_VERSION) {
     st = nbrdf_fail(err, NBRDF_ERR_FORMAT,

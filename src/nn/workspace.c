@@ -61,7 +61,8 @@ static size_t plan(nbrdf_nn_workspace *ws, const nbrdf_nn *nn) {
       b->r2 = carve_f(&c, B, 1);
       break;
     case NBRDF_NN_LINEAR:
-    case NBRDF_NN_RELU: break;
+    case NBRDF_NN_RELU:
+      break;
     }
   }
   ws->grad_chain[0] = carve_f(&c, B, W);

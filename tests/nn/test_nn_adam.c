@@ -45,9 +45,11 @@ static void test_against_textbook(void) {
   nbrdf_adam *a = make(N, o);
   float p[N], g[N];
   double rp[N], m[N] = {0}, v[N] = {0};
-  for (int i = 0; i < N; i++) rp[i] = p[i] = 0.3f * (float)(i - 2);
+  for (int i = 0; i < N; i++)
+    rp[i] = p[i] = 0.3f * (float)(i - 2);
   for (int t = 1; t <= STEPS; t++) {
-    for (int i = 0; i < N; i++) g[i] = (float)sin(0.7 * t + i) * (float)(i + 1);
+    for (int i = 0; i < N; i++)
+      g[i] = (float)sin(0.7 * t + i) * (float)(i + 1);
     CHECK_OK(nbrdf_adam_step(a, p, g, err), err);
     for (int i = 0; i < N; i++) {
       m[i] = 0.8 * m[i] + 0.2 * g[i];
@@ -56,14 +58,17 @@ static void test_against_textbook(void) {
       rp[i] -= 0.01 * mh / (sqrt(vh) + 1e-3);
     }
   }
-  for (int i = 0; i < N; i++) CHECK_NEAR(p[i], rp[i], 2e-5);
+  for (int i = 0; i < N; i++)
+    CHECK_NEAR(p[i], rp[i], 2e-5);
   /* reset: the same sequence again gives the same result. */
   nbrdf_adam_reset(a);
   CHECK(nbrdf_adam_steps(a) == 0);
   float q[N];
-  for (int i = 0; i < N; i++) q[i] = 0.3f * (float)(i - 2);
+  for (int i = 0; i < N; i++)
+    q[i] = 0.3f * (float)(i - 2);
   for (int t = 1; t <= STEPS; t++) {
-    for (int i = 0; i < N; i++) g[i] = (float)sin(0.7 * t + i) * (float)(i + 1);
+    for (int i = 0; i < N; i++)
+      g[i] = (float)sin(0.7 * t + i) * (float)(i + 1);
     CHECK_OK(nbrdf_adam_step(a, q, g, err), err);
   }
   CHECK(memcmp(p, q, sizeof p) == 0);
@@ -122,7 +127,8 @@ static void test_groups(void) {
   float p[6] = {0}, g[6] = {1, 1, 1, 1, 1, -1};
   CHECK_OK(nbrdf_adam_step(a, p, g, err), err);
   const float want[6] = {-0.1f, -0.4f, -0.4f, 0.0f, 0.0f, 0.1f};
-  for (int i = 0; i < 6; i++) CHECK_NEAR(p[i], want[i], 1e-6);
+  for (int i = 0; i < 6; i++)
+    CHECK_NEAR(p[i], want[i], 1e-6);
   /* The schedule scales every group. */
   CHECK_NEAR(nbrdf_adam_lr(a, g1), 0.2, 1e-7);
   CHECK_NEAR(nbrdf_adam_lr(a, 0), 0.05, 1e-7);
@@ -130,8 +136,7 @@ static void test_groups(void) {
               "outside the 6 parameters");
   CHECK_FAILS(nbrdf_adam_add_group(a, 0, 0, 0.1f, 0.0f, NULL, err), NBRDF_ERR_ARGUMENT, err,
               "empty");
-  CHECK_FAILS(nbrdf_adam_add_group(a, 0, 1, -0.1f, 0.0f, NULL, err), NBRDF_ERR_ARGUMENT, err,
-              "lr");
+  CHECK_FAILS(nbrdf_adam_add_group(a, 0, 1, -0.1f, 0.0f, NULL, err), NBRDF_ERR_ARGUMENT, err, "lr");
   nbrdf_adam_destroy(a);
 }
 
@@ -153,14 +158,15 @@ static void test_groups_by_tensor(void) {
   nbrdf_nn_init_params(nn, 1);
   float *p = nbrdf_nn_params(nn), *before = malloc(n * sizeof *p), *g = malloc(n * sizeof *g);
   memcpy(before, p, n * sizeof *p);
-  for (size_t i = 0; i < n; i++) g[i] = 1.0f;
+  for (size_t i = 0; i < n; i++)
+    g[i] = 1.0f;
   CHECK_OK(nbrdf_adam_step(a, p, g, err), err);
   for (int k = 0; k < nbrdf_nn_tensor_count(nn); k++) {
     const nbrdf_nn_tensor *t = nbrdf_nn_tensor_at(nn, k);
     int is_norm = strstr(t->name, "norm") != NULL;
     for (size_t i = t->offset; i < t->offset + t->count; i++)
-      CHECK_MSG(is_norm ? p[i] == before[i] : fabs(before[i] - p[i] - 0.01) < 1e-6,
-                "%s: %g -> %g", t->name, before[i], p[i]);
+      CHECK_MSG(is_norm ? p[i] == before[i] : fabs(before[i] - p[i] - 0.01) < 1e-6, "%s: %g -> %g",
+                t->name, before[i], p[i]);
   }
   nbrdf_adam *wrong = make(n + 1, o);
   CHECK_FAILS(nbrdf_adam_add_group_tensors(wrong, nn, "norm", 0.0f, 0.0f, NULL, err),

@@ -15,16 +15,19 @@ static void ref_linear(const float *w, const float *b, int in, int out, const do
                        double *y) {
   for (int o = 0; o < out; o++) {
     double s = b ? b[o] : 0.0;
-    for (int i = 0; i < in; i++) s += (double)w[(size_t)o * in + i] * x[i];
+    for (int i = 0; i < in; i++)
+      s += (double)w[(size_t)o * in + i] * x[i];
     y[o] = s;
   }
 }
 
 static void ref_ln(const float *gamma, const float *beta, int w, double *u, int relu) {
   double mean = 0, var = 0;
-  for (int c = 0; c < w; c++) mean += u[c];
+  for (int c = 0; c < w; c++)
+    mean += u[c];
   mean /= w;
-  for (int c = 0; c < w; c++) var += (u[c] - mean) * (u[c] - mean);
+  for (int c = 0; c < w; c++)
+    var += (u[c] - mean) * (u[c] - mean);
   var /= w;
   for (int c = 0; c < w; c++) {
     double v = (u[c] - mean) / sqrt(var + 1e-5) * gamma[c] + beta[c];
@@ -44,7 +47,8 @@ static void ref_forward(const nbrdf_nn *nn, const float *x, double *y) {
   static double act[NBRDF_NN_MAX_LAYERS + 1][MAXW];
   int w[NBRDF_NN_MAX_LAYERS + 1];
   w[0] = s->n_inputs;
-  for (int c = 0; c < w[0]; c++) act[0][c] = x[c];
+  for (int c = 0; c < w[0]; c++)
+    act[0][c] = x[c];
   for (int i = 0; i < s->n_layers; i++) {
     const nbrdf_nn_layer_spec *l = &s->layers[i];
     const double *in = act[i];
@@ -57,16 +61,19 @@ static void ref_forward(const nbrdf_nn *nn, const float *x, double *y) {
       if (ps)
         ref_linear(ps, NULL, w[l->skip_from], wout, act[l->skip_from], skip);
       else
-        for (int c = 0; c < wout; c++) skip[c] = act[l->skip_from][c];
+        for (int c = 0; c < wout; c++)
+          skip[c] = act[l->skip_from][c];
     }
     switch (l->kind) {
     case NBRDF_NN_LINEAR:
       ref_linear(P(nn, i, "weight"), P(nn, i, "bias"), win, wout, in, out);
-      for (int c = 0; c < wout; c++) out[c] += skip[c];
+      for (int c = 0; c < wout; c++)
+        out[c] += skip[c];
       break;
     case NBRDF_NN_PLAIN:
       ref_linear(P(nn, i, "fc.weight"), P(nn, i, "fc.bias"), win, wout, in, out);
-      for (int c = 0; c < wout; c++) out[c] += skip[c];
+      for (int c = 0; c < wout; c++)
+        out[c] += skip[c];
       ref_ln(P(nn, i, "norm.weight"), P(nn, i, "norm.bias"), wout, out, 1);
       break;
     case NBRDF_NN_RESIDUAL: {
@@ -74,20 +81,24 @@ static void ref_forward(const nbrdf_nn *nn, const float *x, double *y) {
       ref_linear(P(nn, i, "fc1.weight"), P(nn, i, "fc1.bias"), win, hid, in, h);
       ref_ln(P(nn, i, "norm1.weight"), P(nn, i, "norm1.bias"), hid, h, 1);
       ref_linear(P(nn, i, "fc2.weight"), P(nn, i, "fc2.bias"), hid, wout, h, out);
-      for (int c = 0; c < wout; c++) out[c] += in[c] + skip[c];
+      for (int c = 0; c < wout; c++)
+        out[c] += in[c] + skip[c];
       ref_ln(P(nn, i, "norm2.weight"), P(nn, i, "norm2.bias"), wout, out, 1);
       break;
     }
     case NBRDF_NN_LAYERNORM:
-      for (int c = 0; c < wout; c++) out[c] = in[c];
+      for (int c = 0; c < wout; c++)
+        out[c] = in[c];
       ref_ln(P(nn, i, "weight"), P(nn, i, "bias"), wout, out, 0);
       break;
     case NBRDF_NN_RELU:
-      for (int c = 0; c < wout; c++) out[c] = in[c] < 0 ? 0 : in[c];
+      for (int c = 0; c < wout; c++)
+        out[c] = in[c] < 0 ? 0 : in[c];
       break;
     }
   }
-  for (int c = 0; c < w[s->n_layers]; c++) y[c] = act[s->n_layers][c];
+  for (int c = 0; c < w[s->n_layers]; c++)
+    y[c] = act[s->n_layers][c];
 }
 
 /* ---- fixtures ---- */
@@ -123,7 +134,8 @@ static float *random_rows(int rows, int w, uint64_t seed) {
   float *x = malloc(sizeof(float) * (size_t)rows * w);
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, seed, 0);
-  for (int i = 0; i < rows * w; i++) x[i] = (float)nbrdf_rng_normal(&rng);
+  for (int i = 0; i < rows * w; i++)
+    x[i] = (float)nbrdf_rng_normal(&rng);
   return x;
 }
 
@@ -141,7 +153,8 @@ static void test_matches_reference(void) {
   double rms = 0, worst = 0;
   for (int r = 0; r < rows; r++) {
     ref_forward(nn, x + r * in, ref[r]);
-    for (int c = 0; c < out; c++) rms += ref[r][c] * ref[r][c] / (rows * out);
+    for (int c = 0; c < out; c++)
+      rms += ref[r][c] * ref[r][c] / (rows * out);
   }
   rms = sqrt(rms);
   CHECK(rms > 0.1);
@@ -209,7 +222,8 @@ static void test_threads_share_a_network(void) {
   CHECK(failures == 0);
   for (int t = 0; t < T; t++)
     CHECK(memcmp(alone, together[t], sizeof(float) * ROWS * out) == 0);
-  for (int t = 0; t < T; t++) nbrdf_nn_workspace_destroy(ws[t]);
+  for (int t = 0; t < T; t++)
+    nbrdf_nn_workspace_destroy(ws[t]);
   free(x);
   nbrdf_nn_destroy(nn);
 }
@@ -220,15 +234,14 @@ static void test_misuse_refused(void) {
   if (!nn) return;
   float x[4 * 13] = {0}, y[4 * 3], g[4 * 3] = {0};
   nbrdf_nn_workspace *wt = NULL, *wi = NULL, *other = NULL;
-  CHECK_FAILS(nbrdf_nn_workspace_create(nn, 0, NBRDF_NN_TRAIN, &wt, err), NBRDF_ERR_ARGUMENT,
-              err, "max_batch = 0");
+  CHECK_FAILS(nbrdf_nn_workspace_create(nn, 0, NBRDF_NN_TRAIN, &wt, err), NBRDF_ERR_ARGUMENT, err,
+              "max_batch = 0");
   CHECK(wt == NULL);
   CHECK_OK(nbrdf_nn_workspace_create(nn, 2, NBRDF_NN_TRAIN, &wt, err), err);
   CHECK_OK(nbrdf_nn_workspace_create(nn, 2, NBRDF_NN_INFER, &wi, err), err);
   CHECK_FAILS(nbrdf_nn_backward(nn, wt, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err,
               "no forward pass");
-  CHECK_FAILS(nbrdf_nn_forward(nn, wt, x, 4, y, err), NBRDF_ERR_ARGUMENT, err,
-              "batch 4 exceeds");
+  CHECK_FAILS(nbrdf_nn_forward(nn, wt, x, 4, y, err), NBRDF_ERR_ARGUMENT, err, "batch 4 exceeds");
   CHECK_FAILS(nbrdf_nn_forward(nn, wt, x, 0, y, err), NBRDF_ERR_ARGUMENT, err, "batch = 0");
   CHECK_FAILS(nbrdf_nn_forward(nn, wt, NULL, 1, y, err), NBRDF_ERR_ARGUMENT, err, "NULL input");
   CHECK_OK(nbrdf_nn_forward(nn, wi, x, 4, y, err), err); /* inference chunks instead */

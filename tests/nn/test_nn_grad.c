@@ -25,7 +25,8 @@ static double loss(gc *g) {
   nbrdf_error err_s, *err = &err_s;
   CHECK_OK(nbrdf_nn_forward(g->nn, g->ws, g->x, B, g->y, err), err);
   double l = 0;
-  for (int i = 0; i < B * g->out; i++) l += (double)g->c[i] * g->y[i];
+  for (int i = 0; i < B * g->out; i++)
+    l += (double)g->c[i] * g->y[i];
   return l;
 }
 
@@ -53,8 +54,7 @@ static int agrees(gc *g, float *v, double analytic, const char *what, int index,
     if (e <= 1.0) return 1;
   }
   if (verbose)
-    fprintf(stderr, "  mismatch %s[%d]: analytic %.6g, numeric %.6g\n", what, index, analytic,
-            num);
+    fprintf(stderr, "  mismatch %s[%d]: analytic %.6g, numeric %.6g\n", what, index, analytic, num);
   return 0;
 }
 
@@ -75,9 +75,12 @@ static int grad_check(nbrdf_nn *nn, uint64_t seed, gc_sabotage sabotage, int ver
   nbrdf_rng_init(&rng, seed, 99);
   float *p = nbrdf_nn_params(nn);
   size_t np = nbrdf_nn_param_count(nn);
-  for (size_t i = 0; i < np; i++) p[i] += (float)(0.3 * nbrdf_rng_normal(&rng));
-  for (int i = 0; i < B * g.in; i++) g.x[i] = (float)nbrdf_rng_normal(&rng);
-  for (int i = 0; i < B * g.out; i++) g.c[i] = (float)(2.0 * nbrdf_rng_uniform(&rng) - 1.0);
+  for (size_t i = 0; i < np; i++)
+    p[i] += (float)(0.3 * nbrdf_rng_normal(&rng));
+  for (int i = 0; i < B * g.in; i++)
+    g.x[i] = (float)nbrdf_rng_normal(&rng);
+  for (int i = 0; i < B * g.out; i++)
+    g.c[i] = (float)(2.0 * nbrdf_rng_uniform(&rng) - 1.0);
 
   float *grad = calloc(np, sizeof *grad);
   float dx[B * MAX_IN];
@@ -103,7 +106,8 @@ static int grad_check(nbrdf_nn *nn, uint64_t seed, gc_sabotage sabotage, int ver
       bad += !agrees(&g, p + t->offset + i, grad[t->offset + i], t->name, (int)i, verbose);
     }
   }
-  for (int i = 0; i < B * g.in; i++) bad += !agrees(&g, &g.x[i], dx[i], "input", i, verbose);
+  for (int i = 0; i < B * g.in; i++)
+    bad += !agrees(&g, &g.x[i], dx[i], "input", i, verbose);
 
   /* The partial backward passes must give the same numbers as the full one. */
   if (sabotage == GC_HONEST) {
@@ -133,8 +137,7 @@ static void check_spec(const nbrdf_nn_spec *spec, const char *label, uint64_t se
   nbrdf_nn *nn = make(spec);
   if (!nn) return;
   int bad = grad_check(nn, seed, GC_HONEST, 1);
-  CHECK_MSG(bad == 0, "%s: %d gradient coordinates disagree with finite differences", label,
-            bad);
+  CHECK_MSG(bad == 0, "%s: %d gradient coordinates disagree with finite differences", label, bad);
   nbrdf_nn_destroy(nn);
 }
 

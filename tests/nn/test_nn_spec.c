@@ -90,7 +90,8 @@ static void test_init(void) {
     const float *v = p + t->offset;
     if (t->rank == 1) {
       float want = strstr(t->name, "norm") && strstr(t->name, ".weight") ? 1.0f : 0.0f;
-      for (size_t i = 0; i < t->count; i++) CHECK_MSG(v[i] == want, "%s[%zu]", t->name, i);
+      for (size_t i = 0; i < t->count; i++)
+        CHECK_MSG(v[i] == want, "%s[%zu]", t->name, i);
       continue;
     }
     /* He uniform for weights feeding a ReLU, LeCun uniform for the output layer: the sample
@@ -170,8 +171,7 @@ static void test_json_invalid(void) {
           "differs from its input width 4");
   refused(HEAD "\"inputs\":4,\"layers\":[{\"kind\":\"plain\",\"width\":4,\"skip\":3}]}",
           "skip from activation 3");
-  refused(HEAD "\"inputs\":1,\"layers\":[{\"kind\":\"layernorm\"}]}",
-          "too small for LayerNorm");
+  refused(HEAD "\"inputs\":1,\"layers\":[{\"kind\":\"layernorm\"}]}", "too small for LayerNorm");
   refused(HEAD "\"inputs\":4,\"layers\":[{\"kind\":\"plain\",\"width\":1}]}",
           "too small for LayerNorm");
   refused(HEAD "\"inputs\":4,\"layers\":[{\"kind\":\"relu\",\"skip\":0}]}",
@@ -186,12 +186,12 @@ static void test_validate(void) {
   nbrdf_nn_spec s;
   nbrdf_nn_spec_init(&s, 4);
   CHECK_FAILS(nbrdf_nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "no layers");
-  for (int i = 0; i < NBRDF_NN_MAX_LAYERS; i++) CHECK(nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0) == i);
+  for (int i = 0; i < NBRDF_NN_MAX_LAYERS; i++)
+    CHECK(nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0) == i);
   CHECK_OK(nbrdf_nn_spec_validate(&s, err), err);
   CHECK(nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0) == -1);
   CHECK_FAILS(nbrdf_nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "more than 64 layers");
-  CHECK_FAILS(nbrdf_nn_spec_resmlp(&s, 4, 8, 40, 1, 1, err), NBRDF_ERR_ARGUMENT, err,
-              "at most 64");
+  CHECK_FAILS(nbrdf_nn_spec_resmlp(&s, 4, 8, 40, 1, 1, err), NBRDF_ERR_ARGUMENT, err, "at most 64");
   nbrdf_nn_spec_init(&s, 4);
   nbrdf_nn_spec_add(&s, (nbrdf_nn_kind)99, 3);
   CHECK_FAILS(nbrdf_nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "unknown kind 99");

@@ -89,8 +89,7 @@ static void test_loss_falls(void) {
   double first = 0, last = 1, first2 = 0, last2 = 1;
   train(7, &first, &last, pa);
   printf("  held-out MSE %.5g -> %.5g (%.0fx lower)\n", first, last, first / last);
-  CHECK_MSG(first / last >= 20.0, "loss fell only %.1fx (%.4g -> %.4g)", first / last, first,
-            last);
+  CHECK_MSG(first / last >= 20.0, "loss fell only %.1fx (%.4g -> %.4g)", first / last, first, last);
   train(7, &first2, &last2, pb);
   CHECK(first == first2 && last == last2);
   CHECK(memcmp(pa, pb, sizeof pa) == 0);
@@ -129,13 +128,15 @@ static void test_input_optimisation(void) {
   memcpy(before, nbrdf_nn_params(nn), n * sizeof *before);
   double l0 = 0, l = 0;
   for (int step = 0; step < 200; step++) {
-    for (int i = 0; i < R; i++) x[3 * i] = z;
+    for (int i = 0; i < R; i++)
+      x[3 * i] = z;
     CHECK_OK(nbrdf_nn_forward(nn, ws, x, R, y, err), err);
     l = mse(y, t, R, dy);
     if (step == 0) l0 = l;
     CHECK_OK(nbrdf_nn_backward(nn, ws, dy, dx, NULL, err), err);
     float gz = 0;
-    for (int i = 0; i < R; i++) gz += dx[3 * i];
+    for (int i = 0; i < R; i++)
+      gz += dx[3 * i];
     CHECK_OK(nbrdf_adam_step(adam, &z, &gz, err), err);
   }
   printf("  latent -0.5 -> %.4f (target 0.7), loss %.3g -> %.3g\n", z, l0, l);
