@@ -18,11 +18,9 @@ double bsdf_eval(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng
 int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, nbrdf_rng *rng,
                     bsdf_sample *s) {
   switch (b->kind) {
-  case BSDF_CONDUCTOR: {
+  case BSDF_CONDUCTOR:
     if (!(flags & BSDF_REFLECTION)) return 0;
-    double u1 = nbrdf_rng_uniform(rng), u2 = nbrdf_rng_uniform(rng);
-    return bsdf_conductor_sample(&b->conductor, wo, u1, u2, s);
-  }
+    return bsdf_conductor_sample_rng(&b->conductor, wo, rng, s);
   case BSDF_DIELECTRIC: return bsdf_dielectric_sample_rng(&b->dielectric, wo, mode, flags, rng, s);
   case BSDF_LAYERED:
     if (!(flags & BSDF_REFLECTION)) return 0;
@@ -39,6 +37,17 @@ double bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags) {
   case BSDF_LAYERED: return (flags & BSDF_REFLECTION) ? bsdf_layered_pdf(&b->layered, wo, wi) : 0.0;
   }
   return 0.0;
+}
+
+double bsdf_eval_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags, nbrdf_rng *rng,
+                     double *pdf) {
+  if (b->kind == BSDF_CONDUCTOR) {
+    double f = bsdf_conductor_eval_pdf(&b->conductor, wo, wi, pdf);
+    if (!(flags & BSDF_REFLECTION)) *pdf = 0.0;
+    return f;
+  }
+  *pdf = bsdf_pdf(b, wo, wi, mode, flags);
+  return bsdf_eval(b, wo, wi, mode, rng);
 }
 
 int bsdf_is_stochastic(const bsdf *b) { return b->kind == BSDF_LAYERED; }

@@ -98,6 +98,9 @@ int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, nbrdf_rng
 /* Density with which bsdf_sample_dir(wo, mode, flags) returns wi (0 for Dirac
  * lobes); p̃ for stochastic BSDFs (see above). */
 double bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags);
+/* bsdf_eval and bsdf_pdf at once (shares the half vector and D). */
+double bsdf_eval_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags, nbrdf_rng *rng,
+                     double *pdf);
 int bsdf_is_stochastic(const bsdf *b);
 
 /* Deep copy (the layered bottom chain is duplicated) and release of what a

@@ -1,5 +1,6 @@
 #include "brdf/dielectric.h"
 
+#include "brdf/disk.h"
 #include "brdf/fresnel.h"
 #include "brdf/ggx.h"
 
@@ -62,6 +63,28 @@ double bsdf_dielectric_pdf(const bsdf_dielectric *d, vec3 wo, vec3 wi, int flags
   return vndf * fabs(wim) / (s * s) * (pt / (pr + pt));
 }
 
+double bsdf_dielectric_exit(const bsdf_dielectric *d, vec3 ws, vec3 wi, bsdf_mode mode,
+                            double *pdf_from_wi) {
+  *pdf_from_wi = 0.0;
+  if (d->eta == 1.0 || !(ws.z < 0.0) || !(wi.z > 0.0)) return 0.0;
+  vec3 m;
+  double etap; /* η_wi / η_ws = 1/η */
+  if (!half_vector(d, ws, wi, &m, &etap)) return 0.0;
+  double dm = ggx_d(d->alpha, m);
+  if (dm == 0.0) return 0.0;
+  double wsm = v3_dot(ws, m), wim = v3_dot(wi, m);
+  double t = 1.0 - fresnel_dielectric(wim, d->eta);
+  double ls = ggx_lambda(d->alpha, ws), li = ggx_lambda(d->alpha, wi);
+  double s = wim + wsm / etap;        /* Jacobian term seen from ws */
+  double s_rev = wsm + wim * etap;    /* … and from wi (η' = η) */
+  if (!(s != 0.0) || !(s_rev != 0.0)) return 0.0;
+  /* pdf(ws | wi) = D_wi(m) |ws·m| / (ws·m + wi·m/η)², D_wi(m) = G1(wi) (wi·m) D / cos θi. */
+  *pdf_from_wi = dm * wim / ((1.0 + li) * wi.z) * fabs(wsm) / (s_rev * s_rev);
+  double ft = dm * t * fabs(wim * wsm) / ((1.0 + ls + li) * s * s * fabs(ws.z * wi.z));
+  if (mode == BSDF_RADIANCE) ft /= etap * etap;
+  return ft;
+}
+
 static int sample_delta(vec3 wo, int flags, bsdf_sample *s) {
   if (!(flags & BSDF_TRANSMISSION) || wo.z == 0.0) return 0;
   s->wi = v3_neg(wo);
@@ -72,39 +95,36 @@ static int sample_delta(vec3 wo, int flags, bsdf_sample *s) {
   return 1;
 }
 
-int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
-                           double uc, double u1, double u2, bsdf_sample *s) {
-  if (d->eta == 1.0) return sample_delta(wo, flags, s);
-  if (wo.z == 0.0) return 0;
-  vec3 m;
-  if (!ggx_sample_vndf(d->alpha, wo, u1, u2, &m)) return 0;
+/* Reflection or refraction about a visible normal m sampled for wo. */
+static int scatter(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags, double uc,
+                   vec3 m, bsdf_sample *s) {
   double wom = v3_dot(wo, m);
   if (!(wom * wo.z > 0.0)) return 0;
   double fr = fresnel_dielectric(wom, d->eta);
   double pr = (flags & BSDF_REFLECTION) ? fr : 0.0;
   double pt = (flags & BSDF_TRANSMISSION) ? 1.0 - fr : 0.0;
   if (!(pr + pt > 0.0)) return 0;
-  double g1 = ggx_g1(d->alpha, wo);
-  double vndf = ggx_vndf_pdf(d->alpha, wo, m);
+  double lo = ggx_lambda(d->alpha, wo);
   double dm = ggx_d(d->alpha, m);
+  double vndf = fabs(wom) * dm / ((1.0 + lo) * fabs(wo.z)); /* D_wo(m) */
   if (!(vndf > 0.0)) return 0;
   vec3 wi;
   if (uc * (pr + pt) < pr) {
     wi = fresnel_reflect(wo, m);
     if (!(wi.z * wo.z > 0.0)) return 0;
     double p = pr / (pr + pt);
-    double g2 = ggx_g2(d->alpha, wo, wi);
+    double g2 = 1.0 / (1.0 + lo + ggx_lambda(d->alpha, wi));
     s->wi = wi;
     s->pdf = vndf / (4.0 * fabs(wom)) * p;
     s->f = dm * g2 * fr / (4.0 * fabs(wo.z * wi.z));
-    s->weight = fr * g2 / (g1 * p);
+    s->weight = fr * g2 * (1.0 + lo) / p; /* F G2 / (G1 p) */
     s->flags = BSDF_REFLECTION;
   } else {
     double etap;
     if (!fresnel_refract(wo, m, d->eta, &wi, &etap)) return 0;
     if (!(wi.z * wo.z < 0.0)) return 0;
     double p = pt / (pr + pt);
-    double g2 = ggx_g2(d->alpha, wo, wi);
+    double g2 = 1.0 / (1.0 + lo + ggx_lambda(d->alpha, wi));
     double wim = v3_dot(wi, m);
     double sum = wim + wom / etap;
     double scale = mode == BSDF_RADIANCE ? 1.0 / (etap * etap) : 1.0;
@@ -112,16 +132,28 @@ int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, in
     s->pdf = vndf * fabs(wim) / (sum * sum) * p;
     if (!(s->pdf > 0.0) || !isfinite(s->pdf)) return 0;
     s->f = dm * (1.0 - fr) * g2 * fabs(wim * wom) / (sum * sum * fabs(wo.z * wi.z)) * scale;
-    s->weight = (1.0 - fr) * g2 / (g1 * p) * scale;
+    s->weight = (1.0 - fr) * g2 * (1.0 + lo) / p * scale;
     s->flags = BSDF_TRANSMISSION;
   }
   return 1;
 }
 
+int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
+                           double uc, double u1, double u2, bsdf_sample *s) {
+  if (d->eta == 1.0) return sample_delta(wo, flags, s);
+  vec3 m;
+  if (wo.z == 0.0 || !ggx_sample_vndf(d->alpha, wo, u1, u2, &m)) return 0;
+  return scatter(d, wo, mode, flags, uc, m, s);
+}
+
 int bsdf_dielectric_sample_rng(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
                                nbrdf_rng *rng, bsdf_sample *s) {
   if (d->eta == 1.0) return sample_delta(wo, flags, s);
+  if (wo.z == 0.0) return 0;
   double uc = (flags & BSDF_ALL) == BSDF_ALL ? nbrdf_rng_uniform(rng) : 0.0;
-  double u1 = nbrdf_rng_uniform(rng), u2 = nbrdf_rng_uniform(rng);
-  return bsdf_dielectric_sample(d, wo, mode, flags, uc, u1, u2, s);
+  double x, y, r2;
+  disk_sample(rng, &x, &y, &r2);
+  vec3 m;
+  if (!ggx_sample_vndf_disk(d->alpha, wo, x, y, r2, &m)) return 0;
+  return scatter(d, wo, mode, flags, uc, m, s);
 }

@@ -21,6 +21,12 @@ double bsdf_dielectric_pdf(const bsdf_dielectric *d, vec3 wo, vec3 wi, int flags
  * (restricted to `flags`). uc picks the lobe, (u1, u2) the normal. */
 int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
                            double uc, double u1, double u2, bsdf_sample *s);
+/* Transmission out of the coat for the layered walk's exit: returns
+ * f(ws, wi) for ws inside (z < 0) and wi outside, and writes the density with
+ * which bsdf_dielectric_sample(wi, ·, BSDF_TRANSMISSION) draws ws — the pdf of
+ * the exit strategy, evaluated with one half vector and one Fresnel term. */
+double bsdf_dielectric_exit(const bsdf_dielectric *d, vec3 ws, vec3 wi, bsdf_mode mode,
+                            double *pdf_from_wi);
 /* The same, drawing its random numbers from rng (the lobe number only when
  * both lobes are allowed). */
 int bsdf_dielectric_sample_rng(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,

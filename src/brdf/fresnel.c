@@ -9,11 +9,12 @@ double fresnel_dielectric(double cos_i, double eta) {
   double sin2_t = (1.0 - cos_i * cos_i) / (eta * eta); /* Snell's law */
   if (sin2_t >= 1.0) return 1.0;                        /* total internal reflection */
   double cos_t = sqrt(fmax(0.0, 1.0 - sin2_t));
-  double parl_den = eta * cos_i + cos_t, perp_den = cos_i + eta * cos_t;
+  double parl_num = eta * cos_i - cos_t, parl_den = eta * cos_i + cos_t;
+  double perp_num = cos_i - eta * cos_t, perp_den = cos_i + eta * cos_t;
   if (!(parl_den > 0.0) || !(perp_den > 0.0)) return 1.0; /* grazing with η = 1 */
-  double r_parl = (eta * cos_i - cos_t) / parl_den;
-  double r_perp = (cos_i - eta * cos_t) / perp_den;
-  return 0.5 * (r_parl * r_parl + r_perp * r_perp);
+  /* (r∥² + r⊥²) / 2 over a common denominator: one division. */
+  double a = parl_num * perp_den, b = perp_num * parl_den, den = parl_den * perp_den;
+  return 0.5 * (a * a + b * b) / (den * den);
 }
 
 int fresnel_refract(vec3 w, vec3 m, double eta, vec3 *wt, double *etap) {

@@ -61,4 +61,8 @@ static inline double ggx_vndf_pdf(double alpha, vec3 w, vec3 m) {
  * when the draw degenerates to a normal in the surface plane (measure zero). */
 int ggx_sample_vndf(double alpha, vec3 w, double u1, double u2, vec3 *m);
 
+/* The same from a point (x, y) uniform in the unit disk, r2 = x² + y²: the
+ * radius² gives the cap's height, the direction its azimuth (no sin/cos). */
+int ggx_sample_vndf_disk(double alpha, vec3 w, double x, double y, double r2, vec3 *m);
+
 #endif

@@ -1,7 +1,7 @@
 #include "brdf/dielectric.h"
 #include "brdf/fresnel.h"
 #include "brdf/layered.h"
-#include "core/warp.h"
+#include "brdf/disk.h"
 
 static int finish(const bsdf_layered *l, vec3 wo, vec3 wi, double weight, bsdf_sample *s) {
   if (!(wi.z > 0.0)) return 0;
@@ -35,8 +35,9 @@ int bsdf_layered_sample(const bsdf_layered *l, vec3 wo, bsdf_mode mode, nbrdf_rn
       if (zn > 0.0 && zn < 1.0) {
         z = zn;
         beta *= albedo;
-        double u1 = nbrdf_rng_uniform(rng), u2 = nbrdf_rng_uniform(rng);
-        w = nbrdf_warp_uniform_sphere(u1, u2);
+        double x, y, r2;
+        disk_sample(rng, &x, &y, &r2);
+        w = disk_to_sphere(x, y, r2);
         continue;
       }
       z = zn <= 0.0 ? 0.0 : 1.0;

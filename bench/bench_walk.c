@@ -1,0 +1,142 @@
+/* Speed of the layered ground truth: Monte Carlo walks (samples) per second
+ * per core for three representative layered BRDFs, with the noise of one
+ * walk, beside the machine's own cblas_sgemm rate measured in the same run
+ * (METRICS.md "Speed"). Prints a markdown table.
+ *
+ *   bench_walk [--seconds S] [--threads T]     (defaults: 3 s per BRDF, 1 thread)
+ *
+ * Queries: 4 incidences θi ∈ {0, 30, 60, 80}° × 16 outgoing directions spread
+ * over the hemisphere (METRICS.md lobe angles). "walks/s/core" divides by the
+ * process CPU time, so it is meaningful on a shared machine; "walks/s" is
+ * wall-clock. "noise/walk" is the mean over queries of stderr·√spp / f: the
+ * relative standard deviation of one walk (lower is better; efficiency =
+ * walks/s / noise²). */
+#include <cblas.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/vec3.h"
+#include "nbrdf/brdf.h"
+
+static double wall(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static double cpu(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+static void die(nbrdf_status st, const nbrdf_error *err) {
+  if (st == NBRDF_OK) return;
+  fprintf(stderr, "bench_walk: %s\n", err->message);
+  exit(1);
+}
+
+/* GFLOP/s of cblas_sgemm on a 4096×256×256 product (a decoder-layer shape). */
+static double sgemm_gflops(void) {
+  const int m = 4096, n = 256, k = 256;
+  float *a = malloc(sizeof(float) * m * k), *b = malloc(sizeof(float) * k * n),
+        *c = malloc(sizeof(float) * m * n);
+  for (int i = 0; i < m * k; i++) a[i] = (float)(i % 7) * 0.1f;
+  for (int i = 0; i < k * n; i++) b[i] = (float)(i % 5) * 0.1f;
+  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, m, n, k, 1.0f, a, k, b, n, 0.0f, c, n);
+  int reps = 0;
+  double t0 = wall();
+  do {
+    cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, m, n, k, 1.0f, a, k, b, n, 0.0f, c, n);
+    reps++;
+  } while (wall() - t0 < 1.0);
+  double gf = 2.0 * m * n * k * reps / (wall() - t0) * 1e-9;
+  free(a);
+  free(b);
+  free(c);
+  return gf;
+}
+
+typedef struct bench_case {
+  const char *name;
+  double alpha1, eta, alpha2, r0, albedo, sigma_t;
+} bench_case;
+
+enum { NQ = 64 };
+
+static void make_queries(nbrdf_query *q) {
+  const double thetas[4] = {0, 30, 60, 80};
+  for (int t = 0; t < 4; t++) {
+    double ti = thetas[t] * M_PI / 180;
+    for (int j = 0; j < 16; j++) {
+      /* 16 outgoing directions: 4 rings × 4 azimuths, including the mirror one */
+      double to = (10.0 + 20.0 * (j / 4)) * M_PI / 180, po = M_PI * 0.5 * (j % 4);
+      nbrdf_query *qq = &q[16 * t + j];
+      qq->wi[0] = sin(ti), qq->wi[1] = 0, qq->wi[2] = cos(ti);
+      qq->wo[0] = sin(to) * cos(po), qq->wo[1] = sin(to) * sin(po), qq->wo[2] = cos(to);
+    }
+  }
+}
+
+int main(int argc, char **argv) {
+  double seconds = 3.0;
+  int threads = 1;
+  for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--seconds") && i + 1 < argc) seconds = atof(argv[++i]);
+    else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
+    else {
+      fprintf(stderr, "usage: bench_walk [--seconds S] [--threads T]\n");
+      return 2;
+    }
+  }
+  const bench_case cases[3] = {
+      {"smooth coat over rough metal", 0.02, 1.5, 0.5, 0.9, 0.0, 0.0},
+      {"rough coat over smooth metal", 0.6, 1.5, 0.02, 0.9, 0.0, 0.0},
+      {"thick scattering medium", 0.1, 1.5, 0.3, 0.9, 0.95, 5.0},
+  };
+  nbrdf_query q[NQ];
+  make_queries(q);
+  double gf = sgemm_gflops();
+  printf("cblas_sgemm 4096x256x256: %.1f GFLOP/s (OpenBLAS threads: default)\n\n", gf);
+  printf("| BRDF (α1, η, α2, R0, A, σT) | threads | spp | walks/s | walks/s/core (CPU time) | "
+         "noise/walk | walks per GFLOP of sgemm |\n");
+  printf("|---|---|---|---|---|---|---|\n");
+  for (int c = 0; c < 3; c++) {
+    const bench_case *bc = &cases[c];
+    nbrdf_error err = {0};
+    nbrdf_brdf *bottom = NULL, *l = NULL;
+    die(nbrdf_brdf_create_conductor(bc->alpha2, bc->r0, &bottom, &err), &err);
+    die(nbrdf_brdf_create_layered(bc->alpha1, bc->eta, bc->albedo, bc->sigma_t, bottom, &l, &err),
+        &err);
+    double f[NQ], se[NQ];
+    nbrdf_eval_options o = NBRDF_EVAL_OPTIONS_DEFAULT;
+    o.threads = threads;
+    o.spp = 256; /* calibration */
+    double t0 = wall();
+    die(nbrdf_brdf_eval(l, NQ, q, &o, f, se, &err), &err);
+    double per_walk = (wall() - t0) / (NQ * 256.0);
+    o.spp = (int)fmax(256.0, seconds / (per_walk * NQ));
+    o.seed = 1;
+    double w0 = wall(), c0 = cpu();
+    die(nbrdf_brdf_eval(l, NQ, q, &o, f, se, &err), &err);
+    double wt = wall() - w0, ct = cpu() - c0;
+    double walks = (double)NQ * o.spp, noise = 0.0;
+    int counted = 0;
+    for (int k = 0; k < NQ; k++)
+      if (f[k] > 0) {
+        noise += se[k] * sqrt((double)o.spp) / f[k];
+        counted++;
+      }
+    noise /= counted;
+    printf("| %s (%g, %g, %g, %g, %g, %g) | %d | %d | %.3g | %.3g | %.2f | %.3g |\n", bc->name,
+           bc->alpha1, bc->eta, bc->alpha2, bc->r0, bc->albedo, bc->sigma_t, threads, o.spp,
+           walks / wt, walks / ct, noise, walks / ct / gf);
+    fflush(stdout);
+    nbrdf_brdf_destroy(l);
+    nbrdf_brdf_destroy(bottom);
+  }
+  return 0;
+}
