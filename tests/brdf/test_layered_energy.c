@@ -165,6 +165,21 @@ static void test_extremes_finite(void) {
                 }
               nbrdf_brdf_destroy(l);
             }
+  /* Beyond the grid: the smallest α, η at both ends of its range and the
+   * thickest slab the ground truth accepts. */
+  const double etas2[] = {1.0, 1.0001, 4.0}, sigmas2[] = {0.0, 1000.0};
+  for (int e = 0; e < 3; e++)
+    for (int s = 0; s < 2; s++) {
+      nbrdf_brdf *l = layered2(1e-3, etas2[e], 1e-3, 0.5, 1.0, sigmas2[s]);
+      nbrdf_eval_options o = NBRDF_EVAL_OPTIONS_DEFAULT;
+      o.spp = 4;
+      double f[NQ], se[NQ];
+      CHECK_OK(nbrdf_brdf_eval(l, NQ, q, &o, f, se, err), err);
+      for (int k = 0; k < NQ; k++)
+        if (!(isfinite(f[k]) && f[k] >= 0.0 && isfinite(se[k])))
+          if (bad++ < 5) fprintf(stderr, "eta %g sigma_t %g query %d: f %g\n", etas2[e], sigmas2[s], k, f[k]);
+      nbrdf_brdf_destroy(l);
+    }
   CHECK_MSG(bad == 0, "%d non-finite or negative results", bad);
 }
 
