@@ -8,8 +8,10 @@
  *   bench_nn --threads  OpenBLAS variant, threads vs OpenMP callers, GEMM orientation
  *
  * "fraction" = time of the GEMM-only replay / time of the network: the share of the machine's
- * GEMM rate that the whole network reaches (1.0 = no overhead outside the GEMMs). */
+ * GEMM rate that the whole network reaches (1.0 = no overhead outside the GEMMs). Times are
+ * the fastest call of three interleaved rounds (network, replay, network, replay, ...). */
 #include <cblas.h>
+#include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +21,7 @@
 #include "nn/internal.h"
 #include "nn/nn.h"
 
+#define ROUNDS 3                     /* interleaved rounds of network and replay timings */
 #define FWD_CHUNK 16384              /* inference workspace rows; larger batches are chunked */
 #define TRAIN_BYTES_CAP (1ull << 30) /* training workspaces stay under 1 GiB; chunk beyond */
 
@@ -30,19 +33,20 @@ static double now(void) {
 
 typedef void (*work_fn)(void *ctx);
 
-/* Seconds per call: repeat for at least `min_s` (one call if it alone takes longer). */
+/* Seconds per call: the fastest of the calls made in at least `min_s` (at least 2 calls).
+ * The minimum, not the mean, because other jobs share the 2 cores: it is the figure least
+ * disturbed by them, for the network and its GEMM replay alike. */
 static double time_calls(work_fn fn, void *ctx, double min_s) {
-  double t0 = now();
-  fn(ctx); /* warm-up, also decides whether repeating is affordable */
-  double once = now() - t0;
-  if (once > min_s) return once;
+  double best = 1e30, start = now();
   int n = 0;
-  t0 = now();
   do {
+    double t0 = now();
     fn(ctx);
+    double t = now() - t0;
+    if (t < best) best = t;
     n++;
-  } while (now() - t0 < min_s);
-  return (now() - t0) / n;
+  } while (n < 2 || now() - start < min_s);
+  return best;
 }
 
 typedef struct run {
@@ -195,20 +199,22 @@ static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int
     r.chunk = B < FWD_CHUNK ? B : FWD_CHUNK;
     die(nbrdf_nn_workspace_create(nn, r.chunk, NBRDF_NN_INFER, &r.ws, &err), &err);
     fmt_bytes(mem_f, sizeof mem_f, (double)nbrdf_nn_workspace_bytes(spec, r.chunk, NBRDF_NN_INFER));
-    double tn = time_calls(net_forward, &r, min_s), tg = time_calls(replay_forward, &r, min_s);
-    double tn2 = time_calls(net_forward, &r, min_s), tg2 = time_calls(replay_forward, &r, min_s);
-    tn = tn < tn2 ? tn : tn2;
-    tg = tg < tg2 ? tg : tg2;
+    double tn = 1e30, tg = 1e30;
+    for (int round = 0; round < ROUNDS; round++) {
+      tn = fmin(tn, time_calls(net_forward, &r, min_s));
+      tg = fmin(tg, time_calls(replay_forward, &r, min_s));
+    }
     nbrdf_nn_workspace_destroy(r.ws);
     double fq = B / tn, f_gflops = 2 * macs * B / tn / 1e9, g_gflops = 2 * macs * B / tg / 1e9;
     /* forward + backward: training workspace, gradients accumulated over chunks */
     r.chunk = B < (int)train_cap ? B : (int)train_cap;
     die(nbrdf_nn_workspace_create(nn, r.chunk, NBRDF_NN_TRAIN, &r.ws, &err), &err);
     fmt_bytes(mem_t, sizeof mem_t, (double)nbrdf_nn_workspace_bytes(spec, r.chunk, NBRDF_NN_TRAIN));
-    double un = time_calls(net_train, &r, min_s), ug = time_calls(replay_train, &r, min_s);
-    double un2 = time_calls(net_train, &r, min_s), ug2 = time_calls(replay_train, &r, min_s);
-    un = un < un2 ? un : un2;
-    ug = ug < ug2 ? ug : ug2;
+    double un = 1e30, ug = 1e30;
+    for (int round = 0; round < ROUNDS; round++) {
+      un = fmin(un, time_calls(net_train, &r, min_s));
+      ug = fmin(ug, time_calls(replay_train, &r, min_s));
+    }
     nbrdf_nn_workspace_destroy(r.ws);
     double tq = B / un, t_gflops = 2 * (macs + bmacs) * B / un / 1e9;
     double tg_gflops = 2 * (macs + bmacs) * B / ug / 1e9;
