@@ -3,7 +3,12 @@
  * walk, beside the machine's own cblas_sgemm rate measured in the same run
  * (METRICS.md "Speed"). Prints a markdown table.
  *
- *   bench_walk [--seconds S] [--threads T]     (defaults: 3 s per BRDF, 1 thread)
+ *   bench_walk [--seconds S] [--threads T] [--lobe]   (defaults: 3 s per BRDF, 1 thread)
+ *
+ * --lobe adds the whole-lobe estimator (src/brdf/layered_lobe.c) against
+ * per-pixel evaluation on a 64×64 lobe image at θi = 30°: the seed-to-seed
+ * lobe error (METRICS.md) each reaches in the same CPU time, and the implied
+ * speed-up (error ratio squared).
  *
  * Queries: 4 incidences θi ∈ {0, 30, 60, 80}° × 16 outgoing directions spread
  * over the hemisphere (METRICS.md lobe angles). "walks/s/core" divides by the
@@ -18,6 +23,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "brdf/brdf_handle.h"
+#include "brdf/layered_lobe.h"
 #include "core/vec3.h"
 #include "nbrdf/brdf.h"
 
@@ -81,14 +88,77 @@ static void make_queries(nbrdf_query *q) {
   }
 }
 
+enum { RES = 64 };
+
+static double lobe_error(const double *ref, const double *x) {
+  double num = 0.0, den = 0.0;
+  for (int k = 0; k < RES * RES; k++) {
+    num += fabs(x[k] - ref[k]);
+    den += fabs(ref[k]);
+  }
+  return num / den;
+}
+
+/* The lobe image by per-pixel evaluation (spp walks per pixel). */
+static void lobe_per_pixel(const nbrdf_brdf *b, double theta_i, int spp, uint64_t seed,
+                           int threads, double *img) {
+  static nbrdf_query q[RES * RES];
+  static double f[RES * RES];
+  int at[RES * RES], n = 0;
+  for (int row = 0; row < RES; row++)
+    for (int col = 0; col < RES; col++) {
+      double x = -1.0 + (col + 0.5) * 2.0 / RES, y = 1.0 - (row + 0.5) * 2.0 / RES;
+      img[row * RES + col] = 0.0;
+      if (x * x + y * y >= 1.0) continue;
+      q[n].wi[0] = sin(theta_i), q[n].wi[1] = 0, q[n].wi[2] = cos(theta_i);
+      q[n].wo[0] = x, q[n].wo[1] = y, q[n].wo[2] = sqrt(1 - x * x - y * y);
+      at[n++] = row * RES + col;
+    }
+  nbrdf_eval_options o = NBRDF_EVAL_OPTIONS_DEFAULT;
+  o.spp = spp;
+  o.seed = seed;
+  o.threads = threads;
+  nbrdf_error err = {0};
+  die(nbrdf_brdf_eval(b, (size_t)n, q, &o, f, NULL, &err), &err);
+  for (int k = 0; k < n; k++) img[at[k]] = f[k] * q[k].wo[2];
+}
+
+static void bench_lobe(const char *name, const nbrdf_brdf *b, double seconds, int threads) {
+  const double theta_i = 30.0 * M_PI / 180.0;
+  static double a[RES * RES], c[RES * RES];
+  const bsdf_layered *l = &nbrdf_brdf_bsdf(b)->layered;
+  /* calibrate both to about `seconds` of CPU time per image */
+  double c0 = cpu();
+  lobe_per_pixel(b, theta_i, 8, 1, threads, a);
+  int spp = (int)fmax(2.0, 8.0 * seconds / (cpu() - c0));
+  c0 = cpu();
+  if (!layered_lobe_image(l, theta_i, RES, 8, 1, threads, a, NULL)) exit(1);
+  int walks = (int)fmax(2.0, 8.0 * seconds / (cpu() - c0));
+  c0 = cpu();
+  lobe_per_pixel(b, theta_i, spp, 2, threads, a);
+  lobe_per_pixel(b, theta_i, spp, 3, threads, c);
+  double t_pp = (cpu() - c0) / 2, e_pp = lobe_error(a, c);
+  c0 = cpu();
+  if (!layered_lobe_image(l, theta_i, RES, walks, 2, threads, a, NULL) ||
+      !layered_lobe_image(l, theta_i, RES, walks, 3, threads, c, NULL))
+    exit(1);
+  double t_lobe = (cpu() - c0) / 2, e_lobe = lobe_error(a, c);
+  /* errors scale as 1/√time: compare at equal time */
+  double e_lobe_eq = e_lobe * sqrt(t_lobe / t_pp);
+  printf("| %s | %d spp/pixel, %.2f s: %.2f %% | %d walks, %.2f s: %.2f %% | %.1f× |\n", name, spp,
+         t_pp, 100 * e_pp, walks, t_lobe, 100 * e_lobe, (e_pp / e_lobe_eq) * (e_pp / e_lobe_eq));
+  fflush(stdout);
+}
+
 int main(int argc, char **argv) {
   double seconds = 3.0;
-  int threads = 1;
+  int threads = 1, lobe = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--seconds") && i + 1 < argc) seconds = atof(argv[++i]);
+    else if (!strcmp(argv[i], "--lobe")) lobe = 1;
     else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
     else {
-      fprintf(stderr, "usage: bench_walk [--seconds S] [--threads T]\n");
+      fprintf(stderr, "usage: bench_walk [--seconds S] [--threads T] [--lobe]\n");
       return 2;
     }
   }
@@ -135,6 +205,22 @@ int main(int argc, char **argv) {
            bc->alpha1, bc->eta, bc->alpha2, bc->r0, bc->albedo, bc->sigma_t, threads, o.spp,
            walks / wt, walks / ct, noise, walks / ct / gf);
     fflush(stdout);
+    nbrdf_brdf_destroy(l);
+    nbrdf_brdf_destroy(bottom);
+  }
+  if (!lobe) return 0;
+  printf("\nSeed-to-seed lobe error of a 64x64 lobe image at θi = 30° (two seeds), per-pixel "
+         "evaluation vs the whole-lobe estimator, CPU time per image:\n\n");
+  printf("| BRDF | per-pixel eval | whole-lobe estimator | speed-up at equal error |\n");
+  printf("|---|---|---|---|\n");
+  for (int c = 0; c < 3; c++) {
+    const bench_case *bc = &cases[c];
+    nbrdf_error err = {0};
+    nbrdf_brdf *bottom = NULL, *l = NULL;
+    die(nbrdf_brdf_create_conductor(bc->alpha2, bc->r0, &bottom, &err), &err);
+    die(nbrdf_brdf_create_layered(bc->alpha1, bc->eta, bc->albedo, bc->sigma_t, bottom, &l, &err),
+        &err);
+    bench_lobe(bc->name, l, seconds, threads);
     nbrdf_brdf_destroy(l);
     nbrdf_brdf_destroy(bottom);
   }

@@ -1,0 +1,212 @@
+#include "brdf/layered_lobe.h"
+
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "brdf/dielectric.h"
+#include "brdf/disk.h"
+#include "brdf/layered.h"
+
+#define INV_4PI (1.0 / (4.0 * M_PI))
+/* Walks are summed in at most this many fixed chunks, in order, so that the
+ * result does not depend on the thread count. */
+#define MAX_CHUNKS 64
+
+/* The exit sample of one target direction, drawn once per walk (as in
+ * bsdf_layered_walk, here for every ωo_k). */
+typedef struct lobe_exit {
+  vec3 up;           /* travel direction from a vertex to the exit: −ws */
+  double pdf;        /* density of ws given ωo_k (0: no exit sample) */
+  double ratio;      /* f / pdf of the exit sample (no cosine) */
+  double cos;        /* |cos θ| of ws */
+  double tr_slab;    /* transmittance of the whole slab along ws */
+  double nee_medium; /* A/4π · ratio · MIS weight against the phase function */
+} lobe_exit;
+
+typedef struct lobe_walker {
+  const bsdf_layered *l;
+  size_t n;
+  const vec3 *wo;
+  lobe_exit *ex;
+  double *acc;
+} lobe_walker;
+
+/* The competing strategy of next-event estimation towards every ωo_k: the
+ * vertex's own sampled direction w (density p_strategy) leaving through the
+ * top, with transmittance tr. See exit_term in layered.c for the MIS pdf. */
+static void splat_exit(lobe_walker *lw, vec3 w, double p_strategy, double scale) {
+  vec3 ws = v3_neg(w);
+  for (size_t k = 0; k < lw->n; k++) {
+    double pe, fe = bsdf_dielectric_exit(&lw->l->top, ws, lw->wo[k], BSDF_RADIANCE, &pe);
+    if (fe > 0.0) lw->acc[k] += scale * fe * bsdf_mis_power(p_strategy, pe);
+  }
+}
+
+static void walk(lobe_walker *lw, vec3 wi, nbrdf_rng *rng) {
+  const bsdf_layered *l = lw->l;
+  const bsdf_dielectric *top = &l->top;
+  const double sigma_t = l->sigma_t, albedo = l->albedo;
+  const int delta_top = top->eta == 1.0;
+  const int scattering = sigma_t > 0.0 && albedo > 0.0;
+  const double rr_scale = top->eta * top->eta; /* radiance mode, as bsdf_layered_walk */
+  memset(lw->acc, 0, lw->n * sizeof *lw->acc);
+
+  bsdf_sample in;
+  if (!bsdf_dielectric_sample_rng(top, wi, BSDF_RADIANCE, BSDF_TRANSMISSION, rng, &in)) return;
+  double beta = in.weight;
+  vec3 w = in.wi;
+  for (size_t k = 0; k < lw->n; k++) {
+    bsdf_sample s;
+    lobe_exit *e = &lw->ex[k];
+    if (bsdf_dielectric_sample_rng(top, lw->wo[k], BSDF_IMPORTANCE, BSDF_TRANSMISSION, rng, &s)) {
+      e->up = v3_neg(s.wi);
+      e->pdf = s.pdf;
+      e->ratio = s.f / s.pdf;
+      e->cos = fabs(s.wi.z);
+      e->tr_slab = sigma_t > 0.0 ? exp(-sigma_t / e->cos) : 1.0;
+      e->nee_medium = albedo * INV_4PI * e->ratio * (delta_top ? 1.0 : bsdf_mis_power(s.pdf, INV_4PI));
+    } else {
+      e->pdf = 0.0;
+    }
+  }
+
+  double z = 0.0;
+  for (int vertex = 0;; vertex++) {
+    if (!bsdf_layered_roulette(&beta, rr_scale, vertex, rng)) break;
+    if (scattering) {
+      double t = -log(1.0 - nbrdf_rng_uniform(rng)) / sigma_t;
+      double zn = z - t * w.z;
+      if (zn > 0.0 && zn < 1.0) {
+        z = zn;
+        for (size_t k = 0; k < lw->n; k++) {
+          const lobe_exit *e = &lw->ex[k];
+          if (e->pdf > 0.0) lw->acc[k] += beta * e->nee_medium * exp(-sigma_t * z / e->cos);
+        }
+        beta *= albedo;
+        double x, y, r2;
+        disk_sample(rng, &x, &y, &r2);
+        w = disk_to_sphere(x, y, r2);
+        if (w.z > 0.0 && !delta_top) splat_exit(lw, w, INV_4PI, beta * exp(-sigma_t * z / w.z));
+        continue;
+      }
+      z = zn <= 0.0 ? 0.0 : 1.0;
+    } else {
+      if (sigma_t > 0.0) beta *= exp(-sigma_t / fabs(w.z));
+      z = w.z < 0.0 ? 1.0 : 0.0;
+    }
+    if (z == 1.0) {
+      vec3 wb = v3_neg(w);
+      for (size_t k = 0; k < lw->n; k++) {
+        const lobe_exit *e = &lw->ex[k];
+        if (!(e->pdf > 0.0)) continue;
+        double pb, fb = bsdf_eval_pdf(l->bottom, wb, e->up, BSDF_RADIANCE, BSDF_REFLECTION, rng, &pb);
+        if (!(fb > 0.0)) continue;
+        double wt = delta_top ? 1.0 : bsdf_mis_power(e->pdf, pb);
+        lw->acc[k] += beta * fb * e->cos * wt * e->tr_slab * e->ratio;
+      }
+      bsdf_sample bs;
+      if (!bsdf_sample_dir(l->bottom, wb, BSDF_RADIANCE, BSDF_REFLECTION, rng, &bs)) break;
+      if (!(bs.wi.z > 0.0)) break;
+      beta *= bs.weight;
+      w = bs.wi;
+      if (!delta_top && !(bs.flags & BSDF_DELTA))
+        splat_exit(lw, w, bs.pdf, beta * (sigma_t > 0.0 ? exp(-sigma_t / w.z) : 1.0));
+    } else {
+      if (delta_top) break;
+      bsdf_sample bs;
+      if (!bsdf_dielectric_sample_rng(top, v3_neg(w), BSDF_RADIANCE, BSDF_REFLECTION, rng, &bs))
+        break;
+      beta *= bs.weight;
+      w = bs.wi;
+    }
+  }
+}
+
+int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
+                      uint64_t seed, int threads, double *f, double *f_se) {
+  if (n == 0) return 1;
+  if (walks < 1) walks = 1;
+  int chunk = (walks + MAX_CHUNKS - 1) / MAX_CHUNKS;
+  int chunks = (walks + chunk - 1) / chunk;
+  double *sums = calloc(2 * (size_t)chunks * n, sizeof *sums);
+  if (!sums) return 0;
+  int nt = threads > 0 ? threads : omp_get_max_threads();
+  int failed = 0;
+#pragma omp parallel num_threads(nt)
+  {
+    lobe_walker lw = {l, n, wo, malloc(n * sizeof(lobe_exit)), malloc(n * sizeof(double))};
+    if (!lw.ex || !lw.acc) {
+#pragma omp atomic write
+      failed = 1;
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (int c = 0; c < chunks; c++) {
+      if (!lw.ex || !lw.acc) continue;
+      double *s1 = sums + 2 * (size_t)c * n, *s2 = s1 + n;
+      int end = (c + 1) * chunk < walks ? (c + 1) * chunk : walks;
+      for (int j = c * chunk; j < end; j++) {
+        nbrdf_rng rng;
+        nbrdf_rng_init(&rng, seed, (uint64_t)j);
+        walk(&lw, wi, &rng);
+        for (size_t k = 0; k < n; k++) {
+          s1[k] += lw.acc[k];
+          s2[k] += lw.acc[k] * lw.acc[k];
+        }
+      }
+    }
+    free(lw.ex);
+    free(lw.acc);
+  }
+  if (failed) {
+    free(sums);
+    return 0;
+  }
+  for (size_t k = 0; k < n; k++) {
+    double s1 = 0.0, s2 = 0.0;
+    for (int c = 0; c < chunks; c++) {
+      s1 += sums[2 * (size_t)c * n + k];
+      s2 += sums[(2 * (size_t)c + 1) * n + k];
+    }
+    double mean = s1 / walks;
+    /* The top's own reflection is exact: it moves the mean, not the error. */
+    f[k] = bsdf_dielectric_eval(&l->top, wi, wo[k], BSDF_RADIANCE) + mean;
+    if (f_se)
+      f_se[k] = walks > 1 ? sqrt(fmax(0.0, s2 - s1 * mean) / ((double)(walks - 1) * walks))
+                          : INFINITY;
+  }
+  free(sums);
+  return 1;
+}
+
+int layered_lobe_image(const bsdf_layered *l, double theta_i, int res, int walks, uint64_t seed,
+                       int threads, double *image, double *image_se) {
+  size_t npix = (size_t)res * res, n = 0;
+  vec3 *wo = calloc(npix, sizeof *wo);
+  size_t *at = malloc(npix * sizeof *at);
+  double *f = malloc(npix * sizeof *f), *se = malloc(npix * sizeof *se);
+  int ok = wo && at && f && se;
+  if (ok) {
+    for (int row = 0; row < res; row++)
+      for (int col = 0; col < res; col++) {
+        double x = -1.0 + (col + 0.5) * 2.0 / res, y = 1.0 - (row + 0.5) * 2.0 / res;
+        double r2 = x * x + y * y;
+        image[row * res + col] = 0.0;
+        if (image_se) image_se[row * res + col] = 0.0;
+        if (r2 >= 1.0) continue;
+        wo[n] = v3(x, y, sqrt(1.0 - r2));
+        at[n++] = (size_t)row * res + col;
+      }
+    vec3 wi = v3(sin(theta_i), 0.0, cos(theta_i));
+    ok = layered_lobe_eval(l, wi, n, wo, walks, seed, threads, f, se);
+    for (size_t k = 0; ok && k < n; k++) {
+      image[at[k]] = f[k] * wo[k].z;
+      if (image_se) image_se[at[k]] = se[k] * wo[k].z;
+    }
+  }
+  free(wo);
+  free(at);
+  free(f);
+  free(se);
+  return ok;
+}

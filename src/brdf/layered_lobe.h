@@ -1,0 +1,33 @@
+/* Whole-lobe estimation of a layered BRDF: for a fixed ωi, every random walk
+ * contributes to f(ωi, ωo_k) for all k at once (next-event estimation and
+ * the exit terms are evaluated towards every ωo_k at every vertex), which
+ * amortises the walk itself over thousands of lobe pixels (METRICS.md, "Noise
+ * of the ground truth itself"). Same estimator as bsdf_layered_walk, started
+ * from ωi (the BRDF is reciprocal), so the results are unbiased with the same
+ * expectation as per-query evaluation; the pixels of one image are correlated
+ * (they share walks), which a lobe error averages over. */
+#ifndef NBRDF_BRDF_LAYERED_LOBE_H
+#define NBRDF_BRDF_LAYERED_LOBE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "brdf/bsdf.h"
+
+/* f[k] ≈ f(wi, wo[k]) (no cosine) from `walks` walks, with the standard error
+ * of the mean in f_se[k] (may be NULL; +Inf when walks = 1). Walk j uses
+ * random stream j of `seed`; the result is the same for any `threads`
+ * (0 = all). wi and wo[k] must be unit vectors with z > 0. Returns 0 when out
+ * of memory. Cost per walk grows with n (each vertex evaluates the bottom
+ * BSDF towards every ωo_k: with a layered bottom, one nested walk each). */
+int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
+                      uint64_t seed, int threads, double *f, double *f_se);
+
+/* The lobe image of METRICS.md with src/eval/lobe.h's pixel convention:
+ * res×res, row 0 at the top, pixel (row, col) centred at
+ * x = −1 + (col + ½)·2/res, y = 1 − (row + ½)·2/res, ωo = (x, y, √(1 − x² − y²)),
+ * ωi = (sin θi, 0, cos θi); value f(ωi, ωo) cos θo, 0 outside the disk. */
+int layered_lobe_image(const bsdf_layered *l, double theta_i, int res, int walks, uint64_t seed,
+                       int threads, double *image, double *image_se);
+
+#endif
