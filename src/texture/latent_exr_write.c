@@ -1,5 +1,6 @@
 /* Streaming writer of latent textures (docs/LATENT-TEXTURE.md). */
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,6 +12,8 @@
 #include "texture/mip_chain.h"
 
 #define HALF_MAX 65504.0f
+/* Tiles compressed at once (one encode pipeline each, ~3 tiles of memory). */
+#define MAX_PIPES 16
 
 struct nbrdf_latent_writer {
   nbrdf_output_file out;
@@ -27,16 +30,22 @@ struct nbrdf_latent_writer {
   nbrdf_mip_builder *mip;
   int *logical; /* logical index of each EXR channel, in the file's (sorted) order */
   int exr_channels;
-  exr_encode_pipeline_t enc;
-  int enc_ready;
+  exr_encode_pipeline_t enc[MAX_PIPES];
+  int enc_ready[MAX_PIPES];
+  int pipes;
   int64_t chunks_written;
   int failed;
 };
 
 /* Tears down after an error: the temporary file disappears at once. */
+static void destroy_pipes(nbrdf_latent_writer *w) {
+  for (int i = 0; i < MAX_PIPES; i++)
+    if (w->enc_ready[i]) exr_encoding_destroy(w->exr, &w->enc[i]);
+  memset(w->enc_ready, 0, sizeof w->enc_ready);
+}
+
 static void discard(nbrdf_latent_writer *w) {
-  if (w->enc_ready) exr_encoding_destroy(w->exr, &w->enc);
-  w->enc_ready = 0;
+  destroy_pipes(w);
   if (w->exr) exr_finish(&w->exr);
   w->exr = NULL;
   nbrdf_output_file_abort(&w->out);
@@ -50,8 +59,17 @@ static void release(nbrdf_latent_writer *w) {
   free(w);
 }
 
-static nbrdf_status write_tile(nbrdf_latent_writer *w, int level, int tx, int ty,
-                               nbrdf_error *err) {
+/* Chunks are written after compression, in tile order, by the caller:
+ * compression runs in parallel, writing does not, so the file's bytes do not
+ * depend on the number of threads. */
+static exr_result_t defer_write(exr_encode_pipeline_t *pipe) {
+  (void)pipe;
+  return EXR_ERR_SUCCESS;
+}
+
+/* Prepares pipeline `slot` to encode tile (tx, ty) of `level`. */
+static nbrdf_status prepare_tile(nbrdf_latent_writer *w, int slot, int level, int tx, int ty,
+                                 nbrdf_error *err) {
   exr_chunk_info_t cinfo;
   exr_result_t rv = exr_write_tile_chunk_info(w->exr, w->part, tx, ty, level, level, &cinfo);
   if (rv != EXR_ERR_SUCCESS)
@@ -66,29 +84,55 @@ static nbrdf_status write_tile(nbrdf_latent_writer *w, int level, int tx, int ty
   cinfo.height = th;
   cinfo.unpacked_size = (uint64_t)tw * (uint64_t)th * (uint64_t)w->exr_channels * bytes;
 
-  rv = w->enc_ready ? exr_encoding_update(w->exr, w->part, &cinfo, &w->enc)
-                    : exr_encoding_initialize(w->exr, w->part, &cinfo, &w->enc);
+  exr_encode_pipeline_t *enc = &w->enc[slot];
+  rv = w->enc_ready[slot] ? exr_encoding_update(w->exr, w->part, &cinfo, enc)
+                          : exr_encoding_initialize(w->exr, w->part, &cinfo, enc);
   if (rv != EXR_ERR_SUCCESS)
     return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path,
                           "encoder set-up");
-  w->enc_ready = 1;
+  w->enc_ready[slot] = 1;
   const float *origin = w->band[level] + (size_t)tx * T * w->channels;
-  for (int k = 0; k < w->enc.channel_count; k++) {
-    exr_coding_channel_info_t *ch = &w->enc.channels[k];
+  for (int k = 0; k < enc->channel_count; k++) {
+    exr_coding_channel_info_t *ch = &enc->channels[k];
     ch->user_bytes_per_element = 4;
     ch->user_data_type = EXR_PIXEL_FLOAT; /* the library converts to half */
     ch->user_pixel_stride = (int32_t)(w->channels * sizeof(float));
     ch->user_line_stride = (int32_t)((size_t)lw * w->channels * sizeof(float));
     ch->encode_from_ptr = (const uint8_t *)(origin + w->logical[k]);
   }
-  rv = exr_encoding_choose_default_routines(w->exr, w->part, &w->enc);
-  if (rv == EXR_ERR_SUCCESS) rv = exr_encoding_run(w->exr, w->part, &w->enc);
-  if (rv != EXR_ERR_SUCCESS) {
-    char what[64];
-    snprintf(what, sizeof what, "writing tile (%d, %d) of level %d", tx, ty, level);
-    return nbrdf_exr_fail(err, NBRDF_ERR_IO, &w->stream, rv, w->out.path, what);
+  rv = exr_encoding_choose_default_routines(w->exr, w->part, enc);
+  if (rv != EXR_ERR_SUCCESS)
+    return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path, "encoder");
+  enc->yield_until_ready_fn = NULL;
+  enc->write_fn = defer_write;
+  return NBRDF_OK;
+}
+
+/* Encodes and writes the row ty of tiles of `level` (band[level] holds it). */
+static nbrdf_status write_tile_row(nbrdf_latent_writer *w, int level, int ty, nbrdf_error *err) {
+  int tiles_x = (w->lw[level] + w->tile - 1) / w->tile;
+  char what[80];
+  for (int g0 = 0; g0 < tiles_x; g0 += w->pipes) {
+    int n = tiles_x - g0 < w->pipes ? tiles_x - g0 : w->pipes;
+    for (int i = 0; i < n; i++) {
+      nbrdf_status st = prepare_tile(w, i, level, g0 + i, ty, err);
+      if (st != NBRDF_OK) return st;
+    }
+    exr_result_t rv[MAX_PIPES];
+#pragma omp parallel for num_threads(n) schedule(static, 1) if (n > 1)
+    for (int i = 0; i < n; i++) rv[i] = exr_encoding_run(w->exr, w->part, &w->enc[i]);
+    for (int i = 0; i < n; i++) {
+      const exr_encode_pipeline_t *enc = &w->enc[i];
+      if (rv[i] == EXR_ERR_SUCCESS)
+        rv[i] = exr_write_tile_chunk(w->exr, w->part, g0 + i, ty, level, level,
+                                     enc->compressed_buffer, enc->compressed_bytes);
+      if (rv[i] != EXR_ERR_SUCCESS) {
+        snprintf(what, sizeof what, "writing tile (%d, %d) of level %d", g0 + i, ty, level);
+        return nbrdf_exr_fail(err, NBRDF_ERR_IO, &w->stream, rv[i], w->out.path, what);
+      }
+      w->chunks_written++;
+    }
   }
-  w->chunks_written++;
   return NBRDF_OK;
 }
 
@@ -104,12 +148,7 @@ static nbrdf_status on_row(void *user, int level, int y, float *row, nbrdf_error
   size_t n = (size_t)lw * w->channels;
   memcpy(w->band[level] + (size_t)(y % w->tile) * n, row, n * sizeof(float));
   if (y % w->tile != w->tile - 1 && y != w->lh[level] - 1) return NBRDF_OK;
-  int ty = y / w->tile, tiles_x = (lw + w->tile - 1) / w->tile;
-  for (int tx = 0; tx < tiles_x; tx++) {
-    nbrdf_status st = write_tile(w, level, tx, ty, err);
-    if (st != NBRDF_OK) return st;
-  }
-  return NBRDF_OK;
+  return write_tile_row(w, level, y / w->tile, err);
 }
 
 static nbrdf_status check_args(int width, int height, const nbrdf_latent_layout *layout,
@@ -238,6 +277,9 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
   w->levels = opts->mip_levels == 1 ? 1 : nbrdf_mip_level_count(width, height);
   w->stream.fd = -1;
   w->stream.out = &w->out;
+  w->pipes = omp_get_max_threads();
+  if (w->pipes > MAX_PIPES) w->pipes = MAX_PIPES;
+  if (w->pipes < 1) w->pipes = 1;
   for (int l = 0; l < w->levels; l++) {
     w->lw[l] = nbrdf_mip_level_dim(width, l);
     w->lh[l] = nbrdf_mip_level_dim(height, l);
@@ -324,8 +366,7 @@ nbrdf_status nbrdf_latent_writer_finish(nbrdf_latent_writer *w, nbrdf_error *err
     st = nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: %lld of %d tiles written", w->out.path,
                     (long long)w->chunks_written, chunks);
   if (st == NBRDF_OK) {
-    if (w->enc_ready) exr_encoding_destroy(w->exr, &w->enc);
-    w->enc_ready = 0;
+    destroy_pipes(w);
     exr_result_t rv = exr_finish(&w->exr);
     w->exr = NULL;
     if (rv != EXR_ERR_SUCCESS)
