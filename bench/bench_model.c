@@ -48,7 +48,8 @@ static void decode_bare(job *j) {
   size_t rows = j->n * (size_t)j->channels, in = (size_t)model_decoder_inputs(j->m->decoder);
   for (size_t r0 = 0; r0 < rows; r0 += (size_t)j->runner->max_batch) {
     size_t m = rows - r0 < (size_t)j->runner->max_batch ? rows - r0 : (size_t)j->runner->max_batch;
-    die(nbrdf_nn_forward(j->m->decoder->nn, j->runner->ws, j->x + r0 * in, (int)m, j->f + r0, &err), &err);
+    die(nbrdf_nn_forward(j->m->decoder->nn, j->runner->ws, j->x + r0 * in, (int)m, j->f + r0, &err),
+        &err);
   }
 }
 
@@ -67,8 +68,10 @@ static double seconds(void (*fn)(job *), job *j, double min_s) {
 static double sgemm_gflops(int m, int n, int k) {
   float *a = calloc((size_t)m * k, sizeof(float)), *b = calloc((size_t)n * k, sizeof(float));
   float *c = calloc((size_t)m * n, sizeof(float));
-  for (size_t i = 0; i < (size_t)m * k; i++) a[i] = (float)(i % 7) * 0.1f;
-  for (size_t i = 0; i < (size_t)n * k; i++) b[i] = (float)(i % 5) * 0.1f;
+  for (size_t i = 0; i < (size_t)m * k; i++)
+    a[i] = (float)(i % 7) * 0.1f;
+  for (size_t i = 0; i < (size_t)n * k; i++)
+    b[i] = (float)(i % 5) * 0.1f;
   cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, m, n, k, 1.0f, a, k, b, k, 0.0f, c, n);
   int reps = 0;
   double t0 = now();
@@ -92,7 +95,8 @@ static void bench_decoders(const char *tmp, int quick) {
     char dir[1024];
     nbrdf_error err;
     snprintf(dir, sizeof dir, "%s/%s", tmp, model_decoder_presets[p]);
-    die(model_bundle_init_random(dir, model_decoder_presets[p], 1, model_decoder_presets[p], &err), &err);
+    die(model_bundle_init_random(dir, model_decoder_presets[p], 1, model_decoder_presets[p], &err),
+        &err);
     nbrdf_model *m = NULL;
     die(nbrdf_model_load(dir, &m, &err), &err);
     const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(m->decoder->nn);
@@ -107,15 +111,19 @@ static void bench_decoders(const char *tmp, int quick) {
       j.f = malloc(n * sizeof(float)), j.x = malloc(n * in * sizeof(float));
       nbrdf_rng rng;
       nbrdf_rng_init(&rng, 1, 0);
-      for (size_t i = 0; i < n * 32; i++) j.lat[i] = (float)nbrdf_rng_normal(&rng);
+      for (size_t i = 0; i < n * 32; i++)
+        j.lat[i] = (float)nbrdf_rng_normal(&rng);
       for (size_t k = 0; k < 2 * n; k++) {
-        double z = 0.1 + 0.9 * nbrdf_rng_uniform(&rng), r = sqrt(1 - z * z), phi = 6.283 * nbrdf_rng_uniform(&rng);
+        double z = 0.1 + 0.9 * nbrdf_rng_uniform(&rng), r = sqrt(1 - z * z),
+               phi = 6.283 * nbrdf_rng_uniform(&rng);
         float *w = k < n ? j.wi + 3 * k : j.wo + 3 * (k - n);
         w[0] = (float)(r * cos(phi)), w[1] = (float)(r * sin(phi)), w[2] = (float)z;
       }
       model_decoder_fill_inputs(m->decoder, n, 1, j.lat, j.wi, j.wo, j.x);
       model_runner runner;
-      die(model_runner_create(m->decoder->nn, n < 4096 ? (int)n : 4096, NBRDF_NN_INFER, &runner, &err), &err);
+      die(model_runner_create(m->decoder->nn, n < 4096 ? (int)n : 4096, NBRDF_NN_INFER, &runner,
+                              &err),
+          &err);
       j.runner = &runner;
       double tp = seconds(decode_public, &j, 0.3), tb = seconds(decode_bare, &j, 0.3);
       printf("| %s | %lld | %zu | %.3g | %.3g | %.2f | %.1f | %.1f |\n", model_decoder_presets[p],
@@ -138,8 +146,10 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
   static float top[N * 32], bottom[N * 32], out[N * 32], a[N], s[N], sg[N], w[N];
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, 2, 0);
-  for (int i = 0; i < N * 32; i++) top[i] = (float)nbrdf_rng_normal(&rng), bottom[i] = (float)nbrdf_rng_normal(&rng);
-  for (int k = 0; k < N; k++) a[k] = 0.5f, s[k] = 2.0f;
+  for (int i = 0; i < N * 32; i++)
+    top[i] = (float)nbrdf_rng_normal(&rng), bottom[i] = (float)nbrdf_rng_normal(&rng);
+  for (int k = 0; k < N; k++)
+    a[k] = 0.5f, s[k] = 2.0f;
   die(nbrdf_model_layer(m, N, top, bottom, a, s, out, &err), &err);
   double t0 = now();
   int reps = 0;
@@ -155,25 +165,31 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
   } while (now() - t0 < 0.3);
   double ts = (now() - t0) / reps;
   int64_t lmacs = nbrdf_model_layering_macs(m);
-  printf("## Layering and sampling networks (batch %d)\n\n| network | MACs | evaluations/s | GFLOP/s | "
-         "sgemm GFLOP/s (4096x512x512) |\n|---|---|---|---|---|\n", N);
-  printf("| layering | %lld | %.3g | %.1f | %.1f |\n", (long long)lmacs, N / tl, 2.0 * lmacs * N / tl * 1e-9,
-         sgemm_gflops(4096, 512, 512));
-  printf("| sampler | %lld | %.3g | %.1f | |\n\n", (long long)nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->sampler->nn)),
-         N / ts, 2.0 * nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->sampler->nn)) * N / ts * 1e-9);
+  printf("## Layering and sampling networks (batch %d)\n\n| network | MACs | evaluations/s | "
+         "GFLOP/s | "
+         "sgemm GFLOP/s (4096x512x512) |\n|---|---|---|---|---|\n",
+         N);
+  printf("| layering | %lld | %.3g | %.1f | %.1f |\n", (long long)lmacs, N / tl,
+         2.0 * lmacs * N / tl * 1e-9, sgemm_gflops(4096, 512, 512));
+  printf("| sampler | %lld | %.3g | %.1f | |\n\n",
+         (long long)nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->sampler->nn)), N / ts,
+         2.0 * nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->sampler->nn)) * N / ts * 1e-9);
 
   /* Projection: 64 BRDFs x 1024 samples, decoder "medium". */
   enum { NB = 64, PER = 1024 };
   float *wi = malloc(sizeof(float) * NB * PER * 3), *wo = malloc(sizeof(float) * NB * PER * 3);
   float *f = malloc(sizeof(float) * NB * PER), z[NB * 32];
   size_t offsets[NB + 1];
-  for (int b = 0; b <= NB; b++) offsets[b] = (size_t)b * PER;
+  for (int b = 0; b <= NB; b++)
+    offsets[b] = (size_t)b * PER;
   for (size_t k = 0; k < 2 * (size_t)NB * PER; k++) {
-    double zz = 0.1 + 0.9 * nbrdf_rng_uniform(&rng), r = sqrt(1 - zz * zz), phi = 6.283 * nbrdf_rng_uniform(&rng);
+    double zz = 0.1 + 0.9 * nbrdf_rng_uniform(&rng), r = sqrt(1 - zz * zz),
+           phi = 6.283 * nbrdf_rng_uniform(&rng);
     float *v = k < (size_t)NB * PER ? wi + 3 * k : wo + 3 * (k - (size_t)NB * PER);
     v[0] = (float)(r * cos(phi)), v[1] = (float)(r * sin(phi)), v[2] = (float)zz;
   }
-  for (size_t k = 0; k < (size_t)NB * PER; k++) f[k] = (float)(0.5 + nbrdf_rng_uniform(&rng));
+  for (size_t k = 0; k < (size_t)NB * PER; k++)
+    f[k] = (float)(0.5 + nbrdf_rng_uniform(&rng));
   nbrdf_project_options po = NBRDF_PROJECT_OPTIONS_DEFAULT;
   po.steps = quick ? 100 : 500;
   t0 = now();
@@ -181,7 +197,8 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
   double tp = now() - t0;
   printf("## Projection (decoder medium, %d BRDFs x %d samples, %d steps x %d rows per BRDF)\n\n"
          "%.2f s in all, %.1f ms per BRDF, %.3g rows/s forward+backward\n\n",
-         NB, PER, po.steps, po.rows_per_brdf, tp, 1e3 * tp / NB, (double)NB * po.rows_per_brdf * po.steps / tp);
+         NB, PER, po.steps, po.rows_per_brdf, tp, 1e3 * tp / NB,
+         (double)NB * po.rows_per_brdf * po.steps / tp);
   free(wi), free(wo), free(f);
   nbrdf_model_destroy(m);
 }

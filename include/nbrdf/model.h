@@ -88,9 +88,8 @@ typedef enum nbrdf_range_policy {
  * incidence. out [n × D]; clamped (may be NULL) receives the flags above.
  * NaN/Inf parameters always fail. */
 nbrdf_status nbrdf_model_base_latents(const nbrdf_model *model, nbrdf_base_kind kind, size_t n,
-                                      const double *p0, const double *p1,
-                                      nbrdf_range_policy policy, float *out,
-                                      unsigned char *clamped, nbrdf_error *err);
+                                      const double *p0, const double *p1, nbrdf_range_policy policy,
+                                      float *out, unsigned char *clamped, nbrdf_error *err);
 
 /* The table grid: node counts and axis values (owned by the model). */
 void nbrdf_model_base_grid(const nbrdf_model *model, nbrdf_base_kind kind, int *n0,
@@ -119,8 +118,8 @@ double nbrdf_proxy_pdf(double sigma, double w, const double wi[3], const double 
 /* Draws ωo from three uniforms u ∈ [0, 1)³ (u[0] picks the lobe). Returns 1
  * with *pdf = nbrdf_proxy_pdf(ωo) > 0, or 0 when the reflected direction
  * falls below the horizon (the sample is lost; *pdf = 0). */
-int nbrdf_proxy_sample(double sigma, double w, const double wi[3], const double u[3],
-                       double wo[3], double *pdf);
+int nbrdf_proxy_sample(double sigma, double w, const double wi[3], const double u[3], double wo[3],
+                       double *pdf);
 
 /* --------------------------------------------------------------- projection */
 
@@ -130,15 +129,16 @@ typedef enum nbrdf_loss {
 } nbrdf_loss;
 
 typedef struct nbrdf_project_options {
-  int steps;            /* Adam steps */
-  int rows_per_brdf;    /* samples drawn per BRDF per step */
-  float learning_rate;  /* Adam, on the latents */
+  int steps;           /* Adam steps */
+  int rows_per_brdf;   /* samples drawn per BRDF per step */
+  float learning_rate; /* Adam, on the latents */
   nbrdf_loss loss;
-  int init_from_out;    /* non-zero: start from the latents in `out`; else from zero */
+  int init_from_out; /* non-zero: start from the latents in `out`; else from zero */
   uint64_t seed;
 } nbrdf_project_options;
 
-#define NBRDF_PROJECT_OPTIONS_DEFAULT {1000, 256, 1e-2f, NBRDF_LOSS_L1_LOG1P, 0, 0u}
+#define NBRDF_PROJECT_OPTIONS_DEFAULT                                                              \
+  { 1000, 256, 1e-2f, NBRDF_LOSS_L1_LOG1P, 0, 0u }
 
 /* Projects n_brdfs single-channel BRDFs into latents with the decoder frozen,
  * all optimised together in one batch. BRDF b's samples are rows

@@ -51,7 +51,8 @@ static int bundle_init(int argc, char **argv) {
       name = argv[++i];
     } else if (!strcmp(a, "--seed") && i + 1 < argc) {
       if (!parse_u64(argv[++i], &seed))
-        return cli_usage_error("bundle", "--seed needs an unsigned 64-bit integer, not '%s'", argv[i]);
+        return cli_usage_error("bundle", "--seed needs an unsigned 64-bit integer, not '%s'",
+                               argv[i]);
     } else if (!strcmp(a, "--decoder") && i + 1 < argc) {
       preset = argv[++i];
     } else if (!strcmp(a, "--force")) {
@@ -66,18 +67,22 @@ static int bundle_init(int argc, char **argv) {
   }
   if (!dir) return cli_usage_error("bundle", "init needs a folder");
   int known = 0;
-  for (int p = 0; model_decoder_presets[p]; p++) known |= !strcmp(preset, model_decoder_presets[p]);
+  for (int p = 0; model_decoder_presets[p]; p++)
+    known |= !strcmp(preset, model_decoder_presets[p]);
   if (!known)
-    return cli_usage_error("bundle", "unknown decoder preset '%s' (paper, large, medium, small)", preset);
+    return cli_usage_error("bundle", "unknown decoder preset '%s' (paper, large, medium, small)",
+                           preset);
   char json[4096];
   snprintf(json, sizeof json, "%s/model.json", dir);
   if (!force && access(json, F_OK) == 0)
     return cli_fail("bundle", "%s already holds a bundle; use --force to replace it", dir);
   if (!name) {
     size_t len = strlen(dir);
-    while (len > 1 && dir[len - 1] == '/') len--;
+    while (len > 1 && dir[len - 1] == '/')
+      len--;
     size_t start = len;
-    while (start > 0 && dir[start - 1] != '/') start--;
+    while (start > 0 && dir[start - 1] != '/')
+      start--;
     static char base[64];
     size_t n = len - start < sizeof base - 1 ? len - start : sizeof base - 1;
     memcpy(base, dir + start, n);
@@ -96,7 +101,8 @@ static int bundle_init(int argc, char **argv) {
 }
 
 static int bundle_info(int argc, char **argv) {
-  if (argc != 3 || argv[2][0] == '-') return cli_usage_error("bundle", "info takes exactly one folder");
+  if (argc != 3 || argv[2][0] == '-')
+    return cli_usage_error("bundle", "info takes exactly one folder");
   nbrdf_error err = {0};
   nbrdf_model *m = NULL;
   if (nbrdf_model_load(argv[2], &m, &err) != NBRDF_OK) return cli_fail_error("bundle", &err);

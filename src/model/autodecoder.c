@@ -47,7 +47,8 @@ nbrdf_status model_fit_create(model_decoder *dec, size_t n_brdfs, float *latents
   fit->opts = *opts;
   size_t batch = (size_t)opts->max_batch, in = (size_t)model_decoder_inputs(dec);
   size_t n_latent = n_brdfs * (size_t)dec->cfg.latent_dim;
-  nbrdf_status st = model_runner_create(dec->nn, opts->max_batch, NBRDF_NN_TRAIN, &fit->runner, err);
+  nbrdf_status st =
+      model_runner_create(dec->nn, opts->max_batch, NBRDF_NN_TRAIN, &fit->runner, err);
   if (st != NBRDF_OK) goto fail;
   fit->dy = malloc(batch * sizeof(float));
   fit->dx = malloc(batch * in * sizeof(float));
@@ -103,7 +104,8 @@ static nbrdf_status run_batch(model_fit *fit, int m, float scale, double *loss, 
   for (int r = 0; r < m; r++) {
     float *g = fit->grad_latent + fit->row_brdf[r] * dim;
     const float *d = fit->dx + (size_t)r * in;
-    for (size_t j = 0; j < dim; j++) g[j] += d[j];
+    for (size_t j = 0; j < dim; j++)
+      g[j] += d[j];
   }
   return NBRDF_OK;
 }
@@ -181,12 +183,13 @@ nbrdf_status model_fit_eval_loss(model_fit *fit, const model_samples *s, double 
     size_t begin = s->offsets[b], end = s->offsets[b + 1];
     for (size_t i0 = begin; i0 < end; i0 += (size_t)fit->runner.max_batch) {
       int m = 0;
-      for (size_t i = i0; i < end && m < fit->runner.max_batch; i++) fill_row(fit, s, m++, b, i);
-      nbrdf_status st = nbrdf_nn_forward(dec->nn, fit->runner.ws, fit->runner.x, m,
-                                         fit->runner.y, err);
+      for (size_t i = i0; i < end && m < fit->runner.max_batch; i++)
+        fill_row(fit, s, m++, b, i);
+      nbrdf_status st =
+          nbrdf_nn_forward(dec->nn, fit->runner.ws, fit->runner.x, m, fit->runner.y, err);
       if (st != NBRDF_OK) return st;
-      sum += model_loss_sum(fit->opts.loss, dec->cfg.output, (size_t)m, fit->runner.y,
-                            fit->target, 1.0f, NULL);
+      sum += model_loss_sum(fit->opts.loss, dec->cfg.output, (size_t)m, fit->runner.y, fit->target,
+                            1.0f, NULL);
     }
     if (per_brdf) per_brdf[b] = sum / (double)(end - begin);
     all += sum;

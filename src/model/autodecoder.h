@@ -35,17 +35,17 @@ typedef struct model_samples {
 
 typedef struct model_fit_options {
   model_loss_kind loss;
-  int rows_per_brdf;   /* samples drawn per BRDF per step */
-  float lr_latent;     /* Adam learning rate of the latents */
-  float lr_weights;    /* Adam learning rate of the decoder; 0 = decoder frozen */
-  float latent_l2;     /* prior weight on mean ‖z‖²; 0 = none */
-  int decay_every;     /* steps between learning-rate decays (0 = never), both groups */
-  float decay_gamma;   /* factor per decay */
+  int rows_per_brdf; /* samples drawn per BRDF per step */
+  float lr_latent;   /* Adam learning rate of the latents */
+  float lr_weights;  /* Adam learning rate of the decoder; 0 = decoder frozen */
+  float latent_l2;   /* prior weight on mean ‖z‖²; 0 = none */
+  int decay_every;   /* steps between learning-rate decays (0 = never), both groups */
+  float decay_gamma; /* factor per decay */
   uint64_t seed;
-  int max_batch;       /* rows per GEMM batch */
+  int max_batch; /* rows per GEMM batch */
 } model_fit_options;
 
-#define MODEL_FIT_OPTIONS_DEFAULT                                                              \
+#define MODEL_FIT_OPTIONS_DEFAULT                                                                  \
   { MODEL_LOSS_L1_LOG1P, 256, 1e-2f, 0.0f, 0.0f, 0, 1.0f, 0u, 4096 }
 
 typedef struct model_fit model_fit;

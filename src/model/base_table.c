@@ -28,8 +28,8 @@ void model_base_table_free(model_base_table *t) {
   memset(t, 0, sizeof *t);
 }
 
-nbrdf_status model_base_table_init(model_base_table *t, model_table_kind kind, int dim,
-                                   int n0, const float *axis0, int n1, const float *axis1,
+nbrdf_status model_base_table_init(model_base_table *t, model_table_kind kind, int dim, int n0,
+                                   const float *axis0, int n1, const float *axis1,
                                    nbrdf_error *err) {
   memset(t, 0, sizeof *t);
   const int n[2] = {n0, n1};
@@ -39,7 +39,8 @@ nbrdf_status model_base_table_init(model_base_table *t, model_table_kind kind, i
                       model_table_name(kind), dim);
   for (int a = 0; a < 2; a++) {
     if (n[a] < 2 || n[a] > 1 << 16)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s table: %d nodes on the %s axis, expected 2..65536",
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                        "%s table: %d nodes on the %s axis, expected 2..65536",
                         model_table_name(kind), n[a], model_table_param(kind, a));
     for (int i = 0; i < n[a]; i++) {
       if (!isfinite(axes[a][i]) || (i > 0 && !(axes[a][i] > axes[a][i - 1])))
@@ -59,7 +60,8 @@ nbrdf_status model_base_table_init(model_base_table *t, model_table_kind kind, i
     model_base_table_free(t);
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s table: out of memory", model_table_name(kind));
   }
-  for (int a = 0; a < 2; a++) memcpy(t->axis[a], axes[a], (size_t)n[a] * sizeof(float));
+  for (int a = 0; a < 2; a++)
+    memcpy(t->axis[a], axes[a], (size_t)n[a] * sizeof(float));
   return NBRDF_OK;
 }
 

@@ -23,14 +23,17 @@
 
 #include "nn/safetensors.h"
 
-typedef enum model_table_kind { MODEL_TABLE_DIELECTRIC = 0, MODEL_TABLE_CONDUCTOR = 1 } model_table_kind;
+typedef enum model_table_kind {
+  MODEL_TABLE_DIELECTRIC = 0,
+  MODEL_TABLE_CONDUCTOR = 1
+} model_table_kind;
 
 typedef struct model_base_table {
   model_table_kind kind;
   int n[2];
   int dim;
-  float *axis[2];  /* n[0], n[1] nodes */
-  float *latents;  /* [n0 × n1 × dim] */
+  float *axis[2]; /* n[0], n[1] nodes */
+  float *latents; /* [n0 × n1 × dim] */
 } model_base_table;
 
 /* "dielectric"/"conductor", and the parameter names of the two axes
@@ -40,8 +43,8 @@ const char *model_table_param(model_table_kind kind, int axis);
 const char *model_table_axis_tensor(model_table_kind kind, int axis);
 
 /* Allocates a table with the given axes (copied, validated) and zero latents. */
-nbrdf_status model_base_table_init(model_base_table *t, model_table_kind kind, int dim,
-                                   int n0, const float *axis0, int n1, const float *axis1,
+nbrdf_status model_base_table_init(model_base_table *t, model_table_kind kind, int dim, int n0,
+                                   const float *axis0, int n1, const float *axis1,
                                    nbrdf_error *err);
 void model_base_table_free(model_base_table *t);
 

@@ -35,16 +35,18 @@ void nbrdf_model_destroy(nbrdf_model *m) {
 static nbrdf_status read_tables(const nbrdf_st_reader *r, nbrdf_model *m, nbrdf_error *err) {
   const char *label = nbrdf_st_label(r), *format = nbrdf_st_metadata_get(r, "nbrdf.format");
   if (!format || strcmp(format, "nbrdf-base-tables") != 0)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: metadata nbrdf.format is not \"nbrdf-base-tables\"",
-                      label);
+    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                      "%s: metadata nbrdf.format is not \"nbrdf-base-tables\"", label);
   long version, dim;
   nbrdf_status st = model_meta_int(r, "nbrdf.version", 1, 1, &version, err);
   if (st == NBRDF_OK) st = model_meta_int(r, "nbrdf.latent_dim", 1, 4096, &dim, err);
   if (st == NBRDF_OK && dim != m->latent_dim)
     st = nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dimension %ld, the bundle's is %d", label,
                     dim, m->latent_dim);
-  if (st == NBRDF_OK) st = model_base_table_read(r, MODEL_TABLE_DIELECTRIC, m->latent_dim, &m->tables[0], err);
-  if (st == NBRDF_OK) st = model_base_table_read(r, MODEL_TABLE_CONDUCTOR, m->latent_dim, &m->tables[1], err);
+  if (st == NBRDF_OK)
+    st = model_base_table_read(r, MODEL_TABLE_DIELECTRIC, m->latent_dim, &m->tables[0], err);
+  if (st == NBRDF_OK)
+    st = model_base_table_read(r, MODEL_TABLE_CONDUCTOR, m->latent_dim, &m->tables[1], err);
   if (st == NBRDF_OK && nbrdf_st_tensor_count(r) != 6)
     st = nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: %zu tensors, expected the 6 of two tables", label,
                     nbrdf_st_tensor_count(r));
@@ -80,7 +82,9 @@ static nbrdf_status load_part(const char *dir, int i, nbrdf_model *m, uint64_t *
     st = model_sampler_read(r, &m->sampler, err);
     if (st == NBRDF_OK) dim = m->sampler->latent_dim, what = "sampling network";
     break;
-  default: st = read_tables(r, m, err); break;
+  default:
+    st = read_tables(r, m, err);
+    break;
   }
   if (st == NBRDF_OK && what && dim != m->latent_dim)
     st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
@@ -97,7 +101,8 @@ nbrdf_status nbrdf_model_load(const char *dir, nbrdf_model **out, nbrdf_error *e
   char expected_checksum[17] = "";
   nbrdf_status st = model_bundle_read_json(dir, m, expected_checksum, err);
   uint64_t hash = NBRDF_ST_FNV1A64_INIT;
-  for (int i = 0; i < 4 && st == NBRDF_OK; i++) st = load_part(dir, i, m, &hash, err);
+  for (int i = 0; i < 4 && st == NBRDF_OK; i++)
+    st = load_part(dir, i, m, &hash, err);
   if (st == NBRDF_OK) {
     m->checksum = hash;
     snprintf(m->checksum_hex, sizeof m->checksum_hex, "%016" PRIx64, hash);
@@ -124,8 +129,8 @@ int64_t nbrdf_model_layering_macs(const nbrdf_model *m) {
   return nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->layering->nn));
 }
 
-void nbrdf_model_base_grid(const nbrdf_model *m, nbrdf_base_kind kind, int *n0,
-                           const float **axis0, int *n1, const float **axis1) {
+void nbrdf_model_base_grid(const nbrdf_model *m, nbrdf_base_kind kind, int *n0, const float **axis0,
+                           int *n1, const float **axis1) {
   const model_base_table *t = &m->tables[kind == NBRDF_BASE_CONDUCTOR];
   *n0 = t->n[0], *axis0 = t->axis[0];
   *n1 = t->n[1], *axis1 = t->axis[1];
@@ -135,8 +140,8 @@ void nbrdf_model_base_grid(const nbrdf_model *m, nbrdf_base_kind kind, int *n0,
 
 static nbrdf_status check_parts(const model_bundle_parts *p, nbrdf_error *err) {
   int dim = p->decoder->cfg.latent_dim;
-  if (p->layering->latent_dim != dim || p->sampler->latent_dim != dim ||
-      p->tables[0]->dim != dim || p->tables[1]->dim != dim)
+  if (p->layering->latent_dim != dim || p->sampler->latent_dim != dim || p->tables[0]->dim != dim ||
+      p->tables[1]->dim != dim)
     return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
                       "bundle: latent dimensions disagree (decoder %d, layering %d, sampler %d, "
                       "tables %d and %d)",
@@ -154,7 +159,8 @@ static nbrdf_status save_tables(const model_bundle_parts *p, const char *path, n
   char dim[16];
   snprintf(dim, sizeof dim, "%d", p->tables[0]->dim);
   nbrdf_status st = nbrdf_st_writer_create(&w, err);
-  if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", "nbrdf-base-tables", err);
+  if (st == NBRDF_OK)
+    st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", "nbrdf-base-tables", err);
   if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.version", "1", err);
   if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.latent_dim", dim, err);
   if (st == NBRDF_OK) st = model_base_table_write(p->tables[0], w, err);

@@ -48,9 +48,9 @@ struct nbrdf_model {
 typedef struct model_bundle_parts {
   const char *name;
   int trained;
-  uint64_t seed;            /* recorded in model.json (0 = not applicable) */
-  const char *note;         /* one line for model.json, may be NULL */
-  const char *card;         /* MODEL_CARD.md text; NULL = a generated summary */
+  uint64_t seed;    /* recorded in model.json (0 = not applicable) */
+  const char *note; /* one line for model.json, may be NULL */
+  const char *card; /* MODEL_CARD.md text; NULL = a generated summary */
   const model_decoder *decoder;
   const model_layering *layering;
   const model_sampler *sampler;
@@ -60,8 +60,8 @@ typedef struct model_bundle_parts {
 /* Writes a bundle into `dir` (created if missing): each file atomically; the
  * checksum of the result in *checksum (may be NULL). Dimensions are checked
  * before anything is written. */
-nbrdf_status model_bundle_save(const char *dir, const model_bundle_parts *parts,
-                               uint64_t *checksum, nbrdf_error *err);
+nbrdf_status model_bundle_save(const char *dir, const model_bundle_parts *parts, uint64_t *checksum,
+                               nbrdf_error *err);
 
 /* `nbrdf bundle init`: random networks (decoder preset `decoder_preset`,
  * layering "paper", sampler "default") and base tables of smooth random

@@ -13,8 +13,9 @@ static void net_line(FILE *out, const char *what, const char *preset, const nbrd
     if (spec->layers[i].kind == NBRDF_NN_RESIDUAL) residual++;
     if (spec->layers[i].kind == NBRDF_NN_PLAIN) plain++;
   }
-  fprintf(out, "%-10s preset %s: %d -> %d, width %d, %d residual + %d plain blocks, %" PRId64
-               " MACs per query, %zu parameters\n",
+  fprintf(out,
+          "%-10s preset %s: %d -> %d, width %d, %d residual + %d plain blocks, %" PRId64
+          " MACs per query, %zu parameters\n",
           what, preset, nbrdf_nn_inputs(nn), nbrdf_nn_outputs(nn), width, residual, plain,
           nbrdf_nn_spec_macs(spec), nbrdf_nn_param_count(nn));
 }
@@ -22,7 +23,8 @@ static void net_line(FILE *out, const char *what, const char *preset, const nbrd
 void model_bundle_describe(const nbrdf_model *m, FILE *out) {
   const model_decoder_config *dc = &m->decoder->cfg;
   fprintf(out, "name:      %s\n", m->name);
-  fprintf(out, "trained:   %s\n", m->trained ? "yes" : "NO (random initial weights: values are meaningless)");
+  fprintf(out, "trained:   %s\n",
+          m->trained ? "yes" : "NO (random initial weights: values are meaningless)");
   fprintf(out, "checksum:  %s\n", m->checksum_hex);
   fprintf(out, "latent:    %d floats per colour channel\n", m->latent_dim);
   net_line(out, "decoder:", dc->preset, m->decoder->nn);
@@ -38,7 +40,8 @@ void model_bundle_describe(const nbrdf_model *m, FILE *out) {
     fprintf(out, "table %s: %d x %d grid\n", model_table_name(t->kind), t->n[0], t->n[1]);
     for (int a = 0; a < 2; a++) {
       fprintf(out, "  %-7s", model_table_param(t->kind, a));
-      for (int i = 0; i < t->n[a]; i++) fprintf(out, " %.4g", t->axis[a][i]);
+      for (int i = 0; i < t->n[a]; i++)
+        fprintf(out, " %.4g", t->axis[a][i]);
       fputc('\n', out);
     }
   }

@@ -22,7 +22,8 @@ static void fill_smooth(model_base_table *t, uint64_t seed, uint64_t stream) {
   nbrdf_rng_init(&rng, seed, stream);
   for (int j = 0; j < t->dim; j++) {
     double c[4];
-    for (int q = 0; q < 4; q++) c[q] = 0.5 * nbrdf_rng_normal(&rng);
+    for (int q = 0; q < 4; q++)
+      c[q] = 0.5 * nbrdf_rng_normal(&rng);
     for (int a = 0; a < t->n[0]; a++) {
       double u = (double)a / (t->n[0] - 1);
       for (int b = 0; b < t->n[1]; b++) {
@@ -35,7 +36,8 @@ static void fill_smooth(model_base_table *t, uint64_t seed, uint64_t stream) {
 }
 
 static void linspace(float *x, int n, double lo, double hi) {
-  for (int i = 0; i < n; i++) x[i] = (float)(lo + (hi - lo) * i / (n - 1));
+  for (int i = 0; i < n; i++)
+    x[i] = (float)(lo + (hi - lo) * i / (n - 1));
 }
 
 nbrdf_status model_bundle_init_random(const char *dir, const char *name, uint64_t seed,
@@ -67,8 +69,8 @@ nbrdf_status model_bundle_init_random(const char *dir, const char *name, uint64_
     st = model_base_table_init(&tables[0], MODEL_TABLE_DIELECTRIC, INIT_LATENT_DIM,
                                INIT_ALPHA_NODES, alpha, INIT_ETA_NODES, eta, err);
   if (st == NBRDF_OK)
-    st = model_base_table_init(&tables[1], MODEL_TABLE_CONDUCTOR, INIT_LATENT_DIM,
-                               INIT_ALPHA_NODES, alpha, INIT_R0_NODES, r0, err);
+    st = model_base_table_init(&tables[1], MODEL_TABLE_CONDUCTOR, INIT_LATENT_DIM, INIT_ALPHA_NODES,
+                               alpha, INIT_R0_NODES, r0, err);
   if (st == NBRDF_OK) {
     fill_smooth(&tables[0], nbrdf_hash64(seed, 4), 0);
     fill_smooth(&tables[1], nbrdf_hash64(seed, 4), 1);

@@ -2,8 +2,8 @@
 
 #include <cjson/cJSON.h>
 #include <inttypes.h>
-#include <stdarg.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,7 +35,8 @@ nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checks
   const cJSON *dim = cJSON_GetObjectItemCaseSensitive(root, "latent_dim");
   const cJSON *sum = cJSON_GetObjectItemCaseSensitive(root, "checksum");
   if (!cJSON_IsString(format) || strcmp(format->valuestring, MODEL_BUNDLE_FORMAT) != 0)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"format\" is not \"%s\"", path, MODEL_BUNDLE_FORMAT);
+    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"format\" is not \"%s\"", path,
+                    MODEL_BUNDLE_FORMAT);
   else if (!cJSON_IsNumber(version) || version->valuedouble != MODEL_BUNDLE_VERSION)
     st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"version\" is not %d (a newer nbrdf wrote it?)",
                     path, MODEL_BUNDLE_VERSION);
@@ -47,8 +48,8 @@ nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checks
     st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"trained\" must be true or false", path);
   else if (!cJSON_IsNumber(dim) || dim->valuedouble != floor(dim->valuedouble) ||
            dim->valuedouble < 1 || dim->valuedouble > 4096)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"latent_dim\" must be an integer in 1..4096",
-                    path);
+    st =
+        nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"latent_dim\" must be an integer in 1..4096", path);
   else if (sum && (!cJSON_IsString(sum) || strlen(sum->valuestring) != 16 ||
                    strspn(sum->valuestring, "0123456789abcdef") != 16))
     st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"checksum\" must be 16 lower-case hex digits",
@@ -77,7 +78,8 @@ static double short_decimal(float x) {
 
 static cJSON *axis_json(const float *axis, int n) {
   cJSON *a = cJSON_CreateArray();
-  for (int i = 0; a && i < n; i++) cJSON_AddItemToArray(a, cJSON_CreateNumber(short_decimal(axis[i])));
+  for (int i = 0; a && i < n; i++)
+    cJSON_AddItemToArray(a, cJSON_CreateNumber(short_decimal(axis[i])));
   return a;
 }
 
@@ -154,7 +156,8 @@ static void add(card *c, const char *fmt, ...) {
   va_start(ap, fmt);
   int n = vsnprintf(c->text + c->len, sizeof c->text - c->len, fmt, ap);
   va_end(ap);
-  if (n > 0) c->len += (size_t)n < sizeof c->text - c->len ? (size_t)n : sizeof c->text - 1 - c->len;
+  if (n > 0)
+    c->len += (size_t)n < sizeof c->text - c->len ? (size_t)n : sizeof c->text - 1 - c->len;
 }
 
 static void add_net(card *c, const char *what, const char *preset, const nbrdf_nn *nn) {
@@ -169,10 +172,11 @@ nbrdf_status model_bundle_write_card(const char *dir, const model_bundle_parts *
   if (!c) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s/MODEL_CARD.md: out of memory", dir);
   add(c, "# Model card: %s\n\n", p->name);
   if (!p->trained)
-    add(c, "**UNTRAINED.** Every network holds random initial weights (seed %" PRIu64
-           ") and the base tables hold smooth random latents. Its BRDF values mean nothing: "
-           "this bundle exists so that the bake, the evaluator, the Blender add-on and the "
-           "shaders can be built and tested before training finishes.\n\n",
+    add(c,
+        "**UNTRAINED.** Every network holds random initial weights (seed %" PRIu64
+        ") and the base tables hold smooth random latents. Its BRDF values mean nothing: "
+        "this bundle exists so that the bake, the evaluator, the Blender add-on and the "
+        "shaders can be built and tested before training finishes.\n\n",
         p->seed);
   add(c, "- checksum (FNV-1a 64 over the four .safetensors files): `%016" PRIx64 "`\n", checksum);
   add(c, "- latent dimension: %d floats per colour channel\n", p->decoder->cfg.latent_dim);
@@ -180,7 +184,8 @@ nbrdf_status model_bundle_write_card(const char *dir, const model_bundle_parts *
       model_encoding_kind_name(p->decoder->cfg.encoding.kind), p->decoder->cfg.encoding.octaves,
       model_output_name(p->decoder->cfg.output));
   if (p->note) add(c, "- note: %s\n", p->note);
-  add(c, "\n## Architecture\n\n| network | preset | inputs -> outputs | MACs per query | parameters |\n"
+  add(c, "\n## Architecture\n\n| network | preset | inputs -> outputs | MACs per query | "
+         "parameters |\n"
          "|---|---|---|---|---|\n");
   add_net(c, "decoder", p->decoder->cfg.preset, p->decoder->nn);
   add_net(c, "layering", p->layering->preset, p->layering->nn);

@@ -13,10 +13,9 @@ const char *model_output_name(model_output output) {
   return output == MODEL_OUTPUT_LOG1P ? "log1p" : "f";
 }
 
-nbrdf_status model_decoder_config_make(int latent_dim, model_encoding encoding,
-                                       model_output output, int width, int blocks,
-                                       int interleave_plain, model_decoder_config *cfg,
-                                       nbrdf_error *err) {
+nbrdf_status model_decoder_config_make(int latent_dim, model_encoding encoding, model_output output,
+                                       int width, int blocks, int interleave_plain,
+                                       model_decoder_config *cfg, nbrdf_error *err) {
   if (latent_dim < 1 || latent_dim > 4096)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "decoder: latent dimension %d, expected 1..4096",
                       latent_dim);
@@ -26,8 +25,7 @@ nbrdf_status model_decoder_config_make(int latent_dim, model_encoding encoding,
                       "decoder: invalid encoding (kind %d, %d octaves; at most %d)",
                       (int)encoding.kind, encoding.octaves, MODEL_ENCODING_MAX_OCTAVES);
   if (output != MODEL_OUTPUT_F && output != MODEL_OUTPUT_LOG1P)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "decoder: invalid output transform %d",
-                      (int)output);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "decoder: invalid output transform %d", (int)output);
   model_decoder_config c;
   memset(&c, 0, sizeof c);
   snprintf(c.preset, sizeof c.preset, "custom");
@@ -67,11 +65,10 @@ static nbrdf_status check_config(const model_decoder_config *cfg, const char *wh
                                  nbrdf_error *err) {
   int want = cfg->latent_dim + model_encoding_width(&cfg->encoding);
   if (cfg->spec.n_inputs != want)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "%s: decoder has %d inputs, latent %d + %s encoding %d needs %d", where,
-                      cfg->spec.n_inputs, cfg->latent_dim,
-                      model_encoding_kind_name(cfg->encoding.kind),
-                      model_encoding_width(&cfg->encoding), want);
+    return nbrdf_fail(
+        err, NBRDF_ERR_MISMATCH, "%s: decoder has %d inputs, latent %d + %s encoding %d needs %d",
+        where, cfg->spec.n_inputs, cfg->latent_dim, model_encoding_kind_name(cfg->encoding.kind),
+        model_encoding_width(&cfg->encoding), want);
   if (nbrdf_nn_spec_outputs(&cfg->spec) != 1)
     return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: decoder has %d outputs, expected 1", where,
                       nbrdf_nn_spec_outputs(&cfg->spec));
@@ -145,7 +142,8 @@ nbrdf_status model_decoder_eval(const model_decoder *dec, model_runner *runner, 
     int rows = (int)(m * channels);
     nbrdf_status st = nbrdf_nn_forward(dec->nn, runner->ws, runner->x, rows, runner->y, err);
     if (st != NBRDF_OK) return st;
-    for (int r = 0; r < rows; r++) f[k0 * channels + r] = model_output_to_f(dec->cfg.output, runner->y[r]);
+    for (int r = 0; r < rows; r++)
+      f[k0 * channels + r] = model_output_to_f(dec->cfg.output, runner->y[r]);
   }
   return NBRDF_OK;
 }

@@ -30,11 +30,11 @@
 typedef enum model_output { MODEL_OUTPUT_F = 0, MODEL_OUTPUT_LOG1P = 1 } model_output;
 
 typedef struct model_decoder_config {
-  char preset[32];        /* informative; "custom" when not a preset */
-  int latent_dim;         /* 32 in the paper */
+  char preset[32]; /* informative; "custom" when not a preset */
+  int latent_dim;  /* 32 in the paper */
   model_encoding encoding;
   model_output output;
-  nbrdf_nn_spec spec;     /* inputs = latent_dim + encoding width, 1 output */
+  nbrdf_nn_spec spec; /* inputs = latent_dim + encoding width, 1 output */
 } model_decoder_config;
 
 typedef struct model_decoder {
@@ -49,10 +49,9 @@ extern const char *const model_decoder_presets[];
 nbrdf_status model_decoder_preset(const char *name, int latent_dim, model_decoder_config *cfg,
                                   nbrdf_error *err);
 /* A residual MLP (nbrdf_nn_spec_resmlp) configuration of your own. */
-nbrdf_status model_decoder_config_make(int latent_dim, model_encoding encoding,
-                                       model_output output, int width, int blocks,
-                                       int interleave_plain, model_decoder_config *cfg,
-                                       nbrdf_error *err);
+nbrdf_status model_decoder_config_make(int latent_dim, model_encoding encoding, model_output output,
+                                       int width, int blocks, int interleave_plain,
+                                       model_decoder_config *cfg, nbrdf_error *err);
 
 /* Builds the network, initialised deterministically from `seed`. */
 nbrdf_status model_decoder_create(const model_decoder_config *cfg, uint64_t seed,

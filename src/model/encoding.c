@@ -11,8 +11,10 @@ int model_encoding_width(const model_encoding *enc) { return 6 + 12 * enc->octav
 
 const char *model_encoding_kind_name(model_encoding_kind kind) {
   switch (kind) {
-  case MODEL_ENCODING_CARTESIAN: return "cartesian";
-  case MODEL_ENCODING_HALFDIFF: return "halfdiff";
+  case MODEL_ENCODING_CARTESIAN:
+    return "cartesian";
+  case MODEL_ENCODING_HALFDIFF:
+    return "halfdiff";
   }
   return NULL;
 }
@@ -51,8 +53,8 @@ void model_encode_halfdiff(const double wi[3], const double wo[3], double h[3], 
   d[2] = sin_theta * x1 + hz * z1;
 }
 
-void model_encode(const model_encoding *enc, size_t n, const float *wi, const float *wo,
-                  float *out, size_t stride) {
+void model_encode(const model_encoding *enc, size_t n, const float *wi, const float *wo, float *out,
+                  size_t stride) {
   for (size_t k = 0; k < n; k++) {
     double a[3] = {wi[3 * k], wi[3 * k + 1], wi[3 * k + 2]};
     double b[3] = {wo[3 * k], wo[3 * k + 1], wo[3 * k + 2]};
@@ -64,7 +66,8 @@ void model_encode(const model_encoding *enc, size_t n, const float *wi, const fl
       memcpy(base + 3, b, sizeof b);
     }
     float *row = out + k * stride;
-    for (int j = 0; j < 6; j++) row[j] = (float)base[j];
+    for (int j = 0; j < 6; j++)
+      row[j] = (float)base[j];
     float *freq = row + 6;
     for (int o = 0; o < enc->octaves; o++) {
       double scale = ldexp(M_PI, o);

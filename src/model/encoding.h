@@ -47,8 +47,8 @@ int model_encoding_kind_parse(const char *name, model_encoding_kind *kind);
 /* Encodes n pairs: wi, wo are [n × 3]; row k of the output starts at
  * out + k · stride (stride >= width), so the features can be written straight
  * after each row's latent in a decoder input buffer. */
-void model_encode(const model_encoding *enc, size_t n, const float *wi, const float *wo,
-                  float *out, size_t stride);
+void model_encode(const model_encoding *enc, size_t n, const float *wi, const float *wo, float *out,
+                  size_t stride);
 
 /* The six base features of one pair, in double (tests, the proxy). */
 void model_encode_halfdiff(const double wi[3], const double wo[3], double h[3], double d[3]);

@@ -84,7 +84,7 @@ nbrdf_status model_make_dirs(const char *dir, nbrdf_error *err) {
   int n = snprintf(path, sizeof path, "%s", dir);
   if (n <= 0 || n >= (int)sizeof path)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "folder name empty or too long");
-  for (char *p = path + 1; ; p++) {
+  for (char *p = path + 1;; p++) {
     if (*p == '/' || *p == '\0') {
       char c = *p;
       *p = '\0';

@@ -85,8 +85,8 @@ nbrdf_status model_layering_eval(const model_layering *net, model_runner *runner
   return NBRDF_OK;
 }
 
-nbrdf_status model_layering_save(const model_layering *net, const char *path,
-                                 uint64_t *checksum, nbrdf_error *err) {
+nbrdf_status model_layering_save(const model_layering *net, const char *path, uint64_t *checksum,
+                                 nbrdf_error *err) {
   nbrdf_st_writer *w = NULL;
   nbrdf_status st = model_net_writer(net->nn, "layering", net->latent_dim, &w, err);
   if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.sigma_t_input", "log1p", err);

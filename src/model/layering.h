@@ -48,8 +48,8 @@ nbrdf_status model_layering_eval(const model_layering *net, model_runner *runner
                                  const float *top, const float *bottom, const float *albedo,
                                  const float *sigma_t, float *out, nbrdf_error *err);
 
-nbrdf_status model_layering_save(const model_layering *net, const char *path,
-                                 uint64_t *checksum, nbrdf_error *err);
+nbrdf_status model_layering_save(const model_layering *net, const char *path, uint64_t *checksum,
+                                 nbrdf_error *err);
 nbrdf_status model_layering_read(const nbrdf_st_reader *reader, model_layering **out,
                                  nbrdf_error *err);
 

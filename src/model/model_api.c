@@ -11,8 +11,7 @@
 
 #define API_BATCH 4096
 
-static nbrdf_status check_direction(const float *w, const char *name, size_t k,
-                                    nbrdf_error *err) {
+static nbrdf_status check_direction(const float *w, const char *name, size_t k, nbrdf_error *err) {
   double x = w[0], y = w[1], z = w[2];
   if (!isfinite(x) || !isfinite(y) || !isfinite(z))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s of query %zu is not finite", name, k);
@@ -24,8 +23,7 @@ static nbrdf_status check_direction(const float *w, const char *name, size_t k,
   return NBRDF_OK;
 }
 
-static nbrdf_status check_directions(size_t n, const float *wi, const float *wo,
-                                     nbrdf_error *err) {
+static nbrdf_status check_directions(size_t n, const float *wi, const float *wo, nbrdf_error *err) {
   for (size_t k = 0; k < n; k++) {
     nbrdf_status st = check_direction(wi + 3 * k, "wi", k, err);
     if (st == NBRDF_OK) st = check_direction(wo + 3 * k, "wo", k, err);
@@ -34,8 +32,7 @@ static nbrdf_status check_directions(size_t n, const float *wi, const float *wo,
   return NBRDF_OK;
 }
 
-static nbrdf_status check_finite(const float *x, size_t count, const char *what,
-                                 nbrdf_error *err) {
+static nbrdf_status check_finite(const float *x, size_t count, const char *what, nbrdf_error *err) {
   for (size_t k = 0; k < count; k++)
     if (!isfinite(x[k]))
       return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: value %zu is not finite", what, k);
@@ -48,9 +45,8 @@ static int batch_for(size_t rows, int multiple) {
   return (int)b;
 }
 
-nbrdf_status nbrdf_model_decode(const nbrdf_model *m, size_t n, int channels,
-                                const float *latents, const float *wi, const float *wo, float *f,
-                                nbrdf_error *err) {
+nbrdf_status nbrdf_model_decode(const nbrdf_model *m, size_t n, int channels, const float *latents,
+                                const float *wi, const float *wo, float *f, nbrdf_error *err) {
   if (channels < 1 || channels > 64)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "decode: %d channels, expected 1..64", channels);
   if (n == 0) return NBRDF_OK;
@@ -61,15 +57,15 @@ nbrdf_status nbrdf_model_decode(const nbrdf_model *m, size_t n, int channels,
   model_runner runner;
   st = model_runner_create(m->decoder->nn, batch_for(n * (size_t)channels, channels),
                            NBRDF_NN_INFER, &runner, err);
-  if (st == NBRDF_OK) st = model_decoder_eval(m->decoder, &runner, n, channels, latents, wi, wo, f, err);
+  if (st == NBRDF_OK)
+    st = model_decoder_eval(m->decoder, &runner, n, channels, latents, wi, wo, f, err);
   model_runner_destroy(&runner);
   return st;
 }
 
 nbrdf_status nbrdf_model_base_latents(const nbrdf_model *m, nbrdf_base_kind kind, size_t n,
-                                      const double *p0, const double *p1,
-                                      nbrdf_range_policy policy, float *out,
-                                      unsigned char *clamped, nbrdf_error *err) {
+                                      const double *p0, const double *p1, nbrdf_range_policy policy,
+                                      float *out, unsigned char *clamped, nbrdf_error *err) {
   if (kind != NBRDF_BASE_DIELECTRIC && kind != NBRDF_BASE_CONDUCTOR)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "base latents: unknown base kind %d", (int)kind);
   return model_base_table_lookup(&m->tables[kind], n, p0, p1, policy == NBRDF_RANGE_REFUSE, out,
@@ -116,8 +112,8 @@ double nbrdf_proxy_pdf(double sigma, double w, const double wi[3], const double 
   return model_proxy_pdf(sigma, w, v3(wi[0], wi[1], wi[2]), v3(wo[0], wo[1], wo[2]));
 }
 
-int nbrdf_proxy_sample(double sigma, double w, const double wi[3], const double u[3],
-                       double wo[3], double *pdf) {
+int nbrdf_proxy_sample(double sigma, double w, const double wi[3], const double u[3], double wo[3],
+                       double *pdf) {
   vec3 d;
   int ok = model_proxy_sample(sigma, w, v3(wi[0], wi[1], wi[2]), u[0], u[1], u[2], &d, pdf);
   wo[0] = d.x, wo[1] = d.y, wo[2] = d.z;
@@ -141,8 +137,8 @@ static nbrdf_status check_projection(size_t n_brdfs, const size_t *offsets, cons
   }
   for (size_t r = 0; r < rows; r++)
     if (!(f[r] >= 0.0f) || !isfinite(f[r]))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "project: f of sample %zu = %g is not finite and >= 0",
-                        r, f[r]);
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                        "project: f of sample %zu = %g is not finite and >= 0", r, f[r]);
   if (o->steps < 0 || o->rows_per_brdf < 1 || !(o->learning_rate > 0.0f) ||
       !isfinite(o->learning_rate) || (o->loss != NBRDF_LOSS_L1 && o->loss != NBRDF_LOSS_L1_LOG1P))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
@@ -164,7 +160,8 @@ nbrdf_status nbrdf_model_project(const nbrdf_model *m, size_t n_brdfs, const siz
     st = check_finite(out, count, "project: initial latents", err);
     if (st != NBRDF_OK) return st;
   } else {
-    for (size_t k = 0; k < count; k++) out[k] = 0.0f;
+    for (size_t k = 0; k < count; k++)
+      out[k] = 0.0f;
   }
   model_fit_options fo = MODEL_FIT_OPTIONS_DEFAULT;
   fo.loss = o->loss == NBRDF_LOSS_L1 ? MODEL_LOSS_L1 : MODEL_LOSS_L1_LOG1P;
@@ -176,7 +173,8 @@ nbrdf_status nbrdf_model_project(const nbrdf_model *m, size_t n_brdfs, const siz
   model_samples samples = {n_brdfs, offsets, wi, wo, f};
   model_fit *fit = NULL;
   st = model_fit_create(m->decoder, n_brdfs, out, &fo, &fit, err);
-  for (int s = 0; st == NBRDF_OK && s < o->steps; s++) st = model_fit_step(fit, &samples, NULL, err);
+  for (int s = 0; st == NBRDF_OK && s < o->steps; s++)
+    st = model_fit_step(fit, &samples, NULL, err);
   if (st == NBRDF_OK && final_loss) st = model_fit_eval_loss(fit, &samples, final_loss, NULL, err);
   model_fit_destroy(fit);
   if (st != NBRDF_OK) nbrdf_error_prefix(err, "project: ");

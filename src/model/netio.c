@@ -78,14 +78,15 @@ nbrdf_status model_meta_int(const nbrdf_st_reader *reader, const char *key, long
   errno = 0;
   long x = strtol(v, &end, 10);
   if (!*v || *end || errno || x < lo || x > hi)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: metadata %s = \"%s\" is not an integer in [%ld, %ld]",
+    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                      "%s: metadata %s = \"%s\" is not an integer in [%ld, %ld]",
                       nbrdf_st_label(reader), key, v, lo, hi);
   *value = x;
   return NBRDF_OK;
 }
 
-nbrdf_status model_meta_double(const nbrdf_st_reader *reader, const char *key, double lo,
-                               double hi, double *value, nbrdf_error *err) {
+nbrdf_status model_meta_double(const nbrdf_st_reader *reader, const char *key, double lo, double hi,
+                               double *value, nbrdf_error *err) {
   const char *v;
   nbrdf_status st = nbrdf_st_metadata_require(reader, key, &v, err);
   if (st != NBRDF_OK) return st;
@@ -144,9 +145,10 @@ nbrdf_status model_net_read(const nbrdf_st_reader *reader, const char *network, 
         break;
       }
     }
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                    "%s: %zu tensors, the architecture in nbrdf.spec has %d (e.g. '%s' is not part of it)",
-                    label, nbrdf_st_tensor_count(reader), nbrdf_nn_tensor_count(nn), extra);
+    st = nbrdf_fail(
+        err, NBRDF_ERR_MISMATCH,
+        "%s: %zu tensors, the architecture in nbrdf.spec has %d (e.g. '%s' is not part of it)",
+        label, nbrdf_st_tensor_count(reader), nbrdf_nn_tensor_count(nn), extra);
   }
   if (st != NBRDF_OK) {
     nbrdf_nn_destroy(nn);

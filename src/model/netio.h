@@ -51,7 +51,7 @@ nbrdf_status model_net_check_kind(const nbrdf_st_reader *reader, const char *net
 nbrdf_status model_meta_int(const nbrdf_st_reader *reader, const char *key, long lo, long hi,
                             long *value, nbrdf_error *err);
 /* Finite double metadata value in [lo, hi]. */
-nbrdf_status model_meta_double(const nbrdf_st_reader *reader, const char *key, double lo,
-                               double hi, double *value, nbrdf_error *err);
+nbrdf_status model_meta_double(const nbrdf_st_reader *reader, const char *key, double lo, double hi,
+                               double *value, nbrdf_error *err);
 
 #endif

@@ -98,9 +98,8 @@ nbrdf_status model_sampler_read(const nbrdf_st_reader *reader, model_sampler **o
   nbrdf_status st = model_net_check_kind(reader, "sampler", err);
   if (st == NBRDF_OK) st = model_meta_double(reader, "nbrdf.sigma_min", 0.0, 1.0, &sigma_min, err);
   if (st == NBRDF_OK && sigma_min != MODEL_PROXY_SIGMA_MIN)
-    st = nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                    "%s: sigma_min %g differs from this build's %g", label, sigma_min,
-                    MODEL_PROXY_SIGMA_MIN);
+    st = nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: sigma_min %g differs from this build's %g",
+                    label, sigma_min, MODEL_PROXY_SIGMA_MIN);
   nbrdf_nn *nn = NULL;
   int dim = 0;
   if (st == NBRDF_OK) st = model_net_read(reader, "sampler", &nn, &dim, err);

@@ -29,13 +29,16 @@ static vec3 hemisphere(nbrdf_rng *rng) {
   return v3_from_spherical(acos(z), 2 * M_PI * nbrdf_rng_uniform(rng));
 }
 
-static void put(float *dst, vec3 v) { dst[0] = (float)v.x, dst[1] = (float)v.y, dst[2] = (float)v.z; }
+static void put(float *dst, vec3 v) {
+  dst[0] = (float)v.x, dst[1] = (float)v.y, dst[2] = (float)v.z;
+}
 
 /* PER samples of one conductor: half of ωo cosine-distributed, half uniform. */
 static void sample_brdf(nbrdf_rng *rng, double alpha, double r0, float *wi, float *wo, float *f) {
   for (int k = 0; k < PER; k++) {
     vec3 a = hemisphere(rng), b = hemisphere(rng);
-    if (k % 2) b = v3_from_spherical(asin(sqrt(nbrdf_rng_uniform(rng))), 2 * M_PI * nbrdf_rng_uniform(rng));
+    if (k % 2)
+      b = v3_from_spherical(asin(sqrt(nbrdf_rng_uniform(rng))), 2 * M_PI * nbrdf_rng_uniform(rng));
     if (b.z < 0.02) b = v3_normalize(v3(b.x, b.y, 0.02));
     put(wi + 3 * k, a);
     put(wo + 3 * k, b);
@@ -69,7 +72,8 @@ static double lobe_error(const model_decoder *dec, const float *latent, double a
     }
     model_decoder_eval(dec, &run, n, 1, lat, wi, wo, f, &err);
     for (size_t k = 0; k < n; k++) {
-      vec3 a = v3(wi[3 * k], wi[3 * k + 1], wi[3 * k + 2]), b = v3(wo[3 * k], wo[3 * k + 1], wo[3 * k + 2]);
+      vec3 a = v3(wi[3 * k], wi[3 * k + 1], wi[3 * k + 2]),
+           b = v3(wo[3 * k], wo[3 * k + 1], wo[3 * k + 2]);
       double truth = ggx_conductor(alpha, r0, v3_normalize(a), v3_normalize(b)) * cosine[k];
       diff += fabs(f[k] * cosine[k] - truth);
       ref += fabs(truth);
@@ -93,7 +97,8 @@ static void test_train_then_project(void) {
     sample_brdf(&rng, alphas[b / 4], r0s[b % 4], wi + 3 * b * PER, wo + 3 * b * PER, f + b * PER);
   }
   offsets[NB] = (size_t)NB * PER;
-  for (int i = 0; i < NB * D; i++) latents[i] = (float)(0.1 * nbrdf_rng_normal(&rng));
+  for (int i = 0; i < NB * D; i++)
+    latents[i] = (float)(0.1 * nbrdf_rng_normal(&rng));
 
   model_decoder_config cfg;
   model_encoding enc = {MODEL_ENCODING_HALFDIFF, 0};
@@ -113,7 +118,8 @@ static void test_train_then_project(void) {
   model_samples s = {NB, offsets, wi, wo, f};
   double first = 0.0, last = 0.0;
   CHECK_OK(model_fit_eval_loss(fit, &s, NULL, &first, err), err);
-  for (int step = 0; step < 1000 && fit; step++) CHECK_OK(model_fit_step(fit, &s, NULL, err), err);
+  for (int step = 0; step < 1000 && fit; step++)
+    CHECK_OK(model_fit_step(fit, &s, NULL, err), err);
   CHECK_OK(model_fit_eval_loss(fit, &s, NULL, &last, err), err);
   printf("  auto-decoder: L1-log1p loss %.4f -> %.4f after 1000 steps\n", first, last);
   CHECK_MSG(last < first / 20.0, "loss fell only from %.4f to %.4f", first, last);
@@ -125,7 +131,8 @@ static void test_train_then_project(void) {
   size_t hoff[2] = {0, PER};
   sample_brdf(&rng, alpha, r0, hwi, hwo, hf);
   for (int b = 0; b < NB; b++)
-    for (int j = 0; j < D; j++) mean[j] += latents[b * D + j] / NB;
+    for (int j = 0; j < D; j++)
+      mean[j] += latents[b * D + j] / NB;
   model_fit_options po = MODEL_FIT_OPTIONS_DEFAULT; /* decoder frozen */
   po.rows_per_brdf = 256;
   po.lr_latent = 2e-2f;
@@ -136,14 +143,16 @@ static void test_train_then_project(void) {
   float before[64];
   size_t np = nbrdf_nn_param_count(dec->nn);
   memcpy(before, nbrdf_nn_params(dec->nn), sizeof before);
-  for (int step = 0; step < 300 && proj; step++) CHECK_OK(model_fit_step(proj, &hs, NULL, err), err);
+  for (int step = 0; step < 300 && proj; step++)
+    CHECK_OK(model_fit_step(proj, &hs, NULL, err), err);
   model_fit_destroy(proj);
   CHECK(np > 64 && !memcmp(before, nbrdf_nn_params(dec->nn), sizeof before)); /* frozen */
   double e_proj = lobe_error(dec, z, alpha, r0), e_mean = lobe_error(dec, mean, alpha, r0);
   double e_train = lobe_error(dec, latents + 6 * D, alphas[1], r0s[2]);
   printf("  lobe error: projected held-out %.1f %%, mean latent %.1f %%, a training BRDF %.1f %%\n",
          100 * e_proj, 100 * e_mean, 100 * e_train);
-  CHECK_MSG(e_proj < 0.4 * e_mean, "projection %.3f is not well below the mean latent %.3f", e_proj, e_mean);
+  CHECK_MSG(e_proj < 0.4 * e_mean, "projection %.3f is not well below the mean latent %.3f", e_proj,
+            e_mean);
   CHECK_MSG(e_proj < 0.12, "projected lobe error %.3f", e_proj);
   model_decoder_destroy(dec);
   free(wi), free(wo), free(f);

@@ -50,8 +50,10 @@ static void test_network_round_trips(void) {
   nbrdf_rng_init(&rng, 1, 0);
   enum { N = 37 };
   float lat[N * 32], lat2[N * 32], wi[N * 3], wo[N * 3], a[N], s[N];
-  for (int i = 0; i < N * 32; i++) lat[i] = (float)nbrdf_rng_normal(&rng), lat2[i] = (float)nbrdf_rng_normal(&rng);
-  for (int k = 0; k < N; k++) a[k] = (float)nbrdf_rng_uniform(&rng), s[k] = (float)(k % 6);
+  for (int i = 0; i < N * 32; i++)
+    lat[i] = (float)nbrdf_rng_normal(&rng), lat2[i] = (float)nbrdf_rng_normal(&rng);
+  for (int k = 0; k < N; k++)
+    a[k] = (float)nbrdf_rng_uniform(&rng), s[k] = (float)(k % 6);
   random_queries(&rng, N, wi, wo);
 
   for (int p = 0; model_decoder_presets[p]; p++) {
@@ -75,7 +77,8 @@ static void test_network_round_trips(void) {
     float f3[N];
     CHECK_OK(model_decoder_eval(dec, &r1, N / 2, 2, lat, wi, wo, f3, err), err);
     float one[2];
-    CHECK_OK(model_decoder_eval(dec, &r1, 1, 1, lat + 32 * 7, wi + 3 * 3, wo + 3 * 3, one, err), err);
+    CHECK_OK(model_decoder_eval(dec, &r1, 1, 1, lat + 32 * 7, wi + 3 * 3, wo + 3 * 3, one, err),
+             err);
     CHECK(fabsf(one[0] - f3[7]) <= 1e-5f * fmaxf(1.0f, fabsf(one[0])));
     if (p == 0) CHECK(model_decoder_macs(dec) == 1058560);
     model_runner_destroy(&r1);
@@ -141,7 +144,8 @@ static void check_same_outputs(const nbrdf_model *m1, const nbrdf_model *m2) {
   static float top[N * 32], bottom[N * 32], o1[N * 32], o2[N * 32];
   float a[N], s[N], sg1[N], w1[N], sg2[N], w2[N];
   double alpha[N], eta[N], r0[N];
-  for (int i = 0; i < N * 3 * 32; i++) lat[i] = (float)nbrdf_rng_normal(&rng);
+  for (int i = 0; i < N * 3 * 32; i++)
+    lat[i] = (float)nbrdf_rng_normal(&rng);
   random_queries(&rng, N, wi, wo);
   for (int k = 0; k < N; k++) {
     alpha[k] = 0.01 + 0.99 * nbrdf_rng_uniform(&rng);
@@ -152,16 +156,22 @@ static void check_same_outputs(const nbrdf_model *m1, const nbrdf_model *m2) {
   CHECK_OK(nbrdf_model_decode(m1, N, 3, lat, wi, wo, f1, err), err);
   CHECK_OK(nbrdf_model_decode(m2, N, 3, lat, wi, wo, f2, err), err);
   CHECK(!memcmp(f1, f2, sizeof f1));
-  for (int i = 0; i < N * 3; i++) CHECK(isfinite(f1[i]) && f1[i] >= 0.0f);
-  CHECK_OK(nbrdf_model_base_latents(m1, NBRDF_BASE_DIELECTRIC, N, alpha, eta, NBRDF_RANGE_REFUSE, top, NULL, err), err);
-  CHECK_OK(nbrdf_model_base_latents(m2, NBRDF_BASE_CONDUCTOR, N, alpha, r0, NBRDF_RANGE_REFUSE, bottom, NULL, err), err);
+  for (int i = 0; i < N * 3; i++)
+    CHECK(isfinite(f1[i]) && f1[i] >= 0.0f);
+  CHECK_OK(nbrdf_model_base_latents(m1, NBRDF_BASE_DIELECTRIC, N, alpha, eta, NBRDF_RANGE_REFUSE,
+                                    top, NULL, err),
+           err);
+  CHECK_OK(nbrdf_model_base_latents(m2, NBRDF_BASE_CONDUCTOR, N, alpha, r0, NBRDF_RANGE_REFUSE,
+                                    bottom, NULL, err),
+           err);
   CHECK_OK(nbrdf_model_layer(m1, N, top, bottom, a, s, o1, err), err);
   CHECK_OK(nbrdf_model_layer(m2, N, top, bottom, a, s, o2, err), err);
   CHECK(!memcmp(o1, o2, sizeof o1));
   CHECK_OK(nbrdf_model_proxy_params(m1, N, o1, sg1, w1, err), err);
   CHECK_OK(nbrdf_model_proxy_params(m2, N, o2, sg2, w2, err), err);
   CHECK(!memcmp(sg1, sg2, sizeof sg1) && !memcmp(w1, w2, sizeof w1));
-  for (int k = 0; k < N; k++) CHECK(sg1[k] > 0.0f && w1[k] >= 0.0f && w1[k] <= 1.0f);
+  for (int k = 0; k < N; k++)
+    CHECK(sg1[k] > 0.0f && w1[k] >= 0.0f && w1[k] <= 1.0f);
 }
 
 static void test_bundle_round_trip(void) {
@@ -190,8 +200,9 @@ static void test_bundle_round_trip(void) {
   check_same_outputs(ma, mb);
 
   /* Saving a loaded model again reproduces the files: same checksum. */
-  model_bundle_parts parts = {"test-d", 0, 5, NULL, NULL, ma->decoder, ma->layering, ma->sampler,
-                              {&ma->tables[0], &ma->tables[1]}};
+  model_bundle_parts parts = {"test-d",     0,           5,
+                              NULL,         NULL,        ma->decoder,
+                              ma->layering, ma->sampler, {&ma->tables[0], &ma->tables[1]}};
   uint64_t sum = 0;
   CHECK_OK(model_bundle_save(d, &parts, &sum, err), err);
   nbrdf_model *md = NULL;
@@ -266,7 +277,9 @@ static void test_bundle_refusals(void) {
   copy_file(path_in(tmp, "tables.keep"), path_in(dir, "base_tables.safetensors"));
 
   /* A model.json that is not one. */
-  CHECK_OK(model_write_text_file(dir, "model.json", "{\"format\": \"nbrdf-model\", \"version\": 1}", err), err);
+  CHECK_OK(model_write_text_file(dir, "model.json", "{\"format\": \"nbrdf-model\", \"version\": 1}",
+                                 err),
+           err);
   CHECK_FAILS(nbrdf_model_load(dir, &m, err), NBRDF_ERR_FORMAT, err, "model.json: \"name\"");
   CHECK_OK(model_write_text_file(dir, "model.json", "not json", err), err);
   CHECK_FAILS(nbrdf_model_load(dir, &m, err), NBRDF_ERR_FORMAT, err, "model.json");
@@ -282,16 +295,22 @@ static void test_public_calls(void) {
   CHECK_OK(nbrdf_model_load(dir, &m, err), err);
   if (!m) return;
   float lat[32] = {0}, f[1], out[32];
-  float wi[3] = {0, 0, 1}, below[3] = {0.6f, 0, -0.8f}, longer[3] = {0, 0, 1.1f}, nan3[3] = {NAN, 0, 1};
-  CHECK_FAILS(nbrdf_model_decode(m, 1, 1, lat, wi, below, f, err), NBRDF_ERR_ARGUMENT, err, "wo of query 0 is at or below");
-  CHECK_FAILS(nbrdf_model_decode(m, 1, 1, lat, longer, wi, f, err), NBRDF_ERR_ARGUMENT, err, "not a unit");
-  CHECK_FAILS(nbrdf_model_decode(m, 1, 1, lat, nan3, wi, f, err), NBRDF_ERR_ARGUMENT, err, "not finite");
+  float wi[3] = {0, 0, 1}, below[3] = {0.6f, 0, -0.8f}, longer[3] = {0, 0, 1.1f},
+        nan3[3] = {NAN, 0, 1};
+  CHECK_FAILS(nbrdf_model_decode(m, 1, 1, lat, wi, below, f, err), NBRDF_ERR_ARGUMENT, err,
+              "wo of query 0 is at or below");
+  CHECK_FAILS(nbrdf_model_decode(m, 1, 1, lat, longer, wi, f, err), NBRDF_ERR_ARGUMENT, err,
+              "not a unit");
+  CHECK_FAILS(nbrdf_model_decode(m, 1, 1, lat, nan3, wi, f, err), NBRDF_ERR_ARGUMENT, err,
+              "not finite");
   lat[3] = INFINITY;
   CHECK_FAILS(nbrdf_model_decode(m, 1, 1, lat, wi, wi, f, err), NBRDF_ERR_ARGUMENT, err, "value 3");
   lat[3] = 0.0f;
   float bad_a = 1.5f, ok_a = 0.5f, neg_s = -1.0f, ok_s = 2.0f;
-  CHECK_FAILS(nbrdf_model_layer(m, 1, lat, lat, &bad_a, &ok_s, out, err), NBRDF_ERR_ARGUMENT, err, "albedo");
-  CHECK_FAILS(nbrdf_model_layer(m, 1, lat, lat, &ok_a, &neg_s, out, err), NBRDF_ERR_ARGUMENT, err, "sigma_t");
+  CHECK_FAILS(nbrdf_model_layer(m, 1, lat, lat, &bad_a, &ok_s, out, err), NBRDF_ERR_ARGUMENT, err,
+              "albedo");
+  CHECK_FAILS(nbrdf_model_layer(m, 1, lat, lat, &ok_a, &neg_s, out, err), NBRDF_ERR_ARGUMENT, err,
+              "sigma_t");
   /* Base tables: exact at grid nodes, clamped with a flag or refused outside. */
   int n0, n1;
   const float *ax0, *ax1;
@@ -299,11 +318,16 @@ static void test_public_calls(void) {
   CHECK(n0 >= 2 && n1 >= 2 && ax0[0] == 0.01f && ax1[n1 - 1] == 1.0f);
   double p0 = ax0[2], p1 = ax1[1], far = 7.0;
   unsigned char flag = 0;
-  CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, 1, &p0, &p1, NBRDF_RANGE_REFUSE, out, &flag, err), err);
+  CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, 1, &p0, &p1, NBRDF_RANGE_REFUSE, out,
+                                    &flag, err),
+           err);
   CHECK(!memcmp(out, m->tables[1].latents + (2 * n1 + 1) * 32, sizeof out));
-  CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, 1, &p0, &far, NBRDF_RANGE_CLAMP, out, &flag, err), err);
+  CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, 1, &p0, &far, NBRDF_RANGE_CLAMP, out,
+                                    &flag, err),
+           err);
   CHECK(flag == NBRDF_CLAMPED_PARAM1);
-  CHECK_FAILS(nbrdf_model_base_latents(m, NBRDF_BASE_DIELECTRIC, 1, &p0, &far, NBRDF_RANGE_REFUSE, out, &flag, err),
+  CHECK_FAILS(nbrdf_model_base_latents(m, NBRDF_BASE_DIELECTRIC, 1, &p0, &far, NBRDF_RANGE_REFUSE,
+                                       out, &flag, err),
               NBRDF_ERR_ARGUMENT, err, "eta = 7");
 
   /* Projection through the public call: samples decoded from a table latent
@@ -316,8 +340,11 @@ static void test_public_calls(void) {
   random_queries(&rng, NB * PER, swi, swo);
   double pa[NB] = {0.05, 0.5}, pr[NB] = {0.9, 0.3};
   float z[NB * 32], zero_loss_lat[NB * 32] = {0};
-  CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, NB, pa, pr, NBRDF_RANGE_REFUSE, z, NULL, err), err);
-  for (int k = 0; k < NB * PER; k++) memcpy(src + 32 * k, z + 32 * (k / PER), 32 * sizeof(float));
+  CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, NB, pa, pr, NBRDF_RANGE_REFUSE, z,
+                                    NULL, err),
+           err);
+  for (int k = 0; k < NB * PER; k++)
+    memcpy(src + 32 * k, z + 32 * (k / PER), 32 * sizeof(float));
   CHECK_OK(nbrdf_model_decode(m, NB * PER, 1, src, swi, swo, sf, err), err);
   nbrdf_project_options po = NBRDF_PROJECT_OPTIONS_DEFAULT;
   po.steps = 0;
@@ -327,9 +354,11 @@ static void test_public_calls(void) {
   float fitted[NB * 32];
   CHECK_OK(nbrdf_model_project(m, NB, offsets, swi, swo, sf, &po, fitted, after, err), err);
   for (int b = 0; b < NB; b++)
-    CHECK_MSG(after[b] < 0.2 * before[b], "BRDF %d: projection loss %.4g -> %.4g", b, before[b], after[b]);
+    CHECK_MSG(after[b] < 0.2 * before[b], "BRDF %d: projection loss %.4g -> %.4g", b, before[b],
+              after[b]);
   sf[5] = -1.0f;
-  CHECK_FAILS(nbrdf_model_project(m, NB, offsets, swi, swo, sf, &po, fitted, after, err), NBRDF_ERR_ARGUMENT, err, "sample 5");
+  CHECK_FAILS(nbrdf_model_project(m, NB, offsets, swi, swo, sf, &po, fitted, after, err),
+              NBRDF_ERR_ARGUMENT, err, "sample 5");
   nbrdf_model_destroy(m);
 }
 

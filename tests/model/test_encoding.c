@@ -30,7 +30,8 @@ static void test_cartesian_is_identity(void) {
   float wi[3] = {0.6f, 0.0f, 0.8f}, wo[3] = {0.0f, -0.6f, 0.8f}, out[8] = {0};
   model_encoding e = {MODEL_ENCODING_CARTESIAN, 0};
   model_encode(&e, 1, wi, wo, out, 8);
-  for (int j = 0; j < 3; j++) CHECK(out[j] == wi[j] && out[3 + j] == wo[j]);
+  for (int j = 0; j < 3; j++)
+    CHECK(out[j] == wi[j] && out[3 + j] == wo[j]);
   CHECK(out[6] == 0.0f && out[7] == 0.0f); /* the stride's padding is left alone */
 }
 
@@ -41,11 +42,13 @@ static void test_halfdiff_known_cases(void) {
   model_encode_halfdiff(wi, wo, h, d);
   CHECK_NEAR(h[0], 0.0, 1e-12);
   CHECK_NEAR(h[2], 1.0, 1e-12);
-  for (int j = 0; j < 3; j++) CHECK_NEAR(d[j], wi[j], 1e-12);
+  for (int j = 0; j < 3; j++)
+    CHECK_NEAR(d[j], wi[j], 1e-12);
   /* Retro-reflection: h = ωi = ωo, d = n (θd = 0). */
   double r[3] = {0.3, 0.4, sqrt(1 - 0.25)};
   model_encode_halfdiff(r, r, h, d);
-  for (int j = 0; j < 3; j++) CHECK_NEAR(h[j], r[j], 1e-12);
+  for (int j = 0; j < 3; j++)
+    CHECK_NEAR(h[j], r[j], 1e-12);
   CHECK_NEAR(d[0], 0.0, 1e-12);
   CHECK_NEAR(d[1], 0.0, 1e-12);
   CHECK_NEAR(d[2], 1.0, 1e-12);
@@ -70,7 +73,8 @@ static void test_halfdiff_invariants(void) {
     double ro[3] = {c * wo[0] - s * wo[1], s * wo[0] + c * wo[1], wo[2]};
     double h2[3], d2[3];
     model_encode_halfdiff(ri, ro, h2, d2);
-    for (int j = 0; j < 3; j++) CHECK_NEAR(d2[j], d[j], 1e-9);
+    for (int j = 0; j < 3; j++)
+      CHECK_NEAR(d2[j], d[j], 1e-9);
     CHECK_NEAR(h2[2], h[2], 1e-12);
   }
 }

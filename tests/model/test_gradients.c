@@ -36,20 +36,23 @@ static void fd_check(const char *what, int index, float *p, double analytic, sca
     fd[k] = (up - down) / (dp + dm);
     ok = fabs(fd[k] - analytic) <= 0.03 * fmax(fabs(fd[k]), fabs(analytic)) + 2e-3 * scale;
     if (!ok && k == 2)
-      nbrdf_test_fail(__FILE__, __LINE__, "%s[%d]: backward %.6g, finite differences %.6g %.6g %.6g",
-                      what, index, analytic, fd[0], fd[1], fd[2]);
+      nbrdf_test_fail(__FILE__, __LINE__,
+                      "%s[%d]: backward %.6g, finite differences %.6g %.6g %.6g", what, index,
+                      analytic, fd[0], fd[1], fd[2]);
   }
   nbrdf_test_checks++;
 }
 
 static double max_abs(const float *x, size_t n) {
   double m = 1e-12;
-  for (size_t i = 0; i < n; i++) m = fmax(m, fabs(x[i]));
+  for (size_t i = 0; i < n; i++)
+    m = fmax(m, fabs(x[i]));
   return m;
 }
 
 static void fill_normal(nbrdf_rng *rng, float *x, size_t n, double s) {
-  for (size_t i = 0; i < n; i++) x[i] = (float)(s * nbrdf_rng_normal(rng));
+  for (size_t i = 0; i < n; i++)
+    x[i] = (float)(s * nbrdf_rng_normal(rng));
 }
 
 static void random_dirs(nbrdf_rng *rng, float *w, size_t n) {
@@ -75,7 +78,8 @@ static double linear_loss(void *p) {
   linear_ctx *c = p;
   nbrdf_nn_forward(c->nn, c->ws, c->x, c->rows, c->y, NULL);
   double l = 0.0;
-  for (int i = 0; i < c->rows * c->outputs; i++) l += (double)c->a[i] * c->y[i];
+  for (int i = 0; i < c->rows * c->outputs; i++)
+    l += (double)c->a[i] * c->y[i];
   return l;
 }
 
@@ -115,8 +119,9 @@ static void test_decoder_presets_small(void) {
     CHECK_OK(model_decoder_preset(model_decoder_presets[p], 8, &preset, err), err);
     /* The preset's encoding, output and block pattern at a width a check can afford. */
     int interleave = preset.spec.n_layers > 2 && preset.spec.layers[2].kind == NBRDF_NN_PLAIN;
-    CHECK_OK(model_decoder_config_make(8, preset.encoding, preset.output, 12, 2, interleave, &cfg,
-                                       err), err);
+    CHECK_OK(
+        model_decoder_config_make(8, preset.encoding, preset.output, 12, 2, interleave, &cfg, err),
+        err);
     model_decoder *dec = NULL;
     CHECK_OK(model_decoder_create(&cfg, 3, &dec, err), err);
     if (!dec) continue;
@@ -143,7 +148,8 @@ static void test_layering_network(void) {
   float top[BATCH * 6], bottom[BATCH * 6], albedo[BATCH], sigma_t[BATCH], x[BATCH * 14];
   fill_normal(&rng, top, BATCH * 6, 1.0);
   fill_normal(&rng, bottom, BATCH * 6, 1.0);
-  for (int k = 0; k < BATCH; k++) albedo[k] = (float)nbrdf_rng_uniform(&rng), sigma_t[k] = (float)k;
+  for (int k = 0; k < BATCH; k++)
+    albedo[k] = (float)nbrdf_rng_uniform(&rng), sigma_t[k] = (float)k;
   model_layering_fill_inputs(net, BATCH, top, bottom, albedo, sigma_t, x);
   CHECK_NEAR(x[13], log1p(0.0), 0.0);
   CHECK_NEAR(x[4 * 14 + 13], log1p(4.0), 1e-6);
@@ -198,7 +204,8 @@ static void test_sampler_network(void) {
     int i = (int)(nbrdf_rng_uniform(&rng) * np);
     fd_check("sampler", i, params + i, grad[i], sampler_loss, &c, 1e-3, gs);
   }
-  for (int i = 0; i < BATCH * 6; i++) fd_check("sampler input", i, x + i, dx[i], sampler_loss, &c, 1e-3, xs);
+  for (int i = 0; i < BATCH * 6; i++)
+    fd_check("sampler input", i, x + i, dx[i], sampler_loss, &c, 1e-3, xs);
   /* Extremes of the transform stay finite and in range. */
   float big[2] = {200.0f, -200.0f}, small[2] = {-200.0f, 200.0f}, s, w;
   model_sampler_transform(big, &s, &w, NULL, NULL);
@@ -226,16 +233,21 @@ static double loss_value(void *p) {
 static void test_losses(void) {
   for (int kind = 0; kind < 2; kind++) {
     for (int out = 0; out < 2; out++) {
-      loss_ctx c = {(model_loss_kind)kind, (model_output)out, {-0.4f, 0.3f, 1.7f, 2.5f}, {0.5f, 3.0f, 0.2f, 40.0f}};
+      loss_ctx c = {(model_loss_kind)kind,
+                    (model_output)out,
+                    {-0.4f, 0.3f, 1.7f, 2.5f},
+                    {0.5f, 3.0f, 0.2f, 40.0f}};
       float d[4];
       double l = model_loss_sum(c.kind, c.output, 4, c.o, c.f, 1.0f, d);
       CHECK(isfinite(l) && l > 0.0);
-      for (int i = 0; i < 4; i++) fd_check(model_loss_name(c.kind), i, c.o + i, d[i], loss_value, &c, 1e-3, 1.0);
+      for (int i = 0; i < 4; i++)
+        fd_check(model_loss_name(c.kind), i, c.o + i, d[i], loss_value, &c, 1e-3, 1.0);
     }
   }
   /* A perfect prediction has zero loss under both losses. */
   float o_log[1] = {(float)log1p(2.0)}, o_f[1] = {2.0f}, f[1] = {2.0f};
-  CHECK_NEAR(model_loss_sum(MODEL_LOSS_L1_LOG1P, MODEL_OUTPUT_LOG1P, 1, o_log, f, 1.0f, NULL), 0.0, 1e-6);
+  CHECK_NEAR(model_loss_sum(MODEL_LOSS_L1_LOG1P, MODEL_OUTPUT_LOG1P, 1, o_log, f, 1.0f, NULL), 0.0,
+             1e-6);
   CHECK_NEAR(model_loss_sum(MODEL_LOSS_L1, MODEL_OUTPUT_F, 1, o_f, f, 1.0f, NULL), 0.0, 0.0);
   model_loss_kind k;
   CHECK(model_loss_parse("l1-log1p", &k) && k == MODEL_LOSS_L1_LOG1P);
@@ -266,7 +278,8 @@ static void test_fit_gradients(void) {
   random_dirs(&rng, wi, NB * PER);
   random_dirs(&rng, wo, NB * PER);
   /* Targets far above what a fresh network predicts, so no residual changes sign. */
-  for (int i = 0; i < NB * PER; i++) f[i] = (float)(30.0 + 20.0 * nbrdf_rng_uniform(&rng));
+  for (int i = 0; i < NB * PER; i++)
+    f[i] = (float)(30.0 + 20.0 * nbrdf_rng_uniform(&rng));
   model_samples s = {NB, offsets, wi, wo, f};
   for (int out = 0; out < 2; out++) {
     for (int kind = 0; kind < 2; kind++) {
@@ -297,7 +310,8 @@ static void test_fit_gradients(void) {
       memcpy(gw, model_fit_grad_weights(fit), np * sizeof(float));
       fit_ctx c = {fit, &s};
       const char *name = model_loss_name(o.loss);
-      for (int i = 0; i < NB * D; i++) fd_check(name, i, latents + i, gl[i], fit_loss, &c, 1e-3, max_abs(gl, NB * D));
+      for (int i = 0; i < NB * D; i++)
+        fd_check(name, i, latents + i, gl[i], fit_loss, &c, 1e-3, max_abs(gl, NB * D));
       float *params = nbrdf_nn_params(dec->nn);
       for (int t = 0; t < 30; t++) {
         int i = (int)(nbrdf_rng_uniform(&rng) * np);

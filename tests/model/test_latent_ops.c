@@ -12,17 +12,21 @@ static void test_interpolate(void) {
   float l[3 * 4] = {1, 2, 3, 4, -1, 0, 1, 2, 10, 20, 30, 40}, out[4], out2[4];
   double w[3] = {0.5, 0.25, 0.25};
   CHECK_OK(nbrdf_latent_interpolate(3, 4, l, w, out, err), err);
-  for (int j = 0; j < 4; j++) CHECK_NEAR(out[j], 0.5 * l[j] + 0.25 * l[4 + j] + 0.25 * l[8 + j], 1e-6);
+  for (int j = 0; j < 4; j++)
+    CHECK_NEAR(out[j], 0.5 * l[j] + 0.25 * l[4 + j] + 0.25 * l[8 + j], 1e-6);
   /* Weights need not sum to 1: they are normalised. */
   double w4[3] = {2.0, 1.0, 1.0};
   CHECK_OK(nbrdf_latent_interpolate(3, 4, l, w4, out2, err), err);
-  for (int j = 0; j < 4; j++) CHECK(out2[j] == out[j]);
+  for (int j = 0; j < 4; j++)
+    CHECK(out2[j] == out[j]);
   /* Identical latents come back bit for bit, whatever the weights. */
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, 3, 0);
   float same[5 * 32], avg[32];
-  for (int j = 0; j < 32; j++) same[j] = (float)nbrdf_rng_normal(&rng);
-  for (int k = 1; k < 5; k++) memcpy(same + 32 * k, same, 32 * sizeof(float));
+  for (int j = 0; j < 32; j++)
+    same[j] = (float)nbrdf_rng_normal(&rng);
+  for (int k = 1; k < 5; k++)
+    memcpy(same + 32 * k, same, 32 * sizeof(float));
   double ww[5] = {0.1, 0.3, 0.05, 0.35, 0.2};
   CHECK_OK(nbrdf_latent_interpolate(5, 32, same, ww, avg, err), err);
   CHECK(!memcmp(avg, same, sizeof avg));
@@ -32,8 +36,10 @@ static void test_interpolate(void) {
   CHECK(!memcmp(out, l + 4, sizeof out));
   /* Refusals. */
   double bad[3] = {0.5, NAN, 0.5}, neg[3] = {1.0, -0.5, 0.5}, zero[3] = {0, 0, 0};
-  CHECK_FAILS(nbrdf_latent_interpolate(3, 4, l, bad, out, err), NBRDF_ERR_ARGUMENT, err, "weight 1");
-  CHECK_FAILS(nbrdf_latent_interpolate(3, 4, l, neg, out, err), NBRDF_ERR_ARGUMENT, err, "weight 1");
+  CHECK_FAILS(nbrdf_latent_interpolate(3, 4, l, bad, out, err), NBRDF_ERR_ARGUMENT, err,
+              "weight 1");
+  CHECK_FAILS(nbrdf_latent_interpolate(3, 4, l, neg, out, err), NBRDF_ERR_ARGUMENT, err,
+              "weight 1");
   CHECK_FAILS(nbrdf_latent_interpolate(3, 4, l, zero, out, err), NBRDF_ERR_ARGUMENT, err, "sum");
   CHECK_FAILS(nbrdf_latent_interpolate(0, 4, l, w, out, err), NBRDF_ERR_ARGUMENT, err, "0 latents");
 }
@@ -45,7 +51,8 @@ static void test_table_lookup(void) {
   CHECK_OK(model_base_table_init(&t, MODEL_TABLE_DIELECTRIC, 3, 4, alpha, 3, eta, err), err);
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, 4, 0);
-  for (int i = 0; i < 4 * 3 * 3; i++) t.latents[i] = (float)nbrdf_rng_normal(&rng);
+  for (int i = 0; i < 4 * 3 * 3; i++)
+    t.latents[i] = (float)nbrdf_rng_normal(&rng);
   /* Exact at every grid node. */
   for (int a = 0; a < 4; a++) {
     for (int b = 0; b < 3; b++) {

@@ -11,8 +11,8 @@
  * θ ∈ [0, theta_max]. About −ωi for the whole sphere: the Gaussian lobe's
  * density has an integrable 1/θ singularity at ωo = −ωi (every h with ωi·h = 0
  * reflects there), which sin θ dθ cancels when θ is measured from it. */
-static double integrate(double (*pdf)(double, double, vec3, vec3), double sigma, double w,
-                        vec3 wi, vec3 pole, double theta_max, int nt, int np) {
+static double integrate(double (*pdf)(double, double, vec3, vec3), double sigma, double w, vec3 wi,
+                        vec3 pole, double theta_max, int nt, int np) {
   vec3 t, b;
   v3_basis(pole, &t, &b);
   double sum = 0.0, dt = theta_max / nt, dp = 2 * M_PI / np;
@@ -49,8 +49,8 @@ static void test_normalisation(void) {
     for (int t = 0; t < 3; t++) {
       vec3 wi = v3_from_spherical(thetas[t] * M_PI / 180.0, 0.3);
       double sphere = integrate(gaussian_sphere, sigmas[s], 0.0, wi, v3_neg(wi), M_PI, 600, 300);
-      CHECK_MSG(fabs(sphere - 1.0) < 1e-4, "sigma %g theta_i %g: sphere integral %.6f",
-                sigmas[s], thetas[t], sphere);
+      CHECK_MSG(fabs(sphere - 1.0) < 1e-4, "sigma %g theta_i %g: sphere integral %.6f", sigmas[s],
+                thetas[t], sphere);
       double lost = integrate(gaussian_lower, sigmas[s], 0.0, wi, v3_neg(wi), M_PI, 600, 300);
       double upper = integrate(mixture, sigmas[s], 0.25, wi, v3(0, 0, 1), M_PI / 2, 600, 300);
       CHECK_MSG(fabs(upper - (1.0 - 0.75 * lost)) < 1e-3,
