@@ -51,8 +51,10 @@ static double sgemm_gflops(void) {
   const int m = 4096, n = 256, k = 256;
   float *a = malloc(sizeof(float) * m * k), *b = malloc(sizeof(float) * k * n),
         *c = malloc(sizeof(float) * m * n);
-  for (int i = 0; i < m * k; i++) a[i] = (float)(i % 7) * 0.1f;
-  for (int i = 0; i < k * n; i++) b[i] = (float)(i % 5) * 0.1f;
+  for (int i = 0; i < m * k; i++)
+    a[i] = (float)(i % 7) * 0.1f;
+  for (int i = 0; i < k * n; i++)
+    b[i] = (float)(i % 5) * 0.1f;
   cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, m, n, k, 1.0f, a, k, b, n, 0.0f, c, n);
   int reps = 0;
   double t0 = wall();
@@ -100,8 +102,8 @@ static double lobe_error(const double *ref, const double *x) {
 }
 
 /* The lobe image by per-pixel evaluation (spp walks per pixel). */
-static void lobe_per_pixel(const nbrdf_brdf *b, double theta_i, int spp, uint64_t seed,
-                           int threads, double *img) {
+static void lobe_per_pixel(const nbrdf_brdf *b, double theta_i, int spp, uint64_t seed, int threads,
+                           double *img) {
   static nbrdf_query q[RES * RES];
   static double f[RES * RES];
   int at[RES * RES], n = 0;
@@ -120,7 +122,8 @@ static void lobe_per_pixel(const nbrdf_brdf *b, double theta_i, int spp, uint64_
   o.threads = threads;
   nbrdf_error err = {0};
   die(nbrdf_brdf_eval(b, (size_t)n, q, &o, f, NULL, &err), &err);
-  for (int k = 0; k < n; k++) img[at[k]] = f[k] * q[k].wo[2];
+  for (int k = 0; k < n; k++)
+    img[at[k]] = f[k] * q[k].wo[2];
 }
 
 static void bench_lobe(const char *name, const nbrdf_brdf *b, double seconds, int threads) {
@@ -154,9 +157,12 @@ int main(int argc, char **argv) {
   double seconds = 3.0;
   int threads = 1, lobe = 0;
   for (int i = 1; i < argc; i++) {
-    if (!strcmp(argv[i], "--seconds") && i + 1 < argc) seconds = atof(argv[++i]);
-    else if (!strcmp(argv[i], "--lobe")) lobe = 1;
-    else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
+    if (!strcmp(argv[i], "--seconds") && i + 1 < argc)
+      seconds = atof(argv[++i]);
+    else if (!strcmp(argv[i], "--lobe"))
+      lobe = 1;
+    else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
+      threads = atoi(argv[++i]);
     else {
       fprintf(stderr, "usage: bench_walk [--seconds S] [--threads T] [--lobe]\n");
       return 2;

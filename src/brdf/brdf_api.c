@@ -43,9 +43,9 @@ nbrdf_status nbrdf_brdf_create_dielectric(double alpha, double eta, nbrdf_brdf *
   return new_handle(&b, out, err);
 }
 
-nbrdf_status nbrdf_brdf_create_layered(double alpha1, double eta, double albedo,
-                                       double sigma_t, const nbrdf_brdf *bottom,
-                                       nbrdf_brdf **out, nbrdf_error *err) {
+nbrdf_status nbrdf_brdf_create_layered(double alpha1, double eta, double albedo, double sigma_t,
+                                       const nbrdf_brdf *bottom, nbrdf_brdf **out,
+                                       nbrdf_error *err) {
   if (!out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layered: out is NULL");
   *out = NULL;
   nbrdf_status st;
@@ -81,17 +81,17 @@ nbrdf_status nbrdf_brdf_check_direction(const double w[3], const char *what, vec
                                         nbrdf_error *err) {
   vec3 v = v3(w[0], w[1], w[2]);
   if (!v3_is_finite(v))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = (%g, %g, %g) is not finite", what, v.x,
-                      v.y, v.z);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = (%g, %g, %g) is not finite", what, v.x, v.y,
+                      v.z);
   if (!(v.z > 0.0))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s = (%g, %g, %g) has z <= 0 (must point into the upper hemisphere)",
-                      what, v.x, v.y, v.z);
+                      "%s = (%g, %g, %g) has z <= 0 (must point into the upper hemisphere)", what,
+                      v.x, v.y, v.z);
   double len = v3_length(v);
   if (!(fabs(len - 1.0) <= 1e-6))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s = (%g, %g, %g) is not a unit vector (length %.9g, tolerance 1e-6)",
-                      what, v.x, v.y, v.z, len);
+                      "%s = (%g, %g, %g) is not a unit vector (length %.9g, tolerance 1e-6)", what,
+                      v.x, v.y, v.z, len);
   *out = v3_scale(v, 1.0 / len);
   return NBRDF_OK;
 }

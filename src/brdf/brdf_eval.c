@@ -11,8 +11,8 @@
 #include "core/error.h"
 
 /* Mean and standard error of the mean of one query's spp walks (Welford). */
-static void eval_stochastic(const bsdf_layered *l, vec3 wo, vec3 wi, uint64_t seed,
-                            uint64_t stream, int spp, double *f, double *se) {
+static void eval_stochastic(const bsdf_layered *l, vec3 wo, vec3 wi, uint64_t seed, uint64_t stream,
+                            int spp, double *f, double *se) {
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, seed, stream);
   double mean = 0.0, m2 = 0.0;
@@ -30,9 +30,8 @@ static void eval_stochastic(const bsdf_layered *l, vec3 wo, vec3 wi, uint64_t se
 static int thread_count(int requested) { return requested > 0 ? requested : omp_get_max_threads(); }
 
 nbrdf_status nbrdf_brdf_eval_many(size_t n, const nbrdf_brdf *const *brdfs,
-                                  const nbrdf_query *queries,
-                                  const nbrdf_eval_options *options, double *f,
-                                  double *f_stderr, nbrdf_error *err) {
+                                  const nbrdf_query *queries, const nbrdf_eval_options *options,
+                                  double *f, double *f_stderr, nbrdf_error *err) {
   nbrdf_eval_options opts = NBRDF_EVAL_OPTIONS_DEFAULT;
   if (options) opts = *options;
   if (n == 0) return NBRDF_OK;
@@ -91,7 +90,8 @@ nbrdf_status nbrdf_brdf_eval(const nbrdf_brdf *brdf, size_t n, const nbrdf_query
   if (!brdf) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "eval: BRDF is NULL");
   const nbrdf_brdf **many = malloc(n * sizeof *many);
   if (!many) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "eval: out of memory for %zu queries", n);
-  for (size_t k = 0; k < n; k++) many[k] = brdf;
+  for (size_t k = 0; k < n; k++)
+    many[k] = brdf;
   nbrdf_status st = nbrdf_brdf_eval_many(n, many, queries, options, f, f_stderr, err);
   free(many);
   return st;
@@ -132,12 +132,13 @@ nbrdf_status nbrdf_brdf_sample(const nbrdf_brdf *brdf, const double wi[3], uint6
  * depend on the thread count. */
 #define ALBEDO_BLOCK 1024
 
-nbrdf_status nbrdf_brdf_albedo(const nbrdf_brdf *brdf, double theta_i, int samples,
-                               uint64_t seed, double *rho, double *rho_stderr, nbrdf_error *err) {
-  if (!brdf || !rho) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo: brdf and rho must not be NULL");
+nbrdf_status nbrdf_brdf_albedo(const nbrdf_brdf *brdf, double theta_i, int samples, uint64_t seed,
+                               double *rho, double *rho_stderr, nbrdf_error *err) {
+  if (!brdf || !rho)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo: brdf and rho must not be NULL");
   if (!isfinite(theta_i) || !(theta_i >= 0.0 && theta_i < 0.5 * M_PI))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "albedo: theta_i = %g is outside [0, pi/2) radians", theta_i);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo: theta_i = %g is outside [0, pi/2) radians",
+                      theta_i);
   if (samples < 1)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo: samples = %d must be >= 1", samples);
   vec3 wi = v3(sin(theta_i), 0.0, cos(theta_i));

@@ -8,9 +8,12 @@
 
 double bsdf_eval(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng) {
   switch (b->kind) {
-  case BSDF_CONDUCTOR: return bsdf_conductor_eval(&b->conductor, wo, wi);
-  case BSDF_DIELECTRIC: return bsdf_dielectric_eval(&b->dielectric, wo, wi, mode);
-  case BSDF_LAYERED: return bsdf_layered_eval(&b->layered, wo, wi, mode, rng);
+  case BSDF_CONDUCTOR:
+    return bsdf_conductor_eval(&b->conductor, wo, wi);
+  case BSDF_DIELECTRIC:
+    return bsdf_dielectric_eval(&b->dielectric, wo, wi, mode);
+  case BSDF_LAYERED:
+    return bsdf_layered_eval(&b->layered, wo, wi, mode, rng);
   }
   return 0.0;
 }
@@ -21,7 +24,8 @@ int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, nbrdf_rng
   case BSDF_CONDUCTOR:
     if (!(flags & BSDF_REFLECTION)) return 0;
     return bsdf_conductor_sample_rng(&b->conductor, wo, rng, s);
-  case BSDF_DIELECTRIC: return bsdf_dielectric_sample_rng(&b->dielectric, wo, mode, flags, rng, s);
+  case BSDF_DIELECTRIC:
+    return bsdf_dielectric_sample_rng(&b->dielectric, wo, mode, flags, rng, s);
   case BSDF_LAYERED:
     if (!(flags & BSDF_REFLECTION)) return 0;
     return bsdf_layered_sample(&b->layered, wo, mode, rng, s);
@@ -32,9 +36,12 @@ int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, nbrdf_rng
 double bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags) {
   (void)mode; /* no BSDF of the library has a mode-dependent sampler */
   switch (b->kind) {
-  case BSDF_CONDUCTOR: return (flags & BSDF_REFLECTION) ? bsdf_conductor_pdf(&b->conductor, wo, wi) : 0.0;
-  case BSDF_DIELECTRIC: return bsdf_dielectric_pdf(&b->dielectric, wo, wi, flags);
-  case BSDF_LAYERED: return (flags & BSDF_REFLECTION) ? bsdf_layered_pdf(&b->layered, wo, wi) : 0.0;
+  case BSDF_CONDUCTOR:
+    return (flags & BSDF_REFLECTION) ? bsdf_conductor_pdf(&b->conductor, wo, wi) : 0.0;
+  case BSDF_DIELECTRIC:
+    return bsdf_dielectric_pdf(&b->dielectric, wo, wi, flags);
+  case BSDF_LAYERED:
+    return (flags & BSDF_REFLECTION) ? bsdf_layered_pdf(&b->layered, wo, wi) : 0.0;
   }
   return 0.0;
 }

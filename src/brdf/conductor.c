@@ -49,8 +49,7 @@ static int reflect_normal(const bsdf_conductor *c, vec3 wo, vec3 m, bsdf_sample 
   return 1;
 }
 
-int bsdf_conductor_sample(const bsdf_conductor *c, vec3 wo, double u1, double u2,
-                          bsdf_sample *s) {
+int bsdf_conductor_sample(const bsdf_conductor *c, vec3 wo, double u1, double u2, bsdf_sample *s) {
   vec3 m;
   if (!(wo.z > 0.0) || !ggx_sample_vndf(c->alpha, wo, u1, u2, &m)) return 0;
   return reflect_normal(c, wo, m, s);

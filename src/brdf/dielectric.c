@@ -75,8 +75,8 @@ double bsdf_dielectric_exit(const bsdf_dielectric *d, vec3 ws, vec3 wi, bsdf_mod
   double wsm = v3_dot(ws, m), wim = v3_dot(wi, m);
   double t = 1.0 - fresnel_dielectric(wim, d->eta);
   double ls = ggx_lambda(d->alpha, ws), li = ggx_lambda(d->alpha, wi);
-  double s = wim + wsm / etap;        /* Jacobian term seen from ws */
-  double s_rev = wsm + wim * etap;    /* … and from wi (η' = η) */
+  double s = wim + wsm / etap;     /* Jacobian term seen from ws */
+  double s_rev = wsm + wim * etap; /* … and from wi (η' = η) */
   if (!(s != 0.0) || !(s_rev != 0.0)) return 0.0;
   /* pdf(ws | wi) = D_wi(m) |ws·m| / (ws·m + wi·m/η)², D_wi(m) = G1(wi) (wi·m) D / cos θi. */
   *pdf_from_wi = dm * wim / ((1.0 + li) * wi.z) * fabs(wsm) / (s_rev * s_rev);
@@ -96,8 +96,8 @@ static int sample_delta(vec3 wo, int flags, bsdf_sample *s) {
 }
 
 /* Reflection or refraction about a visible normal m sampled for wo. */
-static int scatter(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags, double uc,
-                   vec3 m, bsdf_sample *s) {
+static int scatter(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags, double uc, vec3 m,
+                   bsdf_sample *s) {
   double wom = v3_dot(wo, m);
   if (!(wom * wo.z > 0.0)) return 0;
   double fr = fresnel_dielectric(wom, d->eta);
@@ -138,8 +138,8 @@ static int scatter(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
   return 1;
 }
 
-int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
-                           double uc, double u1, double u2, bsdf_sample *s) {
+int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags, double uc,
+                           double u1, double u2, bsdf_sample *s) {
   if (d->eta == 1.0) return sample_delta(wo, flags, s);
   vec3 m;
   if (wo.z == 0.0 || !ggx_sample_vndf(d->alpha, wo, u1, u2, &m)) return 0;

@@ -19,8 +19,8 @@ double bsdf_dielectric_eval(const bsdf_dielectric *d, vec3 wo, vec3 wi, bsdf_mod
 double bsdf_dielectric_pdf(const bsdf_dielectric *d, vec3 wo, vec3 wi, int flags);
 /* Samples a visible normal of wo, then reflection or refraction by Fresnel
  * (restricted to `flags`). uc picks the lobe, (u1, u2) the normal. */
-int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
-                           double uc, double u1, double u2, bsdf_sample *s);
+int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags, double uc,
+                           double u1, double u2, bsdf_sample *s);
 /* Transmission out of the coat for the layered walk's exit: returns
  * f(ws, wi) for ws inside (z < 0) and wi outside, and writes the density with
  * which bsdf_dielectric_sample(wi, ·, BSDF_TRANSMISSION) draws ws — the pdf of

@@ -7,7 +7,7 @@ double fresnel_dielectric(double cos_i, double eta) {
     cos_i = -cos_i;
   }
   double sin2_t = (1.0 - cos_i * cos_i) / (eta * eta); /* Snell's law */
-  if (sin2_t >= 1.0) return 1.0;                        /* total internal reflection */
+  if (sin2_t >= 1.0) return 1.0;                       /* total internal reflection */
   double cos_t = sqrt(fmax(0.0, 1.0 - sin2_t));
   double parl_num = eta * cos_i - cos_t, parl_den = eta * cos_i + cos_t;
   double perp_num = cos_i - eta * cos_t, perp_den = cos_i + eta * cos_t;

@@ -39,8 +39,7 @@ static double exit_term(const bsdf_dielectric *top, vec3 w, vec3 wi, bsdf_mode m
   return fe * bsdf_mis_power(p_strategy, pe);
 }
 
-double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode,
-                         nbrdf_rng *rng) {
+double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng) {
   if (!(wo.z > 0.0) || !(wi.z > 0.0)) return 0.0;
   const bsdf_dielectric *top = &l->top;
   const bsdf *bottom = l->bottom;
@@ -124,8 +123,7 @@ double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode
   return sum;
 }
 
-double bsdf_layered_eval(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode,
-                         nbrdf_rng *rng) {
+double bsdf_layered_eval(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng) {
   if (!(wo.z > 0.0) || !(wi.z > 0.0)) return 0.0;
   return bsdf_dielectric_eval(&l->top, wo, wi, mode) + bsdf_layered_walk(l, wo, wi, mode, rng);
 }

@@ -17,12 +17,10 @@
  * top and leaves towards wi: f(wo, wi) minus the top interface's own
  * reflection. Next-event estimation through the exit interface at every
  * medium and bottom vertex, combined by MIS with phase / bottom sampling. */
-double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode,
-                         nbrdf_rng *rng);
+double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng);
 
 /* Unbiased estimate of f(wo, wi): the top's reflection (exact) + one walk. */
-double bsdf_layered_eval(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode,
-                         nbrdf_rng *rng);
+double bsdf_layered_eval(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng);
 
 /* Stochastic sampling for renderers: a walk from wo that ends when it leaves
  * through the top (returns 1 with s->weight an unbiased estimate of

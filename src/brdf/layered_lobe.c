@@ -65,7 +65,8 @@ static void walk(lobe_walker *lw, vec3 wi, nbrdf_rng *rng) {
       e->ratio = s.f / s.pdf;
       e->cos = fabs(s.wi.z);
       e->tr_slab = sigma_t > 0.0 ? exp(-sigma_t / e->cos) : 1.0;
-      e->nee_medium = albedo * INV_4PI * e->ratio * (delta_top ? 1.0 : bsdf_mis_power(s.pdf, INV_4PI));
+      e->nee_medium =
+          albedo * INV_4PI * e->ratio * (delta_top ? 1.0 : bsdf_mis_power(s.pdf, INV_4PI));
     } else {
       e->pdf = 0.0;
     }
@@ -100,7 +101,8 @@ static void walk(lobe_walker *lw, vec3 wi, nbrdf_rng *rng) {
       for (size_t k = 0; k < lw->n; k++) {
         const lobe_exit *e = &lw->ex[k];
         if (!(e->pdf > 0.0)) continue;
-        double pb, fb = bsdf_eval_pdf(l->bottom, wb, e->up, BSDF_RADIANCE, BSDF_REFLECTION, rng, &pb);
+        double pb,
+            fb = bsdf_eval_pdf(l->bottom, wb, e->up, BSDF_RADIANCE, BSDF_REFLECTION, rng, &pb);
         if (!(fb > 0.0)) continue;
         double wt = delta_top ? 1.0 : bsdf_mis_power(e->pdf, pb);
         lw->acc[k] += beta * fb * e->cos * wt * e->tr_slab * e->ratio;
@@ -172,8 +174,8 @@ int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, 
     /* The top's own reflection is exact: it moves the mean, not the error. */
     f[k] = bsdf_dielectric_eval(&l->top, wi, wo[k], BSDF_RADIANCE) + mean;
     if (f_se)
-      f_se[k] = walks > 1 ? sqrt(fmax(0.0, s2 - s1 * mean) / ((double)(walks - 1) * walks))
-                          : INFINITY;
+      f_se[k] =
+          walks > 1 ? sqrt(fmax(0.0, s2 - s1 * mean) / ((double)(walks - 1) * walks)) : INFINITY;
   }
   free(sums);
   return 1;

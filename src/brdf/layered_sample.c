@@ -1,7 +1,7 @@
 #include "brdf/dielectric.h"
+#include "brdf/disk.h"
 #include "brdf/fresnel.h"
 #include "brdf/layered.h"
-#include "brdf/disk.h"
 
 static int finish(const bsdf_layered *l, vec3 wo, vec3 wi, double weight, bsdf_sample *s) {
   if (!(wi.z > 0.0)) return 0;

@@ -37,7 +37,8 @@ static void check_sampler(const char *label, const bsdf *b, vec3 wo, bsdf_mode m
                           int n, uint64_t seed) {
   static int hist[CHECK_NC][CHECK_NP];
   for (int i = 0; i < CHECK_NC; i++)
-    for (int j = 0; j < CHECK_NP; j++) hist[i][j] = 0;
+    for (int j = 0; j < CHECK_NP; j++)
+      hist[i][j] = 0;
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, seed, 0);
   int ok = 0, bad_values = 0;
@@ -52,8 +53,10 @@ static void check_sampler(const char *label, const bsdf *b, vec3 wo, bsdf_mode m
                fabs(pdf - bs.pdf) <= 1e-7 * pdf && fabs(f - bs.f) <= 1e-7 * f + 1e-300 &&
                fabs(w - bs.weight) <= 1e-7 * w;
     if (!good && bad_values++ < 3)
-      fprintf(stderr, "%s: sample (%g, %g, %g): pdf %.12g vs %.12g, f %.12g vs %.12g, weight %.12g vs %.12g\n",
-              label, bs.wi.x, bs.wi.y, bs.wi.z, bs.pdf, pdf, bs.f, f, bs.weight, w);
+      fprintf(
+          stderr,
+          "%s: sample (%g, %g, %g): pdf %.12g vs %.12g, f %.12g vs %.12g, weight %.12g vs %.12g\n",
+          label, bs.wi.x, bs.wi.y, bs.wi.z, bs.pdf, pdf, bs.f, f, bs.weight, w);
     int i, j;
     check_cell_of(bs.wi, &i, &j);
     hist[i][j]++;
@@ -72,8 +75,8 @@ static void check_sampler(const char *label, const bsdf *b, vec3 wo, bsdf_mode m
       double e = n * integral;
       if (fabs(hist[i][j] - e) > 5.0 * sqrt(e) + 0.02 * e + 3.0) {
         if (bad_cells++ < 5)
-          fprintf(stderr, "%s: cell (%d, %d) has %d samples, pdf integral says %.1f\n", label, i,
-                  j, hist[i][j], e);
+          fprintf(stderr, "%s: cell (%d, %d) has %d samples, pdf integral says %.1f\n", label, i, j,
+                  hist[i][j], e);
       }
     }
   CHECK_MSG(bad_cells == 0, "%s: %d cells off", label, bad_cells);

@@ -55,8 +55,7 @@ static inline nbrdf_query query_deg(double ti, double pi, double to, double po) 
 }
 
 /* f and its standard error for one query (spp walks, seed). */
-static inline double eval1(const nbrdf_brdf *b, nbrdf_query q, int spp, uint64_t seed,
-                           double *se) {
+static inline double eval1(const nbrdf_brdf *b, nbrdf_query q, int spp, uint64_t seed, double *se) {
   nbrdf_eval_options o = NBRDF_EVAL_OPTIONS_DEFAULT;
   o.spp = spp;
   o.seed = seed;

@@ -5,34 +5,56 @@
 static void test_create_rejects_bad_parameters(void) {
   nbrdf_error err_ = {0}, *err = &err_;
   nbrdf_brdf *b = (nbrdf_brdf *)1;
-  CHECK_FAILS(nbrdf_brdf_create_conductor(NAN, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err, "alpha is NaN");
+  CHECK_FAILS(nbrdf_brdf_create_conductor(NAN, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha is NaN");
   CHECK(b == NULL);
-  CHECK_FAILS(nbrdf_brdf_create_conductor(INFINITY, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err, "alpha is infinite");
-  CHECK_FAILS(nbrdf_brdf_create_conductor(-0.1, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err, "alpha = -0.1");
-  CHECK_FAILS(nbrdf_brdf_create_conductor(0.0, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err, "alpha = 0 is outside");
-  CHECK_FAILS(nbrdf_brdf_create_conductor(1.5, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err, "alpha = 1.5");
+  CHECK_FAILS(nbrdf_brdf_create_conductor(INFINITY, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha is infinite");
+  CHECK_FAILS(nbrdf_brdf_create_conductor(-0.1, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha = -0.1");
+  CHECK_FAILS(nbrdf_brdf_create_conductor(0.0, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha = 0 is outside");
+  CHECK_FAILS(nbrdf_brdf_create_conductor(1.5, 0.5, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha = 1.5");
   CHECK_FAILS(nbrdf_brdf_create_conductor(0.5, NAN, &b, err), NBRDF_ERR_ARGUMENT, err, "r0 is NaN");
-  CHECK_FAILS(nbrdf_brdf_create_conductor(0.5, -0.2, &b, err), NBRDF_ERR_ARGUMENT, err, "r0 = -0.2");
-  CHECK_FAILS(nbrdf_brdf_create_conductor(0.5, 1.01, &b, err), NBRDF_ERR_ARGUMENT, err, "conductor: r0 = 1.01");
+  CHECK_FAILS(nbrdf_brdf_create_conductor(0.5, -0.2, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "r0 = -0.2");
+  CHECK_FAILS(nbrdf_brdf_create_conductor(0.5, 1.01, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "conductor: r0 = 1.01");
   CHECK_FAILS(nbrdf_brdf_create_conductor(0.5, 0.5, NULL, err), NBRDF_ERR_ARGUMENT, err, "out");
 
-  CHECK_FAILS(nbrdf_brdf_create_dielectric(NAN, 1.5, &b, err), NBRDF_ERR_ARGUMENT, err, "alpha is NaN");
-  CHECK_FAILS(nbrdf_brdf_create_dielectric(0.5, 0.9, &b, err), NBRDF_ERR_ARGUMENT, err, "eta = 0.9");
-  CHECK_FAILS(nbrdf_brdf_create_dielectric(0.5, 4.5, &b, err), NBRDF_ERR_ARGUMENT, err, "eta = 4.5");
-  CHECK_FAILS(nbrdf_brdf_create_dielectric(0.5, -INFINITY, &b, err), NBRDF_ERR_ARGUMENT, err, "eta is infinite");
+  CHECK_FAILS(nbrdf_brdf_create_dielectric(NAN, 1.5, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha is NaN");
+  CHECK_FAILS(nbrdf_brdf_create_dielectric(0.5, 0.9, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "eta = 0.9");
+  CHECK_FAILS(nbrdf_brdf_create_dielectric(0.5, 4.5, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "eta = 4.5");
+  CHECK_FAILS(nbrdf_brdf_create_dielectric(0.5, -INFINITY, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "eta is infinite");
 
   nbrdf_brdf *c = conductor_or_die(0.3, 0.5);
-  CHECK_FAILS(nbrdf_brdf_create_layered(NAN, 1.5, 0.5, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err, "layered: alpha1 is NaN");
-  CHECK_FAILS(nbrdf_brdf_create_layered(2.0, 1.5, 0.5, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err, "alpha1 = 2");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, NAN, 0.5, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err, "eta is NaN");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 0.5, 0.5, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err, "eta = 0.5");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, -0.1, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err, "albedo = -0.1");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 1.1, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err, "albedo = 1.1");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, NAN, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err, "albedo is NaN");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 0.5, -1, c, &b, err), NBRDF_ERR_ARGUMENT, err, "sigma_t = -1");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 0.5, 2000, c, &b, err), NBRDF_ERR_ARGUMENT, err, "sigma_t = 2000");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 0.5, INFINITY, c, &b, err), NBRDF_ERR_ARGUMENT, err, "sigma_t is infinite");
-  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 0.5, 1, NULL, &b, err), NBRDF_ERR_ARGUMENT, err, "bottom is NULL");
+  CHECK_FAILS(nbrdf_brdf_create_layered(NAN, 1.5, 0.5, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "layered: alpha1 is NaN");
+  CHECK_FAILS(nbrdf_brdf_create_layered(2.0, 1.5, 0.5, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha1 = 2");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, NAN, 0.5, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "eta is NaN");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 0.5, 0.5, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "eta = 0.5");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, -0.1, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "albedo = -0.1");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 1.1, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "albedo = 1.1");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, NAN, 1, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "albedo is NaN");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 0.5, -1, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "sigma_t = -1");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 0.5, 2000, c, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "sigma_t = 2000");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 0.5, INFINITY, c, &b, err), NBRDF_ERR_ARGUMENT,
+              err, "sigma_t is infinite");
+  CHECK_FAILS(nbrdf_brdf_create_layered(0.3, 1.5, 0.5, 1, NULL, &b, err), NBRDF_ERR_ARGUMENT, err,
+              "bottom is NULL");
   /* The accepted extremes. */
   CHECK_OK(nbrdf_brdf_create_layered(1e-3, 1.0, 0.0, 0.0, c, &b, err), err);
   nbrdf_brdf_destroy(b);
@@ -73,7 +95,8 @@ static void test_eval_rejects_bad_queries(void) {
   CHECK_FAILS(nbrdf_brdf_eval(l, 3, q, &o, f, se, err), NBRDF_ERR_ARGUMENT, err, "threads = -1");
   o.threads = 0;
   const nbrdf_brdf *many[3] = {l, NULL, l};
-  CHECK_FAILS(nbrdf_brdf_eval_many(3, many, q, &o, f, se, err), NBRDF_ERR_ARGUMENT, err, "query 1: BRDF is NULL");
+  CHECK_FAILS(nbrdf_brdf_eval_many(3, many, q, &o, f, se, err), NBRDF_ERR_ARGUMENT, err,
+              "query 1: BRDF is NULL");
   CHECK_FAILS(nbrdf_brdf_eval(NULL, 3, q, &o, f, se, err), NBRDF_ERR_ARGUMENT, err, "NULL");
   CHECK_OK(nbrdf_brdf_eval(l, 0, NULL, &o, NULL, NULL, err), err);
   /* One walk cannot estimate its own spread. */
@@ -84,10 +107,14 @@ static void test_eval_rejects_bad_queries(void) {
   double wi[3] = {0, 0, -1}, wo[3], w;
   CHECK_FAILS(nbrdf_brdf_sample(l, wi, 1, 0, wo, &w, err), NBRDF_ERR_ARGUMENT, err, "sample: wi");
   double rho, rse;
-  CHECK_FAILS(nbrdf_brdf_albedo(l, NAN, 10, 1, &rho, &rse, err), NBRDF_ERR_ARGUMENT, err, "theta_i = nan");
-  CHECK_FAILS(nbrdf_brdf_albedo(l, -0.1, 10, 1, &rho, &rse, err), NBRDF_ERR_ARGUMENT, err, "theta_i = -0.1");
-  CHECK_FAILS(nbrdf_brdf_albedo(l, M_PI / 2, 10, 1, &rho, &rse, err), NBRDF_ERR_ARGUMENT, err, "theta_i");
-  CHECK_FAILS(nbrdf_brdf_albedo(l, 0.1, 0, 1, &rho, &rse, err), NBRDF_ERR_ARGUMENT, err, "samples = 0");
+  CHECK_FAILS(nbrdf_brdf_albedo(l, NAN, 10, 1, &rho, &rse, err), NBRDF_ERR_ARGUMENT, err,
+              "theta_i = nan");
+  CHECK_FAILS(nbrdf_brdf_albedo(l, -0.1, 10, 1, &rho, &rse, err), NBRDF_ERR_ARGUMENT, err,
+              "theta_i = -0.1");
+  CHECK_FAILS(nbrdf_brdf_albedo(l, M_PI / 2, 10, 1, &rho, &rse, err), NBRDF_ERR_ARGUMENT, err,
+              "theta_i");
+  CHECK_FAILS(nbrdf_brdf_albedo(l, 0.1, 0, 1, &rho, &rse, err), NBRDF_ERR_ARGUMENT, err,
+              "samples = 0");
   nbrdf_brdf_destroy(l);
 }
 
@@ -137,7 +164,8 @@ static void test_analytic_through_api(void) {
     }
   CHECK_OK(nbrdf_brdf_eval(d, NC * NP, q, NULL, f, NULL, err), err);
   double rho = 0;
-  for (int k = 0; k < NC * NP; k++) rho += f[k] * q[k].wo[2];
+  for (int k = 0; k < NC * NP; k++)
+    rho += f[k] * q[k].wo[2];
   rho *= (1.0 / NC) * (2 * M_PI / NP);
   CHECK_MSG(fabs(sum / 2000 - rho) < 0.002, "mean weight %g, quadrature %g", sum / 2000, rho);
   nbrdf_brdf_destroy(c);

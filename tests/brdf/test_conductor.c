@@ -16,8 +16,8 @@ static void test_closed_forms(void) {
    * = 1.273240 · 0.755929 · 0.07 / 1 = 0.0673735. */
   vec3 wo = v3_from_spherical(M_PI / 3, 0), wi = v3_from_spherical(M_PI / 3, M_PI);
   double lambda = (sqrt(1.75) - 1.0) / 2.0;
-  CHECK_REL(bsdf_conductor_eval(&c, wo, wi), 1.0 / (0.25 * M_PI) / (1 + 2 * lambda) * 0.07,
-            1e-12, 0);
+  CHECK_REL(bsdf_conductor_eval(&c, wo, wi), 1.0 / (0.25 * M_PI) / (1 + 2 * lambda) * 0.07, 1e-12,
+            0);
   CHECK_NEAR(bsdf_conductor_eval(&c, wo, wi), 0.0673735, 1e-7);
   /* Below the surface: nothing. */
   CHECK(bsdf_conductor_eval(&c, v3_flip_z(wo), wi) == 0.0);
@@ -40,8 +40,8 @@ static void test_reciprocity(void) {
 
 static void test_sampler(void) {
   bsdf b = conductor(0.3, 0.5);
-  check_sampler("conductor a=0.3 50deg", &b, v3_from_spherical(50 * M_PI / 180, 0.2),
-                BSDF_RADIANCE, BSDF_ALL, 200000, 1);
+  check_sampler("conductor a=0.3 50deg", &b, v3_from_spherical(50 * M_PI / 180, 0.2), BSDF_RADIANCE,
+                BSDF_ALL, 200000, 1);
   b = conductor(1.0, 0.9);
   check_sampler("conductor a=1 80deg", &b, v3_from_spherical(80 * M_PI / 180, 1.0), BSDF_RADIANCE,
                 BSDF_ALL, 200000, 2);
@@ -71,7 +71,8 @@ static void test_albedo(void) {
      * multiple scattering: at normal incidence half of the (cosine-
      * distributed) visible normals reflect below the horizon, and G2 < 1
      * takes more: ≈ 0.30. */
-    CHECK_MSG(sr / n > (thetas[t] < 50 ? 0.25 : 0.05), "theta %g: rough white albedo %g", thetas[t], sr / n);
+    CHECK_MSG(sr / n > (thetas[t] < 50 ? 0.25 : 0.05), "theta %g: rough white albedo %g", thetas[t],
+              sr / n);
   }
 }
 

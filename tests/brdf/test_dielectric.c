@@ -57,7 +57,8 @@ static void test_reciprocity(void) {
     double fba = bsdf_dielectric_eval(&d, b, a, BSDF_RADIANCE);
     double adj = bsdf_dielectric_eval(&d, b, a, BSDF_IMPORTANCE);
     transmissions += a.z * b.z < 0 && fab > 0;
-    if (fabs(fab / (eta_a * eta_a) - fba / (eta_b * eta_b)) > 1e-10 * fab || fabs(adj - fab) > 1e-10 * fab)
+    if (fabs(fab / (eta_a * eta_a) - fba / (eta_b * eta_b)) > 1e-10 * fab ||
+        fabs(adj - fab) > 1e-10 * fab)
       if (bad++ < 3) fprintf(stderr, "f(a,b) %.15g f(b,a) %.15g adj %.15g\n", fab, fba, adj);
   }
   CHECK(bad == 0);
@@ -123,8 +124,8 @@ static void test_energy(void) {
       vec3 wo = side ? v3_flip_z(w) : w;
       double er = mean_weight(&rough, wo, BSDF_IMPORTANCE, 20000, 4 + t, &se);
       double es = mean_weight(&smooth, wo, BSDF_IMPORTANCE, 20000, 4 + t, &se);
-      CHECK_MSG(er <= 1.0 && es <= 1.0 && er > 0.0,
-                "theta %g side %d: albedo rough %g smooth %g", thetas[t], side, er, es);
+      CHECK_MSG(er <= 1.0 && es <= 1.0 && er > 0.0, "theta %g side %d: albedo rough %g smooth %g",
+                thetas[t], side, er, es);
     }
   }
 }
@@ -165,8 +166,8 @@ static void test_extremes_finite(void) {
           if (!(isfinite(f) && isfinite(p) && isfinite(bs.weight) && isfinite(bs.f) &&
                 isfinite(bs.pdf) && v3_is_finite(bs.wi) && bs.weight >= 0.0))
             if (bad++ < 3)
-              fprintf(stderr, "alpha %g eta %.10g: f %g pdf %g weight %g\n", alphas[a], etas[e],
-                      f, p, bs.weight);
+              fprintf(stderr, "alpha %g eta %.10g: f %g pdf %g weight %g\n", alphas[a], etas[e], f,
+                      p, bs.weight);
         }
     }
   CHECK(bad == 0);

@@ -49,7 +49,8 @@ static void check_vndf_histogram(double alpha, vec3 w, uint64_t seed) {
   const int n = 120000;
   static int hist[NT][NP];
   for (int i = 0; i < NT; i++)
-    for (int j = 0; j < NP; j++) hist[i][j] = 0;
+    for (int j = 0; j < NP; j++)
+      hist[i][j] = 0;
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, seed, 0);
   int fails = 0;

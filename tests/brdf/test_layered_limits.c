@@ -4,8 +4,8 @@
 #include "brdf/fresnel.h"
 #include "layered_util.h"
 
-static const double dirs[][4] = {{0, 0, 0, 0},    {30, 0, 30, 180}, {30, 0, 50, 90},
-                                 {60, 0, 60, 180}, {60, 0, 10, 0},   {80, 0, 80, 180},
+static const double dirs[][4] = {{0, 0, 0, 0},      {30, 0, 30, 180}, {30, 0, 50, 90},
+                                 {60, 0, 60, 180},  {60, 0, 10, 0},   {80, 0, 80, 180},
                                  {89.9, 0, 45, 180}};
 enum { NDIRS = sizeof dirs / sizeof dirs[0] };
 
@@ -56,8 +56,8 @@ static void test_black_bottom_is_nearly_top(void) {
   for (int k = 0; k < NDIRS - 1; k++) {
     nbrdf_query q = query_deg(dirs[k][0], dirs[k][1], dirs[k][2], dirs[k][3]);
     double se, f = eval1(l, q, 4096, 3, &se), fd = eval1(d, q, 1, 1, NULL);
-    CHECK_MSG(f >= fd - 4 * se && f - fd <= 0.005 * fd + 4 * se, "dir %d: f %g top %g ± %g", k,
-              f, fd, se);
+    CHECK_MSG(f >= fd - 4 * se && f - fd <= 0.005 * fd + 4 * se, "dir %d: f %g top %g ± %g", k, f,
+              fd, se);
   }
   nbrdf_brdf_destroy(l);
   nbrdf_brdf_destroy(d);
@@ -95,8 +95,8 @@ static void test_single_scattering(void) {
         double expected = transmit * f_single(albedo, taus[t], mo, mi);
         double se, f = eval1(l, q, 20000, 4, &se);
         CHECK_MSG(fabs(f - expected) <= 4 * se + 0.006 * expected,
-                  "eta %g tau %g (%g, %g): f %.6g ± %.2g, single scattering %.6g", etas[e],
-                  taus[t], pairs[p][0], pairs[p][1], f, se, expected);
+                  "eta %g tau %g (%g, %g): f %.6g ± %.2g, single scattering %.6g", etas[e], taus[t],
+                  pairs[p][0], pairs[p][1], f, se, expected);
       }
       nbrdf_brdf_destroy(l);
     }
@@ -129,8 +129,8 @@ static void test_three_layers_reduce(void) {
   for (int k = 0; k < NDIRS; k++) {
     nbrdf_query q = query_deg(dirs[k][0], dirs[k][1], dirs[k][2], dirs[k][3]);
     double sa, sb, fa = eval1(outer, q, 4096, 6, &sa), fb = eval1(inner, q, 4096, 7, &sb);
-    CHECK_MSG(fabs(fa - fb) <= 4.5 * sqrt(sa * sa + sb * sb), "dir %d: 3 layers %g ± %g, 2 layers %g ± %g",
-              k, fa, sa, fb, sb);
+    CHECK_MSG(fabs(fa - fb) <= 4.5 * sqrt(sa * sa + sb * sb),
+              "dir %d: 3 layers %g ± %g, 2 layers %g ± %g", k, fa, sa, fb, sb);
   }
   nbrdf_brdf_destroy(outer);
   nbrdf_brdf_destroy(inner);

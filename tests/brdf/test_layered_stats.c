@@ -6,17 +6,22 @@
 
 static nbrdf_brdf *bench_brdf(int which) {
   switch (which) {
-  case 0: return layered2(0.02, 1.5, 0.5, 0.9, 0.0, 0.0);  /* smooth coat, rough metal */
-  case 1: return layered2(0.6, 1.5, 0.02, 0.9, 0.0, 0.0);  /* rough coat, smooth metal */
-  case 2: return layered2(0.1, 1.5, 0.3, 0.5, 0.95, 5.0);  /* thick scattering medium */
-  default: return layered2(0.3, 2.0, 0.2, 0.7, 0.6, 1.0); /* a bit of everything */
+  case 0:
+    return layered2(0.02, 1.5, 0.5, 0.9, 0.0, 0.0); /* smooth coat, rough metal */
+  case 1:
+    return layered2(0.6, 1.5, 0.02, 0.9, 0.0, 0.0); /* rough coat, smooth metal */
+  case 2:
+    return layered2(0.1, 1.5, 0.3, 0.5, 0.95, 5.0); /* thick scattering medium */
+  default:
+    return layered2(0.3, 2.0, 0.2, 0.7, 0.6, 1.0); /* a bit of everything */
   }
 }
 
 /* f(ωi, ωo) = f(ωo, ωi): swapping starts the walk from the other side, so
  * the two estimates are independent and must agree within their errors. */
 static void test_reciprocity(void) {
-  const double pairs[][4] = {{0, 0, 45, 180}, {30, 0, 60, 180}, {60, 0, 20, 90}, {75, 0, 75, 180}, {80, 0, 40, 45}};
+  const double pairs[][4] = {
+      {0, 0, 45, 180}, {30, 0, 60, 180}, {60, 0, 20, 90}, {75, 0, 75, 180}, {80, 0, 40, 45}};
   double sum_z2 = 0.0;
   int n = 0;
   for (int b = 0; b < 4; b++) {
@@ -50,7 +55,8 @@ static void test_standard_error_is_honest(void) {
   for (int b = 0; b < 4; b++) {
     nbrdf_brdf *l = bench_brdf(b);
     for (int d = 0; d < 3; d++) {
-      for (int k = 0; k < 2 * PAIRS; k++) q[k] = query_deg(dirs[d][0], dirs[d][1], dirs[d][2], dirs[d][3]);
+      for (int k = 0; k < 2 * PAIRS; k++)
+        q[k] = query_deg(dirs[d][0], dirs[d][1], dirs[d][2], dirs[d][3]);
       nbrdf_eval_options o = NBRDF_EVAL_OPTIONS_DEFAULT;
       o.spp = 64;
       o.seed = 100 + (uint64_t)(3 * b + d);
@@ -58,7 +64,8 @@ static void test_standard_error_is_honest(void) {
       double sum_z2 = 0.0;
       int beyond3 = 0;
       for (int k = 0; k < PAIRS; k++) {
-        double z = (f[2 * k] - f[2 * k + 1]) / sqrt(se[2 * k] * se[2 * k] + se[2 * k + 1] * se[2 * k + 1]);
+        double z =
+            (f[2 * k] - f[2 * k + 1]) / sqrt(se[2 * k] * se[2 * k] + se[2 * k + 1] * se[2 * k + 1]);
         sum_z2 += z * z;
         beyond3 += fabs(z) > 3.0;
       }
@@ -75,7 +82,8 @@ static void test_deterministic(void) {
   nbrdf_error err_ = {0}, *err = &err_;
   enum { N = 40 };
   nbrdf_query q[N];
-  for (int k = 0; k < N; k++) q[k] = query_deg(2.0 * k, 10.0 * k, 85.0 - 2.0 * k, 180.0 - 7.0 * k);
+  for (int k = 0; k < N; k++)
+    q[k] = query_deg(2.0 * k, 10.0 * k, 85.0 - 2.0 * k, 180.0 - 7.0 * k);
   nbrdf_brdf *l = bench_brdf(3);
   double f1[N], s1[N], f2[N], s2[N], f3[N], s3[N];
   nbrdf_eval_options o = NBRDF_EVAL_OPTIONS_DEFAULT;
@@ -94,7 +102,8 @@ static void test_deterministic(void) {
   o.seed = 78;
   CHECK_OK(nbrdf_brdf_eval(l, N, q, &o, f3, s3, err), err);
   int same = 0;
-  for (int k = 0; k < N; k++) same += f3[k] == f1[k];
+  for (int k = 0; k < N; k++)
+    same += f3[k] == f1[k];
   CHECK(same == 0);
 
   /* Albedo: the same bits with 1 and 2 threads. */
