@@ -128,8 +128,9 @@ void nbrdf_st_writer_destroy(nbrdf_st_writer *writer); /* NULL is allowed */
 
 /* Adds an F32 tensor of the given shape (ndim <= NBRDF_ST_MAX_DIMS, each dim >= 0; data
  * may be NULL only if a dim is 0). The data is COPIED: the caller may reuse its buffer at
- * once. Fails with NBRDF_ERR_ARGUMENT for an empty name, "__metadata__", a name that is not
- * UTF-8 or contains NUL, or a name already added. Values are written as given (NaN too). */
+ * once. Fails with NBRDF_ERR_ARGUMENT for an empty name (the reader accepts one from other
+ * writers), "__metadata__", a name that is not UTF-8, or a name already added. Values are
+ * written as given, NaN and infinities too (nbrdf_st_expect refuses them when read). */
 nbrdf_status nbrdf_st_writer_add(nbrdf_st_writer *writer, const char *name, int ndim,
                                  const int64_t *shape, const float *data, nbrdf_error *err);
 /* The same without the copy: `data` is BORROWED and must stay valid and unchanged until

@@ -57,12 +57,14 @@ static nbrdf_status expect(parser *p, char c, const char *context) {
     return NBRDF_OK;
   }
   if (got < 0) return fail_at(p, NBRDF_ERR_FORMAT, "JSON ends early: expected '%c' %s", c, context);
+  if (got < 0x20 || got > 0x7e)
+    return fail_at(p, NBRDF_ERR_FORMAT, "expected '%c' %s, found byte 0x%02x", c, context, got);
   return fail_at(p, NBRDF_ERR_FORMAT, "expected '%c' %s, found '%c'", c, context, got);
 }
 
 /* "<what> is <kind>", or that the JSON ended where a value was expected. */
 static nbrdf_status not_a(parser *p, const char *what, const char *kind) {
-  if (peek(p) < 0) return fail_at(p, NBRDF_ERR_FORMAT, "JSON ends early: expected %s", what);
+  if (peek(p) < 0) return fail_at(p, NBRDF_ERR_FORMAT, "JSON ends early: %s is missing", what);
   return fail_at(p, NBRDF_ERR_FORMAT, "%s is %s", what, kind);
 }
 

@@ -252,6 +252,16 @@ nbrdf_status nbrdf_st_writer_serialize(const nbrdf_st_writer *w, void **bytes, s
   while (!h.failed && h.len % 8)
     puts_raw(&h, " ");
 
+  if (!h.failed && h.len > ST_MAX_HEADER) {
+    size_t len = h.len;
+    free(h.p);
+    free(order);
+    free(meta);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "the header would be %zu bytes, above the "
+                      "format's limit of %llu",
+                      len, (unsigned long long)ST_MAX_HEADER);
+  }
   unsigned char *out = NULL;
   size_t total = 0;
   if (!h.failed && offset <= SIZE_MAX - 8 - h.len) {

@@ -56,7 +56,9 @@ static void test_not_json(void) {
   REFUSED("[1, 2]", 0, NBRDF_ERR_FORMAT, "does not start with '{'");
   REFUSED(" {}", 0, NBRDF_ERR_FORMAT, "does not start with '{'");
   REFUSED("{\"a\":", 0, NBRDF_ERR_FORMAT, "JSON ends early");
-  REFUSED("{\"a\" {}}", 0, NBRDF_ERR_FORMAT, "expected ':'");
+  REFUSED("{\"a\" {}}", 0, NBRDF_ERR_FORMAT, "expected ':' after a tensor name, found '{'");
+  REFUSED("{\"a\"\x01}", 0, NBRDF_ERR_FORMAT, "expected ':' after a tensor name, found byte 0x01");
+  REFUSED("{\"a\":", 0, NBRDF_ERR_FORMAT, "JSON ends early: tensor 'a' is missing");
   REFUSED("{\"a\":{}", 0, NBRDF_ERR_FORMAT, "has no \"dtype\"");
   REFUSED("{a:1}", 0, NBRDF_ERR_FORMAT, "a tensor name is not a string");
   REFUSED("{\"a", 0, NBRDF_ERR_FORMAT, "unterminated string");
