@@ -53,20 +53,6 @@ const char *nbrdf_st_dtype_name(nbrdf_st_dtype dtype) {
   return "?";
 }
 
-size_t nbrdf_st_dtype_size(nbrdf_st_dtype dtype) {
-  switch (dtype) {
-  case NBRDF_ST_F32:
-    return 4;
-  case NBRDF_ST_F16:
-    return 2;
-  case NBRDF_ST_BF16:
-    return 2;
-  case NBRDF_ST_F64:
-    return 8;
-  }
-  return 0;
-}
-
 static float bits_to_float(uint32_t bits) {
   float f;
   memcpy(&f, &bits, sizeof f);

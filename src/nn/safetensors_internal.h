@@ -13,7 +13,6 @@
 /* Looks a dtype string up. Returns 1 and sets *dtype and *size for a dtype nbrdf reads,
  * 0 for a dtype of the format nbrdf refuses, -1 for an unknown string. */
 int nbrdf_st_dtype_lookup(const char *name, nbrdf_st_dtype *dtype, size_t *size);
-size_t nbrdf_st_dtype_size(nbrdf_st_dtype dtype);
 
 /* Converts `count` little-endian values of `dtype` at `src` (any alignment) to float. */
 void nbrdf_st_convert(nbrdf_st_dtype dtype, const unsigned char *src, size_t count, float *dst);
