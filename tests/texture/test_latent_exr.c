@@ -85,6 +85,30 @@ static void test_paper_layout_and_compressions(void) {
   for (int c = 0; c < 5; c++) round_trip(67, 45, paper, NBRDF_LATENT_HALF, 32, comps[c], 45);
 }
 
+static void test_auto_compression(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_latent_layout layout = {2, NBRDF_COLOUR_MONO, 0};
+  float *l0 = fixture_texels(9, 9, &layout, 2);
+  for (int s = 0; s < 2; s++) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/auto%d.exr", nbrdf_test_tmpdir(), s);
+    nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+    CHECK(opts.compression == NBRDF_LATENT_AUTO && opts.storage == NBRDF_LATENT_HALF);
+    opts.storage = s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
+    CHECK_OK(fixture_write(path, 9, 9, &layout, NULL, &opts, l0, 9, err), err);
+    nbrdf_latent_reader *r = NULL;
+    CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
+    if (r)
+      CHECK(nbrdf_latent_reader_info(r)->compression == (s ? NBRDF_LATENT_PIZ : NBRDF_LATENT_ZIP));
+    nbrdf_latent_reader_close(r);
+  }
+  nbrdf_latent_compression c;
+  CHECK(nbrdf_latent_compression_parse("auto", &c) && c == NBRDF_LATENT_AUTO);
+  CHECK(nbrdf_latent_compression_parse("piz", &c) && c == NBRDF_LATENT_PIZ);
+  CHECK(!nbrdf_latent_compression_parse("dwaa", &c));
+  free(l0);
+}
+
 static void test_read_rectangle_and_channels(void) {
   nbrdf_error e, *err = &e;
   nbrdf_latent_layout layout = {4, NBRDF_COLOUR_RGB, 1};
@@ -268,6 +292,7 @@ static void test_bytes_independent_of_threads(void) {
 int main(void) {
   RUN(test_round_trip_every_level);
   RUN(test_paper_layout_and_compressions);
+  RUN(test_auto_compression);
   RUN(test_read_rectangle_and_channels);
   RUN(test_single_level_option);
   RUN(test_mip_row_hook);
