@@ -22,7 +22,6 @@
 #include "nn/nn.h"
 
 #define ROUNDS 3                     /* interleaved rounds of network and replay timings */
-#define FWD_CHUNK 16384              /* inference workspace rows; larger batches are chunked */
 #define TRAIN_BYTES_CAP (1ull << 30) /* training workspaces stay under 1 GiB; chunk beyond */
 
 static double now(void) {
@@ -178,7 +177,8 @@ static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int
   r.y = malloc(sizeof(float) * (size_t)max_b * out);
   r.dy = malloc(sizeof(float) * (size_t)max_b * out);
   r.grad = calloc(nbrdf_nn_param_count(nn), sizeof(float));
-  size_t rb = sizeof(float) * (size_t)(max_b < FWD_CHUNK ? max_b : FWD_CHUNK) * nn->max_width;
+  const int block = nn_infer_block(nn); /* rows per inference block, replayed the same way */
+  size_t rb = sizeof(float) * (size_t)(max_b < block ? max_b : block) * nn->max_width;
   size_t train_cap = 1;
   while (train_cap * 2 <= (size_t)max_b &&
          nbrdf_nn_workspace_bytes(spec, (int)train_cap * 2, NBRDF_NN_TRAIN) <= TRAIN_BYTES_CAP)
@@ -194,10 +194,10 @@ static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int
   for (int k = 0; k < n_batches; k++) {
     int B = batches[k];
     char mem_f[32], mem_t[32];
-    /* forward: inference workspace, chunked beyond FWD_CHUNK */
+    /* forward: inference workspace, which works in blocks of nn_infer_block rows */
     r.batch = B;
-    r.chunk = B < FWD_CHUNK ? B : FWD_CHUNK;
-    die(nbrdf_nn_workspace_create(nn, r.chunk, NBRDF_NN_INFER, &r.ws, &err), &err);
+    r.chunk = B < block ? B : block;
+    die(nbrdf_nn_workspace_create(nn, B, NBRDF_NN_INFER, &r.ws, &err), &err);
     fmt_bytes(mem_f, sizeof mem_f, (double)nbrdf_nn_workspace_bytes(spec, r.chunk, NBRDF_NN_INFER));
     double tn = 1e30, tg = 1e30;
     for (int round = 0; round < ROUNDS; round++) {

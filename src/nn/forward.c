@@ -103,8 +103,8 @@ nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const 
     return NBRDF_OK;
   }
   const int in = nn->widths[0], out = nn->widths[nn->spec.n_layers];
-  for (int done = 0; done < batch; done += ws->max_batch) {
-    int rows = batch - done < ws->max_batch ? batch - done : ws->max_batch;
+  for (int done = 0; done < batch; done += ws->rows) {
+    int rows = batch - done < ws->rows ? batch - done : ws->rows;
     forward_infer(nn, ws, x + (size_t)done * in, rows, y + (size_t)done * out);
   }
   return NBRDF_OK;

@@ -181,7 +181,8 @@ void nbrdf_nn_init_params(nbrdf_nn *nn, uint64_t seed);
 
 typedef enum nbrdf_nn_mode {
   NBRDF_NN_TRAIN = 0, /* keeps every activation: forward then backward */
-  NBRDF_NN_INFER = 1  /* ping-pong buffers only: forward only, any batch (chunked) */
+  NBRDF_NN_INFER = 1  /* forward only, any batch: processed in cache-sized blocks of at most
+                         max_batch rows through ping-pong buffers */
 } nbrdf_nn_mode;
 
 typedef struct nbrdf_nn_workspace nbrdf_nn_workspace;
@@ -199,7 +200,8 @@ size_t nbrdf_nn_workspace_bytes(const nbrdf_nn_spec *spec, int max_batch, nbrdf_
 
 /* y[batch x outputs] = network(x[batch x inputs]). In TRAIN mode batch <= max_batch and the
  * workspace keeps what backward needs (x is copied; the caller may reuse it). In INFER mode
- * any batch >= 1 is processed in chunks of max_batch. `y` may alias nothing in `ws`.
+ * any batch >= 1 is processed in blocks of min(max_batch, ~2 MiB per activation buffer)
+ * rows, so an INFER workspace never holds more than that. `y` must not overlap `x`.
  * Non-finite inputs are not checked here (hot path); they propagate. */
 nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int batch,
                               float *y, nbrdf_error *err);

@@ -9,6 +9,11 @@
 /* Beyond this, rows x width x 4 bytes could overflow int arithmetic in BLAS calls. */
 #define MAX_BATCH (1 << 24)
 
+int nn_infer_block(const nbrdf_nn *nn) {
+  int rows = (1 << 19) / nn->max_width / 16 * 16;
+  return rows < 64 ? 64 : rows;
+}
+
 typedef struct carver {
   char *base; /* NULL while measuring */
   size_t used;
@@ -27,7 +32,10 @@ static float *carve_f(carver *c, int rows, int w) {
 /* Lays the workspace out (ws->block == NULL: only measures) and returns its size. */
 static size_t plan(nbrdf_nn_workspace *ws, const nbrdf_nn *nn) {
   carver c = {ws->block, 0};
-  const int B = ws->max_batch, W = nn->max_width, L = nn->spec.n_layers;
+  const int W = nn->max_width, L = nn->spec.n_layers;
+  const int block = nn_infer_block(nn);
+  ws->rows = ws->mode == NBRDF_NN_INFER && ws->max_batch > block ? block : ws->max_batch;
+  const int B = ws->rows;
   memset(ws->act, 0, sizeof ws->act);
   memset(ws->layer, 0, sizeof ws->layer);
   memset(ws->grad_skip, 0, sizeof ws->grad_skip);

@@ -192,6 +192,30 @@ static void test_modes_and_chunks(void) {
   /* Deterministic: the same call twice gives the same bits. */
   CHECK_OK(nbrdf_nn_forward(nn, wi, x, rows, yc, err), err);
   CHECK(memcmp(yb, yc, sizeof(float) * rows * out) == 0);
+  /* A batch larger than the inference block (about 2 MiB per buffer: 14560 rows at width 36)
+   * is processed block by block, and the workspace does not grow with max_batch. */
+  const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(nn);
+  CHECK(nbrdf_nn_workspace_bytes(spec, 1 << 20, NBRDF_NN_INFER) ==
+        nbrdf_nn_workspace_bytes(spec, 14560, NBRDF_NN_INFER));
+  CHECK(nbrdf_nn_workspace_bytes(spec, 14560, NBRDF_NN_INFER) >
+        nbrdf_nn_workspace_bytes(spec, 14000, NBRDF_NN_INFER));
+  enum { BIG = 20000 };
+  float *xb = random_rows(BIG, in, 14), *yd = malloc(sizeof(float) * BIG * out),
+        *ye = malloc(sizeof(float) * BIG * out);
+  nbrdf_nn_workspace *wbig = NULL, *wsmall = NULL;
+  CHECK_OK(nbrdf_nn_workspace_create(nn, 1 << 20, NBRDF_NN_INFER, &wbig, err), err);
+  CHECK_OK(nbrdf_nn_workspace_create(nn, 999, NBRDF_NN_INFER, &wsmall, err), err);
+  CHECK_OK(nbrdf_nn_forward(nn, wbig, xb, BIG, yd, err), err);
+  CHECK_OK(nbrdf_nn_forward(nn, wsmall, xb, BIG, ye, err), err);
+  int differ = 0;
+  for (int i = 0; i < BIG * out; i++)
+    differ += !(fabsf(yd[i] - ye[i]) <= 1e-5f * (1.0f + fabsf(ye[i])));
+  CHECK_MSG(differ == 0, "%d outputs differ between inference block sizes", differ);
+  nbrdf_nn_workspace_destroy(wbig);
+  nbrdf_nn_workspace_destroy(wsmall);
+  free(xb);
+  free(yd);
+  free(ye);
   size_t train = nbrdf_nn_workspace_bytes(nbrdf_nn_get_spec(nn), 1000, NBRDF_NN_TRAIN);
   size_t infer = nbrdf_nn_workspace_bytes(nbrdf_nn_get_spec(nn), 1000, NBRDF_NN_INFER);
   CHECK(infer > 0 && train > 2 * infer);
