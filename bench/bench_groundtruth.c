@@ -11,6 +11,8 @@
 #include <string.h>
 #include <time.h>
 
+#include "brdf/brdf_handle.h"
+#include "brdf/layered_lobe.h"
 #include "eval/lobe.h"
 #include "eval/lobe_png.h"
 #include "eval/plot.h"
@@ -30,27 +32,31 @@ static const preset PRESETS[N_BRDF] = {
 };
 
 typedef struct config {
-  int spp[MAX_SPP], n_spp, ref_spp, res, threads, speed_spp;
+  int spp[MAX_SPP], n_spp, ref_spp, ref_walks, res, threads, speed_spp;
   const char *only, *out, *plot, *lobes;
 } config;
 
 static void usage(FILE *f) {
   fprintf(f,
-          "usage: bench_groundtruth [--spp 16,64,256,1024] [--ref-spp 1024] [--res 64]\n"
-          "                         [--threads T] [--brdf coat|rough|thick] [--out FILE.md]\n"
-          "                         [--plot FILE.png] [--lobes DIR]\n"
+          "usage: bench_groundtruth [--spp 16,64,256,1024] [--ref-walks 16000 | --ref-spp N]\n"
+          "                         [--res 64] [--threads T] [--brdf coat|rough|thick]\n"
+          "                         [--out FILE.md] [--plot FILE.png] [--lobes DIR]\n"
           "Lobe error (METRICS.md: 64x64 images at theta_i = 0, 30, 60, 80 deg) of the layered\n"
-          "Monte Carlo estimator at each spp, against a reference that is the mean of two runs\n"
-          "of --ref-spp walks per pixel (their seed-to-seed error is reported beside it), and\n"
-          "the paired error of two runs at that spp (no reference noise in it). Walks per second\n"
-          "on 1 thread and on T threads (0 = all cores). --lobes DIR writes reference |\n"
-          "estimate | difference PNGs at the lowest spp. Defaults: groundtruth.md and .png.\n");
+          "Monte Carlo estimator (per-pixel evaluation, as nbrdf eval does it) at each spp\n"
+          "against a reference: the mean of two runs of the whole-lobe estimator with\n"
+          "--ref-walks walks per image (src/brdf/layered_lobe.h; every walk feeds every pixel),\n"
+          "or with --ref-walks 0, of per-pixel evaluation with --ref-spp walks per pixel. The\n"
+          "two runs' seed-to-seed error is reported beside each figure, and the paired error\n"
+          "of two runs at each spp (no reference noise in it). Walks per second and per\n"
+          "CPU-second on 1 thread and on T threads (0 = all cores). --lobes DIR writes\n"
+          "reference | estimate | difference PNGs at the lowest spp.\n");
 }
 
 static int parse_args(int argc, char **argv, config *c) {
   *c = (config){.spp = {16, 64, 256, 1024},
                 .n_spp = 4,
                 .ref_spp = 1024,
+                .ref_walks = 16000,
                 .res = NBRDF_LOBE_RES,
                 .speed_spp = 64,
                 .out = "groundtruth.md",
@@ -77,6 +83,8 @@ static int parse_args(int argc, char **argv, config *c) {
       }
     } else if (!strcmp(a, "--ref-spp")) {
       c->ref_spp = atoi(v);
+    } else if (!strcmp(a, "--ref-walks")) {
+      c->ref_walks = atoi(v);
     } else if (!strcmp(a, "--res")) {
       c->res = atoi(v);
     } else if (!strcmp(a, "--threads")) {
@@ -103,8 +111,9 @@ static int parse_args(int argc, char **argv, config *c) {
     fprintf(stderr, "bench_groundtruth: --brdf must be coat, rough or thick\n");
     return 0;
   }
-  if (c->n_spp == 0 || c->ref_spp < 1 || c->res < 8 || c->res > 1024 || c->threads < 0) {
-    fprintf(stderr, "bench_groundtruth: bad --spp, --ref-spp, --res or --threads\n");
+  if (c->n_spp == 0 || c->ref_spp < 1 || c->ref_walks < 0 || c->res < 8 || c->res > 1024 ||
+      c->threads < 0) {
+    fprintf(stderr, "bench_groundtruth: bad --spp, --ref-spp, --ref-walks, --res or --threads\n");
     return 0;
   }
   return 1;
@@ -138,18 +147,46 @@ static double load_average(void) {
   return l;
 }
 
-/* Lobe images of `b` with `spp` walks per pixel and `seed`; returns seconds. */
-static double lobe_set(const nbrdf_brdf *b, int res, int spp, uint64_t seed, int threads,
+typedef struct timing {
+  double wall, cpu; /* seconds; cpu: of all threads of the process */
+} timing;
+
+static timing add(timing a, timing b) { return (timing){a.wall + b.wall, a.cpu + b.cpu}; }
+
+static double cpu_now(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Lobe images of `b` by per-pixel evaluation, `spp` walks per pixel. */
+static timing lobe_set(const nbrdf_brdf *b, int res, int spp, uint64_t seed, int threads,
                        double *images) {
   nbrdf_lobe_brdf lb = {b, {seed, spp, threads}};
   nbrdf_error err = {0};
-  double t0 = now();
+  const double t0 = now(), c0 = cpu_now();
   if (nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, res, N_THETA, nbrdf_lobe_theta_deg, images,
                         &err) != NBRDF_OK) {
     fprintf(stderr, "bench_groundtruth: %s\n", err.message);
     exit(1);
   }
-  return now() - t0;
+  return (timing){now() - t0, cpu_now() - c0};
+}
+
+/* The same images by the whole-lobe estimator (src/brdf/layered_lobe.h): each of
+ * `walks` walks from ωi contributes to every pixel of its image. */
+static timing lobe_set_whole(const nbrdf_brdf *b, int res, int walks, uint64_t seed, int threads,
+                             double *images) {
+  const bsdf_layered *l = &nbrdf_brdf_bsdf(b)->layered;
+  const double t0 = now(), c0 = cpu_now();
+  for (int t = 0; t < N_THETA; t++)
+    if (!layered_lobe_image(l, nbrdf_lobe_theta_deg[t] * (M_PI / 180.0), res, walks,
+                            seed * N_THETA + (uint64_t)t, threads,
+                            images + (size_t)t * (size_t)res * (size_t)res, NULL)) {
+      fprintf(stderr, "bench_groundtruth: out of memory in the whole-lobe estimator\n");
+      exit(1);
+    }
+  return (timing){now() - t0, cpu_now() - c0};
 }
 
 /* Σ|x − y| / Σ|ref| / √2. For an unbiased estimator with independent errors,
@@ -167,7 +204,8 @@ typedef struct result {
   double paired[MAX_SPP];     /* see paired_error() */
   double albedo_err[MAX_SPP]; /* mean |albedo − reference albedo| over the four images */
   double rate[MAX_SPP];       /* walks per second, all threads */
-  double ref_noise, rate_1, ref_albedo[N_THETA];
+  double cpu_rate[MAX_SPP];   /* walks per CPU-second (robust to other jobs on the machine) */
+  double ref_noise, ref_wall, ref_cpu, rate_1, cpu_rate_1, ref_albedo[N_THETA];
   double rho[N_THETA], rho_se[N_THETA]; /* nbrdf_brdf_albedo(), by sampling */
 } result;
 
@@ -187,19 +225,28 @@ static void run_preset(const preset *p, const config *c, result *r) {
   double *y = malloc(n_pix * sizeof *y);
   if (!ref || !x || !y) exit(1);
 
-  double dt = lobe_set(b, c->res, c->speed_spp, 99, 1, x);
-  r->rate_1 = walks_per_spp * c->speed_spp / dt;
-  fprintf(stderr, "  1 thread: %.3g walks/s\n", r->rate_1);
+  timing dt = lobe_set(b, c->res, c->speed_spp, 99, 1, x);
+  r->rate_1 = walks_per_spp * c->speed_spp / dt.wall;
+  r->cpu_rate_1 = walks_per_spp * c->speed_spp / dt.cpu;
+  fprintf(stderr, "  1 thread: %.3g walks/s, %.3g walks/CPU-s\n", r->rate_1, r->cpu_rate_1);
 
   /* The reference: the mean of two independent runs; their difference is its noise. */
-  dt = lobe_set(b, c->res, c->ref_spp, 1001, c->threads, ref);
-  dt += lobe_set(b, c->res, c->ref_spp, 1002, c->threads, y);
+  if (c->ref_walks > 0) {
+    dt = lobe_set_whole(b, c->res, c->ref_walks, 1001, c->threads, ref);
+    dt = add(dt, lobe_set_whole(b, c->res, c->ref_walks, 1002, c->threads, y));
+  } else {
+    dt = lobe_set(b, c->res, c->ref_spp, 1001, c->threads, ref);
+    dt = add(dt, lobe_set(b, c->res, c->ref_spp, 1002, c->threads, y));
+  }
+  r->ref_wall = dt.wall;
+  r->ref_cpu = dt.cpu;
   r->ref_noise = nbrdf_lobe_error(n_pix, ref, y);
   for (size_t k = 0; k < n_pix; k++)
     ref[k] = 0.5 * (ref[k] + y[k]);
   for (int t = 0; t < N_THETA; t++)
     r->ref_albedo[t] = nbrdf_lobe_albedo(c->res, ref + (size_t)t * per_image);
-  fprintf(stderr, "  reference: seed-to-seed %.2f %% (%.0f s)\n", 100 * r->ref_noise, dt);
+  fprintf(stderr, "  reference: seed-to-seed %.2f %% (%.0f s, %.0f CPU-s)\n", 100 * r->ref_noise,
+          dt.wall, dt.cpu);
   /* The same albedo from the sampler's mean weight: a check that evaluation and
    * sampling agree, and a measure of the lobe images' pixelisation. */
   for (int t = 0; t < N_THETA; t++)
@@ -211,13 +258,14 @@ static void run_preset(const preset *p, const config *c, result *r) {
 
   for (int k = 0; k < c->n_spp; k++) {
     dt = lobe_set(b, c->res, c->spp[k], 7 + 2 * (uint64_t)k, c->threads, x);
-    dt += lobe_set(b, c->res, c->spp[k], 8 + 2 * (uint64_t)k, c->threads, y);
-    r->rate[k] = 2 * walks_per_spp * c->spp[k] / dt;
+    dt = add(dt, lobe_set(b, c->res, c->spp[k], 8 + 2 * (uint64_t)k, c->threads, y));
+    r->rate[k] = 2 * walks_per_spp * c->spp[k] / dt.wall;
+    r->cpu_rate[k] = 2 * walks_per_spp * c->spp[k] / dt.cpu;
     r->err[k] = nbrdf_lobe_error(n_pix, ref, x);
     r->paired[k] = paired_error(n_pix, ref, x, y);
     r->albedo_err[k] = nbrdf_lobe_albedo_error(c->res, N_THETA, ref, x, NULL);
     fprintf(stderr, "  spp %d: lobe error %.2f %%, paired %.2f %% (%.1f s)\n", c->spp[k],
-            100 * r->err[k], 100 * r->paired[k], dt);
+            100 * r->err[k], 100 * r->paired[k], dt.wall);
     if (c->lobes && k == 0) {
       char path[1024];
       snprintf(path, sizeof path, "%s/groundtruth_%s_spp%d.png", c->lobes, p->name, c->spp[k]);
@@ -234,9 +282,10 @@ static void print_table(FILE *f, const char *head, const config *c, int threads_
   fprintf(f, "%s\n", head);
   fprintf(f,
           "| BRDF (alpha1, eta, alpha2, R0, A, sigma_T) | spp | lobe error vs ref. | ref. "
-          "seed-to-seed | > 3x ref.? | paired error | albedo error | walks/s (%d thr) |\n",
+          "seed-to-seed | > 3x ref.? | paired error | albedo error | walks/s (%d thr) | walks "
+          "per CPU-s |\n",
           threads_used);
-  fprintf(f, "|---|---:|---:|---:|:---:|---:|---:|---:|\n");
+  fprintf(f, "|---|---:|---:|---:|:---:|---:|---:|---:|---:|\n");
   for (int i = 0; i < N_BRDF; i++) {
     if (!ran[i]) continue;
     const preset *p = &PRESETS[i];
@@ -245,22 +294,25 @@ static void print_table(FILE *f, const char *head, const config *c, int threads_
       if (k == 0)
         snprintf(name, sizeof name, "%s (%g, %g, %g, %g, %g, %g)", p->label, p->alpha1, p->eta,
                  p->alpha2, p->r0, p->albedo, p->sigma_t);
-      fprintf(f, "| %s | %d | %.2f %% | %.2f %% | %s | %.2f %% | %.4f | %.3g |\n", name, c->spp[k],
-              100 * res[i].err[k], 100 * res[i].ref_noise,
+      fprintf(f, "| %s | %d | %.2f %% | %.2f %% | %s | %.2f %% | %.4f | %.3g | %.3g |\n", name,
+              c->spp[k], 100 * res[i].err[k], 100 * res[i].ref_noise,
               res[i].err[k] > 3 * res[i].ref_noise ? "yes" : "no", 100 * res[i].paired[k],
-              res[i].albedo_err[k], res[i].rate[k]);
+              res[i].albedo_err[k], res[i].rate[k], res[i].cpu_rate[k]);
     }
   }
   fprintf(f,
-          "\nWalks per second on one core (1 thread, %d walks per query), and walks per query "
-          "for a 3 %% and a 1 %% lobe error, extrapolated as 1/sqrt(spp) from the paired error "
-          "at the largest spp:\n",
+          "\nOne core (1 thread, %d walks per query): walks per second (wall clock) and per "
+          "CPU-second; walks per query for a 3 %% and a 1 %% lobe error, extrapolated as "
+          "1/sqrt(spp) from the paired error at the largest spp; the reference's cost:\n",
           c->speed_spp);
   for (int i = 0; i < N_BRDF; i++) {
     if (!ran[i]) continue;
     const double e = res[i].paired[c->n_spp - 1], k2 = e * e * c->spp[c->n_spp - 1];
-    fprintf(f, "- %s: %.3g walks/s/core; %.0f spp for 3 %%, %.0f spp for 1 %%\n", PRESETS[i].label,
-            res[i].rate_1, k2 / (0.03 * 0.03), k2 / (0.01 * 0.01));
+    fprintf(f,
+            "- %s: %.3g walks/s, %.3g walks/CPU-s; %.0f spp for 3 %%, %.0f spp for 1 %%; "
+            "reference %.0f s (%.0f CPU-s)\n",
+            PRESETS[i].label, res[i].rate_1, res[i].cpu_rate_1, k2 / (0.03 * 0.03),
+            k2 / (0.01 * 0.01), res[i].ref_wall, res[i].ref_cpu);
   }
   fprintf(f,
           "\nDirectional albedo at theta_i = 0, 30, 60, 80 deg: from the reference's lobe "
@@ -311,14 +363,18 @@ int main(int argc, char **argv) {
     return 2;
   }
   const int threads_used = c.threads > 0 ? c.threads : omp_get_max_threads();
-  char cpu[256], head[1024];
+  char cpu[256], ref[160], head[1024];
   cpu_model(cpu, sizeof cpu);
+  if (c.ref_walks > 0)
+    snprintf(ref, sizeof ref, "2 whole-lobe runs x %d walks per image", c.ref_walks);
+  else
+    snprintf(ref, sizeof ref, "2 per-pixel runs x %d walks per pixel", c.ref_spp);
   snprintf(head, sizeof head,
            "Machine: %s, %d logical cores (omp_get_max_threads), %d threads used, load average "
            "%.2f at start.\nLobe images: %dx%d at theta_i = 0, 30, 60, 80 deg (%zu queries per "
-           "set); reference = mean of 2 runs x %d walks per pixel (seeds 1001, 1002).\n",
+           "set); reference = mean of %s (seeds 1001, 1002).\n",
            cpu, omp_get_max_threads(), threads_used, load_average(), c.res, c.res,
-           (size_t)N_THETA * nbrdf_lobe_pixels_inside(c.res), c.ref_spp);
+           (size_t)N_THETA * nbrdf_lobe_pixels_inside(c.res), ref);
   fprintf(stderr, "%s", head);
 
   result res[N_BRDF];
