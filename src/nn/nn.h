@@ -10,7 +10,9 @@
  * - A Linear layer computes y = x W^T + b with W stored row-major [out x in] (the PyTorch
  *   nn.Linear layout, so weights trained there load as they are). The forward GEMM is
  *   cblas_sgemm(RowMajor, NoTrans, Trans); OpenBLAS packs both operands, so this costs the
- *   same as NoTrans/NoTrans (measured in bench/bench_nn.c).
+ *   same as NoTrans/NoTrans (bench_nn --threads: 104.7 vs 105.4 GFLOP/s at 4096x256x256,
+ *   within 1 % at the other decoder shapes). Backward: dL/dx = G W (NoTrans, NoTrans) and
+ *   dL/dW += G^T x (Trans, NoTrans), G = dL/dy.
  * - All parameters of a network live in ONE contiguous float array (nbrdf_nn_params); each
  *   tensor is a named view into it (nbrdf_nn_tensor). Gradients use the same layout in a
  *   caller-owned array of nbrdf_nn_param_count floats, so that several threads can each
@@ -55,13 +57,18 @@
  * LayerNorm, ReLU: vectorised, AVX2 picked at run time) run on the calling thread. This layer
  * never calls openblas_set_num_threads (it is process-global: one library cannot know what
  * the rest of the process wants). Measured with `bench_nn --threads` on the 2-core build
- * machine, whose Debian OpenBLAS is the pthreads variant (libopenblas0-pthread 0.3.21):
- * - one caller with OpenBLAS's 2 threads was the fastest way to run a batch;
- * - two OpenMP threads each calling sgemm on half the batch were slower, much slower at small
- *   batches, whether OpenBLAS kept 2 threads or was set to 1;
+ * machine, whose Debian OpenBLAS is the pthreads variant (libopenblas-dev pulls in
+ * libopenblas0-pthread 0.3.21; libopenblas0-openmp exists in bookworm but would replace the
+ * system-wide libblas alternative for everyone, so it was not tried):
+ * - two OpenMP threads each calling sgemm on half the batch were slower than one caller, much
+ *   slower at small batches (paper decoder, batch 64: 5.3k vs 35k queries/s), whether
+ *   OpenBLAS kept 2 threads or was set to 1;
  * - OpenMP in the element-wise passes made whole networks 3-50x slower with the default
  *   OMP_WAIT_POLICY (libgomp's and OpenBLAS's idle threads spin against each other on 2
- *   cores) and was no faster with OMP_WAIT_POLICY=passive. So there is no OpenMP here.
+ *   cores) and was no faster with OMP_WAIT_POLICY=passive. So there is no OpenMP here;
+ * - with the other engineers' jobs on the cores, OPENBLAS_NUM_THREADS=1 was as fast as 2 or
+ *   faster (25k decoder at 4096: 1.2M vs 0.35M queries/s in one run, equal in another): the
+ *   choice is the process's, through the environment, not this library's.
  * Callers should therefore hand large batches to one thread rather than split them across
  * OpenMP threads. Different workspaces on one network may still be used from different
  * threads at the same time (tested). Results are deterministic: the same call gives the same
