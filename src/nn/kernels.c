@@ -15,7 +15,7 @@
  * picked at run time; every lane computes the same IEEE operations, so the results are
  * identical bit for bit on every path. */
 #if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("O3")
+#pragma GCC optimize("O3", "no-math-errno")
 #endif
 #if defined(__GNUC__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
 #define NN_HOT __attribute__((target_clones("avx2", "default")))
@@ -25,6 +25,7 @@
 
 #define LN_EPS 1e-5f
 #define LANES 16
+#define ROW_GROUP 8
 
 void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta, float *y) {
   if (rows == 1) {
@@ -137,28 +138,41 @@ NN_HOT void nn_ln_forward(int rows, int w, float *restrict u_all, const float *r
                           const float *restrict add1, const float *restrict add2,
                           const float *restrict gamma, const float *restrict beta,
                           float *restrict rstd, float *restrict y, int relu) {
-  for (int r = 0; r < rows; r++) {
-    float *restrict u = u_all + (size_t)r * w;
-    float *restrict yr = y + (size_t)r * w;
-    const float *restrict a1 = add1 ? add1 + (size_t)r * w : NULL;
-    const float *restrict a2 = add2 ? add2 + (size_t)r * w : NULL;
-    float mean = add_sum_lanes(u, bias, a1, a2, w) / (float)w;
-    float var = sumsq_dev_lanes(u, w, mean) / (float)w;
-    float rs = 1.0f / sqrtf(var + LN_EPS);
-    rstd[r] = rs;
-    if (relu)
-      for (int c = 0; c < w; c++) {
-        float xh = (u[c] - mean) * rs, v = xh * gamma[c] + beta[c];
-        u[c] = xh;
-        /* Written so that NaN passes through (maxps keeps its second operand). */
-        yr[c] = 0.0f > v ? 0.0f : v;
-      }
-    else
-      for (int c = 0; c < w; c++) {
-        float xh = (u[c] - mean) * rs;
-        u[c] = xh;
-        yr[c] = xh * gamma[c] + beta[c];
-      }
+  /* Rows go in groups of ROW_GROUP so that the square roots and divisions of a group are one
+   * vector operation instead of a latency chain per row (narrow layers are dominated by it). */
+  for (int r0 = 0; r0 < rows; r0 += ROW_GROUP) {
+    int n = rows - r0 < ROW_GROUP ? rows - r0 : ROW_GROUP;
+    float mean[ROW_GROUP], rs[ROW_GROUP];
+    for (int k = 0; k < ROW_GROUP; k++)
+      mean[k] = 0.0f, rs[k] = 1.0f;
+    for (int k = 0; k < n; k++) {
+      size_t at = (size_t)(r0 + k) * w;
+      mean[k] =
+          add_sum_lanes(u_all + at, bias, add1 ? add1 + at : NULL, add2 ? add2 + at : NULL, w) /
+          (float)w;
+      rs[k] = sumsq_dev_lanes(u_all + at, w, mean[k]) / (float)w;
+    }
+    for (int k = 0; k < ROW_GROUP; k++)
+      rs[k] = 1.0f / sqrtf(rs[k] + LN_EPS);
+    for (int k = 0; k < n; k++) {
+      float *restrict u = u_all + (size_t)(r0 + k) * w;
+      float *restrict yr = y + (size_t)(r0 + k) * w;
+      float m = mean[k], s = rs[k];
+      rstd[r0 + k] = s;
+      if (relu)
+        for (int c = 0; c < w; c++) {
+          float xh = (u[c] - m) * s, v = xh * gamma[c] + beta[c];
+          u[c] = xh;
+          /* Written so that NaN passes through (maxps keeps its second operand). */
+          yr[c] = 0.0f > v ? 0.0f : v;
+        }
+      else
+        for (int c = 0; c < w; c++) {
+          float xh = (u[c] - m) * s;
+          u[c] = xh;
+          yr[c] = xh * gamma[c] + beta[c];
+        }
+    }
   }
 }
 
