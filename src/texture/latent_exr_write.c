@@ -14,6 +14,10 @@
 #define HALF_MAX 65504.0f
 /* Tiles compressed at once (one encode pipeline each, ~3 tiles of memory). */
 #define MAX_PIPES 16
+/* Rows of tiles smaller than this are compressed on one thread: waking (and
+ * then spinning down) the OpenMP team costs more than it saves on the small
+ * coarse levels. */
+#define PARALLEL_MIN_BYTES ((size_t)1 << 20)
 
 struct nbrdf_latent_writer {
   nbrdf_output_file out;
@@ -37,13 +41,13 @@ struct nbrdf_latent_writer {
   int failed;
 };
 
-/* Tears down after an error: the temporary file disappears at once. */
 static void destroy_pipes(nbrdf_latent_writer *w) {
   for (int i = 0; i < MAX_PIPES; i++)
     if (w->enc_ready[i]) exr_encoding_destroy(w->exr, &w->enc[i]);
   memset(w->enc_ready, 0, sizeof w->enc_ready);
 }
 
+/* Tears down after an error or a cancel: the temporary file disappears at once. */
 static void discard(nbrdf_latent_writer *w) {
   destroy_pipes(w);
   if (w->exr) exr_finish(&w->exr);
@@ -111,9 +115,13 @@ static nbrdf_status prepare_tile(nbrdf_latent_writer *w, int slot, int level, in
 /* Encodes and writes the row ty of tiles of `level` (band[level] holds it). */
 static nbrdf_status write_tile_row(nbrdf_latent_writer *w, int level, int ty, nbrdf_error *err) {
   int tiles_x = (w->lw[level] + w->tile - 1) / w->tile;
+  int rows = w->lh[level] - ty * w->tile < w->tile ? w->lh[level] - ty * w->tile : w->tile;
+  size_t row_bytes = (size_t)w->lw[level] * rows * w->channels *
+                     (w->opts.storage == NBRDF_LATENT_HALF ? 2 : 4);
+  int pipes = row_bytes >= PARALLEL_MIN_BYTES ? w->pipes : 1;
   char what[80];
-  for (int g0 = 0; g0 < tiles_x; g0 += w->pipes) {
-    int n = tiles_x - g0 < w->pipes ? tiles_x - g0 : w->pipes;
+  for (int g0 = 0; g0 < tiles_x; g0 += pipes) {
+    int n = tiles_x - g0 < pipes ? tiles_x - g0 : pipes;
     for (int i = 0; i < n; i++) {
       nbrdf_status st = prepare_tile(w, i, level, g0 + i, ty, err);
       if (st != NBRDF_OK) return st;
@@ -123,9 +131,18 @@ static nbrdf_status write_tile_row(nbrdf_latent_writer *w, int level, int ty, nb
     for (int i = 0; i < n; i++) rv[i] = exr_encoding_run(w->exr, w->part, &w->enc[i]);
     for (int i = 0; i < n; i++) {
       const exr_encode_pipeline_t *enc = &w->enc[i];
+      /* A chunk that does not shrink is stored raw (packed size = unpacked
+       * size). OpenEXRCore 3.1.5 then reports the raw size but leaves the
+       * compressor's output in compressed_buffer (a 16x2 tile of noise came
+       * back as zlib bytes read as halves): write the packed data ourselves. */
+      const void *data = enc->compressed_buffer;
+      uint64_t bytes = enc->compressed_bytes;
+      if (bytes >= enc->packed_bytes) {
+        data = enc->packed_buffer;
+        bytes = enc->packed_bytes;
+      }
       if (rv[i] == EXR_ERR_SUCCESS)
-        rv[i] = exr_write_tile_chunk(w->exr, w->part, g0 + i, ty, level, level,
-                                     enc->compressed_buffer, enc->compressed_bytes);
+        rv[i] = exr_write_tile_chunk(w->exr, w->part, g0 + i, ty, level, level, data, bytes);
       if (rv[i] != EXR_ERR_SUCCESS) {
         snprintf(what, sizeof what, "writing tile (%d, %d) of level %d", g0 + i, ty, level);
         return nbrdf_exr_fail(err, NBRDF_ERR_IO, &w->stream, rv[i], w->out.path, what);
@@ -268,6 +285,7 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
   if (st != NBRDF_OK) return st;
   nbrdf_latent_writer *w = calloc(1, sizeof *w);
   if (!w) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+  w->out.fd = -1;
   w->layout = *layout;
   w->opts = *opts;
   w->opts.compression = nbrdf_latent_compression_resolve(opts->compression, opts->storage);

@@ -92,12 +92,12 @@ static void test_openimageio_reads_every_level(void) {
   static const int sizes[][2] = {{67, 45}, {300, 200}, {1, 1}, {1, 17}, {129, 64}};
   nbrdf_latent_layout rgb = {4, NBRDF_COLOUR_RGB, 1}, mono = {3, NBRDF_COLOUR_MONO, 1};
   for (int i = 0; i < 5; i++)
-    for (int s = 0; s < 2; s++) {
+    for (int s = 0; s < 4; s++) {
       char path[512];
       float *l0 = NULL;
-      nbrdf_latent_storage st = s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
+      nbrdf_latent_storage st = s & 1 ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
       snprintf(path, sizeof path, "%s/oiio_%d_%d.exr", nbrdf_test_tmpdir(), i, s);
-      write_texture(path, sizes[i][0], sizes[i][1], s ? mono : rgb, st, 16, &l0);
+      write_texture(path, sizes[i][0], sizes[i][1], s & 2 ? mono : rgb, st, 16, &l0);
       compare_with_oiio(path);
       free(l0);
     }
