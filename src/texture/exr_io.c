@@ -82,7 +82,6 @@ exr_compression_t nbrdf_exr_compression(nbrdf_latent_compression c) {
   case NBRDF_LATENT_ZIPS: return EXR_COMPRESSION_ZIPS;
   case NBRDF_LATENT_RLE: return EXR_COMPRESSION_RLE;
   case NBRDF_LATENT_NONE: return EXR_COMPRESSION_NONE;
-  case NBRDF_LATENT_AUTO: break; /* resolved before it gets here */
   }
   return EXR_COMPRESSION_LAST_TYPE;
 }
@@ -98,20 +97,14 @@ int nbrdf_exr_compression_from(exr_compression_t c, nbrdf_latent_compression *ou
   }
 }
 
-static const char *const compression_names[] = {"zip", "piz", "zips", "rle", "none", "auto"};
+static const char *const compression_names[] = {"zip", "piz", "zips", "rle", "none"};
 
 const char *nbrdf_latent_compression_name(nbrdf_latent_compression c) {
-  return (unsigned)c < 6 ? compression_names[c] : "unknown";
-}
-
-nbrdf_latent_compression nbrdf_latent_compression_resolve(nbrdf_latent_compression c,
-                                                          nbrdf_latent_storage s) {
-  if (c != NBRDF_LATENT_AUTO) return c;
-  return s == NBRDF_LATENT_FLOAT ? NBRDF_LATENT_PIZ : NBRDF_LATENT_ZIP;
+  return (unsigned)c < 5 ? compression_names[c] : "unknown";
 }
 
 int nbrdf_latent_compression_parse(const char *name, nbrdf_latent_compression *out) {
-  for (int i = 0; name && i < 6; i++)
+  for (int i = 0; name && i < 5; i++)
     if (strcmp(name, compression_names[i]) == 0) {
       *out = (nbrdf_latent_compression)i;
       return 1;

@@ -21,16 +21,16 @@ typedef enum nbrdf_latent_storage {
 
 /* Lossless OpenEXR compressions. ZIP and ZIPS are deflate over 16 and 1
  * scanlines of a tile, PIZ a wavelet + Huffman coder, RLE run lengths.
- * AUTO picks from the measurements in docs/LATENT-TEXTURE.md: ZIP for half
- * storage (the smallest files, PIZ's are ~35% larger), PIZ for float (smaller
- * and faster than ZIP there). */
+ * ZIP is the default (docs/LATENT-TEXTURE.md, "Compression"): the smallest
+ * half files and the fastest to read; PIZ writes 2-5x faster, makes float
+ * files ~20% smaller, but half files ~20-35% larger and float files 3x
+ * slower to read. */
 typedef enum nbrdf_latent_compression {
   NBRDF_LATENT_ZIP = 0,
   NBRDF_LATENT_PIZ,
   NBRDF_LATENT_ZIPS,
   NBRDF_LATENT_RLE,
-  NBRDF_LATENT_NONE,
-  NBRDF_LATENT_AUTO
+  NBRDF_LATENT_NONE
 } nbrdf_latent_compression;
 
 /* Called with each finished row of a mip level >= 1 (logical order, texels
@@ -55,7 +55,7 @@ typedef struct nbrdf_latent_exr_options {
  * absurd buffers; the default 64x64 tiles of 102 half channels take 0.8 MiB. */
 #define NBRDF_LATENT_MAX_TILE_BYTES (256u << 20)
 
-#define NBRDF_LATENT_EXR_OPTIONS_DEFAULT {NBRDF_LATENT_HALF, NBRDF_LATENT_AUTO, 64, 0, NULL, NULL}
+#define NBRDF_LATENT_EXR_OPTIONS_DEFAULT {NBRDF_LATENT_HALF, NBRDF_LATENT_ZIP, 64, 0, NULL, NULL}
 
 /* Provenance stored in the header. Strings may be NULL (stored empty). */
 typedef struct nbrdf_latent_meta {
@@ -66,12 +66,9 @@ typedef struct nbrdf_latent_meta {
 } nbrdf_latent_meta;
 
 const char *nbrdf_latent_compression_name(nbrdf_latent_compression c);
-/* "zip", "piz", "zips", "rle", "none", "auto"; returns 0 for anything else. */
+/* "zip", "piz", "zips", "rle", "none"; returns 0 for anything else. */
 int nbrdf_latent_compression_parse(const char *name, nbrdf_latent_compression *out);
 const char *nbrdf_latent_storage_name(nbrdf_latent_storage s);
-/* The compression AUTO stands for with this storage (others map to themselves). */
-nbrdf_latent_compression nbrdf_latent_compression_resolve(nbrdf_latent_compression c,
-                                                          nbrdf_latent_storage s);
 
 /* ---- Writer ----
  * Level-0 texels arrive a band of rows at a time, top to bottom; coarser

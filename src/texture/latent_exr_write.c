@@ -195,7 +195,7 @@ static nbrdf_status check_args(int width, int height, const nbrdf_latent_layout 
                       path, o->mip_levels);
   if (o->storage != NBRDF_LATENT_HALF && o->storage != NBRDF_LATENT_FLOAT)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: unknown storage %d", path, (int)o->storage);
-  if ((unsigned)o->compression > NBRDF_LATENT_AUTO)
+  if ((unsigned)o->compression > NBRDF_LATENT_NONE)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: unknown compression %d", path,
                       (int)o->compression);
   return NBRDF_OK;
@@ -288,7 +288,6 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
   w->out.fd = -1;
   w->layout = *layout;
   w->opts = *opts;
-  w->opts.compression = nbrdf_latent_compression_resolve(opts->compression, opts->storage);
   w->channels = nbrdf_latent_channel_count(layout);
   w->width = width;
   w->height = height;
