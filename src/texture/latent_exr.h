@@ -19,8 +19,8 @@ typedef enum nbrdf_latent_storage {
   NBRDF_LATENT_FLOAT = 1 /* 32-bit floats */
 } nbrdf_latent_storage;
 
-/* Lossless OpenEXR compressions. ZIP and ZIPS are deflate over 16 and 1
- * scanlines of a tile, PIZ a wavelet + Huffman coder, RLE run lengths.
+/* Lossless OpenEXR compressions: ZIP (deflate; ZIPS is the same for tiled
+ * files, where every tile is one chunk), PIZ (wavelet + Huffman), RLE.
  * ZIP is the default (docs/LATENT-TEXTURE.md, "Compression"): the smallest
  * half files and the fastest to read; PIZ writes 2-5x faster, makes float
  * files ~20% smaller, but half files ~20-35% larger and float files 3x
