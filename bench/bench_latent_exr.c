@@ -44,14 +44,15 @@ static void params_at(const generator *g, int x, int y, double p[6]) {
   if (g->painted) {
     /* Eight flat regions: a 4x2 layout of painted patches. */
     int region = (int)(u * 4) + 4 * (int)(v * 2);
-    for (int k = 0; k < 6; k++) p[k] = 0.1 + 0.8 * fmod(0.37 * (region + 1) * (k + 3), 1.0);
+    for (int k = 0; k < 6; k++)
+      p[k] = 0.1 + 0.8 * fmod(0.37 * (region + 1) * (k + 3), 1.0);
     return;
   }
-  p[0] = u;                                              /* roughness gradient */
-  p[1] = 0.5 + 0.5 * sin(40.0 * v);                      /* IOR stripes */
-  p[2] = 0.5 + 0.3 * sin(7.0 * u + 3.0 * v);             /* smooth variation */
-  p[3] = 0.5 + 0.2 * sin(90.0 * u) * sin(85.0 * v);      /* fine detail */
-  p[4] = v;                                              /* albedo gradient */
+  p[0] = u;                                         /* roughness gradient */
+  p[1] = 0.5 + 0.5 * sin(40.0 * v);                 /* IOR stripes */
+  p[2] = 0.5 + 0.3 * sin(7.0 * u + 3.0 * v);        /* smooth variation */
+  p[3] = 0.5 + 0.2 * sin(90.0 * u) * sin(85.0 * v); /* fine detail */
+  p[4] = v;                                         /* albedo gradient */
   p[5] = 0.5 + 0.5 * cos(11.0 * u * v);
 }
 
@@ -64,7 +65,8 @@ static void band(const generator *g, int y0, int rows, int C, float *out) {
       for (int c = 0; c < C; c++) {
         const float *a = g->A[c];
         double s = a[6];
-        for (int k = 0; k < 6; k++) s += a[k] * p[k];
+        for (int k = 0; k < 6; k++)
+          s += a[k] * p[k];
         t[c] = (float)(2.0 * tanh(s));
       }
     }
@@ -82,7 +84,8 @@ int main(int argc, char **argv) {
   nbrdf_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 0};
   int C = nbrdf_latent_channel_count(&layout);
   for (int c = 0; c < C; c++)
-    for (int k = 0; k < 7; k++) g->A[c][k] = (float)(2.0 * nbrdf_rng_uniform(&rng) - 1.0);
+    for (int k = 0; k < 7; k++)
+      g->A[c][k] = (float)(2.0 * nbrdf_rng_uniform(&rng) - 1.0);
   const int rows = 64;
   float *buf = malloc(sizeof(float) * (size_t)rows * size * C);
   char path[1024];
@@ -92,9 +95,8 @@ int main(int argc, char **argv) {
          size, size, dim, C, omp_get_max_threads());
   printf("%-9s %-5s %-5s %10s %9s %8s %8s %8s %8s\n", "content", "store", "comp", "size MiB",
          "bits/val", "write s", "cpu s", "read s", "cpu s");
-  static const nbrdf_latent_compression comps[] = {NBRDF_LATENT_NONE, NBRDF_LATENT_RLE,
-                                                   NBRDF_LATENT_ZIPS, NBRDF_LATENT_ZIP,
-                                                   NBRDF_LATENT_PIZ};
+  static const nbrdf_latent_compression comps[] = {
+      NBRDF_LATENT_NONE, NBRDF_LATENT_RLE, NBRDF_LATENT_ZIPS, NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ};
   for (int painted = 1; painted >= 0; painted--) {
     g->painted = painted;
     for (int s = 0; s < 2; s++)
@@ -105,8 +107,8 @@ int main(int argc, char **argv) {
         opts.compression = comps[ci];
         nbrdf_latent_writer *w = NULL;
         double t0 = now(), spent = 0, spent_cpu = 0, c0 = cpu();
-        if (nbrdf_latent_writer_create(&w, path, size, size, &layout, NULL, &opts, NULL, 0,
-                                       &err) != NBRDF_OK) {
+        if (nbrdf_latent_writer_create(&w, path, size, size, &layout, NULL, &opts, NULL, 0, &err) !=
+            NBRDF_OK) {
           fprintf(stderr, "%s\n", err.message);
           return 1;
         }

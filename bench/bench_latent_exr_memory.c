@@ -38,7 +38,8 @@ int main(int argc, char **argv) {
     for (int j = 0; j < n; j++)
       for (int x = 0; x < W; x++)
         for (int c = 0; c < C; c++)
-          band[((size_t)j * W + x) * C + c] = (float)(0.5 + 0.25 * sin(0.001 * x * (c + 1) + 0.002 * (y + j)));
+          band[((size_t)j * W + x) * C + c] =
+              (float)(0.5 + 0.25 * sin(0.001 * x * (c + 1) + 0.002 * (y + j)));
     if (nbrdf_latent_writer_write_rows(w, band, n, &err) != NBRDF_OK) {
       fprintf(stderr, "%s\n", err.message);
       return 1;
@@ -59,9 +60,10 @@ int main(int argc, char **argv) {
     fclose(f);
   }
   unlink(path);
-  printf("%dx%d, %d half channels: peak RSS %.0f MiB (input band %.0f MiB), file %.0f MiB, %.1f s\n",
-         W, H, C, ru.ru_maxrss / 1024.0, sizeof(float) * (double)rows * W * C / 1048576.0,
-         size / 1048576.0, (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec));
+  printf(
+      "%dx%d, %d half channels: peak RSS %.0f MiB (input band %.0f MiB), file %.0f MiB, %.1f s\n",
+      W, H, C, ru.ru_maxrss / 1024.0, sizeof(float) * (double)rows * W * C / 1048576.0,
+      size / 1048576.0, (t1.tv_sec - t0.tv_sec) + 1e-9 * (t1.tv_nsec - t0.tv_nsec));
   free(band);
   return 0;
 }

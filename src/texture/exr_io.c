@@ -77,23 +77,39 @@ nbrdf_status nbrdf_exr_fail(nbrdf_error *err, nbrdf_status status, const nbrdf_e
 
 exr_compression_t nbrdf_exr_compression(nbrdf_latent_compression c) {
   switch (c) {
-  case NBRDF_LATENT_ZIP: return EXR_COMPRESSION_ZIP;
-  case NBRDF_LATENT_PIZ: return EXR_COMPRESSION_PIZ;
-  case NBRDF_LATENT_ZIPS: return EXR_COMPRESSION_ZIPS;
-  case NBRDF_LATENT_RLE: return EXR_COMPRESSION_RLE;
-  case NBRDF_LATENT_NONE: return EXR_COMPRESSION_NONE;
+  case NBRDF_LATENT_ZIP:
+    return EXR_COMPRESSION_ZIP;
+  case NBRDF_LATENT_PIZ:
+    return EXR_COMPRESSION_PIZ;
+  case NBRDF_LATENT_ZIPS:
+    return EXR_COMPRESSION_ZIPS;
+  case NBRDF_LATENT_RLE:
+    return EXR_COMPRESSION_RLE;
+  case NBRDF_LATENT_NONE:
+    return EXR_COMPRESSION_NONE;
   }
   return EXR_COMPRESSION_LAST_TYPE;
 }
 
 int nbrdf_exr_compression_from(exr_compression_t c, nbrdf_latent_compression *out) {
   switch (c) {
-  case EXR_COMPRESSION_ZIP: *out = NBRDF_LATENT_ZIP; return 1;
-  case EXR_COMPRESSION_PIZ: *out = NBRDF_LATENT_PIZ; return 1;
-  case EXR_COMPRESSION_ZIPS: *out = NBRDF_LATENT_ZIPS; return 1;
-  case EXR_COMPRESSION_RLE: *out = NBRDF_LATENT_RLE; return 1;
-  case EXR_COMPRESSION_NONE: *out = NBRDF_LATENT_NONE; return 1;
-  default: return 0;
+  case EXR_COMPRESSION_ZIP:
+    *out = NBRDF_LATENT_ZIP;
+    return 1;
+  case EXR_COMPRESSION_PIZ:
+    *out = NBRDF_LATENT_PIZ;
+    return 1;
+  case EXR_COMPRESSION_ZIPS:
+    *out = NBRDF_LATENT_ZIPS;
+    return 1;
+  case EXR_COMPRESSION_RLE:
+    *out = NBRDF_LATENT_RLE;
+    return 1;
+  case EXR_COMPRESSION_NONE:
+    *out = NBRDF_LATENT_NONE;
+    return 1;
+  default:
+    return 0;
   }
 }
 

@@ -13,9 +13,9 @@
 
 /* The user data of every context we create. */
 typedef struct nbrdf_exr_stream {
-  int fd;                   /* reading: the file; -1 when writing */
-  nbrdf_output_file *out;   /* writing: the temporary file */
-  char message[400];        /* the library's last error message */
+  int fd;                 /* reading: the file; -1 when writing */
+  nbrdf_output_file *out; /* writing: the temporary file */
+  char message[400];      /* the library's last error message */
 } nbrdf_exr_stream;
 
 /* An initializer wired to `stream` (pread/pwrite, error capture, size

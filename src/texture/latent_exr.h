@@ -37,16 +37,16 @@ typedef enum nbrdf_latent_compression {
  * of the level's width) before it is stored: the bake uses it to recompute
  * the proxy's sigma and w from the averaged latents instead of averaging
  * them. */
-typedef nbrdf_status (*nbrdf_latent_mip_row_fn)(void *user, int level, int y, float *row,
-                                                int width, nbrdf_error *err);
+typedef nbrdf_status (*nbrdf_latent_mip_row_fn)(void *user, int level, int y, float *row, int width,
+                                                nbrdf_error *err);
 
 typedef struct nbrdf_latent_exr_options {
   nbrdf_latent_storage storage;
   nbrdf_latent_compression compression;
-  int tile_size;    /* tile edge in texels, 8..1024, and a tile's bytes at most
-                       NBRDF_LATENT_MAX_TILE_BYTES */
-  int mip_levels;   /* 0: the full chain; 1: level 0 only (OpenEXR's mip-maps are always
-                       complete, so no value in between exists) */
+  int tile_size;  /* tile edge in texels, 8..1024, and a tile's bytes at most
+                     NBRDF_LATENT_MAX_TILE_BYTES */
+  int mip_levels; /* 0: the full chain; 1: level 0 only (OpenEXR's mip-maps are always
+                     complete, so no value in between exists) */
   nbrdf_latent_mip_row_fn mip_row; /* optional, see above */
   void *mip_row_user;
 } nbrdf_latent_exr_options;
@@ -55,7 +55,8 @@ typedef struct nbrdf_latent_exr_options {
  * absurd buffers; the default 64x64 tiles of 102 half channels take 0.8 MiB. */
 #define NBRDF_LATENT_MAX_TILE_BYTES (256u << 20)
 
-#define NBRDF_LATENT_EXR_OPTIONS_DEFAULT {NBRDF_LATENT_HALF, NBRDF_LATENT_ZIP, 64, 0, NULL, NULL}
+#define NBRDF_LATENT_EXR_OPTIONS_DEFAULT                                                           \
+  { NBRDF_LATENT_HALF, NBRDF_LATENT_ZIP, 64, 0, NULL, NULL }
 
 /* Provenance stored in the header. Strings may be NULL (stored empty). */
 typedef struct nbrdf_latent_meta {
@@ -84,14 +85,13 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
                                         int height, const nbrdf_latent_layout *layout,
                                         const nbrdf_latent_meta *meta,
                                         const nbrdf_latent_exr_options *opts,
-                                        const char *const *inputs, int n_inputs,
-                                        nbrdf_error *err);
+                                        const char *const *inputs, int n_inputs, nbrdf_error *err);
 /* Appends `rows` rows of level 0: rows * width texels of
  * nbrdf_latent_channel_count floats each, in logical order. Values must be
  * finite (and within +-65504 for half storage). After any error the
  * temporary file is already gone; release the writer with _abort. */
-nbrdf_status nbrdf_latent_writer_write_rows(nbrdf_latent_writer *w, const float *texels,
-                                            int rows, nbrdf_error *err);
+nbrdf_status nbrdf_latent_writer_write_rows(nbrdf_latent_writer *w, const float *texels, int rows,
+                                            nbrdf_error *err);
 /* Completes the file and renames it into place; fails if rows are missing.
  * Releases `w` whatever the outcome. */
 nbrdf_status nbrdf_latent_writer_finish(nbrdf_latent_writer *w, nbrdf_error *err);
@@ -105,7 +105,7 @@ typedef struct nbrdf_latent_info {
   int levels;        /* mip levels in the file (1 for a single-level texture) */
   int tile_width, tile_height;
   nbrdf_latent_layout layout;
-  int channels; /* nbrdf_latent_channel_count(&layout) */
+  int channels;                 /* nbrdf_latent_channel_count(&layout) */
   nbrdf_latent_storage storage; /* HALF if any latent channel is half */
   nbrdf_latent_compression compression;
   const char *model_name, *model_checksum; /* never NULL ("" when absent) */
@@ -127,8 +127,8 @@ nbrdf_status nbrdf_latent_reader_level_size(const nbrdf_latent_reader *r, int le
                                             int *height, nbrdf_error *err);
 /* Reads the rectangle [x, x+w) x [y, y+h) of a level: all channels, texel
  * after texel in logical order (w * h * info.channels floats). */
-nbrdf_status nbrdf_latent_reader_read(nbrdf_latent_reader *r, int level, int x, int y, int w,
-                                      int h, float *out, nbrdf_error *err);
+nbrdf_status nbrdf_latent_reader_read(nbrdf_latent_reader *r, int level, int x, int y, int w, int h,
+                                      float *out, nbrdf_error *err);
 /* As _read, but only the named channels, in the order given (w * h * n
  * floats). Any channel of the file may be named, nbrdf's or not. */
 nbrdf_status nbrdf_latent_reader_read_channels(nbrdf_latent_reader *r, int level, int x, int y,

@@ -34,8 +34,7 @@ static nbrdf_status bad(nbrdf_error *err, const nbrdf_latent_reader *r, const ch
   return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: %s%s", r->path, fmt, detail ? detail : "");
 }
 
-static nbrdf_status get_int(nbrdf_latent_reader *r, const char *name, int *out,
-                            nbrdf_error *err) {
+static nbrdf_status get_int(nbrdf_latent_reader *r, const char *name, int *out, nbrdf_error *err) {
   int32_t v = 0;
   exr_result_t rv = exr_attr_get_int(r->exr, 0, name, &v);
   if (rv == EXR_ERR_NO_ATTR_BY_NAME)
@@ -48,8 +47,8 @@ static nbrdf_status get_int(nbrdf_latent_reader *r, const char *name, int *out,
 }
 
 /* A string attribute, copied; absent ones read as "" unless required. */
-static nbrdf_status get_string(nbrdf_latent_reader *r, const char *name, int required,
-                               char **out, nbrdf_error *err) {
+static nbrdf_status get_string(nbrdf_latent_reader *r, const char *name, int required, char **out,
+                               nbrdf_error *err) {
   int32_t len = 0;
   const char *s = NULL;
   exr_result_t rv = exr_attr_get_string(r->exr, 0, name, &len, &s);
@@ -231,9 +230,7 @@ nbrdf_status nbrdf_latent_reader_open(nbrdf_latent_reader **out, const char *pat
   return NBRDF_OK;
 }
 
-const nbrdf_latent_info *nbrdf_latent_reader_info(const nbrdf_latent_reader *r) {
-  return &r->info;
-}
+const nbrdf_latent_info *nbrdf_latent_reader_info(const nbrdf_latent_reader *r) { return &r->info; }
 
 nbrdf_status nbrdf_latent_reader_level_size(const nbrdf_latent_reader *r, int level, int *width,
                                             int *height, nbrdf_error *err) {
@@ -249,7 +246,8 @@ void nbrdf_latent_reader_close(nbrdf_latent_reader *r) {
   if (!r) return;
   if (r->exr) exr_finish(&r->exr);
   if (r->stream.fd >= 0) close(r->stream.fd);
-  for (int i = 0; i < S_COUNT; i++) free(r->strings[i]);
+  for (int i = 0; i < S_COUNT; i++)
+    free(r->strings[i]);
   free(r->logical_names);
   free(r->scratch);
   free(r->path);
@@ -261,10 +259,12 @@ void nbrdf_latent_reader_close(nbrdf_latent_reader *r) {
 static nbrdf_status request_slots(const nbrdf_latent_reader *r, const char *const *names, int n,
                                   int *slot, nbrdf_error *err) {
   int count = r->chlist->num_channels;
-  for (int k = 0; k < count; k++) slot[k] = -1;
+  for (int k = 0; k < count; k++)
+    slot[k] = -1;
   for (int j = 0; j < n; j++) {
     int k = 0;
-    while (k < count && (!names[j] || strcmp(r->chlist->entries[k].name.str, names[j]) != 0)) k++;
+    while (k < count && (!names[j] || strcmp(r->chlist->entries[k].name.str, names[j]) != 0))
+      k++;
     if (k == count)
       return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no channel '%s'", r->path,
                         names[j] ? names[j] : "(null)");
@@ -283,8 +283,8 @@ static nbrdf_status request_slots(const nbrdf_latent_reader *r, const char *cons
 /* Decodes tile (tx, ty) of `level` into r->scratch (tile width x height
  * texels of n floats). */
 static nbrdf_status decode_tile(nbrdf_latent_reader *r, exr_decode_pipeline_t *dec, int *ready,
-                                const int *slot, int n, int level, int tx, int ty, int tw,
-                                int th, nbrdf_error *err) {
+                                const int *slot, int n, int level, int tx, int ty, int tw, int th,
+                                nbrdf_error *err) {
   char where[96];
   snprintf(where, sizeof where, "tile (%d, %d) of level %d", tx, ty, level);
   exr_chunk_info_t ci;
@@ -363,10 +363,10 @@ nbrdf_status nbrdf_latent_reader_read_channels(nbrdf_latent_reader *r, int level
   return st;
 }
 
-nbrdf_status nbrdf_latent_reader_read(nbrdf_latent_reader *r, int level, int x, int y, int w,
-                                      int h, float *out, nbrdf_error *err) {
-  return nbrdf_latent_reader_read_channels(r, level, x, y, w, h, r->logical_names,
-                                           r->info.channels, out, err);
+nbrdf_status nbrdf_latent_reader_read(nbrdf_latent_reader *r, int level, int x, int y, int w, int h,
+                                      float *out, nbrdf_error *err) {
+  return nbrdf_latent_reader_read_channels(r, level, x, y, w, h, r->logical_names, r->info.channels,
+                                           out, err);
 }
 
 nbrdf_status nbrdf_latent_check_model(const nbrdf_latent_info *info, const char *path,

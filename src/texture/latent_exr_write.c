@@ -57,7 +57,8 @@ static void discard(nbrdf_latent_writer *w) {
 }
 
 static void release(nbrdf_latent_writer *w) {
-  for (int l = 0; l < NBRDF_MIP_MAX_LEVELS; l++) free(w->band[l]);
+  for (int l = 0; l < NBRDF_MIP_MAX_LEVELS; l++)
+    free(w->band[l]);
   nbrdf_mip_builder_free(w->mip);
   free(w->logical);
   free(w);
@@ -92,8 +93,7 @@ static nbrdf_status prepare_tile(nbrdf_latent_writer *w, int slot, int level, in
   rv = w->enc_ready[slot] ? exr_encoding_update(w->exr, w->part, &cinfo, enc)
                           : exr_encoding_initialize(w->exr, w->part, &cinfo, enc);
   if (rv != EXR_ERR_SUCCESS)
-    return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path,
-                          "encoder set-up");
+    return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path, "encoder set-up");
   w->enc_ready[slot] = 1;
   const float *origin = w->band[level] + (size_t)tx * T * w->channels;
   for (int k = 0; k < enc->channel_count; k++) {
@@ -116,8 +116,8 @@ static nbrdf_status prepare_tile(nbrdf_latent_writer *w, int slot, int level, in
 static nbrdf_status write_tile_row(nbrdf_latent_writer *w, int level, int ty, nbrdf_error *err) {
   int tiles_x = (w->lw[level] + w->tile - 1) / w->tile;
   int rows = w->lh[level] - ty * w->tile < w->tile ? w->lh[level] - ty * w->tile : w->tile;
-  size_t row_bytes = (size_t)w->lw[level] * rows * w->channels *
-                     (w->opts.storage == NBRDF_LATENT_HALF ? 2 : 4);
+  size_t row_bytes =
+      (size_t)w->lw[level] * rows * w->channels * (w->opts.storage == NBRDF_LATENT_HALF ? 2 : 4);
   int pipes = row_bytes >= PARALLEL_MIN_BYTES ? w->pipes : 1;
   char what[80];
   for (int g0 = 0; g0 < tiles_x; g0 += pipes) {
@@ -128,7 +128,8 @@ static nbrdf_status write_tile_row(nbrdf_latent_writer *w, int level, int ty, nb
     }
     exr_result_t rv[MAX_PIPES];
 #pragma omp parallel for num_threads(n) schedule(static, 1) if (n > 1)
-    for (int i = 0; i < n; i++) rv[i] = exr_encoding_run(w->exr, w->part, &w->enc[i]);
+    for (int i = 0; i < n; i++)
+      rv[i] = exr_encoding_run(w->exr, w->part, &w->enc[i]);
     for (int i = 0; i < n; i++) {
       const exr_encode_pipeline_t *enc = &w->enc[i];
       /* A chunk that does not shrink is stored raw (packed size = unpacked
@@ -172,8 +173,8 @@ static nbrdf_status check_args(int width, int height, const nbrdf_latent_layout 
                                const nbrdf_latent_exr_options *o, const char *path,
                                nbrdf_error *err) {
   if (width < 1 || height < 1 || width > 65536 || height > 65536)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: size %dx%d is outside 1..65536", path,
-                      width, height);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: size %dx%d is outside 1..65536", path, width,
+                      height);
   nbrdf_status st = nbrdf_latent_layout_check(layout, err);
   if (st != NBRDF_OK) {
     nbrdf_error_prefix(err, "%s: ", path);
@@ -185,8 +186,8 @@ static nbrdf_status check_args(int width, int height, const nbrdf_latent_layout 
   size_t bytes = o->storage == NBRDF_LATENT_FLOAT ? 4 : 2;
   if ((size_t)o->tile_size * o->tile_size * nbrdf_latent_channel_count(layout) * bytes >
       NBRDF_LATENT_MAX_TILE_BYTES)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %dx%d tiles of %d channels exceed %u MiB",
-                      path, o->tile_size, o->tile_size, nbrdf_latent_channel_count(layout),
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %dx%d tiles of %d channels exceed %u MiB", path,
+                      o->tile_size, o->tile_size, nbrdf_latent_channel_count(layout),
                       NBRDF_LATENT_MAX_TILE_BYTES >> 20);
   if (o->mip_levels != 0 && o->mip_levels != 1)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
@@ -230,8 +231,8 @@ static exr_result_t define_header(nbrdf_latent_writer *w, const nbrdf_latent_met
   if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_VERSION);
   if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_LATENT_DIM, w->layout.latent_dim);
   if (!rv)
-    rv = exr_attr_set_string(c, p, NBRDF_ATTR_COLOUR_MODE,
-                             nbrdf_colour_mode_name(w->layout.colour));
+    rv =
+        exr_attr_set_string(c, p, NBRDF_ATTR_COLOUR_MODE, nbrdf_colour_mode_name(w->layout.colour));
   if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_PROXY, w->layout.proxy);
   if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_MODEL_NAME, STR(meta->model_name));
   if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_MODEL_CHECKSUM, STR(meta->model_checksum));
@@ -251,8 +252,7 @@ static nbrdf_status check_layout(nbrdf_latent_writer *w, nbrdf_error *err) {
   int32_t lx = 0, ly = 0;
   exr_result_t rv = exr_get_channels(w->exr, w->part, &list);
   if (!rv) rv = exr_get_tile_levels(w->exr, w->part, &lx, &ly);
-  if (rv)
-    return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path, "header");
+  if (rv) return nbrdf_exr_fail(err, NBRDF_ERR_INTERNAL, &w->stream, rv, w->out.path, "header");
   if (lx != w->levels || list->num_channels != w->channels)
     return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: OpenEXR made %d levels and %d channels",
                       w->out.path, lx, list->num_channels);
@@ -275,8 +275,7 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
                                         int height, const nbrdf_latent_layout *layout,
                                         const nbrdf_latent_meta *meta,
                                         const nbrdf_latent_exr_options *opts,
-                                        const char *const *inputs, int n_inputs,
-                                        nbrdf_error *err) {
+                                        const char *const *inputs, int n_inputs, nbrdf_error *err) {
   *out = NULL;
   const nbrdf_latent_exr_options defaults = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   if (!opts) opts = &defaults;
@@ -305,8 +304,8 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
     w->band[l] = malloc((size_t)rows * (size_t)w->lw[l] * (size_t)w->channels * sizeof(float));
     if (!w->band[l]) {
       release(w);
-      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d texel wide tiles",
-                        path, width);
+      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d texel wide tiles", path,
+                        width);
     }
   }
   st = nbrdf_output_file_open(&w->out, path, inputs, n_inputs, err);
@@ -320,8 +319,7 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
   if (rv) st = nbrdf_exr_fail(err, NBRDF_ERR_IO, &w->stream, rv, path, "writing the header");
   if (st == NBRDF_OK) st = check_layout(w, err);
   if (st == NBRDF_OK)
-    st = nbrdf_mip_builder_create(width, height, w->channels, w->levels, on_row, w, &w->mip,
-                                  err);
+    st = nbrdf_mip_builder_create(width, height, w->channels, w->levels, on_row, w, &w->mip, err);
   if (st != NBRDF_OK) {
     discard(w);
     release(w);
@@ -344,8 +342,8 @@ static nbrdf_status check_values(const nbrdf_latent_writer *w, const float *texe
     nbrdf_latent_channel_name(&w->layout, (int)(i % (size_t)w->channels), name, sizeof name);
     int x = (int)(texel % (size_t)w->width), y = y0 + (int)(texel / (size_t)w->width);
     if (!isfinite(v))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: texel (%d, %d) %s is %s", w->out.path, x,
-                        y, name, isnan(v) ? "NaN" : "infinite");
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: texel (%d, %d) %s is %s", w->out.path, x, y,
+                        name, isnan(v) ? "NaN" : "infinite");
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "%s: texel (%d, %d) %s = %g exceeds the half range; store as float",
                       w->out.path, x, y, name, (double)v);
@@ -353,15 +351,15 @@ static nbrdf_status check_values(const nbrdf_latent_writer *w, const float *texe
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_latent_writer_write_rows(nbrdf_latent_writer *w, const float *texels,
-                                            int rows, nbrdf_error *err) {
+nbrdf_status nbrdf_latent_writer_write_rows(nbrdf_latent_writer *w, const float *texels, int rows,
+                                            nbrdf_error *err) {
   if (w->failed)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "latent writer already failed; abort it");
   int done = nbrdf_mip_builder_rows(w->mip);
   nbrdf_status st = NBRDF_OK;
   if (rows < 0 || rows > w->height - done)
-    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %d rows after %d of %d", w->out.path, rows,
-                    done, w->height);
+    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %d rows after %d of %d", w->out.path, rows, done,
+                    w->height);
   if (st == NBRDF_OK) st = check_values(w, texels, rows, err);
   size_t row_floats = (size_t)w->width * w->channels;
   for (int j = 0; st == NBRDF_OK && j < rows; j++)
@@ -376,8 +374,8 @@ nbrdf_status nbrdf_latent_writer_finish(nbrdf_latent_writer *w, nbrdf_error *err
     st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "latent writer already failed; nothing written");
   int done = st == NBRDF_OK ? nbrdf_mip_builder_rows(w->mip) : 0;
   if (st == NBRDF_OK && done != w->height)
-    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: only %d of %d rows were written",
-                    w->out.path, done, w->height);
+    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: only %d of %d rows were written", w->out.path,
+                    done, w->height);
   int32_t chunks = 0;
   if (st == NBRDF_OK && (exr_get_chunk_count(w->exr, w->part, &chunks) != EXR_ERR_SUCCESS ||
                          chunks != w->chunks_written))

@@ -94,8 +94,10 @@ int nbrdf_latent_channel_index(const nbrdf_latent_layout *layout, const char *na
 
 const char *nbrdf_colour_mode_name(nbrdf_colour_mode mode) {
   switch (mode) {
-  case NBRDF_COLOUR_MONO: return "mono";
-  case NBRDF_COLOUR_RGB: return "rgb";
+  case NBRDF_COLOUR_MONO:
+    return "mono";
+  case NBRDF_COLOUR_RGB:
+    return "rgb";
   }
   return "unknown";
 }

@@ -39,17 +39,17 @@ struct nbrdf_mip_builder {
 };
 
 nbrdf_status nbrdf_mip_builder_create(int width, int height, int channels, int levels,
-                                      nbrdf_mip_row_fn emit, void *user,
-                                      nbrdf_mip_builder **out, nbrdf_error *err) {
+                                      nbrdf_mip_row_fn emit, void *user, nbrdf_mip_builder **out,
+                                      nbrdf_error *err) {
   *out = NULL;
   if (width < 1 || height < 1 || channels < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "mip chain of %dx%d texels of %d channels",
-                      width, height, channels);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "mip chain of %dx%d texels of %d channels", width,
+                      height, channels);
   int full = nbrdf_mip_level_count(width, height);
   if (levels < 1 || levels > full)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%d mip levels requested; a %dx%d texture has 1 to %d", levels, width,
-                      height, full);
+                      "%d mip levels requested; a %dx%d texture has 1 to %d", levels, width, height,
+                      full);
   nbrdf_mip_builder *b = calloc(1, sizeof *b);
   if (!b) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory for a mip builder");
   b->channels = channels;
@@ -69,8 +69,7 @@ nbrdf_status nbrdf_mip_builder_create(int width, int height, int channels, int l
   b->copy = malloc((size_t)width * (size_t)channels * sizeof(float));
   if (!ok || !b->mean || !b->copy) {
     nbrdf_mip_builder_free(b);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory for a mip chain %d texels wide",
-                      width);
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory for a mip chain %d texels wide", width);
   }
   *out = b;
   return NBRDF_OK;
@@ -89,7 +88,8 @@ static void accumulate_float(nbrdf_mip_builder *b, int l, const float *row) {
     int xl = x >> 1 < wl ? x >> 1 : wl - 1;
     const float *src = row + (size_t)x * C;
     double *dst = sum + (size_t)xl * C;
-    for (int c = 0; c < C; c++) dst[c] += src[c];
+    for (int c = 0; c < C; c++)
+      dst[c] += src[c];
   }
 }
 
@@ -100,7 +100,8 @@ static void accumulate_double(nbrdf_mip_builder *b, int l, const double *row) {
     int xl = x >> 1 < wl ? x >> 1 : wl - 1;
     const double *src = row + (size_t)x * C;
     double *dst = sum + (size_t)xl * C;
-    for (int c = 0; c < C; c++) dst[c] += src[c];
+    for (int c = 0; c < C; c++)
+      dst[c] += src[c];
   }
 }
 
@@ -133,12 +134,11 @@ static nbrdf_status finish_row(nbrdf_mip_builder *b, int l, int y, nbrdf_error *
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_mip_builder_push_row(nbrdf_mip_builder *b, const float *row,
-                                        nbrdf_error *err) {
+nbrdf_status nbrdf_mip_builder_push_row(nbrdf_mip_builder *b, const float *row, nbrdf_error *err) {
   int y = b->rows;
   if (y >= b->h[0])
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "row %d pushed into a mip chain %d rows high",
-                      y, b->h[0]);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "row %d pushed into a mip chain %d rows high", y,
+                      b->h[0]);
   size_t n = (size_t)b->w[0] * (size_t)b->channels;
   memcpy(b->copy, row, n * sizeof(float));
   nbrdf_status st = b->emit(b->user, 0, y, b->copy, err);
@@ -156,7 +156,8 @@ int nbrdf_mip_builder_rows(const nbrdf_mip_builder *b) { return b->rows; }
 
 void nbrdf_mip_builder_free(nbrdf_mip_builder *b) {
   if (!b) return;
-  for (int l = 0; l < NBRDF_MIP_MAX_LEVELS; l++) free(b->sum[l]);
+  for (int l = 0; l < NBRDF_MIP_MAX_LEVELS; l++)
+    free(b->sum[l]);
   free(b->mean);
   free(b->copy);
   free(b);

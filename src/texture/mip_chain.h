@@ -43,12 +43,11 @@ typedef struct nbrdf_mip_builder nbrdf_mip_builder;
 /* A builder of `levels` levels (1 .. nbrdf_mip_level_count) for a
  * width x height texture of `channels` floats per texel. */
 nbrdf_status nbrdf_mip_builder_create(int width, int height, int channels, int levels,
-                                      nbrdf_mip_row_fn emit, void *user,
-                                      nbrdf_mip_builder **out, nbrdf_error *err);
+                                      nbrdf_mip_row_fn emit, void *user, nbrdf_mip_builder **out,
+                                      nbrdf_error *err);
 /* Feeds the next level-0 row (width * channels floats). Emits it as level 0,
  * then every coarser row it completes. */
-nbrdf_status nbrdf_mip_builder_push_row(nbrdf_mip_builder *b, const float *row,
-                                        nbrdf_error *err);
+nbrdf_status nbrdf_mip_builder_push_row(nbrdf_mip_builder *b, const float *row, nbrdf_error *err);
 /* Level-0 rows pushed so far. */
 int nbrdf_mip_builder_rows(const nbrdf_mip_builder *b);
 void nbrdf_mip_builder_free(nbrdf_mip_builder *b);

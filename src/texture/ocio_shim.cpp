@@ -29,8 +29,7 @@ bool equals_nocase(const char *a, const char *b) {
 }
 
 bool is_identity_name(const char *name) {
-  return equals_nocase(name, "linear") || equals_nocase(name, "raw") ||
-         equals_nocase(name, "data");
+  return equals_nocase(name, "linear") || equals_nocase(name, "raw") || equals_nocase(name, "data");
 }
 
 // sRGB's electro-optical curve: v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055)^2.4.
@@ -51,10 +50,9 @@ OCIO::ConstCPUProcessorRcPtr exact_cpu(const OCIO::ConstProcessorRcPtr &p) {
                                      OCIO::OPTIMIZATION_LOSSLESS);
 }
 
-}  // namespace
+} // namespace
 
-extern "C" nbrdf_status nbrdf_colour_xform_create(const char *colour_space,
-                                                  const char *config_path,
+extern "C" nbrdf_status nbrdf_colour_xform_create(const char *colour_space, const char *config_path,
                                                   nbrdf_colour_xform **out, nbrdf_error *err) {
   *out = nullptr;
   if (!colour_space || !colour_space[0])
@@ -116,8 +114,8 @@ extern "C" nbrdf_status nbrdf_colour_xform_apply_rgb(const nbrdf_colour_xform *x
     }
     return NBRDF_OK;
   } catch (const std::exception &e) {
-    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "colour conversion %s: %s",
-                      x->description.c_str(), e.what());
+    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "colour conversion %s: %s", x->description.c_str(),
+                      e.what());
   }
 }
 
@@ -128,7 +126,8 @@ extern "C" nbrdf_status nbrdf_colour_xform_apply_grey(const nbrdf_colour_xform *
   float rgb[3 * CHUNK];
   for (size_t i = 0; i < n; i += CHUNK) {
     size_t m = n - i < CHUNK ? n - i : CHUNK;
-    for (size_t j = 0; j < m; j++) rgb[3 * j] = rgb[3 * j + 1] = rgb[3 * j + 2] = v[i + j];
+    for (size_t j = 0; j < m; j++)
+      rgb[3 * j] = rgb[3 * j + 1] = rgb[3 * j + 2] = v[i + j];
     nbrdf_status st = nbrdf_colour_xform_apply_rgb(x, rgb, m, err);
     if (st != NBRDF_OK) return st;
     for (size_t j = 0; j < m; j++)

@@ -38,20 +38,29 @@ std::string first_line(std::string s) {
 
 nbrdf_pixel_format classify(TypeDesc t) {
   switch (t.basetype) {
-  case TypeDesc::UINT8: return NBRDF_PIXEL_U8;
-  case TypeDesc::UINT16: return NBRDF_PIXEL_U16;
-  case TypeDesc::HALF: return NBRDF_PIXEL_HALF;
-  case TypeDesc::FLOAT: return NBRDF_PIXEL_FLOAT;
-  default: return NBRDF_PIXEL_OTHER;
+  case TypeDesc::UINT8:
+    return NBRDF_PIXEL_U8;
+  case TypeDesc::UINT16:
+    return NBRDF_PIXEL_U16;
+  case TypeDesc::HALF:
+    return NBRDF_PIXEL_HALF;
+  case TypeDesc::FLOAT:
+    return NBRDF_PIXEL_FLOAT;
+  default:
+    return NBRDF_PIXEL_OTHER;
   }
 }
 
 TypeDesc to_type(nbrdf_pixel_format f) {
   switch (f) {
-  case NBRDF_PIXEL_U8: return TypeDesc::UINT8;
-  case NBRDF_PIXEL_U16: return TypeDesc::UINT16;
-  case NBRDF_PIXEL_HALF: return TypeDesc::HALF;
-  default: return TypeDesc::FLOAT;
+  case NBRDF_PIXEL_U8:
+    return TypeDesc::UINT8;
+  case NBRDF_PIXEL_U16:
+    return TypeDesc::UINT16;
+  case NBRDF_PIXEL_HALF:
+    return TypeDesc::HALF;
+  default:
+    return TypeDesc::FLOAT;
   }
 }
 
@@ -59,15 +68,20 @@ void copy_string(char *dst, size_t n, const std::string &src) {
   std::snprintf(dst, n, "%s", src.c_str());
 }
 
-}  // namespace
+} // namespace
 
 extern "C" const char *nbrdf_pixel_format_name(nbrdf_pixel_format format) {
   switch (format) {
-  case NBRDF_PIXEL_U8: return "uint8";
-  case NBRDF_PIXEL_U16: return "uint16";
-  case NBRDF_PIXEL_HALF: return "half";
-  case NBRDF_PIXEL_FLOAT: return "float";
-  case NBRDF_PIXEL_OTHER: break;
+  case NBRDF_PIXEL_U8:
+    return "uint8";
+  case NBRDF_PIXEL_U16:
+    return "uint16";
+  case NBRDF_PIXEL_HALF:
+    return "half";
+  case NBRDF_PIXEL_FLOAT:
+    return "float";
+  case NBRDF_PIXEL_OTHER:
+    break;
   }
   return "other";
 }
@@ -100,7 +114,8 @@ extern "C" nbrdf_status nbrdf_image_open(const char *path, nbrdf_image_in **out,
     copy_string(info->colour_space, sizeof info->colour_space,
                 s.get_string_attribute("oiio:ColorSpace"));
     int levels = 1;
-    while (levels < 32 && img->in->spec_dimensions(0, levels).width > 0) levels++;
+    while (levels < 32 && img->in->spec_dimensions(0, levels).width > 0)
+      levels++;
     info->mip_levels = levels;
     *out = img.release();
     return NBRDF_OK;
@@ -121,8 +136,7 @@ extern "C" nbrdf_status nbrdf_image_level_size(nbrdf_image_in *img, int level, i
   try {
     ImageSpec s = level == 0 ? img->spec : img->in->spec_dimensions(0, level);
     if (level < 0 || s.width < 1)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d", img->path.c_str(),
-                        level);
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d", img->path.c_str(), level);
     *width = s.width;
     *height = s.height;
     return NBRDF_OK;
@@ -156,8 +170,7 @@ extern "C" nbrdf_status nbrdf_image_read_rows(nbrdf_image_in *img, int level, in
         std::memcpy(out, band.data() + (size_t)(y0 - ty0) * row,
                     (size_t)(y1 - y0) * row * sizeof(float));
     } else {
-      ok = img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT,
-                                   out);
+      ok = img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT, out);
     }
     if (!ok)
       return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read rows %d..%d: %s", path, y0, y1 - 1,
@@ -194,8 +207,8 @@ extern "C" nbrdf_status nbrdf_image_write(const char *path, int width, int heigh
     std::unique_ptr<ImageOutput> out = ImageOutput::create(path);
     if (!out) {
       nbrdf_output_file_abort(&f);
-      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: no image format for this name: %s",
-                        path, first_line(OIIO::geterror()).c_str());
+      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: no image format for this name: %s", path,
+                        first_line(OIIO::geterror()).c_str());
     }
     ImageSpec spec(width, height, channels, to_type(format));
     if (channels == 4) spec.alpha_channel = 3;

@@ -22,15 +22,15 @@ typedef enum nbrdf_pixel_format {
 } nbrdf_pixel_format;
 
 typedef struct nbrdf_image_info {
-  int width, height;        /* of mip level 0 (the data window) */
-  int channels;             /* as stored, alpha included */
-  int alpha_channel;        /* index of the alpha channel, or -1 */
+  int width, height; /* of mip level 0 (the data window) */
+  int channels;      /* as stored, alpha included */
+  int alpha_channel; /* index of the alpha channel, or -1 */
   int mip_levels;
   nbrdf_pixel_format format;
-  int bits_per_sample;      /* 8, 16, 32 ... as reported by OIIO */
-  char format_name[16];     /* "uint8", "uint16", "half", "float", ... */
-  char file_format[32];     /* OIIO's format name: "png", "openexr", "tiff", ... */
-  char colour_space[64];    /* OIIO's "oiio:ColorSpace" ("sRGB", "Linear", ...), or "" */
+  int bits_per_sample;   /* 8, 16, 32 ... as reported by OIIO */
+  char format_name[16];  /* "uint8", "uint16", "half", "float", ... */
+  char file_format[32];  /* OIIO's format name: "png", "openexr", "tiff", ... */
+  char colour_space[64]; /* OIIO's "oiio:ColorSpace" ("sRGB", "Linear", ...), or "" */
 } nbrdf_image_info;
 
 typedef struct nbrdf_image_in nbrdf_image_in;
@@ -44,8 +44,8 @@ nbrdf_status nbrdf_image_level_size(nbrdf_image_in *img, int level, int *width, 
                                     nbrdf_error *err);
 /* Rows [y0, y1) of a mip level (counted from the top of its data window),
  * channels [c0, c1), as floats, texel after texel. */
-nbrdf_status nbrdf_image_read_rows(nbrdf_image_in *img, int level, int y0, int y1, int c0,
-                                   int c1, float *out, nbrdf_error *err);
+nbrdf_status nbrdf_image_read_rows(nbrdf_image_in *img, int level, int y0, int y1, int c0, int c1,
+                                   float *out, nbrdf_error *err);
 void nbrdf_image_close(nbrdf_image_in *img);
 
 /* Writes a width x height image of `channels` (1..16) floats per pixel (1:

@@ -19,19 +19,18 @@ static void release(nbrdf_output_file *f) {
   f->fd = -1;
 }
 
-static nbrdf_status check_not_an_input(const char *path, const char *const *inputs,
-                                       int n_inputs, nbrdf_error *err) {
+static nbrdf_status check_not_an_input(const char *path, const char *const *inputs, int n_inputs,
+                                       nbrdf_error *err) {
   struct stat out;
   if (stat(path, &out) != 0) return NBRDF_OK; /* a new file cannot be an input */
-  if (S_ISDIR(out.st_mode))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: is a directory", path);
+  if (S_ISDIR(out.st_mode)) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: is a directory", path);
   for (int i = 0; i < n_inputs; i++) {
     struct stat in;
     if (!inputs[i] || stat(inputs[i], &in) != 0) continue;
     if (in.st_dev == out.st_dev && in.st_ino == out.st_ino)
       return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "%s: the output is the input '%s'; refusing to overwrite an input",
-                        path, inputs[i]);
+                        "%s: the output is the input '%s'; refusing to overwrite an input", path,
+                        inputs[i]);
   }
   return NBRDF_OK;
 }
@@ -63,8 +62,8 @@ nbrdf_status nbrdf_output_file_open(nbrdf_output_file *f, const char *path,
    * is needed between threads. */
   struct timespec ts;
   clock_gettime(CLOCK_REALTIME, &ts);
-  uint64_t seed = (uint64_t)ts.tv_nsec ^ ((uint64_t)ts.tv_sec << 30) ^
-                  ((uint64_t)getpid() << 16) ^ (uint64_t)(uintptr_t)f;
+  uint64_t seed = (uint64_t)ts.tv_nsec ^ ((uint64_t)ts.tv_sec << 30) ^ ((uint64_t)getpid() << 16) ^
+                  (uint64_t)(uintptr_t)f;
   for (int attempt = 0; attempt < 64; attempt++) {
     seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
     snprintf(f->temp_path, cap, "%.*s/.%s.%08x.tmp", dir_len == 1 && dir[0] == '/' ? 0 : dir_len,
@@ -101,8 +100,7 @@ nbrdf_status nbrdf_output_file_commit(nbrdf_output_file *f, nbrdf_error *err) {
   nbrdf_status st = NBRDF_OK;
   if (f->fd >= 0) {
     if (fsync(f->fd) != 0 && errno != EINVAL)
-      st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot flush to disk: %s", f->path,
-                      strerror(errno));
+      st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot flush to disk: %s", f->path, strerror(errno));
     if (close(f->fd) != 0 && st == NBRDF_OK)
       st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot close: %s", f->path, strerror(errno));
     f->fd = -1;

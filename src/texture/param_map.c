@@ -96,9 +96,7 @@ nbrdf_status nbrdf_param_map_open(const char *path, const nbrdf_param_map_option
   return NBRDF_OK;
 }
 
-const nbrdf_param_map_info *nbrdf_param_map_get_info(const nbrdf_param_map *m) {
-  return &m->info;
-}
+const nbrdf_param_map_info *nbrdf_param_map_get_info(const nbrdf_param_map *m) { return &m->info; }
 
 const char *nbrdf_param_map_path(const nbrdf_param_map *m) { return m->path; }
 
@@ -124,10 +122,9 @@ nbrdf_status nbrdf_param_map_read_rows(nbrdf_param_map *m, int y0, int rows, flo
                                        nbrdf_error *err) {
   const nbrdf_param_map_info *in = &m->info;
   if (y0 < 0 || rows < 1 || rows > in->height - y0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows %d..%d of a map %d rows high", m->path,
-                      y0, y0 + rows - 1, in->height);
-  nbrdf_status st =
-      nbrdf_image_read_rows(m->img, 0, y0, y0 + rows, 0, in->channels, out, err);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows %d..%d of a map %d rows high", m->path, y0,
+                      y0 + rows - 1, in->height);
+  nbrdf_status st = nbrdf_image_read_rows(m->img, 0, y0, y0 + rows, 0, in->channels, out, err);
   if (st != NBRDF_OK) return st;
   size_t texels = (size_t)rows * in->width;
   if (m->xform && in->channels == 3) st = nbrdf_colour_xform_apply_rgb(m->xform, out, texels, err);
@@ -135,7 +132,8 @@ nbrdf_status nbrdf_param_map_read_rows(nbrdf_param_map *m, int y0, int rows, flo
   if (st != NBRDF_OK) return st;
   if (m->opts.remap && m->integer) {
     float lo = m->opts.lo, span = m->opts.hi - m->opts.lo;
-    for (size_t i = 0; i < texels * in->channels; i++) out[i] = lo + out[i] * span;
+    for (size_t i = 0; i < texels * in->channels; i++)
+      out[i] = lo + out[i] * span;
   }
   return validate(m, y0, rows, out, err);
 }

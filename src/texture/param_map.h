@@ -32,7 +32,8 @@ typedef struct nbrdf_param_map_options {
   float lo, hi;
 } nbrdf_param_map_options;
 
-#define NBRDF_PARAM_MAP_OPTIONS_DEFAULT {NBRDF_PARAM_DATA, NULL, NULL, 0, 0.0f, 1.0f}
+#define NBRDF_PARAM_MAP_OPTIONS_DEFAULT                                                            \
+  { NBRDF_PARAM_DATA, NULL, NULL, 0, 0.0f, 1.0f }
 
 typedef struct nbrdf_param_map_info {
   int width, height;

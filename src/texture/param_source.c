@@ -38,19 +38,20 @@ nbrdf_status nbrdf_param_source_constant(const char *name, const float *value, i
   nbrdf_param_source *s = new_source(name);
   if (!s) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", who);
   s->channels = channels;
-  for (int c = 0; c < 3; c++) s->constant[c] = value[channels == 3 ? c : 0];
+  for (int c = 0; c < 3; c++)
+    s->constant[c] = value[channels == 3 ? c : 0];
   if (channels == 1)
     snprintf(s->description, sizeof s->description, "%s=%.9g", s->name, (double)value[0]);
   else
-    snprintf(s->description, sizeof s->description, "%s=%.9g,%.9g,%.9g", s->name,
-             (double)value[0], (double)value[1], (double)value[2]);
+    snprintf(s->description, sizeof s->description, "%s=%.9g,%.9g,%.9g", s->name, (double)value[0],
+             (double)value[1], (double)value[2]);
   *out = s;
   return NBRDF_OK;
 }
 
 nbrdf_status nbrdf_param_source_map(const char *name, const char *path,
-                                    const nbrdf_param_map_options *opts,
-                                    nbrdf_param_source **out, nbrdf_error *err) {
+                                    const nbrdf_param_map_options *opts, nbrdf_param_source **out,
+                                    nbrdf_error *err) {
   *out = NULL;
   nbrdf_param_source *s = new_source(name);
   if (!s) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", name ? name : "map");
@@ -78,7 +79,8 @@ static int parse_numbers(const char *arg, float v[3]) {
     double d = strtod(p, &end);
     if (end == p || errno == ERANGE) return 0;
     v[n++] = (float)d;
-    while (*end == ' ') end++;
+    while (*end == ' ')
+      end++;
     if (*end == '\0') return n == 1 || n == 3 ? n : 0;
     if (*end != ',') return 0;
     p = end + 1;
@@ -87,8 +89,8 @@ static int parse_numbers(const char *arg, float v[3]) {
 }
 
 nbrdf_status nbrdf_param_source_parse(const char *name, const char *arg,
-                                      const nbrdf_param_map_options *opts,
-                                      nbrdf_param_source **out, nbrdf_error *err) {
+                                      const nbrdf_param_map_options *opts, nbrdf_param_source **out,
+                                      nbrdf_error *err) {
   *out = NULL;
   if (!arg || !arg[0])
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name ? name : "parameter");
@@ -126,7 +128,8 @@ nbrdf_status nbrdf_param_source_read_band(nbrdf_param_source *s, int y0, int row
   size_t need = rows > 0 ? (size_t)rows * in->width * in->channels : 0;
   if (need > s->rows_cap) {
     float *p = realloc(s->rows, need * sizeof(float));
-    if (!p) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d rows", s->name, rows);
+    if (!p)
+      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d rows", s->name, rows);
     s->rows = p;
     s->rows_cap = need;
   }
@@ -148,8 +151,8 @@ void nbrdf_param_source_free(nbrdf_param_source *s) {
   free(s);
 }
 
-nbrdf_status nbrdf_param_sources_common_size(nbrdf_param_source *const *sources, int n,
-                                             int *width, int *height, nbrdf_error *err) {
+nbrdf_status nbrdf_param_sources_common_size(nbrdf_param_source *const *sources, int n, int *width,
+                                             int *height, nbrdf_error *err) {
   const nbrdf_param_source *first = NULL;
   *width = *height = 0;
   for (int i = 0; i < n; i++) {

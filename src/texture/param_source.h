@@ -30,13 +30,13 @@ nbrdf_status nbrdf_param_source_constant(const char *name, const float *value, i
                                          nbrdf_param_source **out, nbrdf_error *err);
 /* A map read from `path`. */
 nbrdf_status nbrdf_param_source_map(const char *name, const char *path,
-                                    const nbrdf_param_map_options *opts,
-                                    nbrdf_param_source **out, nbrdf_error *err);
+                                    const nbrdf_param_map_options *opts, nbrdf_param_source **out,
+                                    nbrdf_error *err);
 /* A command-line argument: "0.3" or "0.8,0.5,0.2" is a constant, anything
  * else a file path (write "./0.5" for a file named like a number). */
 nbrdf_status nbrdf_param_source_parse(const char *name, const char *arg,
-                                      const nbrdf_param_map_options *opts,
-                                      nbrdf_param_source **out, nbrdf_error *err);
+                                      const nbrdf_param_map_options *opts, nbrdf_param_source **out,
+                                      nbrdf_error *err);
 
 int nbrdf_param_source_is_constant(const nbrdf_param_source *s);
 int nbrdf_param_source_channels(const nbrdf_param_source *s);
@@ -59,7 +59,7 @@ void nbrdf_param_source_free(nbrdf_param_source *s);
 /* All maps among `n` sources share one size (constants fit anything); the
  * error names both disagreeing maps. Sets *width, *height to that size, or
  * to 0 x 0 if every source is a constant. */
-nbrdf_status nbrdf_param_sources_common_size(nbrdf_param_source *const *sources, int n,
-                                             int *width, int *height, nbrdf_error *err);
+nbrdf_status nbrdf_param_sources_common_size(nbrdf_param_source *const *sources, int n, int *width,
+                                             int *height, nbrdf_error *err);
 
 #endif

@@ -13,7 +13,8 @@
 #include "texture/mip_chain.h"
 
 /* Smooth in space plus noise, in [-3, 3]; proxy sigma/w in (0, 1). */
-static inline float *fixture_texels(int W, int H, const nbrdf_latent_layout *layout, uint64_t seed) {
+static inline float *fixture_texels(int W, int H, const nbrdf_latent_layout *layout,
+                                    uint64_t seed) {
   int C = nbrdf_latent_channel_count(layout);
   float *t = malloc(sizeof(float) * (size_t)W * H * C);
   nbrdf_rng rng;
@@ -28,17 +29,19 @@ static inline float *fixture_texels(int W, int H, const nbrdf_latent_layout *lay
   if (layout->proxy)
     for (size_t p = 0; p < (size_t)W * H; p++)
       for (int c = 0; c < nbrdf_latent_colours(layout); c++) {
-        t[p * C + nbrdf_latent_index_sigma(layout, c)] = (float)(0.05 + 0.9 * nbrdf_rng_uniform(&rng));
+        t[p * C + nbrdf_latent_index_sigma(layout, c)] =
+            (float)(0.05 + 0.9 * nbrdf_rng_uniform(&rng));
         t[p * C + nbrdf_latent_index_w(layout, c)] = (float)nbrdf_rng_uniform(&rng);
       }
   return t;
 }
 
 /* Writes `texels` in bands of `band` rows (the last band shorter). */
-static inline nbrdf_status fixture_write(const char *path, int W, int H, const nbrdf_latent_layout *layout,
-                                  const nbrdf_latent_meta *meta,
-                                  const nbrdf_latent_exr_options *opts, const float *texels,
-                                  int band, nbrdf_error *err) {
+static inline nbrdf_status fixture_write(const char *path, int W, int H,
+                                         const nbrdf_latent_layout *layout,
+                                         const nbrdf_latent_meta *meta,
+                                         const nbrdf_latent_exr_options *opts, const float *texels,
+                                         int band, nbrdf_error *err) {
   nbrdf_latent_writer *w = NULL;
   nbrdf_status st = nbrdf_latent_writer_create(&w, path, W, H, layout, meta, opts, NULL, 0, err);
   if (st != NBRDF_OK) return st;
@@ -67,7 +70,8 @@ static inline float *fixture_level(const float *l0, int W, int H, int C, int l, 
       memset(acc, 0, sizeof(double) * (size_t)C);
       for (int yy = y0; yy < y1; yy++)
         for (int xx = x0; xx < x1; xx++)
-          for (int c = 0; c < C; c++) acc[c] += l0[((size_t)yy * W + xx) * C + c];
+          for (int c = 0; c < C; c++)
+            acc[c] += l0[((size_t)yy * W + xx) * C + c];
       for (int c = 0; c < C; c++)
         out[((size_t)y * wl + x) * C + c] = (float)(acc[c] / ((double)(x1 - x0) * (y1 - y0)));
     }
@@ -79,7 +83,7 @@ static inline float *fixture_level(const float *l0, int W, int H, int C, int l, 
 
 /* Largest |got - want| relative to the storage's precision: <= 1 passes. */
 static inline double fixture_error(const float *got, const float *want, size_t n,
-                            nbrdf_latent_storage storage) {
+                                   nbrdf_latent_storage storage) {
   /* Half keeps 11 significant bits: round-to-nearest errs by <= 2^-11
    * relative (plus subnormal spacing near zero). Float storage may differ
    * from the test's own double-precision mean by one rounding (2^-23). */

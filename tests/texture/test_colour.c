@@ -35,10 +35,12 @@ static void test_builtin_srgb(void) {
   }
   /* Each channel independently, many pixels at once. */
   float rgb[3 * 1000];
-  for (int i = 0; i < 3000; i++) rgb[i] = (float)(i % 1000) / 999.0f;
+  for (int i = 0; i < 3000; i++)
+    rgb[i] = (float)(i % 1000) / 999.0f;
   CHECK_OK(nbrdf_colour_xform_apply_rgb(x, rgb, 1000, err), err);
   double worst = 0;
-  for (int i = 0; i < 3000; i++) worst = fmax(worst, fabs(rgb[i] - srgb_to_linear((i % 1000) / 999.0)));
+  for (int i = 0; i < 3000; i++)
+    worst = fmax(worst, fabs(rgb[i] - srgb_to_linear((i % 1000) / 999.0)));
   CHECK(worst < 1e-6);
   float grey[5] = {0.0f, 0.2f, 0.5f, 0.8f, 1.0f};
   CHECK_OK(nbrdf_colour_xform_apply_grey(x, grey, 5, err), err);

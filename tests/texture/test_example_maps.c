@@ -56,18 +56,22 @@ static void test_example_maps(void) {
   if (src[5]) {
     nbrdf_param_band band;
     CHECK_OK(nbrdf_param_source_read_band(src[5], 10, 1, &band, err), err);
-    CHECK(nbrdf_param_band_at(&band, 0, 0, 0) == 0.0f && nbrdf_param_band_at(&band, 70, 0, 0) == 1.0f);
-    CHECK(nbrdf_param_band_at(&band, 130, 0, 0) == 2.0f && nbrdf_param_band_at(&band, 255, 0, 0) == 5.0f);
+    CHECK(nbrdf_param_band_at(&band, 0, 0, 0) == 0.0f &&
+          nbrdf_param_band_at(&band, 70, 0, 0) == 1.0f);
+    CHECK(nbrdf_param_band_at(&band, 130, 0, 0) == 2.0f &&
+          nbrdf_param_band_at(&band, 255, 0, 0) == 5.0f);
   }
   if (src[1]) {
     nbrdf_param_band band;
     CHECK_OK(nbrdf_param_source_read_band(src[1], 100, 1, &band, err), err);
-    CHECK(nbrdf_param_band_at(&band, 5, 0, 0) == 1.3f && nbrdf_param_band_at(&band, 40, 0, 0) == 1.7f);
+    CHECK(nbrdf_param_band_at(&band, 5, 0, 0) == 1.3f &&
+          nbrdf_param_band_at(&band, 40, 0, 0) == 1.7f);
   }
   int w = 0, h = 0;
   CHECK_OK(nbrdf_param_sources_common_size(src, 6, &w, &h, err), err);
   CHECK(w == 256 && h == 256);
-  for (int i = 0; i < 6; i++) nbrdf_param_source_free(src[i]);
+  for (int i = 0; i < 6; i++)
+    nbrdf_param_source_free(src[i]);
 }
 
 int main(void) {

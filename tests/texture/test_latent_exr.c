@@ -13,8 +13,8 @@ typedef struct {
 static const size2 sizes[] = {{67, 45}, {300, 200}, {1, 1}, {1, 17}, {129, 64}};
 
 static void round_trip_seeded(int W, int H, nbrdf_latent_layout layout,
-                              nbrdf_latent_storage storage, int tile,
-                              nbrdf_latent_compression comp, int band, uint64_t seed) {
+                              nbrdf_latent_storage storage, int tile, nbrdf_latent_compression comp,
+                              int band, uint64_t seed) {
   nbrdf_error e, *err = &e;
   char path[512];
   snprintf(path, sizeof path, "%s/rt_%dx%d_%s_%s_%d.exr", nbrdf_test_tmpdir(), W, H,
@@ -85,10 +85,10 @@ static void test_round_trip_every_level(void) {
 static void test_paper_layout_and_compressions(void) {
   /* The paper's 32 latents per RGB channel with the proxy: 102 channels. */
   nbrdf_latent_layout paper = {32, NBRDF_COLOUR_RGB, 1};
-  static const nbrdf_latent_compression comps[] = {NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ,
-                                                   NBRDF_LATENT_ZIPS, NBRDF_LATENT_RLE,
-                                                   NBRDF_LATENT_NONE};
-  for (int c = 0; c < 5; c++) round_trip(67, 45, paper, NBRDF_LATENT_HALF, 32, comps[c], 45);
+  static const nbrdf_latent_compression comps[] = {
+      NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ, NBRDF_LATENT_ZIPS, NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
+  for (int c = 0; c < 5; c++)
+    round_trip(67, 45, paper, NBRDF_LATENT_HALF, 32, comps[c], 45);
 }
 
 /* Small edge tiles of noisy latents do not compress and must be stored raw.
@@ -202,7 +202,8 @@ static nbrdf_status zero_proxy(void *user, int level, int y, float *row, int wid
                                nbrdf_error *err) {
   int *calls = user;
   (*calls)++;
-  for (int x = 0; x < width; x++) row[x * 3 + 1] = row[x * 3 + 2] = (float)level;
+  for (int x = 0; x < width; x++)
+    row[x * 3 + 1] = row[x * 3 + 2] = (float)level;
   return NBRDF_OK;
 }
 

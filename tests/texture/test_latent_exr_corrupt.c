@@ -100,10 +100,10 @@ static void damage(nbrdf_latent_compression comp, nbrdf_latent_storage storage) 
 }
 
 static void test_truncated_and_flipped(void) {
-  static const nbrdf_latent_compression comps[] = {NBRDF_LATENT_PIZ, NBRDF_LATENT_ZIP,
-                                                   NBRDF_LATENT_ZIPS, NBRDF_LATENT_RLE,
-                                                   NBRDF_LATENT_NONE};
-  for (int c = 0; c < 5; c++) damage(comps[c], c % 2 ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF);
+  static const nbrdf_latent_compression comps[] = {
+      NBRDF_LATENT_PIZ, NBRDF_LATENT_ZIP, NBRDF_LATENT_ZIPS, NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
+  for (int c = 0; c < 5; c++)
+    damage(comps[c], c % 2 ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF);
   damage(NBRDF_LATENT_PIZ, NBRDF_LATENT_FLOAT);
 }
 

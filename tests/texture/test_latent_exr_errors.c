@@ -59,8 +59,7 @@ static void test_abort_and_incomplete_leave_nothing(void) {
   CHECK_OK(nbrdf_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
   if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, l0, 3, err), err);
   if (w)
-    CHECK_FAILS(nbrdf_latent_writer_finish(w, err), NBRDF_ERR_ARGUMENT, err,
-                "only 3 of 10 rows");
+    CHECK_FAILS(nbrdf_latent_writer_finish(w, err), NBRDF_ERR_ARGUMENT, err, "only 3 of 10 rows");
   CHECK(count_entries(dir) == 0);
 
   CHECK_OK(nbrdf_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
@@ -139,8 +138,7 @@ static void test_unwritable_destinations(void) {
   CHECK_FAILS(nbrdf_latent_writer_create(&w, dir, 8, 8, &mono2, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_ARGUMENT, err, "is a directory");
   /* /proc refuses new files even to root. */
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, "/proc/t.exr", 8, 8, &mono2, NULL, NULL, NULL, 0,
-                                         err),
+  CHECK_FAILS(nbrdf_latent_writer_create(&w, "/proc/t.exr", 8, 8, &mono2, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_IO, err, "/proc/t.exr: cannot create a file in '/proc'");
   CHECK(w == NULL && count_entries(dir) == 1);
 }
@@ -242,8 +240,8 @@ static void test_reader_refusals(void) {
   if (r) {
     const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
     CHECK_OK(nbrdf_latent_check_model(in, path, "model-a", "1111", err), err);
-    CHECK_FAILS(nbrdf_latent_check_model(in, path, "model-a", "2222", err), NBRDF_ERR_MISMATCH,
-                err, "baked with model 'model-a' (checksum 1111)");
+    CHECK_FAILS(nbrdf_latent_check_model(in, path, "model-a", "2222", err), NBRDF_ERR_MISMATCH, err,
+                "baked with model 'model-a' (checksum 1111)");
     CHECK_FAILS(nbrdf_latent_check_model(in, path, "model-b", NULL, err), NBRDF_ERR_MISMATCH, err,
                 "not 'model-b'");
     CHECK(in->sources[0] == '\0' && in->file_size > 0);
@@ -257,8 +255,7 @@ static void test_reader_refusals(void) {
   CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
               "missing channel latent.L02.Y");
   CHECK(set_int_attr(path, NBRDF_ATTR_LATENT_DIM, 0));
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
-              "latent dimension 0");
+  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err, "latent dimension 0");
   CHECK(r == NULL);
   nbrdf_latent_reader_close(r);
   free(l0);

@@ -29,7 +29,7 @@ static char *capture(const char *cmd) {
   return buf;
 }
 
-#define CHECK_HAS(text, needle)                                                                  \
+#define CHECK_HAS(text, needle)                                                                    \
   CHECK_MSG((text) && strstr((text), (needle)), "output lacks \"%s\"", (needle))
 
 static void write_texture(const char *path, int W, int H, nbrdf_latent_layout layout,
@@ -72,12 +72,14 @@ static void compare_with_oiio(const char *path) {
     CHECK_OK(nbrdf_latent_reader_level_size(r, l, &w, &h, err), err);
     CHECK_OK(nbrdf_image_level_size(img, l, &ow, &oh, err), err);
     CHECK(w == ow && h == oh);
-    float *a = malloc(sizeof(float) * (size_t)w * h * C), *b = malloc(sizeof(float) * (size_t)w * h * C);
+    float *a = malloc(sizeof(float) * (size_t)w * h * C),
+          *b = malloc(sizeof(float) * (size_t)w * h * C);
     CHECK_OK(nbrdf_latent_reader_read(r, l, 0, 0, w, h, a, err), err);
     CHECK_OK(nbrdf_image_read_rows(img, l, 0, h, 0, C, b, err), err);
     size_t diff = 0;
     for (size_t p = 0; p < (size_t)w * h; p++)
-      for (int k = 0; k < C; k++) diff += a[p * C + ours[k]] != b[p * C + k];
+      for (int k = 0; k < C; k++)
+        diff += a[p * C + ours[k]] != b[p * C + k];
     CHECK_MSG(diff == 0, "%s level %d: %zu values differ between OpenEXRCore and OIIO", path, l,
               diff);
     free(a);
@@ -107,8 +109,8 @@ static void test_iinfo_and_exrheader(void) {
   char path[512], cmd[700];
   float *l0 = NULL;
   snprintf(path, sizeof path, "%s/tools.exr", nbrdf_test_tmpdir());
-  write_texture(path, 67, 45, (nbrdf_latent_layout){32, NBRDF_COLOUR_RGB, 1}, NBRDF_LATENT_HALF,
-                64, &l0);
+  write_texture(path, 67, 45, (nbrdf_latent_layout){32, NBRDF_COLOUR_RGB, 1}, NBRDF_LATENT_HALF, 64,
+                &l0);
   free(l0);
   snprintf(cmd, sizeof cmd, "iinfo -v '%s' 2>&1", path);
   char *out = capture(cmd);

@@ -64,7 +64,8 @@ static double brute_mean(const float *l0, int W, int H, int C, int l, int x, int
   int y0 = y << l, y1 = y == hl - 1 ? H : (y + 1) << l;
   double sum = 0;
   for (int yy = y0; yy < y1; yy++)
-    for (int xx = x0; xx < x1; xx++) sum += l0[((size_t)yy * W + xx) * C + c];
+    for (int xx = x0; xx < x1; xx++)
+      sum += l0[((size_t)yy * W + xx) * C + c];
   return sum / ((double)(x1 - x0) * (y1 - y0));
 }
 
@@ -73,11 +74,12 @@ static void check_size(int W, int H, int C) {
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, 11, (uint64_t)(W * 1000 + H));
   float *l0 = malloc(sizeof(float) * (size_t)W * H * C);
-  for (size_t i = 0; i < (size_t)W * H * C; i++) l0[i] = (float)(4 * nbrdf_rng_uniform(&rng) - 2);
+  for (size_t i = 0; i < (size_t)W * H * C; i++)
+    l0[i] = (float)(4 * nbrdf_rng_uniform(&rng) - 2);
   sink s = {W, H, C, nbrdf_mip_level_count(W, H), {0}, {0}, 1};
   for (int l = 0; l < s.levels; l++)
-    s.got[l] = calloc((size_t)nbrdf_mip_level_dim(W, l) * nbrdf_mip_level_dim(H, l) * C,
-                      sizeof(float));
+    s.got[l] =
+        calloc((size_t)nbrdf_mip_level_dim(W, l) * nbrdf_mip_level_dim(H, l) * C, sizeof(float));
   nbrdf_mip_builder *b = NULL;
   CHECK_OK(nbrdf_mip_builder_create(W, H, C, s.levels, collect, &s, &b, err), err);
   for (int y = 0; b && y < H; y++)
@@ -124,10 +126,12 @@ static void test_power_of_two_is_2x2_average(void) {
   float l0[16 * 16], l1[8 * 8], l2[4 * 4], l3[2 * 2], l4[1];
   float *levels[5] = {l0, l1, l2, l3, l4};
   float input[16 * 16];
-  for (int i = 0; i < 256; i++) input[i] = (float)((i * 37) % 101) / 7.0f;
+  for (int i = 0; i < 256; i++)
+    input[i] = (float)((i * 37) % 101) / 7.0f;
   nbrdf_mip_builder *b = NULL;
   CHECK_OK(nbrdf_mip_builder_create(16, 16, 1, 5, keep, levels, &b, err), err);
-  for (int y = 0; b && y < 16; y++) CHECK_OK(nbrdf_mip_builder_push_row(b, input + 16 * y, err), err);
+  for (int y = 0; b && y < 16; y++)
+    CHECK_OK(nbrdf_mip_builder_push_row(b, input + 16 * y, err), err);
   nbrdf_mip_builder_free(b);
   for (int l = 1; l < 5; l++) {
     int w = 16 >> l;
@@ -161,7 +165,8 @@ static void test_errors(void) {
   float row[8] = {0};
   nbrdf_status st = NBRDF_OK;
   int y = 0;
-  while (st == NBRDF_OK && y < 8) st = nbrdf_mip_builder_push_row(b, row, err), y++;
+  while (st == NBRDF_OK && y < 8)
+    st = nbrdf_mip_builder_push_row(b, row, err), y++;
   CHECK(st == NBRDF_ERR_CANCELLED && y == 4);
   nbrdf_mip_builder_free(b);
 }

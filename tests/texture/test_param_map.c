@@ -16,7 +16,8 @@ static double srgb_to_linear(double v) {
 /* A W x H image of C channels whose values are exact in 8 bits. */
 static float *pattern(int W, int H, int C) {
   float *p = malloc(sizeof(float) * (size_t)W * H * C);
-  for (int i = 0; i < W * H * C; i++) p[i] = (float)((i * 37 + 11) % 256) / 255.0f;
+  for (int i = 0; i < W * H * C; i++)
+    p[i] = (float)((i * 37 + 11) % 256) / 255.0f;
   return p;
 }
 
@@ -44,7 +45,8 @@ static float *round_trip(const char *name, int W, int H, int C, const float *src
 
 static double max_diff(const float *a, const float *b, size_t n) {
   double worst = 0;
-  for (size_t i = 0; i < n; i++) worst = fmax(worst, fabs((double)a[i] - (double)b[i]));
+  for (size_t i = 0; i < n; i++)
+    worst = fmax(worst, fabs((double)a[i] - (double)b[i]));
   return worst;
 }
 
@@ -58,8 +60,8 @@ static void test_formats_as_data(void) {
     nbrdf_pixel_format fmt;
     double tol;
   } cases[] = {
-      {"g8.png", 1, NBRDF_PIXEL_U8, 1e-7},   {"rgb16.png", 3, NBRDF_PIXEL_U16, 1e-7},
-      {"rgb8.tif", 3, NBRDF_PIXEL_U8, 1e-7}, {"g16.tif", 1, NBRDF_PIXEL_U16, 1e-7},
+      {"g8.png", 1, NBRDF_PIXEL_U8, 1e-7},     {"rgb16.png", 3, NBRDF_PIXEL_U16, 1e-7},
+      {"rgb8.tif", 3, NBRDF_PIXEL_U8, 1e-7},   {"g16.tif", 1, NBRDF_PIXEL_U16, 1e-7},
       {"rgbh.exr", 3, NBRDF_PIXEL_HALF, 1e-3}, {"gf.exr", 1, NBRDF_PIXEL_FLOAT, 0},
       {"rgb.jpg", 3, NBRDF_PIXEL_U8, 1.0}, /* lossy: only the size and format are exact */
   };
@@ -88,8 +90,10 @@ static void test_alpha_is_ignored(void) {
   const int W = 8, H = 5;
   float *rgba = pattern(W, H, 4), rgb[8 * 5 * 3];
   for (int p = 0; p < W * H; p++)
-    for (int c = 0; c < 3; c++) rgb[p * 3 + c] = rgba[p * 4 + c];
-  for (int p = 0; p < W * H; p++) rgba[p * 4 + 3] = 1.0f; /* straight alpha must not scale RGB */
+    for (int c = 0; c < 3; c++)
+      rgb[p * 3 + c] = rgba[p * 4 + c];
+  for (int p = 0; p < W * H; p++)
+    rgba[p * 4 + 3] = 1.0f; /* straight alpha must not scale RGB */
   nbrdf_param_map_info in;
   float *out = round_trip("rgba.png", W, H, 4, rgba, NBRDF_PIXEL_U8, NULL, &in);
   if (out) {
@@ -122,7 +126,8 @@ static void test_colour_data_is_linearised(void) {
   /* Grey colour maps go through OCIO as (v, v, v). */
   out = round_trip("a.tif", W, H, 1, rgb, NBRDF_PIXEL_U16, &colour, &in);
   worst = 0;
-  for (int i = 0; out && i < W * H; i++) worst = fmax(worst, fabs(out[i] - srgb_to_linear(rgb[i])));
+  for (int i = 0; out && i < W * H; i++)
+    worst = fmax(worst, fabs(out[i] - srgb_to_linear(rgb[i])));
   CHECK_MSG(out && worst < 1e-6, "16-bit grey sRGB map: error %g", worst);
   free(out);
   /* Float images are linear already; an explicit "linear" skips conversion. */
@@ -140,7 +145,8 @@ static void test_colour_data_is_linearised(void) {
   eta.hi = 2.0f;
   out = round_trip("eta.png", W, H, 1, rgb, NBRDF_PIXEL_U8, &eta, &in);
   worst = 0;
-  for (int i = 0; out && i < W * H; i++) worst = fmax(worst, fabs(out[i] - (1.0 + rgb[i])));
+  for (int i = 0; out && i < W * H; i++)
+    worst = fmax(worst, fabs(out[i] - (1.0 + rgb[i])));
   CHECK_MSG(out && worst < 1e-6, "remapped eta: error %g", worst);
   CHECK(strstr(in.conversion, "[0, 1] -> [1, 2]") != NULL);
   free(out);
@@ -215,12 +221,15 @@ static void test_bad_maps_name_the_file(void) {
              {-0.25f, 1, "texel (3, 2) is negative (-0.25)"}};
   for (int i = 0; i < 3; i++) {
     float img[4 * 3 * 3];
-    for (int k = 0; k < 4 * 3 * 3; k++) img[k] = 0.5f;
+    for (int k = 0; k < 4 * 3 * 3; k++)
+      img[k] = 0.5f;
     img[(2 * 4 + 3) * bad[i].C + bad[i].C - 1] = bad[i].value;
     path_in_tmp(path, sizeof path, "bad.exr");
     CHECK_OK(nbrdf_image_write(path, 4, 3, bad[i].C, img, NBRDF_PIXEL_FLOAT, err), err);
     CHECK_OK(nbrdf_param_map_open(path, NULL, &m, err), err);
-    if (m) CHECK_FAILS(nbrdf_param_map_read_rows(m, 0, 3, img, err), NBRDF_ERR_ARGUMENT, err, bad[i].needle);
+    if (m)
+      CHECK_FAILS(nbrdf_param_map_read_rows(m, 0, 3, img, err), NBRDF_ERR_ARGUMENT, err,
+                  bad[i].needle);
     if (m) CHECK(strstr(e.message, "bad.exr") != NULL);
     nbrdf_param_map_close(m);
     m = NULL;
@@ -276,7 +285,8 @@ static void test_sources(void) {
   CHECK_FAILS(nbrdf_param_sources_common_size(all, 4, &w, &h, err), NBRDF_ERR_MISMATCH, err,
               "albedo: ");
   CHECK(strstr(e.message, "is 3x3, but sigma_t: ") && strstr(e.message, "is 6x4"));
-  for (int i = 0; i < 4; i++) nbrdf_param_source_free(all[i]);
+  for (int i = 0; i < 4; i++)
+    nbrdf_param_source_free(all[i]);
   free(grey);
   free(small);
 }
