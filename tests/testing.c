@@ -45,3 +45,7 @@ const char *nbrdf_test_source_dir(void) {
   const char *s = getenv("NBRDF_SOURCE_DIR");
   return s ? s : ".";
 }
+
+const char *nbrdf_test_message(const nbrdf_error *err) {
+  return err ? err->message : "(no message)";
+}

@@ -15,6 +15,9 @@ void nbrdf_test_fail(const char *file, int line, const char *fmt, ...);
 int nbrdf_test_finish(void);
 /* A scratch directory unique to this test process, created on first use. */
 const char *nbrdf_test_tmpdir(void);
+/* The message of an error, or "(no message)" for NULL. A function rather than
+ * `(errp) ? ...` in the macros, which GCC rejects (-Waddress) for `&err`. */
+const char *nbrdf_test_message(const nbrdf_error *err);
 /* $NBRDF_SOURCE_DIR (the repository root), for fixtures. */
 const char *nbrdf_test_source_dir(void);
 
@@ -66,7 +69,7 @@ const char *nbrdf_test_source_dir(void);
     nbrdf_status s_ = (call);                                                                    \
     if (s_ != NBRDF_OK)                                                                          \
       nbrdf_test_fail(__FILE__, __LINE__, "%s failed: %s", #call,                                \
-                      (errp) ? (errp)->message : "(no message)");                                \
+                      nbrdf_test_message(errp));                                \
   } while (0)
 
 /* A call must fail with `status` and a message containing `needle`. */
