@@ -2,7 +2,7 @@
  * second per core, and the lobe error of the layered estimator against a
  * high-sample-count reference as a function of walks (samples) per query, for
  * three representative layered BRDFs. Prints a markdown table, writes it to a
- * file and plots lobe error against spp. docs/GROUND-TRUTH.md has the figures
+ * file and plots lobe error against spp. docs/BENCH_GROUND_TRUTH.md has the figures
  * and the command that produced them. */
 #include <math.h>
 #include <omp.h>
