@@ -7,11 +7,15 @@
 DECLARE(help)
 DECLARE(bundle)
 DECLARE(eval)
+DECLARE(bake)
+DECLARE(info)
 
 const cli_command cli_commands[] = {
     {"help", "show help for nbrdf or one of its commands", cmd_help, cmd_help_usage},
     {"bundle", "create an untrained model bundle, or describe one", cmd_bundle, cmd_bundle_usage},
     {"eval", "ground-truth BRDF values at point queries (CSV in, CSV out)", cmd_eval,
      cmd_eval_usage},
+    {"bake", "bake parameter maps into a latent OpenEXR texture", cmd_bake, cmd_bake_usage},
+    {"info", "describe a latent texture", cmd_info, cmd_info_usage},
 };
 const int cli_command_count = (int)(sizeof cli_commands / sizeof cli_commands[0]);

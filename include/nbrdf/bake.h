@@ -1,0 +1,144 @@
+/* The bake: six layered-BRDF parameter sources (constants or maps) -> a
+ * tiled, mip-mapped latent OpenEXR texture (docs/LATENT-TEXTURE.md).
+ *
+ * Per texel and colour channel the bake looks up the base latents (top
+ * dielectric at (alpha1, eta), bottom conductor at (alpha2, r0)) in the
+ * model's tables, runs the layering network with (albedo, sigma_t) and the
+ * sampling network for the proxy's (sigma, w) (paper §3-§5). Rows are
+ * processed a band at a time, and within a band every distinct parameter
+ * tuple is evaluated once, so painted maps with few distinct values and
+ * constant inputs cost (almost) nothing per texel.
+ *
+ *   nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
+ *   nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA1], 0.2f);
+ *   in.param[NBRDF_BAKE_R0].path = "r0.png";
+ *   ...
+ *   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
+ *   nbrdf_status st = nbrdf_bake(model, &in, &opts, "out.exr", &err);
+ *
+ * A failed or cancelled bake leaves no output file and never touches an
+ * input; the output is written to a temporary file and renamed on success.
+ * nbrdf_bake may run in any thread; several bakes may share one model. */
+#ifndef NBRDF_BAKE_H
+#define NBRDF_BAKE_H
+
+#include <signal.h>
+#include <stddef.h>
+
+#include "nbrdf/model.h"
+#include "nbrdf/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The six parameters, in the order of the paper's layered BRDF. */
+typedef enum nbrdf_bake_param_id {
+  NBRDF_BAKE_ALPHA1 = 0, /* top coat GGX roughness (see nbrdf_roughness) */
+  NBRDF_BAKE_ETA,        /* top coat IOR relative to outside, >= 1 */
+  NBRDF_BAKE_ALPHA2,     /* bottom conductor GGX roughness */
+  NBRDF_BAKE_R0,         /* bottom Schlick reflectance at normal incidence, [0, 1]; colour */
+  NBRDF_BAKE_ALBEDO,     /* slab single-scattering albedo A, [0, 1]; colour */
+  NBRDF_BAKE_SIGMA_T,    /* slab optical depth (unit thickness), >= 0 */
+  NBRDF_BAKE_PARAM_COUNT
+} nbrdf_bake_param_id;
+
+/* "alpha1", "eta", "alpha2", "r0", "albedo", "sigma_t". */
+const char *nbrdf_bake_param_name(nbrdf_bake_param_id id);
+
+/* One parameter: a constant (path == NULL) or an image file that OpenImageIO
+ * reads (1 or 3 channels; a 4th is alpha and ignored). */
+typedef struct nbrdf_bake_param {
+  const char *path; /* NULL: the constant below */
+  float value[3];   /* constant: value[0] (grey) or value[0..2] (RGB) */
+  int channels;     /* constant: 1 or 3 */
+  /* Maps of r0 and albedo only: colour space of an 8/16-bit image (NULL:
+   * "srgb"; half/float images are linear); alpha, eta, sigma_t are
+   * non-colour data and never converted. */
+  const char *colour_space;
+  /* 8/16-bit images only: map [0, 1] linearly onto [lo, hi] (e.g. eta in
+   * [1, 2], sigma_t in [0, 5]); float images hold physical values. */
+  int remap;
+  float lo, hi;
+} nbrdf_bake_param;
+
+#define NBRDF_BAKE_PARAM_DEFAULT                                                                   \
+  { NULL, {0.0f, 0.0f, 0.0f}, 1, NULL, 0, 0.0f, 1.0f }
+
+typedef struct nbrdf_bake_inputs {
+  nbrdf_bake_param param[NBRDF_BAKE_PARAM_COUNT]; /* indexed by nbrdf_bake_param_id */
+  const char *ocio_config; /* colour spaces of maps are looked up here; NULL: $OCIO */
+} nbrdf_bake_inputs;
+
+#define NBRDF_BAKE_INPUTS_DEFAULT                                                                  \
+  {                                                                                                \
+    {NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT,                 \
+     NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT},                \
+        NULL                                                                                       \
+  }
+
+/* Sets a grey constant. */
+void nbrdf_bake_param_constant(nbrdf_bake_param *p, float value);
+/* A command-line argument: "0.3" (grey) or "0.8,0.5,0.2" (RGB) is a
+ * constant, anything else a path (kept as a pointer into `arg`). */
+nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bake_param *p,
+                                    nbrdf_error *err);
+
+/* How alpha1 and alpha2 values are read. */
+typedef enum nbrdf_roughness {
+  NBRDF_ROUGHNESS_ALPHA = 0,     /* the GGX alpha of the paper, used as given */
+  NBRDF_ROUGHNESS_PERCEPTUAL = 1 /* artists' roughness r (Blender, Disney): alpha = r^2 */
+} nbrdf_roughness;
+
+typedef enum nbrdf_bake_storage { NBRDF_BAKE_HALF = 0, NBRDF_BAKE_FLOAT = 1 } nbrdf_bake_storage;
+
+/* Trained range of sigma_t (paper: {0, 1, 2, 5}); the range policy applies above it. */
+#define NBRDF_BAKE_SIGMA_T_MAX 5.0f
+
+typedef struct nbrdf_bake_options {
+  nbrdf_bake_storage storage; /* half (default) or float latents */
+  int mip_levels;             /* 0: the full mip chain; 1: level 0 only */
+  int tile_size;              /* EXR tile edge, 8..1024 (64) */
+  nbrdf_roughness roughness;
+  /* Values outside what the model was trained on (alpha1, eta outside the
+   * dielectric table, alpha2 outside the conductor table, sigma_t above
+   * NBRDF_BAKE_SIGMA_T_MAX): CLAMP moves them onto the range and reports
+   * the count through `warning`; REFUSE fails naming the file and texel.
+   * r0 or albedo above 1 are never physical and always fail. */
+  nbrdf_range_policy range;
+  /* Called per band of rows with stage "bake", done/total in rows; a
+   * non-zero return cancels. May be NULL. */
+  nbrdf_progress_fn progress;
+  void *user;
+  /* Cancels when it becomes non-zero (a signal handler or another thread
+   * may set it); checked between bands. May be NULL. */
+  volatile sig_atomic_t *cancel;
+  /* Receives warnings (clamped values), one line each without a newline. May be NULL. */
+  void (*warning)(void *user, const char *message);
+} nbrdf_bake_options;
+
+#define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
+  { NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL }
+
+/* What a finished bake did (optional output of nbrdf_bake). */
+typedef struct nbrdf_bake_report {
+  int width, height; /* level 0 (1 x 1 when every input is a constant) */
+  int colour_channels; /* 1 (mono) or 3 (RGB) */
+  size_t brdfs;        /* texels x colour channels */
+  size_t evaluated;    /* distinct tuples evaluated by the networks (summed over bands) */
+  size_t clamped;      /* texel channels with a clamped parameter */
+} nbrdf_bake_report;
+
+/* Bakes `inputs` with `model` into `out_path`. All maps must share one
+ * size (the error names the two that differ); every input is a constant:
+ * a 1 x 1 texture. The texture is mono when every source has one channel,
+ * else RGB (each channel its own BRDF; a grey source serves all three).
+ * `options` NULL means defaults; `report` may be NULL. */
+nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *inputs,
+                        const nbrdf_bake_options *options, const char *out_path,
+                        nbrdf_bake_report *report, nbrdf_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,214 @@
+/* nbrdf_bake: opens the six parameter sources, streams bands of rows through
+ * bake_band.c into the latent EXR writer, and reports progress. */
+#include "nbrdf/bake.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/bake_band.h"
+#include "core/error.h"
+#include "texture/latent_exr.h"
+
+/* Texels per band: big enough that the networks run on full batches, small
+ * enough that band buffers stay far below the writer's tile rows. */
+#define BAND_TEXELS 65536
+
+static const char *const param_names[NBRDF_BAKE_PARAM_COUNT] = {"alpha1", "eta",    "alpha2",
+                                                                "r0",     "albedo", "sigma_t"};
+
+const char *nbrdf_bake_param_name(nbrdf_bake_param_id id) {
+  return (unsigned)id < NBRDF_BAKE_PARAM_COUNT ? param_names[id] : "parameter";
+}
+
+void nbrdf_bake_param_constant(nbrdf_bake_param *p, float value) {
+  p->path = NULL;
+  p->value[0] = p->value[1] = p->value[2] = value;
+  p->channels = 1;
+}
+
+nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bake_param *p,
+                                    nbrdf_error *err) {
+  if (!arg || !*arg) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name);
+  float v[3];
+  int n = 0;
+  const char *s = arg;
+  for (;;) {
+    char *end;
+    errno = 0;
+    double d = strtod(s, &end);
+    if (end == s || errno == ERANGE || n == 3) break;
+    v[n++] = (float)d;
+    if (*end == '\0') {
+      if (n == 2) break;
+      p->path = NULL;
+      p->channels = n;
+      for (int c = 0; c < 3; c++)
+        p->value[c] = v[n == 3 ? c : 0];
+      return NBRDF_OK;
+    }
+    if (*end != ',') break;
+    s = end + 1;
+  }
+  p->path = arg; /* not a number list: a file */
+  return NBRDF_OK;
+}
+
+static nbrdf_status open_sources(const nbrdf_bake_inputs *in, nbrdf_param_source **src,
+                                 nbrdf_error *err) {
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    const nbrdf_bake_param *p = &in->param[id];
+    nbrdf_status st;
+    if (p->path) {
+      nbrdf_param_map_options o = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+      if (id == NBRDF_BAKE_R0 || id == NBRDF_BAKE_ALBEDO) {
+        o.kind = NBRDF_PARAM_COLOUR;
+        o.colour_space = p->colour_space;
+        o.ocio_config = in->ocio_config;
+      }
+      o.remap = p->remap, o.lo = p->lo, o.hi = p->hi;
+      st = nbrdf_param_source_map(param_names[id], p->path, &o, &src[id], err);
+    } else {
+      st = nbrdf_param_source_constant(param_names[id], p->value, p->channels, &src[id], err);
+    }
+    if (st != NBRDF_OK) return st;
+  }
+  return NBRDF_OK;
+}
+
+typedef struct mip_ctx {
+  const nbrdf_model *model;
+  const nbrdf_latent_layout *layout;
+} mip_ctx;
+
+/* The proxy of a mip texel is predicted from its averaged latents rather
+ * than averaged itself (docs/LATENT-TEXTURE.md, "Mip levels"). */
+static nbrdf_status mip_row(void *user, int level, int y, float *row, int width,
+                            nbrdf_error *err) {
+  (void)level, (void)y;
+  const mip_ctx *m = user;
+  return bake_proxy_from_latents(m->model, m->layout, row, (size_t)width, err);
+}
+
+static void append(char *buf, size_t cap, const char *text) {
+  size_t len = strlen(buf);
+  if (len + 1 < cap) snprintf(buf + len, cap - len, "%s", text);
+}
+
+static void warn_clamped(const bake_band *b, const nbrdf_bake_options *o) {
+  if (!o->warning) return;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    if (!b->clamped[id]) continue;
+    char msg[256];
+    snprintf(msg, sizeof msg,
+             "%s: %zu texel channel(s) outside the model's trained range [%g, %g] were clamped",
+             param_names[id], b->clamped[id], (double)b->lo[id], (double)b->hi[id]);
+    o->warning(o->user, msg);
+  }
+}
+
+static int cancelled(const nbrdf_bake_options *o) { return o->cancel && *o->cancel; }
+
+static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
+                        const nbrdf_bake_options *o, const char *out_path, nbrdf_bake_report *rep,
+                        nbrdf_error *err) {
+  int W, H;
+  nbrdf_status st = nbrdf_param_sources_common_size(src, NBRDF_BAKE_PARAM_COUNT, &W, &H, err);
+  if (st != NBRDF_OK) return st;
+  if (W == 0) W = H = 1;
+  int rgb = 0;
+  const char *inputs[NBRDF_BAKE_PARAM_COUNT];
+  int n_inputs = 0;
+  char sources[4096] = "";
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    rgb |= nbrdf_param_source_channels(src[id]) == 3;
+    nbrdf_param_map *m = nbrdf_param_source_get_map(src[id]);
+    if (m) inputs[n_inputs++] = nbrdf_param_map_path(m);
+    if (id) append(sources, sizeof sources, "; ");
+    append(sources, sizeof sources, nbrdf_param_source_describe(src[id]));
+  }
+  nbrdf_latent_layout layout = {nbrdf_model_latent_dim(model),
+                                rgb ? NBRDF_COLOUR_RGB : NBRDF_COLOUR_MONO, 1};
+  char settings[512];
+  snprintf(settings, sizeof settings,
+           "storage=%s; compression=zip; tile=%d; mipLevels=%s; roughness=%s; range=%s; "
+           "proxyMips=predicted",
+           o->storage == NBRDF_BAKE_FLOAT ? "float" : "half", o->tile_size,
+           o->mip_levels == 1 ? "1" : "full",
+           o->roughness == NBRDF_ROUGHNESS_PERCEPTUAL ? "perceptual" : "alpha",
+           o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp");
+  nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
+                            settings};
+  mip_ctx mctx = {model, &layout};
+  nbrdf_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
+  wo.tile_size = o->tile_size;
+  wo.mip_levels = o->mip_levels;
+  wo.mip_row = mip_row;
+  wo.mip_row_user = &mctx;
+
+  int band_rows = BAND_TEXELS / W;
+  if (band_rows < 1) band_rows = 1;
+  if (band_rows > H) band_rows = H;
+  size_t texel_floats = (size_t)nbrdf_latent_channel_count(&layout);
+  float *texels = malloc(sizeof(float) * texel_floats * (size_t)band_rows * W);
+  if (!texels) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
+
+  nbrdf_latent_writer *writer = NULL;
+  st = nbrdf_latent_writer_create(&writer, out_path, W, H, &layout, &meta, &wo, inputs, n_inputs,
+                                  err);
+  bake_band band;
+  bake_band_init(&band, model, src, &layout, W, o->roughness, o->range);
+  for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
+    if (cancelled(o) || (o->progress && o->progress(o->user, "bake", y, H))) {
+      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y, H);
+      break;
+    }
+    int rows = H - y < band_rows ? H - y : band_rows;
+    st = bake_band_run(&band, y, rows, texels, err);
+    if (st == NBRDF_OK) st = nbrdf_latent_writer_write_rows(writer, texels, rows, err);
+  }
+  if (st == NBRDF_OK && (cancelled(o) || (o->progress && o->progress(o->user, "bake", H, H))))
+    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the file was complete");
+  if (st == NBRDF_OK) {
+    st = nbrdf_latent_writer_finish(writer, err);
+    writer = NULL;
+  }
+  nbrdf_latent_writer_abort(writer);
+  if (st == NBRDF_OK) {
+    warn_clamped(&band, o);
+    if (rep) {
+      rep->width = W, rep->height = H;
+      rep->colour_channels = rgb ? 3 : 1;
+      rep->brdfs = (size_t)W * H * (rgb ? 3 : 1);
+      rep->evaluated = band.evaluated;
+      rep->clamped = 0;
+      for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+        rep->clamped += band.clamped[id];
+    }
+  }
+  bake_band_free(&band);
+  free(texels);
+  return st;
+}
+
+nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *inputs,
+                        const nbrdf_bake_options *options, const char *out_path,
+                        nbrdf_bake_report *report, nbrdf_error *err) {
+  if (!model || !inputs || !out_path || !*out_path)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: model, inputs and output path are required");
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  if (options) o = *options;
+  if (o.mip_levels != 0 && o.mip_levels != 1)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "bake: mip_levels is 0 (full chain) or 1 (level 0 only), not %d",
+                      o.mip_levels);
+  if (report) memset(report, 0, sizeof *report);
+  nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
+  nbrdf_status st = open_sources(inputs, src, err);
+  if (st == NBRDF_OK) st = run(model, src, &o, out_path, report, err);
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+    nbrdf_param_source_free(src[id]);
+  return st;
+}

@@ -1,0 +1,242 @@
+#include "bake/bake_band.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+
+/* Distinct tuples go through the networks this many at a time, so scratch
+ * memory stays bounded whatever the band holds. */
+#define EVAL_CHUNK 16384
+
+void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
+                    const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
+                    nbrdf_range_policy range) {
+  memset(b, 0, sizeof *b);
+  b->model = model;
+  b->src = src;
+  b->layout = *layout;
+  b->width = width;
+  b->roughness = roughness;
+  b->range = range;
+  int n0, n1;
+  const float *a0, *a1;
+  nbrdf_model_base_grid(model, NBRDF_BASE_DIELECTRIC, &n0, &a0, &n1, &a1);
+  b->lo[NBRDF_BAKE_ALPHA1] = a0[0], b->hi[NBRDF_BAKE_ALPHA1] = a0[n0 - 1];
+  b->lo[NBRDF_BAKE_ETA] = a1[0], b->hi[NBRDF_BAKE_ETA] = a1[n1 - 1];
+  nbrdf_model_base_grid(model, NBRDF_BASE_CONDUCTOR, &n0, &a0, &n1, &a1);
+  b->lo[NBRDF_BAKE_ALPHA2] = a0[0], b->hi[NBRDF_BAKE_ALPHA2] = a0[n0 - 1];
+  b->lo[NBRDF_BAKE_R0] = a1[0], b->hi[NBRDF_BAKE_R0] = a1[n1 - 1];
+  b->lo[NBRDF_BAKE_ALBEDO] = 0.0f, b->hi[NBRDF_BAKE_ALBEDO] = 1.0f;
+  b->lo[NBRDF_BAKE_SIGMA_T] = 0.0f, b->hi[NBRDF_BAKE_SIGMA_T] = NBRDF_BAKE_SIGMA_T_MAX;
+}
+
+void bake_band_free(bake_band *b) {
+  free(b->uniq);
+  free(b->uniq_out);
+  free(b->slot);
+  free(b->hash);
+  memset(b, 0, sizeof *b);
+}
+
+static int grow(void **p, size_t *cap, size_t need, size_t elem) {
+  if (need <= *cap) return 1;
+  void *q = realloc(*p, need * elem);
+  if (!q) return 0;
+  *p = q;
+  *cap = need;
+  return 1;
+}
+
+/* "alpha1 map a.png: texel (3, 5) channel G" or "alpha1 constant". */
+static void where(const bake_band *b, int id, int x, int y, int c, char *buf, size_t n) {
+  nbrdf_param_source *s = b->src[id];
+  nbrdf_param_map *m = nbrdf_param_source_get_map(s);
+  if (!m) {
+    snprintf(buf, n, "%s (constant)", nbrdf_bake_param_name((nbrdf_bake_param_id)id));
+    return;
+  }
+  static const char rgb[] = "RGB";
+  if (nbrdf_param_source_channels(s) == 3)
+    snprintf(buf, n, "%s: texel (%d, %d) channel %c, %s", nbrdf_param_map_path(m), x, y, rgb[c],
+             nbrdf_bake_param_name((nbrdf_bake_param_id)id));
+  else
+    snprintf(buf, n, "%s: texel (%d, %d), %s", nbrdf_param_map_path(m), x, y,
+             nbrdf_bake_param_name((nbrdf_bake_param_id)id));
+}
+
+/* Validates (and, under the clamp policy, clamps) one parameter value. */
+static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, int c,
+                                nbrdf_error *err) {
+  char at[600];
+  if (!isfinite(*v) || *v < 0.0f) {
+    where(b, id, x, y, c, at, sizeof at);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is not a finite value >= 0", at, (double)*v);
+  }
+  if (*v >= b->lo[id] && *v <= b->hi[id]) return NBRDF_OK;
+  int physical = id == NBRDF_BAKE_R0 || id == NBRDF_BAKE_ALBEDO;
+  if (physical && *v > 1.0f) {
+    where(b, id, x, y, c, at, sizeof at);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is above 1 (not physical)", at, (double)*v);
+  }
+  if (b->range == NBRDF_RANGE_REFUSE) {
+    where(b, id, x, y, c, at, sizeof at);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "%s = %g is outside the model's trained range [%g, %g]", at, (double)*v,
+                      (double)b->lo[id], (double)b->hi[id]);
+  }
+  *v = *v < b->lo[id] ? b->lo[id] : b->hi[id];
+  b->clamped[id]++;
+  return NBRDF_OK;
+}
+
+static uint64_t tuple_hash(const bake_tuple *t) {
+  uint64_t h = 1469598103934665603ull; /* FNV-1a over the bytes */
+  const unsigned char *p = (const unsigned char *)t->p;
+  for (size_t i = 0; i < sizeof t->p; i++)
+    h = (h ^ p[i]) * 1099511628211ull;
+  return h ^ (h >> 29);
+}
+
+/* Index of `t` among the band's distinct tuples, adding it if new. */
+static size_t intern(bake_band *b, const bake_tuple *t, size_t *n_uniq) {
+  size_t mask = b->hash_cap - 1;
+  for (size_t i = (size_t)tuple_hash(t) & mask;; i = (i + 1) & mask) {
+    size_t e = b->hash[i];
+    if (e == 0) {
+      b->uniq[*n_uniq] = *t;
+      b->hash[i] = ++*n_uniq;
+      return *n_uniq - 1;
+    }
+    if (!memcmp(b->uniq[e - 1].p, t->p, sizeof t->p)) return e - 1;
+  }
+}
+
+/* Latent, sigma, w of distinct tuples [u0, u0 + n). */
+static nbrdf_status evaluate(bake_band *b, size_t u0, size_t n, nbrdf_error *err) {
+  int D = b->layout.latent_dim;
+  double *p0 = malloc(sizeof(double) * n * 4);
+  float *lat = malloc(sizeof(float) * n * ((size_t)D * 3 + 4));
+  if (!p0 || !lat) {
+    free(p0);
+    free(lat);
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples", n);
+  }
+  double *p1 = p0 + n, *q0 = p0 + 2 * n, *q1 = p0 + 3 * n;
+  float *top = lat, *bottom = top + n * D, *layered = bottom + n * D;
+  float *albedo = layered + n * D, *sigma_t = albedo + n, *sigma = sigma_t + n, *w = sigma + n;
+  for (size_t k = 0; k < n; k++) {
+    const float *t = b->uniq[u0 + k].p;
+    p0[k] = t[NBRDF_BAKE_ALPHA1], p1[k] = t[NBRDF_BAKE_ETA];
+    q0[k] = t[NBRDF_BAKE_ALPHA2], q1[k] = t[NBRDF_BAKE_R0];
+    albedo[k] = t[NBRDF_BAKE_ALBEDO], sigma_t[k] = t[NBRDF_BAKE_SIGMA_T];
+  }
+  /* Values are already inside the grids (check_value), so CLAMP never moves them. */
+  nbrdf_status st = nbrdf_model_base_latents(b->model, NBRDF_BASE_DIELECTRIC, n, p0, p1,
+                                             NBRDF_RANGE_CLAMP, top, NULL, err);
+  if (st == NBRDF_OK)
+    st = nbrdf_model_base_latents(b->model, NBRDF_BASE_CONDUCTOR, n, q0, q1, NBRDF_RANGE_CLAMP,
+                                  bottom, NULL, err);
+  if (st == NBRDF_OK)
+    st = nbrdf_model_layer(b->model, n, top, bottom, albedo, sigma_t, layered, err);
+  if (st == NBRDF_OK) st = nbrdf_model_proxy_params(b->model, n, layered, sigma, w, err);
+  if (st == NBRDF_OK) {
+    for (size_t k = 0; k < n; k++) {
+      float *o = b->uniq_out + (u0 + k) * (size_t)(D + 2);
+      memcpy(o, layered + k * D, sizeof(float) * D);
+      o[D] = sigma[k];
+      o[D + 1] = w[k];
+    }
+  }
+  free(p0);
+  free(lat);
+  return st;
+}
+
+nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err) {
+  const int C = nbrdf_latent_colours(&b->layout), D = b->layout.latent_dim;
+  const size_t n = (size_t)rows * b->width * C;
+  size_t hcap = 16;
+  while (hcap < 2 * n) hcap *= 2;
+  if (!grow((void **)&b->uniq, &b->uniq_cap, n, sizeof *b->uniq) ||
+      !grow((void **)&b->slot, &b->slot_cap, n, sizeof *b->slot) ||
+      !grow((void **)&b->hash, &b->hash_cap, hcap, sizeof *b->hash))
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band of %zu texels", n);
+  b->hash_cap = hcap; /* a power of two; extra capacity from an earlier band is unused */
+  memset(b->hash, 0, sizeof *b->hash * hcap);
+
+  nbrdf_param_band band[NBRDF_BAKE_PARAM_COUNT];
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    nbrdf_status st = nbrdf_param_source_read_band(b->src[id], y0, rows, &band[id], err);
+    if (st != NBRDF_OK) return st;
+  }
+  size_t n_uniq = 0;
+  for (int j = 0; j < rows; j++)
+    for (int x = 0; x < b->width; x++)
+      for (int c = 0; c < C; c++) {
+        bake_tuple t;
+        for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+          float v = nbrdf_param_band_at(&band[id], x, j, c) + 0.0f; /* -0 -> +0 */
+          if (b->roughness == NBRDF_ROUGHNESS_PERCEPTUAL &&
+              (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2))
+            v = v * v;
+          nbrdf_status st = check_value(b, id, &v, x, y0 + j, c, err);
+          if (st != NBRDF_OK) return st;
+          t.p[id] = v;
+        }
+        b->slot[((size_t)j * b->width + x) * C + c] = intern(b, &t, &n_uniq);
+      }
+
+  free(b->uniq_out);
+  b->uniq_out = malloc(sizeof(float) * n_uniq * (size_t)(D + 2));
+  if (!b->uniq_out) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory");
+  for (size_t u = 0; u < n_uniq; u += EVAL_CHUNK) {
+    size_t m = n_uniq - u < EVAL_CHUNK ? n_uniq - u : EVAL_CHUNK;
+    nbrdf_status st = evaluate(b, u, m, err);
+    if (st != NBRDF_OK) return st;
+  }
+  b->evaluated += n_uniq;
+
+  const int texel_floats = nbrdf_latent_channel_count(&b->layout);
+  for (size_t i = 0; i < (size_t)rows * b->width; i++) {
+    float *texel = texels + i * texel_floats;
+    for (int c = 0; c < C; c++) {
+      const float *o = b->uniq_out + b->slot[i * C + c] * (size_t)(D + 2);
+      for (int k = 0; k < D; k++)
+        texel[nbrdf_latent_index_latent(&b->layout, c, k)] = o[k];
+      if (b->layout.proxy) {
+        texel[nbrdf_latent_index_sigma(&b->layout, c)] = o[D];
+        texel[nbrdf_latent_index_w(&b->layout, c)] = o[D + 1];
+      }
+    }
+  }
+  return NBRDF_OK;
+}
+
+nbrdf_status bake_proxy_from_latents(const nbrdf_model *model, const nbrdf_latent_layout *layout,
+                                     float *texels, size_t n, nbrdf_error *err) {
+  if (!layout->proxy || n == 0) return NBRDF_OK;
+  const int C = nbrdf_latent_colours(layout), D = layout->latent_dim;
+  const int texel_floats = nbrdf_latent_channel_count(layout);
+  size_t m = n * C;
+  float *lat = malloc(sizeof(float) * m * (D + 2));
+  if (!lat) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a mip row");
+  float *sigma = lat + m * D, *w = sigma + m;
+  for (size_t i = 0; i < n; i++)
+    for (int c = 0; c < C; c++)
+      for (int k = 0; k < D; k++)
+        lat[(i * C + c) * D + k] =
+            texels[i * texel_floats + nbrdf_latent_index_latent(layout, c, k)];
+  nbrdf_status st = nbrdf_model_proxy_params(model, m, lat, sigma, w, err);
+  if (st == NBRDF_OK)
+    for (size_t i = 0; i < n; i++)
+      for (int c = 0; c < C; c++) {
+        texels[i * texel_floats + nbrdf_latent_index_sigma(layout, c)] = sigma[i * C + c];
+        texels[i * texel_floats + nbrdf_latent_index_w(layout, c)] = w[i * C + c];
+      }
+  free(lat);
+  return st;
+}

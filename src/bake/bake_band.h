@@ -1,0 +1,54 @@
+/* One band of rows of a bake: gathers the six parameters of every texel and
+ * colour channel, validates them (naming the file and texel), collapses
+ * identical tuples so each distinct one is evaluated once, runs the base
+ * tables, the layering network and the sampler on the distinct tuples, and
+ * scatters the latents into texels in the latent layout's logical order. */
+#ifndef NBRDF_BAKE_BAKE_BAND_H
+#define NBRDF_BAKE_BAKE_BAND_H
+
+#include <stddef.h>
+
+#include "nbrdf/bake.h"
+#include "texture/latent_layout.h"
+#include "texture/param_source.h"
+
+/* A tuple: alpha1, eta, alpha2, r0, albedo, sigma_t (after the roughness
+ * convention and any clamping). */
+typedef struct bake_tuple {
+  float p[NBRDF_BAKE_PARAM_COUNT];
+} bake_tuple;
+
+typedef struct bake_band {
+  const nbrdf_model *model;
+  nbrdf_param_source **src; /* NBRDF_BAKE_PARAM_COUNT sources */
+  nbrdf_latent_layout layout;
+  int width;
+  nbrdf_roughness roughness;
+  nbrdf_range_policy range;
+  float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT]; /* trained ranges */
+  /* scratch, grown as needed */
+  bake_tuple *uniq;   /* distinct tuples of the band */
+  float *uniq_out;    /* their latent, sigma, w: latent_dim + 2 floats each */
+  size_t *slot;       /* per texel channel: index into uniq */
+  size_t *hash;       /* open-addressing table of uniq indices + 1 (0 = empty) */
+  size_t uniq_cap, slot_cap, hash_cap;
+  /* totals over bands */
+  size_t evaluated, clamped[NBRDF_BAKE_PARAM_COUNT];
+} bake_band;
+
+/* Sets up `b` (the scratch starts empty); the trained ranges come from the
+ * model's base-table grids. */
+void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
+                    const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
+                    nbrdf_range_policy range);
+/* Computes rows [y0, y0 + rows) into `texels` (rows * width texels of
+ * nbrdf_latent_channel_count floats, logical order). */
+nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err);
+void bake_band_free(bake_band *b);
+
+/* Recomputes sigma and w of `n` texels (logical order) from their latents:
+ * the proxy of averaged latents, for mip levels >= 1. */
+nbrdf_status bake_proxy_from_latents(const nbrdf_model *model, const nbrdf_latent_layout *layout,
+                                     float *texels, size_t n, nbrdf_error *err);
+
+#endif

@@ -1,0 +1,58 @@
+/* nbrdf info: what a user needs to know about a latent texture. */
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "texture/latent_exr.h"
+
+void cmd_info_usage(FILE *out) {
+  fprintf(out, "usage: nbrdf info TEXTURE.exr\n"
+               "\n"
+               "Prints a latent texture's size, mip levels, channels, colour mode, storage,\n"
+               "compression, the model that baked it (name and checksum), its parameter\n"
+               "sources and bake settings (docs/LATENT-TEXTURE.md).\n"
+               "\n"
+               "exit status: 0 success, 1 failure (unreadable or not a latent texture), 2 bad usage\n");
+}
+
+int cmd_info(int argc, char **argv) {
+  const char *path = NULL;
+  for (int i = 1; i < argc; i++) {
+    if (cli_is_help(argv[i])) {
+      cmd_info_usage(stdout);
+      return CLI_EXIT_OK;
+    } else if (argv[i][0] == '-') {
+      return cli_usage_error("info", "unknown option '%s'", argv[i]);
+    } else if (path) {
+      return cli_usage_error("info", "one texture at a time, got '%s' and '%s'", path, argv[i]);
+    }
+    path = argv[i];
+  }
+  if (!path) return cli_usage_error("info", "needs a texture file");
+  nbrdf_error err = {0};
+  nbrdf_latent_reader *r = NULL;
+  if (nbrdf_latent_reader_open(&r, path, &err) != NBRDF_OK) return cli_fail_error("info", &err);
+  const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+  printf("file:          %s (%lld bytes)\n", path, (long long)in->file_size);
+  printf("size:          %d x %d\n", in->width, in->height);
+  printf("levels:        %d:", in->levels);
+  for (int l = 0; l < in->levels; l++) {
+    int w = 0, h = 0;
+    if (nbrdf_latent_reader_level_size(r, l, &w, &h, &err) != NBRDF_OK) break;
+    printf(" %dx%d", w, h);
+  }
+  printf("\n");
+  printf("tiles:         %d x %d\n", in->tile_width, in->tile_height);
+  printf("colour mode:   %s\n", nbrdf_colour_mode_name(in->layout.colour));
+  printf("channels:      %d (latent dim %d per colour channel%s)\n", in->channels,
+         in->layout.latent_dim, in->layout.proxy ? ", plus proxy sigma and w" : "");
+  printf("storage:       %s\n", nbrdf_latent_storage_name(in->storage));
+  printf("compression:   %s\n", nbrdf_latent_compression_name(in->compression));
+  printf("format:        version %d, mip filter %s\n", in->format_version, in->mip_filter);
+  printf("model:         %s (checksum %s)\n", in->model_name, in->model_checksum);
+  printf("sources:       %s\n", in->sources);
+  printf("bake settings: %s\n", in->settings);
+  printf("writer:        %s\n", in->writer);
+  nbrdf_latent_reader_close(r);
+  return CLI_EXIT_OK;
+}
