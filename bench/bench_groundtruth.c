@@ -18,6 +18,8 @@
 #include "eval/plot.h"
 #include "nbrdf/brdf.h"
 
+#include "bench_clock.h"
+
 enum { MAX_SPP = 16, N_BRDF = 3, N_THETA = NBRDF_LOBE_N_THETA, ALBEDO_SAMPLES = 1 << 18 };
 
 typedef struct preset {
@@ -119,12 +121,6 @@ static int parse_args(int argc, char **argv, config *c) {
   return 1;
 }
 
-static double now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static void cpu_model(char *buf, size_t cap) {
   snprintf(buf, cap, "unknown CPU");
   FILE *f = fopen("/proc/cpuinfo", "r");
@@ -153,24 +149,18 @@ typedef struct timing {
 
 static timing add(timing a, timing b) { return (timing){a.wall + b.wall, a.cpu + b.cpu}; }
 
-static double cpu_now(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* Lobe images of `b` by per-pixel evaluation, `spp` walks per pixel. */
 static timing lobe_set(const nbrdf_brdf *b, int res, int spp, uint64_t seed, int threads,
                        double *images) {
   nbrdf_lobe_brdf lb = {b, {seed, spp, threads}};
   nbrdf_error err = {0};
-  const double t0 = now(), c0 = cpu_now();
+  const double t0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
   if (nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, res, N_THETA, nbrdf_lobe_theta_deg, images,
                         &err) != NBRDF_OK) {
     fprintf(stderr, "bench_groundtruth: %s\n", err.message);
     exit(1);
   }
-  return (timing){now() - t0, cpu_now() - c0};
+  return (timing){bench_wall_seconds() - t0, bench_cpu_seconds() - c0};
 }
 
 /* The same images by the whole-lobe estimator (src/brdf/layered_lobe.h): each of
@@ -178,7 +168,7 @@ static timing lobe_set(const nbrdf_brdf *b, int res, int spp, uint64_t seed, int
 static timing lobe_set_whole(const nbrdf_brdf *b, int res, int walks, uint64_t seed, int threads,
                              double *images) {
   const bsdf_layered *l = &nbrdf_brdf_bsdf(b)->layered;
-  const double t0 = now(), c0 = cpu_now();
+  const double t0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
   for (int t = 0; t < N_THETA; t++)
     if (!layered_lobe_image(l, nbrdf_lobe_theta_deg[t] * (M_PI / 180.0), res, walks,
                             seed * N_THETA + (uint64_t)t, threads,
@@ -186,7 +176,7 @@ static timing lobe_set_whole(const nbrdf_brdf *b, int res, int walks, uint64_t s
       fprintf(stderr, "bench_groundtruth: out of memory in the whole-lobe estimator\n");
       exit(1);
     }
-  return (timing){now() - t0, cpu_now() - c0};
+  return (timing){bench_wall_seconds() - t0, bench_cpu_seconds() - c0};
 }
 
 /* Σ|x − y| / Σ|ref| / √2. For an unbiased estimator with independent errors,
@@ -379,14 +369,14 @@ int main(int argc, char **argv) {
 
   result res[N_BRDF];
   int ran[N_BRDF] = {0};
-  const double t_start = now();
+  const double t_start = bench_wall_seconds();
   for (int i = 0; i < N_BRDF; i++) {
     if (c.only && strcmp(c.only, PRESETS[i].name)) continue;
     fprintf(stderr, "%s (%s):\n", PRESETS[i].label, PRESETS[i].name);
     run_preset(&PRESETS[i], &c, &res[i]);
     ran[i] = 1;
   }
-  const double seconds = now() - t_start;
+  const double seconds = bench_wall_seconds() - t_start;
   print_table(stdout, head, &c, threads_used, ran, res, seconds);
   FILE *out = fopen(c.out, "w");
   if (out) {

@@ -19,20 +19,7 @@
 #include "core/rng.h"
 #include "texture/latent_exr.h"
 
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-/* CPU time of the process (all compression threads): the cost of a write
- * even on a machine shared with other work. Run with OMP_WAIT_POLICY=passive
- * so that idle OpenMP threads do not spin into it. */
-static double cpu(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+#include "bench_clock.h"
 
 typedef struct {
   int size, dim, painted;
@@ -106,34 +93,34 @@ int main(int argc, char **argv) {
         opts.storage = s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
         opts.compression = comps[ci];
         nbrdf_latent_writer *w = NULL;
-        double t0 = now(), spent = 0, spent_cpu = 0, c0 = cpu();
+        double t0 = bench_wall_seconds(), spent = 0, spent_cpu = 0, c0 = bench_cpu_seconds();
         if (nbrdf_latent_writer_create(&w, path, size, size, &layout, NULL, &opts, NULL, 0, &err) !=
             NBRDF_OK) {
           fprintf(stderr, "%s\n", err.message);
           return 1;
         }
-        spent += now() - t0;
-        spent_cpu += cpu() - c0;
+        spent += bench_wall_seconds() - t0;
+        spent_cpu += bench_cpu_seconds() - c0;
         for (int y = 0; y < size; y += rows) {
           int n = size - y < rows ? size - y : rows;
           band(g, y, n, C, buf); /* not timed */
-          double t1 = now(), c1 = cpu();
+          double t1 = bench_wall_seconds(), c1 = bench_cpu_seconds();
           if (nbrdf_latent_writer_write_rows(w, buf, n, &err) != NBRDF_OK) {
             fprintf(stderr, "%s\n", err.message);
             return 1;
           }
-          spent += now() - t1;
-          spent_cpu += cpu() - c1;
+          spent += bench_wall_seconds() - t1;
+          spent_cpu += bench_cpu_seconds() - c1;
         }
-        double t2 = now(), c2 = cpu();
+        double t2 = bench_wall_seconds(), c2 = bench_cpu_seconds();
         if (nbrdf_latent_writer_finish(w, &err) != NBRDF_OK) {
           fprintf(stderr, "%s\n", err.message);
           return 1;
         }
-        spent += now() - t2;
-        spent_cpu += cpu() - c2;
+        spent += bench_wall_seconds() - t2;
+        spent_cpu += bench_cpu_seconds() - c2;
         /* Read every level back whole. */
-        double t3 = now(), c3 = cpu();
+        double t3 = bench_wall_seconds(), c3 = bench_cpu_seconds();
         nbrdf_latent_reader *r = NULL;
         long long bytes = 0;
         if (nbrdf_latent_reader_open(&r, path, &err) == NBRDF_OK) {
@@ -149,7 +136,7 @@ int main(int argc, char **argv) {
           free(all);
           nbrdf_latent_reader_close(r);
         }
-        double read_s = now() - t3, read_cpu = cpu() - c3;
+        double read_s = bench_wall_seconds() - t3, read_cpu = bench_cpu_seconds() - c3;
         double values = (double)C * size * size * 4.0 / 3.0;
         printf("%-9s %-5s %-5s %10.1f %9.2f %8.2f %8.2f %8.2f %8.2f\n",
                painted ? "painted" : "distinct", nbrdf_latent_storage_name(opts.storage),

@@ -18,11 +18,7 @@
 #include "core/rng.h"
 #include "model/bundle.h"
 
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+#include "bench_clock.h"
 
 static void die(nbrdf_status st, const nbrdf_error *err) {
   if (st == NBRDF_OK) return;
@@ -57,12 +53,12 @@ static void decode_bare(job *j) {
 static double seconds(void (*fn)(job *), job *j, double min_s) {
   fn(j);
   int n = 0;
-  double t0 = now();
+  double t0 = bench_wall_seconds();
   do {
     fn(j);
     n++;
-  } while (now() - t0 < min_s);
-  return (now() - t0) / n;
+  } while (bench_wall_seconds() - t0 < min_s);
+  return (bench_wall_seconds() - t0) / n;
 }
 
 static double sgemm_gflops(int m, int n, int k) {
@@ -74,12 +70,12 @@ static double sgemm_gflops(int m, int n, int k) {
     b[i] = (float)(i % 5) * 0.1f;
   cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, m, n, k, 1.0f, a, k, b, k, 0.0f, c, n);
   int reps = 0;
-  double t0 = now();
+  double t0 = bench_wall_seconds();
   do {
     cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, m, n, k, 1.0f, a, k, b, k, 0.0f, c, n);
     reps++;
-  } while (now() - t0 < 0.5);
-  double t = (now() - t0) / reps;
+  } while (bench_wall_seconds() - t0 < 0.5);
+  double t = (bench_wall_seconds() - t0) / reps;
   free(a), free(b), free(c);
   return 2.0 * m * n * k / t * 1e-9;
 }
@@ -151,19 +147,19 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
   for (int k = 0; k < N; k++)
     a[k] = 0.5f, s[k] = 2.0f;
   die(nbrdf_model_layer(m, N, top, bottom, a, s, out, &err), &err);
-  double t0 = now();
+  double t0 = bench_wall_seconds();
   int reps = 0;
   do {
     die(nbrdf_model_layer(m, N, top, bottom, a, s, out, &err), &err);
     reps++;
-  } while (now() - t0 < 0.5);
-  double tl = (now() - t0) / reps;
-  t0 = now(), reps = 0;
+  } while (bench_wall_seconds() - t0 < 0.5);
+  double tl = (bench_wall_seconds() - t0) / reps;
+  t0 = bench_wall_seconds(), reps = 0;
   do {
     die(nbrdf_model_proxy_params(m, N, out, sg, w, &err), &err);
     reps++;
-  } while (now() - t0 < 0.3);
-  double ts = (now() - t0) / reps;
+  } while (bench_wall_seconds() - t0 < 0.3);
+  double ts = (bench_wall_seconds() - t0) / reps;
   int64_t lmacs = nbrdf_model_layering_macs(m);
   printf("## Layering and sampling networks (batch %d)\n\n| network | MACs | evaluations/s | "
          "GFLOP/s | "
@@ -192,9 +188,9 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
     f[k] = (float)(0.5 + nbrdf_rng_uniform(&rng));
   nbrdf_project_options po = NBRDF_PROJECT_OPTIONS_DEFAULT;
   po.steps = quick ? 100 : 500;
-  t0 = now();
+  t0 = bench_wall_seconds();
   die(nbrdf_model_project(m, NB, offsets, wi, wo, f, &po, z, NULL, &err), &err);
-  double tp = now() - t0;
+  double tp = bench_wall_seconds() - t0;
   printf("## Projection (decoder medium, %d BRDFs x %d samples, %d steps x %d rows per BRDF)\n\n"
          "%.2f s in all, %.1f ms per BRDF, %.3g rows/s forward+backward\n\n",
          NB, PER, po.steps, po.rows_per_brdf, tp, 1e3 * tp / NB,

@@ -21,14 +21,10 @@
 #include "nn/internal.h"
 #include "nn/nn.h"
 
+#include "bench_clock.h"
+
 #define ROUNDS 3                     /* interleaved rounds of network and replay timings */
 #define TRAIN_BYTES_CAP (1ull << 30) /* training workspaces stay under 1 GiB; chunk beyond */
-
-static double now(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 typedef void (*work_fn)(void *ctx);
 
@@ -36,15 +32,15 @@ typedef void (*work_fn)(void *ctx);
  * The minimum, not the mean, because other jobs share the 2 cores: it is the figure least
  * disturbed by them, for the network and its GEMM replay alike. */
 static double time_calls(work_fn fn, void *ctx, double min_s) {
-  double best = 1e30, start = now();
+  double best = 1e30, start = bench_wall_seconds();
   int n = 0;
   do {
-    double t0 = now();
+    double t0 = bench_wall_seconds();
     fn(ctx);
-    double t = now() - t0;
+    double t = bench_wall_seconds() - t0;
     if (t < best) best = t;
     n++;
-  } while (n < 2 || now() - start < min_s);
+  } while (n < 2 || bench_wall_seconds() - start < min_s);
   return best;
 }
 

@@ -28,17 +28,7 @@
 #include "core/vec3.h"
 #include "nbrdf/brdf.h"
 
-static double wall(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-static double cpu(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+#include "bench_clock.h"
 
 static void die(nbrdf_status st, const nbrdf_error *err) {
   if (st == NBRDF_OK) return;
@@ -57,12 +47,12 @@ static double sgemm_gflops(void) {
     b[i] = (float)(i % 5) * 0.1f;
   cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, m, n, k, 1.0f, a, k, b, n, 0.0f, c, n);
   int reps = 0;
-  double t0 = wall();
+  double t0 = bench_wall_seconds();
   do {
     cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, m, n, k, 1.0f, a, k, b, n, 0.0f, c, n);
     reps++;
-  } while (wall() - t0 < 1.0);
-  double gf = 2.0 * m * n * k * reps / (wall() - t0) * 1e-9;
+  } while (bench_wall_seconds() - t0 < 1.0);
+  double gf = 2.0 * m * n * k * reps / (bench_wall_seconds() - t0) * 1e-9;
   free(a);
   free(b);
   free(c);
@@ -131,21 +121,21 @@ static void bench_lobe(const char *name, const nbrdf_brdf *b, double seconds, in
   static double a[RES * RES], c[RES * RES];
   const bsdf_layered *l = &nbrdf_brdf_bsdf(b)->layered;
   /* calibrate both to about `seconds` of CPU time per image */
-  double c0 = cpu();
+  double c0 = bench_cpu_seconds();
   lobe_per_pixel(b, theta_i, 8, 1, threads, a);
-  int spp = (int)fmax(2.0, 8.0 * seconds / (cpu() - c0));
-  c0 = cpu();
+  int spp = (int)fmax(2.0, 8.0 * seconds / (bench_cpu_seconds() - c0));
+  c0 = bench_cpu_seconds();
   if (!layered_lobe_image(l, theta_i, RES, 8, 1, threads, a, NULL)) exit(1);
-  int walks = (int)fmax(2.0, 8.0 * seconds / (cpu() - c0));
-  c0 = cpu();
+  int walks = (int)fmax(2.0, 8.0 * seconds / (bench_cpu_seconds() - c0));
+  c0 = bench_cpu_seconds();
   lobe_per_pixel(b, theta_i, spp, 2, threads, a);
   lobe_per_pixel(b, theta_i, spp, 3, threads, c);
-  double t_pp = (cpu() - c0) / 2, e_pp = lobe_error(a, c);
-  c0 = cpu();
+  double t_pp = (bench_cpu_seconds() - c0) / 2, e_pp = lobe_error(a, c);
+  c0 = bench_cpu_seconds();
   if (!layered_lobe_image(l, theta_i, RES, walks, 2, threads, a, NULL) ||
       !layered_lobe_image(l, theta_i, RES, walks, 3, threads, c, NULL))
     exit(1);
-  double t_lobe = (cpu() - c0) / 2, e_lobe = lobe_error(a, c);
+  double t_lobe = (bench_cpu_seconds() - c0) / 2, e_lobe = lobe_error(a, c);
   /* errors scale as 1/√time: compare at equal time */
   double e_lobe_eq = e_lobe * sqrt(t_lobe / t_pp);
   printf("| %s | %d spp/pixel, %.2f s: %.2f %% | %d walks, %.2f s: %.2f %% | %.1f× |\n", name, spp,
@@ -191,14 +181,14 @@ int main(int argc, char **argv) {
     nbrdf_eval_options o = NBRDF_EVAL_OPTIONS_DEFAULT;
     o.threads = threads;
     o.spp = 256; /* calibration */
-    double t0 = wall();
+    double t0 = bench_wall_seconds();
     die(nbrdf_brdf_eval(l, NQ, q, &o, f, se, &err), &err);
-    double per_walk = (wall() - t0) / (NQ * 256.0);
+    double per_walk = (bench_wall_seconds() - t0) / (NQ * 256.0);
     o.spp = (int)fmax(256.0, seconds / (per_walk * NQ));
     o.seed = 1;
-    double w0 = wall(), c0 = cpu();
+    double w0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
     die(nbrdf_brdf_eval(l, NQ, q, &o, f, se, &err), &err);
-    double wt = wall() - w0, ct = cpu() - c0;
+    double wt = bench_wall_seconds() - w0, ct = bench_cpu_seconds() - c0;
     double walks = (double)NQ * o.spp, noise = 0.0;
     int counted = 0;
     for (int k = 0; k < NQ; k++)

@@ -49,3 +49,15 @@ const char *nbrdf_test_source_dir(void) {
 const char *nbrdf_test_message(const nbrdf_error *err) {
   return err ? err->message : "(no message)";
 }
+
+int nbrdf_test_png_size(const char *path, int *w, int *h) {
+  unsigned char b[26];
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  size_t got = fread(b, 1, sizeof b, f);
+  fclose(f);
+  if (got != sizeof b || memcmp(b, "\x89PNG\r\n\x1a\n", 8) || memcmp(b + 12, "IHDR", 4)) return 0;
+  *w = (b[16] << 24) | (b[17] << 16) | (b[18] << 8) | b[19];
+  *h = (b[20] << 24) | (b[21] << 16) | (b[22] << 8) | b[23];
+  return b[24] == 8 && b[25] == 2;
+}

@@ -18,6 +18,8 @@ const char *nbrdf_test_tmpdir(void);
 /* The message of an error, or "(no message)" for NULL. A function rather than
  * `(errp) ? ...` in the macros, which GCC rejects (-Waddress) for `&err`. */
 const char *nbrdf_test_message(const nbrdf_error *err);
+/* Reads an 8-bit RGB PNG's size from its IHDR chunk; 0 if the file is not one. */
+int nbrdf_test_png_size(const char *path, int *w, int *h);
 /* $NBRDF_SOURCE_DIR (the repository root), for fixtures. */
 const char *nbrdf_test_source_dir(void);
 

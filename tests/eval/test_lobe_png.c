@@ -7,18 +7,6 @@
 #include "eval/lobe_png.h"
 #include "testing.h"
 
-static int png_size(const char *path, int *w, int *h) {
-  unsigned char b[26];
-  FILE *f = fopen(path, "rb");
-  if (!f) return 0;
-  size_t got = fread(b, 1, sizeof b, f);
-  fclose(f);
-  if (got != sizeof b || memcmp(b, "\x89PNG\r\n\x1a\n", 8) || memcmp(b + 12, "IHDR", 4)) return 0;
-  *w = (b[16] << 24) | (b[17] << 16) | (b[18] << 8) | b[19];
-  *h = (b[20] << 24) | (b[21] << 16) | (b[22] << 8) | b[23];
-  return b[24] == 8 && b[25] == 2;
-}
-
 static nbrdf_status lambert(void *user, size_t n, const nbrdf_query *q, double *f,
                             nbrdf_error *err) {
   for (size_t k = 0; k < n; k++)
@@ -39,10 +27,10 @@ static void test_grid_sizes(void) {
   snprintf(path, sizeof path, "%s/cmp.png", nbrdf_test_tmpdir());
   CHECK_OK(nbrdf_lobe_write_png(path, RES, NT, ref, approx, 2, &err), e);
   /* Three columns of 64-pixel panels, four rows, 4-pixel gaps around each. */
-  CHECK_MSG(png_size(path, &w, &h) && w == 3 * 64 + 4 * 4 && h == 4 * 64 + 5 * 4, "%d x %d", w, h);
+  CHECK_MSG(nbrdf_test_png_size(path, &w, &h) && w == 3 * 64 + 4 * 4 && h == 4 * 64 + 5 * 4, "%d x %d", w, h);
   snprintf(path, sizeof path, "%s/one.png", nbrdf_test_tmpdir());
   CHECK_OK(nbrdf_lobe_write_png(path, RES, 1, ref, NULL, 1, &err), e);
-  CHECK_MSG(png_size(path, &w, &h) && w == 32 + 8 && h == 32 + 8, "%d x %d", w, h);
+  CHECK_MSG(nbrdf_test_png_size(path, &w, &h) && w == 32 + 8 && h == 32 + 8, "%d x %d", w, h);
   CHECK_FAILS(nbrdf_lobe_write_png(path, RES, 1, ref, NULL, 0, &err), NBRDF_ERR_ARGUMENT, &err,
               "zoom");
 }

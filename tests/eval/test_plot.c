@@ -9,19 +9,6 @@
 #include "eval/png_write.h"
 #include "testing.h"
 
-/* Reads a PNG's size from its IHDR chunk; 0 if it is not an 8-bit RGB PNG. */
-static int png_size(const char *path, int *w, int *h) {
-  unsigned char b[26];
-  FILE *f = fopen(path, "rb");
-  if (!f) return 0;
-  size_t got = fread(b, 1, sizeof b, f);
-  fclose(f);
-  if (got != sizeof b || memcmp(b, "\x89PNG\r\n\x1a\n", 8) || memcmp(b + 12, "IHDR", 4)) return 0;
-  *w = (b[16] << 24) | (b[17] << 16) | (b[18] << 8) | b[19];
-  *h = (b[20] << 24) | (b[21] << 16) | (b[22] << 8) | b[23];
-  return b[24] == 8 && b[25] == 2;
-}
-
 static int count_tmp_files(const char *dir) {
   int n = 0;
   DIR *d = opendir(dir);
@@ -89,7 +76,7 @@ static void test_write_and_failures(void) {
   nbrdf_error err = {0}, *e = &err;
   CHECK_OK(nbrdf_plot_write_png(path, &o, 2, s, &err), e);
   int w = 0, h = 0;
-  CHECK(png_size(path, &w, &h) && w == 640 && h == 400);
+  CHECK(nbrdf_test_png_size(path, &w, &h) && w == 640 && h == 400);
   CHECK(count_tmp_files(nbrdf_test_tmpdir()) == 0);
   o.width = 10;
   CHECK_FAILS(nbrdf_plot_write_png(path, &o, 2, s, &err), NBRDF_ERR_ARGUMENT, &err, "plot.png");
