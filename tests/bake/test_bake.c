@@ -1,0 +1,343 @@
+/* nbrdf_bake on an untrained random bundle: constant and map inputs give
+ * the latents of the direct library computation (table look-up, layering,
+ * sampler), mip levels average them, bad input fails naming the file (and
+ * texel) and leaves no file, and the bytes are deterministic. */
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "model/bundle.h"
+#include "nbrdf/bake.h"
+#include "testing.h"
+#include "texture/latent_exr.h"
+#include "texture/oiio_shim.h"
+
+static nbrdf_model *model;
+static char tmp[512];
+
+static const char *path(const char *name) {
+  static char buf[4][640];
+  static int k;
+  k = (k + 1) % 4;
+  snprintf(buf[k], sizeof buf[k], "%s/%s", tmp, name);
+  return buf[k];
+}
+
+static int exists(const char *p) {
+  struct stat sb;
+  return stat(p, &sb) == 0;
+}
+
+/* No temporary files ("." + name + ".tmp") left in the folder. */
+static int no_temporaries(void) {
+  DIR *d = opendir(tmp);
+  if (!d) return 0;
+  int clean = 1;
+  struct dirent *e;
+  while ((e = readdir(d)))
+    if (strstr(e->d_name, ".tmp")) clean = 0;
+  closedir(d);
+  return clean;
+}
+
+static void grid(nbrdf_base_kind kind, float lo[2], float hi[2]) {
+  int n0, n1;
+  const float *a0, *a1;
+  nbrdf_model_base_grid(model, kind, &n0, &a0, &n1, &a1);
+  lo[0] = a0[0], hi[0] = a0[n0 - 1], lo[1] = a1[0], hi[1] = a1[n1 - 1];
+}
+
+/* Mid-range constants for all six parameters. */
+static nbrdf_bake_inputs constants(void) {
+  nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA1], 0.3f * lo[0] + 0.7f * hi[0]);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ETA], 0.5f * (lo[1] + hi[1]));
+  grid(NBRDF_BASE_CONDUCTOR, lo, hi);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA2], 0.5f * (lo[0] + hi[0]));
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_R0], 0.6f * lo[1] + 0.4f * hi[1]);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALBEDO], 0.8f);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_SIGMA_T], 1.5f);
+  return in;
+}
+
+/* The latent, sigma and w of one tuple, computed directly. */
+static void direct(const float t[6], float *latent, float *sigma, float *w) {
+  nbrdf_error e, *err = &e;
+  int D = nbrdf_model_latent_dim(model);
+  float *top = malloc(sizeof(float) * D * 2), *bottom = top + D;
+  double a = t[0], b = t[1], c = t[2], d = t[3];
+  CHECK_OK(nbrdf_model_base_latents(model, NBRDF_BASE_DIELECTRIC, 1, &a, &b, NBRDF_RANGE_REFUSE,
+                                    top, NULL, err), err);
+  CHECK_OK(nbrdf_model_base_latents(model, NBRDF_BASE_CONDUCTOR, 1, &c, &d, NBRDF_RANGE_REFUSE,
+                                    bottom, NULL, err), err);
+  CHECK_OK(nbrdf_model_layer(model, 1, top, bottom, &t[4], &t[5], latent, err), err);
+  CHECK_OK(nbrdf_model_proxy_params(model, 1, latent, sigma, w, err), err);
+  free(top);
+}
+
+/* Texel (x, y) of `level`, all channels, logical order. */
+static float *read_texel(const char *file, int level, int x, int y, nbrdf_latent_info *info) {
+  nbrdf_error e, *err = &e;
+  nbrdf_latent_reader *r = NULL;
+  CHECK_OK(nbrdf_latent_reader_open(&r, file, err), err);
+  if (!r) return NULL;
+  *info = *nbrdf_latent_reader_info(r);
+  float *t = malloc(sizeof(float) * info->channels);
+  CHECK_OK(nbrdf_latent_reader_read(r, level, x, y, 1, 1, t, err), err);
+  nbrdf_latent_reader_close(r);
+  info->model_name = info->model_checksum = info->sources = info->settings = "";
+  return t;
+}
+
+static void check_texel(const float *texel, const nbrdf_latent_layout *L, int c, const float t[6],
+                        double tol) {
+  int D = L->latent_dim;
+  float *lat = malloc(sizeof(float) * D), sigma, w;
+  direct(t, lat, &sigma, &w);
+  for (int k = 0; k < D; k++)
+    CHECK_NEAR(texel[nbrdf_latent_index_latent(L, c, k)], lat[k], tol);
+  CHECK_NEAR(texel[nbrdf_latent_index_sigma(L, c)], sigma, tol * (1 + fabs(sigma)));
+  CHECK_NEAR(texel[nbrdf_latent_index_w(L, c)], w, tol);
+  free(lat);
+}
+
+static void test_constants(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = constants();
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("const.exr"), &rep, err), err);
+  CHECK(rep.width == 1 && rep.height == 1 && rep.colour_channels == 1 && rep.evaluated == 1);
+  nbrdf_latent_reader *r = NULL;
+  CHECK_OK(nbrdf_latent_reader_open(&r, path("const.exr"), err), err);
+  if (!r) return;
+  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  CHECK(info->layout.colour == NBRDF_COLOUR_MONO && info->layout.proxy == 1);
+  CHECK(info->layout.latent_dim == nbrdf_model_latent_dim(model));
+  CHECK(info->storage == NBRDF_LATENT_FLOAT && info->levels == 1);
+  CHECK(!strcmp(info->model_checksum, nbrdf_model_checksum(model)));
+  CHECK(strstr(info->sources, "eta=") && strstr(info->settings, "roughness=alpha"));
+  CHECK_OK(nbrdf_latent_check_model(info, "const.exr", nbrdf_model_name(model),
+                                    nbrdf_model_checksum(model), err), err);
+  float *texel = malloc(sizeof(float) * info->channels);
+  CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
+  float t[6];
+  for (int id = 0; id < 6; id++)
+    t[id] = in.param[id].value[0];
+  check_texel(texel, &info->layout, 0, t, 1e-5);
+  free(texel);
+  nbrdf_latent_reader_close(r);
+}
+
+/* 16 x 16 maps: alpha1 a float gradient of 4 distinct values, r0 an RGB map;
+ * the rest constants. */
+static void write_maps(void) {
+  nbrdf_error e, *err = &e;
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  float a[256], r0[256 * 3];
+  for (int y = 0; y < 16; y++)
+    for (int x = 0; x < 16; x++) {
+      a[y * 16 + x] = lo[0] + (hi[0] - lo[0]) * (float)(x / 4) / 4.0f;
+      for (int c = 0; c < 3; c++)
+        r0[(y * 16 + x) * 3 + c] = (float)((x + y * 3 + c * 5) % 8) / 8.0f;
+    }
+  CHECK_OK(nbrdf_image_write(path("alpha1.exr"), 16, 16, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(nbrdf_image_write(path("r0.exr"), 16, 16, 3, r0, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(nbrdf_image_write(path("small.exr"), 8, 8, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  a[5 * 16 + 3] = NAN;
+  CHECK_OK(nbrdf_image_write(path("nan.exr"), 16, 16, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+}
+
+static void test_maps(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = constants();
+  in.param[NBRDF_BAKE_ALPHA1].path = path("alpha1.exr");
+  in.param[NBRDF_BAKE_R0].path = path("r0.exr");
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  o.tile_size = 8;
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("maps.exr"), &rep, err), err);
+  CHECK(rep.width == 16 && rep.height == 16 && rep.colour_channels == 3);
+  CHECK_MSG(rep.evaluated < rep.brdfs, "distinct %zu of %zu", rep.evaluated, rep.brdfs);
+  nbrdf_latent_info info;
+  int x = 9, y = 6;
+  float *texel = read_texel(path("maps.exr"), 0, x, y, &info);
+  if (!texel) return;
+  CHECK(info.layout.colour == NBRDF_COLOUR_RGB && info.levels == 5 && info.width == 16);
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  for (int c = 0; c < 3; c++) {
+    float t[6];
+    for (int id = 0; id < 6; id++)
+      t[id] = in.param[id].value[0];
+    t[NBRDF_BAKE_ALPHA1] = lo[0] + (hi[0] - lo[0]) * (float)(x / 4) / 4.0f;
+    t[NBRDF_BAKE_R0] = (float)((x + y * 3 + c * 5) % 8) / 8.0f;
+    check_texel(texel, &info.layout, c, t, 1e-5);
+  }
+  free(texel);
+
+  /* Level 1 texel (2, 1): mean of the 2 x 2 latents; its proxy is predicted from that mean. */
+  float *mip = read_texel(path("maps.exr"), 1, 2, 1, &info);
+  float *q[4];
+  for (int k = 0; k < 4; k++)
+    q[k] = read_texel(path("maps.exr"), 0, 4 + (k & 1), 2 + (k >> 1), &info);
+  int D = info.layout.latent_dim;
+  float *mean = malloc(sizeof(float) * D), sigma, w;
+  for (int c = 0; c < 3 && mip; c++) {
+    for (int k = 0; k < D; k++) {
+      int i = nbrdf_latent_index_latent(&info.layout, c, k);
+      mean[k] = (float)(((double)q[0][i] + q[1][i] + q[2][i] + q[3][i]) / 4.0);
+      CHECK_NEAR(mip[i], mean[k], 1e-5);
+    }
+    CHECK_OK(nbrdf_model_proxy_params(model, 1, mean, &sigma, &w, err), err);
+    CHECK_NEAR(mip[nbrdf_latent_index_sigma(&info.layout, c)], sigma, 1e-4 * (1 + sigma));
+    CHECK_NEAR(mip[nbrdf_latent_index_w(&info.layout, c)], w, 1e-4);
+  }
+  free(mean);
+  free(mip);
+  for (int k = 0; k < 4; k++)
+    free(q[k]);
+}
+
+static void test_bad_inputs(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = constants();
+  in.param[NBRDF_BAKE_ALPHA1].path = path("alpha1.exr");
+  in.param[NBRDF_BAKE_ETA].path = path("small.exr");
+  CHECK_FAILS(nbrdf_bake(model, &in, NULL, path("bad.exr"), NULL, err), NBRDF_ERR_MISMATCH, err,
+              "small.exr");
+  CHECK_MSG(strstr(e.message, "small.exr") != NULL, "message: %s", e.message);
+  CHECK(!exists(path("bad.exr")));
+
+  in = constants();
+  in.param[NBRDF_BAKE_SIGMA_T].path = path("nan.exr");
+  CHECK_FAILS(nbrdf_bake(model, &in, NULL, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "(3, 5)");
+  CHECK_MSG(strstr(e.message, "nan.exr") && strstr(e.message, "(3, 5)"), "message: %s",
+            e.message);
+  CHECK(!exists(path("bad.exr")));
+
+  /* The output may not be one of the inputs; the input is untouched. */
+  in = constants();
+  in.param[NBRDF_BAKE_ALPHA1].path = path("alpha1.exr");
+  struct stat before, after;
+  stat(path("alpha1.exr"), &before);
+  CHECK(nbrdf_bake(model, &in, NULL, path("alpha1.exr"), NULL, err) != NBRDF_OK);
+  stat(path("alpha1.exr"), &after);
+  CHECK(before.st_size == after.st_size && before.st_mtime == after.st_mtime);
+
+  /* Outside the trained range: refused naming the texel, or clamped with a warning. */
+  in = constants();
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA2], 50.0f);
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.range = NBRDF_RANGE_REFUSE;
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "trained range");
+  CHECK_MSG(strstr(e.message, "alpha2") && strstr(e.message, "trained range"), "%s", e.message);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALBEDO], 1.5f);
+  o.range = NBRDF_RANGE_CLAMP;
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "above 1");
+  CHECK_MSG(strstr(e.message, "albedo") != NULL, "%s", e.message);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALBEDO], 0.5f);
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("clamped.exr"), &rep, err), err);
+  CHECK(rep.clamped == 1);
+  CHECK(!exists(path("bad.exr")) && no_temporaries());
+}
+
+static int cancel_at_second(void *user, const char *stage, double done, double total) {
+  (void)stage, (void)total;
+  (*(int *)user)++;
+  return done > 0;
+}
+
+static void test_cancel(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = constants();
+  in.param[NBRDF_BAKE_ALPHA1].path = path("alpha1.exr");
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  int calls = 0;
+  o.progress = cancel_at_second;
+  o.user = &calls;
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("cancel.exr"), NULL, err), NBRDF_ERR_CANCELLED, err,
+              "cancelled");
+  CHECK(calls >= 2 && !exists(path("cancel.exr")) && no_temporaries());
+  volatile sig_atomic_t flag = 1;
+  o = (nbrdf_bake_options)NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.cancel = &flag;
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("cancel.exr"), NULL, err), NBRDF_ERR_CANCELLED, err,
+              "cancelled");
+  CHECK(!exists(path("cancel.exr")) && no_temporaries());
+}
+
+/* Perceptual roughness r bakes as alpha = r^2. */
+static void test_perceptual(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = constants();
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("alpha.exr"), NULL, err), err);
+  for (int id = 0; id <= NBRDF_BAKE_ALPHA2; id += 2)
+    nbrdf_bake_param_constant(&in.param[id], sqrtf(in.param[id].value[0]));
+  o.roughness = NBRDF_ROUGHNESS_PERCEPTUAL;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("perceptual.exr"), NULL, err), err);
+  nbrdf_latent_info ia, ib;
+  float *a = read_texel(path("alpha.exr"), 0, 0, 0, &ia);
+  float *b = read_texel(path("perceptual.exr"), 0, 0, 0, &ib);
+  for (int i = 0; a && b && i < ia.channels; i++)
+    CHECK_NEAR(a[i], b[i], 1e-5 * (1 + fabs(a[i])));
+  free(a);
+  free(b);
+}
+
+static unsigned char *slurp(const char *p, long *n) {
+  FILE *f = fopen(p, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  *n = ftell(f);
+  rewind(f);
+  unsigned char *buf = malloc((size_t)*n);
+  if (fread(buf, 1, (size_t)*n, f) != (size_t)*n) *n = -1;
+  fclose(f);
+  return buf;
+}
+
+static void test_deterministic(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = constants();
+  in.param[NBRDF_BAKE_ALPHA1].path = path("alpha1.exr");
+  in.param[NBRDF_BAKE_R0].path = path("r0.exr");
+  CHECK_OK(nbrdf_bake(model, &in, NULL, path("d1.exr"), NULL, err), err);
+  CHECK_OK(nbrdf_bake(model, &in, NULL, path("d2.exr"), NULL, err), err);
+  long n1 = 0, n2 = 0;
+  unsigned char *a = slurp(path("d1.exr"), &n1), *b = slurp(path("d2.exr"), &n2);
+  CHECK(a && b && n1 > 0 && n1 == n2 && !memcmp(a, b, (size_t)n1));
+  free(a);
+  free(b);
+}
+
+int main(void) {
+  nbrdf_error e, *err = &e;
+  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  CHECK_OK(model_bundle_init_random(path("bundle"), "bake-test", 7, "small", err), err);
+  CHECK_OK(nbrdf_model_load(path("bundle"), &model, err), err);
+  if (!model) return nbrdf_test_finish();
+  write_maps();
+  RUN(test_constants);
+  RUN(test_maps);
+  RUN(test_bad_inputs);
+  RUN(test_cancel);
+  RUN(test_perceptual);
+  RUN(test_deterministic);
+  nbrdf_model_destroy(model);
+  return nbrdf_test_finish();
+}
