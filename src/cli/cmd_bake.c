@@ -223,6 +223,7 @@ int cmd_bake(int argc, char **argv) {
       json_string(err.message);
       printf("}\n");
     }
+    if (st == NBRDF_ERR_CANCELLED) return cli_fail("bake", "cancelled; no file written");
     return cli_fail_error("bake", &err);
   }
   if (ps.json) {

@@ -299,6 +299,45 @@ static void test_perceptual(void) {
   free(b);
 }
 
+/* 8-bit maps: albedo and r0 are sRGB colour data and linearised, alpha is
+ * non-colour data and used as stored. */
+static void test_colour_maps(void) {
+  nbrdf_error e, *err = &e;
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_CONDUCTOR, lo, hi);
+  float v8 = 140.0f / 255.0f, img[4 * 4];
+  for (int i = 0; i < 16; i++)
+    img[i] = v8;
+  CHECK_OK(nbrdf_image_write(path("v8.png"), 4, 4, 1, img, NBRDF_PIXEL_U8, err), err);
+  nbrdf_bake_inputs in = constants();
+  in.param[NBRDF_BAKE_ALPHA2].path = path("v8.png");
+  in.param[NBRDF_BAKE_ALBEDO].path = path("v8.png");
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  o.range = NBRDF_RANGE_REFUSE;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("colour.exr"), NULL, err), err);
+  nbrdf_latent_info info;
+  float *texel = read_texel(path("colour.exr"), 0, 2, 1, &info);
+  if (!texel) return;
+  float t[6];
+  for (int id = 0; id < 6; id++)
+    t[id] = in.param[id].value[0];
+  t[NBRDF_BAKE_ALPHA2] = v8;
+  t[NBRDF_BAKE_ALBEDO] = (float)pow((v8 + 0.055) / 1.055, 2.4);
+  CHECK(v8 >= lo[0] && v8 <= hi[0]);
+  check_texel(texel, &info.layout, 0, t, 1e-4);
+  free(texel);
+
+  /* A folder that does not exist, a file that does not exist. */
+  in = constants();
+  CHECK_FAILS(nbrdf_bake(model, &in, NULL, path("no/such/dir.exr"), NULL, err), NBRDF_ERR_IO, err,
+              "no/such");
+  in.param[NBRDF_BAKE_ETA].path = path("missing.exr");
+  CHECK(nbrdf_bake(model, &in, NULL, path("bad.exr"), NULL, err) != NBRDF_OK);
+  CHECK_MSG(strstr(e.message, "missing.exr") != NULL, "%s", e.message);
+  CHECK(!exists(path("bad.exr")));
+}
+
 static unsigned char *slurp(const char *p, long *n) {
   FILE *f = fopen(p, "rb");
   if (!f) return NULL;
@@ -337,6 +376,7 @@ int main(void) {
   RUN(test_bad_inputs);
   RUN(test_cancel);
   RUN(test_perceptual);
+  RUN(test_colour_maps);
   RUN(test_deterministic);
   nbrdf_model_destroy(model);
   return nbrdf_test_finish();
