@@ -122,7 +122,7 @@ typedef struct nbrdf_bake_options {
 
 /* What a finished bake did (optional output of nbrdf_bake). */
 typedef struct nbrdf_bake_report {
-  int width, height; /* level 0 (1 x 1 when every input is a constant) */
+  int width, height;   /* level 0 (1 x 1 when every input is a constant) */
   int colour_channels; /* 1 (mono) or 3 (RGB) */
   size_t brdfs;        /* texels x colour channels */
   size_t evaluated;    /* distinct tuples evaluated by the networks (summed over bands) */

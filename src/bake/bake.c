@@ -84,8 +84,7 @@ typedef struct mip_ctx {
 
 /* The proxy of a mip texel is predicted from its averaged latents rather
  * than averaged itself (docs/LATENT-TEXTURE.md, "Mip levels"). */
-static nbrdf_status mip_row(void *user, int level, int y, float *row, int width,
-                            nbrdf_error *err) {
+static nbrdf_status mip_row(void *user, int level, int y, float *row, int width, nbrdf_error *err) {
   (void)level, (void)y;
   const mip_ctx *m = user;
   return bake_proxy_from_latents(m->model, m->layout, row, (size_t)width, err);

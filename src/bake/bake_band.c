@@ -74,7 +74,8 @@ static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, in
   char at[600];
   if (!isfinite(*v) || *v < 0.0f) {
     where(b, id, x, y, c, at, sizeof at);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is not a finite value >= 0", at, (double)*v);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is not a finite value >= 0", at,
+                      (double)*v);
   }
   if (*v >= b->lo[id] && *v <= b->hi[id]) return NBRDF_OK;
   int physical = id == NBRDF_BAKE_R0 || id == NBRDF_BAKE_ALBEDO;
@@ -160,7 +161,8 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
   const int C = nbrdf_latent_colours(&b->layout), D = b->layout.latent_dim;
   const size_t n = (size_t)rows * b->width * C;
   size_t hcap = 16;
-  while (hcap < 2 * n) hcap *= 2;
+  while (hcap < 2 * n)
+    hcap *= 2;
   if (!grow((void **)&b->uniq, &b->uniq_cap, n, sizeof *b->uniq) ||
       !grow((void **)&b->slot, &b->slot_cap, n, sizeof *b->slot) ||
       !grow((void **)&b->hash, &b->hash_cap, hcap, sizeof *b->hash))

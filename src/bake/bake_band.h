@@ -27,10 +27,10 @@ typedef struct bake_band {
   nbrdf_range_policy range;
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT]; /* trained ranges */
   /* scratch, grown as needed */
-  bake_tuple *uniq;   /* distinct tuples of the band */
-  float *uniq_out;    /* their latent, sigma, w: latent_dim + 2 floats each */
-  size_t *slot;       /* per texel channel: index into uniq */
-  size_t *hash;       /* open-addressing table of uniq indices + 1 (0 = empty) */
+  bake_tuple *uniq; /* distinct tuples of the band */
+  float *uniq_out;  /* their latent, sigma, w: latent_dim + 2 floats each */
+  size_t *slot;     /* per texel channel: index into uniq */
+  size_t *hash;     /* open-addressing table of uniq indices + 1 (0 = empty) */
   size_t uniq_cap, slot_cap, hash_cap;
   /* totals over bands */
   size_t evaluated, clamped[NBRDF_BAKE_PARAM_COUNT];

@@ -11,42 +11,43 @@
 #include "nbrdf/model.h"
 
 void cmd_bake_usage(FILE *out) {
-  fprintf(out,
-          "usage: nbrdf bake --alpha1 V --eta V --alpha2 V --r0 V --albedo V --sigma-t V\n"
-          "                  -o OUT.exr [options]\n"
-          "\n"
-          "Bakes a layered BRDF (rough dielectric coat over a rough conductor, with a slab\n"
-          "of albedo A and optical depth sigma_t between them) into a tiled, mip-mapped\n"
-          "latent OpenEXR texture (docs/LATENT-TEXTURE.md). Each V is a constant ('0.3',\n"
-          "or '0.8,0.5,0.2' for RGB) or an image file (1 or 3 channels; all maps one size).\n"
-          "The texture is mono when every input is grey, else RGB (one BRDF per channel).\n"
-          "\n"
-          "  --alpha1 V            top coat roughness (see --roughness)\n"
-          "  --eta V               top coat IOR (8/16-bit maps: see --eta-range)\n"
-          "  --alpha2 V            bottom conductor roughness\n"
-          "  --r0 V                bottom Schlick reflectance at normal incidence (colour)\n"
-          "  --albedo V            slab single-scattering albedo (colour)\n"
-          "  --sigma-t V           slab optical depth (8/16-bit maps: see --sigma-t-range)\n"
-          "  -o, --output FILE     the texture to write (written whole or not at all)\n"
-          "  --half | --float      latent storage (default half)\n"
-          "  --mip-levels full|1   the full mip chain (default) or level 0 only\n"
-          "  --tile N              tile edge in texels (default 64)\n"
-          "  --bundle DIR          model bundle (default: models/default)\n"
-          "  --roughness alpha|perceptual\n"
-          "                        alpha: GGX alpha as in the paper (default); perceptual:\n"
-          "                        the artists' roughness r of Blender et al., alpha = r^2\n"
-          "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
-          "                        warning (default) or stop naming the file and texel\n"
-          "  --r0-colourspace CS, --albedo-colourspace CS\n"
-          "                        colour space of 8/16-bit colour maps (default sRGB)\n"
-          "  --ocio CONFIG         OpenColorIO config for colour spaces (default $OCIO)\n"
-          "  --eta-range LO,HI     8/16-bit eta maps: [0,1] -> [LO,HI] (default 1,2)\n"
-          "  --sigma-t-range LO,HI 8/16-bit sigma_t maps: [0,1] -> [LO,HI] (default 0,5)\n"
-          "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
-          "                        the bar drawn on stderr when it is a terminal\n"
-          "\n"
-          "Ctrl-C cancels cleanly: no output file is left.\n"
-          "exit status: 0 success, 1 failure (the message names the file and texel), 2 bad usage\n");
+  fprintf(
+      out,
+      "usage: nbrdf bake --alpha1 V --eta V --alpha2 V --r0 V --albedo V --sigma-t V\n"
+      "                  -o OUT.exr [options]\n"
+      "\n"
+      "Bakes a layered BRDF (rough dielectric coat over a rough conductor, with a slab\n"
+      "of albedo A and optical depth sigma_t between them) into a tiled, mip-mapped\n"
+      "latent OpenEXR texture (docs/LATENT-TEXTURE.md). Each V is a constant ('0.3',\n"
+      "or '0.8,0.5,0.2' for RGB) or an image file (1 or 3 channels; all maps one size).\n"
+      "The texture is mono when every input is grey, else RGB (one BRDF per channel).\n"
+      "\n"
+      "  --alpha1 V            top coat roughness (see --roughness)\n"
+      "  --eta V               top coat IOR (8/16-bit maps: see --eta-range)\n"
+      "  --alpha2 V            bottom conductor roughness\n"
+      "  --r0 V                bottom Schlick reflectance at normal incidence (colour)\n"
+      "  --albedo V            slab single-scattering albedo (colour)\n"
+      "  --sigma-t V           slab optical depth (8/16-bit maps: see --sigma-t-range)\n"
+      "  -o, --output FILE     the texture to write (written whole or not at all)\n"
+      "  --half | --float      latent storage (default half)\n"
+      "  --mip-levels full|1   the full mip chain (default) or level 0 only\n"
+      "  --tile N              tile edge in texels (default 64)\n"
+      "  --bundle DIR          model bundle (default: models/default)\n"
+      "  --roughness alpha|perceptual\n"
+      "                        alpha: GGX alpha as in the paper (default); perceptual:\n"
+      "                        the artists' roughness r of Blender et al., alpha = r^2\n"
+      "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
+      "                        warning (default) or stop naming the file and texel\n"
+      "  --r0-colourspace CS, --albedo-colourspace CS\n"
+      "                        colour space of 8/16-bit colour maps (default sRGB)\n"
+      "  --ocio CONFIG         OpenColorIO config for colour spaces (default $OCIO)\n"
+      "  --eta-range LO,HI     8/16-bit eta maps: [0,1] -> [LO,HI] (default 1,2)\n"
+      "  --sigma-t-range LO,HI 8/16-bit sigma_t maps: [0,1] -> [LO,HI] (default 0,5)\n"
+      "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
+      "                        the bar drawn on stderr when it is a terminal\n"
+      "\n"
+      "Ctrl-C cancels cleanly: no output file is left.\n"
+      "exit status: 0 success, 1 failure (the message names the file and texel), 2 bad usage\n");
 }
 
 static volatile sig_atomic_t interrupted = 0;
@@ -109,8 +110,8 @@ static int parse_range(const char *text, nbrdf_bake_param *p) {
   return 1;
 }
 
-static const char *const flag_names[NBRDF_BAKE_PARAM_COUNT] = {
-    "--alpha1", "--eta", "--alpha2", "--r0", "--albedo", "--sigma-t"};
+static const char *const flag_names[NBRDF_BAKE_PARAM_COUNT] = {"--alpha1", "--eta",    "--alpha2",
+                                                               "--r0",     "--albedo", "--sigma-t"};
 
 int cmd_bake(int argc, char **argv) {
   nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
@@ -142,8 +143,10 @@ int cmd_bake(int argc, char **argv) {
       opts.storage = a[2] == 'h' ? NBRDF_BAKE_HALF : NBRDF_BAKE_FLOAT;
     } else if (!strcmp(a, "--mip-levels") && v) {
       if (strcmp(v, "full") && strcmp(v, "0") && strcmp(v, "1"))
-        return cli_usage_error("bake", "--mip-levels is 'full' or 1 (OpenEXR mip chains are "
-                                       "complete), not '%s'", v);
+        return cli_usage_error("bake",
+                               "--mip-levels is 'full' or 1 (OpenEXR mip chains are "
+                               "complete), not '%s'",
+                               v);
       opts.mip_levels = !strcmp(v, "1"), i++;
     } else if (!strcmp(a, "--tile") && v) {
       long t;
@@ -229,7 +232,8 @@ int cmd_bake(int argc, char **argv) {
   if (ps.json) {
     printf("{\"event\":\"done\",\"output\":");
     json_string(out);
-    printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu}\n", rep.width, rep.height, rep.colour_channels, rep.evaluated);
+    printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu}\n", rep.width,
+           rep.height, rep.colour_channels, rep.evaluated);
   } else {
     printf("wrote %s: %d x %d %s, %zu BRDFs (%zu distinct per band, summed)\n", out, rep.width,
            rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs, rep.evaluated);

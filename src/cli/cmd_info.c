@@ -6,13 +6,14 @@
 #include "texture/latent_exr.h"
 
 void cmd_info_usage(FILE *out) {
-  fprintf(out, "usage: nbrdf info TEXTURE.exr\n"
-               "\n"
-               "Prints a latent texture's size, mip levels, channels, colour mode, storage,\n"
-               "compression, the model that baked it (name and checksum), its parameter\n"
-               "sources and bake settings (docs/LATENT-TEXTURE.md).\n"
-               "\n"
-               "exit status: 0 success, 1 failure (unreadable or not a latent texture), 2 bad usage\n");
+  fprintf(out,
+          "usage: nbrdf info TEXTURE.exr\n"
+          "\n"
+          "Prints a latent texture's size, mip levels, channels, colour mode, storage,\n"
+          "compression, the model that baked it (name and checksum), its parameter\n"
+          "sources and bake settings (docs/LATENT-TEXTURE.md).\n"
+          "\n"
+          "exit status: 0 success, 1 failure (unreadable or not a latent texture), 2 bad usage\n");
 }
 
 int cmd_info(int argc, char **argv) {

@@ -72,9 +72,11 @@ static void direct(const float t[6], float *latent, float *sigma, float *w) {
   float *top = malloc(sizeof(float) * D * 2), *bottom = top + D;
   double a = t[0], b = t[1], c = t[2], d = t[3];
   CHECK_OK(nbrdf_model_base_latents(model, NBRDF_BASE_DIELECTRIC, 1, &a, &b, NBRDF_RANGE_REFUSE,
-                                    top, NULL, err), err);
+                                    top, NULL, err),
+           err);
   CHECK_OK(nbrdf_model_base_latents(model, NBRDF_BASE_CONDUCTOR, 1, &c, &d, NBRDF_RANGE_REFUSE,
-                                    bottom, NULL, err), err);
+                                    bottom, NULL, err),
+           err);
   CHECK_OK(nbrdf_model_layer(model, 1, top, bottom, &t[4], &t[5], latent, err), err);
   CHECK_OK(nbrdf_model_proxy_params(model, 1, latent, sigma, w, err), err);
   free(top);
@@ -124,7 +126,8 @@ static void test_constants(void) {
   CHECK(!strcmp(info->model_checksum, nbrdf_model_checksum(model)));
   CHECK(strstr(info->sources, "eta=") && strstr(info->settings, "roughness=alpha"));
   CHECK_OK(nbrdf_latent_check_model(info, "const.exr", nbrdf_model_name(model),
-                                    nbrdf_model_checksum(model), err), err);
+                                    nbrdf_model_checksum(model), err),
+           err);
   float *texel = malloc(sizeof(float) * info->channels);
   CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
   float t[6];
@@ -221,8 +224,7 @@ static void test_bad_inputs(void) {
   in.param[NBRDF_BAKE_SIGMA_T].path = path("nan.exr");
   CHECK_FAILS(nbrdf_bake(model, &in, NULL, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
               "(3, 5)");
-  CHECK_MSG(strstr(e.message, "nan.exr") && strstr(e.message, "(3, 5)"), "message: %s",
-            e.message);
+  CHECK_MSG(strstr(e.message, "nan.exr") && strstr(e.message, "(3, 5)"), "message: %s", e.message);
   CHECK(!exists(path("bad.exr")));
 
   /* The output may not be one of the inputs; the input is untouched. */
