@@ -340,6 +340,43 @@ static void test_colour_maps(void) {
   CHECK(!exists(path("bad.exr")));
 }
 
+/* DESIGN.md's extremes: alpha at the grid's edge, eta -> 1, R0 and A in
+ * {0, 1}, sigma_t 0 and large (clamped, with a warning). */
+static void warn_count(void *user, const char *message) {
+  (void)message;
+  (*(int *)user)++;
+}
+
+static void test_extremes(void) {
+  nbrdf_error e, *err = &e;
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  nbrdf_bake_inputs in = constants();
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA1], lo[0]);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ETA], 1.0f);
+  nbrdf_bake_param *r0 = &in.param[NBRDF_BAKE_R0], *a = &in.param[NBRDF_BAKE_ALBEDO];
+  r0->channels = a->channels = 3;
+  r0->value[0] = 0.0f, r0->value[1] = 1.0f, r0->value[2] = 0.5f;
+  a->value[0] = 1.0f, a->value[1] = 0.0f, a->value[2] = 1.0f;
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_SIGMA_T], 100.0f);
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  int warnings = 0;
+  o.warning = warn_count;
+  o.user = &warnings;
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("extremes.exr"), &rep, err), err);
+  int eta_inside = 1.0f >= lo[1];
+  /* sigma_t clamped on 3 channels, eta on 3 unless the grid reaches 1 */
+  CHECK_MSG(rep.clamped == (size_t)(eta_inside ? 3 : 6), "clamped %zu", rep.clamped);
+  CHECK(warnings == (eta_inside ? 1 : 2));
+  nbrdf_latent_info info;
+  float *t = read_texel(path("extremes.exr"), 0, 0, 0, &info);
+  for (int i = 0; t && i < info.channels; i++)
+    CHECK(isfinite(t[i]));
+  CHECK(t && info.layout.colour == NBRDF_COLOUR_RGB);
+  free(t);
+}
+
 static unsigned char *slurp(const char *p, long *n) {
   FILE *f = fopen(p, "rb");
   if (!f) return NULL;
@@ -379,6 +416,7 @@ int main(void) {
   RUN(test_cancel);
   RUN(test_perceptual);
   RUN(test_colour_maps);
+  RUN(test_extremes);
   RUN(test_deterministic);
   nbrdf_model_destroy(model);
   return nbrdf_test_finish();
