@@ -9,6 +9,7 @@ DECLARE(bundle)
 DECLARE(eval)
 DECLARE(bake)
 DECLARE(info)
+DECLARE(dataset)
 
 const cli_command cli_commands[] = {
     {"help", "show help for nbrdf or one of its commands", cmd_help, cmd_help_usage},
@@ -17,5 +18,7 @@ const cli_command cli_commands[] = {
      cmd_eval_usage},
     {"bake", "bake parameter maps into a latent OpenEXR texture", cmd_bake, cmd_bake_usage},
     {"info", "describe a latent texture", cmd_info, cmd_info_usage},
+    {"dataset", "generate, resume or check ground-truth training data", cmd_dataset,
+     cmd_dataset_usage},
 };
 const int cli_command_count = (int)(sizeof cli_commands / sizeof cli_commands[0]);

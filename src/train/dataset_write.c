@@ -1,0 +1,140 @@
+/* Writing and resuming a data set file (train/dataset.h, docs/DATASET.md). */
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "nn/safetensors.h"
+#include "train/dataset_format.h"
+
+static int same_settings(const train_dataset_settings *a, const train_dataset_settings *b) {
+  return a->kind == b->kind && a->count == b->count && a->seed == b->seed &&
+         a->incident == b->incident && a->outgoing == b->outgoing && a->sampled == b->sampled &&
+         a->spp == b->spp;
+}
+
+/* Opens `path` positioned after its valid prefix (creating it with a header
+ * when absent); *done and *sum describe that prefix. */
+static nbrdf_status open_output(const char *path, const train_dataset_settings *s, FILE **out,
+                                uint64_t *done, uint64_t *sum, int *complete, nbrdf_error *err) {
+  *done = 0, *complete = 0;
+  if (access(path, F_OK) == 0) {
+    train_dataset_info info;
+    nbrdf_status st = train_dataset_read(path, 0, &info, NULL, NULL, err);
+    if (st) {
+      nbrdf_error_prefix(err, "cannot resume (delete the file to start again): ");
+      return st;
+    }
+    if (!same_settings(&info.settings, s))
+      return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
+                        "%s: exists with other settings (kind %s, count %llu, seed %llu, "
+                        "incident %d, outgoing %d, sampled %d, spp %d); delete it or use them",
+                        path, train_kind_name(info.settings.kind),
+                        (unsigned long long)info.settings.count,
+                        (unsigned long long)info.settings.seed, info.settings.incident,
+                        info.settings.outgoing, info.settings.sampled, info.settings.spp);
+    *done = info.records, *sum = info.prefix_checksum, *complete = info.complete;
+    if (info.complete) return NBRDF_OK;
+    /* Drop a partial or corrupt tail record before appending. */
+    if (truncate(path, (off_t)info.valid_bytes) != 0)
+      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot truncate to its valid prefix", path);
+    *out = fopen(path, "r+b");
+    if (!*out || fseek(*out, (long)info.valid_bytes, SEEK_SET) != 0) {
+      if (*out) fclose(*out);
+      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open for appending", path);
+    }
+    return NBRDF_OK;
+  }
+  unsigned char head[DS_HEADER_BYTES];
+  ds_encode_header(s, head);
+  *out = fopen(path, "wb");
+  if (!*out) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create", path);
+  if (fwrite(head, 1, sizeof head, *out) != sizeof head || fflush(*out) != 0) {
+    fclose(*out);
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write the header", path);
+  }
+  *sum = nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, head, sizeof head);
+  return NBRDF_OK;
+}
+
+/* Generates BRDFs [first, first + n) into recs (n records of rb bytes). */
+static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t first, int n,
+                                   int threads, unsigned char *recs, float *samples,
+                                   size_t per_thread, nbrdf_error *err) {
+  size_t rb = ds_record_bytes(s);
+  nbrdf_status st = NBRDF_OK;
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
+  for (int k = 0; k < n; k++) {
+    float *mine = samples + (size_t)omp_get_thread_num() * per_thread;
+    train_params p;
+    nbrdf_error e;
+    nbrdf_status sk = train_dataset_generate_one(s, first + (uint64_t)k, &p, mine, &e);
+    if (sk == NBRDF_OK) ds_encode_record(s, first + (uint64_t)k, &p, mine, recs + (size_t)k * rb);
+#pragma omp critical(nbrdf_dataset_error)
+    if (sk != NBRDF_OK && st == NBRDF_OK) {
+      st = sk;
+      if (err) *err = e;
+    }
+  }
+  return st;
+}
+
+nbrdf_status train_dataset_write(const char *path, const train_dataset_settings *s,
+                                 uint64_t *resumed_from, nbrdf_error *err) {
+  if (!path || !s) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: NULL path or settings");
+  if (s->count < 1) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: count must be >= 1");
+  nbrdf_status st = train_dataset_check_settings(s, err);
+  if (st) return st;
+  FILE *f = NULL;
+  uint64_t done = 0, sum = 0;
+  int complete;
+  st = open_output(path, s, &f, &done, &sum, &complete, err);
+  if (resumed_from) *resumed_from = done;
+  if (st || complete) return st;
+
+  int threads = s->threads > 0 ? s->threads : omp_get_max_threads();
+  int batch = 4 * threads;
+  size_t rb = ds_record_bytes(s);
+  size_t per_thread = (size_t)s->incident * (size_t)s->outgoing * TRAIN_DATASET_FLOATS;
+  unsigned char *recs = malloc((size_t)batch * rb);
+  float *samples = malloc((size_t)threads * per_thread * sizeof *samples);
+  if (!recs || !samples) {
+    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory for a batch of %d", batch);
+    goto done;
+  }
+  if (s->progress && s->progress(s->user, "dataset", (double)done, (double)s->count)) {
+    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
+                    "%s: stopped at %llu of %llu BRDFs; run again to resume", path,
+                    (unsigned long long)done, (unsigned long long)s->count);
+    goto done;
+  }
+  while (done < s->count) {
+    int n = s->count - done < (uint64_t)batch ? (int)(s->count - done) : batch;
+    st = generate_batch(s, done, n, threads, recs, samples, per_thread, err);
+    if (st) goto done;
+    if (fwrite(recs, rb, (size_t)n, f) != (size_t)n || fflush(f) != 0) {
+      st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: write failed after %llu records", path,
+                      (unsigned long long)done);
+      goto done;
+    }
+    sum = nbrdf_st_fnv1a64(sum, recs, (size_t)n * rb);
+    done += (uint64_t)n;
+    if (s->progress && s->progress(s->user, "dataset", (double)done, (double)s->count) &&
+        done < s->count) {
+      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
+                      "%s: stopped at %llu of %llu BRDFs; run again to resume", path,
+                      (unsigned long long)done, (unsigned long long)s->count);
+      goto done;
+    }
+  }
+  unsigned char foot[DS_FOOTER_BYTES];
+  ds_encode_footer(s->count, sum, foot);
+  if (fwrite(foot, 1, sizeof foot, f) != sizeof foot || fflush(f) != 0)
+    st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write the footer", path);
+done:
+  free(recs), free(samples);
+  if (fclose(f) != 0 && !st) st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: close failed", path);
+  return st;
+}

@@ -1,0 +1,97 @@
+#include "train/params.h"
+
+#include <string.h>
+
+#include "core/rng.h"
+
+/* Domain tags of the two seed families (arbitrary, different, never change:
+ * changing one silently changes every data set and held-out set). */
+#define TRAIN_TAG UINT64_C(0x6e62726466747261)   /* "nbrdftra" */
+#define HELDOUT_TAG UINT64_C(0x6e62726466686f6c) /* "nbrdfhol" */
+
+static const char *const KIND_NAMES[] = {"conductor", "dielectric", "layered2", "layered3",
+                                         "single"};
+
+const char *train_kind_name(train_kind kind) {
+  return (unsigned)kind < 5u ? KIND_NAMES[kind] : "unknown";
+}
+
+int train_kind_parse(const char *name) {
+  for (int k = 0; k < 5; k++)
+    if (name && strcmp(name, KIND_NAMES[k]) == 0) return k;
+  return -1;
+}
+
+uint64_t train_family_seed(uint64_t seed) { return nbrdf_hash64(TRAIN_TAG, seed); }
+
+uint64_t train_heldout_seed(train_heldout set) { return nbrdf_hash64(HELDOUT_TAG, (uint64_t)set); }
+
+train_kind train_heldout_kind(train_heldout set) {
+  switch (set) {
+  case TRAIN_HELDOUT_LAYER3:
+    return TRAIN_LAYERED3;
+  case TRAIN_HELDOUT_SINGLE:
+    return TRAIN_SINGLE;
+  default:
+    return TRAIN_LAYERED2;
+  }
+}
+
+/* α = U(0.216, 1)^3: cube of a uniform, so roughness is spread evenly in
+ * perceptual terms (0.216^3 ≈ 0.01). */
+double train_draw_alpha(double u) {
+  double t = 0.216 + (1.0 - 0.216) * u;
+  return t * t * t;
+}
+double train_draw_eta(double u) { return 1.05 + (2.0 - 1.05) * u; }
+double train_draw_albedo(double u) { return 1.0 - u * u; }
+double train_draw_sigma_t(double u) {
+  static const double SIGMA_T[4] = {0.0, 1.0, 2.0, 5.0};
+  int i = (int)(u * 4.0);
+  return SIGMA_T[i < 0 ? 0 : i > 3 ? 3 : i];
+}
+
+static void draw_coat(nbrdf_rng *rng, train_coat *c) {
+  c->alpha = train_draw_alpha(nbrdf_rng_uniform(rng));
+  c->eta = train_draw_eta(nbrdf_rng_uniform(rng));
+  c->albedo = train_draw_albedo(nbrdf_rng_uniform(rng));
+  c->sigma_t = train_draw_sigma_t(nbrdf_rng_uniform(rng));
+}
+
+void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_params *p) {
+  nbrdf_rng rng;
+  nbrdf_rng_init(&rng, family, index);
+  memset(p, 0, sizeof *p);
+  if (kind == TRAIN_SINGLE)
+    kind = nbrdf_rng_uniform(&rng) < 0.5 ? TRAIN_CONDUCTOR : TRAIN_DIELECTRIC;
+  p->kind = kind;
+  p->n_coats = kind == TRAIN_LAYERED2 ? 1 : kind == TRAIN_LAYERED3 ? 2 : 0;
+  for (int c = 0; c < p->n_coats; c++)
+    draw_coat(&rng, &p->coat[c]);
+  p->base_alpha = train_draw_alpha(nbrdf_rng_uniform(&rng));
+  if (kind == TRAIN_DIELECTRIC)
+    p->base_eta = train_draw_eta(nbrdf_rng_uniform(&rng));
+  else
+    p->base_r0 = nbrdf_rng_uniform(&rng);
+}
+
+nbrdf_status train_params_create(const train_params *p, nbrdf_brdf **out, nbrdf_error *err) {
+  nbrdf_brdf *b = NULL;
+  nbrdf_status st = p->kind == TRAIN_DIELECTRIC
+                        ? nbrdf_brdf_create_dielectric(p->base_alpha, p->base_eta, &b, err)
+                        : nbrdf_brdf_create_conductor(p->base_alpha, p->base_r0, &b, err);
+  /* Innermost coat first: coat[n_coats - 1] sits on the base. */
+  for (int c = p->n_coats - 1; c >= 0 && st == NBRDF_OK; c--) {
+    const train_coat *k = &p->coat[c];
+    nbrdf_brdf *layered = NULL;
+    st = nbrdf_brdf_create_layered(k->alpha, k->eta, k->albedo, k->sigma_t, b, &layered, err);
+    nbrdf_brdf_destroy(b);
+    b = layered;
+  }
+  if (st != NBRDF_OK) {
+    nbrdf_brdf_destroy(b);
+    return st;
+  }
+  *out = b;
+  return NBRDF_OK;
+}

@@ -1,0 +1,78 @@
+/* BRDF parameters for training and held-out evaluation, drawn from the
+ * paper's Table 2 distributions (Fan et al. 2022; DESIGN.md):
+ *   α = U(0.216, 1)^3 (0.01..1), η ∈ U(1.05, 2), R0 ∈ U(0, 1),
+ *   A = 1 − U(0, 1)^2, σT uniform in {0, 1, 2, 5}.
+ *
+ * Every draw is a pure function of (family seed, index): BRDF k uses PCG32
+ * stream k of the family seed, so sets can be generated in any order, by any
+ * number of threads, and resumed.
+ *
+ * Training and held-out sets are kept disjoint by construction: the family
+ * seed of a training set is nbrdf_hash64(TRAIN_TAG, user seed), that of a
+ * held-out set nbrdf_hash64(HELDOUT_TAG, set id), with two different tags;
+ * the generators of the two families therefore start from different states
+ * (a collision would need a splitmix64 collision between the two inputs), and
+ * the parameters are continuous, so no held-out BRDF reappears in training
+ * data whatever seed the user picks. */
+#ifndef NBRDF_TRAIN_PARAMS_H
+#define NBRDF_TRAIN_PARAMS_H
+
+#include <stdint.h>
+
+#include "nbrdf/brdf.h"
+
+typedef enum train_kind {
+  TRAIN_CONDUCTOR = 0,  /* rough conductor (α, R0) */
+  TRAIN_DIELECTRIC = 1, /* rough dielectric interface (α, η), reflection only */
+  TRAIN_LAYERED2 = 2,   /* dielectric coat over a slab over a conductor */
+  TRAIN_LAYERED3 = 3,   /* coat + slab over (coat + slab over a conductor) */
+  TRAIN_SINGLE = 4      /* draw only: conductor or dielectric, half each */
+} train_kind;
+
+/* One coat of a layered BRDF: dielectric top (alpha, eta) over a unit slab. */
+typedef struct train_coat {
+  double alpha, eta, albedo, sigma_t;
+} train_coat;
+
+/* A drawn BRDF. coat[0] is the outermost; coats beyond n_coats are zero.
+ * The base is a conductor (base_alpha, base_r0) for every kind but
+ * TRAIN_DIELECTRIC, whose interface is (base_alpha, base_eta). */
+typedef struct train_params {
+  train_kind kind; /* never TRAIN_SINGLE after a draw */
+  int n_coats;     /* 0, 1 or 2 */
+  train_coat coat[2];
+  double base_alpha, base_r0, base_eta;
+} train_params;
+
+/* The held-out sets of METRICS.md. */
+typedef enum train_heldout {
+  TRAIN_HELDOUT_REP = 1,    /* two-layer BRDFs (projected) */
+  TRAIN_HELDOUT_LAYER = 2,  /* two-layer BRDFs (end to end) */
+  TRAIN_HELDOUT_LAYER3 = 3, /* three-layer BRDFs */
+  TRAIN_HELDOUT_SINGLE = 4  /* conductors and dielectrics */
+} train_heldout;
+
+const char *train_kind_name(train_kind kind);
+/* Parses "conductor", "dielectric", "layered2", "layered3", "single"; -1 if none. */
+int train_kind_parse(const char *name);
+
+/* The family seed of a training set drawn with the user's seed. */
+uint64_t train_family_seed(uint64_t seed);
+/* The fixed family seed of a held-out set (never equal to a training one). */
+uint64_t train_heldout_seed(train_heldout set);
+/* The kind a held-out set draws. */
+train_kind train_heldout_kind(train_heldout set);
+
+/* BRDF `index` of the family: p is a pure function of (family, kind, index). */
+void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_params *p);
+
+/* The ground-truth BRDF of p. */
+nbrdf_status train_params_create(const train_params *p, nbrdf_brdf **out, nbrdf_error *err);
+
+/* Table 2 draws from uniforms u ∈ [0, 1) (exposed for tests). */
+double train_draw_alpha(double u);
+double train_draw_eta(double u);
+double train_draw_albedo(double u);
+double train_draw_sigma_t(double u);
+
+#endif

@@ -1,0 +1,102 @@
+/* Table 2 parameter draws: ranges, moments, determinism, seed families. */
+#include <math.h>
+#include <string.h>
+
+#include "testing.h"
+#include "train/params.h"
+
+enum { N = 20000 };
+
+static void test_table2_moments(void) {
+  double sa = 0, se = 0, sA = 0, sr = 0, ss[4] = {0};
+  double amin = 1, amax = 0;
+  uint64_t fam = train_family_seed(7);
+  for (int k = 0; k < N; k++) {
+    train_params p;
+    train_params_draw(fam, TRAIN_LAYERED2, (uint64_t)k, &p);
+    const train_coat *c = &p.coat[0];
+    CHECK(p.kind == TRAIN_LAYERED2 && p.n_coats == 1);
+    CHECK(c->alpha >= 0.216 * 0.216 * 0.216 && c->alpha < 1.0);
+    CHECK(c->eta >= 1.05 && c->eta < 2.0);
+    CHECK(c->albedo > 0.0 && c->albedo <= 1.0);
+    CHECK(p.base_r0 >= 0.0 && p.base_r0 < 1.0);
+    CHECK(p.base_alpha >= 0.01 && p.base_alpha < 1.0);
+    amin = fmin(amin, c->alpha), amax = fmax(amax, c->alpha);
+    sa += c->alpha, se += c->eta, sA += c->albedo, sr += p.base_r0;
+    int i = c->sigma_t == 0 ? 0 : c->sigma_t == 1 ? 1 : c->sigma_t == 2 ? 2 : 3;
+    CHECK(c->sigma_t == 0 || c->sigma_t == 1 || c->sigma_t == 2 || c->sigma_t == 5);
+    ss[i] += 1;
+  }
+  /* E[t^3], t ~ U(0.216, 1): (1 - 0.216^4) / (4 · 0.784). */
+  double ea = (1.0 - pow(0.216, 4)) / (4.0 * 0.784);
+  CHECK_NEAR(sa / N, ea, 0.006);
+  CHECK_NEAR(se / N, 1.525, 0.006);
+  CHECK_NEAR(sA / N, 2.0 / 3.0, 0.006);
+  CHECK_NEAR(sr / N, 0.5, 0.006);
+  for (int i = 0; i < 4; i++)
+    CHECK_NEAR(ss[i] / N, 0.25, 0.012);
+  CHECK(amin < 0.012 && amax > 0.97);
+}
+
+static void test_draw_functions(void) {
+  CHECK_NEAR(train_draw_alpha(0.0), 0.010077696, 1e-9);
+  CHECK(train_draw_alpha(0.999999) < 1.0);
+  CHECK_NEAR(train_draw_eta(0.0), 1.05, 1e-12);
+  CHECK_NEAR(train_draw_albedo(0.0), 1.0, 1e-12);
+  CHECK(train_draw_sigma_t(0.0) == 0.0 && train_draw_sigma_t(0.999) == 5.0);
+  CHECK(train_draw_sigma_t(0.3) == 1.0 && train_draw_sigma_t(0.6) == 2.0);
+}
+
+static void test_determinism_and_families(void) {
+  train_params a, b;
+  train_params_draw(train_family_seed(3), TRAIN_LAYERED3, 41, &a);
+  train_params_draw(train_family_seed(3), TRAIN_LAYERED3, 41, &b);
+  CHECK(memcmp(&a, &b, sizeof a) == 0);
+  train_params_draw(train_family_seed(4), TRAIN_LAYERED3, 41, &b);
+  CHECK(a.coat[0].alpha != b.coat[0].alpha);
+  train_params_draw(train_family_seed(3), TRAIN_LAYERED3, 42, &b);
+  CHECK(a.coat[0].alpha != b.coat[0].alpha);
+  CHECK(a.n_coats == 2 && a.coat[1].eta >= 1.05);
+  /* Held-out families never coincide with training ones for small seeds,
+   * nor with each other. */
+  for (int set = 1; set <= 4; set++) {
+    uint64_t h = train_heldout_seed((train_heldout)set);
+    for (uint64_t s = 0; s < 10000; s++)
+      CHECK(h != train_family_seed(s));
+    for (int o = 1; o < set; o++)
+      CHECK(h != train_heldout_seed((train_heldout)o));
+  }
+  CHECK(train_heldout_kind(TRAIN_HELDOUT_LAYER3) == TRAIN_LAYERED3);
+  CHECK(train_heldout_kind(TRAIN_HELDOUT_SINGLE) == TRAIN_SINGLE);
+}
+
+static void test_single_mixes_and_creates(void) {
+  int kinds[2] = {0, 0};
+  uint64_t fam = train_heldout_seed(TRAIN_HELDOUT_SINGLE);
+  for (int k = 0; k < 200; k++) {
+    train_params p;
+    train_params_draw(fam, TRAIN_SINGLE, (uint64_t)k, &p);
+    CHECK(p.kind == TRAIN_CONDUCTOR || p.kind == TRAIN_DIELECTRIC);
+    kinds[p.kind == TRAIN_DIELECTRIC]++;
+    if (p.kind == TRAIN_DIELECTRIC) CHECK(p.base_eta >= 1.05 && p.base_eta < 2.0);
+  }
+  CHECK(kinds[0] > 70 && kinds[1] > 70);
+  for (int kind = 0; kind < 4; kind++) {
+    train_params p;
+    nbrdf_brdf *b = NULL;
+    nbrdf_error err;
+    train_params_draw(train_family_seed(1), (train_kind)kind, 0, &p);
+    CHECK_OK(train_params_create(&p, &b, &err), &err);
+    CHECK(b && nbrdf_brdf_is_stochastic(b) == (kind >= TRAIN_LAYERED2));
+    nbrdf_brdf_destroy(b);
+  }
+  CHECK(train_kind_parse("layered3") == TRAIN_LAYERED3 && train_kind_parse("x") == -1);
+}
+
+int main(void) {
+  RUN(test_table2_moments);
+  RUN(test_draw_functions);
+  RUN(test_determinism_and_families);
+  RUN(test_single_mixes_and_creates);
+  return nbrdf_test_finish();
+}
