@@ -84,7 +84,7 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
   for (; i < s->count; i++) {
     size_t got = fread(rec, 1, rb, f);
     if (got != rb) {
-      why = got == 0 ? "missing" : "truncated";
+      why = got == 0 ? "missing: the file is unfinished (resume it)" : "truncated";
       break;
     }
     if (ds_get_u64(rec + rb - 8) != nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, rec, rb - 8)) {

@@ -59,8 +59,10 @@ static void draw_coat(nbrdf_rng *rng, train_coat *c) {
 }
 
 void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_params *p) {
+  /* The kind enters the generator seed, so that layered2 and layered3 sets
+   * drawn with the same seed do not share their outer coats. */
   nbrdf_rng rng;
-  nbrdf_rng_init(&rng, family, index);
+  nbrdf_rng_init(&rng, nbrdf_hash64(family, (uint64_t)kind), index);
   memset(p, 0, sizeof *p);
   if (kind == TRAIN_SINGLE)
     kind = nbrdf_rng_uniform(&rng) < 0.5 ? TRAIN_CONDUCTOR : TRAIN_DIELECTRIC;

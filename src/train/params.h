@@ -63,7 +63,8 @@ uint64_t train_heldout_seed(train_heldout set);
 /* The kind a held-out set draws. */
 train_kind train_heldout_kind(train_heldout set);
 
-/* BRDF `index` of the family: p is a pure function of (family, kind, index). */
+/* BRDF `index` of the family: p is a pure function of (family, kind, index);
+ * it uses stream `index` of the seed nbrdf_hash64(family, kind). */
 void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_params *p);
 
 /* The ground-truth BRDF of p. */

@@ -57,6 +57,8 @@ static void test_determinism_and_families(void) {
   train_params_draw(train_family_seed(3), TRAIN_LAYERED3, 42, &b);
   CHECK(a.coat[0].alpha != b.coat[0].alpha);
   CHECK(a.n_coats == 2 && a.coat[1].eta >= 1.05);
+  train_params_draw(train_family_seed(3), TRAIN_LAYERED2, 41, &b);
+  CHECK_MSG(a.coat[0].alpha != b.coat[0].alpha, "layered2 and layered3 share a coat");
   /* Held-out families never coincide with training ones for small seeds,
    * nor with each other. */
   for (int set = 1; set <= 4; set++) {
