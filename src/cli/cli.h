@@ -29,6 +29,10 @@ int cli_fail_error(const char *cmd, const nbrdf_error *err);
 /* Strict number parsing: the whole string must be a finite number. */
 int cli_parse_double(const char *text, double *out);
 int cli_parse_int(const char *text, long lo, long hi, long *out);
+/* Matches argv[*i] against option `name` in the forms "--name value" and
+ * "--name=value": returns the value (advancing *i past a separate value), ""
+ * when the value is missing, or NULL when argv[*i] is another option. */
+const char *cli_option_value(int argc, char **argv, int *i, const char *name);
 /* True for "-h" and "--help". */
 int cli_is_help(const char *arg);
 

@@ -113,15 +113,6 @@ static int run_check(const char *path) {
   return CLI_EXIT_OK;
 }
 
-static const char *option_value(int argc, char **argv, int *i, const char *name) {
-  size_t n = strlen(name);
-  if (strncmp(argv[*i], name, n)) return NULL;
-  if (argv[*i][n] == '=') return argv[*i] + n + 1;
-  if (argv[*i][n] != '\0') return NULL;
-  if (*i + 1 >= argc) return "";
-  return argv[++*i];
-}
-
 static int parse_u64(const char *v, uint64_t *out) {
   char *end;
   errno = 0;
@@ -139,11 +130,11 @@ int cmd_dataset(int argc, char **argv) {
   for (int i = 1; i < argc; i++) {
     const char *v;
     long n;
-    if ((v = option_value(argc, argv, &i, "--out"))) {
+    if ((v = cli_option_value(argc, argv, &i, "--out"))) {
       out = v;
-    } else if ((v = option_value(argc, argv, &i, "--check"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--check"))) {
       check = v;
-    } else if ((v = option_value(argc, argv, &i, "--kind"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--kind"))) {
       int k = train_kind_parse(v);
       if (k < 0)
         return cli_usage_error("dataset",
@@ -151,31 +142,31 @@ int cmd_dataset(int argc, char **argv) {
                                "single, layered2 or layered3)",
                                v);
       s.kind = (train_kind)k, have_kind = 1;
-    } else if ((v = option_value(argc, argv, &i, "--count"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--count"))) {
       if (!parse_u64(v, &s.count) || s.count < 1)
         return cli_usage_error("dataset", "--count '%s' is not a positive integer", v);
       have_count = 1;
-    } else if ((v = option_value(argc, argv, &i, "--seed"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
       if (!parse_u64(v, &s.seed))
         return cli_usage_error("dataset", "--seed '%s' is not an unsigned 64-bit integer", v);
       have_seed = 1;
-    } else if ((v = option_value(argc, argv, &i, "--incident"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--incident"))) {
       if (!cli_parse_int(v, 1, 4096, &n))
         return cli_usage_error("dataset", "--incident '%s' is not an integer in [1, 4096]", v);
       s.incident = (int)n;
-    } else if ((v = option_value(argc, argv, &i, "--outgoing"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--outgoing"))) {
       if (!cli_parse_int(v, 1, 65536, &n))
         return cli_usage_error("dataset", "--outgoing '%s' is not an integer in [1, 65536]", v);
       s.outgoing = (int)n;
-    } else if ((v = option_value(argc, argv, &i, "--sampled"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--sampled"))) {
       if (!cli_parse_int(v, 0, 65536, &n))
         return cli_usage_error("dataset", "--sampled '%s' is not an integer in [0, 65536]", v);
       s.sampled = (int)n, have_sampled = 1;
-    } else if ((v = option_value(argc, argv, &i, "--spp"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
       if (!cli_parse_int(v, 2, 1L << 30, &n))
         return cli_usage_error("dataset", "--spp '%s' is not an integer in [2, 2^30]", v);
       s.spp = (int)n;
-    } else if ((v = option_value(argc, argv, &i, "--threads"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--threads"))) {
       if (!cli_parse_int(v, 0, 4096, &n))
         return cli_usage_error("dataset", "--threads '%s' is not an integer in [0, 4096]", v);
       s.threads = (int)n;

@@ -132,23 +132,13 @@ typedef struct eval_args {
   nbrdf_eval_options options;
 } eval_args;
 
-/* Accepts "--name value" and "--name=value"; returns the value or NULL. */
-static const char *option_value(int argc, char **argv, int *i, const char *name) {
-  size_t n = strlen(name);
-  if (strncmp(argv[*i], name, n)) return NULL;
-  if (argv[*i][n] == '=') return argv[*i] + n + 1;
-  if (argv[*i][n] != '\0') return NULL;
-  if (*i + 1 >= argc) return "";
-  return argv[++*i];
-}
-
 static int parse_args(int argc, char **argv, eval_args *a) {
   a->model = NULL;
   a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
   for (int i = 1; i < argc; i++) {
     const char *v;
     long n;
-    if ((v = option_value(argc, argv, &i, "--model"))) {
+    if ((v = cli_option_value(argc, argv, &i, "--model"))) {
       for (size_t m = 0; m < sizeof MODELS / sizeof MODELS[0]; m++)
         if (!strcmp(v, MODELS[m].name)) a->model = &MODELS[m];
       if (!a->model)
@@ -156,15 +146,15 @@ static int parse_args(int argc, char **argv, eval_args *a) {
                                "unknown model '%s' (expected layered, conductor or "
                                "dielectric)",
                                v);
-    } else if ((v = option_value(argc, argv, &i, "--spp"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
       if (!cli_parse_int(v, 1, 1000000000L, &n))
         return cli_usage_error("eval", "--spp '%s' is not an integer in [1, 1e9]", v);
       a->options.spp = (int)n;
-    } else if ((v = option_value(argc, argv, &i, "--threads"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--threads"))) {
       if (!cli_parse_int(v, 0, 4096, &n))
         return cli_usage_error("eval", "--threads '%s' is not an integer in [0, 4096]", v);
       a->options.threads = (int)n;
-    } else if ((v = option_value(argc, argv, &i, "--seed"))) {
+    } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
       char *end;
       errno = 0;
       unsigned long long s = strtoull(v, &end, 10);
