@@ -92,17 +92,6 @@ static void replay_forward_rows(run *r, int rows) {
   }
 }
 
-static void gemm_gw(int rows, int out, int in, const float *g, const float *w, float beta,
-                    float *dx) {
-  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, rows, in, out, 1.0f, g, out, w, in, beta,
-              dx, in);
-}
-
-static void gemm_gtx(int rows, int out, int in, const float *g, const float *x, float *dw) {
-  cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, out, in, rows, 1.0f, g, out, x, in, 1.0f, dw,
-              in);
-}
-
 /* The GEMMs of nbrdf_nn_backward(dx = NULL, grad != NULL). */
 static void replay_backward_rows(run *r, int rows) {
   const nbrdf_nn *nn = r->nn;
@@ -110,18 +99,18 @@ static void replay_backward_rows(run *r, int rows) {
   for (int i = nn->spec.n_layers - 1; i >= 0; i--) {
     const nn_layer *l = &nn->layers[i];
     if (l->kind == NBRDF_NN_LINEAR || l->kind == NBRDF_NN_PLAIN) {
-      gemm_gtx(rows, l->out, l->in, r->a, r->b, r->grad + l->w1);
-      if (i > 0) gemm_gw(rows, l->out, l->in, r->a, p + l->w1, 0, r->b);
+      nn_gemm_gtx(rows, l->out, l->in, r->a, r->b, r->grad + l->w1);
+      if (i > 0) nn_gemm_gw(rows, l->out, l->in, r->a, p + l->w1, 0, r->b);
     }
     if (l->kind == NBRDF_NN_RESIDUAL) {
-      gemm_gtx(rows, l->out, l->hidden, r->a, r->b, r->grad + l->w2);
-      gemm_gw(rows, l->out, l->hidden, r->a, p + l->w2, 0, r->b);
-      gemm_gtx(rows, l->hidden, l->in, r->b, r->a, r->grad + l->w1);
-      if (i > 0) gemm_gw(rows, l->hidden, l->in, r->b, p + l->w1, 1, r->a);
+      nn_gemm_gtx(rows, l->out, l->hidden, r->a, r->b, r->grad + l->w2);
+      nn_gemm_gw(rows, l->out, l->hidden, r->a, p + l->w2, 0, r->b);
+      nn_gemm_gtx(rows, l->hidden, l->in, r->b, r->a, r->grad + l->w1);
+      if (i > 0) nn_gemm_gw(rows, l->hidden, l->in, r->b, p + l->w1, 1, r->a);
     }
     if (l->wskip != NN_NONE) {
-      gemm_gtx(rows, l->out, l->skip_width, r->a, r->b, r->grad + l->wskip);
-      if (l->skip_from > 0) gemm_gw(rows, l->out, l->skip_width, r->a, p + l->wskip, 1, r->b);
+      nn_gemm_gtx(rows, l->out, l->skip_width, r->a, r->b, r->grad + l->wskip);
+      if (l->skip_from > 0) nn_gemm_gw(rows, l->out, l->skip_width, r->a, p + l->wskip, 1, r->b);
     }
   }
 }

@@ -19,24 +19,11 @@ typedef struct bw {
   int want_input_grad;
 } bw;
 
-/* dx = g W (W [out x in]); beta = 1 adds to dx. */
-static void gemm_gw(int rows, int out, int in, const float *g, const float *w, float beta,
-                    float *dx) {
-  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, rows, in, out, 1.0f, g, out, w, in, beta,
-              dx, in);
-}
-
-/* dW += g^T x */
-static void gemm_gtx(int rows, int out, int in, const float *g, const float *x, float *dw) {
-  cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, out, in, rows, 1.0f, g, out, x, in, 1.0f, dw,
-              in);
-}
-
 /* Gradients of a linear map's weight (and bias, if b_off is set) given dL/d(output) in g. */
 static void linear_params(const bw *b, size_t w_off, size_t b_off, int out, int in, const float *g,
                           const float *x) {
   if (!b->grad) return;
-  gemm_gtx(b->rows, out, in, g, x, b->grad + w_off);
+  nn_gemm_gtx(b->rows, out, in, g, x, b->grad + w_off);
   if (b_off != NN_NONE) {
     nn_colsum(b->rows, out, g, b->ws->acc);
     nn_flush(out, b->ws->acc, b->grad + b_off);
@@ -54,9 +41,9 @@ static void skip_backward(const bw *b, const nn_layer *l, const float *g) {
       acc[k] += g[k];
     return;
   }
-  if (b->grad) gemm_gtx(b->rows, l->out, l->skip_width, g, ws->act[j], b->grad + l->wskip);
+  if (b->grad) nn_gemm_gtx(b->rows, l->out, l->skip_width, g, ws->act[j], b->grad + l->wskip);
   if (j > 0 || b->want_input_grad)
-    gemm_gw(b->rows, l->out, l->skip_width, g, b->nn->params + l->wskip, 1.0f, ws->grad_skip[j]);
+    nn_gemm_gw(b->rows, l->out, l->skip_width, g, b->nn->params + l->wskip, 1.0f, ws->grad_skip[j]);
 }
 
 /* LayerNorm backward with its gamma/beta/bias gradients flushed into grad. */
@@ -94,20 +81,20 @@ static float *layer_backward(const bw *b, int i, float *g, float *dx) {
       ln_backward(b, l->out, g, y, lb->z1, lb->r1, l->g1, l->be1, l->b1);
     linear_params(b, l->w1, l->kind == NBRDF_NN_LINEAR ? l->b1 : NN_NONE, l->out, l->in, g, x);
     skip_backward(b, l, g);
-    if (dx) gemm_gw(b->rows, l->out, l->in, g, p + l->w1, 0.0f, dx);
+    if (dx) nn_gemm_gw(b->rows, l->out, l->in, g, p + l->w1, 0.0f, dx);
     return dx;
   case NBRDF_NN_RESIDUAL: {
     ln_backward(b, l->out, g, y, lb->z2, lb->r2, l->g2, l->be2, l->b2);
     linear_params(b, l->w2, NN_NONE, l->out, l->hidden, g, lb->h);
     skip_backward(b, l, g);
     float *gh = ws->grad_hidden;
-    gemm_gw(b->rows, l->out, l->hidden, g, p + l->w2, 0.0f, gh);
+    nn_gemm_gw(b->rows, l->out, l->hidden, g, p + l->w2, 0.0f, gh);
     ln_backward(b, l->hidden, gh, lb->h, lb->z1, lb->r1, l->g1, l->be1, l->b1);
     linear_params(b, l->w1, NN_NONE, l->hidden, l->in, gh, x);
     if (!dx) return NULL;
     /* The identity path of the block, then the bottleneck's share on top. */
     memcpy(dx, g, sizeof(float) * (size_t)b->rows * l->in);
-    gemm_gw(b->rows, l->hidden, l->in, gh, p + l->w1, 1.0f, dx);
+    nn_gemm_gw(b->rows, l->hidden, l->in, gh, p + l->w1, 1.0f, dx);
     return dx;
   }
   }

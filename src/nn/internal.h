@@ -74,6 +74,10 @@ int nn_same_spec(const nbrdf_nn_spec *a, const nbrdf_nn_spec *b);
 
 /* Layer kernels over rows x w buffers (src/nn/kernels.c). */
 void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta, float *y);
+/* dx = g W for W [out x in]; beta = 1 adds to dx. */
+void nn_gemm_gw(int rows, int out, int in, const float *g, const float *w, float beta, float *dx);
+/* dW += g^T x. */
+void nn_gemm_gtx(int rows, int out, int in, const float *g, const float *x, float *dw);
 void nn_ln_forward(int rows, int w, float *u, const float *bias, const float *add1,
                    const float *add2, const float *gamma, const float *beta, float *rstd, float *y,
                    int relu);

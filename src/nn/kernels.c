@@ -37,6 +37,16 @@ void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, floa
               out);
 }
 
+void nn_gemm_gw(int rows, int out, int in, const float *g, const float *w, float beta, float *dx) {
+  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, rows, in, out, 1.0f, g, out, w, in, beta,
+              dx, in);
+}
+
+void nn_gemm_gtx(int rows, int out, int in, const float *g, const float *x, float *dw) {
+  cblas_sgemm(CblasRowMajor, CblasTrans, CblasNoTrans, out, in, rows, 1.0f, g, out, x, in, 1.0f, dw,
+              in);
+}
+
 #if defined(__GNUC__)
 #define NN_INLINE static inline __attribute__((always_inline))
 #else
