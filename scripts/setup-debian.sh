@@ -9,6 +9,7 @@ packages=(
   libopenexr-dev openexr
   libopenimageio-dev openimageio-tools
   libopencolorio-dev opencolorio-tools
+  glslang-tools libvulkan-dev mesa-vulkan-drivers vulkan-tools
 )
 
 missing=()
