@@ -10,6 +10,7 @@ packages=(
   libopenimageio-dev openimageio-tools
   libopencolorio-dev opencolorio-tools
   glslang-tools libvulkan-dev mesa-vulkan-drivers vulkan-tools
+  blender python3-numpy python3-openimageio
 )
 
 missing=()
