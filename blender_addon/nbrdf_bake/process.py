@@ -1,0 +1,169 @@
+"""Runs `nbrdf bake --progress=json` as a child process and follows its JSON lines.
+
+No bpy here on purpose: the modal operator, the blocking execute() and the headless tests
+all drive this one class, so what the tests exercise is what runs behind the button.
+Background mode (blender -b) never ticks modal timers, hence the synchronous poll().
+"""
+
+import json
+import os
+import queue
+import signal
+import subprocess
+import threading
+import time
+
+# After SIGINT the CLI stops between bands of rows (~65,536 texels, seconds at most);
+# a child that is still alive after this is killed and its temporary file removed here.
+CANCEL_GRACE_S = 20.0
+
+
+class BakeProcess:
+    """One bake: start(), then poll() until it returns False; cancel() at any time.
+
+    After the end, `state` is 'done', 'failed' or 'cancelled'; `message` says why it failed,
+    `warnings` holds the CLI's warnings, `result` its "done" event (width, height, ...).
+    """
+
+    def __init__(self, argv, output, cwd=None):
+        self.argv = [str(a) for a in argv]
+        self.output = os.path.abspath(output)
+        self.cwd = cwd
+        self.state = "new"
+        self.progress = 0.0  # fraction of rows done, 0..1
+        self.progress_events = 0
+        self.message = ""
+        self.warnings = []
+        self.result = None
+        self._error_event = None
+        self._lines = queue.Queue()
+        self._stderr = []
+        self._threads = []
+        self._proc = None
+        self._cancel_at = None
+        self._tmp_before = set()
+
+    def start(self):
+        self._tmp_before = self._temporaries()
+        try:
+            self._proc = subprocess.Popen(
+                self.argv, cwd=self.cwd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                stderr=subprocess.PIPE, text=True, encoding="utf-8", errors="replace")
+        except OSError as e:
+            self.state = "failed"
+            self.message = "cannot run %s: %s" % (self.argv[0], e.strerror or e)
+            return False
+        self.state = "running"
+        # Reader threads only move text into Python containers; nothing here touches bpy.
+        for pipe, sink in ((self._proc.stdout, self._lines.put), (self._proc.stderr,
+                                                                   self._stderr.append)):
+            t = threading.Thread(target=_pump, args=(pipe, sink), daemon=True)
+            t.start()
+            self._threads.append(t)
+        return True
+
+    @property
+    def running(self):
+        return self.state == "running"
+
+    def poll(self):
+        """Consumes the lines that arrived; returns True while the bake is still running."""
+        if self.state != "running":
+            return False
+        self._drain()
+        code = self._proc.poll()
+        if code is None:
+            if self._cancel_at is not None and time.monotonic() - self._cancel_at > CANCEL_GRACE_S:
+                self._proc.kill()
+            return True
+        for t in self._threads:
+            t.join(timeout=5.0)
+        self._drain()
+        self._finish(code)
+        return False
+
+    def wait(self, interval=0.05):
+        while self.poll():
+            time.sleep(interval)
+        return self.state
+
+    def cancel(self):
+        """Asks the CLI to stop (SIGINT: it removes its temporary file and exits 1)."""
+        if self.state != "running" or self._cancel_at is not None:
+            return
+        self._cancel_at = time.monotonic()
+        if os.name == "posix":
+            self._proc.send_signal(signal.SIGINT)
+        else:
+            self._proc.terminate()
+
+    def _drain(self):
+        while True:
+            try:
+                line = self._lines.get_nowait()
+            except queue.Empty:
+                return
+            self._event(line)
+
+    def _event(self, line):
+        try:
+            ev = json.loads(line)
+        except ValueError:
+            return  # not an event line: the CLI's plain output is on stderr
+        if not isinstance(ev, dict):
+            return
+        kind = ev.get("event")
+        if kind == "progress" and ev.get("total"):
+            self.progress_events += 1
+            self.progress = min(1.0, float(ev.get("done", 0)) / float(ev["total"]))
+        elif kind == "warning":
+            self.warnings.append(str(ev.get("message", "")))
+        elif kind == "done":
+            self.result = ev
+        elif kind == "error":
+            self._error_event = ev
+
+    def _finish(self, code):
+        if code == 0 and self.result is not None and os.path.isfile(self.output):
+            self.state = "done"
+            self.progress = 1.0
+            return
+        self._remove_temporaries()
+        if self._cancel_at is not None:
+            self.state = "cancelled"
+            self.message = "bake cancelled; no file written"
+            return
+        self.state = "failed"
+        if self._error_event is not None:
+            self.message = str(self._error_event.get("message", ""))
+        else:  # usage errors (exit 2) and crashes say it on stderr only
+            text = "".join(self._stderr).strip().splitlines()
+            errors = [l for l in text if "warning:" not in l]
+            self.message = (errors or text or [""])[-1]
+        if not self.message:
+            self.message = "nbrdf exited with status %d" % code
+
+    def _temporaries(self):
+        """The CLI's temporary outputs beside the destination: .<name>.<random>.tmp"""
+        folder, name = os.path.split(self.output)
+        try:
+            entries = os.listdir(folder)
+        except OSError:
+            return set()
+        prefix = "." + name + "."
+        return {e for e in entries if e.startswith(prefix) and e.endswith(".tmp")}
+
+    def _remove_temporaries(self):
+        # Only a killed CLI leaves one; those that existed before this bake are not ours.
+        folder = os.path.dirname(self.output)
+        for e in self._temporaries() - self._tmp_before:
+            try:
+                os.remove(os.path.join(folder, e))
+            except OSError:
+                pass
+
+
+def _pump(pipe, sink):
+    with pipe:
+        for line in pipe:
+            sink(line)

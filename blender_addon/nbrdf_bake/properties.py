@@ -1,0 +1,89 @@
+"""Per-material bake settings, saved in the .blend file."""
+
+import bpy
+from bpy.props import (EnumProperty, FloatProperty, FloatVectorProperty,
+                       IntProperty, PointerProperty, StringProperty)
+
+from .params import PARAMS
+
+
+def _param_annotations():
+    """For each parameter: <key>_source (value or image), <key>_image, <key>_value."""
+    ann = {}
+    for p in PARAMS:
+        ann[p.key + "_source"] = EnumProperty(
+            name=p.label + " Source", items=[("VALUE", "Value", "A constant"),
+                                             ("IMAGE", "Image", "An image datablock")],
+            default="VALUE")
+        ann[p.key + "_image"] = PointerProperty(
+            name=p.label + " Image", type=bpy.types.Image,
+            description=p.description + ". Any image: on disk, packed or generated")
+        if p.colour:
+            ann[p.key + "_value"] = FloatVectorProperty(
+                name=p.label, subtype="COLOR", size=3, min=0.0, max=1.0, default=p.default,
+                description=p.description)
+        else:
+            ann[p.key + "_value"] = FloatProperty(
+                name=p.label, min=0.0, soft_max=p.soft_max, default=p.default, precision=3,
+                description=p.description)
+    return ann
+
+
+class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
+    __annotations__ = dict(
+        _param_annotations(),
+        roughness=EnumProperty(
+            name="Roughness", default="PERCEPTUAL",
+            items=[("PERCEPTUAL", "Perceptual (Blender)",
+                    "Roughness r as in Blender's Principled BSDF; the bake uses alpha = r²"),
+                   ("ALPHA", "GGX Alpha", "GGX alpha as in the paper and pbrt")]),
+        colour_maps=EnumProperty(
+            name="Colour Maps", default="AUTO",
+            description="Colour space of 8-bit reflectance and albedo maps (float maps are "
+                        "linear and never converted)",
+            items=[("AUTO", "From Image", "sRGB images are linearised, Non-Color/Linear/Raw "
+                                          "images are not"),
+                   ("SRGB", "sRGB", "Linearise with the sRGB curve"),
+                   ("LINEAR", "Linear", "No conversion")]),
+        eta_range=FloatVectorProperty(
+            name="IOR Range", size=2, default=(1.0, 2.0), min=1.0,
+            description="8-bit IOR maps: 0 and 1 map to these IORs"),
+        sigma_t_range=FloatVectorProperty(
+            name="Optical Depth Range", size=2, default=(0.0, 5.0), min=0.0,
+            description="8-bit optical depth maps: 0 and 1 map to these depths"),
+        range_policy=EnumProperty(
+            name="Out of Range", default="CLAMP",
+            items=[("CLAMP", "Clamp", "Clamp to the model's trained range, with a warning"),
+                   ("REFUSE", "Refuse", "Stop, naming the image and texel")]),
+        output=StringProperty(
+            name="Output", subtype="FILE_PATH", default="//latent/{material}.exr",
+            description="Latent texture to write ({material}: the material's name; // is "
+                        "the .blend file's folder)"),
+        storage=EnumProperty(
+            name="Storage", default="HALF",
+            items=[("HALF", "Half", "16-bit floats (half the size)"),
+                   ("FLOAT", "Float", "32-bit floats")]),
+        mip_levels=EnumProperty(
+            name="Mip Levels", default="FULL",
+            items=[("FULL", "Full Chain", "Every mip level (latents averaged)"),
+                   ("ONE", "Level 0 Only", "No mip levels")]),
+        tile=IntProperty(name="Tile Size", default=64, min=8, max=1024,
+                         description="Tile edge of the OpenEXR file in texels"),
+        result=PointerProperty(name="Result", type=bpy.types.Image,
+                               description="The latent texture of the last bake"),
+    )
+
+
+classes = (NBRDF_MaterialSettings,)
+
+
+def register():
+    for c in classes:
+        bpy.utils.register_class(c)
+    bpy.types.Material.nbrdf_bake = PointerProperty(type=NBRDF_MaterialSettings)
+
+
+def unregister():
+    del bpy.types.Material.nbrdf_bake
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)
