@@ -1,0 +1,189 @@
+// nbrdf shaders: the decoder network, f(latent, ωi, ωo) without the cosine (GLSL 450).
+//
+// GENERIC over the architecture: the network is read from the weights buffer written by
+// nbrdf_gpu_pack_decoder (include/nbrdf/gpu_pack.h, docs/SHADERS.md), so one compiled
+// shader runs every preset and any trained bundle. The only compile-time knob is the
+// specialization constant NBRDF_MAX_WIDTH (the size of the per-invocation activation
+// arrays); set it at pipeline creation to header word NBRDF_W_MAX_WIDTH of the buffer
+// (exactly the largest width the network needs), e.g. 32 for the `small` preset, 256 for
+// `paper`. A larger value works, a smaller one reads out of bounds.
+//
+// Math (src/nn/nn.h, bit-for-bit the same operations up to summation order):
+//   LINEAR    y = x W^T + b (+ skip)
+//   LAYERNORM y = (x - mean) / sqrt(var + 1e-5) * gamma + beta   (biased variance)
+//   PLAIN     y = ReLU(LN(x W^T + b (+ skip)))
+//   RESIDUAL  h = ReLU(LN1(x W1^T + b1)); y = ReLU(LN2(h W2^T + b2 + x (+ skip)))
+// Skip connections are supported from the network input only (the packer refuses others).
+// Output transform: f = max(o, 0) (`f`), or f = expm1(clamp(o, 0, 80)) (`log1p`).
+//
+// Use:
+//   #define NBRDF_WEIGHTS_BINDING 0   // optional: set / binding / constant_id of your own
+//   #include "nbrdf_decoder.glsl"
+//   for (int i = 0; i < nbrdf_latent_dim(); i++) nbrdf_decoder_set_latent(i, latent[i]);
+//   float f = nbrdf_decode(wi, wo);
+// A decode costs nbrdf_w[NBRDF_W_MACS] multiply-adds (one colour channel).
+#ifndef NBRDF_DECODER_GLSL
+#define NBRDF_DECODER_GLSL
+
+#include "nbrdf_encoding.glsl"
+
+#ifndef NBRDF_WEIGHTS_SET
+#define NBRDF_WEIGHTS_SET 0
+#endif
+#ifndef NBRDF_WEIGHTS_BINDING
+#define NBRDF_WEIGHTS_BINDING 0
+#endif
+#ifndef NBRDF_MAX_WIDTH_ID
+#define NBRDF_MAX_WIDTH_ID 0
+#endif
+
+// Header words (include/nbrdf/gpu_pack.h has the same numbers).
+const uint NBRDF_W_MAGIC = 0u;      // 0x4752424e, "NBRG"
+const uint NBRDF_W_VERSION = 1u;    // 1
+const uint NBRDF_W_INPUTS = 2u;     // latent_dim + encoding width
+const uint NBRDF_W_LAYERS = 3u;     // number of layer records
+const uint NBRDF_W_LATENT_DIM = 4u; // 32
+const uint NBRDF_W_ENCODING = 5u;   // 0 cartesian, 1 halfdiff
+const uint NBRDF_W_OCTAVES = 6u;    // frequency octaves
+const uint NBRDF_W_OUTPUT = 7u;     // 0 f, 1 log1p
+const uint NBRDF_W_OUTPUTS = 8u;    // network outputs (1)
+const uint NBRDF_W_MAX_WIDTH = 9u;  // the NBRDF_MAX_WIDTH this network needs
+const uint NBRDF_W_PARAMS = 10u;    // word offset of the parameters
+const uint NBRDF_W_PARAM_COUNT = 11u;
+const uint NBRDF_W_MACS = 12u;      // multiply-adds per query
+const uint NBRDF_W_HEADER = 16u;    // header words; then 16 words per layer
+const uint NBRDF_W_LAYER_WORDS = 16u;
+// Layer record words: kind, in, out, hidden, skip_from, skip_width, then parameter
+// offsets (floats from the parameter start; NBRDF_NONE when absent) w1 b1 g1 be1 w2 b2 g2
+// be2 wskip.
+const uint NBRDF_NONE = 0xffffffffu;
+const uint NBRDF_LINEAR = 1u, NBRDF_LAYERNORM = 2u, NBRDF_RELU = 3u, NBRDF_PLAIN = 4u,
+           NBRDF_RESIDUAL = 5u;
+
+layout(std430, set = NBRDF_WEIGHTS_SET, binding = NBRDF_WEIGHTS_BINDING) readonly buffer
+    NbrdfWeights {
+  uint nbrdf_w[];
+};
+
+layout(constant_id = NBRDF_MAX_WIDTH_ID) const int NBRDF_MAX_WIDTH = 256;
+
+// Per-invocation activations: 0 and 1 ping-pong, 2 the network input (kept for skips),
+// 3 a residual block's hidden layer.
+float nbrdf_act[4][NBRDF_MAX_WIDTH];
+const int NBRDF_BUF_INPUT = 2, NBRDF_BUF_HIDDEN = 3;
+
+int nbrdf_latent_dim() { return int(nbrdf_w[NBRDF_W_LATENT_DIM]); }
+void nbrdf_decoder_set_latent(int i, float v) { nbrdf_act[NBRDF_BUF_INPUT][i] = v; }
+
+float nbrdf_param(uint base, uint i) { return uintBitsToFloat(nbrdf_w[base + i]); }
+
+// act[dst][o] (+)= sum_j W[o][j] act[src][j], W row-major [out x in] at float offset w.
+void nbrdf_gemv(uint base, uint w, int src, int dst, int n_in, int n_out, bool accumulate) {
+  for (int o = 0; o < n_out; o++) {
+    uint row = base + w + uint(o * n_in);
+    float s = accumulate ? nbrdf_act[dst][o] : 0.0;
+    for (int j = 0; j < n_in; j++)
+      s += uintBitsToFloat(nbrdf_w[row + uint(j)]) * nbrdf_act[src][j];
+    nbrdf_act[dst][o] = s;
+  }
+}
+
+// In place on act[buf][0..n): u += bias + act[add1] + act[add2] (each optional, -1/NONE =
+// none), then LayerNorm with gamma/beta and an optional ReLU (nn_ln_forward's order).
+void nbrdf_norm(uint base, int buf, int n, uint bias, int add1, int add2, uint gamma, uint beta,
+                bool relu) {
+  float sum = 0.0;
+  for (int c = 0; c < n; c++) {
+    float v = nbrdf_act[buf][c];
+    if (bias != NBRDF_NONE) v = v + nbrdf_param(base, bias + uint(c));
+    if (add1 >= 0) v = v + nbrdf_act[add1][c];
+    if (add2 >= 0) v = v + nbrdf_act[add2][c];
+    nbrdf_act[buf][c] = v;
+    sum += v;
+  }
+  float mean = sum / float(n);
+  float ss = 0.0;
+  for (int c = 0; c < n; c++) {
+    float d = nbrdf_act[buf][c] - mean;
+    ss += d * d;
+  }
+  float rs = 1.0 / sqrt(ss / float(n) + 1e-5);
+  for (int c = 0; c < n; c++) {
+    float v = (nbrdf_act[buf][c] - mean) * rs * nbrdf_param(base, gamma + uint(c)) +
+              nbrdf_param(base, beta + uint(c));
+    nbrdf_act[buf][c] = relu ? max(v, 0.0) : v;
+  }
+}
+
+// Runs the network on act[NBRDF_BUF_INPUT]; returns the buffer holding the output.
+int nbrdf_network_forward() {
+  uint base = nbrdf_w[NBRDF_W_PARAMS];
+  int n_layers = int(nbrdf_w[NBRDF_W_LAYERS]);
+  int src = NBRDF_BUF_INPUT;
+  for (int l = 0; l < n_layers; l++) {
+    uint r = NBRDF_W_HEADER + NBRDF_W_LAYER_WORDS * uint(l);
+    uint kind = nbrdf_w[r];
+    int n_in = int(nbrdf_w[r + 1u]), n_out = int(nbrdf_w[r + 2u]), hidden = int(nbrdf_w[r + 3u]);
+    bool has_skip = nbrdf_w[r + 4u] != NBRDF_NONE;
+    int skip_width = int(nbrdf_w[r + 5u]);
+    uint w1 = nbrdf_w[r + 6u], b1 = nbrdf_w[r + 7u], g1 = nbrdf_w[r + 8u], be1 = nbrdf_w[r + 9u];
+    uint w2 = nbrdf_w[r + 10u], b2 = nbrdf_w[r + 11u], g2 = nbrdf_w[r + 12u],
+         be2 = nbrdf_w[r + 13u], wskip = nbrdf_w[r + 14u];
+    int dst = src == 0 ? 1 : 0;
+    bool projected = has_skip && wskip != NBRDF_NONE;
+    int skip_add = has_skip && !projected ? NBRDF_BUF_INPUT : -1;
+    if (kind == NBRDF_LINEAR) {
+      if (projected) nbrdf_gemv(base, wskip, NBRDF_BUF_INPUT, dst, skip_width, n_out, false);
+      nbrdf_gemv(base, w1, src, dst, n_in, n_out, projected);
+      for (int o = 0; o < n_out; o++) {
+        float v = nbrdf_act[dst][o] + nbrdf_param(base, b1 + uint(o));
+        if (skip_add >= 0) v = v + nbrdf_act[skip_add][o];
+        nbrdf_act[dst][o] = v;
+      }
+    } else if (kind == NBRDF_PLAIN) {
+      if (projected) nbrdf_gemv(base, wskip, NBRDF_BUF_INPUT, dst, skip_width, n_out, false);
+      nbrdf_gemv(base, w1, src, dst, n_in, n_out, projected);
+      nbrdf_norm(base, dst, n_out, b1, skip_add, -1, g1, be1, true);
+    } else if (kind == NBRDF_RESIDUAL) {
+      nbrdf_gemv(base, w1, src, NBRDF_BUF_HIDDEN, n_in, hidden, false);
+      nbrdf_norm(base, NBRDF_BUF_HIDDEN, hidden, b1, -1, -1, g1, be1, true);
+      if (projected) nbrdf_gemv(base, wskip, NBRDF_BUF_INPUT, dst, skip_width, n_out, false);
+      nbrdf_gemv(base, w2, NBRDF_BUF_HIDDEN, dst, hidden, n_out, projected);
+      // The block's input is added before normalisation and activation (paper Fig. 3).
+      nbrdf_norm(base, dst, n_out, b2, src, skip_add, g2, be2, true);
+    } else if (kind == NBRDF_LAYERNORM) {
+      for (int c = 0; c < n_out; c++) nbrdf_act[dst][c] = nbrdf_act[src][c];
+      nbrdf_norm(base, dst, n_out, NBRDF_NONE, -1, -1, g1, be1, false);
+    } else { // NBRDF_RELU
+      for (int c = 0; c < n_out; c++) nbrdf_act[dst][c] = max(nbrdf_act[src][c], 0.0);
+    }
+    src = dst;
+  }
+  return src;
+}
+
+// Raw network output o for the latent set with nbrdf_decoder_set_latent and (ωi, ωo).
+float nbrdf_decode_raw(vec3 wi, vec3 wo) {
+  int dim = nbrdf_latent_dim();
+  vec3 a, b;
+  nbrdf_encode_base(nbrdf_w[NBRDF_W_ENCODING], wi, wo, a, b);
+  float base6[6] = float[6](a.x, a.y, a.z, b.x, b.y, b.z);
+  for (int j = 0; j < 6; j++) nbrdf_act[NBRDF_BUF_INPUT][dim + j] = base6[j];
+  int octaves = int(nbrdf_w[NBRDF_W_OCTAVES]);
+  for (int k = 0; k < octaves; k++)
+    for (int j = 0; j < 6; j++) {
+      vec2 sc = nbrdf_encode_frequency(base6[j], k);
+      nbrdf_act[NBRDF_BUF_INPUT][dim + 6 + 12 * k + 2 * j] = sc.x;
+      nbrdf_act[NBRDF_BUF_INPUT][dim + 7 + 12 * k + 2 * j] = sc.y;
+    }
+  return nbrdf_act[nbrdf_network_forward()][0];
+}
+
+// f(ωi, ωo) >= 0 without the cosine factor (MODEL_OUTPUT_F / MODEL_OUTPUT_LOG1P).
+float nbrdf_decode(vec3 wi, vec3 wo) {
+  float o = nbrdf_decode_raw(wi, wo);
+  if (nbrdf_w[NBRDF_W_OUTPUT] == 1u) return nbrdf_expm1(min(max(o, 0.0), 80.0));
+  return max(o, 0.0);
+}
+
+#endif
