@@ -98,5 +98,7 @@ def load_result(path):
         image = bpy.data.images.load(path)
     else:
         image.reload()
-    image.colorspace_settings.name = "Non-Color"  # latents, not colours
+    # Reading the size makes Blender open the file and see its layers now. (Setting a colour
+    # space here would turn it back into a plain IMAGE: float EXR data is never converted.)
+    image.size[0]
     return image
