@@ -1,0 +1,123 @@
+/* A small deterministic renderer for previews and for comparing the neural
+ * BRDF with its ground truth (docs/RENDER.md): one object (a unit sphere or
+ * a ground plane) carrying a latent texture, lit by an environment and an
+ * optional point light, seen through a pinhole camera.
+ *
+ * The object is convex and alone, so every light path is camera -> surface
+ * -> light: the integrator is direct lighting, complete for this scene. Per
+ * pixel sample it combines
+ *   - the point light (a delta light: next-event estimation only);
+ *   - one environment sample (importance-sampled from a tabulated luminance
+ *     distribution, for the procedural sky and HDR images alike) and one
+ *     BRDF sample, weighted by the power heuristic (MIS).
+ * Two material modes run through this same code:
+ *   NEURAL     f decoded from the texture's latents (nbrdf_model_decode,
+ *              batched per tile); BRDF samples drawn from the proxy (sigma,
+ *              w) stored in the texture (one-sample mixture over colour
+ *              channels);
+ *   REFERENCE  f from the layered Monte Carlo ground truth of constant
+ *              parameters (nbrdf_brdf_eval, one random walk per query) and
+ *              BRDF samples from its own sampler (nbrdf_brdf_sample), one
+ *              per colour channel; the texture's proxy only shapes the MIS
+ *              weights (any weights that sum to one keep MIS unbiased).
+ *
+ * Results are deterministic for a seed whatever the thread count: pixel p
+ * owns PCG32 stream p, tiles are fixed, and each tile's network batches are
+ * the same in every run. Calls on different option structs may run in
+ * several threads at once; the model and BRDF handles are only read. */
+#ifndef NBRDF_RENDER_H
+#define NBRDF_RENDER_H
+
+#include <signal.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "nbrdf/brdf.h"
+#include "nbrdf/model.h"
+#include "nbrdf/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum nbrdf_render_mode {
+  NBRDF_RENDER_NEURAL = 0,   /* decode the latent texture */
+  NBRDF_RENDER_REFERENCE = 1 /* Monte Carlo ground truth of `reference` */
+} nbrdf_render_mode;
+
+typedef enum nbrdf_render_scene {
+  NBRDF_SCENE_SPHERE = 0, /* unit sphere at the origin, lat-long texture coordinates */
+  NBRDF_SCENE_PLANE = 1   /* ground plane y = 0 receding to the horizon, texture repeated */
+} nbrdf_render_scene;
+
+typedef enum nbrdf_env_kind {
+  NBRDF_ENV_SKY = 0,      /* procedural: blue zenith, white horizon, a soft sun, grey ground */
+  NBRDF_ENV_CONSTANT = 1, /* env_value in every direction (a furnace) */
+  NBRDF_ENV_IMAGE = 2     /* a lat-long HDR/EXR image read by OpenImageIO (env_path) */
+} nbrdf_env_kind;
+
+typedef struct nbrdf_render_options {
+  nbrdf_render_mode mode;
+  nbrdf_render_scene scene;
+  nbrdf_env_kind env;
+  const char *env_path; /* NBRDF_ENV_IMAGE: linear radiance, +y up, centre column looks at -z */
+  float env_value[3];   /* NBRDF_ENV_CONSTANT: radiance */
+  float env_scale;      /* multiplies the environment's radiance */
+  /* Point light at world position light_pos (y up) with radiant intensity
+   * light_intensity (W/sr, white); none when the intensity is 0. */
+  double light_pos[3];
+  double light_intensity;
+  int width, height; /* pixels */
+  int spp;           /* samples per pixel, >= 1 */
+  uint64_t seed;
+  /* Tile worker threads (OpenMP); 0: 1 in NEURAL mode, where OpenBLAS threads the network
+   * instead (OpenMP around OpenBLAS measured 3-50x slower, docs/ARCHITECTURE.md), and all
+   * cores in REFERENCE mode. The image does not depend on it. */
+  int threads;
+  /* 1: trilinear across mip levels by pixel footprint (default); 0: level 0 only. */
+  int mip;
+  double plane_repeat; /* NBRDF_SCENE_PLANE: world units per texture repeat (> 0) */
+  /* NBRDF_RENDER_REFERENCE: one BRDF per colour channel of the texture (1 or 3 handles). */
+  const nbrdf_brdf *const *reference;
+  int reference_channels;
+  /* Stage "render", done/total in tiles; non-zero return cancels. May be NULL. */
+  nbrdf_progress_fn progress;
+  void *user;
+  volatile sig_atomic_t *cancel; /* cancels when non-zero; checked between tiles. May be NULL. */
+} nbrdf_render_options;
+
+#define NBRDF_RENDER_OPTIONS_DEFAULT                                                               \
+  {                                                                                                \
+    NBRDF_RENDER_NEURAL, NBRDF_SCENE_SPHERE, NBRDF_ENV_SKY, NULL, {1.0f, 1.0f, 1.0f}, 1.0f,        \
+        {3.0, 4.0, 4.0}, 0.0, 256, 256, 16, 0u, 0, 1, 1.0, NULL, 0, NULL, NULL, NULL               \
+  }
+
+typedef struct nbrdf_render_stats {
+  size_t decoded;    /* decoder queries (one per colour channel) */
+  size_t brdf_evals; /* ground-truth evaluations and samples (REFERENCE) */
+  int colour_channels;
+  int levels; /* mip levels of the texture */
+} nbrdf_render_stats;
+
+/* Renders the texture at `latent_path` into `rgb` (width × height × 3 linear
+ * floats, rows top to bottom). `model` must be the bundle the texture was
+ * baked with (checked) in NEURAL mode; it may be NULL in REFERENCE mode.
+ * Pixels that see the environment hold its radiance. `stats` may be NULL. */
+nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
+                          const nbrdf_render_options *options, float *rgb,
+                          nbrdf_render_stats *stats, nbrdf_error *err);
+
+/* Writes a rendered image: a linear float RGB EXR at `exr_path` (may be NULL)
+ * and an 8-bit PNG through an OpenColorIO view transform at `png_path` (may
+ * be NULL): `display` is a colour space name for nbrdf_colour_xform_create
+ * looked up in `ocio_config` (NULL: $OCIO, then the built-in "srgb"), applied
+ * in the inverse direction (linear -> display). Both files appear whole or
+ * not at all. */
+nbrdf_status nbrdf_render_write(const char *exr_path, const char *png_path, int width, int height,
+                                const float *rgb, const char *display, const char *ocio_config,
+                                nbrdf_error *err);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
