@@ -55,8 +55,8 @@ nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bak
   return NBRDF_OK;
 }
 
-static nbrdf_status open_sources(const nbrdf_bake_inputs *in, nbrdf_param_source **src,
-                                 nbrdf_error *err) {
+nbrdf_status bake_open_sources(const nbrdf_bake_inputs *in, nbrdf_param_source **src,
+                               nbrdf_error *err) {
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
     const nbrdf_bake_param *p = &in->param[id];
     nbrdf_status st;
@@ -205,7 +205,7 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
                       o.mip_levels);
   if (report) memset(report, 0, sizeof *report);
   nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
-  nbrdf_status st = open_sources(inputs, src, err);
+  nbrdf_status st = bake_open_sources(inputs, src, err);
   if (st == NBRDF_OK) st = run(model, src, &o, out_path, report, err);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     nbrdf_param_source_free(src[id]);

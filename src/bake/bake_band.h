@@ -18,6 +18,12 @@ typedef struct bake_tuple {
   float p[NBRDF_BAKE_PARAM_COUNT];
 } bake_tuple;
 
+/* Opens the six sources of `in` as nbrdf_bake reads them (maps of r0 and
+ * albedo as colour data); `nbrdf verify` opens them the same way. On failure
+ * the caller frees whatever sources were opened. */
+nbrdf_status bake_open_sources(const nbrdf_bake_inputs *in, nbrdf_param_source **src,
+                               nbrdf_error *err);
+
 typedef struct bake_band {
   const nbrdf_model *model;
   nbrdf_param_source **src; /* NBRDF_BAKE_PARAM_COUNT sources */

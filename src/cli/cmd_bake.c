@@ -7,42 +7,33 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "cli/cli_params.h"
 #include "nbrdf/bake.h"
 #include "nbrdf/model.h"
 
 void cmd_bake_usage(FILE *out) {
+  fprintf(out, "usage: nbrdf bake --alpha1 V --eta V --alpha2 V --r0 V --albedo V --sigma-t V\n"
+               "                  -o OUT.exr [options]\n"
+               "\n"
+               "Bakes a layered BRDF (rough dielectric coat over a rough conductor, with a slab\n"
+               "of albedo A and optical depth sigma_t between them) into a tiled, mip-mapped\n"
+               "latent OpenEXR texture (docs/LATENT-TEXTURE.md). Each V is a constant ('0.3',\n"
+               "or '0.8,0.5,0.2' for RGB) or an image file (1 or 3 channels; all maps one size).\n"
+               "The texture is mono when every input is grey, else RGB (one BRDF per channel).\n"
+               "\n"
+               "inputs (shared with 'nbrdf verify'):\n");
+  cli_params_usage(out);
   fprintf(
       out,
-      "usage: nbrdf bake --alpha1 V --eta V --alpha2 V --r0 V --albedo V --sigma-t V\n"
-      "                  -o OUT.exr [options]\n"
       "\n"
-      "Bakes a layered BRDF (rough dielectric coat over a rough conductor, with a slab\n"
-      "of albedo A and optical depth sigma_t between them) into a tiled, mip-mapped\n"
-      "latent OpenEXR texture (docs/LATENT-TEXTURE.md). Each V is a constant ('0.3',\n"
-      "or '0.8,0.5,0.2' for RGB) or an image file (1 or 3 channels; all maps one size).\n"
-      "The texture is mono when every input is grey, else RGB (one BRDF per channel).\n"
-      "\n"
-      "  --alpha1 V            top coat roughness (see --roughness)\n"
-      "  --eta V               top coat IOR (8/16-bit maps: see --eta-range)\n"
-      "  --alpha2 V            bottom conductor roughness\n"
-      "  --r0 V                bottom Schlick reflectance at normal incidence (colour)\n"
-      "  --albedo V            slab single-scattering albedo (colour)\n"
-      "  --sigma-t V           slab optical depth (8/16-bit maps: see --sigma-t-range)\n"
+      "options:\n"
       "  -o, --output FILE     the texture to write (written whole or not at all)\n"
       "  --half | --float      latent storage (default half)\n"
       "  --mip-levels full|1   the full mip chain (default) or level 0 only\n"
       "  --tile N              tile edge in texels (default 64)\n"
       "  --bundle DIR          model bundle (default: models/default)\n"
-      "  --roughness alpha|perceptual\n"
-      "                        alpha: GGX alpha as in the paper (default); perceptual:\n"
-      "                        the artists' roughness r of Blender et al., alpha = r^2\n"
       "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
       "                        warning (default) or stop naming the file and texel\n"
-      "  --r0-colourspace CS, --albedo-colourspace CS\n"
-      "                        colour space of 8/16-bit colour maps (default sRGB)\n"
-      "  --ocio CONFIG         OpenColorIO config for colour spaces (default $OCIO)\n"
-      "  --eta-range LO,HI     8/16-bit eta maps: [0,1] -> [LO,HI] (default 1,2)\n"
-      "  --sigma-t-range LO,HI 8/16-bit sigma_t maps: [0,1] -> [LO,HI] (default 0,5)\n"
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
@@ -99,44 +90,22 @@ static void on_warning(void *user, const char *message) {
   fprintf(stderr, "nbrdf bake: warning: %s\n", message);
 }
 
-static int parse_range(const char *text, nbrdf_bake_param *p) {
-  double lo, hi;
-  char a[64], *comma;
-  snprintf(a, sizeof a, "%s", text);
-  if (!(comma = strchr(a, ','))) return 0;
-  *comma = '\0';
-  if (!cli_parse_double(a, &lo) || !cli_parse_double(comma + 1, &hi) || !(lo < hi)) return 0;
-  p->remap = 1, p->lo = (float)lo, p->hi = (float)hi;
-  return 1;
-}
-
-static const char *const flag_names[NBRDF_BAKE_PARAM_COUNT] = {"--alpha1", "--eta",    "--alpha2",
-                                                               "--r0",     "--albedo", "--sigma-t"};
-
 int cmd_bake(int argc, char **argv) {
-  nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
+  cli_params params;
+  cli_params_init(&params);
   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
-  in.param[NBRDF_BAKE_ETA].remap = 1, in.param[NBRDF_BAKE_ETA].lo = 1.0f;
-  in.param[NBRDF_BAKE_ETA].hi = 2.0f;
-  in.param[NBRDF_BAKE_SIGMA_T].remap = 1, in.param[NBRDF_BAKE_SIGMA_T].lo = 0.0f;
-  in.param[NBRDF_BAKE_SIGMA_T].hi = NBRDF_BAKE_SIGMA_T_MAX;
-  int given[NBRDF_BAKE_PARAM_COUNT] = {0};
   const char *out = NULL, *bundle = NULL;
   progress_state ps = {0, 0};
   nbrdf_error err = {0};
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-    int id = -1;
-    for (int k = 0; k < NBRDF_BAKE_PARAM_COUNT; k++)
-      if (!strcmp(a, flag_names[k])) id = k;
+    int used = cli_params_option("bake", argc, argv, &i, &params);
+    if (used < 0) return CLI_EXIT_USAGE;
+    if (used) continue;
     if (cli_is_help(a)) {
       cmd_bake_usage(stdout);
       return CLI_EXIT_OK;
-    } else if (id >= 0 && v) {
-      if (nbrdf_bake_param_parse(nbrdf_bake_param_name(id), v, &in.param[id], &err) != NBRDF_OK)
-        return cli_usage_error("bake", "%s", err.message);
-      given[id] = 1, i++;
     } else if ((!strcmp(a, "-o") || !strcmp(a, "--output")) && v) {
       out = v, i++;
     } else if (!strcmp(a, "--half") || !strcmp(a, "--float")) {
@@ -155,14 +124,6 @@ int cmd_bake(int argc, char **argv) {
       opts.tile_size = (int)t, i++;
     } else if (!strcmp(a, "--bundle") && v) {
       bundle = v, i++;
-    } else if (!strcmp(a, "--roughness") && v) {
-      if (!strcmp(v, "alpha"))
-        opts.roughness = NBRDF_ROUGHNESS_ALPHA;
-      else if (!strcmp(v, "perceptual"))
-        opts.roughness = NBRDF_ROUGHNESS_PERCEPTUAL;
-      else
-        return cli_usage_error("bake", "--roughness is 'alpha' or 'perceptual', not '%s'", v);
-      i++;
     } else if (!strcmp(a, "--range") && v) {
       if (!strcmp(v, "clamp"))
         opts.range = NBRDF_RANGE_CLAMP;
@@ -171,28 +132,15 @@ int cmd_bake(int argc, char **argv) {
       else
         return cli_usage_error("bake", "--range is 'clamp' or 'refuse', not '%s'", v);
       i++;
-    } else if (!strcmp(a, "--r0-colourspace") && v) {
-      in.param[NBRDF_BAKE_R0].colour_space = v, i++;
-    } else if (!strcmp(a, "--albedo-colourspace") && v) {
-      in.param[NBRDF_BAKE_ALBEDO].colour_space = v, i++;
-    } else if (!strcmp(a, "--ocio") && v) {
-      in.ocio_config = v, i++;
-    } else if (!strcmp(a, "--eta-range") && v) {
-      if (!parse_range(v, &in.param[NBRDF_BAKE_ETA]))
-        return cli_usage_error("bake", "--eta-range needs LO,HI with LO < HI, not '%s'", v);
-      i++;
-    } else if (!strcmp(a, "--sigma-t-range") && v) {
-      if (!parse_range(v, &in.param[NBRDF_BAKE_SIGMA_T]))
-        return cli_usage_error("bake", "--sigma-t-range needs LO,HI with LO < HI, not '%s'", v);
-      i++;
     } else if (!strcmp(a, "--progress=json")) {
       ps.json = 1;
     } else {
       return cli_usage_error("bake", "unknown option or missing value: '%s'", a);
     }
   }
-  for (int k = 0; k < NBRDF_BAKE_PARAM_COUNT; k++)
-    if (!given[k]) return cli_usage_error("bake", "%s is required", flag_names[k]);
+  int missing = cli_params_require("bake", &params);
+  if (missing != CLI_EXIT_OK) return missing;
+  opts.roughness = params.roughness;
   if (!out) return cli_usage_error("bake", "-o OUT.exr is required");
   if (!bundle) {
     struct stat sb;
@@ -216,7 +164,7 @@ int cmd_bake(int argc, char **argv) {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, &old);
   nbrdf_bake_report rep;
-  nbrdf_status st = nbrdf_bake(model, &in, &opts, out, &rep, &err);
+  nbrdf_status st = nbrdf_bake(model, &params.in, &opts, out, &rep, &err);
   sigaction(SIGINT, &old, NULL);
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) {

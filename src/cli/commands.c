@@ -9,6 +9,7 @@ DECLARE(bundle)
 DECLARE(eval)
 DECLARE(bake)
 DECLARE(info)
+DECLARE(verify)
 DECLARE(dataset)
 
 const cli_command cli_commands[] = {
@@ -18,6 +19,8 @@ const cli_command cli_commands[] = {
      cmd_eval_usage},
     {"bake", "bake parameter maps into a latent OpenEXR texture", cmd_bake, cmd_bake_usage},
     {"info", "describe a latent texture", cmd_info, cmd_info_usage},
+    {"verify", "check a latent texture against the ground truth of its parameters", cmd_verify,
+     cmd_verify_usage},
     {"dataset", "generate, resume or check ground-truth training data", cmd_dataset,
      cmd_dataset_usage},
 };

@@ -1,0 +1,92 @@
+#include "cli/cli_params.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "cli/cli.h"
+
+static const char *const flag_names[NBRDF_BAKE_PARAM_COUNT] = {"--alpha1", "--eta",    "--alpha2",
+                                                               "--r0",     "--albedo", "--sigma-t"};
+
+void cli_params_init(cli_params *p) {
+  memset(p, 0, sizeof *p);
+  p->in = (nbrdf_bake_inputs)NBRDF_BAKE_INPUTS_DEFAULT;
+  nbrdf_bake_param *eta = &p->in.param[NBRDF_BAKE_ETA], *st = &p->in.param[NBRDF_BAKE_SIGMA_T];
+  eta->remap = 1, eta->lo = 1.0f, eta->hi = 2.0f;
+  st->remap = 1, st->lo = 0.0f, st->hi = NBRDF_BAKE_SIGMA_T_MAX;
+  p->roughness = NBRDF_ROUGHNESS_ALPHA;
+}
+
+void cli_params_usage(FILE *out) {
+  fprintf(out, "  --alpha1 V            top coat roughness (see --roughness)\n"
+               "  --eta V               top coat IOR (8/16-bit maps: see --eta-range)\n"
+               "  --alpha2 V            bottom conductor roughness\n"
+               "  --r0 V                bottom Schlick reflectance at normal incidence (colour)\n"
+               "  --albedo V            slab single-scattering albedo (colour)\n"
+               "  --sigma-t V           slab optical depth (8/16-bit maps: see --sigma-t-range)\n"
+               "  --roughness alpha|perceptual\n"
+               "                        alpha: GGX alpha as in the paper (default); perceptual:\n"
+               "                        the artists' roughness r of Blender et al., alpha = r^2\n"
+               "  --r0-colourspace CS, --albedo-colourspace CS\n"
+               "                        colour space of 8/16-bit colour maps (default sRGB)\n"
+               "  --ocio CONFIG         OpenColorIO config for colour spaces (default $OCIO)\n"
+               "  --eta-range LO,HI     8/16-bit eta maps: [0,1] -> [LO,HI] (default 1,2)\n"
+               "  --sigma-t-range LO,HI 8/16-bit sigma_t maps: [0,1] -> [LO,HI] (default 0,5)\n");
+}
+
+static int parse_range(const char *text, nbrdf_bake_param *p) {
+  double lo, hi;
+  char a[64], *comma;
+  snprintf(a, sizeof a, "%s", text);
+  if (!(comma = strchr(a, ','))) return 0;
+  *comma = '\0';
+  if (!cli_parse_double(a, &lo) || !cli_parse_double(comma + 1, &hi) || !(lo < hi)) return 0;
+  p->remap = 1, p->lo = (float)lo, p->hi = (float)hi;
+  return 1;
+}
+
+int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params *p) {
+  const char *a = argv[*i];
+  const char *v = *i + 1 < argc ? argv[*i + 1] : NULL;
+  if (!v) return 0;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+    if (!strcmp(a, flag_names[id])) {
+      nbrdf_error err = {0};
+      if (nbrdf_bake_param_parse(nbrdf_bake_param_name(id), v, &p->in.param[id], &err) !=
+          NBRDF_OK) {
+        cli_usage_error(cmd, "%s", err.message);
+        return -1;
+      }
+      p->given[id] = 1, ++*i;
+      return 1;
+    }
+  if (!strcmp(a, "--roughness")) {
+    if (!strcmp(v, "alpha"))
+      p->roughness = NBRDF_ROUGHNESS_ALPHA;
+    else if (!strcmp(v, "perceptual"))
+      p->roughness = NBRDF_ROUGHNESS_PERCEPTUAL;
+    else
+      return cli_usage_error(cmd, "--roughness is 'alpha' or 'perceptual', not '%s'", v), -1;
+    p->roughness_given = 1;
+  } else if (!strcmp(a, "--r0-colourspace")) {
+    p->in.param[NBRDF_BAKE_R0].colour_space = v;
+  } else if (!strcmp(a, "--albedo-colourspace")) {
+    p->in.param[NBRDF_BAKE_ALBEDO].colour_space = v;
+  } else if (!strcmp(a, "--ocio")) {
+    p->in.ocio_config = v;
+  } else if (!strcmp(a, "--eta-range") || !strcmp(a, "--sigma-t-range")) {
+    int eta = a[2] == 'e';
+    if (!parse_range(v, &p->in.param[eta ? NBRDF_BAKE_ETA : NBRDF_BAKE_SIGMA_T]))
+      return cli_usage_error(cmd, "%s needs LO,HI with LO < HI, not '%s'", a, v), -1;
+  } else {
+    return 0;
+  }
+  ++*i;
+  return 1;
+}
+
+int cli_params_require(const char *cmd, const cli_params *p) {
+  for (int k = 0; k < NBRDF_BAKE_PARAM_COUNT; k++)
+    if (!p->given[k]) return cli_usage_error(cmd, "%s is required", flag_names[k]);
+  return CLI_EXIT_OK;
+}
