@@ -23,6 +23,16 @@ def _is_bundle(path):
     return os.path.isfile(os.path.join(path, "model.json"))
 
 
+def _restore_exec_bit(path):
+    """Blender's add-on installer extracts zips without file modes: a bundled nbrdf arrives
+    without its executable bit. Only the add-on's own copy is touched."""
+    if os.name == "posix" and os.path.isfile(path) and not os.access(path, os.X_OK):
+        try:
+            os.chmod(path, os.stat(path).st_mode | 0o755)
+        except OSError:
+            pass
+
+
 def find_nbrdf(configured, addon_dir):
     if configured:
         path = os.path.abspath(os.path.expanduser(configured))
@@ -32,6 +42,8 @@ def find_nbrdf(configured, addon_dir):
                        "an executable file" % configured)
     places = [os.path.join(addon_dir, EXE), os.path.join(addon_dir, "bin", EXE),
               os.path.join(os.path.dirname(addon_dir), EXE)]
+    for p in places[:2]:
+        _restore_exec_bit(p)
     for p in places:
         if _is_exe(p):
             return p
