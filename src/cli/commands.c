@@ -10,6 +10,7 @@ DECLARE(eval)
 DECLARE(bake)
 DECLARE(info)
 DECLARE(verify)
+DECLARE(render)
 DECLARE(dataset)
 
 const cli_command cli_commands[] = {
@@ -21,6 +22,8 @@ const cli_command cli_commands[] = {
     {"info", "describe a latent texture", cmd_info, cmd_info_usage},
     {"verify", "check a latent texture against the ground truth of its parameters", cmd_verify,
      cmd_verify_usage},
+    {"render", "render a latent texture on a sphere or plane (neural or reference)",
+     cmd_render, cmd_render_usage},
     {"dataset", "generate, resume or check ground-truth training data", cmd_dataset,
      cmd_dataset_usage},
 };

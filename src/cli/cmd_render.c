@@ -1,0 +1,268 @@
+/* nbrdf render: a preview (or a reference image) of a latent texture on a
+ * sphere or a plane; linear EXR and a display PNG. */
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cli/cli.h"
+#include "cli/cli_params.h"
+#include "nbrdf/render.h"
+
+void cmd_render_usage(FILE *out) {
+  fprintf(out, "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
+               "\n"
+               "Renders the latent texture on a unit sphere or a ground plane under an\n"
+               "environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
+               "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
+               "\n"
+               "  -o, --output FILE     linear float RGB OpenEXR to write\n"
+               "  --png FILE            also a display PNG (OpenColorIO view transform: the\n"
+               "                        --ocio / $OCIO config's default view, else built-in sRGB)\n"
+               "  --mode neural|reference\n"
+               "                        neural: decode the texture (default); reference: the\n"
+               "                        Monte Carlo ground truth of the parameters given below\n"
+               "  --scene sphere|plane  the object (default sphere)\n"
+               "  --env sky|white|FILE  procedural sky (default), constant white (a furnace) or\n"
+               "                        a lat-long HDR/EXR image (linear, +y up)\n"
+               "  --env-scale S         multiplies the environment (default 1)\n"
+               "  --light X,Y,Z,I|none  point light at (X,Y,Z), intensity I W/sr (default\n"
+               "                        3,4,4,30)\n"
+               "  --width W, --height H image size (default 256 x 256)\n"
+               "  --spp N               samples per pixel (default 16)\n"
+               "  --seed S              random seed (default 0)\n"
+               "  --threads N           tile threads (default: 1 neural, all cores reference)\n"
+               "  --no-mip              fetch level 0 only (no trilinear mip filtering)\n"
+               "  --plane-repeat R      plane: world units per texture repeat (default 1)\n"
+               "  --bundle DIR          model bundle (neural; default: models/default)\n"
+               "  --progress=json       progress as JSON lines on stdout\n"
+               "\n"
+               "reference mode: the parameters as for 'nbrdf bake' (constants only):\n");
+  cli_params_usage(out);
+  fprintf(out, "\nexit status: 0 success, 1 failure, 2 bad usage\n");
+}
+
+static volatile sig_atomic_t interrupted = 0;
+static void on_sigint(int sig) {
+  (void)sig;
+  interrupted = 1;
+}
+
+typedef struct progress_state {
+  int json, bar;
+} progress_state;
+
+static int on_progress(void *user, const char *stage, double done, double total) {
+  const progress_state *p = user;
+  if (p->json) {
+    printf("{\"event\":\"progress\",\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f}\n", stage, done,
+           total);
+    fflush(stdout);
+  } else if (p->bar) {
+    fprintf(stderr, "\r%s %3.0f%%", stage, total > 0 ? 100.0 * done / total : 100.0);
+    if (done >= total) fputc('\n', stderr);
+    fflush(stderr);
+  }
+  return 0;
+}
+
+static int parse_numbers(const char *text, double *v, int n) {
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", text);
+  char *s = buf;
+  for (int k = 0; k < n; k++) {
+    char *comma = strchr(s, ',');
+    if ((k < n - 1) != (comma != NULL)) return 0;
+    if (comma) *comma = '\0';
+    if (!cli_parse_double(s, &v[k])) return 0;
+    s = comma ? comma + 1 : s;
+  }
+  return 1;
+}
+
+/* Ground-truth BRDFs of constant parameters, one per colour channel. */
+static int make_reference(const cli_params *p, nbrdf_brdf **brdfs, int *channels) {
+  double v[NBRDF_BAKE_PARAM_COUNT][3];
+  *channels = 1;
+  for (int k = 0; k < NBRDF_BAKE_PARAM_COUNT; k++) {
+    const nbrdf_bake_param *q = &p->in.param[k];
+    if (q->path)
+      return cli_usage_error("render", "reference mode takes constant parameters; --%s is a map",
+                             nbrdf_bake_param_name(k));
+    for (int c = 0; c < 3; c++)
+      v[k][c] = q->value[q->channels == 3 ? c : 0];
+    if (q->channels == 3) *channels = 3;
+  }
+  if (p->roughness == NBRDF_ROUGHNESS_PERCEPTUAL)
+    for (int c = 0; c < 3; c++)
+      v[NBRDF_BAKE_ALPHA1][c] *= v[NBRDF_BAKE_ALPHA1][c],
+          v[NBRDF_BAKE_ALPHA2][c] *= v[NBRDF_BAKE_ALPHA2][c];
+  for (int c = 0; c < *channels; c++) {
+    nbrdf_error err = {0};
+    nbrdf_brdf *bottom = NULL;
+    nbrdf_status st =
+        nbrdf_brdf_create_conductor(v[NBRDF_BAKE_ALPHA2][c], v[NBRDF_BAKE_R0][c], &bottom, &err);
+    if (st == NBRDF_OK)
+      st = nbrdf_brdf_create_layered(v[NBRDF_BAKE_ALPHA1][c], v[NBRDF_BAKE_ETA][c],
+                                     v[NBRDF_BAKE_ALBEDO][c], v[NBRDF_BAKE_SIGMA_T][c], bottom,
+                                     &brdfs[c], &err);
+    nbrdf_brdf_destroy(bottom);
+    if (st != NBRDF_OK) return cli_fail_error("render", &err);
+  }
+  return CLI_EXIT_OK;
+}
+
+static int same_file(const char *a, const char *b) {
+  struct stat sa, sb;
+  if (stat(a, &sa) != 0 || stat(b, &sb) != 0) return !strcmp(a, b);
+  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+int cmd_render(int argc, char **argv) {
+  nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
+  o.light_intensity = 30.0;
+  cli_params params;
+  cli_params_init(&params);
+  const char *latent = NULL, *out = NULL, *png = NULL, *bundle = NULL;
+  progress_state ps = {0, 0};
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i], *v = NULL;
+    long n;
+    double d[4];
+    int pr = cli_params_option("render", argc, argv, &i, &params);
+    if (pr < 0) return CLI_EXIT_USAGE;
+    if (pr > 0) continue;
+    if (cli_is_help(a)) {
+      cmd_render_usage(stdout);
+      return CLI_EXIT_OK;
+    } else if ((v = cli_option_value(argc, argv, &i, "-o")) ||
+               (v = cli_option_value(argc, argv, &i, "--output"))) {
+      out = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--png"))) {
+      png = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--mode"))) {
+      if (strcmp(v, "neural") && strcmp(v, "reference"))
+        return cli_usage_error("render", "--mode is 'neural' or 'reference', not '%s'", v);
+      o.mode = v[0] == 'n' ? NBRDF_RENDER_NEURAL : NBRDF_RENDER_REFERENCE;
+    } else if ((v = cli_option_value(argc, argv, &i, "--scene"))) {
+      if (strcmp(v, "sphere") && strcmp(v, "plane"))
+        return cli_usage_error("render", "--scene is 'sphere' or 'plane', not '%s'", v);
+      o.scene = v[0] == 's' ? NBRDF_SCENE_SPHERE : NBRDF_SCENE_PLANE;
+    } else if ((v = cli_option_value(argc, argv, &i, "--env"))) {
+      if (!v[0]) return cli_usage_error("render", "--env needs sky, white or a file");
+      o.env = !strcmp(v, "sky") ? NBRDF_ENV_SKY
+                                : (!strcmp(v, "white") ? NBRDF_ENV_CONSTANT : NBRDF_ENV_IMAGE);
+      o.env_path = o.env == NBRDF_ENV_IMAGE ? v : NULL;
+    } else if ((v = cli_option_value(argc, argv, &i, "--env-scale"))) {
+      if (!cli_parse_double(v, &d[0]) || d[0] < 0.0)
+        return cli_usage_error("render", "--env-scale needs a number >= 0, not '%s'", v);
+      o.env_scale = (float)d[0];
+    } else if ((v = cli_option_value(argc, argv, &i, "--light"))) {
+      if (!strcmp(v, "none")) {
+        o.light_intensity = 0.0;
+      } else if (!parse_numbers(v, d, 4) || d[3] < 0.0) {
+        return cli_usage_error("render", "--light needs X,Y,Z,I with I >= 0 (or none), not '%s'",
+                               v);
+      } else {
+        o.light_pos[0] = d[0], o.light_pos[1] = d[1], o.light_pos[2] = d[2];
+        o.light_intensity = d[3];
+      }
+    } else if ((v = cli_option_value(argc, argv, &i, "--width"))) {
+      if (!cli_parse_int(v, 1, 16384, &n))
+        return cli_usage_error("render", "--width needs an integer in [1, 16384], not '%s'", v);
+      o.width = (int)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--height"))) {
+      if (!cli_parse_int(v, 1, 16384, &n))
+        return cli_usage_error("render", "--height needs an integer in [1, 16384], not '%s'", v);
+      o.height = (int)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
+      if (!cli_parse_int(v, 1, 1 << 20, &n))
+        return cli_usage_error("render", "--spp needs an integer in [1, 1048576], not '%s'", v);
+      o.spp = (int)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
+      if (!cli_parse_int(v, 0, 2147483647L, &n))
+        return cli_usage_error("render", "--seed needs an integer >= 0, not '%s'", v);
+      o.seed = (uint64_t)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--threads"))) {
+      if (!cli_parse_int(v, 0, 1024, &n))
+        return cli_usage_error("render", "--threads needs an integer in [0, 1024], not '%s'", v);
+      o.threads = (int)n;
+    } else if (!strcmp(a, "--no-mip")) {
+      o.mip = 0;
+    } else if ((v = cli_option_value(argc, argv, &i, "--plane-repeat"))) {
+      if (!cli_parse_double(v, &o.plane_repeat) || !(o.plane_repeat > 0.0))
+        return cli_usage_error("render", "--plane-repeat needs a number > 0, not '%s'", v);
+    } else if ((v = cli_option_value(argc, argv, &i, "--bundle"))) {
+      bundle = v;
+    } else if (!strcmp(a, "--progress=json")) {
+      ps.json = 1;
+    } else if (a[0] != '-' && !latent) {
+      latent = a;
+    } else {
+      return cli_usage_error("render", "unknown option or missing value: '%s'", a);
+    }
+    if (v && !v[0]) return cli_usage_error("render", "'%s' needs a value", a);
+  }
+  if (!latent) return cli_usage_error("render", "the latent texture LATENT.exr is required");
+  if (!out) return cli_usage_error("render", "-o OUT.exr is required");
+  if (same_file(out, latent) || (png && same_file(png, latent)) ||
+      (o.env_path && same_file(out, o.env_path)))
+    return cli_fail("render", "an output would overwrite an input (%s)", out);
+
+  nbrdf_brdf *ref[3] = {NULL, NULL, NULL};
+  nbrdf_model *model = NULL;
+  nbrdf_error err = {0};
+  int rc = CLI_EXIT_OK;
+  if (o.mode == NBRDF_RENDER_REFERENCE) {
+    rc = cli_params_require("render", &params);
+    if (rc == CLI_EXIT_OK) rc = make_reference(&params, ref, &o.reference_channels);
+    o.reference = (const nbrdf_brdf *const *)ref;
+  } else {
+    struct stat sb;
+    if (!bundle && (stat("models/default", &sb) != 0 || !S_ISDIR(sb.st_mode)))
+      rc = cli_fail("render", "no models/default bundle here; pass --bundle DIR");
+    else if (nbrdf_model_load(bundle ? bundle : "models/default", &model, &err) != NBRDF_OK)
+      rc = cli_fail_error("render", &err);
+    else if (!nbrdf_model_is_trained(model))
+      fprintf(stderr, "nbrdf render: warning: bundle '%s' is untrained (random networks)\n",
+              bundle ? bundle : "models/default");
+  }
+  float *rgb = rc == CLI_EXIT_OK ? malloc(sizeof(float) * 3 * (size_t)o.width * o.height) : NULL;
+  if (rc == CLI_EXIT_OK && !rgb) rc = cli_fail("render", "out of memory");
+  if (rc == CLI_EXIT_OK) {
+    ps.bar = !ps.json && isatty(STDERR_FILENO);
+    o.progress = on_progress, o.user = &ps, o.cancel = &interrupted;
+    struct sigaction sa, old;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_sigint;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old);
+    nbrdf_render_stats stats;
+    nbrdf_status st = nbrdf_render(model, latent, &o, rgb, &stats, &err);
+    sigaction(SIGINT, &old, NULL);
+    if (st == NBRDF_OK)
+      st = nbrdf_render_write(out, png, o.width, o.height, rgb, NULL, params.in.ocio_config, &err);
+    if (st != NBRDF_OK) {
+      if (ps.json) printf("{\"event\":\"error\",\"status\":\"%s\"}\n", nbrdf_status_name(st));
+      rc = st == NBRDF_ERR_CANCELLED ? cli_fail("render", "cancelled; no file written")
+                                     : cli_fail_error("render", &err);
+    } else if (ps.json) {
+      printf("{\"event\":\"done\",\"width\":%d,\"height\":%d,\"spp\":%d,\"decoded\":%zu,"
+             "\"brdf_evals\":%zu}\n",
+             o.width, o.height, o.spp, stats.decoded, stats.brdf_evals);
+    } else {
+      printf("wrote %s%s%s: %d x %d, %d spp, %s mode, %d mip levels, %zu decoder queries, %zu "
+             "ground-truth evaluations\n",
+             out, png ? " and " : "", png ? png : "", o.width, o.height, o.spp,
+             o.mode == NBRDF_RENDER_NEURAL ? "neural" : "reference", stats.levels, stats.decoded,
+             stats.brdf_evals);
+    }
+  }
+  free(rgb);
+  for (int c = 0; c < 3; c++)
+    nbrdf_brdf_destroy(ref[c]);
+  nbrdf_model_destroy(model);
+  return rc;
+}

@@ -1,0 +1,154 @@
+/* nbrdf_render end to end: bit-identical for a seed across thread counts (both
+ * modes), a furnace (constant white environment, reference mode with a rough
+ * conductor) that returns the BRDF's directional albedo, background pixels,
+ * a texture of another bundle refused, cancel. Uses an untrained bundle. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "model/bundle.h"
+#include "nbrdf/bake.h"
+#include "nbrdf/render.h"
+#include "testing.h"
+
+static char tmp[400];
+static nbrdf_model *model;
+
+static const char *path(const char *name) {
+  static char buf[4][512];
+  static int k;
+  k = (k + 1) % 4;
+  snprintf(buf[k], sizeof buf[k], "%s/%s", tmp, name);
+  return buf[k];
+}
+
+static void bake_constant(const char *out) {
+  nbrdf_error err;
+  nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
+  const float v[6] = {0.1f, 1.5f, 0.3f, 0.9f, 0.8f, 1.0f};
+  for (int k = 0; k < NBRDF_BAKE_PARAM_COUNT; k++)
+    nbrdf_bake_param_constant(&in.param[k], v[k]);
+  in.param[NBRDF_BAKE_R0].channels = 3;
+  in.param[NBRDF_BAKE_R0].value[1] = 0.6f, in.param[NBRDF_BAKE_R0].value[2] = 0.3f;
+  CHECK_OK(nbrdf_bake(model, &in, NULL, out, NULL, &err), &err);
+}
+
+static float *render(const nbrdf_render_options *o, nbrdf_status want) {
+  nbrdf_error err;
+  float *rgb = malloc(sizeof(float) * 3 * (size_t)o->width * o->height);
+  nbrdf_status st = nbrdf_render(model, path("c.exr"), o, rgb, NULL, &err);
+  CHECK_MSG(st == want, "render returned %s: %s", nbrdf_status_name(st), err.message);
+  if (st != NBRDF_OK) {
+    free(rgb);
+    return NULL;
+  }
+  return rgb;
+}
+
+static void test_deterministic(void) {
+  nbrdf_error err;
+  nbrdf_brdf *bottom = NULL, *layered = NULL;
+  CHECK_OK(nbrdf_brdf_create_conductor(0.3, 0.9, &bottom, &err), &err);
+  CHECK_OK(nbrdf_brdf_create_layered(0.1, 1.5, 0.8, 1.0, bottom, &layered, &err), &err);
+  const nbrdf_brdf *ref[1] = {layered};
+  for (int mode = 0; mode < 2; mode++) {
+    nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
+    o.mode = mode ? NBRDF_RENDER_REFERENCE : NBRDF_RENDER_NEURAL;
+    o.reference = ref, o.reference_channels = 1;
+    o.width = 37, o.height = 21, o.spp = mode ? 2 : 3, o.seed = 9, o.light_intensity = 20.0;
+    o.threads = 1;
+    float *a = render(&o, NBRDF_OK);
+    o.threads = 2;
+    float *b = render(&o, NBRDF_OK);
+    o.seed = 10;
+    float *c = render(&o, NBRDF_OK);
+    size_t n = sizeof(float) * 3 * (size_t)o.width * o.height;
+    if (a && b && c) {
+      CHECK_MSG(!memcmp(a, b, n), "mode %d: 1 and 2 threads differ", mode);
+      CHECK_MSG(memcmp(a, c, n) != 0, "mode %d: another seed gives the same image", mode);
+      int finite = 1;
+      for (size_t i = 0; i < 3 * (size_t)o.width * o.height; i++)
+        finite &= isfinite(a[i]) && a[i] >= 0.0f;
+      CHECK(finite);
+    }
+    free(a), free(b), free(c);
+  }
+  nbrdf_brdf_destroy(layered);
+  nbrdf_brdf_destroy(bottom);
+}
+
+/* Under a constant white environment (radiance 1) with no point light, a
+ * pixel sees ∫ f cos θo dω = ρ(θi), the directional albedo, whatever the MIS
+ * weights are as long as they sum to one. The centre pixel looks at the
+ * sphere head on (θi < 8° over the pixel). */
+static void test_furnace(void) {
+  nbrdf_error err;
+  nbrdf_brdf *cond = NULL;
+  CHECK_OK(nbrdf_brdf_create_conductor(0.4, 0.7, &cond, &err), &err);
+  const nbrdf_brdf *ref[1] = {cond};
+  nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
+  o.mode = NBRDF_RENDER_REFERENCE, o.reference = ref, o.reference_channels = 1;
+  o.env = NBRDF_ENV_CONSTANT, o.light_intensity = 0.0;
+  o.width = o.height = 7, o.spp = 6000, o.seed = 1;
+  float *rgb = render(&o, NBRDF_OK);
+  double rho0, rho8, e0, e8;
+  CHECK_OK(nbrdf_brdf_albedo(cond, 0.0, 200000, 3, &rho0, &e0, &err), &err);
+  CHECK_OK(nbrdf_brdf_albedo(cond, 8.0 * M_PI / 180.0, 200000, 4, &rho8, &e8, &err), &err);
+  if (rgb) {
+    size_t centre = 3 * (3 * 7 + 3);
+    printf("furnace: centre pixel %.4f %.4f %.4f, albedo %.4f (0 deg) %.4f (8 deg)\n", rgb[centre],
+           rgb[centre + 1], rgb[centre + 2], rho0, rho8);
+    for (int k = 0; k < 3; k++) {
+      CHECK_MSG(rgb[centre + k] > fmin(rho0, rho8) - 0.01 &&
+                    rgb[centre + k] < fmax(rho0, rho8) + 0.01,
+                "furnace: pixel %g, albedo %g (0°) .. %g (8°)", rgb[centre + k], rho0, rho8);
+    }
+    /* A corner pixel misses the sphere and sees the environment. */
+    CHECK(rgb[0] == 1.0f && rgb[1] == 1.0f && rgb[2] == 1.0f);
+  }
+  free(rgb);
+  nbrdf_brdf_destroy(cond);
+}
+
+static int cancel_at_3(void *user, const char *stage, double done, double total) {
+  (void)user, (void)stage, (void)total;
+  return done >= 3;
+}
+
+static void test_errors(void) {
+  nbrdf_error err;
+  nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
+  o.width = o.height = 64, o.spp = 1;
+  o.progress = cancel_at_3;
+  free(render(&o, NBRDF_ERR_CANCELLED));
+  o.progress = NULL;
+  o.spp = 0;
+  free(render(&o, NBRDF_ERR_ARGUMENT));
+  o.spp = 1, o.mode = NBRDF_RENDER_REFERENCE;
+  free(render(&o, NBRDF_ERR_ARGUMENT)); /* no ground-truth BRDF given */
+  /* A texture baked with another bundle. */
+  nbrdf_model *other = NULL;
+  CHECK_OK(model_bundle_init_random(path("other"), "other", 8, "small", &err), &err);
+  CHECK_OK(nbrdf_model_load(path("other"), &other, &err), &err);
+  o.mode = NBRDF_RENDER_NEURAL;
+  float rgb[3 * 64 * 64];
+  CHECK_FAILS(nbrdf_render(other, path("c.exr"), &o, rgb, NULL, &err), NBRDF_ERR_MISMATCH, &err,
+              "c.exr");
+  nbrdf_model_destroy(other);
+  o.env = NBRDF_ENV_IMAGE, o.env_path = path("missing.hdr");
+  CHECK_FAILS(nbrdf_render(model, path("c.exr"), &o, rgb, NULL, &err), NBRDF_ERR_IO, &err,
+              "missing.hdr");
+}
+
+int main(void) {
+  nbrdf_error e;
+  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  CHECK_OK(model_bundle_init_random(path("bundle"), "render-test", 7, "small", &e), &e);
+  CHECK_OK(nbrdf_model_load(path("bundle"), &model, &e), &e);
+  if (!model) return nbrdf_test_finish();
+  bake_constant(path("c.exr"));
+  RUN(test_deterministic);
+  RUN(test_furnace);
+  RUN(test_errors);
+  nbrdf_model_destroy(model);
+  return nbrdf_test_finish();
+}
