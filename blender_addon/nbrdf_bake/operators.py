@@ -52,7 +52,7 @@ class NBRDF_OT_bake_latent(bpy.types.Operator):
     def _end(self, session):
         level, text = session.report()
         self.report({level}, text)
-        return {"FINISHED"} if session.process.state == "done" else {"CANCELLED"}
+        return {"FINISHED"} if session.bake.state == "done" else {"CANCELLED"}
 
     def execute(self, context):
         # Blocking: for scripts and `blender -b`, where modal timers do not run.

@@ -41,8 +41,9 @@ class NBRDF_PT_material(bpy.types.Panel):
         session = operators.running_session()
         if session is not None:
             box = layout.box()
-            box.label(text="Baking %s: %.0f %%" % (session.material_name,
-                                                   100.0 * session.progress), icon="TIME")
+            doing = "Baking" if session.stage == "bake" else "Rendering a preview of"
+            box.label(text="%s %s: %.0f %%" % (doing, session.material_name,
+                                               100.0 * session.progress), icon="TIME")
             box.operator("nbrdf.cancel_bake", icon="CANCEL")
             return
         exe, bundle, problem = preferences.resolve(preferences.get(context))
@@ -54,6 +55,8 @@ class NBRDF_PT_material(bpy.types.Panel):
         row.operator("nbrdf.bake_latent", icon="RENDER_STILL")
         if s.result is not None:
             layout.label(text="Result: " + s.result.name, icon="IMAGE_DATA")
+        if s.preview_image is not None:
+            layout.label(text="Preview: " + s.preview_image.name, icon="SHADING_RENDERED")
 
 
 class NBRDF_PT_output(bpy.types.Panel):
@@ -71,6 +74,11 @@ class NBRDF_PT_output(bpy.types.Panel):
         col.prop(s, "storage")
         col.prop(s, "mip_levels")
         col.prop(s, "tile")
+        col.prop(s, "preview")
+        sub = col.column()
+        sub.enabled = s.preview
+        sub.prop(s, "preview_size")
+        sub.prop(s, "preview_spp")
 
 
 classes = (NBRDF_PT_material, NBRDF_PT_output)

@@ -131,12 +131,12 @@ class BakeProcess:
         self._remove_temporaries()
         if self._cancel_at is not None:
             self.state = "cancelled"
-            self.message = "bake cancelled; no file written"
+            self.message = "cancelled; no file written"
             return
         self.state = "failed"
         if self._error_event is not None:
             self.message = str(self._error_event.get("message", ""))
-        else:  # usage errors (exit 2) and crashes say it on stderr only
+        if not self.message:  # usage errors (exit 2) and crashes say it on stderr only
             text = "".join(self._stderr).strip().splitlines()
             errors = [l for l in text if "warning:" not in l]
             self.message = (errors or text or [""])[-1]

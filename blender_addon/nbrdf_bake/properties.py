@@ -1,7 +1,7 @@
 """Per-material bake settings, saved in the .blend file."""
 
 import bpy
-from bpy.props import (EnumProperty, FloatProperty, FloatVectorProperty,
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty,
                        IntProperty, PointerProperty, StringProperty)
 
 from .params import PARAMS
@@ -69,6 +69,16 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
                    ("ONE", "Level 0 Only", "No mip levels")]),
         tile=IntProperty(name="Tile Size", default=64, min=8, max=1024,
                          description="Tile edge of the OpenEXR file in texels"),
+        preview=BoolProperty(
+            name="Preview Render", default=True,
+            description="After the bake, render the texture on a sphere with 'nbrdf render' "
+                        "(when the nbrdf executable has it) and load it as a second image"),
+        preview_size=IntProperty(name="Preview Size", default=128, min=16, max=2048,
+                                 description="Width and height of the preview in pixels"),
+        preview_spp=IntProperty(name="Preview Samples", default=8, min=1, max=4096,
+                                description="Samples per pixel of the preview"),
+        preview_image=PointerProperty(name="Preview", type=bpy.types.Image,
+                                      description="The preview render of the last bake"),
         result=PointerProperty(name="Result", type=bpy.types.Image,
                                description="The latent texture of the last bake"),
     )

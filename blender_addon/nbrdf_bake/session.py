@@ -1,4 +1,5 @@
-"""One bake of one material: inputs written, CLI running, result loaded, temp files gone.
+"""One bake of one material: inputs written, CLI running, result loaded, temp files gone;
+then, when asked for and available, a preview render of the texture.
 
 The operator is a thin shell over this: execute() calls start() then wait(); the modal
 invoke() calls start() and then poll() on a timer. Tests drive it the same way.
@@ -6,7 +7,9 @@ invoke() calls start() and then poll() on a timer. Tests drive it the same way.
 
 import os
 import shutil
+import subprocess
 import tempfile
+import time
 
 import bpy
 
@@ -15,11 +18,15 @@ from .process import BakeProcess
 
 
 class Session:
-    def __init__(self, material_name, process, workdir):
+    def __init__(self, material_name, bake, workdir, preview_argv):
         self.material_name = material_name
-        self.process = process
+        self.bake = bake
+        self.preview = None
+        self.process = bake  # the one running now
         self.workdir = workdir
+        self.preview_argv = preview_argv
         self.image = None
+        self.preview_image = None
 
     @classmethod
     def start(cls, context, material):
@@ -27,68 +34,104 @@ class Session:
         exe, bundle, problem = preferences.resolve(preferences.get(context))
         if problem:
             raise inputs.SetupError(problem)
+        settings = material.nbrdf_bake
         workdir = tempfile.mkdtemp(prefix="nbrdf-bake-", dir=bpy.app.tempdir or None)
         try:
-            argv, output = inputs.build_argv(exe, bundle, material.nbrdf_bake, material.name,
-                                             workdir)
+            argv, output = inputs.build_argv(exe, bundle, settings, material.name, workdir)
             os.makedirs(os.path.dirname(output), exist_ok=True)
         except (inputs.SetupError, OSError) as e:
             shutil.rmtree(workdir, ignore_errors=True)
             if isinstance(e, OSError):
                 raise inputs.SetupError("cannot prepare the bake: %s" % e) from e
             raise
-        process = BakeProcess(argv, output, cwd=workdir)
-        session = cls(material.name, process, workdir)
-        if not process.start():
+        preview_argv = None
+        if settings.preview and has_render(exe):
+            size = str(settings.preview_size)
+            preview_argv = [exe, "render", output, "-o", preview_path(output), "--bundle", bundle,
+                            "--width", size, "--height", size, "--spp",
+                            str(settings.preview_spp), "--progress=json"]
+        bake = BakeProcess(argv, output, cwd=workdir)
+        session = cls(material.name, bake, workdir, preview_argv)
+        if not bake.start():
             session._cleanup()
-            raise inputs.SetupError(process.message)
+            raise inputs.SetupError(bake.message)
         return session
+
+    @property
+    def stage(self):
+        return "preview" if self.process is self.preview else "bake"
 
     @property
     def progress(self):
         return self.process.progress
 
     def poll(self):
-        """True while running; at the end the inputs are removed and the result loaded."""
+        """True while running; at the end the inputs are removed and the results loaded."""
         if self.process.poll():
             return True
-        self._cleanup()
-        if self.process.state == "done":
-            self.image = load_result(self.process.output)
-            material = bpy.data.materials.get(self.material_name)
+        material = bpy.data.materials.get(self.material_name)
+        if self.process is self.bake:
+            self._cleanup()
+            if self.bake.state != "done":
+                return False
+            self.image = load_result(self.bake.output)
             if material is not None:
                 material.nbrdf_bake.result = self.image
+            if self.preview_argv:
+                self.preview = BakeProcess(self.preview_argv, preview_path(self.bake.output))
+                self.process = self.preview
+                return self.preview.start()
+            return False
+        if self.preview.state == "done":
+            self.preview_image = load_result(self.preview.output)
+            if material is not None:
+                material.nbrdf_bake.preview_image = self.preview_image
         return False
 
     def wait(self, interval=0.05):
-        import time
         while self.poll():
             time.sleep(interval)
-        return self.process.state
+        return self.bake.state
 
     def cancel(self):
         self.process.cancel()
 
     def report(self):
-        """(level, text) for Blender's report area once the bake has ended."""
-        p = self.process
-        if p.state == "done":
-            r = p.result
-            text = "nbrdf: baked %s (%s x %s, %s)" % (p.output, r.get("width"), r.get("height"),
-                                                      "rgb" if r.get("channels") == 3 else "mono")
-            if p.warnings:
-                text += "; " + "; ".join(p.warnings)
-            return "WARNING" if p.warnings else "INFO", text
-        if p.state == "cancelled":
-            return "WARNING", "nbrdf: " + p.message
-        return "ERROR", "nbrdf bake failed: " + p.message
+        """(level, text) for Blender's report area once the session has ended."""
+        b = self.bake
+        if b.state == "cancelled":
+            return "WARNING", "nbrdf: bake " + b.message
+        if b.state != "done":
+            return "ERROR", "nbrdf bake failed: " + b.message
+        r = b.result
+        notes = list(b.warnings)
+        if self.preview is not None and self.preview.state != "done":
+            notes.append("preview not rendered: " + self.preview.message)
+        text = "nbrdf: baked %s (%s x %s, %s)" % (b.output, r.get("width"), r.get("height"),
+                                                  "rgb" if r.get("channels") == 3 else "mono")
+        return ("WARNING" if notes else "INFO"), "; ".join([text] + notes)
 
     def _cleanup(self):
         shutil.rmtree(self.workdir, ignore_errors=True)
 
 
+def preview_path(output):
+    return os.path.splitext(output)[0] + ".preview.exr"
+
+
+def has_render(exe):
+    """Whether this nbrdf has the render subcommand (older builds answer 'unknown')."""
+    try:
+        return subprocess.run([exe, "render", "--help"], stdin=subprocess.DEVNULL,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                              timeout=30).returncode == 0
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+
+
 def load_result(path):
-    """The latent EXR as an image datablock (MULTILAYER once Blender reads its header)."""
+    """An EXR as an image datablock, reloaded when one already shows that file. The latent
+    texture becomes MULTILAYER (layers latent and proxy) once Blender reads its header."""
     image = None
     for im in bpy.data.images:
         if im.filepath and os.path.normpath(bpy.path.abspath(im.filepath)) == path:

@@ -18,7 +18,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import addon_testing as t  # noqa: E402
 
 t.enable()
-from nbrdf_bake.session import Session  # noqa: E402
+from nbrdf_bake.session import Session, has_render, preview_path  # noqa: E402
 
 W, H = 24, 16
 rng = np.random.default_rng(7)
@@ -57,6 +57,7 @@ s.r0_source, s.r0_image = "IMAGE", im_r0
 s.sigma_t_source, s.sigma_t_image = "IMAGE", im_sigma
 s.eta_value, s.alpha2_value, s.albedo_value = 1.45, 0.3, (0.8, 0.7, 0.6)
 s.output = os.path.join(work, "{material}.exr")
+s.preview_size, s.preview_spp = 16, 1  # the preview, when nbrdf has render
 out = os.path.join(work, "Layered_Test.exr")
 
 # 1. The operator, run to completion (blocking execute: timers do not tick under -b).
@@ -86,6 +87,14 @@ img = s.result
 t.check("result image loaded", img is not None and os.path.samefile(bpy.path.abspath(img.filepath), out))
 if img is not None:
     t.check("result is MULTILAYER: %s" % img.type, img.type == "MULTILAYER")
+
+if has_render(t.NBRDF):
+    pv = s.preview_image
+    t.check("preview rendered beside the texture", os.path.isfile(preview_path(out)))
+    t.check("preview loaded", pv is not None and pv.size[0] == 16)
+else:
+    print("test_bake: this nbrdf has no 'render': preview not tested")
+s.preview = False
 
 # 2. The CLI on the same pixels, written by OpenImageIO under the names the add-on uses.
 ref = t.temp_dir()
@@ -154,11 +163,11 @@ big.nbrdf_bake.alpha2_image = generated("noise", rgba(noise), True)
 big.nbrdf_bake.output = os.path.join(work, "cancelled.exr")
 session = Session.start(bpy.context, big)
 deadline = time.monotonic() + 60
-while session.poll() and session.process.progress_events == 0 and time.monotonic() < deadline:
+while session.poll() and session.bake.progress_events == 0 and time.monotonic() < deadline:
     time.sleep(0.01)
 session.cancel()
 state = session.wait()
-t.check("cancelled: state %s (%s)" % (state, session.process.message), state == "cancelled")
+t.check("cancelled: state %s (%s)" % (state, session.bake.message), state == "cancelled")
 t.check("cancelled: report is a warning",
         session.report()[0] == "WARNING" and "no file" in session.report()[1])
 t.check("cancelled: no file", not os.path.exists(os.path.join(work, "cancelled.exr")))
