@@ -72,7 +72,8 @@ class NBRDF_OT_bake_latent(bpy.types.Operator):
         self._timer = wm.event_timer_add(0.1, window=context.window)
         wm.progress_begin(0, 100)
         wm.modal_handler_add(self)
-        context.workspace.status_text_set("nbrdf: baking %s (Esc to cancel)" % session.material_name)
+        context.workspace.status_text_set("nbrdf: baking %s (Esc to cancel)"
+                                          % session.material_name)
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):

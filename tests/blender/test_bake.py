@@ -84,7 +84,8 @@ t.check("full mip chain (%d levels)" % levels, levels == 5)  # 24x16 ... 1x1
 inp.close()
 
 img = s.result
-t.check("result image loaded", img is not None and os.path.samefile(bpy.path.abspath(img.filepath), out))
+t.check("result image loaded",
+        img is not None and os.path.samefile(bpy.path.abspath(img.filepath), out))
 if img is not None:
     t.check("result is MULTILAYER: %s" % img.type, img.type == "MULTILAYER")
 
