@@ -12,6 +12,7 @@ DECLARE(info)
 DECLARE(verify)
 DECLARE(render)
 DECLARE(dataset)
+DECLARE(train)
 
 const cli_command cli_commands[] = {
     {"help", "show help for nbrdf or one of its commands", cmd_help, cmd_help_usage},
@@ -26,5 +27,6 @@ const cli_command cli_commands[] = {
      cmd_render, cmd_render_usage},
     {"dataset", "generate, resume or check ground-truth training data", cmd_dataset,
      cmd_dataset_usage},
+    {"train", "train the networks (checkpointed, resumable)", cmd_train, cmd_train_usage},
 };
 const int cli_command_count = (int)(sizeof cli_commands / sizeof cli_commands[0]);

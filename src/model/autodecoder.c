@@ -81,6 +81,16 @@ fail:
 
 int64_t model_fit_steps(const model_fit *fit) { return fit->steps; }
 
+nbrdf_adam *model_fit_adam(model_fit *fit, int weights) {
+  return weights ? fit->adam_weights : fit->adam_latent;
+}
+
+void model_fit_set_steps(model_fit *fit, int64_t steps) {
+  fit->steps = steps;
+  nbrdf_adam_set_steps(fit->adam_latent, steps);
+  if (fit->adam_weights) nbrdf_adam_set_steps(fit->adam_weights, steps);
+}
+
 /* Fills input row r with BRDF b's latent and the encoding of sample `idx`. */
 static void fill_row(model_fit *fit, const model_samples *s, int r, size_t b, size_t idx) {
   size_t dim = (size_t)fit->dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(fit->dec);

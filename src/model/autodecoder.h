@@ -80,5 +80,9 @@ nbrdf_status model_fit_eval_loss(model_fit *fit, const model_samples *samples, d
                                  double *mean, nbrdf_error *err);
 
 int64_t model_fit_steps(const model_fit *fit);
+/* The optimisers (latents; weights, NULL when frozen) and the step counter, for
+ * checkpoints: restoring moments and steps resumes a run exactly. */
+nbrdf_adam *model_fit_adam(model_fit *fit, int weights);
+void model_fit_set_steps(model_fit *fit, int64_t steps);
 
 #endif

@@ -154,17 +154,18 @@ static nbrdf_status check_parts(const model_bundle_parts *p, nbrdf_error *err) {
   return NBRDF_OK;
 }
 
-static nbrdf_status save_tables(const model_bundle_parts *p, const char *path, nbrdf_error *err) {
+nbrdf_status model_tables_save(const model_base_table *const tables[2], const char *path,
+                               nbrdf_error *err) {
   nbrdf_st_writer *w = NULL;
   char dim[16];
-  snprintf(dim, sizeof dim, "%d", p->tables[0]->dim);
+  snprintf(dim, sizeof dim, "%d", tables[0]->dim);
   nbrdf_status st = nbrdf_st_writer_create(&w, err);
   if (st == NBRDF_OK)
     st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", "nbrdf-base-tables", err);
   if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.version", "1", err);
   if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.latent_dim", dim, err);
-  if (st == NBRDF_OK) st = model_base_table_write(p->tables[0], w, err);
-  if (st == NBRDF_OK) st = model_base_table_write(p->tables[1], w, err);
+  if (st == NBRDF_OK) st = model_base_table_write(tables[0], w, err);
+  if (st == NBRDF_OK) st = model_base_table_write(tables[1], w, err);
   if (st == NBRDF_OK) st = nbrdf_st_writer_save(w, path, NULL, err);
   nbrdf_st_writer_destroy(w);
   return st;
@@ -184,7 +185,7 @@ nbrdf_status model_bundle_save(const char *dir, const model_bundle_parts *p, uin
     if (i == 0) st = model_decoder_save(p->decoder, path, NULL, err);
     if (i == 1) st = model_layering_save(p->layering, path, NULL, err);
     if (i == 2) st = model_sampler_save(p->sampler, path, NULL, err);
-    if (i == 3) st = save_tables(p, path, err);
+    if (i == 3) st = model_tables_save(p->tables, path, err);
     /* Hash what is on disk, so the value is the one load computes. */
     char *bytes = NULL;
     size_t size = 0;

@@ -63,6 +63,10 @@ typedef struct model_bundle_parts {
 nbrdf_status model_bundle_save(const char *dir, const model_bundle_parts *parts, uint64_t *checksum,
                                nbrdf_error *err);
 
+/* base_tables.safetensors alone (training writes it before a bundle exists). */
+nbrdf_status model_tables_save(const model_base_table *const tables[2], const char *path,
+                               nbrdf_error *err);
+
 /* `nbrdf bundle init`: random networks (decoder preset `decoder_preset`,
  * layering "paper", sampler "default") and base tables of smooth random
  * latents over the paper's parameter ranges, marked untrained. */

@@ -138,6 +138,10 @@ float nbrdf_adam_lr(const nbrdf_adam *adam, int group) {
 
 int64_t nbrdf_adam_steps(const nbrdf_adam *adam) { return adam->t; }
 
+float *nbrdf_adam_moment(nbrdf_adam *adam, int second) { return second ? adam->v : adam->m; }
+size_t nbrdf_adam_size(const nbrdf_adam *adam) { return adam->n; }
+void nbrdf_adam_set_steps(nbrdf_adam *adam, int64_t steps) { adam->t = steps; }
+
 void nbrdf_adam_reset(nbrdf_adam *adam) {
   memset(adam->m, 0, sizeof *adam->m * adam->n);
   memset(adam->v, 0, sizeof *adam->v * adam->n);

@@ -267,5 +267,10 @@ float nbrdf_adam_lr(const nbrdf_adam *adam, int group);
 int64_t nbrdf_adam_steps(const nbrdf_adam *adam);
 /* Forgets moments and step count (e.g. to reuse one optimiser for a new projection). */
 void nbrdf_adam_reset(nbrdf_adam *adam);
+/* The moment arrays (n floats each) and the step count, for checkpoints: a training run
+ * resumed from saved moments and steps continues exactly as if it had not stopped. */
+float *nbrdf_adam_moment(nbrdf_adam *adam, int second); /* 0: m, 1: v */
+size_t nbrdf_adam_size(const nbrdf_adam *adam);
+void nbrdf_adam_set_steps(nbrdf_adam *adam, int64_t steps);
 
 #endif

@@ -78,8 +78,14 @@ nbrdf_status train_dataset_generate_one(const train_dataset_settings *s, uint64_
   if (st) return st;
   uint64_t family = train_family_seed(s->seed);
   train_params_draw(family, s->kind, index, params);
+  return train_samples_generate(s, family, index, params, samples, err);
+}
+
+nbrdf_status train_samples_generate(const train_dataset_settings *s, uint64_t family,
+                                    uint64_t index, const train_params *params, float *samples,
+                                    nbrdf_error *err) {
   nbrdf_brdf *b = NULL;
-  st = train_params_create(params, &b, err);
+  nbrdf_status st = train_params_create(params, &b, err);
   if (st) return st;
   size_t m = (size_t)s->outgoing;
   vec3 *wo = malloc(m * sizeof *wo);

@@ -58,6 +58,13 @@ nbrdf_status train_dataset_check_settings(const train_dataset_settings *s, nbrdf
 nbrdf_status train_dataset_generate_one(const train_dataset_settings *s, uint64_t index,
                                         train_params *params, float *samples, nbrdf_error *err);
 
+/* The samples of any BRDF `params` (not necessarily a Table 2 draw: base-latent
+ * tables and held-out sets use it), with the random streams of (family, index):
+ * a pure function of its arguments. */
+nbrdf_status train_samples_generate(const train_dataset_settings *s, uint64_t family,
+                                    uint64_t index, const train_params *params, float *samples,
+                                    nbrdf_error *err);
+
 /* Writes (or resumes) the data set at `path`. If the file exists, its header
  * must match the settings (else NBRDF_ERR_MISMATCH); its valid records are
  * kept, a trailing partial or corrupt record is dropped, and generation goes

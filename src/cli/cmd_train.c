@@ -1,0 +1,195 @@
+/* nbrdf train: the training loops of src/train (checkpointed, resumable). */
+#include <math.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cli/cli.h"
+#include "cli/cmd_train.h"
+#include "train/train_decoder.h"
+
+void cmd_train_usage(FILE *out) {
+  fprintf(out,
+          "usage: nbrdf train decoder --data FILE[,FILE...] --run DIR [options]\n"
+          "       nbrdf train tables --decoder FILE -o FILE [--alpha-nodes N] [--eta-nodes N]\n"
+          "                          [--r0-nodes N] [--steps N] [--seed S]\n"
+          "\n"
+          "Auto-decoder training (paper §3.2): decoder weights and one latent per training\n"
+          "BRDF learned together. DIR holds checkpoint.safetensors (resume: run the same\n"
+          "command again), decoder.safetensors and log.csv. Ctrl-C checkpoints and stops.\n"
+          "\n"
+          "architecture (a preset, or your own residual MLP):\n"
+          "  --preset NAME       paper, large, medium (default), small\n"
+          "  --width W --blocks B [--encoding cartesian|halfdiff] [--octaves K]\n"
+          "                      [--output f|log1p]\n"
+          "training:\n"
+          "  --steps N           total steps (20000); each step draws --rows-per-brdf samples\n"
+          "                      of every BRDF (16)\n"
+          "  --minutes M         stop (checkpointed) after M minutes of this invocation\n"
+          "  --lr-weights X (2e-3)  --lr-latent X (1e-2)  --latent-l2 X (1e-4)\n"
+          "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
+          "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
+          "  --progress=json     progress lines as JSON on stderr\n"
+          "\n"
+          "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
+          "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
+          "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n");
+}
+
+static volatile sig_atomic_t interrupted;
+static void on_sigint(int sig) {
+  (void)sig;
+  interrupted = 1;
+}
+
+void train_watch_sigint(int on) {
+  interrupted = 0;
+  signal(SIGINT, on ? on_sigint : SIG_DFL);
+}
+
+int train_on_progress(void *user, const char *stage, double done, double total) {
+  train_progress *p = user;
+  long t = (long)time(NULL);
+  if (t != p->last || done == total) {
+    p->last = t;
+    if (p->json)
+      fprintf(stderr, "{\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f}\n", stage, done, total);
+    else
+      fprintf(stderr, "\r%s: %.0f/%.0f (%.1f %%)  ", stage, done, total, 100.0 * done / total);
+  }
+  return interrupted;
+}
+
+/* Comma-separated list → argv-like array (the string is modified). */
+static int split(char *list, const char **out, int max) {
+  int n = 0;
+  for (char *tok = strtok(list, ","); tok && n < max; tok = strtok(NULL, ","))
+    out[n++] = tok;
+  return n;
+}
+
+typedef struct num_option {
+  const char *name;
+  double lo, hi;
+  double *value;
+} num_option;
+
+static int train_decoder(int argc, char **argv) {
+  train_decoder_settings s;
+  train_decoder_settings_default(&s);
+  const char *data[64], *preset = "medium", *encoding = "halfdiff", *output = "log1p";
+  char *data_list = NULL;
+  int n_data = 0;
+  double steps = (double)s.steps, minutes = 0, rows = s.rows_per_brdf, lrw = s.lr_weights,
+         lrl = s.lr_latent, l2 = s.latent_l2, decay = s.decay_every, gamma = s.decay_gamma,
+         seed = (double)s.seed, ckpt = s.checkpoint_seconds / 60.0, nval = s.validation_brdfs,
+         width = 0, blocks = 0, octaves = 0;
+  num_option nums[] = {
+      {"--steps", 1, 1e12, &steps},
+      {"--minutes", 0, 1e9, &minutes},
+      {"--rows-per-brdf", 1, 65536, &rows},
+      {"--lr-weights", 0, 1, &lrw},
+      {"--lr-latent", 0, 10, &lrl},
+      {"--latent-l2", 0, 1e3, &l2},
+      {"--decay-every", 0, 1e9, &decay},
+      {"--decay-gamma", 1e-6, 1, &gamma},
+      {"--seed", 0, 9007199254740992.0, &seed},
+      {"--checkpoint-minutes", 1e-3, 1e6, &ckpt},
+      {"--validation", 0, 4096, &nval},
+      {"--width", 1, 4096, &width},
+      {"--blocks", 1, 64, &blocks},
+      {"--octaves", 0, MODEL_ENCODING_MAX_OCTAVES, &octaves},
+  };
+  train_progress prog = {0, 0};
+  for (int i = 2; i < argc; i++) {
+    const char *v;
+    int matched = 0;
+    for (size_t k = 0; k < sizeof nums / sizeof nums[0] && !matched; k++)
+      if ((v = cli_option_value(argc, argv, &i, nums[k].name))) {
+        if (!cli_parse_double(v, nums[k].value) || *nums[k].value < nums[k].lo ||
+            *nums[k].value > nums[k].hi)
+          return cli_usage_error("train", "%s '%s' is not a number in [%g, %g]", nums[k].name, v,
+                                 nums[k].lo, nums[k].hi);
+        matched = 1;
+      }
+    if (matched) continue;
+    if ((v = cli_option_value(argc, argv, &i, "--data"))) {
+      free(data_list);
+      data_list = strdup(v);
+      n_data = data_list ? split(data_list, data, 64) : 0;
+    } else if ((v = cli_option_value(argc, argv, &i, "--run"))) {
+      s.run_dir = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--preset"))) {
+      preset = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--encoding"))) {
+      encoding = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--output"))) {
+      output = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--loss"))) {
+      if (!model_loss_parse(v, &s.loss))
+        return cli_usage_error("train", "unknown loss '%s' (l1-log1p, l1)", v);
+    } else if (!strcmp(argv[i], "--progress=json")) {
+      prog.json = 1;
+    } else if (cli_is_help(argv[i])) {
+      cmd_train_usage(stdout);
+      free(data_list);
+      return CLI_EXIT_OK;
+    } else {
+      free(data_list);
+      return cli_usage_error("train", "unexpected argument '%s'", argv[i]);
+    }
+  }
+  if (n_data == 0 || !s.run_dir || !*s.run_dir) {
+    free(data_list);
+    return cli_usage_error("train", "--data and --run are required");
+  }
+  nbrdf_error err = {0};
+  nbrdf_status st;
+  if (width > 0 || blocks > 0) {
+    model_encoding enc = {MODEL_ENCODING_HALFDIFF, (int)octaves};
+    if (!model_encoding_kind_parse(encoding, &enc.kind))
+      return cli_usage_error("train", "unknown encoding '%s' (cartesian, halfdiff)", encoding);
+    model_output out = !strcmp(output, "f") ? MODEL_OUTPUT_F : MODEL_OUTPUT_LOG1P;
+    if (strcmp(output, "f") && strcmp(output, "log1p"))
+      return cli_usage_error("train", "unknown output '%s' (f, log1p)", output);
+    st = model_decoder_config_make(32, enc, out, width > 0 ? (int)width : 64,
+                                   blocks > 0 ? (int)blocks : 3, 1, &s.arch, &err);
+  } else {
+    st = model_decoder_preset(preset, 32, &s.arch, &err);
+  }
+  if (st) {
+    free(data_list);
+    return cli_fail_error("train", &err);
+  }
+  s.data = data, s.n_data = n_data;
+  s.steps = (int64_t)steps, s.max_seconds = 60.0 * minutes, s.rows_per_brdf = (int)rows;
+  s.lr_weights = (float)lrw, s.lr_latent = (float)lrl, s.latent_l2 = (float)l2;
+  s.decay_every = (int)decay, s.decay_gamma = (float)gamma, s.seed = (uint64_t)seed;
+  s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval;
+  s.progress = train_on_progress, s.user = &prog;
+  train_watch_sigint(1);
+  train_decoder_result r;
+  st = train_decoder_run(&s, &r, &err);
+  train_watch_sigint(0);
+  free(data_list);
+  if (!prog.json) fputc('\n', stderr);
+  if (st == NBRDF_ERR_CANCELLED) {
+    fprintf(stderr, "train: %s\n", err.message);
+    return CLI_EXIT_FAILURE;
+  }
+  if (st) return cli_fail_error("train", &err);
+  printf("train decoder: %lld steps (resumed from %lld), train loss %.5g, validation loss %.5g\n",
+         (long long)r.steps_done, (long long)r.resumed_from, r.train_loss, r.val_loss);
+  return CLI_EXIT_OK;
+}
+
+int cmd_train(int argc, char **argv) {
+  if (argc < 2 || cli_is_help(argv[1])) {
+    cmd_train_usage(argc < 2 ? stderr : stdout);
+    return argc < 2 ? CLI_EXIT_USAGE : CLI_EXIT_OK;
+  }
+  if (!strcmp(argv[1], "decoder")) return train_decoder(argc, argv);
+  if (!strcmp(argv[1], "tables")) return cmd_train_tables(argc, argv);
+  return cli_usage_error("train", "unknown training '%s' (decoder, tables)", argv[1]);
+}

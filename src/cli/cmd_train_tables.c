@@ -1,0 +1,66 @@
+/* nbrdf train tables: base-latent tables for a trained decoder. */
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/cmd_train.h"
+#include "model/bundle.h"
+#include "train/table_fit.h"
+
+int cmd_train_tables(int argc, char **argv) {
+  train_table_settings s = TRAIN_TABLE_SETTINGS_DEFAULT;
+  const char *decoder = NULL, *out = NULL;
+  train_progress prog = {0, 0};
+  for (int i = 2; i < argc; i++) {
+    const char *v;
+    long n;
+    if ((v = cli_option_value(argc, argv, &i, "--decoder"))) {
+      decoder = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "-o"))) {
+      out = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--alpha-nodes"))) {
+      if (!cli_parse_int(v, 2, 1024, &n))
+        return cli_usage_error("train", "--alpha-nodes '%s': expected 2..1024", v);
+      s.alpha_nodes = (int)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--eta-nodes"))) {
+      if (!cli_parse_int(v, 2, 1024, &n))
+        return cli_usage_error("train", "--eta-nodes '%s': expected 2..1024", v);
+      s.eta_nodes = (int)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--r0-nodes"))) {
+      if (!cli_parse_int(v, 2, 1024, &n))
+        return cli_usage_error("train", "--r0-nodes '%s': expected 2..1024", v);
+      s.r0_nodes = (int)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--steps"))) {
+      if (!cli_parse_int(v, 1, 1000000, &n))
+        return cli_usage_error("train", "--steps '%s': expected 1..1000000", v);
+      s.steps = (int)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
+      if (!cli_parse_int(v, 0, 2147483647, &n))
+        return cli_usage_error("train", "--seed '%s': expected 0..2^31-1", v);
+      s.seed = (uint64_t)n;
+    } else if (!strcmp(argv[i], "--progress=json")) {
+      prog.json = 1;
+    } else {
+      return cli_usage_error("train", "unexpected argument '%s'", argv[i]);
+    }
+  }
+  if (!decoder || !out) return cli_usage_error("train", "tables: --decoder and -o are required");
+  nbrdf_error err = {0};
+  model_decoder *dec = NULL;
+  model_base_table tables[2];
+  memset(tables, 0, sizeof tables);
+  nbrdf_status st = model_decoder_load(decoder, &dec, &err);
+  s.progress = train_on_progress, s.user = &prog;
+  train_watch_sigint(1);
+  if (!st) st = train_tables_fit(dec, &s, tables, &err);
+  train_watch_sigint(0);
+  const model_base_table *const parts[2] = {&tables[0], &tables[1]};
+  if (!st) st = model_tables_save(parts, out, &err);
+  model_base_table_free(&tables[0]);
+  model_base_table_free(&tables[1]);
+  model_decoder_destroy(dec);
+  if (!prog.json) fputc('\n', stderr);
+  if (st) return cli_fail_error("train", &err);
+  printf("train tables: %s (%d x %d dielectric, %d x %d conductor latents, %d steps)\n", out,
+         s.alpha_nodes, s.eta_nodes, s.alpha_nodes, s.r0_nodes, s.steps);
+  return CLI_EXIT_OK;
+}

@@ -1,0 +1,118 @@
+#include "train/samples.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+
+static int grow(void **p, size_t *cap, size_t need, size_t elem) {
+  if (need <= *cap) return 1;
+  size_t c = *cap ? *cap : 1024;
+  while (c < need)
+    c *= 2;
+  void *q = realloc(*p, c * elem);
+  if (!q) return 0;
+  *p = q;
+  *cap = c;
+  return 1;
+}
+
+typedef struct capacity {
+  size_t brdfs, rows;
+} capacity;
+
+/* Capacities live beside the struct only while loading; train_samples itself
+ * stays a plain description of the data. */
+static nbrdf_status append(train_samples *s, capacity *cap, const train_params *params, size_t n,
+                           const float *x, nbrdf_error *err) {
+  size_t rows = s->n_rows + n, c_rows = cap->rows, c_brdfs = cap->brdfs;
+  size_t c_wo = c_rows, c_f = c_rows, c_off = c_brdfs, c_par = c_brdfs;
+  if (!grow((void **)&s->wi, &c_rows, rows, 3 * sizeof(float)) ||
+      !grow((void **)&s->wo, &c_wo, rows, 3 * sizeof(float)) ||
+      !grow((void **)&s->f, &c_f, rows, sizeof(float)) ||
+      !grow((void **)&s->offsets, &c_off, s->n_brdfs + 2, sizeof(size_t)) ||
+      !grow((void **)&s->params, &c_par, s->n_brdfs + 1, sizeof(train_params)))
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory at %zu rows", rows);
+  cap->rows = c_rows;
+  cap->brdfs = c_off < c_par ? c_off : c_par;
+  if (s->n_brdfs == 0) s->offsets[0] = 0;
+  for (size_t j = 0; j < n; j++) {
+    const float *r = x + j * TRAIN_DATASET_FLOATS;
+    size_t k = s->n_rows + j;
+    memcpy(s->wi + 3 * k, r, 3 * sizeof(float));
+    memcpy(s->wo + 3 * k, r + 3, 3 * sizeof(float));
+    s->f[k] = r[6];
+  }
+  s->params[s->n_brdfs] = *params;
+  s->n_rows = rows;
+  s->n_brdfs++;
+  s->offsets[s->n_brdfs] = rows;
+  return NBRDF_OK;
+}
+
+nbrdf_status train_samples_append(train_samples *s, const train_params *params, size_t n,
+                                  const float *samples, nbrdf_error *err) {
+  /* Exact-size growth: callers that append many BRDFs use the loader. */
+  capacity cap = {s->n_brdfs, s->n_rows};
+  if (n == 0)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "training samples: a BRDF without samples");
+  return append(s, &cap, params, n, samples, err);
+}
+
+typedef struct load_state {
+  train_samples *s;
+  capacity cap;
+  nbrdf_status st;
+  nbrdf_error *err;
+} load_state;
+
+static int on_record(void *user, const train_dataset_record *r) {
+  load_state *ls = user;
+  ls->st = append(ls->s, &ls->cap, &r->params, r->n_samples, r->samples, ls->err);
+  return ls->st != NBRDF_OK;
+}
+
+nbrdf_status train_samples_load(int n_files, const char *const *paths, train_samples *out,
+                                nbrdf_error *err) {
+  memset(out, 0, sizeof *out);
+  out->checksums = calloc((size_t)(n_files > 0 ? n_files : 1), sizeof(uint64_t));
+  if (!out->checksums) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory");
+  load_state ls = {out, {0, 0}, NBRDF_OK, err};
+  for (int i = 0; i < n_files; i++) {
+    train_dataset_info info;
+    nbrdf_status st = train_dataset_read(paths[i], 1, &info, on_record, &ls, err);
+    if (st == NBRDF_OK) st = ls.st;
+    if (st == NBRDF_OK && !info.complete)
+      st = nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                      "%s: incomplete data set (%llu of %llu BRDFs); finish it with the same "
+                      "`nbrdf dataset` command first",
+                      paths[i], (unsigned long long)info.records,
+                      (unsigned long long)info.settings.count);
+    if (st != NBRDF_OK) {
+      train_samples_free(out);
+      return st;
+    }
+    out->checksums[i] = info.checksum;
+    out->n_files = i + 1;
+  }
+  if (out->n_brdfs == 0) {
+    train_samples_free(out);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "training samples: no data set given");
+  }
+  return NBRDF_OK;
+}
+
+void train_samples_free(train_samples *s) {
+  free(s->offsets);
+  free(s->wi);
+  free(s->wo);
+  free(s->f);
+  free(s->params);
+  free(s->checksums);
+  memset(s, 0, sizeof *s);
+}
+
+model_samples train_samples_view(const train_samples *s) {
+  model_samples m = {s->n_brdfs, s->offsets, s->wi, s->wo, s->f};
+  return m;
+}

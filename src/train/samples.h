@@ -1,0 +1,34 @@
+/* Training samples in memory: the records of one or more data sets
+ * (train/dataset.h) concatenated, grouped by BRDF, in the layout the
+ * auto-decoder fit reads (model/autodecoder.h). Standard errors are dropped:
+ * the generator keeps them small against the fit's error (docs/DATASET.md). */
+#ifndef NBRDF_TRAIN_SAMPLES_H
+#define NBRDF_TRAIN_SAMPLES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "model/autodecoder.h"
+#include "train/dataset.h"
+
+typedef struct train_samples {
+  size_t n_brdfs, n_rows;
+  size_t *offsets;      /* n_brdfs + 1 */
+  float *wi, *wo, *f;   /* [n_rows × 3], [n_rows × 3], [n_rows] */
+  train_params *params; /* per BRDF */
+  uint64_t *checksums;  /* per file: the footer checksum (identifies the data) */
+  int n_files;
+} train_samples;
+
+/* Reads complete data sets (strict validation) in the given order. */
+nbrdf_status train_samples_load(int n_files, const char *const *paths, train_samples *out,
+                                nbrdf_error *err);
+/* Appends one BRDF's interleaved samples (TRAIN_DATASET_FLOATS per sample). */
+nbrdf_status train_samples_append(train_samples *s, const train_params *params, size_t n,
+                                  const float *samples, nbrdf_error *err);
+void train_samples_free(train_samples *s);
+
+/* The view the fit takes (borrowed). */
+model_samples train_samples_view(const train_samples *s);
+
+#endif

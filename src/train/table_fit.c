@@ -1,0 +1,110 @@
+#include "train/table_fit.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "model/autodecoder.h"
+#include "train/dataset.h"
+#include "train/samples.h"
+
+/* Node streams for the sample generator: any fixed family apart from the
+ * training and held-out ones. */
+#define TABLE_FAMILY UINT64_C(0x6e62726474626c73)
+
+nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_params *params,
+                                  int steps, uint64_t seed, float *out, nbrdf_error *err) {
+  train_dataset_settings ds = TRAIN_DATASET_SETTINGS_DEFAULT;
+  size_t per = (size_t)ds.incident * (size_t)ds.outgoing;
+  float *buf = malloc(per * TRAIN_DATASET_FLOATS * sizeof(float));
+  train_samples data;
+  memset(&data, 0, sizeof data);
+  nbrdf_status st = buf ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
+  for (size_t k = 0; k < n && !st; k++) {
+    st = train_samples_generate(&ds, TABLE_FAMILY, k, &params[k], buf, err);
+    if (!st) st = train_samples_append(&data, &params[k], per, buf, err);
+  }
+  free(buf);
+  memset(out, 0, n * (size_t)dec->cfg.latent_dim * sizeof(float));
+  model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
+  o.rows_per_brdf = 256;
+  o.lr_latent = 2e-2f;
+  o.decay_every = steps / 4 > 0 ? steps / 4 : 1;
+  o.decay_gamma = 0.5f;
+  o.seed = seed;
+  model_fit *fit = NULL;
+  model_samples view = train_samples_view(&data);
+  if (!st) st = model_fit_create(dec, n, out, &o, &fit, err);
+  for (int i = 0; i < steps && !st; i++)
+    st = model_fit_step(fit, &view, NULL, err);
+  model_fit_destroy(fit);
+  train_samples_free(&data);
+  return st;
+}
+
+static void alpha_axis(float *a, int n) {
+  for (int i = 0; i < n; i++) {
+    double u = 0.216 + (1.0 - 0.216) * i / (n - 1);
+    a[i] = (float)(u * u * u);
+  }
+  a[0] = 0.01f, a[n - 1] = 1.0f;
+}
+
+static void linspace(float *x, int n, double lo, double hi) {
+  for (int i = 0; i < n; i++)
+    x[i] = (float)(lo + (hi - lo) * i / (n - 1));
+}
+
+static nbrdf_status fit_table(model_decoder *dec, const train_table_settings *s,
+                              model_base_table *t, nbrdf_error *err) {
+  size_t n = (size_t)t->n[0] * (size_t)t->n[1];
+  train_params *p = calloc(n, sizeof *p);
+  if (!p) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
+  for (int a = 0; a < t->n[0]; a++)
+    for (int b = 0; b < t->n[1]; b++) {
+      train_params *q = &p[(size_t)a * t->n[1] + b];
+      q->base_alpha = t->axis[0][a];
+      if (t->kind == MODEL_TABLE_DIELECTRIC)
+        q->kind = TRAIN_DIELECTRIC, q->base_eta = t->axis[1][b];
+      else
+        q->kind = TRAIN_CONDUCTOR, q->base_r0 = t->axis[1][b];
+    }
+  nbrdf_status st = train_project_params(dec, n, p, s->steps, s->seed, t->latents, err);
+  free(p);
+  return st;
+}
+
+nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
+                              model_base_table tables[2], nbrdf_error *err) {
+  if (s->alpha_nodes < 2 || s->eta_nodes < 2 || s->r0_nodes < 2 || s->steps < 1)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "tables: >= 2 nodes per axis and >= 1 step");
+  int na = s->alpha_nodes, D = dec->cfg.latent_dim;
+  float *alpha = malloc((size_t)na * sizeof *alpha);
+  float *eta = malloc((size_t)s->eta_nodes * sizeof *eta);
+  float *r0 = malloc((size_t)s->r0_nodes * sizeof *r0);
+  nbrdf_status st =
+      alpha && eta && r0 ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
+  memset(tables, 0, 2 * sizeof *tables);
+  if (!st) {
+    alpha_axis(alpha, na);
+    linspace(eta, s->eta_nodes, 1.05, 2.0);
+    linspace(r0, s->r0_nodes, 0.0, 1.0);
+    st = model_base_table_init(&tables[0], MODEL_TABLE_DIELECTRIC, D, na, alpha, s->eta_nodes, eta,
+                               err);
+  }
+  if (!st)
+    st = model_base_table_init(&tables[1], MODEL_TABLE_CONDUCTOR, D, na, alpha, s->r0_nodes, r0,
+                               err);
+  for (int k = 0; k < 2 && !st; k++) {
+    if (s->progress) s->progress(s->user, "tables", k, 2);
+    st = fit_table(dec, s, &tables[k], err);
+  }
+  if (!st && s->progress) s->progress(s->user, "tables", 2, 2);
+  free(alpha), free(eta), free(r0);
+  if (st) {
+    model_base_table_free(&tables[0]);
+    model_base_table_free(&tables[1]);
+  }
+  return st;
+}

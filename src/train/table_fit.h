@@ -1,0 +1,40 @@
+/* Base-latent tables (model/base_table.h) filled by projection: every grid node
+ * is an analytic BRDF (top rough dielectric at (α1, η), bottom rough conductor
+ * at (α2, R0)) whose samples come from the data-set generator; all nodes of a
+ * table are projected together with the decoder frozen, from the same zero
+ * latent, so neighbouring nodes land on neighbouring latents and bilinear
+ * look-up between them stays meaningful (docs/TRAINING.md measures the error
+ * the interpolation adds). */
+#ifndef NBRDF_TRAIN_TABLE_FIT_H
+#define NBRDF_TRAIN_TABLE_FIT_H
+
+#include "model/base_table.h"
+#include "model/decoder.h"
+#include "nbrdf/status.h"
+#include "train/params.h"
+
+typedef struct train_table_settings {
+  int alpha_nodes; /* α = u³, u uniform in [0.216, 1] (Table 2's α), ends 0.01 and 1 */
+  int eta_nodes;   /* η uniform in [1.05, 2] */
+  int r0_nodes;    /* R0 uniform in [0, 1] */
+  int steps;       /* projection steps */
+  uint64_t seed;
+  nbrdf_progress_fn progress; /* stage "tables", done/total in steps */
+  void *user;
+} train_table_settings;
+
+#define TRAIN_TABLE_SETTINGS_DEFAULT                                                               \
+  { 16, 8, 9, 800, 1u, NULL, NULL }
+
+/* Fills tables[MODEL_TABLE_DIELECTRIC] and tables[MODEL_TABLE_CONDUCTOR]
+ * (initialised here; free with model_base_table_free). */
+nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
+                              model_base_table tables[2], nbrdf_error *err);
+
+/* Projects arbitrary analytic single BRDFs (kind TRAIN_CONDUCTOR or
+ * TRAIN_DIELECTRIC params) the same way, into out [n × D]: what the table
+ * interpolation is compared with. */
+nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_params *params,
+                                  int steps, uint64_t seed, float *out, nbrdf_error *err);
+
+#endif
