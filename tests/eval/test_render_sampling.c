@@ -84,6 +84,7 @@ static void test_proxy_mixture(void) {
       dof++;
     }
     /* Mean dof, standard deviation sqrt(2 dof): 6 sigmas above is a failure. */
+    printf("proxy mixture, %d channels: chi2 %.1f over %d bins\n", channels, chi2, dof);
     CHECK_MSG(chi2 < dof + 6.0 * sqrt(2.0 * dof), "%d channels: chi2 %.1f over %d bins", channels,
               chi2, dof);
     CHECK(dof > 100);
