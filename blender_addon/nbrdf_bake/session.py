@@ -119,14 +119,24 @@ def preview_path(output):
     return os.path.splitext(output)[0] + ".preview.exr"
 
 
+# (path, mtime) -> whether that executable has `render`; asked once, not on every bake.
+_render_support = {}
+
+
 def has_render(exe):
     """Whether this nbrdf has the render subcommand (older builds answer 'unknown')."""
     try:
-        return subprocess.run([exe, "render", "--help"], stdin=subprocess.DEVNULL,
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                              timeout=30).returncode == 0
-    except (OSError, subprocess.TimeoutExpired):
+        key = (exe, os.stat(exe).st_mtime_ns)
+    except OSError:
         return False
+    if key not in _render_support:
+        try:
+            _render_support[key] = subprocess.run(
+                [exe, "render", "--help"], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL, timeout=30).returncode == 0
+        except (OSError, subprocess.TimeoutExpired):
+            return False
+    return _render_support[key]
 
 
 def load_result(path):

@@ -141,7 +141,16 @@ t.check("mismatch reported as an error: %s" % message,
 t.check("mismatch: no file", not os.path.exists(os.path.join(work, "mismatch.exr")))
 t.check("mismatch: no temporaries", not t.temporaries(work) and t.bake_temp_dirs() == before)
 
-# A setup problem is reported before anything runs.
+# Setup problems are reported before anything runs: a path relative to an unsaved .blend,
+# an image parameter without an image.
+s.output = "//latent/{material}.exr"
+try:
+    bpy.ops.nbrdf.bake_latent(material=mat.name)
+    message = None
+except RuntimeError as e:
+    message = str(e)
+t.check("relative output in an unsaved file: %s" % message, message and "save the" in message)
+s.output = os.path.join(work, "mismatch.exr")
 s.sigma_t_image = None
 try:
     bpy.ops.nbrdf.bake_latent(material=mat.name)
