@@ -12,14 +12,14 @@ fi
 zip=$TMP/nbrdf_bake.zip
 check "package the add-on" bash "$NBRDF_SOURCE_DIR/scripts/package-blender-addon.sh" -o "$zip" \
   --nbrdf "$NBRDF" --bundle "$TMP/bundle"
-mkdir -p "$TMP/tmp" "$TMP/user-scripts"
+mkdir -p "$TMP/tmp"
 
 for test in "$NBRDF_SOURCE_DIR"/tests/blender/test_*.py; do
   name=$(basename "$test" .py)
   start=$SECONDS
   before=$failures
   check "$name (log: below)" env NBRDF_BUNDLE="$TMP/bundle" NBRDF_ADDON_ZIP="$zip" \
-    BLENDER_USER_SCRIPTS="$TMP/user-scripts" TMPDIR="$TMP/tmp" \
+    BLENDER_USER_SCRIPTS="$TMP/scripts-$name" TMPDIR="$TMP/tmp" \
     blender -b --factory-startup --python-exit-code 1 --python "$test" >"$TMP/$name.log" 2>&1
   [ "$failures" -eq "$before" ] || sed 's/^/  | /' "$TMP/$name.log" >&2
   grep -E "^test_.*checks" "$TMP/$name.log"
