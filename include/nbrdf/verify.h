@@ -100,6 +100,10 @@ typedef struct nbrdf_verify_report {
   size_t decoded;         /* distinct latents decoded into lobe images */
   size_t decoder_queries; /* decoder evaluations (one colour channel each) */
   size_t clamped;         /* parameters moved into the ground truth's range */
+  /* Every tile of every level is read first; texels (any level) holding a
+   * non-finite latent are counted here, the first one located. */
+  size_t nonfinite;
+  int nonfinite_level, nonfinite_x, nonfinite_y;
   double reference_seconds, decode_seconds; /* wall clock */
 } nbrdf_verify_report;
 

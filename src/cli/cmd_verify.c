@@ -201,9 +201,7 @@ static void print_report(const verify_args *a, const nbrdf_verify_report *r) {
 }
 
 static int finish(const verify_args *a, const nbrdf_verify_report *r) {
-  size_t damaged = 0;
-  for (size_t i = 0; i < r->n_texels; i++)
-    damaged += !isfinite(r->texels[i].lobe_error);
+  size_t damaged = r->nonfinite;
   double stat = !strcmp(a->gate, "median") ? r->overall.median
                 : !strcmp(a->gate, "p90")  ? r->overall.p90
                                            : r->overall.worst;
@@ -215,8 +213,10 @@ static int finish(const verify_args *a, const nbrdf_verify_report *r) {
            isfinite(r->overall.worst) ? 100 * r->overall.worst : -1.0, damaged,
            damaged || over ? "false" : "true");
   if (damaged)
-    return cli_fail("verify", "FAIL: %zu texel(s) of %s hold non-finite latents (damaged file)",
-                    damaged, a->texture);
+    return cli_fail("verify",
+                    "FAIL: %s: %zu texel(s) hold non-finite latents, the first at level %d "
+                    "(%d, %d): a damaged file",
+                    a->texture, damaged, r->nonfinite_level, r->nonfinite_x, r->nonfinite_y);
   if (over)
     return cli_fail("verify", "FAIL: %s lobe error %.2f %% exceeds --max-error %g %%", a->gate,
                     100 * stat, a->max_error);

@@ -204,7 +204,12 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   rep->width = v->info->width, rep->height = v->info->height;
   rep->levels = levels, rep->colours = v->colours;
   rep->walks = v->o.walks, rep->seed = v->o.seed;
-  st = plan(v, first, last, err);
+  verify_damage damage;
+  st = verify_scan(v->reader, &damage, err);
+  rep->nonfinite = damage.texels;
+  if (damage.texels)
+    rep->nonfinite_level = damage.level, rep->nonfinite_x = damage.x, rep->nonfinite_y = damage.y;
+  if (st == NBRDF_OK) st = plan(v, first, last, err);
   for (size_t i = 0; st == NBRDF_OK && i < rep->n_texels; i++) {
     if ((v->o.cancel && *v->o.cancel) ||
         (v->o.progress && v->o.progress(v->o.user, "verify", (double)i, (double)rep->n_texels)))

@@ -1,5 +1,6 @@
 /* The pieces of nbrdf_verify (include/nbrdf/verify.h), one file each:
  *   verify.c            the public entry: texture and inputs, the loop over texels
+ *   verify_scan.c       every tile read, every latent finite
  *   verify_select.c     which texels, and which level-0 texels of a footprint
  *   verify_reference.c  ground-truth lobe images per distinct parameter tuple
  *   verify_decode.c     the texture's latents decoded into the same images
@@ -16,6 +17,7 @@
 
 #include "eval/lobe.h"
 #include "nbrdf/verify.h"
+#include "texture/latent_exr.h"
 
 #define VERIFY_SET ((size_t)NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
 
@@ -66,6 +68,16 @@ nbrdf_status verify_decode(verify_decoder *d, const float *latent, double *image
                            nbrdf_error *err);
 size_t verify_decoder_distinct(const verify_decoder *d);
 size_t verify_decoder_queries(const verify_decoder *d);
+
+/* ---- integrity ---- */
+typedef struct verify_damage {
+  size_t texels;   /* texels (any level) with a non-finite latent */
+  int level, x, y; /* the first of them */
+} verify_damage;
+
+/* Reads every tile of every level of `r` (a damaged tile fails with the
+ * reader's message) and counts texels holding non-finite latents. */
+nbrdf_status verify_scan(nbrdf_latent_reader *r, verify_damage *d, nbrdf_error *err);
 
 /* ---- statistics ---- */
 /* Summary of the texels of `level` (NBRDF_VERIFY_ALL_LEVELS: all). */
