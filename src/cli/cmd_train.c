@@ -14,6 +14,11 @@ void cmd_train_usage(FILE *out) {
           "usage: nbrdf train decoder --data FILE[,FILE...] --run DIR [options]\n"
           "       nbrdf train tables --decoder FILE -o FILE [--alpha-nodes N] [--eta-nodes N]\n"
           "                          [--r0-nodes N] [--steps N] [--seed S]\n"
+          "       nbrdf train layering --data FILE[,...] --run DIR --tables FILE -o FILE\n"
+          "                          [--preset small|paper] [--epochs N] [--batch N] [--lr X]\n"
+          "                          [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
+          "       nbrdf train bundle -o DIR --decoder F --tables F --layering F [--sampler F]\n"
+          "                          [--name NAME] [--card MODEL_CARD.md] [--note TEXT]\n"
           "\n"
           "Auto-decoder training (paper §3.2): decoder weights and one latent per training\n"
           "BRDF learned together. DIR holds checkpoint.safetensors (resume: run the same\n"
@@ -34,7 +39,11 @@ void cmd_train_usage(FILE *out) {
           "\n"
           "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
           "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
-          "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n");
+          "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
+          "layering: fits the layering network to the latents a decoder run learned for its\n"
+          "two-layer BRDFs (--data: the same files as that run), inputs from the tables.\n"
+          "bundle: assembles a model bundle; without --sampler the proxy network keeps its\n"
+          "initial weights (and the card must say so).\n");
 }
 
 static volatile sig_atomic_t interrupted;
@@ -191,5 +200,8 @@ int cmd_train(int argc, char **argv) {
   }
   if (!strcmp(argv[1], "decoder")) return train_decoder(argc, argv);
   if (!strcmp(argv[1], "tables")) return cmd_train_tables(argc, argv);
-  return cli_usage_error("train", "unknown training '%s' (decoder, tables)", argv[1]);
+  if (!strcmp(argv[1], "layering")) return cmd_train_layering(argc, argv);
+  if (!strcmp(argv[1], "bundle")) return cmd_train_bundle(argc, argv);
+  return cli_usage_error("train", "unknown training '%s' (decoder, tables, layering, bundle)",
+                         argv[1]);
 }

@@ -102,6 +102,36 @@ nbrdf_status train_samples_load(int n_files, const char *const *paths, train_sam
   return NBRDF_OK;
 }
 
+/* Samples of every BRDF, generated in parallel (each a pure function of its
+ * index), appended in order. */
+nbrdf_status train_samples_generate_all(train_samples *data, size_t n, const train_params *params,
+                                        uint64_t family, nbrdf_error *err) {
+  train_dataset_settings ds = TRAIN_DATASET_SETTINGS_DEFAULT;
+  size_t per = (size_t)ds.incident * (size_t)ds.outgoing, row = per * TRAIN_DATASET_FLOATS;
+  float *buf = malloc(n * row * sizeof(float));
+  nbrdf_status *sts = calloc(n, sizeof *sts);
+  nbrdf_error *errs = calloc(n, sizeof *errs);
+  nbrdf_status st = buf && sts && errs
+                        ? NBRDF_OK
+                        : nbrdf_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory");
+  if (!st) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (long k = 0; k < (long)n; k++)
+      sts[k] = train_samples_generate(&ds, family, (uint64_t)k, &params[k], buf + (size_t)k * row,
+                                      &errs[k]);
+  }
+  for (size_t k = 0; k < n && !st; k++) {
+    if (sts[k]) {
+      if (err) *err = errs[k];
+      st = sts[k];
+    } else {
+      st = train_samples_append(data, &params[k], per, buf + k * row, err);
+    }
+  }
+  free(buf), free(sts), free(errs);
+  return st;
+}
+
 void train_samples_free(train_samples *s) {
   free(s->offsets);
   free(s->wi);

@@ -26,6 +26,11 @@ nbrdf_status train_samples_load(int n_files, const char *const *paths, train_sam
 /* Appends one BRDF's interleaved samples (TRAIN_DATASET_FLOATS per sample). */
 nbrdf_status train_samples_append(train_samples *s, const train_params *params, size_t n,
                                   const float *samples, nbrdf_error *err);
+/* Appends the samples of n BRDFs `params` made by the data-set generator's
+ * default settings with the random streams of (family, index k), generated in
+ * parallel (each a pure function of its index), in order. */
+nbrdf_status train_samples_generate_all(train_samples *s, size_t n, const train_params *params,
+                                        uint64_t family, nbrdf_error *err);
 void train_samples_free(train_samples *s);
 
 /* The view the fit takes (borrowed). */

@@ -13,36 +13,6 @@
  * training and held-out ones. */
 #define TABLE_FAMILY UINT64_C(0x6e62726474626c73)
 
-nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_params *params,
-                                  int steps, uint64_t seed, float *out, nbrdf_error *err) {
-  train_dataset_settings ds = TRAIN_DATASET_SETTINGS_DEFAULT;
-  size_t per = (size_t)ds.incident * (size_t)ds.outgoing;
-  float *buf = malloc(per * TRAIN_DATASET_FLOATS * sizeof(float));
-  train_samples data;
-  memset(&data, 0, sizeof data);
-  nbrdf_status st = buf ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
-  for (size_t k = 0; k < n && !st; k++) {
-    st = train_samples_generate(&ds, TABLE_FAMILY, k, &params[k], buf, err);
-    if (!st) st = train_samples_append(&data, &params[k], per, buf, err);
-  }
-  free(buf);
-  memset(out, 0, n * (size_t)dec->cfg.latent_dim * sizeof(float));
-  model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
-  o.rows_per_brdf = 256;
-  o.lr_latent = 2e-2f;
-  o.decay_every = steps / 4 > 0 ? steps / 4 : 1;
-  o.decay_gamma = 0.5f;
-  o.seed = seed;
-  model_fit *fit = NULL;
-  model_samples view = train_samples_view(&data);
-  if (!st) st = model_fit_create(dec, n, out, &o, &fit, err);
-  for (int i = 0; i < steps && !st; i++)
-    st = model_fit_step(fit, &view, NULL, err);
-  model_fit_destroy(fit);
-  train_samples_free(&data);
-  return st;
-}
-
 static void alpha_axis(float *a, int n) {
   for (int i = 0; i < n; i++) {
     double u = 0.216 + (1.0 - 0.216) * i / (n - 1);
@@ -70,7 +40,8 @@ static nbrdf_status fit_table(model_decoder *dec, const train_table_settings *s,
       else
         q->kind = TRAIN_CONDUCTOR, q->base_r0 = t->axis[1][b];
     }
-  nbrdf_status st = train_project_params(dec, n, p, s->steps, s->seed, t->latents, err);
+  nbrdf_status st =
+      train_project_params(dec, n, p, TABLE_FAMILY, s->steps, s->seed, t->latents, err);
   free(p);
   return st;
 }

@@ -31,10 +31,13 @@ typedef struct train_table_settings {
 nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
                               model_base_table tables[2], nbrdf_error *err);
 
-/* Projects arbitrary analytic single BRDFs (kind TRAIN_CONDUCTOR or
- * TRAIN_DIELECTRIC params) the same way, into out [n × D]: what the table
- * interpolation is compared with. */
+/* Projects arbitrary BRDFs `params` into out [n × D] with the decoder frozen,
+ * from a zero latent, on the data-set generator's samples with the random
+ * streams of (family, index k) (generated in parallel). Analytic and layered
+ * BRDFs alike: tables, held-out evaluation and the interpolation-error
+ * measurement use it. */
 nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_params *params,
-                                  int steps, uint64_t seed, float *out, nbrdf_error *err);
+                                  uint64_t family, int steps, uint64_t seed, float *out,
+                                  nbrdf_error *err);
 
 #endif

@@ -2,7 +2,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,40 +22,18 @@ static double now_s(void) {
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* Held-out `rep` BRDFs with the generator's default sampling, made in parallel
- * (each a pure function of its index). */
+/* Held-out `rep` BRDFs (indices from TRAIN_VALIDATION_FIRST). */
 static nbrdf_status make_validation(int n, train_samples *out, nbrdf_error *err) {
   memset(out, 0, sizeof *out);
   if (n <= 0) return NBRDF_OK;
-  train_dataset_settings ds = TRAIN_DATASET_SETTINGS_DEFAULT;
-  ds.kind = train_heldout_kind(TRAIN_HELDOUT_REP);
-  size_t per = (size_t)ds.incident * (size_t)ds.outgoing;
-  float *buf = malloc((size_t)n * per * TRAIN_DATASET_FLOATS * sizeof(float));
   train_params *params = malloc((size_t)n * sizeof *params);
-  nbrdf_status *sts = calloc((size_t)n, sizeof *sts);
-  nbrdf_error *errs = calloc((size_t)n, sizeof *errs);
-  nbrdf_status st = NBRDF_OK;
-  if (!buf || !params || !sts || !errs)
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "validation: out of memory");
+  if (!params) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "validation: out of memory");
   uint64_t family = train_heldout_seed(TRAIN_HELDOUT_REP);
-  if (!st) {
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int i = 0; i < n; i++) {
-      uint64_t index = TRAIN_VALIDATION_FIRST + (uint64_t)i;
-      train_params_draw(family, ds.kind, index, &params[i]);
-      sts[i] = train_samples_generate(&ds, family, index, &params[i],
-                                      buf + (size_t)i * per * TRAIN_DATASET_FLOATS, &errs[i]);
-    }
-    for (int i = 0; i < n && !st; i++)
-      if (sts[i]) {
-        if (err) *err = errs[i];
-        st = sts[i];
-      }
-  }
-  for (int i = 0; i < n && !st; i++)
-    st = train_samples_append(out, &params[i], per, buf + (size_t)i * per * TRAIN_DATASET_FLOATS,
-                              err);
-  free(buf), free(params), free(sts), free(errs);
+  for (int i = 0; i < n; i++)
+    train_params_draw(family, train_heldout_kind(TRAIN_HELDOUT_REP),
+                      TRAIN_VALIDATION_FIRST + (uint64_t)i, &params[i]);
+  nbrdf_status st = train_samples_generate_all(out, (size_t)n, params, family, err);
+  free(params);
   return st;
 }
 

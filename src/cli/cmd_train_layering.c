@@ -1,0 +1,196 @@
+/* nbrdf train layering / nbrdf train bundle. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/cmd_train.h"
+#include "core/error.h"
+#include "model/bundle.h"
+#include "train/train_layering.h"
+
+static nbrdf_status load_tables(const char *path, model_base_table t[2], nbrdf_error *err) {
+  nbrdf_st_reader *r = NULL;
+  memset(t, 0, 2 * sizeof *t);
+  nbrdf_status st = nbrdf_st_open(path, &r, err);
+  if (!st) st = model_base_table_read(r, MODEL_TABLE_DIELECTRIC, 32, &t[0], err);
+  if (!st) st = model_base_table_read(r, MODEL_TABLE_CONDUCTOR, 32, &t[1], err);
+  nbrdf_st_close(r);
+  return st;
+}
+
+static int split(char *list, const char **out, int max) {
+  int n = 0;
+  for (char *tok = strtok(list, ","); tok && n < max; tok = strtok(NULL, ","))
+    out[n++] = tok;
+  return n;
+}
+
+int cmd_train_layering(int argc, char **argv) {
+  train_layering_settings s = TRAIN_LAYERING_SETTINGS_DEFAULT;
+  const char *run = NULL, *tables = NULL, *out = NULL, *data[64];
+  char *list = NULL;
+  int n_data = 0;
+  train_progress prog = {0, 0};
+  for (int i = 2; i < argc; i++) {
+    const char *v;
+    long n;
+    double x;
+    if ((v = cli_option_value(argc, argv, &i, "--data"))) {
+      free(list);
+      list = strdup(v);
+      n_data = list ? split(list, data, 64) : 0;
+    } else if ((v = cli_option_value(argc, argv, &i, "--run")))
+      run = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--tables")))
+      tables = v;
+    else if ((v = cli_option_value(argc, argv, &i, "-o")))
+      out = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--preset")))
+      s.preset = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--log")))
+      s.log_path = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--epochs")) && cli_parse_int(v, 1, 1000000, &n))
+      s.epochs = (int)n;
+    else if ((v = cli_option_value(argc, argv, &i, "--batch")) && cli_parse_int(v, 1, 65536, &n))
+      s.batch = (int)n;
+    else if ((v = cli_option_value(argc, argv, &i, "--decay-every")) &&
+             cli_parse_int(v, 0, 1000000, &n))
+      s.decay_every = (int)n;
+    else if ((v = cli_option_value(argc, argv, &i, "--seed")) &&
+             cli_parse_int(v, 0, 2147483647, &n))
+      s.seed = (uint64_t)n;
+    else if ((v = cli_option_value(argc, argv, &i, "--lr")) && cli_parse_double(v, &x) && x > 0)
+      s.lr = (float)x;
+    else if (!strcmp(argv[i], "--progress=json"))
+      prog.json = 1;
+    else {
+      free(list);
+      return cli_usage_error("train", "layering: unexpected or invalid argument '%s'", argv[i]);
+    }
+  }
+  if (!n_data || !run || !tables || !out) {
+    free(list);
+    return cli_usage_error("train", "layering: --data, --run, --tables and -o are required");
+  }
+  nbrdf_error err = {0};
+  train_samples d;
+  model_base_table t[2];
+  memset(t, 0, sizeof t);
+  float *lat = NULL;
+  model_layering *net = NULL;
+  train_layering_result r;
+  char ckpt[4096];
+  snprintf(ckpt, sizeof ckpt, "%s/checkpoint.safetensors", run);
+  nbrdf_status st = train_samples_load(n_data, data, &d, &err);
+  if (!st) st = load_tables(tables, t, &err);
+  if (!st && !(lat = malloc(d.n_brdfs * 32 * sizeof *lat)))
+    st = nbrdf_fail(&err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!st) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
+  s.progress = train_on_progress, s.user = &prog;
+  train_watch_sigint(1);
+  if (!st) st = train_layering_fit(&d, lat, t, &s, &net, &r, &err);
+  train_watch_sigint(0);
+  if (!st) st = model_layering_save(net, out, NULL, &err);
+  if (!prog.json) fputc('\n', stderr);
+  if (!st)
+    printf("train layering: %zu pairs (%zu held out), train MSE %.5g, validation MSE %.5g "
+           "(%.2f %% of the mean squared latent)\n",
+           r.pairs, r.validation_pairs, r.train_loss, r.val_loss,
+           100.0 * r.val_loss / (r.target_mean_square > 0 ? r.target_mean_square : 1));
+  model_layering_destroy(net);
+  model_base_table_free(&t[0]);
+  model_base_table_free(&t[1]);
+  free(lat), free(list);
+  train_samples_free(&d);
+  return st ? cli_fail_error("train", &err) : CLI_EXIT_OK;
+}
+
+static nbrdf_status read_net(const char *path, int layering, model_layering **lay,
+                             model_sampler **smp, nbrdf_error *err) {
+  nbrdf_st_reader *r = NULL;
+  nbrdf_status st = nbrdf_st_open(path, &r, err);
+  if (!st) st = layering ? model_layering_read(r, lay, err) : model_sampler_read(r, smp, err);
+  nbrdf_st_close(r);
+  return st;
+}
+
+static char *slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *b = n >= 0 ? malloc((size_t)n + 1) : NULL;
+  if (b && fread(b, 1, (size_t)n, f) == (size_t)n)
+    b[n] = '\0';
+  else
+    free(b), b = NULL;
+  fclose(f);
+  return b;
+}
+
+int cmd_train_bundle(int argc, char **argv) {
+  const char *out = NULL, *name = "default", *decoder = NULL, *tables = NULL, *layering = NULL,
+             *sampler = NULL, *card = NULL, *note = NULL;
+  for (int i = 2; i < argc; i++) {
+    const char *v;
+    if ((v = cli_option_value(argc, argv, &i, "-o")))
+      out = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--name")))
+      name = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--decoder")))
+      decoder = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--tables")))
+      tables = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--layering")))
+      layering = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--sampler")))
+      sampler = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--card")))
+      card = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--note")))
+      note = v;
+    else
+      return cli_usage_error("train", "bundle: unexpected argument '%s'", argv[i]);
+  }
+  if (!out || !decoder || !tables || !layering)
+    return cli_usage_error("train", "bundle: -o, --decoder, --tables and --layering are required");
+  nbrdf_error err = {0};
+  model_decoder *dec = NULL;
+  model_layering *lay = NULL;
+  model_sampler *smp = NULL;
+  model_base_table t[2];
+  char *card_text = NULL;
+  nbrdf_status st = model_decoder_load(decoder, &dec, &err);
+  if (!st) st = load_tables(tables, t, &err);
+  if (!st) st = read_net(layering, 1, &lay, NULL, &err);
+  /* Without a trained sampler the proxy keeps its initial weights: sampling
+   * stays unbiased (MIS), only its variance suffers; the card says so. */
+  if (!st)
+    st = sampler ? read_net(sampler, 0, NULL, &smp, &err)
+                 : model_sampler_create("default", 32, 1, &smp, &err);
+  if (!st && card && !(card_text = slurp(card)))
+    st = nbrdf_fail(&err, NBRDF_ERR_IO, "%s: cannot read the model card", card);
+  uint64_t sum = 0;
+  if (!st) {
+    model_bundle_parts parts = {.name = name,
+                                .trained = 1,
+                                .seed = 1,
+                                .note = note,
+                                .card = card_text,
+                                .decoder = dec,
+                                .layering = lay,
+                                .sampler = smp,
+                                .tables = {&t[0], &t[1]}};
+    st = model_bundle_save(out, &parts, &sum, &err);
+  }
+  model_decoder_destroy(dec);
+  model_layering_destroy(lay);
+  model_sampler_destroy(smp);
+  model_base_table_free(&t[0]);
+  model_base_table_free(&t[1]);
+  free(card_text);
+  if (st) return cli_fail_error("train", &err);
+  printf("train bundle: %s (checksum %016llx)\n", out, (unsigned long long)sum);
+  return CLI_EXIT_OK;
+}

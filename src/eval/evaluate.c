@@ -1,0 +1,166 @@
+/* The neural side of `nbrdf evaluate`: latents per held-out BRDF (projection,
+ * or tables + layering network), decoded lobe images, and the metrics. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/error.h"
+#include "eval/evaluate.h"
+#include "eval/lobe.h"
+#include "model/bundle.h"
+#include "train/table_fit.h"
+
+#define IMG ((size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES)
+#define PER_BRDF (NBRDF_LOBE_N_THETA * IMG)
+
+static const train_heldout heldout[EVAL_SET_COUNT] = {TRAIN_HELDOUT_REP, TRAIN_HELDOUT_SINGLE,
+                                                      TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3};
+
+static double now_s(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Lobe callback over a decoder and one latent. */
+typedef struct decoder_lobe {
+  model_decoder *dec;
+  model_runner runner;
+  const float *latent;
+} decoder_lobe;
+
+static nbrdf_status decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, double *f,
+                                    nbrdf_error *err) {
+  decoder_lobe *d = user;
+  int D = d->dec->cfg.latent_dim;
+  float *lat = calloc(n * (size_t)D, sizeof *lat), *wi = calloc(6 * n, sizeof *wi);
+  float *wo = wi ? wi + 3 * n : NULL, *out = calloc(n, sizeof *out);
+  nbrdf_status st =
+      lat && wi && out ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  for (size_t k = 0; k < n && !st; k++) {
+    memcpy(lat + k * (size_t)D, d->latent, (size_t)D * sizeof *lat);
+    for (int j = 0; j < 3; j++)
+      wi[3 * k + j] = (float)q[k].wi[j], wo[3 * k + j] = (float)q[k].wo[j];
+  }
+  if (!st) st = model_decoder_eval(d->dec, &d->runner, n, 1, lat, wi, wo, out, err);
+  for (size_t k = 0; k < n && !st; k++)
+    f[k] = out[k];
+  free(lat), free(wi), free(out);
+  return st;
+}
+
+static nbrdf_status base(const nbrdf_model *m, nbrdf_base_kind kind, double p0, double p1,
+                         float *out, nbrdf_error *err) {
+  return nbrdf_model_base_latents(m, kind, 1, &p0, &p1, NBRDF_RANGE_CLAMP, out, NULL, err);
+}
+
+/* Latent of a layered BRDF by recursive layering: the innermost coat over the
+ * conductor first (train_params: coat[0] is the outermost). */
+static nbrdf_status layered_latent(const nbrdf_model *m, const train_params *p, float *out,
+                                   nbrdf_error *err) {
+  float below[64], top[64], next[64];
+  nbrdf_status st = base(m, NBRDF_BASE_CONDUCTOR, p->base_alpha, p->base_r0, below, err);
+  for (int c = p->n_coats - 1; c >= 0 && !st; c--) {
+    const train_coat *k = &p->coat[c];
+    float a = (float)k->albedo, s = (float)k->sigma_t;
+    st = base(m, NBRDF_BASE_DIELECTRIC, k->alpha, k->eta, top, err);
+    if (!st) st = nbrdf_model_layer(m, 1, top, below, &a, &s, next, err);
+    if (!st) memcpy(below, next, sizeof next);
+  }
+  if (!st) memcpy(out, below, (size_t)nbrdf_model_latent_dim(m) * sizeof *out);
+  return st;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static void summarise(eval_result *r) {
+  double *e = malloc((size_t)r->n * sizeof *e), *a = malloc((size_t)r->n * sizeof *a);
+  if (!e || !a) {
+    free(e), free(a);
+    return;
+  }
+  r->worst = -1, r->max_albedo = 0;
+  for (int i = 0; i < r->n; i++) {
+    e[i] = r->cases[i].lobe_error, a[i] = r->cases[i].albedo_error;
+    if (e[i] > r->worst) r->worst = e[i], r->worst_index = i;
+    if (r->cases[i].max_albedo > r->max_albedo) r->max_albedo = r->cases[i].max_albedo;
+  }
+  qsort(e, (size_t)r->n, sizeof *e, cmp_double);
+  qsort(a, (size_t)r->n, sizeof *a, cmp_double);
+  r->median = e[r->n / 2];
+  int k90 = (int)ceil(0.9 * r->n) - 1;
+  r->p90 = e[k90 < 0 ? 0 : k90];
+  r->median_albedo_error = a[r->n / 2];
+  for (int i = 0; i < r->n; i++)
+    if (r->cases[i].lobe_error == r->median) r->median_index = i;
+  free(e), free(a);
+}
+
+nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set,
+                      const eval_settings *s, eval_result *r, nbrdf_error *err) {
+  memset(r, 0, sizeof *r);
+  r->set = set, r->n = s->count;
+  if (model) dec = model->decoder;
+  if ((set == EVAL_LAYER || set == EVAL_LAYER3) && !model)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "evaluate: the %s set needs a bundle (layering network and tables)",
+                      eval_set_name(set));
+  size_t n = (size_t)s->count, D = (size_t)dec->cfg.latent_dim;
+  r->cases = calloc(n, sizeof *r->cases);
+  r->ref = malloc(n * PER_BRDF * sizeof *r->ref);
+  r->approx = malloc(n * PER_BRDF * sizeof *r->approx);
+  float *lat = malloc(n * D * sizeof *lat);
+  train_params *params = malloc(n * sizeof *params);
+  if (!r->cases || !r->ref || !r->approx || !lat || !params) {
+    free(lat), free(params);
+    eval_result_free(r);
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
+  }
+  uint64_t family = train_heldout_seed(heldout[set]);
+  for (size_t i = 0; i < n; i++) {
+    train_params_draw(family, train_heldout_kind(heldout[set]), i, &params[i]);
+    r->cases[i].params = params[i];
+  }
+  double t0 = now_s();
+  nbrdf_status st = eval_reference(set, s, r->ref, &r->ref_noise, err);
+  double t1 = now_s();
+  if (!st && (set == EVAL_REP || set == EVAL_SINGLE))
+    st = train_project_params(dec, n, params, family, s->project_steps, 1, lat, err);
+  for (size_t i = 0; i < n && !st && set != EVAL_REP && set != EVAL_SINGLE; i++)
+    st = layered_latent(model, &params[i], lat + i * D, err);
+  decoder_lobe dl = {dec, {0}, NULL};
+  if (!st) st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &dl.runner, err);
+  for (size_t i = 0; i < n && !st; i++) {
+    dl.latent = lat + i * D;
+    double *ref = r->ref + i * PER_BRDF, *img = r->approx + i * PER_BRDF;
+    st = nbrdf_lobe_images(decoder_lobe_fn, &dl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
+                           nbrdf_lobe_theta_deg, img, err);
+    if (st) break;
+    eval_case *c = &r->cases[i];
+    c->lobe_error = nbrdf_lobe_error(PER_BRDF, ref, img);
+    c->albedo_error = nbrdf_lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, ref, img, NULL);
+    for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
+      double a = nbrdf_lobe_albedo(NBRDF_LOBE_RES, img + t * IMG);
+      if (a > c->max_albedo) c->max_albedo = a;
+    }
+  }
+  model_runner_destroy(&dl.runner);
+  r->seconds_reference = t1 - t0;
+  r->seconds_model = now_s() - t1;
+  free(lat), free(params);
+  if (st) {
+    eval_result_free(r);
+    return st;
+  }
+  summarise(r);
+  return NBRDF_OK;
+}
+
+void eval_result_free(eval_result *r) {
+  free(r->cases), free(r->ref), free(r->approx);
+  r->cases = NULL, r->ref = r->approx = NULL;
+}

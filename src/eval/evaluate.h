@@ -1,0 +1,82 @@
+/* Model quality on the held-out sets of METRICS.md (`nbrdf evaluate`): for
+ * each BRDF of a set, the lobe images of the ground truth and of the neural
+ * model at θi ∈ {0°, 30°, 60°, 80°}, their lobe error and albedo error.
+ *
+ * How the neural latent is obtained per set:
+ *   rep     two-layer BRDFs projected (decoder frozen) from data-set samples;
+ *   single  conductors and dielectrics projected the same way;
+ *   layer   two-layer BRDFs end to end: base-table look-up + layering network;
+ *   layer3  three-layer BRDFs: the layering network applied recursively.
+ * (layer and layer3 need a bundle; rep and single a decoder alone.)
+ *
+ * References: analytic BRDFs are evaluated exactly; layered ones by the
+ * whole-lobe estimator with `walks` walks per image. The reference's own
+ * noise is measured as the lobe error between two seeds on the first
+ * `noise_brdfs` BRDFs (METRICS.md asks for it beside every figure).
+ * References are cached in `cache_dir` (if set) as safetensors files keyed by
+ * set, count and walks, since they cost far more than the model. */
+#ifndef NBRDF_EVAL_EVALUATE_H
+#define NBRDF_EVAL_EVALUATE_H
+
+#include "model/decoder.h"
+#include "nbrdf/model.h"
+#include "train/params.h"
+
+typedef enum eval_set {
+  EVAL_REP = 0,
+  EVAL_SINGLE,
+  EVAL_LAYER,
+  EVAL_LAYER3,
+  EVAL_SET_COUNT
+} eval_set;
+
+typedef struct eval_settings {
+  int count;         /* BRDFs per set (METRICS.md: >= 100) */
+  int walks;         /* whole-lobe walks per reference image */
+  int noise_brdfs;   /* BRDFs whose reference is recomputed with a second seed */
+  int project_steps; /* projection steps (rep, single) */
+  const char *cache_dir;
+  nbrdf_progress_fn progress; /* stage "<set>: reference" / "<set>: model" */
+  void *user;
+} eval_settings;
+
+#define EVAL_SETTINGS_DEFAULT                                                                      \
+  { 100, 16000, 10, 1000, NULL, NULL, NULL }
+
+typedef struct eval_case {
+  train_params params;
+  double lobe_error;   /* fraction */
+  double albedo_error; /* mean over the four θi */
+  double max_albedo;   /* of the neural lobe images */
+} eval_case;
+
+typedef struct eval_result {
+  eval_set set;
+  int n;
+  eval_case *cases;
+  double median, p90, worst, median_albedo_error, max_albedo, ref_noise;
+  int worst_index, median_index;
+  double *ref, *approx; /* n × 4 × 64 × 64 lobe images, for plots */
+  double seconds_reference, seconds_model;
+} eval_result;
+
+const char *eval_set_name(eval_set set);
+int eval_set_parse(const char *name, eval_set *set);
+
+/* `model` may be NULL for rep and single (then `dec` is used). */
+nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set,
+                      const eval_settings *s, eval_result *out, nbrdf_error *err);
+void eval_result_free(eval_result *r);
+
+/* Ground-truth lobe images of one set (cached); images [count × 4 × res²]. */
+nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images, double *noise,
+                            nbrdf_error *err);
+
+/* JSON summary of results, and lobe plots (ref | model | difference) of the
+ * worst and median case of each set into plot_dir (may be NULL). */
+nbrdf_status eval_write_json(const char *path, const char *model_label, const eval_settings *s,
+                             const eval_result *r, int n_results, nbrdf_error *err);
+nbrdf_status eval_write_plots(const char *plot_dir, const eval_result *r, int n_results,
+                              nbrdf_error *err);
+
+#endif

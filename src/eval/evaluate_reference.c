@@ -1,0 +1,137 @@
+/* Ground-truth lobe images of the held-out sets, cached on disk. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "brdf/brdf_handle.h"
+#include "brdf/layered_lobe.h"
+#include "core/error.h"
+#include "core/rng.h"
+#include "eval/evaluate.h"
+#include "eval/lobe.h"
+#include "nn/safetensors.h"
+
+#define IMG ((size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES)
+#define PER_BRDF (NBRDF_LOBE_N_THETA * IMG)
+#define REF_TAG UINT64_C(0x6e62726472656673)
+
+static const char *const names[EVAL_SET_COUNT] = {"rep", "single", "layer", "layer3"};
+static const train_heldout heldout[EVAL_SET_COUNT] = {TRAIN_HELDOUT_REP, TRAIN_HELDOUT_SINGLE,
+                                                      TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3};
+
+const char *eval_set_name(eval_set set) {
+  return (unsigned)set < EVAL_SET_COUNT ? names[set] : "?";
+}
+
+int eval_set_parse(const char *name, eval_set *set) {
+  for (int k = 0; k < EVAL_SET_COUNT; k++)
+    if (!strcmp(name, names[k])) {
+      *set = (eval_set)k;
+      return 1;
+    }
+  return 0;
+}
+
+/* The images of one BRDF with the given seed. */
+static nbrdf_status images_of(const train_params *p, uint64_t seed, int walks, double *out,
+                              nbrdf_error *err) {
+  nbrdf_brdf *b = NULL;
+  nbrdf_status st = train_params_create(p, &b, err);
+  if (st) return st;
+  if (nbrdf_brdf_is_stochastic(b)) {
+    for (int t = 0; t < NBRDF_LOBE_N_THETA && !st; t++)
+      if (!layered_lobe_image(&nbrdf_brdf_bsdf(b)->layered,
+                              nbrdf_lobe_theta_deg[t] * (M_PI / 180.0), NBRDF_LOBE_RES, walks,
+                              nbrdf_hash64(seed, (uint64_t)t), 0, out + t * IMG, NULL))
+        st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory in the lobe estimator");
+  } else {
+    nbrdf_lobe_brdf lb = {b, {seed, 1, 1}};
+    st = nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
+                           nbrdf_lobe_theta_deg, out, err);
+  }
+  nbrdf_brdf_destroy(b);
+  return st;
+}
+
+static void cache_path(char *out, size_t size, eval_set set, const eval_settings *s) {
+  snprintf(out, size, "%s/ref-%s-n%d-w%d.safetensors", s->cache_dir, names[set], s->count,
+           s->walks);
+}
+
+static int load_cache(const char *path, const eval_settings *s, double *images, double *noise) {
+  nbrdf_st_reader *r = NULL;
+  if (nbrdf_st_open(path, &r, NULL) != NBRDF_OK) return 0;
+  int64_t shape[4] = {s->count, NBRDF_LOBE_N_THETA, NBRDF_LOBE_RES, NBRDF_LOBE_RES}, one = 1;
+  const float *x = NULL, *nz = NULL;
+  int ok = nbrdf_st_expect(r, "images", 4, shape, &x, NULL) == NBRDF_OK &&
+           nbrdf_st_expect(r, "noise", 1, &one, &nz, NULL) == NBRDF_OK;
+  if (ok) {
+    for (size_t k = 0; k < (size_t)s->count * PER_BRDF; k++)
+      images[k] = x[k];
+    *noise = nz[0];
+  }
+  nbrdf_st_close(r);
+  return ok;
+}
+
+static void save_cache(const char *path, const eval_settings *s, const double *images,
+                       double noise) {
+  size_t n = (size_t)s->count * PER_BRDF;
+  float *x = malloc(n * sizeof *x), nz = (float)noise;
+  nbrdf_st_writer *w = NULL;
+  if (x && nbrdf_st_writer_create(&w, NULL) == NBRDF_OK) {
+    for (size_t k = 0; k < n; k++)
+      x[k] = (float)images[k];
+    int64_t shape[4] = {s->count, NBRDF_LOBE_N_THETA, NBRDF_LOBE_RES, NBRDF_LOBE_RES}, one = 1;
+    mkdir(s->cache_dir, 0777);
+    /* A cache that cannot be written only costs the next run time. */
+    if (nbrdf_st_writer_add_borrowed(w, "images", 4, shape, x, NULL) == NBRDF_OK &&
+        nbrdf_st_writer_add(w, "noise", 1, &one, &nz, NULL) == NBRDF_OK)
+      (void)nbrdf_st_writer_save(w, path, NULL, NULL);
+  }
+  nbrdf_st_writer_destroy(w);
+  free(x);
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images, double *noise,
+                            nbrdf_error *err) {
+  char path[4096];
+  if (s->cache_dir) {
+    cache_path(path, sizeof path, set, s);
+    if (load_cache(path, s, images, noise)) return NBRDF_OK;
+  }
+  uint64_t family = train_heldout_seed(heldout[set]);
+  train_kind kind = train_heldout_kind(heldout[set]);
+  char stage[64];
+  snprintf(stage, sizeof stage, "%s: reference", names[set]);
+  int nn = s->noise_brdfs < s->count ? s->noise_brdfs : s->count, n_noise = 0;
+  double *second = malloc(PER_BRDF * sizeof *second), *errs = malloc((size_t)(nn + 1) * 8);
+  nbrdf_status st = second && errs ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  for (int i = 0; i < s->count && !st; i++) {
+    train_params p;
+    train_params_draw(family, kind, (uint64_t)i, &p);
+    uint64_t seed = nbrdf_hash64(nbrdf_hash64(family, REF_TAG), (uint64_t)i);
+    st = images_of(&p, seed, s->walks, images + (size_t)i * PER_BRDF, err);
+    if (!st && i < nn && p.n_coats > 0) {
+      st = images_of(&p, seed ^ UINT64_C(0x9e3779b97f4a7c15), s->walks, second, err);
+      if (!st) errs[n_noise++] = nbrdf_lobe_error(PER_BRDF, images + (size_t)i * PER_BRDF, second);
+    }
+    if (!st && s->progress && s->progress(s->user, stage, i + 1, s->count))
+      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
+  }
+  *noise = 0.0;
+  if (n_noise > 0) {
+    qsort(errs, (size_t)n_noise, sizeof *errs, cmp_double);
+    *noise = errs[n_noise / 2];
+  }
+  free(second), free(errs);
+  if (!st && s->cache_dir) save_cache(path, s, images, *noise);
+  return st;
+}

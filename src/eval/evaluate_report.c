@@ -1,0 +1,82 @@
+/* `nbrdf evaluate` output: the JSON summary and lobe plots. */
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "eval/evaluate.h"
+#include "eval/lobe.h"
+#include "eval/lobe_png.h"
+
+#define PER_BRDF ((size_t)NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
+
+/* The parameters as JSON members. */
+static void params_json(FILE *f, const train_params *p) {
+  fprintf(f, "{\"kind\": \"%s\"", train_kind_name(p->kind));
+  for (int c = 0; c < p->n_coats; c++)
+    fprintf(f,
+            ", \"coat%d\": {\"alpha\": %.5g, \"eta\": %.5g, \"albedo\": %.5g, \"sigma_t\": %.5g}",
+            c, p->coat[c].alpha, p->coat[c].eta, p->coat[c].albedo, p->coat[c].sigma_t);
+  if (p->kind == TRAIN_DIELECTRIC)
+    fprintf(f, ", \"alpha\": %.5g, \"eta\": %.5g}", p->base_alpha, p->base_eta);
+  else
+    fprintf(f, ", \"alpha\": %.5g, \"r0\": %.5g}", p->base_alpha, p->base_r0);
+}
+
+nbrdf_status eval_write_json(const char *path, const char *model_label, const eval_settings *s,
+                             const eval_result *r, int n_results, nbrdf_error *err) {
+  char tmp[4096];
+  snprintf(tmp, sizeof tmp, "%s.tmp", path);
+  FILE *f = fopen(tmp, "w");
+  if (!f) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write: %s", tmp, strerror(errno));
+  fprintf(f, "{\n  \"model\": \"%s\",\n  \"count\": %d,\n  \"reference_walks\": %d,\n", model_label,
+          s->count, s->walks);
+  fprintf(f, "  \"projection_steps\": %d,\n  \"sets\": {", s->project_steps);
+  for (int k = 0; k < n_results; k++) {
+    const eval_result *x = &r[k];
+    fprintf(f, "%s\n    \"%s\": {\n", k ? "," : "", eval_set_name(x->set));
+    fprintf(f, "      \"median_lobe_error\": %.6g,\n      \"p90_lobe_error\": %.6g,\n", x->median,
+            x->p90);
+    fprintf(f, "      \"median_albedo_error\": %.6g,\n      \"max_albedo\": %.6g,\n",
+            x->median_albedo_error, x->max_albedo);
+    fprintf(f, "      \"reference_noise\": %.6g,\n", x->ref_noise);
+    fprintf(f, "      \"seconds_reference\": %.1f,\n      \"seconds_model\": %.1f,\n",
+            x->seconds_reference, x->seconds_model);
+    fprintf(f,
+            "      \"worst\": {\"index\": %d, \"lobe_error\": %.6g, \"params\": ", x->worst_index,
+            x->worst);
+    params_json(f, &x->cases[x->worst_index].params);
+    fprintf(f, "},\n      \"lobe_errors\": [");
+    for (int i = 0; i < x->n; i++)
+      fprintf(f, "%s%.5g", i ? ", " : "", x->cases[i].lobe_error);
+    fprintf(f, "]\n    }");
+  }
+  fprintf(f, "\n  }\n}\n");
+  int bad = ferror(f) | fclose(f);
+  if (bad || rename(tmp, path) != 0) {
+    unlink(tmp);
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
+  }
+  return NBRDF_OK;
+}
+
+nbrdf_status eval_write_plots(const char *dir, const eval_result *r, int n_results,
+                              nbrdf_error *err) {
+  if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", dir, strerror(errno));
+  nbrdf_status st = NBRDF_OK;
+  for (int k = 0; k < n_results && !st; k++) {
+    const char *what[2] = {"median", "worst"};
+    int idx[2] = {r[k].median_index, r[k].worst_index};
+    for (int j = 0; j < 2 && !st; j++) {
+      char path[4096];
+      snprintf(path, sizeof path, "%s/%s_%s.png", dir, eval_set_name(r[k].set), what[j]);
+      size_t at = (size_t)idx[j] * PER_BRDF;
+      st = nbrdf_lobe_write_png(path, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, r[k].ref + at,
+                                r[k].approx + at, 2, err);
+    }
+  }
+  return st;
+}

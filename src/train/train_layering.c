@@ -1,0 +1,189 @@
+#include "train/train_layering.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "train/run_log.h"
+
+nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
+                                      float *latents, nbrdf_error *err) {
+  nbrdf_st_reader *r = NULL;
+  nbrdf_status st = nbrdf_st_open(checkpoint, &r, err);
+  int64_t shape[1] = {(int64_t)(n_brdfs * (size_t)dim)};
+  if (!st) st = nbrdf_st_expect_copy(r, "latents", 1, shape, latents, err);
+  nbrdf_st_close(r);
+  return st;
+}
+
+typedef struct pairs {
+  size_t n;
+  float *top, *bottom, *albedo, *sigma_t, *target;
+} pairs;
+
+static void pairs_free(pairs *p) {
+  free(p->top), free(p->bottom), free(p->albedo), free(p->sigma_t), free(p->target);
+}
+
+static nbrdf_status pairs_alloc(pairs *p, size_t n, size_t D, nbrdf_error *err) {
+  memset(p, 0, sizeof *p);
+  p->top = malloc(n * D * sizeof(float));
+  p->bottom = malloc(n * D * sizeof(float));
+  p->target = malloc(n * D * sizeof(float));
+  p->albedo = malloc(n * sizeof(float));
+  p->sigma_t = malloc(n * sizeof(float));
+  if (p->top && p->bottom && p->target && p->albedo && p->sigma_t) return NBRDF_OK;
+  pairs_free(p);
+  return nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory for %zu pairs", n);
+}
+
+/* Splits the two-layer BRDFs into training and validation pairs. */
+static nbrdf_status make_pairs(const train_samples *data, const float *latents,
+                               const model_base_table t[2], int every, pairs *train, pairs *val,
+                               nbrdf_error *err) {
+  size_t D = (size_t)t[0].dim, n = 0, nv = 0;
+  for (size_t b = 0; b < data->n_brdfs; b++) {
+    if (data->params[b].n_coats != 1) continue;
+    if (every > 0 && n % (size_t)every == (size_t)every - 1) nv++;
+    n++;
+  }
+  if (n - nv < 1)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "train layering: the data has no two-layer BRDFs");
+  nbrdf_status st = pairs_alloc(train, n - nv, D, err);
+  if (!st) st = pairs_alloc(val, nv ? nv : 1, D, err);
+  train->n = 0, val->n = 0;
+  size_t k = 0;
+  for (size_t b = 0; b < data->n_brdfs && !st; b++) {
+    const train_params *p = &data->params[b];
+    if (p->n_coats != 1) continue;
+    pairs *q = (every > 0 && k % (size_t)every == (size_t)every - 1) ? val : train;
+    k++;
+    size_t i = q->n++;
+    double a1 = p->coat[0].alpha, eta = p->coat[0].eta, a2 = p->base_alpha, r0 = p->base_r0;
+    st = model_base_table_lookup(&t[0], 1, &a1, &eta, 0, q->top + i * D, NULL, err);
+    if (!st) st = model_base_table_lookup(&t[1], 1, &a2, &r0, 0, q->bottom + i * D, NULL, err);
+    q->albedo[i] = (float)p->coat[0].albedo;
+    q->sigma_t[i] = (float)p->coat[0].sigma_t;
+    memcpy(q->target + i * D, latents + b * D, D * sizeof(float));
+  }
+  return st;
+}
+
+/* Mean squared error over pairs [lo, lo + m) in the order `idx`; with
+ * `backward`, accumulates the gradient into grad. */
+static nbrdf_status batch_loss(model_layering *net, model_runner *run, const pairs *p,
+                               const size_t *idx, size_t m, float *grad, float *dy, double *loss,
+                               nbrdf_error *err) {
+  size_t D = (size_t)net->latent_dim, in = 2 * D + 2;
+  float *x = run->x;
+  for (size_t r = 0; r < m; r++) {
+    size_t i = idx[r];
+    model_layering_fill_inputs(net, 1, p->top + i * D, p->bottom + i * D, p->albedo + i,
+                               p->sigma_t + i, x + r * in);
+  }
+  nbrdf_status st = nbrdf_nn_forward(net->nn, run->ws, x, (int)m, run->y, err);
+  if (st) return st;
+  double sum = 0.0, scale = 1.0 / ((double)m * (double)D);
+  for (size_t r = 0; r < m; r++)
+    for (size_t j = 0; j < D; j++) {
+      double e = (double)run->y[r * D + j] - p->target[idx[r] * D + j];
+      sum += e * e;
+      if (dy) dy[r * D + j] = (float)(2.0 * e * scale);
+    }
+  *loss = sum * scale;
+  if (grad) st = nbrdf_nn_backward(net->nn, run->ws, dy, NULL, grad, err);
+  return st;
+}
+
+static nbrdf_status eval_all(model_layering *net, model_runner *run, const pairs *p, size_t *idx,
+                             double *loss, double *mean_sq, nbrdf_error *err) {
+  size_t D = (size_t)net->latent_dim, B = (size_t)run->max_batch;
+  double sum = 0.0, sq = 0.0;
+  nbrdf_status st = NBRDF_OK;
+  for (size_t i = 0; i < p->n; i++)
+    idx[i] = i;
+  for (size_t k0 = 0; k0 < p->n && !st; k0 += B) {
+    size_t m = p->n - k0 < B ? p->n - k0 : B;
+    double l;
+    st = batch_loss(net, run, p, idx + k0, m, NULL, NULL, &l, err);
+    sum += l * (double)m;
+  }
+  for (size_t k = 0; k < p->n * D; k++)
+    sq += (double)p->target[k] * p->target[k];
+  *loss = sum / (double)p->n;
+  if (mean_sq) *mean_sq = sq / ((double)p->n * (double)D);
+  return st;
+}
+
+nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
+                                const model_base_table tables[2], const train_layering_settings *s,
+                                model_layering **out, train_layering_result *r, nbrdf_error *err) {
+  memset(r, 0, sizeof *r);
+  *out = NULL;
+  pairs train, val;
+  nbrdf_status st = make_pairs(data, latents, tables, s->validation_every, &train, &val, err);
+  if (st) return st;
+  r->pairs = train.n, r->validation_pairs = val.n;
+  model_layering *net = NULL;
+  model_runner run = {0};
+  nbrdf_adam *adam = NULL;
+  size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
+  size_t *idx = malloc((train.n > val.n ? train.n : val.n) * sizeof *idx);
+  float *dy = malloc(B * D * sizeof *dy), *grad = NULL;
+  run_log log = {0};
+  st = model_layering_create(s->preset, (int)D, s->seed, &net, err);
+  if (!st) st = model_runner_create(net->nn, (int)B, NBRDF_NN_TRAIN, &run, err);
+  if (!st && !(grad = malloc(nbrdf_nn_param_count(net->nn) * sizeof *grad)))
+    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!st && (!idx || !dy)) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!st) {
+    nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
+    ao.lr = s->lr;
+    ao.decay_every = s->decay_every * (int)((train.n + B - 1) / B); /* epochs → steps */
+    ao.decay_gamma = s->decay_gamma;
+    st = nbrdf_adam_create(nbrdf_nn_param_count(net->nn), &ao, &adam, err);
+  }
+  if (!st && s->log_path)
+    st = run_log_open(&log, s->log_path, "epoch,train_loss,val_loss,lr", 0, err);
+  nbrdf_rng rng;
+  nbrdf_rng_init(&rng, s->seed, 0x6c61796572u);
+  for (int e = 0; e < s->epochs && !st; e++) {
+    for (size_t i = 0; i < train.n; i++)
+      idx[i] = i;
+    for (size_t i = train.n; i > 1; i--) { /* Fisher–Yates */
+      size_t j = (size_t)(nbrdf_rng_uniform(&rng) * (double)i), t = idx[i - 1];
+      idx[i - 1] = idx[j], idx[j] = t;
+    }
+    double sum = 0.0;
+    for (size_t k0 = 0; k0 < train.n && !st; k0 += B) {
+      size_t m = train.n - k0 < B ? train.n - k0 : B;
+      double l;
+      memset(grad, 0, nbrdf_nn_param_count(net->nn) * sizeof *grad);
+      st = batch_loss(net, &run, &train, idx + k0, m, grad, dy, &l, err);
+      sum += l * (double)m;
+      if (!st) st = nbrdf_adam_step(adam, nbrdf_nn_params(net->nn), grad, err);
+    }
+    r->train_loss = sum / (double)train.n;
+    if (!st && (e % 10 == 9 || e == s->epochs - 1)) {
+      st = val.n ? eval_all(net, &run, &val, idx, &r->val_loss, &r->target_mean_square, err)
+                 : NBRDF_OK;
+      run_log_row(&log, "%d,%.6g,%.6g,%.4g", e + 1, r->train_loss, r->val_loss,
+                  (double)nbrdf_adam_lr(adam, 0));
+    }
+    if (!st && s->progress && s->progress(s->user, "train layering", e + 1, s->epochs))
+      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train layering: cancelled");
+  }
+  run_log_close(&log);
+  nbrdf_adam_destroy(adam);
+  model_runner_destroy(&run);
+  free(idx), free(dy), free(grad);
+  pairs_free(&train), pairs_free(&val);
+  if (st) {
+    model_layering_destroy(net);
+    return st;
+  }
+  *out = net;
+  return NBRDF_OK;
+}
