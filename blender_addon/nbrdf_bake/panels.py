@@ -1,9 +1,71 @@
-"""Material Properties > nbrdf Latent Bake: the six parameters, options, the button."""
+"""Material Properties > nbrdf Latent Bake (with an Output sub-panel), and the same in the
+Shader Editor's sidebar (tab nbrdf): the six parameters, options, the button."""
+
+import textwrap
 
 import bpy
 
 from . import operators, preferences
 from .params import PARAMS
+
+
+def draw_parameters(layout, s):
+    for p in PARAMS:
+        row = layout.row(align=True)
+        row.label(text=p.label)
+        row.prop(s, p.key + "_source", expand=True)
+        if getattr(s, p.key + "_source") == "IMAGE":
+            layout.template_ID(s, p.key + "_image", new="image.new", open="image.open")
+        else:
+            layout.prop(s, p.key + "_value", text="")
+    layout.separator()
+    col = layout.column()
+    col.use_property_split = True
+    for name in ("roughness", "colour_maps", "eta_range", "sigma_t_range", "range_policy"):
+        col.prop(s, name)
+
+
+def draw_output(layout, s):
+    col = layout.column()
+    col.use_property_split = True
+    for name in ("output", "storage", "mip_levels", "tile", "preview"):
+        col.prop(s, name)
+    sub = col.column()
+    sub.enabled = s.preview
+    sub.prop(s, "preview_size")
+    sub.prop(s, "preview_spp")
+
+
+def draw_bake(layout, context, s):
+    session = operators.running_session()
+    if session is not None:
+        box = layout.box()
+        doing = "Baking" if session.stage == "bake" else "Rendering a preview of"
+        box.label(text="%s %s: %.0f %%" % (doing, session.material_name,
+                                           100.0 * session.progress), icon="TIME")
+        box.operator("nbrdf.cancel_bake", icon="CANCEL")
+        return
+    exe, bundle, problem = preferences.resolve(preferences.get(context))
+    if problem:
+        label_wrapped(layout, context, problem, "ERROR")
+    row = layout.row()
+    row.scale_y = 1.4
+    row.enabled = problem is None
+    row.operator("nbrdf.bake_latent", icon="RENDER_STILL")
+    if s.result is not None:
+        layout.label(text="Result: " + s.result.name, icon="IMAGE_DATA")
+    if s.preview_image is not None:
+        layout.label(text="Preview: " + s.preview_image.name, icon="SHADING_RENDERED")
+
+
+def label_wrapped(layout, context, text, icon):
+    """Labels do not wrap; a long message would be cut at the panel's edge."""
+    # About 10 pixels a character at scale 1, less the icon's width (measured in 3.4).
+    px = 10 * context.preferences.view.ui_scale
+    chars = max(20, int((context.region.width - 4 * px) / px))
+    col = layout.column(align=True)
+    for i, line in enumerate(textwrap.wrap(text, chars)):
+        col.label(text=line, icon=icon if i == 0 else "BLANK1")
 
 
 class NBRDF_PT_material(bpy.types.Panel):
@@ -19,44 +81,9 @@ class NBRDF_PT_material(bpy.types.Panel):
         return context.material is not None
 
     def draw(self, context):
-        layout = self.layout
         s = context.material.nbrdf_bake
-        for p in PARAMS:
-            row = layout.row(align=True)
-            row.label(text=p.label)
-            row.prop(s, p.key + "_source", text="", expand=False)
-            if getattr(s, p.key + "_source") == "IMAGE":
-                layout.template_ID(s, p.key + "_image", new="image.new", open="image.open")
-            else:
-                layout.prop(s, p.key + "_value", text="")
-        layout.separator()
-        col = layout.column()
-        col.use_property_split = True
-        col.prop(s, "roughness")
-        col.prop(s, "colour_maps")
-        col.prop(s, "eta_range")
-        col.prop(s, "sigma_t_range")
-        col.prop(s, "range_policy")
-
-        session = operators.running_session()
-        if session is not None:
-            box = layout.box()
-            doing = "Baking" if session.stage == "bake" else "Rendering a preview of"
-            box.label(text="%s %s: %.0f %%" % (doing, session.material_name,
-                                               100.0 * session.progress), icon="TIME")
-            box.operator("nbrdf.cancel_bake", icon="CANCEL")
-            return
-        exe, bundle, problem = preferences.resolve(preferences.get(context))
-        if problem:
-            layout.label(text=problem, icon="ERROR")
-        row = layout.row()
-        row.scale_y = 1.4
-        row.enabled = problem is None
-        row.operator("nbrdf.bake_latent", icon="RENDER_STILL")
-        if s.result is not None:
-            layout.label(text="Result: " + s.result.name, icon="IMAGE_DATA")
-        if s.preview_image is not None:
-            layout.label(text="Preview: " + s.preview_image.name, icon="SHADING_RENDERED")
+        draw_parameters(self.layout, s)
+        draw_bake(self.layout, context, s)
 
 
 class NBRDF_PT_output(bpy.types.Panel):
@@ -67,21 +94,31 @@ class NBRDF_PT_output(bpy.types.Panel):
     bl_context = "material"
 
     def draw(self, context):
-        col = self.layout.column()
-        col.use_property_split = True
+        draw_output(self.layout, context.material.nbrdf_bake)
+
+
+class NBRDF_PT_shader_editor(bpy.types.Panel):
+    bl_label = "Latent Bake"
+    bl_idname = "NBRDF_PT_shader_editor"
+    bl_space_type = "NODE_EDITOR"
+    bl_region_type = "UI"
+    bl_category = "nbrdf"
+
+    @classmethod
+    def poll(cls, context):
+        space = context.space_data
+        return (space is not None and space.tree_type == "ShaderNodeTree"
+                and context.material is not None)
+
+    def draw(self, context):
         s = context.material.nbrdf_bake
-        col.prop(s, "output")
-        col.prop(s, "storage")
-        col.prop(s, "mip_levels")
-        col.prop(s, "tile")
-        col.prop(s, "preview")
-        sub = col.column()
-        sub.enabled = s.preview
-        sub.prop(s, "preview_size")
-        sub.prop(s, "preview_spp")
+        draw_parameters(self.layout, s)
+        self.layout.separator()
+        draw_output(self.layout, s)
+        draw_bake(self.layout, context, s)
 
 
-classes = (NBRDF_PT_material, NBRDF_PT_output)
+classes = (NBRDF_PT_material, NBRDF_PT_output, NBRDF_PT_shader_editor)
 
 
 def register():

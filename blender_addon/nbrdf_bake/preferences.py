@@ -29,7 +29,8 @@ class NBRDF_Preferences(bpy.types.AddonPreferences):
         exe, bundle, problem = resolve(self)
         col = layout.column(align=True)
         if problem:
-            col.label(text=problem, icon="ERROR")
+            from .panels import label_wrapped
+            label_wrapped(col, context, problem, "ERROR")
         else:
             col.label(text="nbrdf: " + exe, icon="CHECKMARK")
             col.label(text="bundle: " + bundle, icon="CHECKMARK")

@@ -9,7 +9,8 @@ import bpy
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import addon_testing as t  # noqa: E402
 
-CLASSES = ("NBRDF_PT_material", "NBRDF_PT_output", "NBRDF_OT_bake_latent",
+CLASSES = ("NBRDF_PT_material", "NBRDF_PT_output", "NBRDF_PT_shader_editor",
+           "NBRDF_OT_bake_latent",
            "NBRDF_OT_cancel_bake")
 
 
