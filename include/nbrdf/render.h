@@ -117,6 +117,19 @@ nbrdf_status nbrdf_render_write(const char *exr_path, const char *png_path, int 
                                 const float *rgb, const char *display, const char *ocio_config,
                                 nbrdf_error *err);
 
+/* Lobe images (docs/METRICS.md: 64×64 at θi = 0°, 30°, 60°, 80°) of texel
+ * (x, y) of mip level `level` of the texture, decoded with `model` (the
+ * bundle it was baked with), written to `png_path`: one row per colour
+ * channel and θi. With `reference` (1 handle, or one per colour channel of
+ * the texture; may be NULL) the rows show ground truth | decoded |
+ * difference, the ground truth estimated with `spp` random walks per pixel
+ * and `seed`, and *lobe_error (may be NULL) receives the lobe error of all
+ * images together (a fraction; NaN without a reference). */
+nbrdf_status nbrdf_render_lobes(const nbrdf_model *model, const char *latent_path, int x, int y,
+                                int level, const nbrdf_brdf *const *reference,
+                                int reference_channels, int spp, uint64_t seed,
+                                const char *png_path, double *lobe_error, nbrdf_error *err);
+
 #ifdef __cplusplus
 }
 #endif

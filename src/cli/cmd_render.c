@@ -1,5 +1,6 @@
 /* nbrdf render: a preview (or a reference image) of a latent texture on a
  * sphere or a plane; linear EXR and a display PNG. */
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,34 +13,39 @@
 #include "nbrdf/render.h"
 
 void cmd_render_usage(FILE *out) {
-  fprintf(out, "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
-               "\n"
-               "Renders the latent texture on a unit sphere or a ground plane under an\n"
-               "environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
-               "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
-               "\n"
-               "  -o, --output FILE     linear float RGB OpenEXR to write\n"
-               "  --png FILE            also a display PNG (OpenColorIO view transform: the\n"
-               "                        --ocio / $OCIO config's default view, else built-in sRGB)\n"
-               "  --mode neural|reference\n"
-               "                        neural: decode the texture (default); reference: the\n"
-               "                        Monte Carlo ground truth of the parameters given below\n"
-               "  --scene sphere|plane  the object (default sphere)\n"
-               "  --env sky|white|FILE  procedural sky (default), constant white (a furnace) or\n"
-               "                        a lat-long HDR/EXR image (linear, +y up)\n"
-               "  --env-scale S         multiplies the environment (default 1)\n"
-               "  --light X,Y,Z,I|none  point light at (X,Y,Z), intensity I W/sr (default\n"
-               "                        3,4,4,30)\n"
-               "  --width W, --height H image size (default 256 x 256)\n"
-               "  --spp N               samples per pixel (default 16)\n"
-               "  --seed S              random seed (default 0)\n"
-               "  --threads N           tile threads (default: 1 neural, all cores reference)\n"
-               "  --no-mip              fetch level 0 only (no trilinear mip filtering)\n"
-               "  --plane-repeat R      plane: world units per texture repeat (default 1)\n"
-               "  --bundle DIR          model bundle (neural; default: models/default)\n"
-               "  --progress=json       progress as JSON lines on stdout\n"
-               "\n"
-               "reference mode: the parameters as for 'nbrdf bake' (constants only):\n");
+  fprintf(out,
+          "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
+          "\n"
+          "Renders the latent texture on a unit sphere or a ground plane under an\n"
+          "environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
+          "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
+          "\n"
+          "  -o, --output FILE     linear float RGB OpenEXR to write\n"
+          "  --png FILE            also a display PNG (OpenColorIO view transform: the\n"
+          "                        --ocio / $OCIO config's default view, else built-in sRGB)\n"
+          "  --mode neural|reference\n"
+          "                        neural: decode the texture (default); reference: the\n"
+          "                        Monte Carlo ground truth of the parameters given below\n"
+          "  --scene sphere|plane  the object (default sphere)\n"
+          "  --env sky|white|FILE  procedural sky (default), constant white (a furnace) or\n"
+          "                        a lat-long HDR/EXR image (linear, +y up)\n"
+          "  --env-scale S         multiplies the environment (default 1)\n"
+          "  --light X,Y,Z,I|none  point light at (X,Y,Z), intensity I W/sr (default\n"
+          "                        3,4,4,30)\n"
+          "  --width W, --height H image size (default 256 x 256)\n"
+          "  --spp N               samples per pixel (default 16)\n"
+          "  --seed S              random seed (default 0)\n"
+          "  --threads N           tile threads (default: 1 neural, all cores reference)\n"
+          "  --no-mip              fetch level 0 only (no trilinear mip filtering)\n"
+          "  --plane-repeat R      plane: world units per texture repeat (default 1)\n"
+          "  --bundle DIR          model bundle (neural; default: models/default)\n"
+          "  --lobe X,Y[,LEVEL]    also write the lobe images (METRICS.md) of texel (X, Y) of\n"
+          "                        mip LEVEL (default 0) to OUT-lobe-X-Y-LEVEL.png: decoded,\n"
+          "                        and in reference mode beside the ground truth (1024 walks\n"
+          "                        per pixel) with the lobe error; repeatable (8 at most)\n"
+          "  --progress=json       progress as JSON lines on stdout\n"
+          "\n"
+          "reference mode: the parameters as for 'nbrdf bake' (constants only):\n");
   cli_params_usage(out);
   fprintf(out, "\nexit status: 0 success, 1 failure, 2 bad usage\n");
 }
@@ -120,6 +126,33 @@ static int same_file(const char *a, const char *b) {
   return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
+/* OUT.exr -> OUT-lobe-X-Y-L.png, with the lobe error in reference mode. */
+static int write_lobe(const nbrdf_model *model, const char *latent, const char *out,
+                      const int xyl[3], const nbrdf_render_options *o, int json) {
+  char path[4096];
+  size_t n = strlen(out);
+  if (n > 4 && !strcmp(out + n - 4, ".exr")) n -= 4;
+  snprintf(path, sizeof path, "%.*s-lobe-%d-%d-%d.png", (int)(n < 4000 ? n : 4000), out, xyl[0],
+           xyl[1], xyl[2]);
+  int ref = o->mode == NBRDF_RENDER_REFERENCE;
+  double lobe_error;
+  nbrdf_error err = {0};
+  if (nbrdf_render_lobes(model, latent, xyl[0], xyl[1], xyl[2], ref ? o->reference : NULL,
+                         o->reference_channels, 1024, o->seed, path, &lobe_error, &err) != NBRDF_OK)
+    return cli_fail_error("render", &err);
+  if (json && ref)
+    printf("{\"event\":\"lobe\",\"output\":\"%s\",\"lobe_error_pct\":%.4g}\n", path,
+           100 * lobe_error);
+  else if (json)
+    printf("{\"event\":\"lobe\",\"output\":\"%s\"}\n", path);
+  else if (ref)
+    printf("wrote %s: texel (%d, %d) level %d, lobe error %.2f %% against the ground truth\n", path,
+           xyl[0], xyl[1], xyl[2], 100 * lobe_error);
+  else
+    printf("wrote %s: texel (%d, %d) level %d, decoded\n", path, xyl[0], xyl[1], xyl[2]);
+  return CLI_EXIT_OK;
+}
+
 int cmd_render(int argc, char **argv) {
   nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
   o.light_intensity = 30.0;
@@ -127,6 +160,7 @@ int cmd_render(int argc, char **argv) {
   cli_params_init(&params);
   const char *latent = NULL, *out = NULL, *png = NULL, *bundle = NULL;
   progress_state ps = {0, 0};
+  int lobes[8][3], n_lobes = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = NULL;
     long n;
@@ -196,6 +230,17 @@ int cmd_render(int argc, char **argv) {
         return cli_usage_error("render", "--plane-repeat needs a number > 0, not '%s'", v);
     } else if ((v = cli_option_value(argc, argv, &i, "--bundle"))) {
       bundle = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--lobe"))) {
+      double xyl[3] = {0, 0, 0};
+      if (n_lobes == 8) return cli_usage_error("render", "at most 8 --lobe options");
+      if (!(parse_numbers(v, xyl, 2) || parse_numbers(v, xyl, 3)) || xyl[0] < 0 || xyl[1] < 0 ||
+          xyl[2] < 0 || xyl[0] != floor(xyl[0]) || xyl[1] != floor(xyl[1]) ||
+          xyl[2] != floor(xyl[2]) || xyl[0] > 1e6 || xyl[1] > 1e6 || xyl[2] > 64)
+        return cli_usage_error("render", "--lobe needs X,Y or X,Y,LEVEL (integers >= 0), not '%s'",
+                               v);
+      for (int k = 0; k < 3; k++)
+        lobes[n_lobes][k] = (int)xyl[k];
+      n_lobes++;
     } else if (!strcmp(a, "--progress=json")) {
       ps.json = 1;
     } else if (a[0] != '-' && !latent) {
@@ -219,7 +264,8 @@ int cmd_render(int argc, char **argv) {
     rc = cli_params_require("render", &params);
     if (rc == CLI_EXIT_OK) rc = make_reference(&params, ref, &o.reference_channels);
     o.reference = (const nbrdf_brdf *const *)ref;
-  } else {
+  }
+  if (rc == CLI_EXIT_OK && (o.mode == NBRDF_RENDER_NEURAL || n_lobes > 0)) {
     struct stat sb;
     if (!bundle && (stat("models/default", &sb) != 0 || !S_ISDIR(sb.st_mode)))
       rc = cli_fail("render", "no models/default bundle here; pass --bundle DIR");
@@ -231,6 +277,9 @@ int cmd_render(int argc, char **argv) {
   }
   float *rgb = rc == CLI_EXIT_OK ? malloc(sizeof(float) * 3 * (size_t)o.width * o.height) : NULL;
   if (rc == CLI_EXIT_OK && !rgb) rc = cli_fail("render", "out of memory");
+  /* Lobes first: a bad texel fails before the render writes anything. */
+  for (int k = 0; rc == CLI_EXIT_OK && k < n_lobes; k++)
+    rc = write_lobe(model, latent, out, lobes[k], &o, ps.json);
   if (rc == CLI_EXIT_OK) {
     ps.bar = !ps.json && isatty(STDERR_FILENO);
     o.progress = on_progress, o.user = &ps, o.cancel = &interrupted;

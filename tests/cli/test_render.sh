@@ -27,6 +27,13 @@ expect_stderr "untrained" "$NBRDF" render c.exr -o n2.exr --bundle bundle "${sma
 check "same pixels at 1 and 2 threads" idiff -q -fail 0 -warn 0 t1.exr t2.exr
 expect_output '5 mip levels' "$NBRDF" render map.exr -o t3.exr --bundle bundle --scene plane "${small[@]}"
 
+# Lobe images of chosen texels.
+expect_output 'wrote t3-lobe-2-3-1.png' "$NBRDF" render map.exr -o t3.exr --bundle bundle "${small[@]}" --lobe 2,3,1
+check "lobe png written" test -s t3-lobe-2-3-1.png
+expect_exit 1 "$NBRDF" render map.exr -o t4.exr --bundle bundle "${small[@]}" --lobe 16,0
+check "no render after a bad texel" test ! -e t4.exr
+expect_exit 2 "$NBRDF" render map.exr -o t4.exr --bundle bundle --lobe 1
+
 # Reference mode, with an HDR environment file (lat-long, 8 x 4).
 oiiotool --pattern fill:top=2,2,3:bottom=0.2,0.2,0.1 8x4 3 -d float -o env.hdr
 expect_exit 0 "$NBRDF" render c.exr -o r.exr --png r.png --mode reference "${params[@]}" \

@@ -200,6 +200,32 @@ static void test_neural_furnace(void) {
   eval_latent_image_free(tex);
 }
 
+static void test_lobes(void) {
+  nbrdf_error err;
+  nbrdf_brdf *cond = NULL;
+  CHECK_OK(nbrdf_brdf_create_conductor(0.4, 0.7, &cond, &err), &err);
+  const nbrdf_brdf *ref[1] = {cond};
+  double e = 0.0;
+  int w = 0, h = 0;
+  CHECK_OK(
+      nbrdf_render_lobes(model, path("c.exr"), 0, 0, 0, ref, 1, 16, 1, path("l.png"), &e, &err),
+      &err);
+  CHECK(isfinite(e) && e > 0.0);
+  /* Three colour channels x four incidences: a tall image of three columns. */
+  CHECK(nbrdf_test_png_size(path("l.png"), &w, &h) && h > 3 * w);
+  CHECK_OK(
+      nbrdf_render_lobes(model, path("c.exr"), 0, 0, 0, NULL, 0, 0, 1, path("l1.png"), &e, &err),
+      &err);
+  CHECK(isnan(e));
+  CHECK_FAILS(
+      nbrdf_render_lobes(model, path("c.exr"), 1, 0, 0, NULL, 0, 0, 1, path("l2.png"), &e, &err),
+      NBRDF_ERR_ARGUMENT, &err, "texel (1, 0)");
+  CHECK_FAILS(
+      nbrdf_render_lobes(model, path("c.exr"), 0, 0, 3, NULL, 0, 0, 1, path("l2.png"), &e, &err),
+      NBRDF_ERR_ARGUMENT, &err, "level 3");
+  nbrdf_brdf_destroy(cond);
+}
+
 static int cancel_at_3(void *user, const char *stage, double done, double total) {
   (void)user, (void)stage, (void)total;
   return done >= 3;
@@ -241,6 +267,7 @@ int main(void) {
   RUN(test_furnace);
   RUN(test_neural_furnace);
   RUN(test_errors);
+  RUN(test_lobes);
   nbrdf_model_destroy(model);
   return nbrdf_test_finish();
 }
