@@ -47,7 +47,7 @@ extern "C" {
 #define NBRDF_GPU_W_OCTAVES 6    /* frequency octaves, 0..8 */
 #define NBRDF_GPU_W_OUTPUT 7     /* 0 f = max(o, 0); 1 f = expm1(clamp(o, 0, 80)) */
 #define NBRDF_GPU_W_OUTPUTS 8    /* network outputs (1) */
-#define NBRDF_GPU_W_MAX_WIDTH 9  /* largest input/activation/hidden width: NBRDF_MAX_WIDTH */
+#define NBRDF_GPU_W_MAX_WIDTH 9  /* NBRDF_MAX_WIDTH: largest width, rounded up (gpu_pack.c) */
 #define NBRDF_GPU_W_PARAMS 10    /* word offset of the parameters */
 #define NBRDF_GPU_W_PARAM_COUNT 11
 #define NBRDF_GPU_W_MACS 12 /* multiply-adds per query (saturated at 2^32 - 1) */

@@ -84,6 +84,12 @@ nbrdf_status model_gpu_pack_decoder(const model_decoder *dec, uint32_t *words, s
       if (h > max_width) max_width = h;
     }
   }
+  /* Rounded up to a multiple of 32, at least 64: measured on lavapipe (Mesa 22.3, LLVM 15),
+   * pipelines with activation arrays of 32..48 floats took 6-13 s to compile (small arrays
+   * are lowered differently), 64..256 took 1-2 s. A larger array costs nothing on a GPU
+   * that indexes it in local memory. */
+  max_width = (max_width + 31) / 32 * 32;
+  if (max_width < 64) max_width = 64;
   size_t n_params = nbrdf_nn_param_count(nn);
   size_t params_at = NBRDF_GPU_HEADER_WORDS + (size_t)NBRDF_GPU_LAYER_WORDS * spec->n_layers;
   size_t total = params_at + n_params;

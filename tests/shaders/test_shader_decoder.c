@@ -1,0 +1,253 @@
+/* shaders/nbrdf_decoder.glsl + nbrdf_encoding.glsl on Vulkan (lavapipe) against the C
+ * decoder: thousands of random latents and direction pairs (a quarter grazing, cos θ down
+ * to 1e-4), every preset, both encodings, frequency octaves, both output transforms.
+ *
+ * Tolerance (float32; the C side sums in sgemm's blocked order, the shader sequentially):
+ * the raw network output o within 1e-4 · (1 + |o|), f within 1e-4 · (1 + f). For log1p
+ * decoders the second is the error of log(1 + f), i.e. relative where f >> 1. */
+#include "testing.h"
+
+#ifdef NBRDF_HAVE_VULKAN
+#include <stdlib.h>
+#include <string.h>
+
+#include "model/bundle.h"
+#include "model/encoding.h"
+#include "model/gpu_pack.h"
+#include "nbrdf/model.h"
+#include "shader_fixture.h"
+
+#define TOL 1e-4
+
+static vkh *vk;
+
+typedef struct queries {
+  size_t n;
+  int dim;
+  float *q;      /* n x (6 + dim): wi, wo, latent */
+  float *wi, *wo, *latents;
+} queries;
+
+static void queries_make(queries *s, size_t n, int dim, uint64_t seed) {
+  nbrdf_rng rng;
+  nbrdf_rng_init(&rng, seed, 9);
+  s->n = n;
+  s->dim = dim;
+  s->q = malloc(sizeof(float) * n * (6 + dim));
+  s->wi = malloc(sizeof(float) * n * 3);
+  s->wo = malloc(sizeof(float) * n * 3);
+  s->latents = malloc(sizeof(float) * n * dim);
+  for (size_t k = 0; k < n; k++) {
+    fixture_direction(&rng, s->wi + 3 * k);
+    fixture_direction(&rng, s->wo + 3 * k);
+    for (int i = 0; i < dim; i++)
+      s->latents[k * dim + i] = (float)(3.0 * nbrdf_rng_uniform(&rng) - 1.5);
+    float *row = s->q + k * (6 + dim);
+    memcpy(row, s->wi + 3 * k, 3 * sizeof(float));
+    memcpy(row + 3, s->wo + 3 * k, 3 * sizeof(float));
+    memcpy(row + 6, s->latents + k * dim, dim * sizeof(float));
+  }
+}
+
+static void queries_free(queries *s) {
+  free(s->q);
+  free(s->wi);
+  free(s->wo);
+  free(s->latents);
+}
+
+/* Compares the shader's (f, o) with the C reference; raw == NULL skips o. */
+static void compare(const char *label, const queries *s, const float *gpu, const float *f,
+                    const float *raw) {
+  double worst_f = 0, worst_o = 0;
+  size_t bad = 0, positive = 0;
+  for (size_t k = 0; k < s->n; k++) {
+    double ef = fabs(gpu[2 * k] - f[k]) / (1.0 + fabs(f[k]));
+    double eo = raw ? fabs(gpu[2 * k + 1] - raw[k]) / (1.0 + fabs(raw[k])) : 0.0;
+    if (!(ef <= TOL) || !(eo <= TOL)) {
+      if (bad++ < 3)
+        printf("  %s query %zu: f %.9g vs %.9g, o %.9g vs %.9g (wi.z %g wo.z %g)\n", label, k,
+               gpu[2 * k], f[k], gpu[2 * k + 1], raw ? raw[k] : 0.0, s->wi[3 * k + 2],
+               s->wo[3 * k + 2]);
+    }
+    if (ef > worst_f || ef != ef) worst_f = ef;
+    if (eo > worst_o || eo != eo) worst_o = eo;
+    /* Raw outputs away from 0 show that the network did something (f clamps at 0). */
+    positive += raw ? fabsf(raw[k]) > 1e-3f : f[k] > 1e-3f;
+  }
+  printf("  %-28s %zu queries: max error f %.2e, raw %.2e; %zu with |o| or f > 1e-3\n", label, s->n,
+         worst_f, worst_o, positive);
+  CHECK_MSG(bad == 0, "%s: %zu of %zu queries beyond %.0e", label, bad, s->n, TOL);
+  /* A decoder whose output is clamped to 0 everywhere would compare equal vacuously. */
+  CHECK_MSG(positive > s->n / 10, "%s: only %zu of %zu values are away from 0", label, positive,
+            s->n);
+}
+
+/* A decoder made in memory, compared on its raw output too (model_decoder_eval is what
+ * nbrdf_model_decode runs). */
+static void check_config(const char *label, const model_decoder_config *cfg, size_t n,
+                         uint64_t seed) {
+  nbrdf_error err = {0};
+  model_decoder *dec = NULL;
+  CHECK_OK(model_decoder_create(cfg, seed, &dec, &err), &err);
+  if (!dec) return;
+  size_t words_n = 0;
+  CHECK_OK(model_gpu_pack_decoder(dec, NULL, 0, &words_n, &err), &err);
+  uint32_t *words = malloc(words_n * 4);
+  CHECK_OK(model_gpu_pack_decoder(dec, words, words_n, NULL, &err), &err);
+  queries s;
+  queries_make(&s, n, cfg->latent_dim, seed);
+  int in = model_decoder_inputs(dec);
+  float *x = malloc(sizeof(float) * n * in), *raw = malloc(sizeof(float) * n);
+  float *f = malloc(sizeof(float) * n), *gpu = malloc(sizeof(float) * 2 * n);
+  model_decoder_fill_inputs(dec, n, 1, s.latents, s.wi, s.wo, x);
+  nbrdf_nn_workspace *ws = NULL;
+  CHECK_OK(nbrdf_nn_workspace_create(dec->nn, 1024, NBRDF_NN_INFER, &ws, &err), &err);
+  CHECK_OK(nbrdf_nn_forward(dec->nn, ws, x, (int)n, raw, &err), &err);
+  for (size_t k = 0; k < n; k++)
+    f[k] = model_output_to_f(cfg->output, raw[k]);
+  int rc = fixture_run_decoder(vk, words, words_n, s.q, n, gpu, NULL);
+  CHECK_MSG(rc == 0, "%s: %s", label, vkh_error(vk));
+  if (rc == 0) compare(label, &s, gpu, f, raw);
+  nbrdf_nn_workspace_destroy(ws);
+  free(x), free(raw), free(f), free(gpu), free(words);
+  queries_free(&s);
+  model_decoder_destroy(dec);
+}
+
+static void test_presets(void) {
+  const char *presets[] = {"small", "medium", "large", "paper"};
+  const size_t counts[] = {4096, 4096, 2048, 1024};
+  for (int p = 0; p < 4; p++) {
+    model_decoder_config cfg;
+    nbrdf_error err = {0};
+    CHECK_OK(model_decoder_preset(presets[p], 32, &cfg, &err), &err);
+    char label[64];
+    snprintf(label, sizeof label, "preset %s", presets[p]);
+    check_config(label, &cfg, counts[p], 11 + (uint64_t)p);
+  }
+}
+
+static void test_encodings_and_outputs(void) {
+  struct {
+    model_encoding_kind kind;
+    int octaves;
+    model_output output;
+    const char *label;
+  } cases[] = {{MODEL_ENCODING_HALFDIFF, 4, MODEL_OUTPUT_LOG1P, "halfdiff, 4 octaves, log1p"},
+               {MODEL_ENCODING_HALFDIFF, 8, MODEL_OUTPUT_F, "halfdiff, 8 octaves, f"},
+               {MODEL_ENCODING_CARTESIAN, 2, MODEL_OUTPUT_LOG1P, "cartesian, 2 octaves, log1p"},
+               {MODEL_ENCODING_CARTESIAN, 0, MODEL_OUTPUT_F, "cartesian, f"}};
+  for (int c = 0; c < 4; c++) {
+    model_decoder_config cfg;
+    nbrdf_error err = {0};
+    model_encoding enc = {cases[c].kind, cases[c].octaves};
+    CHECK_OK(model_decoder_config_make(16, enc, cases[c].output, 48, 2, 1, &cfg, &err), &err);
+    check_config(cases[c].label, &cfg, 4096, 100 + (uint64_t)c);
+  }
+}
+
+/* The public path a renderer integration takes: a bundle on disk (`nbrdf bundle init`),
+ * nbrdf_gpu_pack_decoder, and nbrdf_model_decode as the reference. */
+static void test_bundle(void) {
+  char dir[1024];
+  snprintf(dir, sizeof dir, "%s/bundle", nbrdf_test_tmpdir());
+  nbrdf_error err = {0};
+  CHECK_OK(model_bundle_init_random(dir, "shader-test", 7, "medium", &err), &err);
+  nbrdf_model *model = NULL;
+  CHECK_OK(nbrdf_model_load(dir, &model, &err), &err);
+  if (!model) return;
+  size_t words_n = 0;
+  CHECK_OK(nbrdf_gpu_pack_decoder(model, NULL, 0, &words_n, &err), &err);
+  uint32_t *words = malloc(words_n * 4);
+  CHECK_FAILS(nbrdf_gpu_pack_decoder(model, words, words_n - 1, NULL, &err), NBRDF_ERR_ARGUMENT,
+              &err, "needs");
+  CHECK_OK(nbrdf_gpu_pack_decoder(model, words, words_n, NULL, &err), &err);
+  CHECK(words[NBRDF_GPU_W_MAGIC] == NBRDF_GPU_DECODER_MAGIC);
+  CHECK(words[NBRDF_GPU_W_MACS] == (uint32_t)nbrdf_model_decoder_macs(model));
+  CHECK(words[NBRDF_GPU_W_MAX_WIDTH] == 64); /* medium: width 64 > 38 inputs */
+  queries s;
+  size_t n = 4000;
+  int dim = nbrdf_model_latent_dim(model);
+  queries_make(&s, n, dim, 21);
+  float *f = malloc(sizeof(float) * n), *gpu = malloc(sizeof(float) * 2 * n);
+  CHECK_OK(nbrdf_model_decode(model, n, 1, s.latents, s.wi, s.wo, f, &err), &err);
+  int rc = fixture_run_decoder(vk, words, words_n, s.q, n, gpu, NULL);
+  CHECK_MSG(rc == 0, "bundle: %s", vkh_error(vk));
+  if (rc == 0) compare("bundle (nbrdf_model_decode)", &s, gpu, f, NULL);
+  free(f), free(gpu), free(words);
+  queries_free(&s);
+  nbrdf_model_destroy(model);
+}
+
+/* The encoding kernel alone against model_encode, so that a mismatch is located. */
+static void test_encoding_kernel(void) {
+  const size_t n = 4096;
+  nbrdf_rng rng;
+  nbrdf_rng_init(&rng, 5, 1);
+  float *wi = malloc(sizeof(float) * 3 * n), *wo = malloc(sizeof(float) * 3 * n);
+  float *pairs = malloc(sizeof(float) * 6 * n), *ref = malloc(sizeof(float) * 102 * n);
+  for (size_t k = 0; k < n; k++) {
+    fixture_direction(&rng, wi + 3 * k);
+    fixture_direction(&rng, wo + 3 * k);
+    memcpy(pairs + 6 * k, wi + 3 * k, 12);
+    memcpy(pairs + 6 * k + 3, wo + 3 * k, 12);
+  }
+  vkh_buffer pb, fb;
+  vkh_kernel kern;
+  int rc = vkh_buffer_create(vk, 6 * n * 4, &pb);
+  if (!rc) rc = vkh_buffer_create(vk, 102 * n * 4, &fb);
+  if (!rc) rc = vkh_kernel_create(vk, "encode.spv", 2, 12, 0, NULL, &kern);
+  CHECK_MSG(rc == 0, "encode kernel: %s", vkh_error(vk));
+  if (rc) return;
+  memcpy(pb.map, pairs, 6 * n * 4);
+  vkh_buffer *bind[2] = {&pb, &fb};
+  vkh_kernel_bind(vk, &kern, bind);
+  for (int kind = 0; kind < 2; kind++) {
+    model_encoding enc = {(model_encoding_kind)kind, MODEL_ENCODING_MAX_OCTAVES};
+    model_encode(&enc, n, wi, wo, ref, 102);
+    uint32_t push[3] = {(uint32_t)n, (uint32_t)kind, (uint32_t)enc.octaves};
+    CHECK(vkh_run(vk, &kern, push, (uint32_t)((n + 63) / 64), NULL) == 0);
+    const float *g = fb.map;
+    double worst_base = 0, worst_freq = 0;
+    for (size_t k = 0; k < n; k++)
+      for (int j = 0; j < 102; j++) {
+        double e = fabs(g[102 * k + j] - ref[102 * k + j]);
+        if (j < 6 && !(e <= worst_base)) worst_base = e;
+        if (j >= 6 && !(e <= worst_freq)) worst_freq = e;
+      }
+    printf("  encoding %s: max |error| base %.2e, frequencies (octaves < 8) %.2e\n",
+           model_encoding_kind_name(enc.kind), worst_base, worst_freq);
+    /* Base features: a few ulp. sin(2^7 π x) amplifies the input's float rounding by 2^7 π
+     * ≈ 400 (the C side rounds the features from double), hence the looser bound. */
+    CHECK_MSG(worst_base <= 1e-5, "%s: base features differ by %g", model_encoding_kind_name(enc.kind),
+              worst_base);
+    CHECK_MSG(worst_freq <= 1e-3, "%s: frequency features differ by %g",
+              model_encoding_kind_name(enc.kind), worst_freq);
+  }
+  vkh_kernel_destroy(vk, &kern);
+  vkh_buffer_destroy(vk, &pb);
+  vkh_buffer_destroy(vk, &fb);
+  free(wi), free(wo), free(pairs), free(ref);
+}
+
+int main(void) {
+  char msg[512];
+  if (vkh_open(&vk, msg, sizeof msg) != 0) {
+    fprintf(stderr, "Vulkan: %s\n", msg);
+    return 1;
+  }
+  printf("device: %s\n", vkh_device_name(vk));
+  RUN(test_encoding_kernel);
+  RUN(test_presets);
+  RUN(test_encodings_and_outputs);
+  RUN(test_bundle);
+  vkh_close(vk);
+  return nbrdf_test_finish();
+}
+#else
+int main(void) {
+  puts("shader tests not built: configured with NBRDF_BUILD_SHADERS=OFF");
+  return 0;
+}
+#endif
