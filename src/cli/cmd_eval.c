@@ -12,6 +12,7 @@
 
 #include "cli/cli.h"
 #include "cli/csv.h"
+#include "cli/eval_neural.h"
 #include "core/vec3.h"
 #include "nbrdf/brdf.h"
 
@@ -26,6 +27,7 @@ typedef struct column_spec {
 typedef struct model_spec {
   const char *name;
   int stochastic;
+  eval_neural_kind neural; /* EVAL_NEURAL_NONE: the ground truth */
   int n_params;
   column_spec params[MAX_PARAMS];
 } model_spec;
@@ -35,6 +37,7 @@ typedef struct model_spec {
 static const model_spec MODELS[] = {
     {"layered",
      1,
+     EVAL_NEURAL_NONE,
      6,
      {{"alpha1", ALPHA_RANGE},
       {"eta", ETA_RANGE},
@@ -42,8 +45,24 @@ static const model_spec MODELS[] = {
       {"r0", 0, 1, 0},
       {"albedo", 0, 1, 0},
       {"sigma_t", 0, NBRDF_GT_SIGMA_T_MAX, 0}}},
-    {"conductor", 0, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
-    {"dielectric", 0, 2, {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
+    {"conductor", 0, EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
+    {"dielectric", 0, EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
+    {"neural",
+     0,
+     EVAL_NEURAL_LAYERED,
+     6,
+     {{"alpha1", ALPHA_RANGE},
+      {"eta", ETA_RANGE},
+      {"alpha2", ALPHA_RANGE},
+      {"r0", 0, 1, 0},
+      {"albedo", 0, 1, 0},
+      {"sigma_t", 0, NBRDF_GT_SIGMA_T_MAX, 0}}},
+    {"neural-conductor", 0, EVAL_NEURAL_CONDUCTOR, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
+    {"neural-dielectric",
+     0,
+     EVAL_NEURAL_DIELECTRIC,
+     2,
+     {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
 };
 static const column_spec ANGLES[N_ANGLES] = {
     {"theta_i", 0, 90, 1}, {"phi_i", -360, 360, 0}, {"theta_o", 0, 90, 1}, {"phi_o", -360, 360, 0}};
@@ -52,6 +71,8 @@ void cmd_eval_usage(FILE *out) {
   fprintf(out,
           "usage: nbrdf eval --model layered|conductor|dielectric [--spp N] "
           "[--seed S] [--threads T]\n"
+          "       nbrdf eval --model neural|neural-conductor|neural-dielectric "
+          "[--bundle DIR]\n"
           "\n"
           "Evaluates ground-truth BRDF values at point queries: reads CSV on "
           "stdin, writes CSV\n"
@@ -79,6 +100,16 @@ void cmd_eval_usage(FILE *out) {
           "reflectance r0)\n"
           "  dielectric: alpha,eta + angles     (GGX, exact Fresnel; its "
           "reflection lobe only)\n"
+          "  neural, neural-conductor, neural-dielectric: the columns of layered, "
+          "conductor,\n"
+          "              dielectric; f as a bake computes a texel (base-table look-up, "
+          "layering\n"
+          "              network, decoder) with the bundle of --bundle DIR (default "
+          "models/default).\n"
+          "              Outside the bundle's tables a parameter is clamped to them, "
+          "with a warning\n"
+          "              naming the line; sigma_t above the trained 5 is extrapolated "
+          "(warned).\n"
           "  angles:     theta_i,phi_i,theta_o,phi_o in DEGREES; theta from the "
           "surface normal,\n"
           "              phi the azimuth from the x axis; both directions point "
@@ -130,10 +161,12 @@ void cmd_eval_usage(FILE *out) {
 typedef struct eval_args {
   const model_spec *model;
   nbrdf_eval_options options;
+  const char *bundle;
 } eval_args;
 
 static int parse_args(int argc, char **argv, eval_args *a) {
   a->model = NULL;
+  a->bundle = NULL;
   a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
   for (int i = 1; i < argc; i++) {
     const char *v;
@@ -143,9 +176,11 @@ static int parse_args(int argc, char **argv, eval_args *a) {
         if (!strcmp(v, MODELS[m].name)) a->model = &MODELS[m];
       if (!a->model)
         return cli_usage_error("eval",
-                               "unknown model '%s' (expected layered, conductor or "
-                               "dielectric)",
+                               "unknown model '%s' (expected layered, conductor, "
+                               "dielectric, neural, neural-conductor or neural-dielectric)",
                                v);
+    } else if ((v = cli_option_value(argc, argv, &i, "--bundle"))) {
+      a->bundle = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
       if (!cli_parse_int(v, 1, 1000000000L, &n))
         return cli_usage_error("eval", "--spp '%s' is not an integer in [1, 1e9]", v);
@@ -263,6 +298,7 @@ static void direction(double theta_deg, double phi_deg, double w[3]) {
 }
 
 typedef struct batch {
+  double *params; /* neural models: n × n_params */
   size_t n, n_owned;
   const nbrdf_brdf **brdfs;
   nbrdf_brdf **owned;
@@ -273,7 +309,7 @@ typedef struct batch {
 static void batch_free(batch *b) {
   for (size_t k = 0; k < b->n_owned; k++)
     nbrdf_brdf_destroy(b->owned[k]);
-  free(b->brdfs), free(b->owned), free(b->queries), free(b->f), free(b->f_stderr);
+  free(b->brdfs), free(b->owned), free(b->queries), free(b->f), free(b->f_stderr), free(b->params);
 }
 
 /* One handle per row, shared by consecutive rows with the same parameters
@@ -286,7 +322,8 @@ static int build_batch(const csv_table *t, const eval_args *a, const layout *lay
   b->queries = calloc(n ? n : 1, sizeof *b->queries);
   b->f = calloc(n ? n : 1, sizeof *b->f);
   b->f_stderr = calloc(n ? n : 1, sizeof *b->f_stderr);
-  if (!b->brdfs || !b->owned || !b->queries || !b->f || !b->f_stderr)
+  b->params = calloc((n ? n : 1) * MAX_PARAMS, sizeof *b->params);
+  if (!b->brdfs || !b->owned || !b->queries || !b->f || !b->f_stderr || !b->params)
     return cli_fail("eval", "out of memory for %zu rows", n);
   const int np = a->model->n_params;
   double prev[MAX_COLUMNS];
@@ -294,7 +331,10 @@ static int build_batch(const csv_table *t, const eval_args *a, const layout *lay
     double v[MAX_COLUMNS];
     int rc = parse_row(t, k + 1, lay, v);
     if (rc != CLI_EXIT_OK) return rc;
-    if (k > 0 && !memcmp(v, prev, (size_t)np * sizeof *v)) {
+    memcpy(b->params + k * (size_t)np, v, (size_t)np * sizeof *v);
+    if (a->model->neural) {
+      /* no ground-truth handle */
+    } else if (k > 0 && !memcmp(v, prev, (size_t)np * sizeof *v)) {
       b->brdfs[k] = b->brdfs[k - 1];
     } else {
       nbrdf_error err = {0};
@@ -339,8 +379,11 @@ int cmd_eval(int argc, char **argv) {
   batch b = {0};
   rc = find_columns(&t, a.model, &lay);
   if (rc == CLI_EXIT_OK) rc = build_batch(&t, &a, &lay, &b);
-  if (rc == CLI_EXIT_OK && b.n > 0 &&
-      nbrdf_brdf_eval_many(b.n, b.brdfs, b.queries, &a.options, b.f, b.f_stderr, &err) != NBRDF_OK)
+  if (rc == CLI_EXIT_OK && b.n > 0 && a.model->neural)
+    rc = eval_neural(a.bundle, a.model->neural, b.n, b.params, b.queries, t.line + 1, b.f);
+  else if (rc == CLI_EXIT_OK && b.n > 0 &&
+           nbrdf_brdf_eval_many(b.n, b.brdfs, b.queries, &a.options, b.f, b.f_stderr, &err) !=
+               NBRDF_OK)
     rc = cli_fail_error("eval", &err);
   for (size_t k = 0; rc == CLI_EXIT_OK && k < b.n; k++)
     if (!isfinite(b.f[k]) || !isfinite(b.f_stderr[k]))

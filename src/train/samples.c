@@ -1,9 +1,11 @@
 #include "train/samples.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "nn/safetensors.h"
 
 static int grow(void **p, size_t *cap, size_t need, size_t elem) {
   if (need <= *cap) return 1;
@@ -62,37 +64,65 @@ nbrdf_status train_samples_append(train_samples *s, const train_params *params, 
 typedef struct load_state {
   train_samples *s;
   capacity cap;
+  uint64_t limit, taken, hash; /* records to take (0 = all), taken, FNV-1a of what was taken */
   nbrdf_status st;
   nbrdf_error *err;
 } load_state;
 
 static int on_record(void *user, const train_dataset_record *r) {
   load_state *ls = user;
+  if (ls->limit && ls->taken == ls->limit) return 1;
   ls->st = append(ls->s, &ls->cap, &r->params, r->n_samples, r->samples, ls->err);
+  ls->hash = nbrdf_st_fnv1a64(ls->hash, r->samples,
+                              r->n_samples * TRAIN_DATASET_FLOATS * sizeof(float));
+  ls->taken++;
   return ls->st != NBRDF_OK;
 }
 
-nbrdf_status train_samples_load(int n_files, const char *const *paths, train_samples *out,
+/* "path" or "path:N" (the first N records, which need not be a finished file). */
+static int parse_spec(const char *spec, char *path, size_t size, uint64_t *limit) {
+  const char *colon = strrchr(spec, ':');
+  char *end = NULL;
+  *limit = 0;
+  if (colon && colon[1]) {
+    unsigned long long n = strtoull(colon + 1, &end, 10);
+    if (!*end && n > 0) {
+      *limit = n;
+      return snprintf(path, size, "%.*s", (int)(colon - spec), spec) < (int)size;
+    }
+  }
+  return snprintf(path, size, "%s", spec) < (int)size;
+}
+
+nbrdf_status train_samples_load(int n_files, const char *const *specs, train_samples *out,
                                 nbrdf_error *err) {
   memset(out, 0, sizeof *out);
   out->checksums = calloc((size_t)(n_files > 0 ? n_files : 1), sizeof(uint64_t));
   if (!out->checksums) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory");
-  load_state ls = {out, {0, 0}, NBRDF_OK, err};
+  load_state ls = {out, {0, 0}, 0, 0, 0, NBRDF_OK, err};
   for (int i = 0; i < n_files; i++) {
+    char path[4096];
     train_dataset_info info;
-    nbrdf_status st = train_dataset_read(paths[i], 1, &info, on_record, &ls, err);
+    nbrdf_status st = NBRDF_OK;
+    if (!parse_spec(specs[i], path, sizeof path, &ls.limit))
+      st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", specs[i]);
+    ls.taken = 0, ls.hash = NBRDF_ST_FNV1A64_INIT;
+    if (!st) st = train_dataset_read(path, !ls.limit, &info, on_record, &ls, err);
     if (st == NBRDF_OK) st = ls.st;
-    if (st == NBRDF_OK && !info.complete)
+    if (st == NBRDF_OK && ls.limit && ls.taken < ls.limit)
+      st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: has %llu valid records, %llu were asked for",
+                      path, (unsigned long long)ls.taken, (unsigned long long)ls.limit);
+    if (st == NBRDF_OK && !ls.limit && !info.complete)
       st = nbrdf_fail(err, NBRDF_ERR_FORMAT,
                       "%s: incomplete data set (%llu of %llu BRDFs); finish it with the same "
-                      "`nbrdf dataset` command first",
-                      paths[i], (unsigned long long)info.records,
-                      (unsigned long long)info.settings.count);
+                      "`nbrdf dataset` command first, or take its first records with %s:N",
+                      path, (unsigned long long)info.records,
+                      (unsigned long long)info.settings.count, path);
     if (st != NBRDF_OK) {
       train_samples_free(out);
       return st;
     }
-    out->checksums[i] = info.checksum;
+    out->checksums[i] = ls.hash;
     out->n_files = i + 1;
   }
   if (out->n_brdfs == 0) {

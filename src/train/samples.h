@@ -20,8 +20,10 @@ typedef struct train_samples {
   int n_files;
 } train_samples;
 
-/* Reads complete data sets (strict validation) in the given order. */
-nbrdf_status train_samples_load(int n_files, const char *const *paths, train_samples *out,
+/* Reads data sets in the given order: "path" must be a complete file (strict
+ * validation); "path:N" takes its first N records, which may come from a file
+ * still being generated (those records are validated all the same). */
+nbrdf_status train_samples_load(int n_files, const char *const *specs, train_samples *out,
                                 nbrdf_error *err);
 /* Appends one BRDF's interleaved samples (TRAIN_DATASET_FLOATS per sample). */
 nbrdf_status train_samples_append(train_samples *s, const train_params *params, size_t n,
