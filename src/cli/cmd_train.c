@@ -17,6 +17,7 @@ void cmd_train_usage(FILE *out) {
           "       nbrdf train layering --data FILE[,...] --run DIR --tables FILE -o FILE\n"
           "                          [--preset small|paper] [--epochs N] [--batch N] [--lr X]\n"
           "                          [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
+          "       nbrdf train sampler --run DIR -o FILE [--brdfs N] [--epochs N]\n"
           "       nbrdf train bundle -o DIR --decoder F --tables F --layering F [--sampler F]\n"
           "                          [--name NAME] [--card MODEL_CARD.md] [--note TEXT]\n"
           "\n"
@@ -42,6 +43,8 @@ void cmd_train_usage(FILE *out) {
           "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
           "layering: fits the layering network to the latents a decoder run learned for its\n"
           "two-layer BRDFs (--data: the same files as that run), inputs from the tables.\n"
+          "sampler: per-latent proxy (sigma, w) by cross-entropy against the decoded BRDF,\n"
+          "then the sampling network regressed on them (src/train/train_sampler.h).\n"
           "bundle: assembles a model bundle; without --sampler the proxy network keeps its\n"
           "initial weights (and the card must say so).\n");
 }
@@ -202,6 +205,7 @@ int cmd_train(int argc, char **argv) {
   if (!strcmp(argv[1], "tables")) return cmd_train_tables(argc, argv);
   if (!strcmp(argv[1], "layering")) return cmd_train_layering(argc, argv);
   if (!strcmp(argv[1], "bundle")) return cmd_train_bundle(argc, argv);
-  return cli_usage_error("train", "unknown training '%s' (decoder, tables, layering, bundle)",
-                         argv[1]);
+  if (!strcmp(argv[1], "sampler")) return cmd_train_sampler(argc, argv);
+  return cli_usage_error(
+      "train", "unknown training '%s' (decoder, tables, layering, sampler, bundle)", argv[1]);
 }

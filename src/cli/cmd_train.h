@@ -9,6 +9,7 @@
 int cmd_train_tables(int argc, char **argv);
 int cmd_train_layering(int argc, char **argv);
 int cmd_train_bundle(int argc, char **argv);
+int cmd_train_sampler(int argc, char **argv);
 
 /* Progress on stderr (a line per second, or JSON lines) that also stops on
  * Ctrl-C once train_watch_sigint() is active. */

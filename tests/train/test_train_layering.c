@@ -13,6 +13,7 @@
 #include "train/table_fit.h"
 #include "train/train_decoder.h"
 #include "train/train_layering.h"
+#include "train/train_sampler.h"
 
 static char *path_of(const char *name) {
   static char buf[8][512];
@@ -70,9 +71,22 @@ static void test_layering_chain(void) {
   if (f) fclose(f);
   CHECK_MSG(lr.train_loss < 0.5 * first, "layering loss %g -> %g", first, lr.train_loss);
 
+  /* The sampler: the fitted proxy is at least as close to the decoded BRDFs as
+   * the cosine lobe it contains (w = 1), and the network's regression error
+   * falls with training. */
+  train_sampler_settings ss = TRAIN_SAMPLER_SETTINGS_DEFAULT;
+  ss.incident = 2, ss.outgoing = 64, ss.epochs = 1, ss.batch = 8;
+  model_sampler *smp = NULL, *smp1 = NULL;
+  train_sampler_result sr1, sr;
+  CHECK_OK(train_sampler_fit(dec, d.n_brdfs, lat, &ss, &smp1, &sr1, &err), &err);
+  ss.epochs = 200;
+  CHECK_OK(train_sampler_fit(dec, d.n_brdfs, lat, &ss, &smp, &sr, &err), &err);
+  CHECK_MSG(sr.mean_ce_fit <= sr.mean_ce_cosine + 1e-9, "fit %g vs cosine %g", sr.mean_ce_fit,
+            sr.mean_ce_cosine);
+  CHECK_MSG(sr.rms_o < 0.5 * sr1.rms_o, "sampler rms %g -> %g", sr1.rms_o, sr.rms_o);
+  model_sampler_destroy(smp1);
+
   /* A bundle of the trained parts loads, and layering it gives finite latents. */
-  model_sampler *smp = NULL;
-  CHECK_OK(model_sampler_create("default", 32, 1, &smp, &err), &err);
   model_bundle_parts parts = {.name = "tiny",
                               .trained = 1,
                               .seed = 1,

@@ -1,0 +1,69 @@
+/* nbrdf train sampler: the sampling network for a decoder run's latents. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "cli/cmd_train.h"
+#include "core/error.h"
+#include "train/samples.h"
+#include "train/train_layering.h"
+#include "train/train_sampler.h"
+
+int cmd_train_sampler(int argc, char **argv) {
+  train_sampler_settings s = TRAIN_SAMPLER_SETTINGS_DEFAULT;
+  const char *run = NULL, *out = NULL;
+  long brdfs = 0, n;
+  train_progress prog = {0, 0};
+  for (int i = 2; i < argc; i++) {
+    const char *v;
+    if ((v = cli_option_value(argc, argv, &i, "--run")))
+      run = v;
+    else if ((v = cli_option_value(argc, argv, &i, "-o")))
+      out = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--brdfs")) && cli_parse_int(v, 0, 1L << 30, &n))
+      brdfs = n;
+    else if ((v = cli_option_value(argc, argv, &i, "--epochs")) && cli_parse_int(v, 1, 100000, &n))
+      s.epochs = (int)n;
+    else if (!strcmp(argv[i], "--progress=json"))
+      prog.json = 1;
+    else
+      return cli_usage_error("train", "sampler: unexpected or invalid argument '%s'", argv[i]);
+  }
+  if (!run || !out) return cli_usage_error("train", "sampler: --run and -o are required");
+  char path[4096];
+  nbrdf_error err = {0};
+  model_decoder *dec = NULL;
+  model_sampler *net = NULL;
+  float *lat = NULL;
+  snprintf(path, sizeof path, "%s/decoder.safetensors", run);
+  nbrdf_status st = model_decoder_load(path, &dec, &err);
+  /* The checkpoint's latents: their count follows from the tensor's size. */
+  nbrdf_st_reader *r = NULL;
+  snprintf(path, sizeof path, "%s/checkpoint.safetensors", run);
+  if (!st) st = nbrdf_st_open(path, &r, &err);
+  const nbrdf_st_tensor *t = r ? nbrdf_st_find(r, "latents") : NULL;
+  size_t total = t ? t->count / 32 : 0,
+         use = brdfs > 0 && (size_t)brdfs < total ? (size_t)brdfs : total;
+  if (!st && !t) st = nbrdf_fail(&err, NBRDF_ERR_FORMAT, "%s: no latents", path);
+  if (!st && !(lat = malloc(use * 32 * sizeof *lat)))
+    st = nbrdf_fail(&err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
+  /* An even spread over the run's BRDFs (single and layered alike). */
+  for (size_t k = 0; k < use && !st; k++)
+    memcpy(lat + k * 32, t->data + (k * total / use) * 32, 32 * sizeof *lat);
+  nbrdf_st_close(r);
+  train_sampler_result res;
+  s.progress = train_on_progress, s.user = &prog;
+  train_watch_sigint(1);
+  if (!st) st = train_sampler_fit(dec, use, lat, &s, &net, &res, &err);
+  train_watch_sigint(0);
+  if (!st) st = model_sampler_save(net, out, NULL, &err);
+  if (!prog.json) fputc('\n', stderr);
+  if (!st)
+    printf("train sampler: %zu latents; cross-entropy of the fitted proxy %.4f vs cosine %.4f "
+           "(lower is closer to the BRDF); network RMS error on raw outputs %.4f\n",
+           use, res.mean_ce_fit, res.mean_ce_cosine, res.rms_o);
+  model_sampler_destroy(net);
+  model_decoder_destroy(dec);
+  free(lat);
+  return st ? cli_fail_error("train", &err) : CLI_EXIT_OK;
+}
