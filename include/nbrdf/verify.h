@@ -99,7 +99,7 @@ typedef struct nbrdf_verify_report {
   size_t references;      /* distinct ground-truth BRDFs estimated (2 runs each) */
   size_t decoded;         /* distinct latents decoded into lobe images */
   size_t decoder_queries; /* decoder evaluations (one colour channel each) */
-  size_t clamped;         /* parameters moved into the ground truth's range */
+  size_t clamped;         /* parameters moved into the ground truth's range, per look-up */
   /* Every tile of every level is read first; texels (any level) holding a
    * non-finite latent are counted here, the first one located. */
   size_t nonfinite;
