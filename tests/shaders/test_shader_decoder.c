@@ -147,6 +147,30 @@ static void test_encodings_and_outputs(void) {
   }
 }
 
+/* Skip connections from the network input: projected (widths differ) and identity (equal
+ * widths) run in the shader; a skip from any other activation is refused by the packer. */
+static void test_skips(void) {
+  nbrdf_error err = {0};
+  model_decoder_config cfg;
+  model_encoding hd = {MODEL_ENCODING_HALFDIFF, 0};
+  /* 26 + 6 = 32 inputs = the width: layer 2 (plain) gets an identity skip, layer 4 (plain)
+   * and the output (linear, 1 wide) projected ones. */
+  CHECK_OK(model_decoder_config_make(26, hd, MODEL_OUTPUT_LOG1P, 32, 2, 1, &cfg, &err), &err);
+  nbrdf_nn_spec_skip(&cfg.spec, 2, 0);
+  nbrdf_nn_spec_skip(&cfg.spec, 5, 0);
+  CHECK_OK(nbrdf_nn_spec_validate(&cfg.spec, &err), &err);
+  check_config("skips from the input", &cfg, 2048, 31);
+
+  nbrdf_nn_spec_skip(&cfg.spec, 4, 2);
+  model_decoder *dec = NULL;
+  CHECK_OK(model_decoder_create(&cfg, 1, &dec, &err), &err);
+  size_t n = 0;
+  if (dec)
+    CHECK_FAILS(model_gpu_pack_decoder(dec, NULL, 0, &n, &err), NBRDF_ERR_UNSUPPORTED, &err,
+                "skip from activation 2");
+  model_decoder_destroy(dec);
+}
+
 /* The public path a renderer integration takes: a bundle on disk (`nbrdf bundle init`),
  * nbrdf_gpu_pack_decoder, and nbrdf_model_decode as the reference. */
 static void test_bundle(void) {
@@ -241,6 +265,7 @@ int main(void) {
   RUN(test_encoding_kernel);
   RUN(test_presets);
   RUN(test_encodings_and_outputs);
+  RUN(test_skips);
   RUN(test_bundle);
   vkh_close(vk);
   return nbrdf_test_finish();
