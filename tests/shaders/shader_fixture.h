@@ -29,8 +29,7 @@ static inline void fixture_direction(nbrdf_rng *rng, float out[3]) {
  * output). Returns 0 or -1 (message in vkh_error). *seconds (may be NULL) gets the
  * dispatch's wall time. */
 static inline int fixture_run_decoder(vkh *vk, const uint32_t *words, size_t n_words,
-                                      const float *queries, size_t n, float *out,
-                                      double *seconds) {
+                                      const float *queries, size_t n, float *out, double *seconds) {
   int dim = (int)words[NBRDF_GPU_W_LATENT_DIM];
   uint32_t spec[1] = {words[NBRDF_GPU_W_MAX_WIDTH]};
   vkh_buffer wb, qb, ob;

@@ -24,7 +24,7 @@ static vkh *vk;
 typedef struct queries {
   size_t n;
   int dim;
-  float *q;      /* n x (6 + dim): wi, wo, latent */
+  float *q; /* n x (6 + dim): wi, wo, latent */
   float *wi, *wo, *latents;
 } queries;
 
@@ -244,8 +244,8 @@ static void test_encoding_kernel(void) {
            model_encoding_kind_name(enc.kind), worst_base, worst_freq);
     /* Base features: a few ulp. sin(2^7 π x) amplifies the input's float rounding by 2^7 π
      * ≈ 400 (the C side rounds the features from double), hence the looser bound. */
-    CHECK_MSG(worst_base <= 1e-5, "%s: base features differ by %g", model_encoding_kind_name(enc.kind),
-              worst_base);
+    CHECK_MSG(worst_base <= 1e-5, "%s: base features differ by %g",
+              model_encoding_kind_name(enc.kind), worst_base);
     CHECK_MSG(worst_freq <= 1e-3, "%s: frequency features differ by %g",
               model_encoding_kind_name(enc.kind), worst_freq);
   }

@@ -23,7 +23,8 @@ static vkh *vk;
 static eval_latent_image *random_image(int width, int height, int dim, uint64_t seed) {
   nbrdf_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 1};
   int levels = 1;
-  while ((width >> levels) >= 1 || (height >> levels) >= 1) levels++;
+  while ((width >> levels) >= 1 || (height >> levels) >= 1)
+    levels++;
   eval_latent_image *img = NULL;
   nbrdf_error err = {0};
   CHECK_OK(eval_latent_image_create(&layout, width, height, levels, &img, &err), &err);
@@ -101,8 +102,8 @@ static void test_fetch(void) {
       double e = fabs(g[k] - ref[k]);
       if (!(e <= worst)) worst = e;
       if (!(e <= 2e-6) && bad++ < 3)
-        printf("  query %zu channel %zu: %.9g vs %.9g (u %g v %g lod %g level %g)\n", k / C,
-               k % C, g[k], ref[k], q[4 * (k / C)], q[4 * (k / C) + 1], q[4 * (k / C) + 2],
+        printf("  query %zu channel %zu: %.9g vs %.9g (u %g v %g lod %g level %g)\n", k / C, k % C,
+               g[k], ref[k], q[4 * (k / C)], q[4 * (k / C) + 1], q[4 * (k / C) + 2],
                q[4 * (k / C) + 3]);
     }
     printf("  %zu fetches x %d channels: max |error| %.2e\n", n, C, worst);
@@ -204,8 +205,8 @@ static void test_shade(void) {
       if (!(ep <= worst_p)) worst_p = ep;
       bad += !(ep <= 1e-3);
     }
-    printf("  %zu shading queries: max error f %.2e, pdf %.2e; %zu of %zu f > 1e-3\n", n,
-           worst_f, worst_p, positive, 3 * n);
+    printf("  %zu shading queries: max error f %.2e, pdf %.2e; %zu of %zu f > 1e-3\n", n, worst_f,
+           worst_p, positive, 3 * n);
     CHECK_MSG(positive > n / 4, "only %zu values are positive", positive);
     CHECK_MSG(bad == 0, "%zu shaded values differ", bad);
     vkh_kernel_destroy(vk, &kern);

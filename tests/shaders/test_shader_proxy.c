@@ -86,7 +86,8 @@ static void test_sample_and_pdf(void) {
     d = sqrt(d);
     if (d > worst_dir) worst_dir = d;
     if (!(d <= 1e-4) && bad_dir++ < 3)
-      printf("  case %zu: sigma %g w %g u (%g %g %g): |dwo| %g\n", k, sigma, w, u[0], u[1], u[2], d);
+      printf("  case %zu: sigma %g w %g u (%g %g %g): |dwo| %g\n", k, sigma, w, u[0], u[1], u[2],
+             d);
     /* The pdf the shader returns must be the density at the direction it returned: near
      * grazing reflections p ∝ 1 / (4 |ωo·h|) turns the 1e-7 rounding of ωo into
      * 1e-3 of pdf, so comparing with the C sample's own pdf would test float conditioning,
