@@ -1,0 +1,73 @@
+/* nbrdf evaluate's machinery on a small untrained decoder: each case's figures
+ * are those of its stored images, the summary statistics are those of the
+ * cases, references come back identical from the cache, the layering sets
+ * need a bundle, and the JSON report is written. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "eval/evaluate.h"
+#include "eval/lobe.h"
+#include "testing.h"
+
+#define PER ((size_t)NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
+
+static void test_single_set(void) {
+  nbrdf_error err;
+  model_decoder_config cfg;
+  model_decoder *dec = NULL;
+  CHECK_OK(model_decoder_preset("small", 32, &cfg, &err), &err);
+  CHECK_OK(model_decoder_create(&cfg, 7, &dec, &err), &err);
+  if (!dec) return;
+  char cache[512], json[512];
+  snprintf(cache, sizeof cache, "%s/cache", nbrdf_test_tmpdir());
+  snprintf(json, sizeof json, "%s/eval.json", nbrdf_test_tmpdir());
+  eval_settings s = EVAL_SETTINGS_DEFAULT;
+  s.count = 5, s.project_steps = 5, s.cache_dir = cache;
+  eval_result r;
+  CHECK_OK(eval_run(NULL, dec, EVAL_SINGLE, &s, &r, &err), &err);
+  if (!r.cases) return;
+  int worse_than_median = 0;
+  for (int i = 0; i < r.n; i++) {
+    double e = nbrdf_lobe_error(PER, r.ref + i * PER, r.approx + i * PER);
+    CHECK_NEAR(r.cases[i].lobe_error, e, 1e-12);
+    CHECK(r.cases[i].lobe_error <= r.worst);
+    worse_than_median += r.cases[i].lobe_error > r.median;
+  }
+  CHECK(r.worst == r.cases[r.worst_index].lobe_error);
+  CHECK(r.median == r.cases[r.median_index].lobe_error);
+  CHECK(worse_than_median == r.n / 2 - (r.n % 2 == 0)); /* median = element n/2 of the sorted */
+  CHECK(r.ref_noise == 0.0);                            /* single BRDFs are exact */
+
+  /* The cache returns the references (stored as float). */
+  double *again = malloc((size_t)s.count * PER * sizeof *again), noise = -1;
+  CHECK_OK(eval_reference(EVAL_SINGLE, &s, again, &noise, &err), &err);
+  double worst_diff = 0;
+  for (size_t k = 0; k < (size_t)s.count * PER; k++) {
+    double d = fabs(again[k] - r.ref[k]) / (fabs(r.ref[k]) + 1e-30);
+    if (r.ref[k] != 0 && d > worst_diff) worst_diff = d;
+  }
+  CHECK_MSG(worst_diff < 1e-6, "cached reference differs by %g", worst_diff);
+  free(again);
+
+  CHECK_OK(eval_write_json(json, "test", &s, &r, 1, &err), &err);
+  FILE *f = fopen(json, "r");
+  char buf[4096] = {0};
+  if (f) {
+    size_t got = fread(buf, 1, sizeof buf - 1, f);
+    buf[got] = '\0';
+    fclose(f);
+  }
+  CHECK(strstr(buf, "\"single\"") && strstr(buf, "\"median_lobe_error\""));
+  eval_result_free(&r);
+
+  eval_result none;
+  CHECK_FAILS(eval_run(NULL, dec, EVAL_LAYER, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
+              "needs a bundle");
+  model_decoder_destroy(dec);
+}
+
+int main(void) {
+  RUN(test_single_set);
+  return nbrdf_test_finish();
+}
