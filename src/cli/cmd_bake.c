@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
 #include "cli/cli_params.h"
 #include "nbrdf/bake.h"
 #include "nbrdf/model.h"
@@ -39,12 +40,6 @@ void cmd_bake_usage(FILE *out) {
       "\n"
       "Ctrl-C cancels cleanly: no output file is left.\n"
       "exit status: 0 success, 1 failure (the message names the file and texel), 2 bad usage\n");
-}
-
-static volatile sig_atomic_t interrupted = 0;
-static void on_sigint(int sig) {
-  (void)sig;
-  interrupted = 1;
 }
 
 typedef struct progress_state {
@@ -157,15 +152,12 @@ int cmd_bake(int argc, char **argv) {
   opts.progress = on_progress;
   opts.warning = on_warning;
   opts.user = &ps;
-  opts.cancel = &interrupted;
-  struct sigaction sa, old;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_sigint;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, &old);
+  opts.cancel = cli_cancel_flag();
+  struct sigaction old;
+  cli_cancel_watch(&old);
   nbrdf_bake_report rep;
   nbrdf_status st = nbrdf_bake(model, &params.in, &opts, out, &rep, &err);
-  sigaction(SIGINT, &old, NULL);
+  cli_cancel_unwatch(&old);
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) {
     if (ps.bar) fputc('\n', stderr);

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
 #include "train/dataset.h"
 
 void cmd_dataset_usage(FILE *out) {
@@ -38,12 +39,6 @@ void cmd_dataset_usage(FILE *out) {
           "  --check FILE     validate FILE (checksums, parameters, samples); print a summary\n");
 }
 
-static volatile sig_atomic_t interrupted;
-static void on_sigint(int sig) {
-  (void)sig;
-  interrupted = 1;
-}
-
 typedef struct progress_state {
   int json;
   double start, first_done;
@@ -69,7 +64,7 @@ static int on_progress(void *user, const char *stage, double done, double total)
   else
     fprintf(stderr, "%s: %.0f/%.0f BRDFs (%.1f %%), %.3g BRDFs/s, ETA %.0f s\n", stage, done, total,
             100.0 * done / total, rate, eta);
-  return interrupted;
+  return *cli_cancel_flag();
 }
 
 typedef struct check_stats {
@@ -191,11 +186,12 @@ int cmd_dataset(int argc, char **argv) {
     return cli_usage_error("dataset", "--sampled %d exceeds --outgoing %d", s.sampled, s.outgoing);
   s.progress = on_progress, s.user = &prog;
   prog.start = now_s();
-  void (*old)(int) = signal(SIGINT, on_sigint);
+  struct sigaction old;
+  cli_cancel_watch(&old);
   uint64_t resumed = 0;
   nbrdf_error err = {0};
   nbrdf_status st = train_dataset_write(out, &s, &resumed, &err);
-  signal(SIGINT, old);
+  cli_cancel_unwatch(&old);
   if (st != NBRDF_OK) return cli_fail_error("dataset", &err);
   double t = now_s() - prog.start;
   uint64_t made = s.count - resumed;

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
 #include "cli/cli_params.h"
 #include "nbrdf/render.h"
 
@@ -48,12 +49,6 @@ void cmd_render_usage(FILE *out) {
           "reference mode: the parameters as for 'nbrdf bake' (constants only):\n");
   cli_params_usage(out);
   fprintf(out, "\nexit status: 0 success, 1 failure, 2 bad usage\n");
-}
-
-static volatile sig_atomic_t interrupted = 0;
-static void on_sigint(int sig) {
-  (void)sig;
-  interrupted = 1;
 }
 
 typedef struct progress_state {
@@ -282,15 +277,12 @@ int cmd_render(int argc, char **argv) {
     rc = write_lobe(model, latent, out, lobes[k], &o, ps.json);
   if (rc == CLI_EXIT_OK) {
     ps.bar = !ps.json && isatty(STDERR_FILENO);
-    o.progress = on_progress, o.user = &ps, o.cancel = &interrupted;
-    struct sigaction sa, old;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_sigint;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old);
+    o.progress = on_progress, o.user = &ps, o.cancel = cli_cancel_flag();
+    struct sigaction old;
+    cli_cancel_watch(&old);
     nbrdf_render_stats stats;
     nbrdf_status st = nbrdf_render(model, latent, &o, rgb, &stats, &err);
-    sigaction(SIGINT, &old, NULL);
+    cli_cancel_unwatch(&old);
     if (st == NBRDF_OK)
       st = nbrdf_render_write(out, png, o.width, o.height, rgb, NULL, params.in.ocio_config, &err);
     if (st != NBRDF_OK) {

@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
 #include "cli/cmd_train.h"
 #include "train/train_decoder.h"
 
@@ -49,15 +50,12 @@ void cmd_train_usage(FILE *out) {
           "initial weights (and the card must say so).\n");
 }
 
-static volatile sig_atomic_t interrupted;
-static void on_sigint(int sig) {
-  (void)sig;
-  interrupted = 1;
-}
-
 void train_watch_sigint(int on) {
-  interrupted = 0;
-  signal(SIGINT, on ? on_sigint : SIG_DFL);
+  static struct sigaction old;
+  if (on)
+    cli_cancel_watch(&old);
+  else
+    cli_cancel_unwatch(&old);
 }
 
 int train_on_progress(void *user, const char *stage, double done, double total) {
@@ -70,7 +68,7 @@ int train_on_progress(void *user, const char *stage, double done, double total) 
     else
       fprintf(stderr, "\r%s: %.0f/%.0f (%.1f %%)  ", stage, done, total, 100.0 * done / total);
   }
-  return interrupted;
+  return *cli_cancel_flag();
 }
 
 /* Comma-separated list → argv-like array (the string is modified). */

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
 #include "cli/cli_params.h"
 #include "nbrdf/verify.h"
 
@@ -48,12 +49,6 @@ void cmd_verify_usage(FILE *out) {
                "exit status: 0 verified (within --max-error when given), 1 over --max-error, a\n"
                "texture holding non-finite latents, or an error (another bundle or format\n"
                "version, a damaged file: the message says which); 2 bad usage\n");
-}
-
-static volatile sig_atomic_t interrupted = 0;
-static void on_sigint(int sig) {
-  (void)sig;
-  interrupted = 1;
 }
 
 typedef struct progress_state {
@@ -262,15 +257,12 @@ int cmd_verify(int argc, char **argv) {
     fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n",
             a.bundle);
   a.ps.bar = !a.ps.json && isatty(STDERR_FILENO);
-  a.o.progress = on_progress, a.o.user = &a.ps, a.o.cancel = &interrupted;
-  struct sigaction sa, old;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_sigint;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, &old);
+  a.o.progress = on_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
+  struct sigaction old;
+  cli_cancel_watch(&old);
   nbrdf_verify_report *rep = NULL;
   nbrdf_status st = nbrdf_verify(model, a.texture, &params.in, &a.o, &rep, &err);
-  sigaction(SIGINT, &old, NULL);
+  cli_cancel_unwatch(&old);
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) return cli_fail_error("verify", &err);
   if (!a.ps.json) print_report(&a, rep);
