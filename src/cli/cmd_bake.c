@@ -9,6 +9,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_params.h"
+#include "cli/cli_progress.h"
 #include "nbrdf/bake.h"
 #include "nbrdf/model.h"
 
@@ -42,28 +43,6 @@ void cmd_bake_usage(FILE *out) {
       "exit status: 0 success, 1 failure (the message names the file and texel), 2 bad usage\n");
 }
 
-typedef struct progress_state {
-  int json, bar;
-} progress_state;
-
-static int on_progress(void *user, const char *stage, double done, double total) {
-  const progress_state *p = user;
-  if (p->json) {
-    printf("{\"event\":\"progress\",\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f}\n", stage, done,
-           total);
-    fflush(stdout);
-  } else if (p->bar) {
-    int width = 40, filled = total > 0 ? (int)(width * done / total) : width;
-    fprintf(stderr, "\r%s [", stage);
-    for (int i = 0; i < width; i++)
-      fputc(i < filled ? '#' : ' ', stderr);
-    fprintf(stderr, "] %3.0f%%", total > 0 ? 100.0 * done / total : 100.0);
-    if (done >= total) fputc('\n', stderr);
-    fflush(stderr);
-  }
-  return 0;
-}
-
 /* Prints `text` as a JSON string (control characters dropped). */
 static void json_string(const char *text) {
   putchar('"');
@@ -76,7 +55,7 @@ static void json_string(const char *text) {
 }
 
 static void on_warning(void *user, const char *message) {
-  const progress_state *p = user;
+  const cli_progress_state *p = user;
   if (p->json) {
     printf("{\"event\":\"warning\",\"message\":");
     json_string(message);
@@ -90,7 +69,7 @@ int cmd_bake(int argc, char **argv) {
   cli_params_init(&params);
   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
   const char *out = NULL, *bundle = NULL;
-  progress_state ps = {0, 0};
+  cli_progress_state ps = {0, 0};
   nbrdf_error err = {0};
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -149,7 +128,7 @@ int cmd_bake(int argc, char **argv) {
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", bundle);
 
   ps.bar = !ps.json && isatty(STDERR_FILENO);
-  opts.progress = on_progress;
+  opts.progress = cli_progress;
   opts.warning = on_warning;
   opts.user = &ps;
   opts.cancel = cli_cancel_flag();

@@ -11,6 +11,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_params.h"
+#include "cli/cli_progress.h"
 #include "nbrdf/render.h"
 
 void cmd_render_usage(FILE *out) {
@@ -49,24 +50,6 @@ void cmd_render_usage(FILE *out) {
           "reference mode: the parameters as for 'nbrdf bake' (constants only):\n");
   cli_params_usage(out);
   fprintf(out, "\nexit status: 0 success, 1 failure, 2 bad usage\n");
-}
-
-typedef struct progress_state {
-  int json, bar;
-} progress_state;
-
-static int on_progress(void *user, const char *stage, double done, double total) {
-  const progress_state *p = user;
-  if (p->json) {
-    printf("{\"event\":\"progress\",\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f}\n", stage, done,
-           total);
-    fflush(stdout);
-  } else if (p->bar) {
-    fprintf(stderr, "\r%s %3.0f%%", stage, total > 0 ? 100.0 * done / total : 100.0);
-    if (done >= total) fputc('\n', stderr);
-    fflush(stderr);
-  }
-  return 0;
 }
 
 static int parse_numbers(const char *text, double *v, int n) {
@@ -154,7 +137,7 @@ int cmd_render(int argc, char **argv) {
   cli_params params;
   cli_params_init(&params);
   const char *latent = NULL, *out = NULL, *png = NULL, *bundle = NULL;
-  progress_state ps = {0, 0};
+  cli_progress_state ps = {0, 0};
   int lobes[8][3], n_lobes = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = NULL;
@@ -277,7 +260,7 @@ int cmd_render(int argc, char **argv) {
     rc = write_lobe(model, latent, out, lobes[k], &o, ps.json);
   if (rc == CLI_EXIT_OK) {
     ps.bar = !ps.json && isatty(STDERR_FILENO);
-    o.progress = on_progress, o.user = &ps, o.cancel = cli_cancel_flag();
+    o.progress = cli_progress, o.user = &ps, o.cancel = cli_cancel_flag();
     struct sigaction old;
     cli_cancel_watch(&old);
     nbrdf_render_stats stats;

@@ -11,6 +11,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_params.h"
+#include "cli/cli_progress.h"
 #include "nbrdf/verify.h"
 
 void cmd_verify_usage(FILE *out) {
@@ -51,30 +52,12 @@ void cmd_verify_usage(FILE *out) {
                "version, a damaged file: the message says which); 2 bad usage\n");
 }
 
-typedef struct progress_state {
-  int json, bar;
-} progress_state;
-
-static int on_progress(void *user, const char *stage, double done, double total) {
-  const progress_state *p = user;
-  if (p->json) {
-    printf("{\"event\":\"progress\",\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f}\n", stage, done,
-           total);
-    fflush(stdout);
-  } else if (p->bar) {
-    fprintf(stderr, "\r%s %.0f / %.0f texels", stage, done, total);
-    if (done >= total) fputc('\n', stderr);
-    fflush(stderr);
-  }
-  return 0;
-}
-
 typedef struct verify_args {
   const char *texture, *bundle, *json, *heatmap, *gate;
   double max_error; /* percent; < 0: none */
   long worst;
   nbrdf_verify_options o;
-  progress_state ps;
+  cli_progress_state ps;
 } verify_args;
 
 /* Parses the options other than the parameter inputs. Returns -1 when
@@ -257,7 +240,7 @@ int cmd_verify(int argc, char **argv) {
     fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n",
             a.bundle);
   a.ps.bar = !a.ps.json && isatty(STDERR_FILENO);
-  a.o.progress = on_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
+  a.o.progress = cli_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
   struct sigaction old;
   cli_cancel_watch(&old);
   nbrdf_verify_report *rep = NULL;
