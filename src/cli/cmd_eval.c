@@ -34,29 +34,17 @@ typedef struct model_spec {
 
 #define ALPHA_RANGE NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, 0
 #define ETA_RANGE NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX, 0
+/* The layered model's columns, shared by its neural counterpart. */
+// clang-format off
+#define LAYERED_COLUMNS                                                                            \
+  {{"alpha1", ALPHA_RANGE}, {"eta", ETA_RANGE}, {"alpha2", ALPHA_RANGE},                          \
+   {"r0", 0, 1, 0}, {"albedo", 0, 1, 0}, {"sigma_t", 0, NBRDF_GT_SIGMA_T_MAX, 0}}
+// clang-format on
 static const model_spec MODELS[] = {
-    {"layered",
-     1,
-     EVAL_NEURAL_NONE,
-     6,
-     {{"alpha1", ALPHA_RANGE},
-      {"eta", ETA_RANGE},
-      {"alpha2", ALPHA_RANGE},
-      {"r0", 0, 1, 0},
-      {"albedo", 0, 1, 0},
-      {"sigma_t", 0, NBRDF_GT_SIGMA_T_MAX, 0}}},
+    {"layered", 1, EVAL_NEURAL_NONE, 6, LAYERED_COLUMNS},
     {"conductor", 0, EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
     {"dielectric", 0, EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
-    {"neural",
-     0,
-     EVAL_NEURAL_LAYERED,
-     6,
-     {{"alpha1", ALPHA_RANGE},
-      {"eta", ETA_RANGE},
-      {"alpha2", ALPHA_RANGE},
-      {"r0", 0, 1, 0},
-      {"albedo", 0, 1, 0},
-      {"sigma_t", 0, NBRDF_GT_SIGMA_T_MAX, 0}}},
+    {"neural", 0, EVAL_NEURAL_LAYERED, 6, LAYERED_COLUMNS},
     {"neural-conductor", 0, EVAL_NEURAL_CONDUCTOR, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
     {"neural-dielectric",
      0,

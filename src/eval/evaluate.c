@@ -14,9 +14,6 @@
 #define IMG ((size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES)
 #define PER_BRDF (NBRDF_LOBE_N_THETA * IMG)
 
-static const train_heldout heldout[EVAL_SET_COUNT] = {TRAIN_HELDOUT_REP, TRAIN_HELDOUT_SINGLE,
-                                                      TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3};
-
 static double now_s(void) {
   struct timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
@@ -120,9 +117,9 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
     eval_result_free(r);
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
   }
-  uint64_t family = train_heldout_seed(heldout[set]);
+  uint64_t family = train_heldout_seed(eval_set_heldout(set));
   for (size_t i = 0; i < n; i++) {
-    train_params_draw(family, train_heldout_kind(heldout[set]), i, &params[i]);
+    train_params_draw(family, train_heldout_kind(eval_set_heldout(set)), i, &params[i]);
     r->cases[i].params = params[i];
   }
   double t0 = now_s();

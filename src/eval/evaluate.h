@@ -61,6 +61,8 @@ typedef struct eval_result {
 } eval_result;
 
 const char *eval_set_name(eval_set set);
+/* The held-out family a set draws from (train/params.h). */
+train_heldout eval_set_heldout(eval_set set);
 int eval_set_parse(const char *name, eval_set *set);
 
 /* `model` may be NULL for rep and single (then `dec` is used). */

@@ -21,6 +21,8 @@ static const char *const names[EVAL_SET_COUNT] = {"rep", "single", "layer", "lay
 static const train_heldout heldout[EVAL_SET_COUNT] = {TRAIN_HELDOUT_REP, TRAIN_HELDOUT_SINGLE,
                                                       TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3};
 
+train_heldout eval_set_heldout(eval_set set) { return heldout[set]; }
+
 const char *eval_set_name(eval_set set) {
   return (unsigned)set < EVAL_SET_COUNT ? names[set] : "?";
 }
