@@ -1,0 +1,431 @@
+/* Importance sampling of neural BRDFs (issue 5, the paper's Fig. 6): the
+ * variance of estimating reflected radiance under an environment with the
+ * Eq. 6 proxy of the sampling network, cosine-weighted hemisphere sampling,
+ * sampling the top layer's GGX, and one-sample MIS of proxy and cosine, at
+ * equal sample counts, for the held-out two-layer BRDFs of the `layer` set
+ * obtained as a bake obtains them (base tables + layering network), decoded by
+ * the bundle's decoder. src/eval/radiance_variance.h has the estimators.
+ * docs/SAMPLING_AND_COST.md has the figures and the command. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "eval/env.h"
+#include "eval/plot.h"
+#include "eval/radiance_variance.h"
+#include "nbrdf/model.h"
+#include "nbrdf/render.h"
+#include "train/params.h"
+
+#include "bench_clock.h"
+
+enum { N_THETA = 4, N_PHI = 2, MAX_CASES = N_THETA * N_PHI, N_ENV = 2 };
+static const double THETA_O[N_THETA] = {0.0, 30.0, 60.0, 80.0};
+static const char *const ENV_NAMES[N_ENV] = {"sky", "furnace"};
+
+typedef struct config {
+  const char *bundle, *out, *plot_prefix;
+  int count, reps, n_counts, counts[EVAL_IS_MAX_N], envs; /* envs: bit 0 sky, bit 1 furnace */
+} config;
+
+static void usage(FILE *f) {
+  fprintf(f, "usage: bench_sampling [--bundle models/default] [--count 100] [--reps 200]\n"
+             "                      [--n 16,64] [--env sky|furnace|both] [--out sampling.md]\n"
+             "                      [--plot PREFIX]  (writes PREFIX_variance.png, PREFIX_ratio.png)\n"
+             "Variance of the reflected radiance L(wo) of the held-out `layer` BRDFs (tables +\n"
+             "layering network, decoded) estimated with N samples by proxy, cosine, top-layer GGX\n"
+             "and proxy+cosine MIS sampling, from --reps independent repetitions, at\n"
+             "theta_o = 0, 30, 60, 80 deg (the last three with the mirror direction towards the\n"
+             "sun's azimuth and away from it). Run with OPENBLAS_NUM_THREADS=1 on a shared machine.\n");
+}
+
+static int parse_counts(const char *v, config *c) {
+  c->n_counts = 0;
+  for (char *s = (char *)v; *s;) {
+    if (c->n_counts == EVAL_IS_MAX_N) return 0;
+    long n = strtol(s, &s, 10);
+    if (n < 1 || n > 4096 || (*s && *s != ',')) return 0;
+    c->counts[c->n_counts++] = (int)n;
+    if (*s == ',') s++;
+  }
+  return c->n_counts > 0;
+}
+
+static int parse_args(int argc, char **argv, config *c) {
+  *c = (config){"models/default", "sampling.md", "sampling", 100, 200, 2, {16, 64}, 3};
+  for (int i = 1; i < argc; i++) {
+    const char *a = argv[i];
+    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+      usage(stdout);
+      exit(0);
+    }
+    if (i + 1 >= argc) {
+      fprintf(stderr, "bench_sampling: %s needs a value\n", a);
+      return 0;
+    }
+    const char *v = argv[++i];
+    if (!strcmp(a, "--bundle")) {
+      c->bundle = v;
+    } else if (!strcmp(a, "--count")) {
+      c->count = atoi(v);
+    } else if (!strcmp(a, "--reps")) {
+      c->reps = atoi(v);
+    } else if (!strcmp(a, "--n")) {
+      if (!parse_counts(v, c)) {
+        fprintf(stderr, "bench_sampling: --n wants 1..%d counts in 1..4096\n", EVAL_IS_MAX_N);
+        return 0;
+      }
+    } else if (!strcmp(a, "--env")) {
+      c->envs = !strcmp(v, "sky") ? 1 : !strcmp(v, "furnace") ? 2 : !strcmp(v, "both") ? 3 : 0;
+      if (!c->envs) {
+        fprintf(stderr, "bench_sampling: --env must be sky, furnace or both\n");
+        return 0;
+      }
+    } else if (!strcmp(a, "--out")) {
+      c->out = v;
+    } else if (!strcmp(a, "--plot")) {
+      c->plot_prefix = v;
+    } else {
+      fprintf(stderr, "bench_sampling: unknown option %s\n", a);
+      return 0;
+    }
+  }
+  if (c->count < 1 || c->reps < 2) {
+    fprintf(stderr, "bench_sampling: --count must be >= 1 and --reps >= 2\n");
+    return 0;
+  }
+  return 1;
+}
+
+static void die(const char *what, const nbrdf_error *err) {
+  fprintf(stderr, "bench_sampling: %s: %s\n", what, err->message);
+  exit(1);
+}
+
+static double load_average(void) {
+  double l = -1;
+  FILE *f = fopen("/proc/loadavg", "r");
+  if (f && fscanf(f, "%lf", &l) != 1) l = -1;
+  if (f) fclose(f);
+  return l;
+}
+
+/* ------------------------------------------------------------ the BRDF */
+
+typedef struct neural_brdf {
+  const nbrdf_model *m;
+  const float *latent;
+  size_t cap;
+  float *lat, *dirs, *f; /* grown on demand */
+} neural_brdf;
+
+static nbrdf_status neural_fn(void *user, size_t n, const nbrdf_query *q, double *f,
+                              nbrdf_error *err) {
+  neural_brdf *b = user;
+  size_t D = (size_t)nbrdf_model_latent_dim(b->m);
+  if (n > b->cap) {
+    free(b->lat), free(b->dirs), free(b->f);
+    b->lat = malloc(n * D * sizeof *b->lat), b->dirs = malloc(6 * n * sizeof *b->dirs);
+    b->f = malloc(n * sizeof *b->f);
+    b->cap = b->lat && b->dirs && b->f ? n : 0;
+    if (!b->cap) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bench_sampling: out of memory");
+  }
+  for (size_t k = 0; k < n; k++) {
+    memcpy(b->lat + k * D, b->latent, D * sizeof *b->lat);
+    for (int j = 0; j < 3; j++)
+      b->dirs[3 * k + j] = (float)q[k].wi[j], b->dirs[3 * (n + k) + j] = (float)q[k].wo[j];
+  }
+  nbrdf_status st = nbrdf_model_decode(b->m, n, 1, b->lat, b->dirs, b->dirs + 3 * n, b->f, err);
+  for (size_t k = 0; k < n && !st; k++)
+    f[k] = b->f[k];
+  return st;
+}
+
+/* ------------------------------------------------------------ the light */
+
+/* Shading frame (z up) to the environment's world frame (y up). */
+static vec3 to_world(vec3 d) { return v3(d.x, d.z, -d.y); }
+
+static double luminance(const double c[3]) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+static double sky_radiance(void *user, vec3 wi) {
+  double rgb[3];
+  eval_env_radiance(user, to_world(wi), rgb);
+  return luminance(rgb);
+}
+
+static double furnace_radiance(void *user, vec3 wi) {
+  (void)user, (void)wi;
+  return 1.0;
+}
+
+/* Azimuth (shading frame) of the brightest sky direction: the sun. */
+static double sun_azimuth(const eval_env *env) {
+  double best = -1, phi_best = 0;
+  for (int i = 0; i < 90; i++)
+    for (int j = 0; j < 720; j++) {
+      double th = (i + 0.5) * M_PI / 180, ph = (j + 0.5) * M_PI / 360;
+      double l = sky_radiance((void *)env, v3_from_spherical(th, ph));
+      if (l > best) best = l, phi_best = ph;
+    }
+  return phi_best;
+}
+
+/* ------------------------------------------------------------ statistics */
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+/* Quantile q of n values (sorted copy; non-finite ones count as +Inf). */
+static double quantile(const double *v, int n, double q) {
+  double *s = malloc((size_t)n * sizeof *s);
+  if (!s || n == 0) {
+    free(s);
+    return NAN;
+  }
+  for (int i = 0; i < n; i++)
+    s[i] = isfinite(v[i]) ? v[i] : INFINITY;
+  qsort(s, (size_t)n, sizeof *s, cmp_double);
+  int k = (int)ceil(q * n) - 1;
+  double r = s[k < 0 ? 0 : k];
+  free(s);
+  return r;
+}
+
+typedef struct case_result {
+  int brdf, theta, toward_sun;
+  eval_is_result r;
+} case_result;
+
+/* Relative variance var / L² of strategy s at count index k. */
+static double relvar(const case_result *c, int s, int k) {
+  double L = c->r.radiance;
+  return L > 0 ? c->r.var[s][k] / (L * L) : NAN;
+}
+
+/* ------------------------------------------------------------ main */
+
+int main(int argc, char **argv) {
+  config c;
+  if (!parse_args(argc, argv, &c)) {
+    usage(stderr);
+    return 2;
+  }
+  nbrdf_error err = {0};
+  nbrdf_model *m = NULL;
+  if (nbrdf_model_load(c.bundle, &m, &err)) die("loading the bundle", &err);
+  const size_t n = (size_t)c.count, D = (size_t)nbrdf_model_latent_dim(m);
+  const double load0 = load_average(), t0 = bench_wall_seconds(), cpu0 = bench_cpu_seconds();
+
+  /* The held-out `layer` BRDFs, as nbrdf evaluate and a bake obtain them. */
+  train_params *p = malloc(n * sizeof *p);
+  double *a1 = malloc(4 * n * sizeof *a1), *eta = a1 + n, *a2 = a1 + 2 * n, *r0 = a1 + 3 * n;
+  float *top = malloc(3 * n * D * sizeof *top), *bottom = top + n * D, *lat = top + 2 * n * D;
+  float *albedo = malloc(4 * n * sizeof *albedo), *sigma_t = albedo + n, *sigma = albedo + 2 * n,
+        *w = albedo + 3 * n;
+  if (!p || !a1 || !top || !albedo) return 1;
+  const uint64_t family = train_heldout_seed(TRAIN_HELDOUT_LAYER);
+  for (size_t i = 0; i < n; i++) {
+    train_params_draw(family, train_heldout_kind(TRAIN_HELDOUT_LAYER), i, &p[i]);
+    a1[i] = p[i].coat[0].alpha, eta[i] = p[i].coat[0].eta;
+    a2[i] = p[i].base_alpha, r0[i] = p[i].base_r0;
+    albedo[i] = (float)p[i].coat[0].albedo, sigma_t[i] = (float)p[i].coat[0].sigma_t;
+  }
+  if (nbrdf_model_base_latents(m, NBRDF_BASE_DIELECTRIC, n, a1, eta, NBRDF_RANGE_CLAMP, top, NULL,
+                               &err) ||
+      nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, n, a2, r0, NBRDF_RANGE_CLAMP, bottom, NULL,
+                               &err) ||
+      nbrdf_model_layer(m, n, top, bottom, albedo, sigma_t, lat, &err) ||
+      nbrdf_model_proxy_params(m, n, lat, sigma, w, &err))
+    die("latents", &err);
+
+  nbrdf_render_options ro = NBRDF_RENDER_OPTIONS_DEFAULT;
+  eval_env *sky = NULL;
+  if (eval_env_create(&ro, &sky, &err)) die("sky", &err);
+  const double phi_sun = sun_azimuth(sky);
+
+  int n_cases = 0;
+  case_result *cases[N_ENV] = {NULL, NULL};
+  neural_brdf nb = {m, NULL, 0, NULL, NULL, NULL};
+  for (int e = 0; e < N_ENV; e++) {
+    if (!(c.envs & (1 << e))) continue;
+    cases[e] = calloc(n * MAX_CASES, sizeof **cases);
+    if (!cases[e]) return 1;
+    eval_is_setup su = {neural_fn, &nb, e == 0 ? sky_radiance : furnace_radiance, sky, c.reps,
+                        c.n_counts, {0}, 0x5a3b1e + (uint64_t)e};
+    memcpy(su.counts, c.counts, sizeof su.counts);
+    n_cases = 0;
+    for (size_t i = 0; i < n; i++) {
+      nb.latent = lat + i * D;
+      eval_is_lobe lobe = {sigma[i], w[i], p[i].coat[0].alpha};
+      for (int t = 0; t < N_THETA; t++)
+        for (int s = 0; s < (THETA_O[t] > 0 ? N_PHI : 1); s++) {
+          /* Toward the sun: the mirror direction of ωo (azimuth φo + π) has the sun's azimuth. */
+          double phi = s == 0 ? phi_sun + M_PI : phi_sun;
+          vec3 wo = v3_from_spherical(THETA_O[t] * M_PI / 180, phi);
+          case_result *cr = &cases[e][n_cases];
+          cr->brdf = (int)i, cr->theta = t, cr->toward_sun = s == 0;
+          if (eval_is_variance(&su, &lobe, wo, (uint64_t)n_cases, &cr->r, &err))
+            die("variance", &err);
+          n_cases++;
+        }
+      if ((i + 1) % 10 == 0)
+        fprintf(stderr, "  %s: %zu/%zu BRDFs, %.0f s\n", ENV_NAMES[e], i + 1, n,
+                bench_wall_seconds() - t0);
+    }
+  }
+  const double wall = bench_wall_seconds() - t0, cpu = bench_cpu_seconds() - cpu0;
+
+  FILE *out = fopen(c.out, "w");
+  if (!out) {
+    fprintf(stderr, "bench_sampling: cannot write %s\n", c.out);
+    return 1;
+  }
+  FILE *streams[2] = {stdout, out};
+  const int K = c.n_counts - 1; /* the largest N is the last given */
+  for (int o = 0; o < 2; o++) {
+    FILE *f = streams[o];
+    fprintf(f,
+            "Bundle `%s` (%s, checksum %s); %d held-out `layer` BRDFs x %d outgoing directions; "
+            "%d repetitions per estimate; sun azimuth %.1f deg (shading frame). Wall %.0f s, CPU "
+            "%.0f s; load average %.2f at the start, %.2f at the end (shared 2-core machine).\n\n",
+            c.bundle, nbrdf_model_name(m), nbrdf_model_checksum(m), c.count, n_cases / c.count,
+            c.reps, phi_sun * 180 / M_PI, wall, cpu, load0, load_average());
+    for (int e = 0; e < N_ENV; e++) {
+      if (!cases[e]) continue;
+      fprintf(f, "### %s\n\n", e == 0 ? "Sky (src/eval/env.c, luminance)" : "White furnace (L = 1)");
+      fprintf(f, "| N | strategy | median var/L^2 | 90th pct var/L^2 | lost draws | proxy "
+                 "variance lower on |\n|---:|---|---:|---:|---:|---:|\n");
+      double *v = malloc((size_t)n_cases * sizeof *v);
+      for (int k = 0; k < c.n_counts && v; k++)
+        for (int s = 0; s < EVAL_IS_COUNT; s++) {
+          double lost = 0;
+          int wins = 0, valid = 0;
+          for (int i = 0; i < n_cases; i++) {
+            const case_result *cr = &cases[e][i];
+            v[i] = relvar(cr, s, k);
+            lost += cr->r.lost[s] / n_cases;
+            if (cr->r.radiance > 0)
+              valid++, wins += cr->r.var[EVAL_IS_PROXY][k] < cr->r.var[s][k];
+          }
+          char share[32] = "-";
+          if (s != EVAL_IS_PROXY) snprintf(share, sizeof share, "%.1f %%", 100.0 * wins / valid);
+          fprintf(f, "| %d | %s | %.3g | %.3g | %.1f %% | %s |\n", c.counts[k],
+                  eval_is_strategy_name((eval_is_strategy)s), quantile(v, n_cases, 0.5),
+                  quantile(v, n_cases, 0.9), 100 * lost, share);
+        }
+      fprintf(f, "\nBy outgoing direction, N = %d (median var/L^2; share of BRDFs where the proxy "
+                 "variance is lower):\n\n| theta_o | mirror | proxy | cosine | ggx | MIS | proxy < "
+                 "cosine | proxy < ggx |\n|---:|---|---:|---:|---:|---:|---:|---:|\n",
+              c.counts[K]);
+      for (int t = 0; t < N_THETA && v; t++)
+        for (int s = 1; s >= (THETA_O[t] > 0 ? 0 : 1); s--) {
+          double med[EVAL_IS_COUNT];
+          int nv = 0, win_c = 0, win_g = 0;
+          for (int st = 0; st < EVAL_IS_COUNT; st++) {
+            nv = 0;
+            for (int i = 0; i < n_cases; i++) {
+              const case_result *cr = &cases[e][i];
+              if (cr->theta != t || (THETA_O[t] > 0 && cr->toward_sun != s)) continue;
+              v[nv++] = relvar(cr, st, K);
+              if (st == 0) {
+                win_c += cr->r.var[0][K] < cr->r.var[EVAL_IS_COSINE][K];
+                win_g += cr->r.var[0][K] < cr->r.var[EVAL_IS_GGX][K];
+              }
+            }
+            med[st] = quantile(v, nv, 0.5);
+          }
+          fprintf(f, "| %.0f | %s | %.3g | %.3g | %.3g | %.3g | %.0f %% | %.0f %% |\n", THETA_O[t],
+                  THETA_O[t] == 0 ? "-" : (s ? "towards sun" : "away from sun"), med[0], med[1],
+                  med[2], med[3], 100.0 * win_c / nv, 100.0 * win_g / nv);
+        }
+      /* The cases where the proxy loses most against cosine sampling. */
+      fprintf(f, "\nWorst proxy/cosine variance ratios (N = %d):\n\n| ratio | theta_o | BRDF "
+                 "(alpha1, eta, alpha2, R0, A, sigma_T) | proxy (sigma, w) | L |\n"
+                 "|---:|---:|---|---|---:|\n",
+              c.counts[K]);
+      for (int i = 0; i < n_cases && v; i++)
+        v[i] = cases[e][i].r.var[0][K] / cases[e][i].r.var[EVAL_IS_COSINE][K];
+      for (int rank = 0; rank < 3 && v; rank++) {
+        int worst = -1;
+        for (int i = 0; i < n_cases; i++)
+          if (isfinite(v[i]) && (worst < 0 || v[i] > v[worst])) worst = i;
+        if (worst < 0) break;
+        const case_result *cr = &cases[e][worst];
+        const train_params *q = &p[cr->brdf];
+        fprintf(f, "| %.3g | %.0f | #%d (%.3f, %.2f, %.3f, %.2f, %.2f, %.0f) | (%.3f, %.2f) | %.3g |\n",
+                v[worst], THETA_O[cr->theta], cr->brdf, q->coat[0].alpha, q->coat[0].eta,
+                q->base_alpha, q->base_r0, q->coat[0].albedo, q->coat[0].sigma_t,
+                (double)sigma[cr->brdf], (double)w[cr->brdf], cr->r.radiance);
+        v[worst] = NAN;
+      }
+      fprintf(f, "\n");
+      free(v);
+    }
+  }
+  fclose(out);
+
+  /* Plots: median relative variance against θo (sky solid, furnace dashed), and the
+   * sorted proxy/cosine and proxy/GGX variance ratios. */
+  double xs[N_THETA], ys[N_ENV][EVAL_IS_COUNT][N_THETA];
+  nbrdf_plot_series ser[N_ENV * EVAL_IS_COUNT];
+  int ns = 0;
+  double *buf = malloc((size_t)n_cases * sizeof *buf);
+  if (!buf) return 1;
+  for (int e = 0; e < N_ENV; e++) {
+    if (!cases[e]) continue;
+    for (int s = 0; s < EVAL_IS_COUNT; s++) {
+      for (int t = 0; t < N_THETA; t++) {
+        int nv = 0;
+        xs[t] = THETA_O[t];
+        for (int i = 0; i < n_cases; i++)
+          if (cases[e][i].theta == t) buf[nv++] = relvar(&cases[e][i], s, K);
+        ys[e][s][t] = quantile(buf, nv, 0.5);
+      }
+      ser[ns++] = (nbrdf_plot_series){e == 0 ? eval_is_strategy_name((eval_is_strategy)s) : NULL,
+                                      N_THETA, xs, ys[e][s], e == 1, s + 1};
+    }
+  }
+  char path[4096];
+  char title[128];
+  snprintf(title, sizeof title, "Median var/L^2, N = %d (sky solid, furnace dashed)", c.counts[K]);
+  nbrdf_plot_options po = {title, "theta_o (deg)", "median variance / L^2", 0, 1, 0, 0};
+  snprintf(path, sizeof path, "%s_variance.png", c.plot_prefix);
+  if (nbrdf_plot_write_png(path, &po, ns, ser, &err)) die(path, &err);
+  int e0 = cases[0] ? 0 : 1;
+  double *rx = malloc((size_t)n_cases * sizeof *rx), *ry[2];
+  ry[0] = malloc((size_t)n_cases * sizeof *ry[0]), ry[1] = malloc((size_t)n_cases * sizeof *ry[1]);
+  if (!rx || !ry[0] || !ry[1]) return 1;
+  for (int i = 0; i < n_cases; i++) {
+    const eval_is_result *r = &cases[e0][i].r;
+    rx[i] = 100.0 * (i + 0.5) / n_cases;
+    ry[0][i] = r->var[0][K] / r->var[EVAL_IS_COSINE][K];
+    ry[1][i] = r->var[0][K] / r->var[EVAL_IS_GGX][K];
+  }
+  qsort(ry[0], (size_t)n_cases, sizeof *ry[0], cmp_double);
+  qsort(ry[1], (size_t)n_cases, sizeof *ry[1], cmp_double);
+  double one[2] = {1, 1}, ends[2] = {0, 100};
+  nbrdf_plot_series rs[3] = {{"proxy / cosine", n_cases, rx, ry[0], 0, 0},
+                             {"proxy / ggx", n_cases, rx, ry[1], 0, 0},
+                             {NULL, 2, ends, one, 1, 0}};
+  snprintf(title, sizeof title, "Variance ratios, %s, N = %d, sorted", ENV_NAMES[e0], c.counts[K]);
+  nbrdf_plot_options pr = {title, "share of BRDF x direction cases (%)",
+                           "proxy variance / other", 0, 1, 0, 0};
+  snprintf(path, sizeof path, "%s_ratio.png", c.plot_prefix);
+  if (nbrdf_plot_write_png(path, &pr, 3, rs, &err)) die(path, &err);
+  fprintf(stderr, "wrote %s, %s_variance.png and %s_ratio.png\n", c.out, c.plot_prefix,
+          c.plot_prefix);
+
+  free(buf), free(rx), free(ry[0]), free(ry[1]);
+  for (int e = 0; e < N_ENV; e++)
+    free(cases[e]);
+  free(nb.lat), free(nb.dirs), free(nb.f);
+  free(p), free(a1), free(top), free(albedo);
+  eval_env_free(sky);
+  nbrdf_model_destroy(m);
+  return 0;
+}
