@@ -25,9 +25,19 @@ static int split(char *list, const char **out, int max) {
   return n;
 }
 
+static nbrdf_status read_net(const char *path, int layering, model_layering **lay,
+                             model_sampler **smp, nbrdf_error *err) {
+  nbrdf_st_reader *r = NULL;
+  nbrdf_status st = nbrdf_st_open(path, &r, err);
+  if (!st) st = layering ? model_layering_read(r, lay, err) : model_sampler_read(r, smp, err);
+  nbrdf_st_close(r);
+  return st;
+}
+
 int cmd_train_layering(int argc, char **argv) {
   train_layering_settings s = TRAIN_LAYERING_SETTINGS_DEFAULT;
-  const char *run = NULL, *tables = NULL, *out = NULL, *data[64];
+  const char *run = NULL, *tables = NULL, *out = NULL, *data[64], *decoder = NULL, *init = NULL;
+  int decoded = 0;
   char *list = NULL;
   int n_data = 0;
   train_progress prog = {0, 0};
@@ -43,6 +53,17 @@ int cmd_train_layering(int argc, char **argv) {
       run = v;
     else if ((v = cli_option_value(argc, argv, &i, "--tables")))
       tables = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--decoder")))
+      decoder = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--init")))
+      init = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--checkpoint")))
+      s.checkpoint = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--loss")) &&
+             (!strcmp(v, "latent") || !strcmp(v, "decoded")))
+      decoded = !strcmp(v, "decoded");
+    else if ((v = cli_option_value(argc, argv, &i, "--rows")) && cli_parse_int(v, 1, 65536, &n))
+      s.rows_per_pair = (int)n;
     else if ((v = cli_option_value(argc, argv, &i, "-o")))
       out = v;
     else if ((v = cli_option_value(argc, argv, &i, "--preset")))
@@ -68,50 +89,57 @@ int cmd_train_layering(int argc, char **argv) {
       return cli_usage_error("train", "layering: unexpected or invalid argument '%s'", argv[i]);
     }
   }
-  if (!n_data || !run || !tables || !out) {
+  if (!n_data || !tables || !out || (!run && (!decoded || !decoder))) {
     free(list);
-    return cli_usage_error("train", "layering: --data, --run, --tables and -o are required");
+    return cli_usage_error("train", "layering: --data, --tables, -o and --run (or, with --loss "
+                                    "decoded, --decoder) are required");
   }
   nbrdf_error err = {0};
   train_samples d;
   model_base_table t[2];
   memset(t, 0, sizeof t);
   float *lat = NULL;
-  model_layering *net = NULL;
+  model_layering *net = NULL, *init_net = NULL;
+  model_decoder *dec = NULL;
   train_layering_result r;
-  char ckpt[4096];
-  snprintf(ckpt, sizeof ckpt, "%s/checkpoint.safetensors", run);
+  char ckpt[4096], dec_path[4096];
+  snprintf(ckpt, sizeof ckpt, "%s/checkpoint.safetensors", run ? run : ".");
+  snprintf(dec_path, sizeof dec_path, "%s/decoder.safetensors", run ? run : ".");
   nbrdf_status st = train_samples_load(n_data, data, &d, &err);
   if (!st) st = load_tables(tables, t, &err);
-  if (!st && !(lat = malloc(d.n_brdfs * 32 * sizeof *lat)))
+  if (!st) st = model_decoder_load(decoder ? decoder : dec_path, &dec, &err);
+  if (!st && init) st = read_net(init, 1, &init_net, NULL, &err);
+  if (!st && !decoded && !(lat = malloc(d.n_brdfs * 32 * sizeof *lat)))
     st = nbrdf_fail(&err, NBRDF_ERR_MEMORY, "train layering: out of memory");
-  if (!st) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
+  if (!st && !decoded) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
   s.progress = train_on_progress, s.user = &prog;
+  s.init = init_net;
   train_watch_sigint(1);
-  if (!st) st = train_layering_fit(&d, lat, t, &s, &net, &r, &err);
+  if (!st)
+    st = decoded ? train_layering_fit_decoded(&d, dec, t, &s, &net, &r, &err)
+                 : train_layering_fit(&d, lat, dec, t, &s, &net, &r, &err);
   train_watch_sigint(0);
   if (!st) st = model_layering_save(net, out, NULL, &err);
   if (!prog.json) fputc('\n', stderr);
-  if (!st)
-    printf("train layering: %zu pairs (%zu held out), train MSE %.5g, validation MSE %.5g "
-           "(%.2f %% of the mean squared latent)\n",
+  if (!st && !decoded)
+    printf("train layering (latent loss): %zu pairs (%zu held out), train MSE %.5g, validation "
+           "MSE %.5g (%.2f %% of the mean squared latent); decoded validation loss %.5g (the "
+           "run's own latents: %.5g)\n",
            r.pairs, r.validation_pairs, r.train_loss, r.val_loss,
-           100.0 * r.val_loss / (r.target_mean_square > 0 ? r.target_mean_square : 1));
+           100.0 * r.val_loss / (r.target_mean_square > 0 ? r.target_mean_square : 1),
+           r.val_decoded, r.val_decoded_oracle);
+  if (!st && decoded)
+    printf("train layering (decoded loss): %zu pairs (%zu held out), epochs %d (resumed at %d), "
+           "train loss %.5g, decoded validation loss %.5g\n",
+           r.pairs, r.validation_pairs, r.epochs_done, r.resumed_from, r.train_loss, r.val_decoded);
   model_layering_destroy(net);
+  model_layering_destroy(init_net);
+  model_decoder_destroy(dec);
   model_base_table_free(&t[0]);
   model_base_table_free(&t[1]);
   free(lat), free(list);
   train_samples_free(&d);
   return st ? cli_fail_error("train", &err) : CLI_EXIT_OK;
-}
-
-static nbrdf_status read_net(const char *path, int layering, model_layering **lay,
-                             model_sampler **smp, nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(path, &r, err);
-  if (!st) st = layering ? model_layering_read(r, lay, err) : model_sampler_read(r, smp, err);
-  nbrdf_st_close(r);
-  return st;
 }
 
 static char *slurp(const char *path) {

@@ -7,8 +7,7 @@
 
 #include "core/error.h"
 
-/* The data a run was trained on, as one string (files in order). */
-static void data_key(const train_samples *data, char *out, size_t size) {
+void train_checkpoint_data_key(const train_samples *data, char *out, size_t size) {
   size_t at = 0;
   out[0] = '\0';
   for (int i = 0; i < data->n_files && at + 18 < size; i++)
@@ -31,7 +30,7 @@ nbrdf_status train_checkpoint_save(const char *path, const model_decoder *dec, m
   size_t p = nbrdf_nn_param_count(dec->nn), nl = n_brdfs * (size_t)dec->cfg.latent_dim;
   nbrdf_adam *al = model_fit_adam(fit, 0), *aw = model_fit_adam(fit, 1);
   snprintf(step, sizeof step, "%" PRId64, model_fit_steps(fit));
-  data_key(data, key, sizeof key);
+  train_checkpoint_data_key(data, key, sizeof key);
   if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", TRAIN_CHECKPOINT_FORMAT, err);
   if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.spec", spec, err);
   if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.step", step, err);
@@ -73,7 +72,7 @@ nbrdf_status train_checkpoint_load(const char *path, model_decoder *dec, model_f
   if (st) return st;
   size_t p = nbrdf_nn_param_count(dec->nn), nl = n_brdfs * (size_t)dec->cfg.latent_dim;
   nbrdf_adam *al = model_fit_adam(fit, 0), *aw = model_fit_adam(fit, 1);
-  data_key(data, key, sizeof key);
+  train_checkpoint_data_key(data, key, sizeof key);
   st = require(r, "nbrdf.format", TRAIN_CHECKPOINT_FORMAT, "file format", err);
   if (!st) st = nbrdf_nn_spec_to_json(&dec->cfg.spec, &spec, err);
   if (!st) st = require(r, "nbrdf.spec", spec, "decoder architecture", err);

@@ -13,6 +13,10 @@
 
 #define TRAIN_CHECKPOINT_FORMAT "nbrdf-train-decoder-checkpoint"
 
+/* The data a run was trained on, as one string (the files' checksums in
+ * order), for checkpoints to refuse other data. */
+void train_checkpoint_data_key(const train_samples *data, char *out, size_t size);
+
 /* Writes `path` atomically. */
 nbrdf_status train_checkpoint_save(const char *path, const model_decoder *dec, model_fit *fit,
                                    const float *latents, size_t n_brdfs, const train_samples *data,

@@ -18,62 +18,9 @@ nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, in
   return st;
 }
 
-typedef struct pairs {
-  size_t n;
-  float *top, *bottom, *albedo, *sigma_t, *target;
-} pairs;
-
-static void pairs_free(pairs *p) {
-  free(p->top), free(p->bottom), free(p->albedo), free(p->sigma_t), free(p->target);
-}
-
-static nbrdf_status pairs_alloc(pairs *p, size_t n, size_t D, nbrdf_error *err) {
-  memset(p, 0, sizeof *p);
-  p->top = malloc(n * D * sizeof(float));
-  p->bottom = malloc(n * D * sizeof(float));
-  p->target = malloc(n * D * sizeof(float));
-  p->albedo = malloc(n * sizeof(float));
-  p->sigma_t = malloc(n * sizeof(float));
-  if (p->top && p->bottom && p->target && p->albedo && p->sigma_t) return NBRDF_OK;
-  pairs_free(p);
-  return nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory for %zu pairs", n);
-}
-
-/* Splits the two-layer BRDFs into training and validation pairs. */
-static nbrdf_status make_pairs(const train_samples *data, const float *latents,
-                               const model_base_table t[2], int every, pairs *train, pairs *val,
-                               nbrdf_error *err) {
-  size_t D = (size_t)t[0].dim, n = 0, nv = 0;
-  for (size_t b = 0; b < data->n_brdfs; b++) {
-    if (data->params[b].n_coats != 1) continue;
-    if (every > 0 && n % (size_t)every == (size_t)every - 1) nv++;
-    n++;
-  }
-  if (n - nv < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "train layering: the data has no two-layer BRDFs");
-  nbrdf_status st = pairs_alloc(train, n - nv, D, err);
-  if (!st) st = pairs_alloc(val, nv ? nv : 1, D, err);
-  train->n = 0, val->n = 0;
-  size_t k = 0;
-  for (size_t b = 0; b < data->n_brdfs && !st; b++) {
-    const train_params *p = &data->params[b];
-    if (p->n_coats != 1) continue;
-    pairs *q = (every > 0 && k % (size_t)every == (size_t)every - 1) ? val : train;
-    k++;
-    size_t i = q->n++;
-    double a1 = p->coat[0].alpha, eta = p->coat[0].eta, a2 = p->base_alpha, r0 = p->base_r0;
-    st = model_base_table_lookup(&t[0], 1, &a1, &eta, 0, q->top + i * D, NULL, err);
-    if (!st) st = model_base_table_lookup(&t[1], 1, &a2, &r0, 0, q->bottom + i * D, NULL, err);
-    q->albedo[i] = (float)p->coat[0].albedo;
-    q->sigma_t[i] = (float)p->coat[0].sigma_t;
-    memcpy(q->target + i * D, latents + b * D, D * sizeof(float));
-  }
-  return st;
-}
-
 /* Mean squared error over pairs [lo, lo + m) in the order `idx`; with
  * `backward`, accumulates the gradient into grad. */
-static nbrdf_status batch_loss(model_layering *net, model_runner *run, const pairs *p,
+static nbrdf_status batch_loss(model_layering *net, model_runner *run, const layering_pairs *p,
                                const size_t *idx, size_t m, float *grad, float *dy, double *loss,
                                nbrdf_error *err) {
   size_t D = (size_t)net->latent_dim, in = 2 * D + 2;
@@ -97,8 +44,8 @@ static nbrdf_status batch_loss(model_layering *net, model_runner *run, const pai
   return st;
 }
 
-static nbrdf_status eval_all(model_layering *net, model_runner *run, const pairs *p, size_t *idx,
-                             double *loss, double *mean_sq, nbrdf_error *err) {
+static nbrdf_status eval_all(model_layering *net, model_runner *run, const layering_pairs *p,
+                             size_t *idx, double *loss, double *mean_sq, nbrdf_error *err) {
   size_t D = (size_t)net->latent_dim, B = (size_t)run->max_batch;
   double sum = 0.0, sq = 0.0;
   nbrdf_status st = NBRDF_OK;
@@ -117,13 +64,15 @@ static nbrdf_status eval_all(model_layering *net, model_runner *run, const pairs
   return st;
 }
 
-nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
+nbrdf_status train_layering_fit(const train_samples *data, const float *latents, model_decoder *dec,
                                 const model_base_table tables[2], const train_layering_settings *s,
                                 model_layering **out, train_layering_result *r, nbrdf_error *err) {
   memset(r, 0, sizeof *r);
+  r->val_decoded = r->val_decoded_oracle = NAN;
   *out = NULL;
-  pairs train, val;
-  nbrdf_status st = make_pairs(data, latents, tables, s->validation_every, &train, &val, err);
+  layering_pairs train, val;
+  nbrdf_status st =
+      layering_pairs_make(data, latents, tables, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
   model_layering *net = NULL;
@@ -146,7 +95,7 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     st = nbrdf_adam_create(nbrdf_nn_param_count(net->nn), &ao, &adam, err);
   }
   if (!st && s->log_path)
-    st = run_log_open(&log, s->log_path, "epoch,train_loss,val_loss,lr", 0, err);
+    st = run_log_open(&log, s->log_path, "epoch,train_loss,val_loss,val_decoded,lr", 0, err);
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, s->seed, 0x6c61796572u);
   for (int e = 0; e < s->epochs && !st; e++) {
@@ -169,17 +118,22 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     if (!st && (e % 10 == 9 || e == s->epochs - 1)) {
       st = val.n ? eval_all(net, &run, &val, idx, &r->val_loss, &r->target_mean_square, err)
                  : NBRDF_OK;
-      run_log_row(&log, "%d,%.6g,%.6g,%.4g", e + 1, r->train_loss, r->val_loss,
+      if (!st && dec && val.n)
+        st = train_layering_decoded_loss(net, dec, s->loss, data, &val, &r->val_decoded, err);
+      run_log_row(&log, "%d,%.6g,%.6g,%.6g,%.4g", e + 1, r->train_loss, r->val_loss, r->val_decoded,
                   (double)nbrdf_adam_lr(adam, 0));
     }
     if (!st && s->progress && s->progress(s->user, "train layering", e + 1, s->epochs))
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train layering: cancelled");
   }
+  if (!st && dec && val.n)
+    st = train_layering_decoded_loss(NULL, dec, s->loss, data, &val, &r->val_decoded_oracle, err);
+  r->epochs_done = s->epochs;
   run_log_close(&log);
   nbrdf_adam_destroy(adam);
   model_runner_destroy(&run);
   free(idx), free(dy), free(grad);
-  pairs_free(&train), pairs_free(&val);
+  layering_pairs_free(&train), layering_pairs_free(&val);
   if (st) {
     model_layering_destroy(net);
     return st;

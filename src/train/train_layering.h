@@ -1,14 +1,29 @@
 /* Layering training (paper §4): the layering network learns to map (table
  * latent of the top dielectric, table latent of the bottom conductor, A, σT)
- * to the latent the auto-decoder learned for that two-layer BRDF. Inputs are
- * looked up in the base tables exactly as a bake does, so the network also
- * absorbs the tables' interpolation error. Loss: mean squared latent error.
- * One pair in `validation_every` is held out and reported as val_loss. */
+ * to the latent of that two-layer BRDF. Inputs are looked up in the base
+ * tables exactly as a bake does (train/layering_pairs.h), so the network also
+ * absorbs the tables' interpolation error. Two losses:
+ *
+ * - latent (train_layering_fit): mean squared error to the latent the
+ *   auto-decoder learned for the BRDF (the paper's loss). Needs the decoder
+ *   run's latents, so only BRDFs the decoder was trained on serve.
+ * - decoded (train_layering_fit_decoded): the decoder's own loss (loss.h) of
+ *   the decoded output against the BRDF's ground-truth samples, the decoder
+ *   frozen and back-propagated through into the layering network. Any two-layer
+ *   BRDF with samples serves, and the network is free to choose any latent
+ *   that decodes well instead of the one the auto-decoder happened to pick.
+ *
+ * One pair in `validation_every` is held out; for both losses the decoded
+ * validation loss (val_decoded) is measured on all its samples, so the two
+ * compare end to end. */
 #ifndef NBRDF_TRAIN_LAYERING_H
 #define NBRDF_TRAIN_LAYERING_H
 
 #include "model/base_table.h"
+#include "model/decoder.h"
 #include "model/layering.h"
+#include "model/loss.h"
+#include "train/layering_pairs.h"
 #include "train/samples.h"
 
 typedef struct train_layering_settings {
@@ -19,28 +34,72 @@ typedef struct train_layering_settings {
   float decay_gamma;
   int validation_every;
   uint64_t seed;
-  const char *log_path;       /* CSV: epoch, train_loss, val_loss, lr (may be NULL) */
+  const char *log_path;       /* CSV: epoch, train_loss, val_loss, val_decoded, lr (may be NULL) */
   nbrdf_progress_fn progress; /* stage "train layering", epochs */
   void *user;
+  /* Decoded loss only: */
+  int rows_per_pair;          /* samples drawn per pair per step */
+  model_loss_kind loss;       /* the decoder's training loss */
+  const char *checkpoint;     /* resumable state, written atomically (may be NULL) */
+  double checkpoint_seconds;  /* at most this long between checkpoints */
+  const model_layering *init; /* start from these weights (same preset), else random */
 } train_layering_settings;
 
 #define TRAIN_LAYERING_SETTINGS_DEFAULT                                                            \
-  { "small", 400, 128, 1e-3f, 150, 0.5f, 10, 1u, NULL, NULL, NULL }
+  {                                                                                                \
+    "small", 400, 128, 1e-3f, 150, 0.5f, 10, 1u, NULL, NULL, NULL, 64, MODEL_LOSS_L1_LOG1P, NULL,  \
+        300.0, NULL                                                                                \
+  }
 
 typedef struct train_layering_result {
   size_t pairs, validation_pairs;
   double train_loss, val_loss, target_mean_square; /* val_loss / target_mean_square: relative */
+  double val_decoded;        /* decoded loss of the held-out pairs (NaN without a decoder) */
+  double val_decoded_oracle; /* same with the run's own latents (latent loss only; else NaN) */
+  int epochs_done, resumed_from;
 } train_layering_result;
 
 /* `data` and `latents` [data->n_brdfs × D] are the decoder run's BRDFs and
  * their learned latents; its two-layer BRDFs become the training pairs.
- * *out is created here. */
-nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
+ * `dec` (may be NULL) only measures val_decoded. *out is created here. */
+nbrdf_status train_layering_fit(const train_samples *data, const float *latents, model_decoder *dec,
                                 const model_base_table tables[2], const train_layering_settings *s,
                                 model_layering **out, train_layering_result *r, nbrdf_error *err);
+
+/* The decoded loss. `dec` (borrowed, not modified) must be the decoder the
+ * tables were made for. With s->checkpoint, a run resumes from it (same data,
+ * preset and settings) and writes it every s->checkpoint_seconds and at the
+ * end; every step is a pure function of (seed, epoch, step), so a resumed run
+ * equals an uninterrupted one. Cancelling (progress callback) checkpoints. */
+nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder *dec,
+                                        const model_base_table tables[2],
+                                        const train_layering_settings *s, model_layering **out,
+                                        train_layering_result *r, nbrdf_error *err);
+
+/* Mean decoded loss over all samples of `pairs` (their BRDFs in `data`), the
+ * latents coming from `net` (or, if net is NULL, from pairs->target). */
+nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decoder *dec,
+                                         model_loss_kind loss, const train_samples *data,
+                                         const layering_pairs *pairs, double *mean,
+                                         nbrdf_error *err);
 
 /* Loads a decoder run's latents (its checkpoint) for the data it was trained on. */
 nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
                                       float *latents, nbrdf_error *err);
+
+/* The gradient engine of the decoded loss (the fit's inner step; exposed for
+ * the gradient check). `net`, `dec`, `data` are borrowed. */
+typedef struct train_layering_decoded train_layering_decoded;
+nbrdf_status train_layering_decoded_create(model_layering *net, model_decoder *dec,
+                                           const train_samples *data, int batch, int rows,
+                                           model_loss_kind loss, uint64_t seed,
+                                           train_layering_decoded **out, nbrdf_error *err);
+void train_layering_decoded_destroy(train_layering_decoded *t);
+/* Loss of m <= batch pairs idx[] of p, `rows` samples each drawn from PCG32
+ * stream `step` (a step does not depend on what ran before it), and its
+ * gradient with respect to the layering weights ADDED into grad. */
+nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const layering_pairs *p,
+                                             const size_t *idx, int m, int64_t step, float *grad,
+                                             double *loss, nbrdf_error *err);
 
 #endif

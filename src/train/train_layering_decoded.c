@@ -1,0 +1,159 @@
+/* The decoded loss of the layering network (train_layering.h): its value
+ * over all samples, and its gradient on a batch through the frozen decoder. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/rng.h"
+#include "model/encoding.h"
+#include "train/train_layering.h"
+
+/* Decoder input row r: the latent z and the encoding of sample `idx`. */
+static void fill_decoder_row(const model_decoder *dec, const train_samples *data, const float *z,
+                             size_t idx, float *row) {
+  size_t D = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
+  memcpy(row, z, D * sizeof(float));
+  model_encode(&dec->cfg.encoding, 1, data->wi + 3 * idx, data->wo + 3 * idx, row + D, in);
+}
+
+nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decoder *dec,
+                                         model_loss_kind loss, const train_samples *data,
+                                         const layering_pairs *p, double *mean, nbrdf_error *err) {
+  size_t D = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
+  const int B = 4096;
+  model_runner lrun = {0}, drun = {0};
+  float *z = malloc(D * sizeof *z), *f = malloc((size_t)B * sizeof *f);
+  nbrdf_status st =
+      (z && f) ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!st && net) st = model_runner_create(net->nn, 1, NBRDF_NN_INFER, &lrun, err);
+  if (!st) st = model_runner_create(dec->nn, B, NBRDF_NN_INFER, &drun, err);
+  double sum = 0.0;
+  size_t rows = 0;
+  for (size_t i = 0; i < p->n && !st; i++) {
+    if (net)
+      st = model_layering_eval(net, &lrun, 1, p->top + i * D, p->bottom + i * D, p->albedo + i,
+                               p->sigma_t + i, z, err);
+    else
+      memcpy(z, p->target + i * D, D * sizeof *z);
+    size_t b = p->brdf[i], begin = data->offsets[b], end = data->offsets[b + 1];
+    for (size_t i0 = begin; i0 < end && !st; i0 += (size_t)B) {
+      int m = 0;
+      for (size_t k = i0; k < end && m < B; k++, m++) {
+        fill_decoder_row(dec, data, z, k, drun.x + (size_t)m * in);
+        f[m] = data->f[k];
+      }
+      st = nbrdf_nn_forward(dec->nn, drun.ws, drun.x, m, drun.y, err);
+      if (!st) sum += model_loss_sum(loss, dec->cfg.output, (size_t)m, drun.y, f, 1.0f, NULL);
+      rows += (size_t)m;
+    }
+  }
+  *mean = rows ? sum / (double)rows : NAN;
+  model_runner_destroy(&lrun);
+  model_runner_destroy(&drun);
+  free(z), free(f);
+  return st;
+}
+
+struct train_layering_decoded {
+  model_layering *net;
+  model_decoder *dec;
+  const train_samples *data;
+  int batch, rows;
+  model_loss_kind loss;
+  uint64_t seed;
+  model_runner lrun, drun; /* TRAIN mode: layering (batch pairs), decoder (batch × rows) */
+  float *dz, *f, *dy, *dx;
+};
+
+void train_layering_decoded_destroy(train_layering_decoded *t) {
+  if (!t) return;
+  model_runner_destroy(&t->lrun);
+  model_runner_destroy(&t->drun);
+  free(t->dz), free(t->f), free(t->dy), free(t->dx);
+  free(t);
+}
+
+nbrdf_status train_layering_decoded_create(model_layering *net, model_decoder *dec,
+                                           const train_samples *data, int batch, int rows,
+                                           model_loss_kind loss, uint64_t seed,
+                                           train_layering_decoded **out, nbrdf_error *err) {
+  *out = NULL;
+  if (batch < 1 || rows < 1 || (int64_t)batch * rows > (1 << 20))
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "train layering: batch × rows per pair must be in [1, 2^20] (got %d × %d)",
+                      batch, rows);
+  if (net->latent_dim != dec->cfg.latent_dim)
+    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
+                      "train layering: layering latents of %d floats, the decoder's %d",
+                      net->latent_dim, dec->cfg.latent_dim);
+  train_layering_decoded *t = calloc(1, sizeof *t);
+  if (!t) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  t->net = net, t->dec = dec, t->data = data, t->batch = batch, t->rows = rows;
+  t->loss = loss, t->seed = seed;
+  size_t B = (size_t)batch, R = (size_t)rows, D = (size_t)net->latent_dim;
+  nbrdf_status st = model_runner_create(net->nn, batch, NBRDF_NN_TRAIN, &t->lrun, err);
+  if (!st) st = model_runner_create(dec->nn, batch * rows, NBRDF_NN_TRAIN, &t->drun, err);
+  if (!st) {
+    t->dz = malloc(B * D * sizeof(float));
+    t->f = malloc(B * R * sizeof(float));
+    t->dy = malloc(B * R * sizeof(float));
+    t->dx = malloc(B * R * (size_t)model_decoder_inputs(dec) * sizeof(float));
+    if (!t->dz || !t->f || !t->dy || !t->dx)
+      st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  }
+  if (st) {
+    train_layering_decoded_destroy(t);
+    return st;
+  }
+  *out = t;
+  return NBRDF_OK;
+}
+
+nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const layering_pairs *p,
+                                             const size_t *idx, int m, int64_t step, float *grad,
+                                             double *loss, nbrdf_error *err) {
+  if (m < 1 || m > t->batch)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "train layering: %d pairs in a batch of %d", m,
+                      t->batch);
+  const model_decoder *dec = t->dec;
+  size_t D = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
+  size_t R = (size_t)t->rows, lin = 2 * D + 2;
+  for (int r = 0; r < m; r++) {
+    size_t i = idx[r];
+    model_layering_fill_inputs(t->net, 1, p->top + i * D, p->bottom + i * D, p->albedo + i,
+                               p->sigma_t + i, t->lrun.x + (size_t)r * lin);
+  }
+  nbrdf_status st = nbrdf_nn_forward(t->net->nn, t->lrun.ws, t->lrun.x, m, t->lrun.y, err);
+  if (st) return st;
+  nbrdf_rng rng;
+  nbrdf_rng_init(&rng, t->seed, (uint64_t)step);
+  for (int r = 0; r < m; r++) {
+    size_t b = p->brdf[idx[r]], begin = t->data->offsets[b];
+    size_t count = t->data->offsets[b + 1] - begin;
+    for (size_t j = 0; j < R; j++) {
+      size_t k = begin + (size_t)(nbrdf_rng_uniform(&rng) * (double)count), row = (size_t)r * R + j;
+      fill_decoder_row(dec, t->data, t->lrun.y + (size_t)r * D, k, t->drun.x + row * in);
+      t->f[row] = t->data->f[k];
+    }
+  }
+  int rows = m * (int)R;
+  st = nbrdf_nn_forward(dec->nn, t->drun.ws, t->drun.x, rows, t->drun.y, err);
+  if (st) return st;
+  double sum = model_loss_sum(t->loss, dec->cfg.output, (size_t)rows, t->drun.y, t->f,
+                              (float)(1.0 / rows), t->dy);
+  *loss = sum / rows;
+  st = nbrdf_nn_backward(dec->nn, t->drun.ws, t->dy, t->dx, NULL, err);
+  if (st) return st;
+  /* Each pair's latent feeds all its rows: its gradient is their sum. */
+  for (int r = 0; r < m; r++) {
+    float *g = t->dz + (size_t)r * D;
+    memset(g, 0, D * sizeof *g);
+    for (size_t j = 0; j < R; j++) {
+      const float *d = t->dx + ((size_t)r * R + j) * in;
+      for (size_t q = 0; q < D; q++)
+        g[q] += d[q];
+    }
+  }
+  return nbrdf_nn_backward(t->net->nn, t->lrun.ws, t->dz, NULL, grad, err);
+}
