@@ -72,7 +72,7 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   *out = NULL;
   layering_pairs train, val;
   nbrdf_status st =
-      layering_pairs_make(data, latents, tables, s->validation_every, &train, &val, err);
+      layering_pairs_make(data, latents, tables, 1, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
   model_layering *net = NULL;

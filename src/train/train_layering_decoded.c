@@ -23,15 +23,23 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
   size_t D = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
   const int B = 4096;
   model_runner lrun = {0}, drun = {0};
-  float *z = malloc(D * sizeof *z), *f = malloc((size_t)B * sizeof *f);
-  nbrdf_status st =
-      (z && f) ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  float *z = malloc(D * sizeof *z), *inner = malloc(D * sizeof *inner);
+  float *f = malloc((size_t)B * sizeof *f);
+  nbrdf_status st = (z && inner && f)
+                        ? NBRDF_OK
+                        : nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st && net) st = model_runner_create(net->nn, 1, NBRDF_NN_INFER, &lrun, err);
   if (!st) st = model_runner_create(dec->nn, B, NBRDF_NN_INFER, &drun, err);
   double sum = 0.0;
   size_t rows = 0;
   for (size_t i = 0; i < p->n && !st; i++) {
-    if (net)
+    if (net && p->coats[i] == 2) {
+      st = model_layering_eval(net, &lrun, 1, p->mid + i * D, p->bottom + i * D, p->albedo2 + i,
+                               p->sigma_t2 + i, inner, err);
+      if (!st)
+        st = model_layering_eval(net, &lrun, 1, p->top + i * D, inner, p->albedo + i,
+                                 p->sigma_t + i, z, err);
+    } else if (net)
       st = model_layering_eval(net, &lrun, 1, p->top + i * D, p->bottom + i * D, p->albedo + i,
                                p->sigma_t + i, z, err);
     else
@@ -51,7 +59,7 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
   *mean = rows ? sum / (double)rows : NAN;
   model_runner_destroy(&lrun);
   model_runner_destroy(&drun);
-  free(z), free(f);
+  free(z), free(inner), free(f);
   return st;
 }
 
@@ -62,15 +70,20 @@ struct train_layering_decoded {
   int batch, rows;
   model_loss_kind loss;
   uint64_t seed;
-  model_runner lrun, drun; /* TRAIN mode: layering (batch pairs), decoder (batch × rows) */
+  /* TRAIN mode: layering outer and inner (the recursion of three-layer pairs)
+   * applications (batch pairs each), decoder (batch × rows) */
+  model_runner lrun, lrun2, drun;
   float *dz, *f, *dy, *dx;
+  float *dxl, *dzi; /* outer layering input gradient [batch × (2D+2)], inner's output [batch × D] */
+  int *inner_row;   /* batch row of each inner application */
 };
 
 void train_layering_decoded_destroy(train_layering_decoded *t) {
   if (!t) return;
   model_runner_destroy(&t->lrun);
+  model_runner_destroy(&t->lrun2);
   model_runner_destroy(&t->drun);
-  free(t->dz), free(t->f), free(t->dy), free(t->dx);
+  free(t->dz), free(t->f), free(t->dy), free(t->dx), free(t->dxl), free(t->dzi), free(t->inner_row);
   free(t);
 }
 
@@ -93,13 +106,17 @@ nbrdf_status train_layering_decoded_create(model_layering *net, model_decoder *d
   t->loss = loss, t->seed = seed;
   size_t B = (size_t)batch, R = (size_t)rows, D = (size_t)net->latent_dim;
   nbrdf_status st = model_runner_create(net->nn, batch, NBRDF_NN_TRAIN, &t->lrun, err);
+  if (!st) st = model_runner_create(net->nn, batch, NBRDF_NN_TRAIN, &t->lrun2, err);
   if (!st) st = model_runner_create(dec->nn, batch * rows, NBRDF_NN_TRAIN, &t->drun, err);
   if (!st) {
     t->dz = malloc(B * D * sizeof(float));
     t->f = malloc(B * R * sizeof(float));
     t->dy = malloc(B * R * sizeof(float));
     t->dx = malloc(B * R * (size_t)model_decoder_inputs(dec) * sizeof(float));
-    if (!t->dz || !t->f || !t->dy || !t->dx)
+    t->dxl = malloc(B * (2 * D + 2) * sizeof(float));
+    t->dzi = malloc(B * D * sizeof(float));
+    t->inner_row = malloc(B * sizeof(int));
+    if (!t->dz || !t->f || !t->dy || !t->dx || !t->dxl || !t->dzi || !t->inner_row)
       st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   }
   if (st) {
@@ -119,12 +136,24 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
   const model_decoder *dec = t->dec;
   size_t D = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
   size_t R = (size_t)t->rows, lin = 2 * D + 2;
+  int m2 = 0; /* three-layer pairs: the inner application first */
   for (int r = 0; r < m; r++) {
     size_t i = idx[r];
-    model_layering_fill_inputs(t->net, 1, p->top + i * D, p->bottom + i * D, p->albedo + i,
-                               p->sigma_t + i, t->lrun.x + (size_t)r * lin);
+    if (p->coats[i] != 2) continue;
+    model_layering_fill_inputs(t->net, 1, p->mid + i * D, p->bottom + i * D, p->albedo2 + i,
+                               p->sigma_t2 + i, t->lrun2.x + (size_t)m2 * lin);
+    t->inner_row[m2++] = r;
   }
-  nbrdf_status st = nbrdf_nn_forward(t->net->nn, t->lrun.ws, t->lrun.x, m, t->lrun.y, err);
+  nbrdf_status st = NBRDF_OK;
+  if (m2) st = nbrdf_nn_forward(t->net->nn, t->lrun2.ws, t->lrun2.x, m2, t->lrun2.y, err);
+  if (st) return st;
+  for (int r = 0, j = 0; r < m; r++) {
+    size_t i = idx[r];
+    const float *bottom = p->coats[i] == 2 ? t->lrun2.y + (size_t)j++ * D : p->bottom + i * D;
+    model_layering_fill_inputs(t->net, 1, p->top + i * D, bottom, p->albedo + i, p->sigma_t + i,
+                               t->lrun.x + (size_t)r * lin);
+  }
+  st = nbrdf_nn_forward(t->net->nn, t->lrun.ws, t->lrun.x, m, t->lrun.y, err);
   if (st) return st;
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, t->seed, (uint64_t)step);
@@ -155,5 +184,10 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
         g[q] += d[q];
     }
   }
-  return nbrdf_nn_backward(t->net->nn, t->lrun.ws, t->dz, NULL, grad, err);
+  st = nbrdf_nn_backward(t->net->nn, t->lrun.ws, t->dz, m2 ? t->dxl : NULL, grad, err);
+  if (st || !m2) return st;
+  /* The inner application's output entered the outer one as its bottom. */
+  for (int j = 0; j < m2; j++)
+    memcpy(t->dzi + (size_t)j * D, t->dxl + (size_t)t->inner_row[j] * lin + D, D * sizeof(float));
+  return nbrdf_nn_backward(t->net->nn, t->lrun2.ws, t->dzi, NULL, grad, err);
 }

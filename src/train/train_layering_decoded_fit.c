@@ -142,7 +142,8 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
   r->val_loss = r->val_decoded = r->val_decoded_oracle = NAN;
   *out = NULL;
   layering_pairs train, val;
-  nbrdf_status st = layering_pairs_make(data, NULL, tables, s->validation_every, &train, &val, err);
+  nbrdf_status st =
+      layering_pairs_make(data, NULL, tables, 2, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
   trainer t = {.data = data, .dec = dec, .s = s};

@@ -36,7 +36,7 @@ static void test_decoded(const train_samples *d, model_decoder *dec, const model
   /* The objective on all samples of the training pairs, before and after. */
   layering_pairs tp, vp;
   double before = NAN, after = NAN, from_latent = NAN;
-  CHECK_OK(layering_pairs_make(d, NULL, t, s.validation_every, &tp, &vp, &err), &err);
+  CHECK_OK(layering_pairs_make(d, NULL, t, 2, s.validation_every, &tp, &vp, &err), &err);
   CHECK_OK(model_layering_create(s.preset, 32, s.seed, &fresh, &err), &err);
   CHECK_OK(train_layering_decoded_loss(fresh, dec, s.loss, d, &tp, &before, &err), &err);
   CHECK_OK(train_layering_fit_decoded(d, dec, t, &s, &a, &r, &err), &err);

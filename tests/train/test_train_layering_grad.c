@@ -1,6 +1,7 @@
 /* Finite-difference check of the decoded layering loss's gradient: through
  * the frozen decoder's input gradient, summed over each pair's rows, into the
- * layering network's weights (train/train_layering.h). */
+ * layering network's weights (train/train_layering.h), for two-layer pairs
+ * and a three-layer pair (the network applied to its own output). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,12 +47,24 @@ static void test_decoded_gradient(void) {
   size_t offsets[NB + 1] = {0, PER, 2 * PER, 3 * PER}, brdf[NB] = {2, 0, 1};
   train_samples data = {
       .n_brdfs = NB, .n_rows = NB * PER, .offsets = offsets, .wi = wi, .wo = wo, .f = f};
-  float top[NB * D], bottom[NB * D], albedo[NB] = {0.2f, 0.7f, 1.0f}, sig[NB] = {0, 1.5f, 5};
-  for (int i = 0; i < NB * D; i++)
-    top[i] = (float)(0.5 * nbrdf_rng_normal(&rng)),
+  float top[NB * D], bottom[NB * D], mid[NB * D], albedo[NB] = {0.2f, 0.7f, 1.0f};
+  float sig[NB] = {0, 1.5f, 5}, albedo2[NB] = {0, 0.9f, 0}, sig2[NB] = {0, 2.0f, 0};
+  unsigned char coats[NB] = {1, 2, 1};
+  for (int i = 0; i < NB * D; i++) {
+    top[i] = (float)(0.5 * nbrdf_rng_normal(&rng));
     bottom[i] = (float)(0.5 * nbrdf_rng_normal(&rng));
-  layering_pairs pairs = {
-      .n = NB, .top = top, .bottom = bottom, .albedo = albedo, .sigma_t = sig, .brdf = brdf};
+    mid[i] = (float)(0.5 * nbrdf_rng_normal(&rng));
+  }
+  layering_pairs pairs = {.n = NB,
+                          .top = top,
+                          .bottom = bottom,
+                          .albedo = albedo,
+                          .sigma_t = sig,
+                          .coats = coats,
+                          .mid = mid,
+                          .albedo2 = albedo2,
+                          .sigma_t2 = sig2,
+                          .brdf = brdf};
   for (int kind = 0; kind < 2; kind++) {
     model_decoder_config cfg;
     model_encoding enc = {MODEL_ENCODING_HALFDIFF, 1};
@@ -80,7 +93,7 @@ static void test_decoded_gradient(void) {
       gs = fmax(gs, fabs(grad[i]));
     CHECK(gs > 1e-6); /* the gradient reaches the layering weights */
     float *params = nbrdf_nn_params(net->nn);
-    for (int t = 0; t < 40; t++) {
+    for (int t = 0; t < 60; t++) {
       int i = (int)(nbrdf_rng_uniform(&rng) * (double)np);
       fd_check(model_loss_name((model_loss_kind)kind), i, params + i, grad[i], decoded_loss, &c,
                1e-3, gs);
