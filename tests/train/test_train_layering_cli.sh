@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# 'nbrdf train layering --loss decoded' as a user runs it: a checkpointed run
+# resumed by the same command with more epochs, the latent run's decoded
+# figure, and the usage and mismatch errors. (The numerics are checked by
+# test_train_layering.c and test_train_layering_grad.c.)
+set -u
+source "$NBRDF_SOURCE_DIR/tests/cli/lib.sh"
+
+D="$TMP/l2.nbds"
+"$NBRDF" dataset --out "$D" --kind layered2 --count 12 --seed 5 --incident 2 --outgoing 8 \
+  --spp 16 2>/dev/null
+check "dataset" [ $? -eq 0 ]
+"$NBRDF" train decoder --data "$D" --run "$TMP/run" --preset small --steps 10 --validation 0 \
+  >/dev/null 2>&1
+check "decoder run" [ -f "$TMP/run/decoder.safetensors" ]
+"$NBRDF" train tables --decoder "$TMP/run/decoder.safetensors" -o "$TMP/t.safetensors" \
+  --alpha-nodes 3 --eta-nodes 2 --r0-nodes 2 --steps 5 >/dev/null 2>&1
+check "tables" [ -f "$TMP/t.safetensors" ]
+
+common=(--data "$D" --tables "$TMP/t.safetensors" --batch 4 --rows 8)
+"$NBRDF" train layering "${common[@]}" --run "$TMP/run" --epochs 10 -o "$TMP/latent.safetensors" \
+  >"$TMP/latent.out" 2>/dev/null
+check "latent run exits 0" [ $? -eq 0 ]
+check "latent run reports its decoded validation loss" \
+  grep -Eq 'decoded validation loss [0-9.e-]+ \(the run.s own latents: [0-9.e-]+\)' "$TMP/latent.out"
+
+dec=(--loss decoded --decoder "$TMP/run/decoder.safetensors" --checkpoint "$TMP/l.ckpt"
+  --init "$TMP/latent.safetensors" -o "$TMP/dec.safetensors" --log "$TMP/dec.csv")
+"$NBRDF" train layering "${common[@]}" "${dec[@]}" --epochs 3 >"$TMP/a.out" 2>/dev/null
+check "decoded run exits 0" [ $? -eq 0 ]
+check "decoded run: 3 epochs from scratch" grep -q 'epochs 3 (resumed at 0)' "$TMP/a.out"
+"$NBRDF" train layering "${common[@]}" "${dec[@]}" --epochs 5 >"$TMP/b.out" 2>/dev/null
+check "the same command with more epochs resumes" grep -q 'epochs 5 (resumed at 3)' "$TMP/b.out"
+check "the log holds epochs 1..5 once each" [ "$(cut -d, -f1 "$TMP/dec.csv" | tr '\n' ' ')" = "epoch 1 2 3 4 5 " ]
+
+expect_exit 1 "$NBRDF" train layering "${common[@]}" "${dec[@]}" --epochs 6 --rows 4
+check "another setting is refused, naming the checkpoint" grep -q 'l.ckpt' "$TMP/err"
+expect_exit 1 "$NBRDF" train layering "${common[@]}" --loss decoded \
+  --decoder "$TMP/run/decoder.safetensors" --init "$TMP/latent.safetensors" --preset paper \
+  -o "$TMP/x.safetensors"
+check "--init of another preset is refused" grep -q "preset 'small'" "$TMP/err"
+expect_exit 2 "$NBRDF" train layering "${common[@]}" --loss kl -o "$TMP/x.safetensors" --run "$TMP/run"
+expect_exit 2 "$NBRDF" train layering "${common[@]}" --loss decoded -o "$TMP/x.safetensors"
+check "no partial output" [ ! -e "$TMP/x.safetensors" ]
+finish
