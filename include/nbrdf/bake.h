@@ -115,17 +115,29 @@ typedef struct nbrdf_bake_options {
   volatile sig_atomic_t *cancel;
   /* Receives warnings (clamped values), one line each without a newline. May be NULL. */
   void (*warning)(void *user, const char *message);
+  /* Distinct tuples remembered across bands of rows (each band evaluates its
+   * own distinct tuples once; this carries them on, for painted maps that
+   * repeat them everywhere). NBRDF_BAKE_TUPLE_CACHE_DEFAULT (65,536: about
+   * 11 MB at latent_dim 32); 0 turns it off. The texels are the same bits
+   * either way. */
+  size_t tuple_cache;
 } nbrdf_bake_options;
 
+#define NBRDF_BAKE_TUPLE_CACHE_DEFAULT 65536
+
 #define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
-  { NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL }
+  {                                                                                                \
+    NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
+        NBRDF_BAKE_TUPLE_CACHE_DEFAULT                                                             \
+  }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
 typedef struct nbrdf_bake_report {
   int width, height;   /* level 0 (1 x 1 when every input is a constant) */
   int colour_channels; /* 1 (mono) or 3 (RGB) */
   size_t brdfs;        /* texels x colour channels */
-  size_t evaluated;    /* distinct tuples evaluated by the networks (summed over bands) */
+  size_t evaluated;    /* tuples evaluated by the networks (distinct per band, summed) */
+  size_t reused;       /* distinct tuples of a band taken from the cross-band cache */
   size_t clamped;      /* texel channels with a clamped parameter */
 } nbrdf_bake_report;
 

@@ -158,7 +158,9 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   st = nbrdf_latent_writer_create(&writer, out_path, W, H, &layout, &meta, &wo, inputs, n_inputs,
                                   err);
   bake_band band;
-  bake_band_init(&band, model, src, &layout, W, o->roughness, o->range);
+  /* One band: nothing to carry over, so no cache memory. */
+  size_t cache_max = band_rows < H ? o->tuple_cache : 0;
+  bake_band_init(&band, model, src, &layout, W, o->roughness, o->range, cache_max);
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
     if (cancelled(o) || (o->progress && o->progress(o->user, "bake", y, H))) {
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y, H);
@@ -182,6 +184,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
       rep->colour_channels = rgb ? 3 : 1;
       rep->brdfs = (size_t)W * H * (rgb ? 3 : 1);
       rep->evaluated = band.evaluated;
+      rep->reused = band.reused;
       rep->clamped = 0;
       for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
         rep->clamped += band.clamped[id];

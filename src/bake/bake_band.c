@@ -14,8 +14,9 @@
 
 void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
                     const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
-                    nbrdf_range_policy range) {
+                    nbrdf_range_policy range, size_t cache_max) {
   memset(b, 0, sizeof *b);
+  b->cache.max = cache_max;
   b->model = model;
   b->src = src;
   b->layout = *layout;
@@ -39,6 +40,10 @@ void bake_band_free(bake_band *b) {
   free(b->uniq_out);
   free(b->slot);
   free(b->hash);
+  free(b->missing);
+  free(b->cache.keys);
+  free(b->cache.vals);
+  free(b->cache.table);
   memset(b, 0, sizeof *b);
 }
 
@@ -116,8 +121,77 @@ static size_t intern(bake_band *b, const bake_tuple *t, size_t *n_uniq) {
   }
 }
 
-/* Latent, sigma, w of distinct tuples [u0, u0 + n). */
-static nbrdf_status evaluate(bake_band *b, size_t u0, size_t n, nbrdf_error *err) {
+/* ---- the cross-band cache ----
+ * Within a band every distinct tuple is evaluated once; the cache carries
+ * them to later bands, where painted maps repeat them. It holds at most
+ * `max` tuples: a band whose new tuples do not fit empties it first (the
+ * newest bands' tuples are the likeliest to come back), and a band with more
+ * new tuples than `max` (all-distinct content) leaves it alone. */
+
+static int cache_ready(bake_cache *c, int D) {
+  if (c->keys) return 1;
+  size_t cap = 16;
+  while (cap < 2 * c->max)
+    cap *= 2;
+  c->keys = malloc(sizeof *c->keys * c->max);
+  c->vals = malloc(sizeof(float) * c->max * (size_t)(D + 2));
+  c->table = calloc(cap, sizeof *c->table);
+  c->table_cap = cap;
+  return c->keys && c->vals && c->table;
+}
+
+/* Entry index + 1 of `t`, or 0; *slot receives the table slot to fill. */
+static size_t cache_find(const bake_cache *c, const bake_tuple *t, size_t *slot) {
+  size_t mask = c->table_cap - 1;
+  for (size_t i = (size_t)tuple_hash(t) & mask;; i = (i + 1) & mask) {
+    size_t e = c->table[i];
+    if (e == 0 || !memcmp(c->keys[e - 1].p, t->p, sizeof t->p)) {
+      *slot = i;
+      return e;
+    }
+  }
+}
+
+static void cache_put(bake_cache *c, const bake_tuple *t, const float *val, int D) {
+  size_t slot;
+  if (c->count >= c->max || cache_find(c, t, &slot)) return;
+  c->keys[c->count] = *t;
+  memcpy(c->vals + c->count * (size_t)(D + 2), val, sizeof(float) * (size_t)(D + 2));
+  c->table[slot] = ++c->count;
+}
+
+/* Fills b->uniq_out of the band's tuples found in the cache and lists the
+ * others in b->missing; returns their count. */
+static size_t cache_lookup(bake_band *b, size_t n_uniq) {
+  const int D = b->layout.latent_dim;
+  size_t n_missing = 0;
+  for (size_t u = 0; u < n_uniq; u++) {
+    size_t slot, e = b->cache.count ? cache_find(&b->cache, &b->uniq[u], &slot) : 0;
+    if (e)
+      memcpy(b->uniq_out + u * (size_t)(D + 2), b->cache.vals + (e - 1) * (size_t)(D + 2),
+             sizeof(float) * (size_t)(D + 2));
+    else
+      b->missing[n_missing++] = u;
+  }
+  return n_missing;
+}
+
+static void cache_store(bake_band *b, size_t n_missing) {
+  bake_cache *c = &b->cache;
+  const int D = b->layout.latent_dim;
+  if (n_missing > c->max) return;
+  if (c->count + n_missing > c->max) {
+    memset(c->table, 0, sizeof *c->table * c->table_cap);
+    c->count = 0;
+  }
+  for (size_t k = 0; k < n_missing; k++) {
+    size_t u = b->missing[k];
+    cache_put(c, &b->uniq[u], b->uniq_out + u * (size_t)(D + 2), D);
+  }
+}
+
+/* Latent, sigma, w of the distinct tuples idx[0 .. n). */
+static nbrdf_status evaluate(bake_band *b, const size_t *idx, size_t n, nbrdf_error *err) {
   int D = b->layout.latent_dim;
   double *p0 = malloc(sizeof(double) * n * 4);
   float *lat = malloc(sizeof(float) * n * ((size_t)D * 3 + 4));
@@ -130,7 +204,7 @@ static nbrdf_status evaluate(bake_band *b, size_t u0, size_t n, nbrdf_error *err
   float *top = lat, *bottom = top + n * D, *layered = bottom + n * D;
   float *albedo = layered + n * D, *sigma_t = albedo + n, *sigma = sigma_t + n, *w = sigma + n;
   for (size_t k = 0; k < n; k++) {
-    const float *t = b->uniq[u0 + k].p;
+    const float *t = b->uniq[idx[k]].p;
     p0[k] = t[NBRDF_BAKE_ALPHA1], p1[k] = t[NBRDF_BAKE_ETA];
     q0[k] = t[NBRDF_BAKE_ALPHA2], q1[k] = t[NBRDF_BAKE_R0];
     albedo[k] = t[NBRDF_BAKE_ALBEDO], sigma_t[k] = t[NBRDF_BAKE_SIGMA_T];
@@ -146,7 +220,7 @@ static nbrdf_status evaluate(bake_band *b, size_t u0, size_t n, nbrdf_error *err
   if (st == NBRDF_OK) st = nbrdf_model_proxy_params(b->model, n, layered, sigma, w, err);
   if (st == NBRDF_OK) {
     for (size_t k = 0; k < n; k++) {
-      float *o = b->uniq_out + (u0 + k) * (size_t)(D + 2);
+      float *o = b->uniq_out + idx[k] * (size_t)(D + 2);
       memcpy(o, layered + k * D, sizeof(float) * D);
       o[D] = sigma[k];
       o[D + 1] = w[k];
@@ -165,7 +239,9 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
     hcap *= 2;
   if (!grow((void **)&b->uniq, &b->uniq_cap, n, sizeof *b->uniq) ||
       !grow((void **)&b->slot, &b->slot_cap, n, sizeof *b->slot) ||
-      !grow((void **)&b->hash, &b->hash_cap, hcap, sizeof *b->hash))
+      !grow((void **)&b->hash, &b->hash_cap, hcap, sizeof *b->hash) ||
+      !grow((void **)&b->missing, &b->missing_cap, n, sizeof *b->missing) ||
+      (b->cache.max && !cache_ready(&b->cache, D)))
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band of %zu texels", n);
   b->hash_cap = hcap; /* a power of two; extra capacity from an earlier band is unused */
   memset(b->hash, 0, sizeof *b->hash * hcap);
@@ -195,12 +271,20 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
   free(b->uniq_out);
   b->uniq_out = malloc(sizeof(float) * n_uniq * (size_t)(D + 2));
   if (!b->uniq_out) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory");
-  for (size_t u = 0; u < n_uniq; u += EVAL_CHUNK) {
-    size_t m = n_uniq - u < EVAL_CHUNK ? n_uniq - u : EVAL_CHUNK;
-    nbrdf_status st = evaluate(b, u, m, err);
+  size_t n_missing = n_uniq;
+  if (b->cache.max)
+    n_missing = cache_lookup(b, n_uniq);
+  else
+    for (size_t u = 0; u < n_uniq; u++)
+      b->missing[u] = u;
+  for (size_t k = 0; k < n_missing; k += EVAL_CHUNK) {
+    size_t m = n_missing - k < EVAL_CHUNK ? n_missing - k : EVAL_CHUNK;
+    nbrdf_status st = evaluate(b, b->missing + k, m, err);
     if (st != NBRDF_OK) return st;
   }
-  b->evaluated += n_uniq;
+  if (b->cache.max) cache_store(b, n_missing);
+  b->evaluated += n_missing;
+  b->reused += n_uniq - n_missing;
 
   const int texel_floats = nbrdf_latent_channel_count(&b->layout);
   for (size_t i = 0; i < (size_t)rows * b->width; i++) {

@@ -24,6 +24,17 @@ typedef struct bake_tuple {
 nbrdf_status bake_open_sources(const nbrdf_bake_inputs *in, nbrdf_param_source **src,
                                nbrdf_error *err);
 
+/* Distinct tuples remembered across bands with their latent, sigma and w
+ * (bake_band.c): painted maps repeat the same few tuples in every band. */
+typedef struct bake_cache {
+  size_t max;       /* entries at most (0: no cache) */
+  size_t count;     /* entries held */
+  bake_tuple *keys; /* [max] */
+  float *vals;      /* [max * (latent_dim + 2)] */
+  size_t *table;    /* open addressing, entry index + 1 (0 = empty) */
+  size_t table_cap; /* a power of two >= 2 * max */
+} bake_cache;
+
 typedef struct bake_band {
   const nbrdf_model *model;
   nbrdf_param_source **src; /* NBRDF_BAKE_PARAM_COUNT sources */
@@ -37,16 +48,19 @@ typedef struct bake_band {
   float *uniq_out;  /* their latent, sigma, w: latent_dim + 2 floats each */
   size_t *slot;     /* per texel channel: index into uniq */
   size_t *hash;     /* open-addressing table of uniq indices + 1 (0 = empty) */
-  size_t uniq_cap, slot_cap, hash_cap;
+  size_t *missing;  /* distinct tuples of the band not in the cache */
+  size_t uniq_cap, slot_cap, hash_cap, missing_cap;
+  bake_cache cache;
   /* totals over bands */
-  size_t evaluated, clamped[NBRDF_BAKE_PARAM_COUNT];
+  size_t evaluated, reused, clamped[NBRDF_BAKE_PARAM_COUNT];
 } bake_band;
 
 /* Sets up `b` (the scratch starts empty); the trained ranges come from the
- * model's base-table grids. */
+ * model's base-table grids. `cache_max` distinct tuples are remembered
+ * across bands (0: none); the cache is allocated on first use. */
 void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
                     const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
-                    nbrdf_range_policy range);
+                    nbrdf_range_policy range, size_t cache_max);
 /* Computes rows [y0, y0 + rows) into `texels` (rows * width texels of
  * nbrdf_latent_channel_count floats, logical order). */
 nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err);

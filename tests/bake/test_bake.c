@@ -403,6 +403,61 @@ static void test_deterministic(void) {
   free(b);
 }
 
+/* The cross-band tuple cache changes which band evaluates a tuple, never
+ * the texels: bakes with the cache, with one too small to hold a band's
+ * tuples, and without it write the same bytes. 4096 x 48 texels are three
+ * bands of 16 rows; alpha1 takes 5 values in an order that changes from row
+ * to row, sigma_t adds a value in the last band only. */
+static void test_tuple_cache(void) {
+  nbrdf_error e, *err = &e;
+  const int W = 4096, H = 48;
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  float *a = malloc(sizeof(float) * W * H), *s = malloc(sizeof(float) * W * H);
+  for (int y = 0; y < H; y++)
+    for (int x = 0; x < W; x++) {
+      a[y * W + x] = lo[0] + (hi[0] - lo[0]) * (float)((x * 7 + y) % 5) / 5.0f;
+      s[y * W + x] = y >= 32 && x % 2 ? 2.0f : 1.0f;
+    }
+  CHECK_OK(nbrdf_image_write(path("wide_a.exr"), W, H, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(nbrdf_image_write(path("wide_s.exr"), W, H, 1, s, NBRDF_PIXEL_FLOAT, err), err);
+  free(a);
+  free(s);
+  char pa[640], ps[640];
+  snprintf(pa, sizeof pa, "%s", path("wide_a.exr"));
+  snprintf(ps, sizeof ps, "%s", path("wide_s.exr"));
+  nbrdf_bake_inputs in = constants();
+  in.param[NBRDF_BAKE_ALPHA1].path = pa;
+  in.param[NBRDF_BAKE_SIGMA_T].path = ps;
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  o.mip_levels = 1; /* the cache is about level 0; mips would only add time */
+  static const size_t caches[3] = {NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 3, 0};
+  static const size_t evaluated[3] = {10, 20, 20}, reused[3] = {10, 0, 0};
+  char files[3][640]; /* path() recycles its buffers */
+  snprintf(files[0], sizeof files[0], "%s", path("cache.exr"));
+  snprintf(files[1], sizeof files[1], "%s", path("cache3.exr"));
+  snprintf(files[2], sizeof files[2], "%s", path("nocache.exr"));
+  for (int k = 0; k < 3; k++) {
+    nbrdf_bake_report rep;
+    o.tuple_cache = caches[k];
+    CHECK_OK(nbrdf_bake(model, &in, &o, files[k], &rep, err), err);
+    /* bands: 5, 5, 10 distinct tuples */
+    CHECK_MSG(rep.evaluated == evaluated[k] && rep.reused == reused[k],
+              "cache %zu: evaluated %zu, reused %zu", caches[k], rep.evaluated, rep.reused);
+  }
+  long n[3] = {0, 0, 0};
+  unsigned char *bytes[3];
+  for (int k = 0; k < 3; k++)
+    bytes[k] = slurp(files[k], &n[k]);
+  for (int k = 1; k < 3; k++)
+    CHECK_MSG(bytes[0] && bytes[k] && n[0] > 0 && n[k] == n[0] &&
+                  !memcmp(bytes[0], bytes[k], (size_t)n[0]),
+              "%s differs from %s", files[k], files[0]);
+  for (int k = 0; k < 3; k++)
+    free(bytes[k]);
+}
+
 int main(void) {
   nbrdf_error e, *err = &e;
   snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
@@ -418,6 +473,7 @@ int main(void) {
   RUN(test_colour_maps);
   RUN(test_extremes);
   RUN(test_deterministic);
+  RUN(test_tuple_cache);
   nbrdf_model_destroy(model);
   return nbrdf_test_finish();
 }
