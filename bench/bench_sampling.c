@@ -28,17 +28,21 @@ static const char *const ENV_NAMES[N_ENV] = {"sky", "furnace"};
 typedef struct config {
   const char *bundle, *out, *plot_prefix;
   int count, reps, n_counts, counts[EVAL_IS_MAX_N], envs; /* envs: bit 0 sky, bit 1 furnace */
+  int swap; /* integrate over the decoder's ωo slot instead (a check of reciprocity) */
 } config;
 
 static void usage(FILE *f) {
   fprintf(f, "usage: bench_sampling [--bundle models/default] [--count 100] [--reps 200]\n"
              "                      [--n 16,64] [--env sky|furnace|both] [--out sampling.md]\n"
              "                      [--plot PREFIX]  (writes PREFIX_variance.png, PREFIX_ratio.png)\n"
+             "                      [--integrate-over wi|wo]\n"
              "Variance of the reflected radiance L(wo) of the held-out `layer` BRDFs (tables +\n"
              "layering network, decoded) estimated with N samples by proxy, cosine, top-layer GGX\n"
              "and proxy+cosine MIS sampling, from --reps independent repetitions, at\n"
              "theta_o = 0, 30, 60, 80 deg (the last three with the mirror direction towards the\n"
-             "sun's azimuth and away from it). Run with OPENBLAS_NUM_THREADS=1 on a shared machine.\n");
+             "sun's azimuth and away from it). --integrate-over wo swaps the decoder's direction\n"
+             "arguments (the integral over its second slot: the usual albedo in a furnace).\n"
+             "Run with OPENBLAS_NUM_THREADS=1 on a shared machine.\n");
 }
 
 static int parse_counts(const char *v, config *c) {
@@ -54,7 +58,7 @@ static int parse_counts(const char *v, config *c) {
 }
 
 static int parse_args(int argc, char **argv, config *c) {
-  *c = (config){"models/default", "sampling.md", "sampling", 100, 200, 2, {16, 64}, 3};
+  *c = (config){"models/default", "sampling.md", "sampling", 100, 200, 2, {16, 64}, 3, 0};
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
@@ -81,6 +85,12 @@ static int parse_args(int argc, char **argv, config *c) {
       c->envs = !strcmp(v, "sky") ? 1 : !strcmp(v, "furnace") ? 2 : !strcmp(v, "both") ? 3 : 0;
       if (!c->envs) {
         fprintf(stderr, "bench_sampling: --env must be sky, furnace or both\n");
+        return 0;
+      }
+    } else if (!strcmp(a, "--integrate-over")) {
+      c->swap = !strcmp(v, "wo");
+      if (!c->swap && strcmp(v, "wi")) {
+        fprintf(stderr, "bench_sampling: --integrate-over must be wi or wo\n");
         return 0;
       }
     } else if (!strcmp(a, "--out")) {
@@ -117,6 +127,7 @@ static double load_average(void) {
 typedef struct neural_brdf {
   const nbrdf_model *m;
   const float *latent;
+  int swap;
   size_t cap;
   float *lat, *dirs, *f; /* grown on demand */
 } neural_brdf;
@@ -134,8 +145,9 @@ static nbrdf_status neural_fn(void *user, size_t n, const nbrdf_query *q, double
   }
   for (size_t k = 0; k < n; k++) {
     memcpy(b->lat + k * D, b->latent, D * sizeof *b->lat);
+    const double *a = b->swap ? q[k].wo : q[k].wi, *o = b->swap ? q[k].wi : q[k].wo;
     for (int j = 0; j < 3; j++)
-      b->dirs[3 * k + j] = (float)q[k].wi[j], b->dirs[3 * (n + k) + j] = (float)q[k].wo[j];
+      b->dirs[3 * k + j] = (float)a[j], b->dirs[3 * (n + k) + j] = (float)o[j];
   }
   nbrdf_status st = nbrdf_model_decode(b->m, n, 1, b->lat, b->dirs, b->dirs + 3 * n, b->f, err);
   for (size_t k = 0; k < n && !st; k++)
@@ -250,7 +262,7 @@ int main(int argc, char **argv) {
 
   int n_cases = 0;
   case_result *cases[N_ENV] = {NULL, NULL};
-  neural_brdf nb = {m, NULL, 0, NULL, NULL, NULL};
+  neural_brdf nb = {m, NULL, c.swap, 0, NULL, NULL, NULL};
   for (int e = 0; e < N_ENV; e++) {
     if (!(c.envs & (1 << e))) continue;
     cases[e] = calloc(n * MAX_CASES, sizeof **cases);
@@ -291,10 +303,11 @@ int main(int argc, char **argv) {
     FILE *f = streams[o];
     fprintf(f,
             "Bundle `%s` (%s, checksum %s); %d held-out `layer` BRDFs x %d outgoing directions; "
-            "%d repetitions per estimate; sun azimuth %.1f deg (shading frame). Wall %.0f s, CPU "
-            "%.0f s; load average %.2f at the start, %.2f at the end (shared 2-core machine).\n\n",
+            "%d repetitions per estimate; sun azimuth %.1f deg (shading frame); integrated over "
+            "the decoder's %s. Wall %.0f s, CPU %.0f s; load average %.2f at the start, %.2f at "
+            "the end (shared 2-core machine).\n\n",
             c.bundle, nbrdf_model_name(m), nbrdf_model_checksum(m), c.count, n_cases / c.count,
-            c.reps, phi_sun * 180 / M_PI, wall, cpu, load0, load_average());
+            c.reps, phi_sun * 180 / M_PI, c.swap ? "wo" : "wi", wall, cpu, load0, load_average());
     for (int e = 0; e < N_ENV; e++) {
       if (!cases[e]) continue;
       fprintf(f, "### %s\n\n", e == 0 ? "Sky (src/eval/env.c, luminance)" : "White furnace (L = 1)");
@@ -343,6 +356,26 @@ int main(int argc, char **argv) {
                   THETA_O[t] == 0 ? "-" : (s ? "towards sun" : "away from sun"), med[0], med[1],
                   med[2], med[3], 100.0 * win_c / nv, 100.0 * win_g / nv);
         }
+      if (e == 1) {
+        /* In a white furnace L(ωo) is the BRDF's albedo over ωi: above 1 beyond its error,
+         * the decoded BRDF creates energy (METRICS.md, "Energy"). */
+        int over = 0, worst = 0;
+        for (int i = 0; i < n_cases; i++) {
+          const eval_is_result *r = &cases[e][i].r;
+          double se = sqrt(r->var[EVAL_IS_PROXY][K] / c.reps);
+          over += r->radiance > 1.0 + 3.0 * se;
+          if (r->radiance > cases[e][worst].r.radiance) worst = i;
+        }
+        const eval_is_result *r = &cases[e][worst].r;
+        const train_params *q = &p[cases[e][worst].brdf];
+        fprintf(f,
+                "\nEnergy: L > 1 (beyond 3 standard errors) on %d of %d cases; the largest, "
+                "L = %.3g, at theta_o = %.0f for BRDF #%d (%.3f, %.2f, %.3f, %.2f, %.2f, %.0f); "
+                "the strategies' means there: proxy %.3g, cosine %.3g, ggx %.3g, MIS %.3g.\n",
+                over, n_cases, r->radiance, THETA_O[cases[e][worst].theta], cases[e][worst].brdf,
+                q->coat[0].alpha, q->coat[0].eta, q->base_alpha, q->base_r0, q->coat[0].albedo,
+                q->coat[0].sigma_t, r->mean[0], r->mean[1], r->mean[2], r->mean[3]);
+      }
       /* The cases where the proxy loses most against cosine sampling. */
       fprintf(f, "\nWorst proxy/cosine variance ratios (N = %d):\n\n| ratio | theta_o | BRDF "
                  "(alpha1, eta, alpha2, R0, A, sigma_T) | proxy (sigma, w) | L |\n"
@@ -392,8 +425,8 @@ int main(int argc, char **argv) {
   }
   char path[4096];
   char title[128];
-  snprintf(title, sizeof title, "Median var/L^2, N = %d (sky solid, furnace dashed)", c.counts[K]);
-  nbrdf_plot_options po = {title, "theta_o (deg)", "median variance / L^2", 0, 1, 0, 0};
+  snprintf(title, sizeof title, "Median relative variance, N = %d (sky solid, furnace dashed)", c.counts[K]);
+  nbrdf_plot_options po = {title, "theta_o (deg)", "median variance / (L * L)", 0, 1, 0, 0};
   snprintf(path, sizeof path, "%s_variance.png", c.plot_prefix);
   if (nbrdf_plot_write_png(path, &po, ns, ser, &err)) die(path, &err);
   int e0 = cases[0] ? 0 : 1;
