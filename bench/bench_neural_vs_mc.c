@@ -468,7 +468,7 @@ int main(int argc, char **argv) {
   nbrdf_plot_series ser[4] = {
       {"monte carlo vs reference", c.n_spp, us_query, e_pct, 0, 0},
       {"monte carlo paired (no ref. noise)", c.n_spp, us_query, p_pct, 1, 1},
-      {"neural (tables + layering + decoder)", 1, &nx, &ny, 0, 0},
+      {"neural (decoder per query)", 1, &nx, &ny, 0, 0},
       {"reference seed-to-seed", 2, floor_x, floor_y, 1, 0}};
   nbrdf_plot_options po = {"Layer set: median lobe error vs CPU cost per query",
                            "CPU microseconds per query (1 thread)", "median lobe error (%)", 1, 1,
