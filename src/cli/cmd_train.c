@@ -17,7 +17,7 @@ void cmd_train_usage(FILE *out) {
           "                          [--r0-nodes N] [--steps N] [--seed S]\n"
           "       nbrdf train layering --data FILE[,...] --run DIR --tables FILE -o FILE\n"
           "                          [--loss latent|decoded] [--decoder FILE] [--init FILE]\n"
-          "                          [--preset small|paper] [--epochs N] [--batch N] [--lr X]\n"
+          "                          [--preset small|medium|paper] [--epochs N] [--batch N] [--lr X]\n"
           "                          [--rows N] [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
           "                          [--checkpoint FILE]\n"
           "       nbrdf train sampler --run DIR -o FILE [--brdfs N] [--epochs N]\n"

@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 
-const char *const model_layering_presets[] = {"paper", "small", NULL};
+const char *const model_layering_presets[] = {"paper", "medium", "small", NULL};
 
 nbrdf_status model_layering_spec(const char *preset, int latent_dim, nbrdf_nn_spec *spec,
                                  nbrdf_error *err) {
@@ -17,11 +17,13 @@ nbrdf_status model_layering_spec(const char *preset, int latent_dim, nbrdf_nn_sp
   int width, blocks;
   if (!strcmp(preset, "paper"))
     width = 512, blocks = 4;
+  else if (!strcmp(preset, "medium"))
+    width = 256, blocks = 3;
   else if (!strcmp(preset, "small"))
     width = 128, blocks = 2;
   else
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "unknown layering preset '%s' (paper, small)",
-                      preset);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "unknown layering preset '%s' (paper, medium, small)", preset);
   return nbrdf_nn_spec_resmlp(spec, 2 * latent_dim + 2, width, blocks, 0, latent_dim, err);
 }
 

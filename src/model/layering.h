@@ -11,7 +11,8 @@
  * itself a layered latent).
  *
  * Presets: "paper" width 512, 4 residual blocks (1,098,752 MACs at D = 32),
- * "small" width 128, 2 residual blocks.
+ * "medium" width 256, 3 blocks (221,696 MACs), "small" width 128, 2 blocks
+ * (45,312 MACs).
  * File metadata (besides netio.h's): nbrdf.sigma_t_input = "log1p", nbrdf.preset. */
 #ifndef NBRDF_MODEL_LAYERING_H
 #define NBRDF_MODEL_LAYERING_H

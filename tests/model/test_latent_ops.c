@@ -4,6 +4,7 @@
 
 #include "core/rng.h"
 #include "model/base_table.h"
+#include "model/layering.h"
 #include "nbrdf/model.h"
 #include "testing.h"
 
@@ -96,7 +97,24 @@ static void test_table_lookup(void) {
   model_base_table_free(&t);
 }
 
+/* The layering presets cost what model/layering.h and the model card say. */
+static void test_layering_presets(void) {
+  nbrdf_error err;
+  const char *names[] = {"paper", "medium", "small"};
+  const int64_t macs[] = {1098752, 221696, 45312};
+  for (int i = 0; i < 3; i++) {
+    nbrdf_nn_spec spec;
+    CHECK_OK(model_layering_spec(names[i], 32, &spec, &err), &err);
+    CHECK_MSG(nbrdf_nn_spec_macs(&spec) == macs[i], "%s: %lld MACs", names[i],
+              (long long)nbrdf_nn_spec_macs(&spec));
+    CHECK(!strcmp(model_layering_presets[i], names[i]));
+  }
+  nbrdf_nn_spec spec;
+  CHECK(model_layering_spec("huge", 32, &spec, &err) == NBRDF_ERR_ARGUMENT);
+}
+
 int main(void) {
+  RUN(test_layering_presets);
   RUN(test_interpolate);
   RUN(test_table_lookup);
   return nbrdf_test_finish();
