@@ -11,49 +11,53 @@
 #include "train/train_decoder.h"
 
 void cmd_train_usage(FILE *out) {
-  fprintf(out,
-          "usage: nbrdf train decoder --data FILE[,FILE...] --run DIR [options]\n"
-          "       nbrdf train tables --decoder FILE -o FILE [--alpha-nodes N] [--eta-nodes N]\n"
-          "                          [--r0-nodes N] [--steps N] [--seed S]\n"
-          "       nbrdf train layering --data FILE[,...] --run DIR --tables FILE -o FILE\n"
-          "                          [--loss latent|decoded] [--decoder FILE] [--init FILE]\n"
-          "                          [--preset small|medium|paper] [--epochs N] [--batch N] [--lr X]\n"
-          "                          [--rows N] [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
-          "                          [--checkpoint FILE]\n"
-          "       nbrdf train sampler --run DIR -o FILE [--brdfs N] [--epochs N]\n"
-          "       nbrdf train bundle -o DIR --decoder F --tables F --layering F [--sampler F]\n"
-          "                          [--name NAME] [--card MODEL_CARD.md] [--note TEXT]\n"
-          "\n"
-          "Auto-decoder training (paper §3.2): decoder weights and one latent per training\n"
-          "BRDF learned together. DIR holds checkpoint.safetensors (resume: run the same\n"
-          "command again), decoder.safetensors and log.csv. Ctrl-C checkpoints and stops.\n"
-          "\n"
-          "architecture (a preset, or your own residual MLP):\n"
-          "  --preset NAME       paper, large, medium (default), small\n"
-          "  --width W --blocks B [--encoding cartesian|halfdiff] [--octaves K]\n"
-          "                      [--output f|log1p]\n"
-          "training:\n"
-          "  --steps N           total steps (20000); each step draws --rows-per-brdf samples\n"
-          "                      of every BRDF (16)\n"
-          "  --minutes M         stop (checkpointed) after M minutes of this invocation\n"
-          "  --lr-weights X (2e-3)  --lr-latent X (1e-2)  --latent-l2 X (1e-4)\n"
-          "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
-          "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
-          "  --progress=json     progress lines as JSON on stderr\n"
-          "\n"
-          "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
-          "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
-          "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
-          "layering: inputs from the tables as a bake looks them up. --loss latent (default):\n"
-          "fits the latents a decoder run learned for its two-layer BRDFs (--data: the same\n"
-          "files as that run). --loss decoded: the decoder (--decoder, or the run's) frozen,\n"
-          "the loss is its own on the decoded values against every two-layer BRDF's samples\n"
-          "(--rows samples per BRDF per step, 64); --init starts from a trained layering\n"
-          "network; --checkpoint FILE makes the run resumable (Ctrl-C checkpoints).\n"
-          "sampler: per-latent proxy (sigma, w) by cross-entropy against the decoded BRDF,\n"
-          "then the sampling network regressed on them (src/train/train_sampler.h).\n"
-          "bundle: assembles a model bundle; without --sampler the proxy network keeps its\n"
-          "initial weights (and the card must say so).\n");
+  fprintf(
+      out,
+      "usage: nbrdf train decoder --data FILE[,FILE...] --run DIR [options]\n"
+      "       nbrdf train tables --decoder FILE -o FILE [--alpha-nodes N] [--eta-nodes N]\n"
+      "                          [--r0-nodes N] [--steps N] [--seed S]\n"
+      "       nbrdf train layering --data FILE[,...] --run DIR --tables FILE -o FILE\n"
+      "                          [--loss latent|decoded] [--decoder FILE] [--init FILE]\n"
+      "                          [--preset small|medium|paper] [--epochs N] [--batch N] [--lr X]\n"
+      "                          [--rows N] [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
+      "                          [--checkpoint FILE]\n"
+      "       nbrdf train sampler --run DIR -o FILE [--brdfs N] [--epochs N]\n"
+      "                          [--layering F --tables T --data FILE[,...]]\n"
+      "       nbrdf train bundle -o DIR --decoder F --tables F --layering F [--sampler F]\n"
+      "                          [--name NAME] [--card MODEL_CARD.md] [--note TEXT]\n"
+      "\n"
+      "Auto-decoder training (paper §3.2): decoder weights and one latent per training\n"
+      "BRDF learned together. DIR holds checkpoint.safetensors (resume: run the same\n"
+      "command again), decoder.safetensors and log.csv. Ctrl-C checkpoints and stops.\n"
+      "\n"
+      "architecture (a preset, or your own residual MLP):\n"
+      "  --preset NAME       paper, large, medium (default), small\n"
+      "  --width W --blocks B [--encoding cartesian|halfdiff] [--octaves K]\n"
+      "                      [--output f|log1p]\n"
+      "training:\n"
+      "  --steps N           total steps (20000); each step draws --rows-per-brdf samples\n"
+      "                      of every BRDF (16)\n"
+      "  --minutes M         stop (checkpointed) after M minutes of this invocation\n"
+      "  --lr-weights X (2e-3)  --lr-latent X (1e-2)  --latent-l2 X (1e-4)\n"
+      "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
+      "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
+      "  --progress=json     progress lines as JSON on stderr\n"
+      "\n"
+      "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
+      "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
+      "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
+      "layering: inputs from the tables as a bake looks them up. --loss latent (default):\n"
+      "fits the latents a decoder run learned for its two-layer BRDFs (--data: the same\n"
+      "files as that run). --loss decoded: the decoder (--decoder, or the run's) frozen,\n"
+      "the loss is its own on the decoded values against every two-layer BRDF's samples\n"
+      "(--rows samples per BRDF per step, 64); --init starts from a trained layering\n"
+      "network; --checkpoint FILE makes the run resumable (Ctrl-C checkpoints).\n"
+      "sampler: per-latent proxy (sigma, w) by cross-entropy against the decoded BRDF,\n"
+      "then the sampling network regressed on them (src/train/train_sampler.h). With\n"
+      "--layering, the latents that network gives the data's layered BRDFs join the\n"
+      "run's: they are what a bake feeds the sampler.\n"
+      "bundle: assembles a model bundle; without --sampler the proxy network keeps its\n"
+      "initial weights (and the card must say so).\n");
 }
 
 void train_watch_sigint(int on) {
@@ -78,12 +82,6 @@ int train_on_progress(void *user, const char *stage, double done, double total) 
 }
 
 /* Comma-separated list → argv-like array (the string is modified). */
-static int split(char *list, const char **out, int max) {
-  int n = 0;
-  for (char *tok = strtok(list, ","); tok && n < max; tok = strtok(NULL, ","))
-    out[n++] = tok;
-  return n;
-}
 
 typedef struct num_option {
   const char *name;
@@ -133,7 +131,7 @@ static int train_decoder(int argc, char **argv) {
     if ((v = cli_option_value(argc, argv, &i, "--data"))) {
       free(data_list);
       data_list = strdup(v);
-      n_data = data_list ? split(data_list, data, 64) : 0;
+      n_data = data_list ? train_split_list(data_list, data, 64) : 0;
     } else if ((v = cli_option_value(argc, argv, &i, "--run"))) {
       s.run_dir = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--preset"))) {
@@ -212,4 +210,30 @@ int cmd_train(int argc, char **argv) {
   if (!strcmp(argv[1], "sampler")) return cmd_train_sampler(argc, argv);
   return cli_usage_error(
       "train", "unknown training '%s' (decoder, tables, layering, sampler, bundle)", argv[1]);
+}
+
+nbrdf_status train_load_tables(const char *path, model_base_table t[2], nbrdf_error *err) {
+  nbrdf_st_reader *r = NULL;
+  memset(t, 0, 2 * sizeof *t);
+  nbrdf_status st = nbrdf_st_open(path, &r, err);
+  if (!st) st = model_base_table_read(r, MODEL_TABLE_DIELECTRIC, 32, &t[0], err);
+  if (!st) st = model_base_table_read(r, MODEL_TABLE_CONDUCTOR, 32, &t[1], err);
+  nbrdf_st_close(r);
+  return st;
+}
+
+int train_split_list(char *list, const char **out, int max) {
+  int n = 0;
+  for (char *tok = strtok(list, ","); tok && n < max; tok = strtok(NULL, ","))
+    out[n++] = tok;
+  return n;
+}
+
+nbrdf_status train_read_net(const char *path, int layering, model_layering **lay,
+                            model_sampler **smp, nbrdf_error *err) {
+  nbrdf_st_reader *r = NULL;
+  nbrdf_status st = nbrdf_st_open(path, &r, err);
+  if (!st) st = layering ? model_layering_read(r, lay, err) : model_sampler_read(r, smp, err);
+  nbrdf_st_close(r);
+  return st;
 }

@@ -4,6 +4,9 @@
 
 #include <signal.h>
 
+#include "model/base_table.h"
+#include "model/layering.h"
+#include "model/sampler.h"
 #include "nbrdf/status.h"
 
 int cmd_train_tables(int argc, char **argv);
@@ -19,5 +22,13 @@ typedef struct train_progress {
 } train_progress;
 int train_on_progress(void *user, const char *stage, double done, double total);
 void train_watch_sigint(int on);
+
+/* Splits a comma-separated list in place into at most max items. */
+int train_split_list(char *list, const char **out, int max);
+/* Both base tables (dielectric, conductor) of a tables file, D = 32. */
+nbrdf_status train_load_tables(const char *path, model_base_table t[2], nbrdf_error *err);
+/* A layering (layering != 0) or sampling network's weights file. */
+nbrdf_status train_read_net(const char *path, int layering, model_layering **lay,
+                            model_sampler **smp, nbrdf_error *err);
 
 #endif

@@ -8,32 +8,6 @@
 #include "model/bundle.h"
 #include "train/train_layering.h"
 
-static nbrdf_status load_tables(const char *path, model_base_table t[2], nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  memset(t, 0, 2 * sizeof *t);
-  nbrdf_status st = nbrdf_st_open(path, &r, err);
-  if (!st) st = model_base_table_read(r, MODEL_TABLE_DIELECTRIC, 32, &t[0], err);
-  if (!st) st = model_base_table_read(r, MODEL_TABLE_CONDUCTOR, 32, &t[1], err);
-  nbrdf_st_close(r);
-  return st;
-}
-
-static int split(char *list, const char **out, int max) {
-  int n = 0;
-  for (char *tok = strtok(list, ","); tok && n < max; tok = strtok(NULL, ","))
-    out[n++] = tok;
-  return n;
-}
-
-static nbrdf_status read_net(const char *path, int layering, model_layering **lay,
-                             model_sampler **smp, nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(path, &r, err);
-  if (!st) st = layering ? model_layering_read(r, lay, err) : model_sampler_read(r, smp, err);
-  nbrdf_st_close(r);
-  return st;
-}
-
 int cmd_train_layering(int argc, char **argv) {
   train_layering_settings s = TRAIN_LAYERING_SETTINGS_DEFAULT;
   const char *run = NULL, *tables = NULL, *out = NULL, *data[64], *decoder = NULL, *init = NULL;
@@ -48,7 +22,7 @@ int cmd_train_layering(int argc, char **argv) {
     if ((v = cli_option_value(argc, argv, &i, "--data"))) {
       free(list);
       list = strdup(v);
-      n_data = list ? split(list, data, 64) : 0;
+      n_data = list ? train_split_list(list, data, 64) : 0;
     } else if ((v = cli_option_value(argc, argv, &i, "--run")))
       run = v;
     else if ((v = cli_option_value(argc, argv, &i, "--tables")))
@@ -106,9 +80,9 @@ int cmd_train_layering(int argc, char **argv) {
   snprintf(ckpt, sizeof ckpt, "%s/checkpoint.safetensors", run ? run : ".");
   snprintf(dec_path, sizeof dec_path, "%s/decoder.safetensors", run ? run : ".");
   nbrdf_status st = train_samples_load(n_data, data, &d, &err);
-  if (!st) st = load_tables(tables, t, &err);
+  if (!st) st = train_load_tables(tables, t, &err);
   if (!st) st = model_decoder_load(decoder ? decoder : dec_path, &dec, &err);
-  if (!st && init) st = read_net(init, 1, &init_net, NULL, &err);
+  if (!st && init) st = train_read_net(init, 1, &init_net, NULL, &err);
   if (!st && !decoded && !(lat = malloc(d.n_brdfs * 32 * sizeof *lat)))
     st = nbrdf_fail(&err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st && !decoded) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
@@ -190,12 +164,12 @@ int cmd_train_bundle(int argc, char **argv) {
   model_base_table t[2];
   char *card_text = NULL;
   nbrdf_status st = model_decoder_load(decoder, &dec, &err);
-  if (!st) st = load_tables(tables, t, &err);
-  if (!st) st = read_net(layering, 1, &lay, NULL, &err);
+  if (!st) st = train_load_tables(tables, t, &err);
+  if (!st) st = train_read_net(layering, 1, &lay, NULL, &err);
   /* Without a trained sampler the proxy keeps its initial weights: sampling
    * stays unbiased (MIS), only its variance suffers; the card says so. */
   if (!st)
-    st = sampler ? read_net(sampler, 0, NULL, &smp, &err)
+    st = sampler ? train_read_net(sampler, 0, NULL, &smp, &err)
                  : model_sampler_create("default", 32, 1, &smp, &err);
   if (!st && card && !(card_text = slurp(card)))
     st = nbrdf_fail(&err, NBRDF_ERR_IO, "%s: cannot read the model card", card);

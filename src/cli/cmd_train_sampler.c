@@ -9,9 +9,38 @@
 #include "train/train_layering.h"
 #include "train/train_sampler.h"
 
+/* Appends the latents the layering network gives the data's layered BRDFs
+ * (what a bake feeds the sampler), which need not lie where the run's do. */
+static nbrdf_status add_layered_latents(const char *layering, const char *tables, int n_data,
+                                        const char **data, float **lat, size_t *n,
+                                        nbrdf_error *err) {
+  train_samples d;
+  model_base_table t[2];
+  model_layering *net = NULL;
+  layering_pairs all = {0}, none = {0};
+  nbrdf_status st = train_samples_load(n_data, data, &d, err);
+  if (st) return st;
+  st = train_load_tables(tables, t, err);
+  if (!st) st = train_read_net(layering, 1, &net, NULL, err);
+  if (!st) st = layering_pairs_make(&d, NULL, t, 2, 0, &all, &none, err);
+  float *grown = st ? NULL : realloc(*lat, (*n + all.n) * 32 * sizeof(float));
+  if (!st && !grown) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
+  if (grown) *lat = grown;
+  if (!st) st = train_layering_pair_latents(net, &all, *lat + *n * 32, err);
+  if (!st) *n += all.n;
+  layering_pairs_free(&all), layering_pairs_free(&none);
+  model_layering_destroy(net);
+  model_base_table_free(&t[0]);
+  model_base_table_free(&t[1]);
+  train_samples_free(&d);
+  return st;
+}
+
 int cmd_train_sampler(int argc, char **argv) {
   train_sampler_settings s = TRAIN_SAMPLER_SETTINGS_DEFAULT;
-  const char *run = NULL, *out = NULL;
+  const char *run = NULL, *out = NULL, *layering = NULL, *tables = NULL, *data[64];
+  char *list = NULL;
+  int n_data = 0;
   long brdfs = 0, n;
   train_progress prog = {0, 0};
   for (int i = 2; i < argc; i++) {
@@ -20,16 +49,31 @@ int cmd_train_sampler(int argc, char **argv) {
       run = v;
     else if ((v = cli_option_value(argc, argv, &i, "-o")))
       out = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--brdfs")) && cli_parse_int(v, 0, 1L << 30, &n))
+    else if ((v = cli_option_value(argc, argv, &i, "--layering")))
+      layering = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--tables")))
+      tables = v;
+    else if ((v = cli_option_value(argc, argv, &i, "--data"))) {
+      free(list);
+      list = strdup(v);
+      n_data = list ? train_split_list(list, data, 64) : 0;
+    } else if ((v = cli_option_value(argc, argv, &i, "--brdfs")) &&
+               cli_parse_int(v, 0, 1L << 30, &n))
       brdfs = n;
     else if ((v = cli_option_value(argc, argv, &i, "--epochs")) && cli_parse_int(v, 1, 100000, &n))
       s.epochs = (int)n;
     else if (!strcmp(argv[i], "--progress=json"))
       prog.json = 1;
-    else
+    else {
+      free(list);
       return cli_usage_error("train", "sampler: unexpected or invalid argument '%s'", argv[i]);
+    }
   }
-  if (!run || !out) return cli_usage_error("train", "sampler: --run and -o are required");
+  if (!run || !out || (layering && (!tables || !n_data)) || (!layering && (tables || n_data))) {
+    free(list);
+    return cli_usage_error("train", "sampler: --run and -o are required; --layering needs "
+                                    "--tables and --data");
+  }
   char path[4096];
   nbrdf_error err = {0};
   model_decoder *dec = NULL;
@@ -51,6 +95,8 @@ int cmd_train_sampler(int argc, char **argv) {
   for (size_t k = 0; k < use && !st; k++)
     memcpy(lat + k * 32, t->data + (k * total / use) * 32, 32 * sizeof *lat);
   nbrdf_st_close(r);
+  size_t from_run = use;
+  if (!st && layering) st = add_layered_latents(layering, tables, n_data, data, &lat, &use, &err);
   train_sampler_result res;
   s.progress = train_on_progress, s.user = &prog;
   train_watch_sigint(1);
@@ -59,11 +105,12 @@ int cmd_train_sampler(int argc, char **argv) {
   if (!st) st = model_sampler_save(net, out, NULL, &err);
   if (!prog.json) fputc('\n', stderr);
   if (!st)
-    printf("train sampler: %zu latents; cross-entropy of the fitted proxy %.4f vs cosine %.4f "
+    printf("train sampler: %zu latents (%zu of the run, %zu from the layering network); "
+           "cross-entropy of the fitted proxy %.4f vs cosine %.4f "
            "(lower is closer to the BRDF); network RMS error on raw outputs %.4f\n",
-           use, res.mean_ce_fit, res.mean_ce_cosine, res.rms_o);
+           use, from_run, use - from_run, res.mean_ce_fit, res.mean_ce_cosine, res.rms_o);
   model_sampler_destroy(net);
   model_decoder_destroy(dec);
-  free(lat);
+  free(lat), free(list);
   return st ? cli_fail_error("train", &err) : CLI_EXIT_OK;
 }

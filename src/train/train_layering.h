@@ -87,6 +87,11 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
 nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
                                       float *latents, nbrdf_error *err);
 
+/* The network's latent for every pair (recursive for three layers), out
+ * [p->n × D]: what a bake computes for those parameters. */
+nbrdf_status train_layering_pair_latents(const model_layering *net, const layering_pairs *p,
+                                         float *out, nbrdf_error *err);
+
 /* The gradient engine of the decoded loss (the fit's inner step; exposed for
  * the gradient check). `net`, `dec`, `data` are borrowed. */
 typedef struct train_layering_decoded train_layering_decoded;

@@ -17,6 +17,35 @@ static void fill_decoder_row(const model_decoder *dec, const train_samples *data
   model_encode(&dec->cfg.encoding, 1, data->wi + 3 * idx, data->wo + 3 * idx, row + D, in);
 }
 
+/* The latent of pair i: one application, or two for a three-layer pair. */
+static nbrdf_status pair_latent(const model_layering *net, model_runner *run,
+                                const layering_pairs *p, size_t i, float *inner, float *z,
+                                nbrdf_error *err) {
+  size_t D = (size_t)net->latent_dim;
+  if (p->coats[i] != 2)
+    return model_layering_eval(net, run, 1, p->top + i * D, p->bottom + i * D, p->albedo + i,
+                               p->sigma_t + i, z, err);
+  nbrdf_status st = model_layering_eval(net, run, 1, p->mid + i * D, p->bottom + i * D,
+                                        p->albedo2 + i, p->sigma_t2 + i, inner, err);
+  return st ? st
+            : model_layering_eval(net, run, 1, p->top + i * D, inner, p->albedo + i, p->sigma_t + i,
+                                  z, err);
+}
+
+nbrdf_status train_layering_pair_latents(const model_layering *net, const layering_pairs *p,
+                                         float *out, nbrdf_error *err) {
+  size_t D = (size_t)net->latent_dim;
+  model_runner run = {0};
+  float *inner = malloc(D * sizeof *inner);
+  nbrdf_status st = inner ? model_runner_create(net->nn, 1, NBRDF_NN_INFER, &run, err)
+                          : nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  for (size_t i = 0; i < p->n && !st; i++)
+    st = pair_latent(net, &run, p, i, inner, out + i * D, err);
+  model_runner_destroy(&run);
+  free(inner);
+  return st;
+}
+
 nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decoder *dec,
                                          model_loss_kind loss, const train_samples *data,
                                          const layering_pairs *p, double *mean, nbrdf_error *err) {
@@ -33,15 +62,8 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
   double sum = 0.0;
   size_t rows = 0;
   for (size_t i = 0; i < p->n && !st; i++) {
-    if (net && p->coats[i] == 2) {
-      st = model_layering_eval(net, &lrun, 1, p->mid + i * D, p->bottom + i * D, p->albedo2 + i,
-                               p->sigma_t2 + i, inner, err);
-      if (!st)
-        st = model_layering_eval(net, &lrun, 1, p->top + i * D, inner, p->albedo + i,
-                                 p->sigma_t + i, z, err);
-    } else if (net)
-      st = model_layering_eval(net, &lrun, 1, p->top + i * D, p->bottom + i * D, p->albedo + i,
-                               p->sigma_t + i, z, err);
+    if (net)
+      st = pair_latent(net, &lrun, p, i, inner, z, err);
     else
       memcpy(z, p->target + i * D, D * sizeof *z);
     size_t b = p->brdf[i], begin = data->offsets[b], end = data->offsets[b + 1];

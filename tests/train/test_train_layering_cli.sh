@@ -33,6 +33,12 @@ check "decoded run: 3 epochs from scratch" grep -q 'epochs 3 (resumed at 0)' "$T
 check "the same command with more epochs resumes" grep -q 'epochs 5 (resumed at 3)' "$TMP/b.out"
 check "the log holds epochs 1..5 once each" [ "$(cut -d, -f1 "$TMP/dec.csv" | tr '\n' ' ')" = "epoch 1 2 3 4 5 " ]
 
+# The sampler also learns the latents the layering network gives the data (what a bake feeds it).
+"$NBRDF" train sampler --run "$TMP/run" -o "$TMP/s.safetensors" --epochs 2 \
+  --layering "$TMP/dec.safetensors" --tables "$TMP/t.safetensors" --data "$D" >"$TMP/s.out" 2>/dev/null
+check "sampler on run + layered latents" grep -q '24 latents (12 of the run, 12 from the layering network)' "$TMP/s.out"
+expect_exit 2 "$NBRDF" train sampler --run "$TMP/run" -o "$TMP/s2.safetensors" --layering "$TMP/dec.safetensors"
+
 expect_exit 1 "$NBRDF" train layering "${common[@]}" "${dec[@]}" --epochs 6 --rows 4
 check "another setting is refused, naming the checkpoint" grep -q 'l.ckpt' "$TMP/err"
 expect_exit 1 "$NBRDF" train layering "${common[@]}" --loss decoded \
