@@ -121,6 +121,12 @@ typedef struct nbrdf_bake_options {
    * 11 MB at latent_dim 32); 0 turns it off. The texels are the same bits
    * either way. */
   size_t tuple_cache;
+  /* 0 (default): parameters used as read. 2..16: each parameter is rounded
+   * to one of 2^bits levels over the model's trained range (alpha evenly in
+   * sqrt(alpha), sigma_t in log(1 + sigma_t), the others linearly), so that
+   * maps with smoothly varying values collapse onto fewer distinct tuples.
+   * docs/BAKE.md, "Quantisation", measures the trade. */
+  int quantise_bits;
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_TUPLE_CACHE_DEFAULT 65536
@@ -128,7 +134,7 @@ typedef struct nbrdf_bake_options {
 #define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
-        NBRDF_BAKE_TUPLE_CACHE_DEFAULT                                                             \
+        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0                                                          \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */

@@ -129,14 +129,15 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   }
   nbrdf_latent_layout layout = {nbrdf_model_latent_dim(model),
                                 rgb ? NBRDF_COLOUR_RGB : NBRDF_COLOUR_MONO, 1};
-  char settings[512];
+  char quant[16] = "off", settings[512];
+  if (o->quantise_bits) snprintf(quant, sizeof quant, "%d", o->quantise_bits);
   snprintf(settings, sizeof settings,
            "storage=%s; compression=zip; tile=%d; mipLevels=%s; roughness=%s; range=%s; "
-           "proxyMips=predicted",
+           "proxyMips=predicted; quantise=%s",
            o->storage == NBRDF_BAKE_FLOAT ? "float" : "half", o->tile_size,
            o->mip_levels == 1 ? "1" : "full",
            o->roughness == NBRDF_ROUGHNESS_PERCEPTUAL ? "perceptual" : "alpha",
-           o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp");
+           o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp", quant);
   nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
                             settings};
   mip_ctx mctx = {model, &layout};
@@ -160,7 +161,8 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   bake_band band;
   /* One band: nothing to carry over, so no cache memory. */
   size_t cache_max = band_rows < H ? o->tuple_cache : 0;
-  bake_band_init(&band, model, src, &layout, W, o->roughness, o->range, cache_max);
+  bake_band_init(&band, model, src, &layout, W, o->roughness, o->range, cache_max,
+                 o->quantise_bits);
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
     if (cancelled(o) || (o->progress && o->progress(o->user, "bake", y, H))) {
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y, H);
@@ -206,6 +208,9 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "bake: mip_levels is 0 (full chain) or 1 (level 0 only), not %d",
                       o.mip_levels);
+  if (o.quantise_bits != 0 && (o.quantise_bits < 2 || o.quantise_bits > 16))
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "bake: quantise_bits is 0 (off) or 2..16, not %d", o.quantise_bits);
   if (report) memset(report, 0, sizeof *report);
   nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   nbrdf_status st = bake_open_sources(inputs, src, err);

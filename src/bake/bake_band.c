@@ -14,9 +14,10 @@
 
 void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
                     const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
-                    nbrdf_range_policy range, size_t cache_max) {
+                    nbrdf_range_policy range, size_t cache_max, int quantise_bits) {
   memset(b, 0, sizeof *b);
   b->cache.max = cache_max;
+  b->quantise_bits = quantise_bits;
   b->model = model;
   b->src = src;
   b->layout = *layout;
@@ -97,6 +98,34 @@ static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, in
   *v = *v < b->lo[id] ? b->lo[id] : b->hi[id];
   b->clamped[id]++;
   return NBRDF_OK;
+}
+
+/* Optional quantisation (nbrdf_bake_options.quantise_bits): 2^bits levels
+ * over the trained range, evenly spaced where the parameter's effect is
+ * about even: alpha in sqrt (perceptual roughness; linear steps would be
+ * 40 % of alpha = 0.01 at 8 bits), sigma_t in log(1 + sigma_t) (as the
+ * layering network sees it), the rest linearly. The ends of the range are
+ * levels, so quantised values stay inside it. */
+static float warp(int id, float v) {
+  if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2) return sqrtf(v);
+  if (id == NBRDF_BAKE_SIGMA_T) return log1pf(v);
+  return v;
+}
+
+static float unwarp(int id, float u) {
+  if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2) return u * u;
+  if (id == NBRDF_BAKE_SIGMA_T) return expm1f(u);
+  return u;
+}
+
+static float quantise(const bake_band *b, int id, float v) {
+  float lo = warp(id, b->lo[id]), hi = warp(id, b->hi[id]);
+  if (!(hi > lo)) return v;
+  float steps = (float)((1u << b->quantise_bits) - 1);
+  float q = roundf((warp(id, v) - lo) / (hi - lo) * steps);
+  float r = unwarp(id, lo + (hi - lo) * q / steps);
+  /* keep the ends exact (sqrt/square and log1p/expm1 round) */
+  return q <= 0 ? b->lo[id] : q >= steps ? b->hi[id] : r;
 }
 
 static uint64_t tuple_hash(const bake_tuple *t) {
@@ -263,7 +292,7 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
             v = v * v;
           nbrdf_status st = check_value(b, id, &v, x, y0 + j, c, err);
           if (st != NBRDF_OK) return st;
-          t.p[id] = v;
+          t.p[id] = b->quantise_bits ? quantise(b, id, v) : v;
         }
         b->slot[((size_t)j * b->width + x) * C + c] = intern(b, &t, &n_uniq);
       }

@@ -42,6 +42,7 @@ typedef struct bake_band {
   int width;
   nbrdf_roughness roughness;
   nbrdf_range_policy range;
+  int quantise_bits; /* 0: off */
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT]; /* trained ranges */
   /* scratch, grown as needed */
   bake_tuple *uniq; /* distinct tuples of the band */
@@ -57,10 +58,11 @@ typedef struct bake_band {
 
 /* Sets up `b` (the scratch starts empty); the trained ranges come from the
  * model's base-table grids. `cache_max` distinct tuples are remembered
- * across bands (0: none); the cache is allocated on first use. */
+ * across bands (0: none); the cache is allocated on first use.
+ * `quantise_bits` (0: off) as nbrdf_bake_options.quantise_bits. */
 void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
                     const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
-                    nbrdf_range_policy range, size_t cache_max);
+                    nbrdf_range_policy range, size_t cache_max, int quantise_bits);
 /* Computes rows [y0, y0 + rows) into `texels` (rows * width texels of
  * nbrdf_latent_channel_count floats, logical order). */
 nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err);

@@ -36,6 +36,9 @@ void cmd_bake_usage(FILE *out) {
       "  --bundle DIR          model bundle (default: models/default)\n"
       "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
       "                        warning (default) or stop naming the file and texel\n"
+      "  --quantise BITS       round every parameter to 2^BITS levels over its trained\n"
+      "                        range (2..16; default off): fewer distinct tuples for\n"
+      "                        smooth float maps, at a measured cost (docs/BAKE.md)\n"
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
@@ -106,6 +109,11 @@ int cmd_bake(int argc, char **argv) {
       else
         return cli_usage_error("bake", "--range is 'clamp' or 'refuse', not '%s'", v);
       i++;
+    } else if (!strcmp(a, "--quantise") && v) {
+      long q;
+      if (!cli_parse_int(v, 2, 16, &q))
+        return cli_usage_error("bake", "--quantise needs an integer in [2, 16], not '%s'", v);
+      opts.quantise_bits = (int)q, i++;
     } else if (!strcmp(a, "--progress=json")) {
       ps.json = 1;
     } else {
@@ -154,8 +162,9 @@ int cmd_bake(int argc, char **argv) {
     printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu}\n", rep.width,
            rep.height, rep.colour_channels, rep.evaluated);
   } else {
-    printf("wrote %s: %d x %d %s, %zu BRDFs (%zu distinct per band, summed)\n", out, rep.width,
-           rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs, rep.evaluated);
+    printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n",
+           out, rep.width, rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs,
+           rep.evaluated, rep.reused);
   }
   return CLI_EXIT_OK;
 }

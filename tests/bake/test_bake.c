@@ -458,6 +458,68 @@ static void test_tuple_cache(void) {
     free(bytes[k]);
 }
 
+/* The documented rule, written out independently: 2^bits levels over the
+ * trained range, alpha evenly in sqrt(alpha), sigma_t in log1p, the rest
+ * linearly. */
+static float quantised(int id, float v, int bits) {
+  float lo[2], hi[2], l, h;
+  grid(id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ETA ? NBRDF_BASE_DIELECTRIC
+                                                       : NBRDF_BASE_CONDUCTOR,
+       lo, hi);
+  int k = id == NBRDF_BAKE_ETA || id == NBRDF_BAKE_R0;
+  l = lo[k], h = hi[k];
+  if (id == NBRDF_BAKE_ALBEDO) l = 0, h = 1;
+  if (id == NBRDF_BAKE_SIGMA_T) l = 0, h = NBRDF_BAKE_SIGMA_T_MAX;
+  int alpha = id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2, sig = id == NBRDF_BAKE_SIGMA_T;
+  double wl = alpha ? sqrt(l) : sig ? log1p(l) : l, wh = alpha ? sqrt(h) : sig ? log1p(h) : h;
+  double wv = alpha ? sqrt(v) : sig ? log1p(v) : v, steps = (1 << bits) - 1;
+  double q = round((wv - wl) / (wh - wl) * steps), u = wl + (wh - wl) * q / steps;
+  return (float)(alpha ? u * u : sig ? expm1(u) : u);
+}
+
+/* Quantisation: every parameter rounded to 2^3 levels; the texel holds the
+ * latent of the rounded tuple; bits out of range are refused. */
+static void test_quantise(void) {
+  nbrdf_error e, *err = &e;
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  float a[64];
+  for (int x = 0; x < 64; x++)
+    a[x] = lo[0] + (hi[0] - lo[0]) * (float)x / 63.0f;
+  char pa[640];
+  snprintf(pa, sizeof pa, "%s", path("quant_a.exr"));
+  CHECK_OK(nbrdf_image_write(pa, 64, 1, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  nbrdf_bake_inputs in = constants();
+  in.param[NBRDF_BAKE_ALPHA1].path = pa;
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  o.mip_levels = 1;
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("unquantised.exr"), &rep, err), err);
+  CHECK(rep.evaluated == 64);
+  o.quantise_bits = 3;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("quantised.exr"), &rep, err), err);
+  CHECK_MSG(rep.evaluated == 8, "evaluated %zu with 3 bits", rep.evaluated);
+  for (int x = 5; x < 64; x += 29) {
+    float t[6];
+    for (int id = 0; id < 6; id++)
+      t[id] = quantised(id, id == NBRDF_BAKE_ALPHA1 ? a[x] : in.param[id].value[0], 3);
+    nbrdf_latent_info info;
+    float *texel = read_texel(path("quantised.exr"), 0, x, 0, &info);
+    if (texel) check_texel(texel, &info.layout, 0, t, 1e-4);
+    CHECK(texel != NULL);
+    free(texel);
+  }
+  nbrdf_latent_reader *r = NULL;
+  CHECK_OK(nbrdf_latent_reader_open(&r, path("quantised.exr"), err), err);
+  CHECK(r && strstr(nbrdf_latent_reader_info(r)->settings, "quantise=3") != NULL);
+  nbrdf_latent_reader_close(r);
+  o.quantise_bits = 1;
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "quantise_bits");
+  CHECK(!exists(path("bad.exr")));
+}
+
 int main(void) {
   nbrdf_error e, *err = &e;
   snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
@@ -474,6 +536,7 @@ int main(void) {
   RUN(test_extremes);
   RUN(test_deterministic);
   RUN(test_tuple_cache);
+  RUN(test_quantise);
   nbrdf_model_destroy(model);
   return nbrdf_test_finish();
 }
