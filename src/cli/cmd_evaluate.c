@@ -9,18 +9,19 @@
 
 void cmd_evaluate_usage(FILE *out) {
   fprintf(out,
-          "usage: nbrdf evaluate (--bundle DIR | --decoder FILE) [--sets rep,single,layer,layer3]\n"
+          "usage: nbrdf evaluate (--bundle DIR | --decoder FILE) [--sets rep,single,layer,...]\n"
           "                      [--count N] [--walks N] [--noise-brdfs N] [--steps N]\n"
           "                      [--cache DIR] [--json FILE] [--plots DIR] [--progress=json]\n"
           "\n"
           "Lobe error and albedo error (METRICS.md) of a model on the held-out sets, which no\n"
           "training ever sees: rep (two-layer BRDFs projected), single (conductors and\n"
           "dielectrics projected), layer (two-layer, tables + layering network, as a bake\n"
-          "does), layer3 (three layers, recursive layering). A decoder alone serves rep and\n"
+          "does), layer3 (three layers, recursive layering), table (the single BRDFs from the\n"
+          "bundle's base tables: their interpolation error). A decoder alone serves rep and\n"
           "single. References: exact for single BRDFs, the whole-lobe estimator with --walks\n"
           "walks per image (16000) for layered ones; its own seed-to-seed error on the first\n"
           "--noise-brdfs BRDFs (10) is reported. --cache DIR keeps references between runs.\n"
-          "Defaults: --sets rep,single (plus layer,layer3 with a bundle), --count 100,\n"
+          "Defaults: --sets rep,single (plus layer,layer3,table with a bundle), --count 100,\n"
           "--steps 1000 projection steps.\n");
 }
 
@@ -75,7 +76,10 @@ int cmd_evaluate(int argc, char **argv) {
       bundle ? nbrdf_model_load(bundle, &model, &err) : model_decoder_load(decoder, &dec, &err);
   if (st) return cli_fail_error("evaluate", &err);
   char list[256];
-  snprintf(list, sizeof list, "%s", sets ? sets : model ? "rep,single,layer,layer3" : "rep,single");
+  snprintf(list, sizeof list, "%s",
+           sets    ? sets
+           : model ? "rep,single,layer,layer3,table"
+                   : "rep,single");
   eval_result results[EVAL_SET_COUNT];
   int n_results = 0;
   s.progress = train_on_progress, s.user = &prog;
@@ -85,9 +89,7 @@ int cmd_evaluate(int argc, char **argv) {
     if (!eval_set_parse(tok, &set) || n_results == EVAL_SET_COUNT) {
       st = NBRDF_ERR_ARGUMENT;
       snprintf(err.message, sizeof err.message,
-               "unknown or repeated set '%s' (rep, single, "
-               "layer, layer3)",
-               tok);
+               "unknown or repeated set '%s' (rep, single, layer, layer3, table)", tok);
       break;
     }
     st = eval_run(model, dec, set, &s, &results[n_results], &err);

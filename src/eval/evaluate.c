@@ -52,12 +52,15 @@ static nbrdf_status base(const nbrdf_model *m, nbrdf_base_kind kind, double p0, 
   return nbrdf_model_base_latents(m, kind, 1, &p0, &p1, NBRDF_RANGE_CLAMP, out, NULL, err);
 }
 
-/* Latent of a layered BRDF by recursive layering: the innermost coat over the
- * conductor first (train_params: coat[0] is the outermost). */
-static nbrdf_status layered_latent(const nbrdf_model *m, const train_params *p, float *out,
-                                   nbrdf_error *err) {
+/* Latent of a BRDF from the bundle as a bake obtains it: the base from its
+ * table, then recursive layering, the innermost coat over the conductor first
+ * (train_params: coat[0] is the outermost). */
+static nbrdf_status bundle_latent(const nbrdf_model *m, const train_params *p, float *out,
+                                  nbrdf_error *err) {
   float below[64], top[64], next[64];
-  nbrdf_status st = base(m, NBRDF_BASE_CONDUCTOR, p->base_alpha, p->base_r0, below, err);
+  nbrdf_status st = p->kind == TRAIN_DIELECTRIC
+                        ? base(m, NBRDF_BASE_DIELECTRIC, p->base_alpha, p->base_eta, below, err)
+                        : base(m, NBRDF_BASE_CONDUCTOR, p->base_alpha, p->base_r0, below, err);
   for (int c = p->n_coats - 1; c >= 0 && !st; c--) {
     const train_coat *k = &p->coat[c];
     float a = (float)k->albedo, s = (float)k->sigma_t;
@@ -102,9 +105,9 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
   memset(r, 0, sizeof *r);
   r->set = set, r->n = s->count;
   if (model) dec = model->decoder;
-  if ((set == EVAL_LAYER || set == EVAL_LAYER3) && !model)
+  if ((set == EVAL_LAYER || set == EVAL_LAYER3 || set == EVAL_TABLE) && !model)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "evaluate: the %s set needs a bundle (layering network and tables)",
+                      "evaluate: the %s set needs a bundle (tables and layering network)",
                       eval_set_name(set));
   size_t n = (size_t)s->count, D = (size_t)dec->cfg.latent_dim;
   r->cases = calloc(n, sizeof *r->cases);
@@ -128,7 +131,7 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
   if (!st && (set == EVAL_REP || set == EVAL_SINGLE))
     st = train_project_params(dec, n, params, family, s->project_steps, 1, lat, err);
   for (size_t i = 0; i < n && !st && set != EVAL_REP && set != EVAL_SINGLE; i++)
-    st = layered_latent(model, &params[i], lat + i * D, err);
+    st = bundle_latent(model, &params[i], lat + i * D, err);
   decoder_lobe dl = {dec, {0}, NULL};
   if (!st) st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &dl.runner, err);
   for (size_t i = 0; i < n && !st; i++) {

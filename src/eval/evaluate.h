@@ -6,8 +6,11 @@
  *   rep     two-layer BRDFs projected (decoder frozen) from data-set samples;
  *   single  conductors and dielectrics projected the same way;
  *   layer   two-layer BRDFs end to end: base-table look-up + layering network;
- *   layer3  three-layer BRDFs: the layering network applied recursively.
- * (layer and layer3 need a bundle; rep and single a decoder alone.)
+ *   layer3  three-layer BRDFs: the layering network applied recursively;
+ *   table   the `single` BRDFs from the bundle's base tables (bilinear look-up
+ *           at off-grid parameters, as a bake): the tables' interpolation
+ *           error on top of the projection's. References: those of `single`.
+ * (layer, layer3 and table need a bundle; rep and single a decoder alone.)
  *
  * References: analytic BRDFs are evaluated exactly; layered ones by the
  * whole-lobe estimator with `walks` walks per image. The reference's own
@@ -27,6 +30,7 @@ typedef enum eval_set {
   EVAL_SINGLE,
   EVAL_LAYER,
   EVAL_LAYER3,
+  EVAL_TABLE,
   EVAL_SET_COUNT
 } eval_set;
 

@@ -17,9 +17,10 @@
 #define PER_BRDF (NBRDF_LOBE_N_THETA * IMG)
 #define REF_TAG UINT64_C(0x6e62726472656673)
 
-static const char *const names[EVAL_SET_COUNT] = {"rep", "single", "layer", "layer3"};
+static const char *const names[EVAL_SET_COUNT] = {"rep", "single", "layer", "layer3", "table"};
 static const train_heldout heldout[EVAL_SET_COUNT] = {TRAIN_HELDOUT_REP, TRAIN_HELDOUT_SINGLE,
-                                                      TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3};
+                                                      TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3,
+                                                      TRAIN_HELDOUT_SINGLE};
 
 train_heldout eval_set_heldout(eval_set set) { return heldout[set]; }
 
@@ -105,6 +106,7 @@ static int cmp_double(const void *a, const void *b) {
 nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images, double *noise,
                             nbrdf_error *err) {
   char path[4096];
+  if (set == EVAL_TABLE) set = EVAL_SINGLE; /* the same BRDFs */
   if (s->cache_dir) {
     cache_path(path, sizeof path, set, s);
     if (load_cache(path, s, images, noise)) return NBRDF_OK;

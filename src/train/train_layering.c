@@ -53,7 +53,7 @@ static nbrdf_status eval_all(model_layering *net, model_runner *run, const layer
     idx[i] = i;
   for (size_t k0 = 0; k0 < p->n && !st; k0 += B) {
     size_t m = p->n - k0 < B ? p->n - k0 : B;
-    double l;
+    double l = 0.0;
     st = batch_loss(net, run, p, idx + k0, m, NULL, NULL, &l, err);
     sum += l * (double)m;
   }
@@ -108,7 +108,7 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     double sum = 0.0;
     for (size_t k0 = 0; k0 < train.n && !st; k0 += B) {
       size_t m = train.n - k0 < B ? train.n - k0 : B;
-      double l;
+      double l = 0.0;
       memset(grad, 0, nbrdf_nn_param_count(net->nn) * sizeof *grad);
       st = batch_loss(net, &run, &train, idx + k0, m, grad, dy, &l, err);
       sum += l * (double)m;

@@ -172,7 +172,7 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
     for (size_t k0 = 0; k0 < train.n && !st; k0 += B) {
       int m = (int)(train.n - k0 < B ? train.n - k0 : B);
       int64_t step = (int64_t)epoch * steps_per_epoch + (int64_t)(k0 / B);
-      double l;
+      double l = 0.0;
       memset(t.grad, 0, nbrdf_nn_param_count(t.net->nn) * sizeof *t.grad);
       st = train_layering_decoded_gradient(t.engine, &train, idx + k0, m, step, t.grad, &l, err);
       sum += l * m;

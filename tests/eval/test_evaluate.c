@@ -2,12 +2,14 @@
  * are those of its stored images, the summary statistics are those of the
  * cases, references come back identical from the cache, the layering sets
  * need a bundle, and the JSON report is written. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "eval/evaluate.h"
 #include "eval/lobe.h"
+#include "model/bundle.h"
 #include "testing.h"
 
 #define PER ((size_t)NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
@@ -59,10 +61,32 @@ static void test_single_set(void) {
     fclose(f);
   }
   CHECK(strstr(buf, "\"single\"") && strstr(buf, "\"median_lobe_error\""));
+
+  /* The table set: the same BRDFs (the same references), latents from a bundle's tables. */
+  char dir[512];
+  snprintf(dir, sizeof dir, "%s/bundle", nbrdf_test_tmpdir());
+  nbrdf_model *m = NULL;
+  CHECK_OK(model_bundle_init_random(dir, "eval-test", 3, "small", &err), &err);
+  CHECK_OK(nbrdf_model_load(dir, &m, &err), &err);
+  eval_result tr;
+  if (m) {
+    CHECK_OK(eval_run(m, NULL, EVAL_TABLE, &s, &tr, &err), &err);
+    if (tr.cases) {
+      double d = 0; /* (from the cache: float) */
+      for (size_t k = 0; k < (size_t)s.count * PER; k++)
+        d = fmax(d, fabs(tr.ref[k] - r.ref[k]) / (fabs(r.ref[k]) + 1e-30));
+      CHECK_MSG(d < 1e-6, "table references differ from single's by %g", d);
+      CHECK(!strcmp(eval_set_name(tr.set), "table") && tr.n == s.count && tr.worst > 0);
+      eval_result_free(&tr);
+    }
+  }
+  nbrdf_model_destroy(m);
   eval_result_free(&r);
 
   eval_result none;
   CHECK_FAILS(eval_run(NULL, dec, EVAL_LAYER, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
+              "needs a bundle");
+  CHECK_FAILS(eval_run(NULL, dec, EVAL_TABLE, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
               "needs a bundle");
   model_decoder_destroy(dec);
 }
