@@ -95,7 +95,7 @@ static float distinct_value(int id, int x, int y, int c, int n) {
 static float painted_value(int id, int x, int y, int c, int n) {
   static const float palette[6][6] = {
       /* alpha1, eta [0,1] -> [1,2], alpha2, r0, albedo, sigma_t [0,1] -> [0,5] */
-      {0.1f, 0.5f, 0.2f, 0.9f, 0.8f, 0.2f},  {0.3f, 0.3f, 0.5f, 0.7f, 0.6f, 0.4f},
+      {0.1f, 0.5f, 0.2f, 0.9f, 0.8f, 0.2f},   {0.3f, 0.3f, 0.5f, 0.7f, 0.6f, 0.4f},
       {0.05f, 0.7f, 0.1f, 0.95f, 0.9f, 0.0f}, {0.6f, 0.5f, 0.3f, 0.5f, 0.3f, 1.0f},
       {0.2f, 0.4f, 0.8f, 0.8f, 0.95f, 0.6f},  {0.45f, 0.6f, 0.4f, 0.6f, 0.5f, 0.8f}};
   int cell = n / 8 > 0 ? n / 8 : 1;
@@ -238,7 +238,11 @@ static void load_line(char *buf, size_t n) {
     if (!fgets(buf, (int)n, f)) buf[0] = '\0';
     fclose(f);
   }
-  buf[strcspn(buf, "\n")] = '\0';
+  /* the three load averages only */
+  char *p = buf;
+  for (int k = 0; k < 3 && p; k++)
+    p = strchr(p + 1, ' ');
+  if (p) *p = '\0';
 }
 
 /* One bake case: maps, then the bake; prints a table row. Keeps the output
@@ -364,9 +368,9 @@ static void compression_table(const bench_cfg *cfg, const char *src) {
                nbrdf_latent_compression_name(a.compression), r.message);
         continue;
       }
-      printf("| %s | %s | %.1f | %.2f | %.2f | %.2f | %s |\n",
-             nbrdf_latent_storage_name(a.storage), nbrdf_latent_compression_name(a.compression),
-             r.file_bytes / 1048576.0, r.wall, r.cpu, r.brdfs * 1e-6, load);
+      printf("| %s | %s | %.1f | %.2f | %.2f | %.2f | %s |\n", nbrdf_latent_storage_name(a.storage),
+             nbrdf_latent_compression_name(a.compression), r.file_bytes / 1048576.0, r.wall, r.cpu,
+             r.brdfs * 1e-6, load);
     }
 }
 

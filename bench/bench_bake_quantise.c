@@ -37,12 +37,24 @@ static int write_maps(const char *dir, int n, char paths[6][1024], nbrdf_error *
           double u = (x + 0.5) / n, v = (y + 0.5) / n, s = sin(6.0 * u + 4.0 * v + c);
           double val = 0;
           switch (id) {
-          case NBRDF_BAKE_ALPHA1: val = 0.02 + 0.8 * u * u; break;
-          case NBRDF_BAKE_ETA: val = 1.1 + 0.8 * v; break;
-          case NBRDF_BAKE_ALPHA2: val = 0.05 + 0.5 * (0.5 + 0.5 * sin(5.0 * v + 3.0 * u)); break;
-          case NBRDF_BAKE_R0: val = 0.5 + 0.45 * s; break;
-          case NBRDF_BAKE_ALBEDO: val = 0.55 + 0.4 * cos(3.0 * u - 5.0 * v + c); break;
-          default: val = 2.5 + 2.5 * sin(7.0 * u * v + 1.0); break;
+          case NBRDF_BAKE_ALPHA1:
+            val = 0.02 + 0.8 * u * u;
+            break;
+          case NBRDF_BAKE_ETA:
+            val = 1.1 + 0.8 * v;
+            break;
+          case NBRDF_BAKE_ALPHA2:
+            val = 0.05 + 0.5 * (0.5 + 0.5 * sin(5.0 * v + 3.0 * u));
+            break;
+          case NBRDF_BAKE_R0:
+            val = 0.5 + 0.45 * s;
+            break;
+          case NBRDF_BAKE_ALBEDO:
+            val = 0.55 + 0.4 * cos(3.0 * u - 5.0 * v + c);
+            break;
+          default:
+            val = 2.5 + 2.5 * sin(7.0 * u * v + 1.0);
+            break;
           }
           px[((size_t)y * n + x) * ch + c] = (float)val;
         }
@@ -98,7 +110,8 @@ int main(int argc, char **argv) {
   size_t np = verify_select(n, n, n_texels, 3, 0, &pts);
   verify_decoder *dec = verify_decoder_create(model);
   float *texel = malloc(sizeof(float) * 1024), *lat = malloc(sizeof(float) * 1024);
-  double *ref = malloc(sizeof(double) * VERIFY_SET * 3 * np), *img = malloc(sizeof(double) * VERIFY_SET * 3);
+  double *ref = malloc(sizeof(double) * VERIFY_SET * 3 * np),
+         *img = malloc(sizeof(double) * VERIFY_SET * 3);
   double *errs = malloc(sizeof(double) * np);
   printf("bench_bake_quantise: %d x %d RGB smooth float maps (every tuple distinct), bundle %s, "
          "%zu texels compared, float storage\n\n",

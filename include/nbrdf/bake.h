@@ -65,16 +65,22 @@ typedef struct nbrdf_bake_param {
 #define NBRDF_BAKE_PARAM_DEFAULT                                                                   \
   { NULL, {0.0f, 0.0f, 0.0f}, 1, NULL, 0, 0.0f, 1.0f }
 
+/* Maps of different sizes: an error naming both (NONE), or every map
+ * enlarged bilinearly to the largest width and the largest height among
+ * them (BILINEAR; texel centres aligned, edges clamped). */
+typedef enum nbrdf_resample { NBRDF_RESAMPLE_NONE = 0, NBRDF_RESAMPLE_BILINEAR = 1 } nbrdf_resample;
+
 typedef struct nbrdf_bake_inputs {
   nbrdf_bake_param param[NBRDF_BAKE_PARAM_COUNT]; /* indexed by nbrdf_bake_param_id */
   const char *ocio_config; /* colour spaces of maps are looked up here; NULL: $OCIO */
+  nbrdf_resample resample;
 } nbrdf_bake_inputs;
 
 #define NBRDF_BAKE_INPUTS_DEFAULT                                                                  \
   {                                                                                                \
     {NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT,                 \
      NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT},                \
-        NULL                                                                                       \
+        NULL, NBRDF_RESAMPLE_NONE                                                                  \
   }
 
 /* Sets a grey constant. */

@@ -74,6 +74,17 @@ nbrdf_status bake_open_sources(const nbrdf_bake_inputs *in, nbrdf_param_source *
     }
     if (st != NBRDF_OK) return st;
   }
+  if (in->resample != NBRDF_RESAMPLE_BILINEAR) return NBRDF_OK;
+  int W = 0, H = 0;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    int w, h;
+    nbrdf_param_source_size(src[id], &w, &h);
+    W = w > W ? w : W, H = h > H ? h : H;
+  }
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    nbrdf_status st = nbrdf_param_source_resample(src[id], W, H, err);
+    if (st != NBRDF_OK) return st;
+  }
   return NBRDF_OK;
 }
 
@@ -209,8 +220,8 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
                       "bake: mip_levels is 0 (full chain) or 1 (level 0 only), not %d",
                       o.mip_levels);
   if (o.quantise_bits != 0 && (o.quantise_bits < 2 || o.quantise_bits > 16))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "bake: quantise_bits is 0 (off) or 2..16, not %d", o.quantise_bits);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: quantise_bits is 0 (off) or 2..16, not %d",
+                      o.quantise_bits);
   if (report) memset(report, 0, sizeof *report);
   nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   nbrdf_status st = bake_open_sources(inputs, src, err);

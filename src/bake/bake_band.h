@@ -42,7 +42,7 @@ typedef struct bake_band {
   int width;
   nbrdf_roughness roughness;
   nbrdf_range_policy range;
-  int quantise_bits; /* 0: off */
+  int quantise_bits;                                            /* 0: off */
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT]; /* trained ranges */
   /* scratch, grown as needed */
   bake_tuple *uniq; /* distinct tuples of the band */

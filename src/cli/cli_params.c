@@ -31,7 +31,10 @@ void cli_params_usage(FILE *out) {
                "                        colour space of 8/16-bit colour maps (default sRGB)\n"
                "  --ocio CONFIG         OpenColorIO config for colour spaces (default $OCIO)\n"
                "  --eta-range LO,HI     8/16-bit eta maps: [0,1] -> [LO,HI] (default 1,2)\n"
-               "  --sigma-t-range LO,HI 8/16-bit sigma_t maps: [0,1] -> [LO,HI] (default 0,5)\n");
+               "  --sigma-t-range LO,HI 8/16-bit sigma_t maps: [0,1] -> [LO,HI] (default 0,5)\n"
+               "  --resample none|bilinear\n"
+               "                        maps of different sizes: an error (default), or each\n"
+               "                        enlarged bilinearly to the largest width and height\n");
 }
 
 static int parse_range(const char *text, nbrdf_bake_param *p) {
@@ -74,6 +77,13 @@ int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params
     p->in.param[NBRDF_BAKE_ALBEDO].colour_space = v;
   } else if (!strcmp(a, "--ocio")) {
     p->in.ocio_config = v;
+  } else if (!strcmp(a, "--resample")) {
+    if (!strcmp(v, "none"))
+      p->in.resample = NBRDF_RESAMPLE_NONE;
+    else if (!strcmp(v, "bilinear"))
+      p->in.resample = NBRDF_RESAMPLE_BILINEAR;
+    else
+      return cli_usage_error(cmd, "--resample is 'none' or 'bilinear', not '%s'", v), -1;
   } else if (!strcmp(a, "--eta-range") || !strcmp(a, "--sigma-t-range")) {
     int eta = a[2] == 'e';
     if (!parse_range(v, &p->in.param[eta ? NBRDF_BAKE_ETA : NBRDF_BAKE_SIGMA_T]))

@@ -19,7 +19,7 @@ typedef struct cli_params {
 void cli_params_init(cli_params *p);
 /* If argv[*i] is a parameter option (--alpha1 V ... --sigma-t V, --roughness,
  * --r0-colourspace, --albedo-colourspace, --ocio, --eta-range,
- * --sigma-t-range) with its value, consumes it (advancing *i) and returns 1;
+ * --sigma-t-range, --resample) with its value, consumes it (advancing *i) and returns 1;
  * returns 0 for any other argument, and -1 after printing a usage error. */
 int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params *p);
 /* CLI_EXIT_OK when all six parameters were given, else a usage error naming one. */

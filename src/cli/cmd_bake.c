@@ -162,8 +162,8 @@ int cmd_bake(int argc, char **argv) {
     printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu}\n", rep.width,
            rep.height, rep.colour_channels, rep.evaluated);
   } else {
-    printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n",
-           out, rep.width, rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs,
+    printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n", out,
+           rep.width, rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs,
            rep.evaluated, rep.reused);
   }
   return CLI_EXIT_OK;

@@ -16,6 +16,13 @@ struct nbrdf_param_source {
   float *rows;          /* the last band read from the map */
   size_t rows_cap;      /* floats */
   char description[512];
+  /* bilinear resampling (nbrdf_param_source_resample): target size, 0 when off,
+   * and the source rows [cy0, cy1) last read, kept because consecutive bands
+   * share a source row and formats like PNG cannot seek backwards cheaply */
+  int tw, th;
+  float *src_rows;
+  size_t src_cap;
+  int cy0, cy1;
 };
 
 static nbrdf_param_source *new_source(const char *name) {
@@ -105,8 +112,96 @@ int nbrdf_param_source_channels(const nbrdf_param_source *s) { return s->channel
 
 void nbrdf_param_source_size(const nbrdf_param_source *s, int *width, int *height) {
   const nbrdf_param_map_info *in = s->map ? nbrdf_param_map_get_info(s->map) : NULL;
-  *width = in ? in->width : 0;
-  *height = in ? in->height : 0;
+  *width = in ? (s->tw ? s->tw : in->width) : 0;
+  *height = in ? (s->th ? s->th : in->height) : 0;
+}
+
+nbrdf_status nbrdf_param_source_resample(nbrdf_param_source *s, int width, int height,
+                                         nbrdf_error *err) {
+  if (!s->map) return NBRDF_OK;
+  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(s->map);
+  if (width < in->width || height < in->height)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "%s: %s is %dx%d; bilinear resampling only enlarges (to %dx%d asked)",
+                      s->name, nbrdf_param_map_path(s->map), in->width, in->height, width, height);
+  s->tw = width == in->width && height == in->height ? 0 : width;
+  s->th = s->tw ? height : 0;
+  s->cy0 = s->cy1 = 0;
+  if (s->tw) {
+    size_t len = strlen(s->description);
+    snprintf(s->description + len, sizeof s->description - len, ", bilinear %dx%d -> %dx%d",
+             in->width, in->height, width, height);
+  }
+  return NBRDF_OK;
+}
+
+static int grow_floats(float **p, size_t *cap, size_t need) {
+  if (need <= *cap) return 1;
+  float *q = realloc(*p, need * sizeof(float));
+  if (!q) return 0;
+  *p = q;
+  *cap = need;
+  return 1;
+}
+
+/* Texel centres line up: target coordinate t maps to source (t + 0.5) * n / m - 0.5,
+ * clamped to the edge (as OpenImageIO's and most renderers' bilinear). */
+static void source_coord(int t, int n, int m, int *i0, int *i1, float *f) {
+  double u = (t + 0.5) * n / m - 0.5;
+  if (u <= 0) u = 0;
+  int i = (int)u;
+  if (i >= n - 1) i = n - 1, u = i;
+  *i0 = i;
+  *i1 = i + 1 < n ? i + 1 : i;
+  *f = (float)(u - i);
+}
+
+/* Rows [y0, y0 + rows) of the target size into s->rows. */
+static nbrdf_status read_resampled(nbrdf_param_source *s, int y0, int rows, nbrdf_error *err) {
+  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(s->map);
+  const int W = in->width, H = in->height, ch = in->channels;
+  const size_t row = (size_t)W * ch;
+  int a, b, unused0;
+  float unused1;
+  source_coord(y0, H, s->th, &a, &unused0, &unused1);
+  source_coord(y0 + rows - 1, H, s->th, &unused0, &b, &unused1);
+  if (!grow_floats(&s->src_rows, &s->src_cap, (size_t)(b - a + 1) * row) ||
+      !grow_floats(&s->rows, &s->rows_cap, (size_t)rows * s->tw * ch))
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d rows", s->name, rows);
+  int have = 0; /* rows [a, a + have) already in src_rows */
+  if (s->cy1 > s->cy0 && a >= s->cy0 && a < s->cy1) {
+    have = (s->cy1 < b + 1 ? s->cy1 : b + 1) - a;
+    memmove(s->src_rows, s->src_rows + (size_t)(a - s->cy0) * row, sizeof(float) * have * row);
+  }
+  if (a + have <= b) {
+    nbrdf_status st = nbrdf_param_map_read_rows(s->map, a + have, b + 1 - (a + have),
+                                                s->src_rows + (size_t)have * row, err);
+    if (st != NBRDF_OK) {
+      s->cy0 = s->cy1 = 0;
+      nbrdf_error_prefix(err, "%s: ", s->name);
+      return st;
+    }
+  }
+  s->cy0 = a, s->cy1 = b + 1;
+  for (int j = 0; j < rows; j++) {
+    int r0, r1;
+    float fy;
+    source_coord(y0 + j, H, s->th, &r0, &r1, &fy);
+    const float *p0 = s->src_rows + (size_t)(r0 - a) * row,
+                *p1 = s->src_rows + (size_t)(r1 - a) * row;
+    float *o = s->rows + (size_t)j * s->tw * ch;
+    for (int x = 0; x < s->tw; x++) {
+      int c0, c1;
+      float fx;
+      source_coord(x, W, s->tw, &c0, &c1, &fx);
+      for (int c = 0; c < ch; c++) {
+        float top = p0[c0 * ch + c] + fx * (p0[c1 * ch + c] - p0[c0 * ch + c]);
+        float bot = p1[c0 * ch + c] + fx * (p1[c1 * ch + c] - p1[c0 * ch + c]);
+        o[x * ch + c] = top + fy * (bot - top);
+      }
+    }
+  }
+  return NBRDF_OK;
 }
 
 float nbrdf_param_source_value(const nbrdf_param_source *s, int c) {
@@ -125,6 +220,16 @@ nbrdf_status nbrdf_param_source_read_band(nbrdf_param_source *s, int y0, int row
     return NBRDF_OK;
   }
   const nbrdf_param_map_info *in = nbrdf_param_map_get_info(s->map);
+  if (s->tw) {
+    if (y0 < 0 || rows < 1 || rows > s->th - y0)
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows %d..%d of a map %d rows high", s->name,
+                        y0, y0 + rows - 1, s->th);
+    nbrdf_status st = read_resampled(s, y0, rows, err);
+    band->data = s->rows;
+    band->texel_stride = in->channels;
+    band->row_stride = (ptrdiff_t)s->tw * in->channels;
+    return st;
+  }
   size_t need = rows > 0 ? (size_t)rows * in->width * in->channels : 0;
   if (need > s->rows_cap) {
     float *p = realloc(s->rows, need * sizeof(float));
@@ -148,6 +253,7 @@ void nbrdf_param_source_free(nbrdf_param_source *s) {
   if (!s) return;
   nbrdf_param_map_close(s->map);
   free(s->rows);
+  free(s->src_rows);
   free(s);
 }
 
@@ -165,8 +271,10 @@ nbrdf_status nbrdf_param_sources_common_size(nbrdf_param_source *const *sources,
       *width = w;
       *height = h;
     } else if (w != *width || h != *height) {
-      return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: %s is %dx%d, but %s: %s is %dx%d", s->name,
-                        nbrdf_param_map_path(s->map), w, h, first->name,
+      return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
+                        "%s: %s is %dx%d, but %s: %s is %dx%d (maps must share one size "
+                        "unless resampling is asked for)",
+                        s->name, nbrdf_param_map_path(s->map), w, h, first->name,
                         nbrdf_param_map_path(first->map), *width, *height);
     }
   }

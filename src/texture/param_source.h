@@ -40,7 +40,13 @@ nbrdf_status nbrdf_param_source_parse(const char *name, const char *arg,
 
 int nbrdf_param_source_is_constant(const nbrdf_param_source *s);
 int nbrdf_param_source_channels(const nbrdf_param_source *s);
-/* The map's size; 0 x 0 for a constant. */
+/* Resamples a map bilinearly to width x height (at least its own size;
+ * texel centres aligned, edges clamped) as it is read; a constant ignores
+ * it. The source rows are still validated as read, and a band needs only the
+ * source rows under it, so memory still grows with the width. */
+nbrdf_status nbrdf_param_source_resample(nbrdf_param_source *s, int width, int height,
+                                         nbrdf_error *err);
+/* The map's size (after resampling); 0 x 0 for a constant. */
 void nbrdf_param_source_size(const nbrdf_param_source *s, int *width, int *height);
 /* The constant's value for channel c (0 for a map). */
 float nbrdf_param_source_value(const nbrdf_param_source *s, int c);

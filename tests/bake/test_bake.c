@@ -14,6 +14,7 @@
 #include "testing.h"
 #include "texture/latent_exr.h"
 #include "texture/oiio_shim.h"
+#include "texture/param_source.h"
 
 static nbrdf_model *model;
 static char tmp[512];
@@ -520,6 +521,82 @@ static void test_quantise(void) {
   CHECK(!exists(path("bad.exr")));
 }
 
+/* Maps of different sizes: refused by default (the message names both),
+ * enlarged bilinearly to the largest with NBRDF_RESAMPLE_BILINEAR: a 2 x 1
+ * eta map [1.2, 1.8] over 16 x 16 gives eta(x) = 1.2 + 0.6 * clamp((x + 0.5)
+ * / 8 - 0.5, 0, 1), constant down the columns. */
+static void test_resample(void) {
+  nbrdf_error e, *err = &e;
+  float eta[2] = {1.2f, 1.8f};
+  char pe[640], pa[640];
+  snprintf(pe, sizeof pe, "%s", path("eta2x1.exr"));
+  snprintf(pa, sizeof pa, "%s", path("alpha1.exr"));
+  CHECK_OK(nbrdf_image_write(pe, 2, 1, 1, eta, NBRDF_PIXEL_FLOAT, err), err);
+  nbrdf_bake_inputs in = constants();
+  in.param[NBRDF_BAKE_ALPHA1].path = pa;
+  in.param[NBRDF_BAKE_ETA].path = pe;
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  o.mip_levels = 1;
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_MISMATCH, err,
+              "eta2x1.exr");
+  CHECK_MSG(strstr(e.message, "alpha1.exr") && strstr(e.message, "resampling"), "%s", e.message);
+  CHECK(!exists(path("bad.exr")));
+  in.resample = NBRDF_RESAMPLE_BILINEAR;
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("resampled.exr"), &rep, err), err);
+  CHECK(rep.width == 16 && rep.height == 16);
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  static const int xs[3] = {0, 6, 13};
+  for (int k = 0; k < 3; k++) {
+    int x = xs[k], y = 11;
+    double u = (x + 0.5) / 8.0 - 0.5;
+    u = u < 0 ? 0 : u > 1 ? 1 : u;
+    float t[6];
+    for (int id = 0; id < 6; id++)
+      t[id] = in.param[id].value[0];
+    t[NBRDF_BAKE_ALPHA1] = lo[0] + (hi[0] - lo[0]) * (float)(x / 4) / 4.0f;
+    t[NBRDF_BAKE_ETA] = (float)(1.2 + 0.6 * u);
+    nbrdf_latent_info info;
+    float *texel = read_texel(path("resampled.exr"), 0, x, y, &info);
+    if (texel) check_texel(texel, &info.layout, 0, t, 1e-4);
+    free(texel);
+  }
+  nbrdf_latent_reader *r = NULL;
+  CHECK_OK(nbrdf_latent_reader_open(&r, path("resampled.exr"), err), err);
+  CHECK(r && strstr(nbrdf_latent_reader_info(r)->sources, "bilinear 2x1 -> 16x16") != NULL);
+  nbrdf_latent_reader_close(r);
+
+  /* Bands of 3 rows (sharing source rows across bands) read the same values
+   * as one band of 37: r0.exr (16 x 16 RGB) enlarged to 23 x 37. */
+  nbrdf_param_map_options mo = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+  nbrdf_param_source *one = NULL, *three = NULL;
+  CHECK_OK(nbrdf_param_source_map("r0", path("r0.exr"), &mo, &one, err), err);
+  CHECK_OK(nbrdf_param_source_map("r0", path("r0.exr"), &mo, &three, err), err);
+  if (!one || !three) return;
+  CHECK_FAILS(nbrdf_param_source_resample(one, 8, 37, err), NBRDF_ERR_ARGUMENT, err, "enlarges");
+  CHECK_OK(nbrdf_param_source_resample(one, 23, 37, err), err);
+  CHECK_OK(nbrdf_param_source_resample(three, 23, 37, err), err);
+  nbrdf_param_band all, part;
+  CHECK_OK(nbrdf_param_source_read_band(one, 0, 37, &all, err), err);
+  int mismatches = 0;
+  for (int y0 = 0; y0 < 37; y0 += 3) {
+    int rows = 37 - y0 < 3 ? 37 - y0 : 3;
+    CHECK_OK(nbrdf_param_source_read_band(three, y0, rows, &part, err), err);
+    for (int j = 0; j < rows; j++)
+      for (int x = 0; x < 23; x++)
+        for (int c = 0; c < 3; c++)
+          mismatches +=
+              nbrdf_param_band_at(&part, x, j, c) != nbrdf_param_band_at(&all, x, y0 + j, c);
+  }
+  CHECK_MSG(mismatches == 0, "%d values differ between band sizes", mismatches);
+  /* Corners are the source's corners (edges clamped). */
+  CHECK(nbrdf_param_band_at(&all, 0, 0, 1) == (float)((0 + 0 + 5) % 8) / 8.0f);
+  nbrdf_param_source_free(one);
+  nbrdf_param_source_free(three);
+}
+
 int main(void) {
   nbrdf_error e, *err = &e;
   snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
@@ -537,6 +614,7 @@ int main(void) {
   RUN(test_deterministic);
   RUN(test_tuple_cache);
   RUN(test_quantise);
+  RUN(test_resample);
   nbrdf_model_destroy(model);
   return nbrdf_test_finish();
 }

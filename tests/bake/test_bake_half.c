@@ -56,8 +56,7 @@ static void test_half_vs_float(nbrdf_model *model) {
     CHECK_OK(nbrdf_bake(model, &in, &o, out[s], NULL, err), err);
     CHECK_OK(nbrdf_latent_reader_open(&r[s], out[s], err), err);
     if (!r[s]) return;
-    CHECK(nbrdf_latent_reader_info(r[s])->storage ==
-          (s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF));
+    CHECK(nbrdf_latent_reader_info(r[s])->storage == (s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF));
   }
   const nbrdf_latent_layout *L = &nbrdf_latent_reader_info(r[0])->layout;
   const int D = L->latent_dim, C = nbrdf_latent_reader_info(r[0])->channels;

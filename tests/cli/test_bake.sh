@@ -34,6 +34,10 @@ check "info: settings" grep -Fq 'roughness=perceptual' info.txt
 # Bad input: exit 1, a message naming the file, no output.
 expect_exit 1 "$NBRDF" bake "${base[@]}" --r0 r0.png -o bad.exr
 check "mismatch names r0.png: $(cat "$TMP/err")" grep -Fq "r0.png" "$TMP/err"
+# ... unless resampling is asked for: r0.png (8x8) is enlarged to 16x16.
+expect_exit 0 "$NBRDF" bake "${base[@]}" --r0 r0.png --resample bilinear -o resampled.exr
+check "resampled bake" test -s resampled.exr
+expect_exit 2 "$NBRDF" bake "${base[@]}" --r0 r0.png --resample bicubic -o bad.exr
 expect_exit 1 "$NBRDF" bake "${base[@]}" -o alpha1.png
 check "input untouched" cmp -s alpha1.png keep.png
 check "no output after failures" test ! -e bad.exr
