@@ -98,6 +98,17 @@ typedef enum nbrdf_roughness {
 
 typedef enum nbrdf_bake_storage { NBRDF_BAKE_HALF = 0, NBRDF_BAKE_FLOAT = 1 } nbrdf_bake_storage;
 
+/* Lossless EXR compression of the texture (docs/BAKE.md, "Benchmark"): ZIP
+ * is the smallest everywhere and shrinks painted textures ~100x, but saves
+ * only ~15 % on all-distinct latents for ~40 % of such a bake's CPU time;
+ * RLE and NONE write fastest. */
+typedef enum nbrdf_bake_compression {
+  NBRDF_BAKE_ZIP = 0,
+  NBRDF_BAKE_PIZ,
+  NBRDF_BAKE_RLE,
+  NBRDF_BAKE_UNCOMPRESSED
+} nbrdf_bake_compression;
+
 /* Trained range of sigma_t (paper: {0, 1, 2, 5}); the range policy applies above it. */
 #define NBRDF_BAKE_SIGMA_T_MAX 5.0f
 
@@ -133,6 +144,7 @@ typedef struct nbrdf_bake_options {
    * maps with smoothly varying values collapse onto fewer distinct tuples.
    * docs/BAKE.md, "Quantisation", measures the trade. */
   int quantise_bits;
+  nbrdf_bake_compression compression; /* ZIP (default) */
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_TUPLE_CACHE_DEFAULT 65536
@@ -140,7 +152,7 @@ typedef struct nbrdf_bake_options {
 #define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
-        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0                                                          \
+        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP                                          \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */

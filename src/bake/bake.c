@@ -140,13 +140,16 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   }
   nbrdf_latent_layout layout = {nbrdf_model_latent_dim(model),
                                 rgb ? NBRDF_COLOUR_RGB : NBRDF_COLOUR_MONO, 1};
+  static const nbrdf_latent_compression compression[4] = {NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ,
+                                                          NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
+  nbrdf_latent_compression comp = compression[o->compression];
   char quant[16] = "off", settings[512];
   if (o->quantise_bits) snprintf(quant, sizeof quant, "%d", o->quantise_bits);
   snprintf(settings, sizeof settings,
-           "storage=%s; compression=zip; tile=%d; mipLevels=%s; roughness=%s; range=%s; "
+           "storage=%s; compression=%s; tile=%d; mipLevels=%s; roughness=%s; range=%s; "
            "proxyMips=predicted; quantise=%s",
-           o->storage == NBRDF_BAKE_FLOAT ? "float" : "half", o->tile_size,
-           o->mip_levels == 1 ? "1" : "full",
+           o->storage == NBRDF_BAKE_FLOAT ? "float" : "half", nbrdf_latent_compression_name(comp),
+           o->tile_size, o->mip_levels == 1 ? "1" : "full",
            o->roughness == NBRDF_ROUGHNESS_PERCEPTUAL ? "perceptual" : "alpha",
            o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp", quant);
   nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
@@ -155,6 +158,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   nbrdf_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
   wo.tile_size = o->tile_size;
+  wo.compression = comp;
   wo.mip_levels = o->mip_levels;
   wo.mip_row = mip_row;
   wo.mip_row_user = &mctx;
@@ -219,6 +223,8 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "bake: mip_levels is 0 (full chain) or 1 (level 0 only), not %d",
                       o.mip_levels);
+  if ((unsigned)o.compression > NBRDF_BAKE_UNCOMPRESSED)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: unknown compression %d", (int)o.compression);
   if (o.quantise_bits != 0 && (o.quantise_bits < 2 || o.quantise_bits > 16))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: quantise_bits is 0 (off) or 2..16, not %d",
                       o.quantise_bits);

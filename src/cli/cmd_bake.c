@@ -33,6 +33,9 @@ void cmd_bake_usage(FILE *out) {
       "  --half | --float      latent storage (default half)\n"
       "  --mip-levels full|1   the full mip chain (default) or level 0 only\n"
       "  --tile N              tile edge in texels (default 64)\n"
+      "  --compression zip|piz|rle|none\n"
+      "                        lossless EXR compression (default zip: smallest; rle or\n"
+      "                        none write faster, see docs/BAKE.md)\n"
       "  --bundle DIR          model bundle (default: models/default)\n"
       "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
       "                        warning (default) or stop naming the file and texel\n"
@@ -99,6 +102,14 @@ int cmd_bake(int argc, char **argv) {
       if (!cli_parse_int(v, 8, 1024, &t))
         return cli_usage_error("bake", "--tile needs an integer in [8, 1024], not '%s'", v);
       opts.tile_size = (int)t, i++;
+    } else if (!strcmp(a, "--compression") && v) {
+      static const char *const names[] = {"zip", "piz", "rle", "none"};
+      int k = 0;
+      while (k < 4 && strcmp(v, names[k]))
+        k++;
+      if (k == 4)
+        return cli_usage_error("bake", "--compression is zip, piz, rle or none, not '%s'", v);
+      opts.compression = (nbrdf_bake_compression)k, i++;
     } else if (!strcmp(a, "--bundle") && v) {
       bundle = v, i++;
     } else if (!strcmp(a, "--range") && v) {

@@ -37,6 +37,11 @@ check "mismatch names r0.png: $(cat "$TMP/err")" grep -Fq "r0.png" "$TMP/err"
 # ... unless resampling is asked for: r0.png (8x8) is enlarged to 16x16.
 expect_exit 0 "$NBRDF" bake "${base[@]}" --r0 r0.png --resample bilinear -o resampled.exr
 check "resampled bake" test -s resampled.exr
+expect_exit 0 "$NBRDF" bake "${base[@]}" --compression rle -o rle.exr
+"$NBRDF" info rle.exr >info_rle.txt 2>&1
+check "info: rle compression" grep -Eq '^compression: +rle$' info_rle.txt
+check "settings: rle" grep -Fq 'compression=rle' info_rle.txt
+check "default is zip" grep -Eq '^compression: +zip$' info.txt
 expect_exit 2 "$NBRDF" bake "${base[@]}" --r0 r0.png --resample bicubic -o bad.exr
 expect_exit 1 "$NBRDF" bake "${base[@]}" -o alpha1.png
 check "input untouched" cmp -s alpha1.png keep.png
