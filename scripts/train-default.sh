@@ -23,11 +23,19 @@ run="$work/decoder-run"
 stage() { echo "== $(date -u +%H:%M:%S) $*"; }
 
 # 1. Ground-truth data (docs/DATASET.md); the counts are the recipe of the shipped model.
+#    The decoder learned from the first 1,700 two-layer BRDFs; the layering network from all
+#    layered data (a record is a pure function of its seed and index, so FILE:N of a longer
+#    file is the N-record file).
+L2B=${L2B_COUNT:-200}
+L3=${L3_COUNT:-300}
 stage "data: 3000 single BRDFs"
 "$nbrdf" dataset --out "$work/single.nbds" --kind single --count 3000 --seed 1
-stage "data: 1700 two-layer BRDFs (~10 min on 2 cores)"
-"$nbrdf" dataset --out "$work/layered2.nbds" --kind layered2 --count 1700 --seed 1
-data="$work/single.nbds,$work/layered2.nbds"
+stage "data: 3000 two-layer BRDFs (~16 min on 2 quiet cores)"
+"$nbrdf" dataset --out "$work/layered2.nbds" --kind layered2 --count 3000 --seed 1
+stage "data: $L2B more two-layer BRDFs (seed 2), $L3 three-layer BRDFs (seed 3) (~15 min on 2 quiet cores)"
+"$nbrdf" dataset --out "$work/layered2b.nbds" --kind layered2 --count "$L2B" --seed 2
+"$nbrdf" dataset --out "$work/layered3.nbds" --kind layered3 --count "$L3" --seed 3
+data="$work/single.nbds,$work/layered2.nbds:1700"
 
 # 2. Decoder: auto-decoder training, checkpointed every 5 minutes.
 stage "decoder (medium preset; resumable)"
@@ -40,18 +48,33 @@ if [ ! -f "$work/base_tables.safetensors" ]; then
   "$nbrdf" train tables --decoder "$run/decoder.safetensors" -o "$work/base_tables.safetensors"
 fi
 
-# 4. Layering network on the decoder run's two-layer latents; 80 epochs, where its held-out
-#    latent error stops falling (docs/TRAINING.md).
+# 4. Layering network, trained through the frozen decoder on every layered BRDF's samples
+#    (docs/TRAINING.md: far better end to end than the latent loss), paper preset: first on
+#    the two-layer data, then fine-tuned with the three-layer data mixed in (the recursive
+#    application, as in the paper). Checkpointed and resumable.
+layer_args=(--loss decoded --preset paper --decoder "$run/decoder.safetensors"
+  --tables "$work/base_tables.safetensors")
+if [ ! -f "$work/layering-2layer.safetensors" ]; then
+  stage "layering network, two layers (decoded loss; resumable)"
+  "$nbrdf" train layering "${layer_args[@]}" --data "$work/layered2.nbds" --epochs 300 \
+    --decay-every 100 --checkpoint "$work/layering-2layer.ckpt" \
+    -o "$work/layering-2layer.safetensors" --log "$work/layering-2layer.csv"
+fi
 if [ ! -f "$work/layering.safetensors" ]; then
-  stage "layering network"
-  "$nbrdf" train layering --data "$data" --run "$run" --tables "$work/base_tables.safetensors" \
-    -o "$work/layering.safetensors" --log "$work/layering.csv" --epochs 80
+  stage "layering network, fine-tuned with three layers (resumable)"
+  "$nbrdf" train layering "${layer_args[@]}" --init "$work/layering-2layer.safetensors" \
+    --data "$work/layered2.nbds,$work/layered2b.nbds,$work/layered3.nbds" \
+    --epochs 150 --lr 5e-4 --decay-every 50 --checkpoint "$work/layering.ckpt" \
+    -o "$work/layering.safetensors" --log "$work/layering.csv"
 fi
 
-# 5. Sampling network: per-latent proxy fits over all the run's latents, then regression.
+# 5. Sampling network: per-latent proxy fits over the run's latents and those the layering
+#    network gives the layered data (what a bake feeds it), then regression.
 if [ ! -f "$work/sampler.safetensors" ]; then
   stage "sampling network"
-  "$nbrdf" train sampler --run "$run" -o "$work/sampler.safetensors"
+  "$nbrdf" train sampler --run "$run" -o "$work/sampler.safetensors" \
+    --layering "$work/layering.safetensors" --tables "$work/base_tables.safetensors" \
+    --data "$work/layered2.nbds,$work/layered2b.nbds,$work/layered3.nbds"
 fi
 
 # 6. The bundle; its card is docs/MODEL_CARD_DEFAULT.md (the shipped model's figures).
@@ -59,10 +82,10 @@ stage "bundle -> $bundle"
 "$nbrdf" train bundle -o "$bundle" --name default --decoder "$run/decoder.safetensors" \
   --tables "$work/base_tables.safetensors" --layering "$work/layering.safetensors" \
   --sampler "$work/sampler.safetensors" --card docs/MODEL_CARD_DEFAULT.md \
-  --note "trained by scripts/train-default.sh (decoder 14342 steps); measured figures in MODEL_CARD.md"
+  --note "trained by scripts/train-default.sh (decoder 14342 steps; layering paper preset, decoded loss, 300 + 150 epochs); measured figures in MODEL_CARD.md"
 
 # 7. Model quality on the held-out sets (references cached in $work/evalcache).
 stage "evaluation on the held-out sets"
-"$nbrdf" evaluate --bundle "$bundle" --sets rep,single,layer --count 100 --walks 2000 \
+"$nbrdf" evaluate --bundle "$bundle" --sets rep,single,layer,layer3 --count 100 --walks 2000 \
   --cache "$work/evalcache" --json "$work/evaluation.json" --plots "$work/eval-plots"
 stage "done"
