@@ -18,6 +18,7 @@
 #include "eval/plot.h"
 #include "nbrdf/brdf.h"
 
+#include "bench_args.h"
 #include "bench_clock.h"
 
 enum { MAX_SPP = 16, N_BRDF = 3, N_THETA = NBRDF_LOBE_N_THETA, ALBEDO_SAMPLES = 1 << 18 };
@@ -64,25 +65,10 @@ static int parse_args(int argc, char **argv, config *c) {
                 .out = "groundtruth.md",
                 .plot = "groundtruth.png"};
   for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-      usage(stdout);
-      exit(0);
-    }
-    if (i + 1 >= argc) {
-      fprintf(stderr, "bench_groundtruth: %s needs a value\n", a);
-      return 0;
-    }
-    const char *v = argv[++i];
+    const char *a = argv[i], *v = bench_option_value(argc, argv, &i, "bench_groundtruth", usage);
+    if (!v) return 0;
     if (!strcmp(a, "--spp")) {
-      c->n_spp = 0;
-      for (char *s = (char *)v; *s && c->n_spp < MAX_SPP;) {
-        c->spp[c->n_spp++] = (int)strtol(s, &s, 10);
-        if (*s == ',')
-          s++;
-        else if (*s)
-          c->spp[c->n_spp - 1] = 0, s = ""; /* rejected below */
-      }
+      c->n_spp = bench_parse_counts(v, c->spp, MAX_SPP, 1, 1L << 30, 0); /* 0: rejected below */
     } else if (!strcmp(a, "--ref-spp")) {
       c->ref_spp = atoi(v);
     } else if (!strcmp(a, "--ref-walks")) {

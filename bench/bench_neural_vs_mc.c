@@ -22,6 +22,7 @@
 #include "nn/safetensors.h"
 #include "train/params.h"
 
+#include "bench_args.h"
 #include "bench_clock.h"
 
 enum { MAX_SPP = 12, PER_BRDF = NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES };
@@ -33,31 +34,30 @@ typedef struct config {
 } config;
 
 static void usage(FILE *f) {
-  fprintf(f,
-          "usage: bench_neural_vs_mc [--bundle models/default] [--cache data/evalcache]\n"
-          "                          [--ref-count 100] [--ref-walks 2000] [--mc-count 20]\n"
-          "                          [--spp 1,4,16,64,256] [--target 0.05]\n"
-          "                          [--out neural_vs_mc.md] [--plot neural_vs_mc.png]\n"
-          "Lobe error and CPU cost per query of the neural path (all --ref-count held-out\n"
-          "`layer` BRDFs) and of per-query Monte Carlo evaluation at each spp (the first\n"
-          "--mc-count BRDFs, two independent runs each), against the cached references\n"
-          "<cache>/ref-layer-n<ref-count>-w<ref-walks>.safetensors of nbrdf evaluate.\n");
+  fprintf(f, "usage: bench_neural_vs_mc [--bundle models/default] [--cache data/evalcache]\n"
+             "                          [--ref-count 100] [--ref-walks 2000] [--mc-count 20]\n"
+             "                          [--spp 1,4,16,64,256] [--target 0.05]\n"
+             "                          [--out neural_vs_mc.md] [--plot neural_vs_mc.png]\n"
+             "Lobe error and CPU cost per query of the neural path (all --ref-count held-out\n"
+             "`layer` BRDFs) and of per-query Monte Carlo evaluation at each spp (the first\n"
+             "--mc-count BRDFs, two independent runs each), against the cached references\n"
+             "<cache>/ref-layer-n<ref-count>-w<ref-walks>.safetensors of nbrdf evaluate.\n");
 }
 
 static int parse_args(int argc, char **argv, config *c) {
-  *c = (config){"models/default", "data/evalcache", "neural_vs_mc.md", "neural_vs_mc.png", 100,
-                2000, 20, {1, 4, 16, 64, 256}, 5, 0.05};
+  *c = (config){"models/default",
+                "data/evalcache",
+                "neural_vs_mc.md",
+                "neural_vs_mc.png",
+                100,
+                2000,
+                20,
+                {1, 4, 16, 64, 256},
+                5,
+                0.05};
   for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-      usage(stdout);
-      exit(0);
-    }
-    if (i + 1 >= argc) {
-      fprintf(stderr, "bench_neural_vs_mc: %s needs a value\n", a);
-      return 0;
-    }
-    const char *v = argv[++i];
+    const char *a = argv[i], *v = bench_option_value(argc, argv, &i, "bench_neural_vs_mc", usage);
+    if (!v) return 0;
     if (!strcmp(a, "--bundle")) {
       c->bundle = v;
     } else if (!strcmp(a, "--cache")) {
@@ -71,17 +71,10 @@ static int parse_args(int argc, char **argv, config *c) {
     } else if (!strcmp(a, "--target")) {
       c->target = atof(v);
     } else if (!strcmp(a, "--spp")) {
-      c->n_spp = 0;
-      for (char *s = (char *)v; *s;) {
-        long n = strtol(s, &s, 10);
-        if (c->n_spp == MAX_SPP || n < 1 || (*s && *s != ',') ||
-            (c->n_spp > 0 && n <= c->spp[c->n_spp - 1])) {
-          fprintf(stderr, "bench_neural_vs_mc: --spp wants up to %d increasing counts >= 1\n",
-                  MAX_SPP);
-          return 0;
-        }
-        c->spp[c->n_spp++] = (int)n;
-        if (*s == ',') s++;
+      if (!(c->n_spp = bench_parse_counts(v, c->spp, MAX_SPP, 1, 1L << 30, 1))) {
+        fprintf(stderr, "bench_neural_vs_mc: --spp wants up to %d increasing counts >= 1\n",
+                MAX_SPP);
+        return 0;
       }
     } else if (!strcmp(a, "--out")) {
       c->out = v;
@@ -288,8 +281,9 @@ int main(int argc, char **argv) {
   const double gflops = sgemm_gflops();
 
   train_params *p = malloc(n * sizeof *p);
-  layer_inputs in = {malloc(4 * n * sizeof(double)), NULL, NULL, NULL,
-                     malloc(2 * n * sizeof(float)), NULL, malloc(2 * n * D * sizeof(float)), NULL};
+  layer_inputs in = {
+      malloc(4 * n * sizeof(double)),    NULL, NULL, NULL, malloc(2 * n * sizeof(float)), NULL,
+      malloc(2 * n * D * sizeof(float)), NULL};
   float *lat = malloc(n * D * sizeof *lat);
   double *ref = malloc(PER_BRDF * sizeof *ref), *x = malloc(PER_BRDF * sizeof *x);
   double *y = malloc(PER_BRDF * sizeof *y), *neural_err = malloc(n * sizeof *neural_err);
@@ -413,10 +407,9 @@ int main(int argc, char **argv) {
             "average %.2f at the start, %.2f at the end (shared 2-core machine).\n\n",
             c.bundle, nbrdf_model_name(m), nbrdf_model_checksum(m), c.cache, c.ref_count,
             c.ref_walks, c.ref_walks, 100 * ref_noise, gflops, wall, load0, load_average());
-    fprintf(f,
-            "| estimator | BRDFs | median lobe error vs ref. | 90th pct | paired error (no "
-            "ref. noise) | CPU us per query | walks per CPU-s |\n"
-            "|---|---:|---:|---:|---:|---:|---:|\n");
+    fprintf(f, "| estimator | BRDFs | median lobe error vs ref. | 90th pct | paired error (no "
+               "ref. noise) | CPU us per query | walks per CPU-s |\n"
+               "|---|---:|---:|---:|---:|---:|---:|\n");
     fprintf(f, "| neural (decoder; layering below) | %zu | %.2f %% | %.2f %% | - | %.3f | - |\n", n,
             100 * neural_med_all, 100 * neural_p90_all, 1e6 * neural_query);
     fprintf(f, "| neural, first %d only | %d | %.2f %% | %.2f %% | - | %.3f | - |\n", c.mc_count,
@@ -425,7 +418,8 @@ int main(int argc, char **argv) {
     for (int s = 0; s < c.n_spp; s++) {
       for (int i = 0; i < c.mc_count; i++)
         v[i] = mc[(size_t)i * MAX_SPP + s].err;
-      fprintf(f, "| Monte Carlo, %d walks/query | %d | %.2f %% | %.2f %% | %.2f %% | %.2f | %.3g |\n",
+      fprintf(f,
+              "| Monte Carlo, %d walks/query | %d | %.2f %% | %.2f %% | %.2f %% | %.2f | %.3g |\n",
               c.spp[s], c.mc_count, 100 * med_err[s], 100 * quantile(v, c.mc_count, 0.9),
               100 * med_paired[s], us_query[s], walks_cpu[s]);
     }
@@ -440,23 +434,26 @@ int main(int argc, char **argv) {
             100 * 2e-9 * (double)nbrdf_model_decoder_macs(m) / neural_query / gflops);
     fprintf(f, "| equal error | Monte Carlo walks per query | MC CPU us per query | neural CPU us "
                "per query | MC / neural |\n|---|---:|---:|---:|---:|\n");
-    fprintf(f, "| median curves: neural %.2f %% (first %d BRDFs) | %.1f%s | %.2f | %.3f | %.0fx |\n",
+    fprintf(f,
+            "| median curves: neural %.2f %% (first %d BRDFs) | %.1f%s | %.2f | %.3f | %.0fx |\n",
             100 * neural_med_sub, c.mc_count, spp_med, ex_med ? " (extrapolated)" : "",
             MC_US(spp_med), 1e6 * neural_query, MC_US(spp_med) / (1e6 * neural_query));
     fprintf(f,
             "| per BRDF (median of %d; %d extrapolated) | %.1f | %.2f | %.3f | %.0fx (10th pct "
             "%.0fx, 90th %.0fx) |\n",
             c.mc_count, n_ex, quantile(match, c.mc_count, 0.5),
-            MC_US(quantile(match, c.mc_count, 0.5)),
-            1e6 * neural_query, quantile(w, c.mc_count, 0.5), quantile(w, c.mc_count, 0.1),
+            MC_US(quantile(match, c.mc_count, 0.5)), 1e6 * neural_query,
+            quantile(w, c.mc_count, 0.5), quantile(w, c.mc_count, 0.1),
             quantile(w, c.mc_count, 0.9));
     fprintf(f,
             "| paired error %.1f %% (issue 5's layer target; no neural figure at it) | %.0f%s | "
             "%.1f | %.3f | %.0fx |\n\n",
-            100 * c.target, spp_t, ex_t ? " (extrapolated)" : "", MC_US(spp_t),
-            1e6 * neural_query, MC_US(spp_t) / (1e6 * neural_query));
-    fprintf(f, "Monte Carlo cost model (least squares over the rows above): %.3f us per query + "
-               "%.3f us per walk.\n\n", us_fixed, us_walk);
+            100 * c.target, spp_t, ex_t ? " (extrapolated)" : "", MC_US(spp_t), 1e6 * neural_query,
+            MC_US(spp_t) / (1e6 * neural_query));
+    fprintf(f,
+            "Monte Carlo cost model (least squares over the rows above): %.3f us per query + "
+            "%.3f us per walk.\n\n",
+            us_fixed, us_walk);
   }
   fclose(out);
 
@@ -471,8 +468,12 @@ int main(int argc, char **argv) {
       {"neural (decoder per query)", 1, &nx, &ny, 0, 0},
       {"reference seed-to-seed", 2, floor_x, floor_y, 1, 0}};
   nbrdf_plot_options po = {"Layer set: median lobe error vs CPU cost per query",
-                           "CPU microseconds per query (1 thread)", "median lobe error (%)", 1, 1,
-                           0, 0};
+                           "CPU microseconds per query (1 thread)",
+                           "median lobe error (%)",
+                           1,
+                           1,
+                           0,
+                           0};
   if (nbrdf_plot_write_png(c.plot, &po, 4, ser, &err)) die(c.plot, &err);
   fprintf(stderr, "wrote %s and %s\n", c.out, c.plot);
 

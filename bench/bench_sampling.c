@@ -19,6 +19,7 @@
 #include "nbrdf/render.h"
 #include "train/params.h"
 
+#include "bench_args.h"
 #include "bench_clock.h"
 
 enum { N_THETA = 4, N_PHI = 2, MAX_CASES = N_THETA * N_PHI, N_ENV = 2 };
@@ -32,44 +33,25 @@ typedef struct config {
 } config;
 
 static void usage(FILE *f) {
-  fprintf(f, "usage: bench_sampling [--bundle models/default] [--count 100] [--reps 200]\n"
-             "                      [--n 16,64] [--env sky|furnace|both] [--out sampling.md]\n"
-             "                      [--plot PREFIX]  (writes PREFIX_variance.png, PREFIX_ratio.png)\n"
-             "                      [--integrate-over wi|wo]\n"
-             "Variance of the reflected radiance L(wo) of the held-out `layer` BRDFs (tables +\n"
-             "layering network, decoded) estimated with N samples by proxy, cosine, top-layer GGX\n"
-             "and proxy+cosine MIS sampling, from --reps independent repetitions, at\n"
-             "theta_o = 0, 30, 60, 80 deg (the last three with the mirror direction towards the\n"
-             "sun's azimuth and away from it). --integrate-over wo swaps the decoder's direction\n"
-             "arguments (the integral over its second slot: the usual albedo in a furnace).\n"
-             "Run with OPENBLAS_NUM_THREADS=1 on a shared machine.\n");
-}
-
-static int parse_counts(const char *v, config *c) {
-  c->n_counts = 0;
-  for (char *s = (char *)v; *s;) {
-    if (c->n_counts == EVAL_IS_MAX_N) return 0;
-    long n = strtol(s, &s, 10);
-    if (n < 1 || n > 4096 || (*s && *s != ',')) return 0;
-    c->counts[c->n_counts++] = (int)n;
-    if (*s == ',') s++;
-  }
-  return c->n_counts > 0;
+  fprintf(f,
+          "usage: bench_sampling [--bundle models/default] [--count 100] [--reps 200]\n"
+          "                      [--n 16,64] [--env sky|furnace|both] [--out sampling.md]\n"
+          "                      [--plot PREFIX]  (writes PREFIX_variance.png, PREFIX_ratio.png)\n"
+          "                      [--integrate-over wi|wo]\n"
+          "Variance of the reflected radiance L(wo) of the held-out `layer` BRDFs (tables +\n"
+          "layering network, decoded) estimated with N samples by proxy, cosine, top-layer GGX\n"
+          "and proxy+cosine MIS sampling, from --reps independent repetitions, at\n"
+          "theta_o = 0, 30, 60, 80 deg (the last three with the mirror direction towards the\n"
+          "sun's azimuth and away from it). --integrate-over wo swaps the decoder's direction\n"
+          "arguments (the integral over its second slot: the usual albedo in a furnace).\n"
+          "Run with OPENBLAS_NUM_THREADS=1 on a shared machine.\n");
 }
 
 static int parse_args(int argc, char **argv, config *c) {
   *c = (config){"models/default", "sampling.md", "sampling", 100, 200, 2, {16, 64}, 3, 0};
   for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-      usage(stdout);
-      exit(0);
-    }
-    if (i + 1 >= argc) {
-      fprintf(stderr, "bench_sampling: %s needs a value\n", a);
-      return 0;
-    }
-    const char *v = argv[++i];
+    const char *a = argv[i], *v = bench_option_value(argc, argv, &i, "bench_sampling", usage);
+    if (!v) return 0;
     if (!strcmp(a, "--bundle")) {
       c->bundle = v;
     } else if (!strcmp(a, "--count")) {
@@ -77,7 +59,7 @@ static int parse_args(int argc, char **argv, config *c) {
     } else if (!strcmp(a, "--reps")) {
       c->reps = atoi(v);
     } else if (!strcmp(a, "--n")) {
-      if (!parse_counts(v, c)) {
+      if (!(c->n_counts = bench_parse_counts(v, c->counts, EVAL_IS_MAX_N, 1, 4096, 0))) {
         fprintf(stderr, "bench_sampling: --n wants 1..%d counts in 1..4096\n", EVAL_IS_MAX_N);
         return 0;
       }
@@ -267,8 +249,14 @@ int main(int argc, char **argv) {
     if (!(c.envs & (1 << e))) continue;
     cases[e] = calloc(n * MAX_CASES, sizeof **cases);
     if (!cases[e]) return 1;
-    eval_is_setup su = {neural_fn, &nb, e == 0 ? sky_radiance : furnace_radiance, sky, c.reps,
-                        c.n_counts, {0}, 0x5a3b1e + (uint64_t)e};
+    eval_is_setup su = {neural_fn,
+                        &nb,
+                        e == 0 ? sky_radiance : furnace_radiance,
+                        sky,
+                        c.reps,
+                        c.n_counts,
+                        {0},
+                        0x5a3b1e + (uint64_t)e};
     memcpy(su.counts, c.counts, sizeof su.counts);
     n_cases = 0;
     for (size_t i = 0; i < n; i++) {
@@ -310,7 +298,8 @@ int main(int argc, char **argv) {
             c.reps, phi_sun * 180 / M_PI, c.swap ? "wo" : "wi", wall, cpu, load0, load_average());
     for (int e = 0; e < N_ENV; e++) {
       if (!cases[e]) continue;
-      fprintf(f, "### %s\n\n", e == 0 ? "Sky (src/eval/env.c, luminance)" : "White furnace (L = 1)");
+      fprintf(f, "### %s\n\n",
+              e == 0 ? "Sky (src/eval/env.c, luminance)" : "White furnace (L = 1)");
       fprintf(f, "| N | strategy | median var/L^2 | 90th pct var/L^2 | lost draws | proxy "
                  "variance lower on |\n|---:|---|---:|---:|---:|---:|\n");
       double *v = malloc((size_t)n_cases * sizeof *v);
@@ -322,8 +311,7 @@ int main(int argc, char **argv) {
             const case_result *cr = &cases[e][i];
             v[i] = relvar(cr, s, k);
             lost += cr->r.lost[s] / n_cases;
-            if (cr->r.radiance > 0)
-              valid++, wins += cr->r.var[EVAL_IS_PROXY][k] < cr->r.var[s][k];
+            if (cr->r.radiance > 0) valid++, wins += cr->r.var[EVAL_IS_PROXY][k] < cr->r.var[s][k];
           }
           char share[32] = "-";
           if (s != EVAL_IS_PROXY) snprintf(share, sizeof share, "%.1f %%", 100.0 * wins / valid);
@@ -331,9 +319,10 @@ int main(int argc, char **argv) {
                   eval_is_strategy_name((eval_is_strategy)s), quantile(v, n_cases, 0.5),
                   quantile(v, n_cases, 0.9), 100 * lost, share);
         }
-      fprintf(f, "\nBy outgoing direction, N = %d (median var/L^2; share of BRDFs where the proxy "
-                 "variance is lower):\n\n| theta_o | mirror | proxy | cosine | ggx | MIS | proxy < "
-                 "cosine | proxy < ggx |\n|---:|---|---:|---:|---:|---:|---:|---:|\n",
+      fprintf(f,
+              "\nBy outgoing direction, N = %d (median var/L^2; share of BRDFs where the proxy "
+              "variance is lower):\n\n| theta_o | mirror | proxy | cosine | ggx | MIS | proxy < "
+              "cosine | proxy < ggx |\n|---:|---|---:|---:|---:|---:|---:|---:|\n",
               c.counts[K]);
       for (int t = 0; t < N_THETA && v; t++)
         for (int s = 1; s >= (THETA_O[t] > 0 ? 0 : 1); s--) {
@@ -377,9 +366,10 @@ int main(int argc, char **argv) {
                 q->coat[0].sigma_t, r->mean[0], r->mean[1], r->mean[2], r->mean[3]);
       }
       /* The cases where the proxy loses most against cosine sampling. */
-      fprintf(f, "\nWorst proxy/cosine variance ratios (N = %d):\n\n| ratio | theta_o | BRDF "
-                 "(alpha1, eta, alpha2, R0, A, sigma_T) | proxy (sigma, w) | L |\n"
-                 "|---:|---:|---|---|---:|\n",
+      fprintf(f,
+              "\nWorst proxy/cosine variance ratios (N = %d):\n\n| ratio | theta_o | BRDF "
+              "(alpha1, eta, alpha2, R0, A, sigma_T) | proxy (sigma, w) | L |\n"
+              "|---:|---:|---|---|---:|\n",
               c.counts[K]);
       for (int i = 0; i < n_cases && v; i++)
         v[i] = cases[e][i].r.var[0][K] / cases[e][i].r.var[EVAL_IS_COSINE][K];
@@ -390,10 +380,11 @@ int main(int argc, char **argv) {
         if (worst < 0) break;
         const case_result *cr = &cases[e][worst];
         const train_params *q = &p[cr->brdf];
-        fprintf(f, "| %.3g | %.0f | #%d (%.3f, %.2f, %.3f, %.2f, %.2f, %.0f) | (%.3f, %.2f) | %.3g |\n",
-                v[worst], THETA_O[cr->theta], cr->brdf, q->coat[0].alpha, q->coat[0].eta,
-                q->base_alpha, q->base_r0, q->coat[0].albedo, q->coat[0].sigma_t,
-                (double)sigma[cr->brdf], (double)w[cr->brdf], cr->r.radiance);
+        fprintf(
+            f, "| %.3g | %.0f | #%d (%.3f, %.2f, %.3f, %.2f, %.2f, %.0f) | (%.3f, %.2f) | %.3g |\n",
+            v[worst], THETA_O[cr->theta], cr->brdf, q->coat[0].alpha, q->coat[0].eta, q->base_alpha,
+            q->base_r0, q->coat[0].albedo, q->coat[0].sigma_t, (double)sigma[cr->brdf],
+            (double)w[cr->brdf], cr->r.radiance);
         v[worst] = NAN;
       }
       fprintf(f, "\n");
@@ -420,12 +411,17 @@ int main(int argc, char **argv) {
         ys[e][s][t] = quantile(buf, nv, 0.5);
       }
       ser[ns++] = (nbrdf_plot_series){e == 0 ? eval_is_strategy_name((eval_is_strategy)s) : NULL,
-                                      N_THETA, xs, ys[e][s], e == 1, s + 1};
+                                      N_THETA,
+                                      xs,
+                                      ys[e][s],
+                                      e == 1,
+                                      s + 1};
     }
   }
   char path[4096];
   char title[128];
-  snprintf(title, sizeof title, "Median relative variance, N = %d (sky solid, furnace dashed)", c.counts[K]);
+  snprintf(title, sizeof title, "Median relative variance, N = %d (sky solid, furnace dashed)",
+           c.counts[K]);
   nbrdf_plot_options po = {title, "theta_o (deg)", "median variance / (L * L)", 0, 1, 0, 0};
   snprintf(path, sizeof path, "%s_variance.png", c.plot_prefix);
   if (nbrdf_plot_write_png(path, &po, ns, ser, &err)) die(path, &err);
@@ -446,8 +442,8 @@ int main(int argc, char **argv) {
                              {"proxy / ggx", n_cases, rx, ry[1], 0, 0},
                              {NULL, 2, ends, one, 1, 0}};
   snprintf(title, sizeof title, "Variance ratios, %s, N = %d, sorted", ENV_NAMES[e0], c.counts[K]);
-  nbrdf_plot_options pr = {title, "share of BRDF x direction cases (%)",
-                           "proxy variance / other", 0, 1, 0, 0};
+  nbrdf_plot_options pr = {
+      title, "share of BRDF x direction cases (%)", "proxy variance / other", 0, 1, 0, 0};
   snprintf(path, sizeof path, "%s_ratio.png", c.plot_prefix);
   if (nbrdf_plot_write_png(path, &pr, 3, rs, &err)) die(path, &err);
   fprintf(stderr, "wrote %s, %s_variance.png and %s_ratio.png\n", c.out, c.plot_prefix,
