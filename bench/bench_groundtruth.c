@@ -121,14 +121,6 @@ static void cpu_model(char *buf, size_t cap) {
   if (f) fclose(f);
 }
 
-static double load_average(void) {
-  double l = -1;
-  FILE *f = fopen("/proc/loadavg", "r");
-  if (f && fscanf(f, "%lf", &l) != 1) l = -1;
-  if (f) fclose(f);
-  return l;
-}
-
 typedef struct timing {
   double wall, cpu; /* seconds; cpu: of all threads of the process */
 } timing;
@@ -349,7 +341,7 @@ int main(int argc, char **argv) {
            "Machine: %s, %d logical cores (omp_get_max_threads), %d threads used, load average "
            "%.2f at start.\nLobe images: %dx%d at theta_i = 0, 30, 60, 80 deg (%zu queries per "
            "set); reference = mean of %s (seeds 1001, 1002).\n",
-           cpu, omp_get_max_threads(), threads_used, load_average(), c.res, c.res,
+           cpu, omp_get_max_threads(), threads_used, bench_load_average(), c.res, c.res,
            (size_t)N_THETA * nbrdf_lobe_pixels_inside(c.res), ref);
   fprintf(stderr, "%s", head);
 

@@ -99,14 +99,6 @@ static void die(const char *what, const nbrdf_error *err) {
   exit(1);
 }
 
-static double load_average(void) {
-  double l = -1;
-  FILE *f = fopen("/proc/loadavg", "r");
-  if (f && fscanf(f, "%lf", &l) != 1) l = -1;
-  if (f) fclose(f);
-  return l;
-}
-
 static int cmp_double(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
@@ -277,7 +269,7 @@ int main(int argc, char **argv) {
   nbrdf_model *m = NULL;
   if (nbrdf_model_load(c.bundle, &m, &err)) die("loading the bundle", &err);
   const size_t n = (size_t)c.ref_count, D = (size_t)nbrdf_model_latent_dim(m);
-  const double load0 = load_average(), t0 = bench_wall_seconds();
+  const double load0 = bench_load_average(), t0 = bench_wall_seconds();
   const double gflops = sgemm_gflops();
 
   train_params *p = malloc(n * sizeof *p);
@@ -406,7 +398,7 @@ int main(int argc, char **argv) {
             "10 BRDFs). 1 thread, CPU time; sgemm 4096x128x128: %.1f GFLOP/s. Wall %.0f s; load "
             "average %.2f at the start, %.2f at the end (shared 2-core machine).\n\n",
             c.bundle, nbrdf_model_name(m), nbrdf_model_checksum(m), c.cache, c.ref_count,
-            c.ref_walks, c.ref_walks, 100 * ref_noise, gflops, wall, load0, load_average());
+            c.ref_walks, c.ref_walks, 100 * ref_noise, gflops, wall, load0, bench_load_average());
     fprintf(f, "| estimator | BRDFs | median lobe error vs ref. | 90th pct | paired error (no "
                "ref. noise) | CPU us per query | walks per CPU-s |\n"
                "|---|---:|---:|---:|---:|---:|---:|\n");

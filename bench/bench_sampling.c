@@ -96,14 +96,6 @@ static void die(const char *what, const nbrdf_error *err) {
   exit(1);
 }
 
-static double load_average(void) {
-  double l = -1;
-  FILE *f = fopen("/proc/loadavg", "r");
-  if (f && fscanf(f, "%lf", &l) != 1) l = -1;
-  if (f) fclose(f);
-  return l;
-}
-
 /* ------------------------------------------------------------ the BRDF */
 
 typedef struct neural_brdf {
@@ -213,7 +205,7 @@ int main(int argc, char **argv) {
   nbrdf_model *m = NULL;
   if (nbrdf_model_load(c.bundle, &m, &err)) die("loading the bundle", &err);
   const size_t n = (size_t)c.count, D = (size_t)nbrdf_model_latent_dim(m);
-  const double load0 = load_average(), t0 = bench_wall_seconds(), cpu0 = bench_cpu_seconds();
+  const double load0 = bench_load_average(), t0 = bench_wall_seconds(), cpu0 = bench_cpu_seconds();
 
   /* The held-out `layer` BRDFs, as nbrdf evaluate and a bake obtain them. */
   train_params *p = malloc(n * sizeof *p);
@@ -295,7 +287,7 @@ int main(int argc, char **argv) {
             "the decoder's %s. Wall %.0f s, CPU %.0f s; load average %.2f at the start, %.2f at "
             "the end (shared 2-core machine).\n\n",
             c.bundle, nbrdf_model_name(m), nbrdf_model_checksum(m), c.count, n_cases / c.count,
-            c.reps, phi_sun * 180 / M_PI, c.swap ? "wo" : "wi", wall, cpu, load0, load_average());
+            c.reps, phi_sun * 180 / M_PI, c.swap ? "wo" : "wi", wall, cpu, load0, bench_load_average());
     for (int e = 0; e < N_ENV; e++) {
       if (!cases[e]) continue;
       fprintf(f, "### %s\n\n",
