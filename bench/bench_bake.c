@@ -231,20 +231,6 @@ static void bake_child(const void *arg, case_result *out) {
   out->ok = 1;
 }
 
-static void load_line(char *buf, size_t n) {
-  FILE *f = fopen("/proc/loadavg", "r");
-  buf[0] = '\0';
-  if (f) {
-    if (!fgets(buf, (int)n, f)) buf[0] = '\0';
-    fclose(f);
-  }
-  /* the three load averages only */
-  char *p = buf;
-  for (int k = 0; k < 3 && p; k++)
-    p = strchr(p + 1, ' ');
-  if (p) *p = '\0';
-}
-
 /* One bake case: maps, then the bake; prints a table row. Keeps the output
  * when `keep` names a path to move it to. */
 static void bake_case(const bench_cfg *cfg, int n, int painted, int rgb, const char *keep) {
@@ -259,7 +245,7 @@ static void bake_case(const bench_cfg *cfg, int n, int painted, int rgb, const c
   bake_arg b = {cfg, cfg->dir, join(cfg->dir, "out.exr"), painted, NBRDF_BAKE_HALF};
   long rss = run_child(bake_child, &b, &r);
   char load[128];
-  load_line(load, sizeof load);
+  bench_load_line(load, sizeof load);
   if (rss < 0 || !r.ok) {
     printf("| %d² %s %s | bake failed: %s |\n", n, painted ? "painted" : "distinct",
            rgb ? "rgb" : "mono", r.message);
@@ -362,7 +348,7 @@ static void compression_table(const bench_cfg *cfg, const char *src) {
       case_result r;
       char load[128];
       long rss = run_child(write_child, &a, &r);
-      load_line(load, sizeof load);
+      bench_load_line(load, sizeof load);
       if (rss < 0 || !r.ok) {
         printf("| %s | %s | failed: %s |\n", nbrdf_latent_storage_name(a.storage),
                nbrdf_latent_compression_name(a.compression), r.message);
@@ -464,7 +450,7 @@ static int layering_table(const bench_cfg *cfg) {
     big = sgemm_seconds(&sq, 4096, &big_flops);
   }
   char load[128];
-  load_line(load, sizeof load);
+  bench_load_line(load, sizeof load);
   printf("\nLayering network (bundle %s, %lld MACs per evaluation), %zu evaluations per call:\n\n",
          nbrdf_model_name(model), (long long)nbrdf_model_layering_macs(model), n);
   printf("| quantity | value |\n|---|---|\n");

@@ -158,12 +158,8 @@ int main(int argc, char **argv) {
   }
   double dsec = bench_wall_seconds() - d0;
   qsort(errs, n, sizeof *errs, cmp_double);
-  char load[128] = "";
-  FILE *f = fopen("/proc/loadavg", "r");
-  if (f) {
-    if (fgets(load, sizeof load, f)) load[14] = '\0';
-    fclose(f);
-  }
+  char load[128];
+  bench_load_line(load, sizeof load);
   printf("bench_bake_half: maps %s, bundle %s, %d x %d %s texture, level %d (%d x %d), %zu "
          "texels\n\n",
          maps, nbrdf_model_name(model), info->width, info->height, C == 3 ? "rgb" : "mono", level,

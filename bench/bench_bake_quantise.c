@@ -145,12 +145,8 @@ int main(int argc, char **argv) {
     }
     nbrdf_latent_reader_close(r);
     qsort(errs, np, sizeof *errs, cmp_double);
-    char load[128] = "";
-    FILE *f = fopen("/proc/loadavg", "r");
-    if (f) {
-      if (fgets(load, sizeof load, f)) load[14] = '\0';
-      fclose(f);
-    }
+    char load[128];
+    bench_load_line(load, sizeof load);
     char name[16];
     snprintf(name, sizeof name, bits[b] ? "%d bits" : "off", bits[b]);
     printf("| %s | %zu | %.1f %% | %.1f | %.1f | %.3f %% | %.3f %% | %.3f %% | %s |\n", name,

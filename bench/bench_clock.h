@@ -7,6 +7,7 @@
 #define NBRDF_BENCH_CLOCK_H
 
 #include <stdio.h>
+#include <string.h>
 #include <time.h>
 
 static inline double bench_wall_seconds(void) {
@@ -29,6 +30,20 @@ static inline double bench_load_average(void) {
   if (f && fscanf(f, "%lf", &l) != 1) l = -1;
   if (f) fclose(f);
   return l;
+}
+
+/* The three load averages as /proc/loadavg writes them ("" if unknown). */
+static inline void bench_load_line(char *buf, size_t n) {
+  FILE *f = fopen("/proc/loadavg", "r");
+  buf[0] = '\0';
+  if (f) {
+    if (!fgets(buf, (int)n, f)) buf[0] = '\0';
+    fclose(f);
+  }
+  char *p = buf;
+  for (int k = 0; k < 3 && p; k++)
+    p = strchr(p + 1, ' ');
+  if (p) *p = '\0';
 }
 
 #endif
