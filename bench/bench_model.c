@@ -19,6 +19,7 @@
 #include "model/bundle.h"
 
 #include "bench_clock.h"
+#include "bench_sgemm.h"
 
 static void die(nbrdf_status st, const nbrdf_error *err) {
   if (st == NBRDF_OK) return;
@@ -61,25 +62,6 @@ static double seconds(void (*fn)(job *), job *j, double min_s) {
   return (bench_wall_seconds() - t0) / n;
 }
 
-static double sgemm_gflops(int m, int n, int k) {
-  float *a = calloc((size_t)m * k, sizeof(float)), *b = calloc((size_t)n * k, sizeof(float));
-  float *c = calloc((size_t)m * n, sizeof(float));
-  for (size_t i = 0; i < (size_t)m * k; i++)
-    a[i] = (float)(i % 7) * 0.1f;
-  for (size_t i = 0; i < (size_t)n * k; i++)
-    b[i] = (float)(i % 5) * 0.1f;
-  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, m, n, k, 1.0f, a, k, b, k, 0.0f, c, n);
-  int reps = 0;
-  double t0 = bench_wall_seconds();
-  do {
-    cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, m, n, k, 1.0f, a, k, b, k, 0.0f, c, n);
-    reps++;
-  } while (bench_wall_seconds() - t0 < 0.5);
-  double t = (bench_wall_seconds() - t0) / reps;
-  free(a), free(b), free(c);
-  return 2.0 * m * n * k / t * 1e-9;
-}
-
 static void bench_decoders(const char *tmp, int quick) {
   static const size_t all[] = {1, 64, 4096, 65536}, few[] = {64, 4096};
   const size_t *batches = quick ? few : all;
@@ -97,7 +79,7 @@ static void bench_decoders(const char *tmp, int quick) {
     die(nbrdf_model_load(dir, &m, &err), &err);
     const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(m->decoder->nn);
     int width = spec->layers[0].width;
-    double peak = sgemm_gflops(4096, width, width);
+    double peak = bench_sgemm_gflops(4096, width, width, 0.5, 0);
     int64_t macs = nbrdf_model_decoder_macs(m);
     for (int b = 0; b < nb; b++) {
       size_t n = batches[b], in = (size_t)model_decoder_inputs(m->decoder);
@@ -166,7 +148,7 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
          "sgemm GFLOP/s (4096x512x512) |\n|---|---|---|---|---|\n",
          N);
   printf("| layering | %lld | %.3g | %.1f | %.1f |\n", (long long)lmacs, N / tl,
-         2.0 * lmacs * N / tl * 1e-9, sgemm_gflops(4096, 512, 512));
+         2.0 * lmacs * N / tl * 1e-9, bench_sgemm_gflops(4096, 512, 512, 0.5, 0));
   printf("| sampler | %lld | %.3g | %.1f | |\n\n",
          (long long)nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->sampler->nn)), N / ts,
          2.0 * nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->sampler->nn)) * N / ts * 1e-9);

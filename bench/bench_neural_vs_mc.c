@@ -7,7 +7,6 @@
  * per query the Monte Carlo estimator needs to match the neural error, and the
  * cost ratio at that equal error. One thread throughout (OpenBLAS and the
  * walks), CPU time. docs/SAMPLING_AND_COST.md has the figures and the command. */
-#include <cblas.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +23,7 @@
 
 #include "bench_args.h"
 #include "bench_clock.h"
+#include "bench_sgemm.h"
 
 enum { MAX_SPP = 12, PER_BRDF = NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES };
 
@@ -206,28 +206,6 @@ static double layering_cost(const nbrdf_model *m, const layer_inputs *in, size_t
   return (bench_cpu_seconds() - c0) / (double)done;
 }
 
-/* The machine's sgemm rate (GFLOP/s, 1 thread) on a 4096 x 128 x 128 product, the shape
- * of a hidden layer of a decoder batch. */
-static double sgemm_gflops(void) {
-  enum { M = 4096, K = 128, N = 128 };
-  float *a = calloc((size_t)M * K, sizeof *a), *b = calloc((size_t)K * N, sizeof *b);
-  float *c = calloc((size_t)M * N, sizeof *c);
-  if (!a || !b || !c) exit(1);
-  for (size_t i = 0; i < (size_t)M * K; i++)
-    a[i] = (float)(i % 7) * 0.1f;
-  for (size_t i = 0; i < (size_t)K * N; i++)
-    b[i] = (float)(i % 5) * 0.1f;
-  int reps = 0;
-  double c0 = bench_cpu_seconds();
-  do {
-    cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, M, N, K, 1.0f, a, K, b, N, 0.0f, c, N);
-    reps++;
-  } while (bench_cpu_seconds() - c0 < 0.5);
-  double t = (bench_cpu_seconds() - c0) / reps;
-  free(a), free(b), free(c);
-  return 2.0 * M * N * K / t * 1e-9;
-}
-
 /* ------------------------------------------------------------ matching */
 
 /* The spp at which a curve err(spp) (n points, increasing spp) reaches `target`:
@@ -270,7 +248,7 @@ int main(int argc, char **argv) {
   if (nbrdf_model_load(c.bundle, &m, &err)) die("loading the bundle", &err);
   const size_t n = (size_t)c.ref_count, D = (size_t)nbrdf_model_latent_dim(m);
   const double load0 = bench_load_average(), t0 = bench_wall_seconds();
-  const double gflops = sgemm_gflops();
+  const double gflops = bench_sgemm_gflops(4096, 128, 128, 0.5, 1);
 
   train_params *p = malloc(n * sizeof *p);
   layer_inputs in = {

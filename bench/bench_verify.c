@@ -13,27 +13,10 @@
 #include <unistd.h>
 
 #include "bench_clock.h"
+#include "bench_sgemm.h"
 #include "core/rng.h"
 #include "eval/verify_internal.h"
 #include "model/bundle.h"
-
-static double sgemm_gflops(int m, int n, int k, double *seconds) {
-  float *a = calloc((size_t)m * k, sizeof(float)), *b = calloc((size_t)n * k, sizeof(float));
-  float *c = calloc((size_t)m * n, sizeof(float));
-  for (size_t i = 0; i < (size_t)m * k; i++)
-    a[i] = (float)(i % 7) * 0.1f;
-  for (size_t i = 0; i < (size_t)n * k; i++)
-    b[i] = (float)(i % 5) * 0.1f;
-  int reps = 0;
-  double t0 = bench_cpu_seconds();
-  do {
-    cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasTrans, m, n, k, 1.0f, a, k, b, k, 0.0f, c, n);
-    reps++;
-  } while (bench_cpu_seconds() - t0 < 1.0);
-  *seconds = bench_cpu_seconds() - t0;
-  free(a), free(b), free(c);
-  return 2.0 * m * n * k * reps / *seconds * 1e-9;
-}
 
 int main(int argc, char **argv) {
   const char *bundle = NULL;
@@ -81,7 +64,7 @@ int main(int argc, char **argv) {
   double dw = bench_wall_seconds() - w0, dc = bench_cpu_seconds() - c0;
   size_t q = verify_decoder_queries(dec);
   double macs = (double)q * (double)nbrdf_model_decoder_macs(model);
-  double sg_s, sg = sgemm_gflops(16384, 32, 32, &sg_s);
+  double sg = bench_sgemm_gflops(16384, 32, 32, 1.0, 1);
 
   verify_refs *refs = verify_refs_create(walks, 1, threads);
   verify_tuple t = {{0.3f, 1.5f, 0.2f, 0.7f, 0.8f, 1.0f}};

@@ -29,34 +29,12 @@
 #include "nbrdf/brdf.h"
 
 #include "bench_clock.h"
+#include "bench_sgemm.h"
 
 static void die(nbrdf_status st, const nbrdf_error *err) {
   if (st == NBRDF_OK) return;
   fprintf(stderr, "bench_walk: %s\n", err->message);
   exit(1);
-}
-
-/* GFLOP/s of cblas_sgemm on a 4096×256×256 product (a decoder-layer shape). */
-static double sgemm_gflops(void) {
-  const int m = 4096, n = 256, k = 256;
-  float *a = malloc(sizeof(float) * m * k), *b = malloc(sizeof(float) * k * n),
-        *c = malloc(sizeof(float) * m * n);
-  for (int i = 0; i < m * k; i++)
-    a[i] = (float)(i % 7) * 0.1f;
-  for (int i = 0; i < k * n; i++)
-    b[i] = (float)(i % 5) * 0.1f;
-  cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, m, n, k, 1.0f, a, k, b, n, 0.0f, c, n);
-  int reps = 0;
-  double t0 = bench_wall_seconds();
-  do {
-    cblas_sgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, m, n, k, 1.0f, a, k, b, n, 0.0f, c, n);
-    reps++;
-  } while (bench_wall_seconds() - t0 < 1.0);
-  double gf = 2.0 * m * n * k * reps / (bench_wall_seconds() - t0) * 1e-9;
-  free(a);
-  free(b);
-  free(c);
-  return gf;
 }
 
 typedef struct bench_case {
@@ -165,7 +143,7 @@ int main(int argc, char **argv) {
   };
   nbrdf_query q[NQ];
   make_queries(q);
-  double gf = sgemm_gflops();
+  double gf = bench_sgemm_gflops(4096, 256, 256, 1.0, 0) /* a decoder-layer shape */;
   printf("cblas_sgemm 4096x256x256: %.1f GFLOP/s (OpenBLAS threads: default)\n\n", gf);
   printf("| BRDF (α1, η, α2, R0, A, σT) | threads | spp | walks/s | walks/s/core (CPU time) | "
          "noise/walk | walks per GFLOP of sgemm |\n");
