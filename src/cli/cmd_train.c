@@ -40,6 +40,7 @@ void cmd_train_usage(FILE *out) {
       "  --minutes M         stop (checkpointed) after M minutes of this invocation\n"
       "  --lr-weights X (2e-3)  --lr-latent X (1e-2)  --latent-l2 X (1e-4)\n"
       "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
+      "  --brdf-weight P (0)  weigh BRDF b's loss by max(mean log(1+f), 0.01)^-P\n"
       "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
       "  --progress=json     progress lines as JSON on stderr\n"
       "\n"
@@ -98,7 +99,7 @@ static int train_decoder(int argc, char **argv) {
   double steps = (double)s.steps, minutes = 0, rows = s.rows_per_brdf, lrw = s.lr_weights,
          lrl = s.lr_latent, l2 = s.latent_l2, decay = s.decay_every, gamma = s.decay_gamma,
          seed = (double)s.seed, ckpt = s.checkpoint_seconds / 60.0, nval = s.validation_brdfs,
-         width = 0, blocks = 0, octaves = 0;
+         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight;
   num_option nums[] = {
       {"--steps", 1, 1e12, &steps},
       {"--minutes", 0, 1e9, &minutes},
@@ -114,6 +115,7 @@ static int train_decoder(int argc, char **argv) {
       {"--width", 1, 4096, &width},
       {"--blocks", 1, 64, &blocks},
       {"--octaves", 0, MODEL_ENCODING_MAX_OCTAVES, &octaves},
+      {"--brdf-weight", 0, 2, &bweight},
   };
   train_progress prog = {0, 0};
   for (int i = 2; i < argc; i++) {
@@ -180,7 +182,7 @@ static int train_decoder(int argc, char **argv) {
   s.steps = (int64_t)steps, s.max_seconds = 60.0 * minutes, s.rows_per_brdf = (int)rows;
   s.lr_weights = (float)lrw, s.lr_latent = (float)lrl, s.latent_l2 = (float)l2;
   s.decay_every = (int)decay, s.decay_gamma = (float)gamma, s.seed = (uint64_t)seed;
-  s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval;
+  s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval, s.brdf_weight = bweight;
   s.progress = train_on_progress, s.user = &prog;
   train_watch_sigint(1);
   train_decoder_result r;

@@ -29,6 +29,12 @@ int cmd_train_tables(int argc, char **argv) {
       if (!cli_parse_int(v, 2, 1024, &n))
         return cli_usage_error("train", "--r0-nodes '%s': expected 2..1024", v);
       s.r0_nodes = (int)n;
+    } else if ((v = cli_option_value(argc, argv, &i, "--eta-warp"))) {
+      if (!cli_parse_double(v, &s.eta_warp) || !(s.eta_warp >= 0.25 && s.eta_warp <= 4))
+        return cli_usage_error("train", "--eta-warp '%s': expected 0.25..4", v);
+    } else if ((v = cli_option_value(argc, argv, &i, "--r0-warp"))) {
+      if (!cli_parse_double(v, &s.r0_warp) || !(s.r0_warp >= 0.25 && s.r0_warp <= 4))
+        return cli_usage_error("train", "--r0-warp '%s': expected 0.25..4", v);
     } else if ((v = cli_option_value(argc, argv, &i, "--steps"))) {
       if (!cli_parse_int(v, 1, 1000000, &n))
         return cli_usage_error("train", "--steps '%s': expected 1..1000000", v);

@@ -87,7 +87,8 @@ static void summarise(eval_result *r) {
   for (int i = 0; i < r->n; i++) {
     e[i] = r->cases[i].lobe_error, a[i] = r->cases[i].albedo_error;
     if (e[i] > r->worst) r->worst = e[i], r->worst_index = i;
-    if (r->cases[i].max_albedo > r->max_albedo) r->max_albedo = r->cases[i].max_albedo;
+    if (r->cases[i].max_albedo > r->max_albedo)
+      r->max_albedo = r->cases[i].max_albedo, r->max_albedo_index = i;
   }
   qsort(e, (size_t)r->n, sizeof *e, cmp_double);
   qsort(a, (size_t)r->n, sizeof *a, cmp_double);
@@ -98,6 +99,34 @@ static void summarise(eval_result *r) {
   for (int i = 0; i < r->n; i++)
     if (r->cases[i].lobe_error == r->median) r->median_index = i;
   free(e), free(a);
+}
+
+nbrdf_status eval_score_latents(model_decoder *dec, size_t n, const float *lat, const double *ref,
+                                double *approx, eval_case *cases, nbrdf_error *err) {
+  size_t D = (size_t)dec->cfg.latent_dim;
+  double *own = approx ? NULL : malloc(PER_BRDF * sizeof *own);
+  if (!approx && !own) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
+  decoder_lobe dl = {dec, {0}, NULL};
+  nbrdf_status st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &dl.runner, err);
+  for (size_t i = 0; i < n && !st; i++) {
+    dl.latent = lat + i * D;
+    const double *r = ref + i * PER_BRDF;
+    double *img = approx ? approx + i * PER_BRDF : own;
+    st = nbrdf_lobe_images(decoder_lobe_fn, &dl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
+                           nbrdf_lobe_theta_deg, img, err);
+    if (st) break;
+    eval_case *c = &cases[i];
+    c->lobe_error = nbrdf_lobe_error(PER_BRDF, r, img);
+    c->albedo_error = nbrdf_lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, r, img, NULL);
+    c->max_albedo = 0;
+    for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
+      double a = nbrdf_lobe_albedo(NBRDF_LOBE_RES, img + t * IMG);
+      if (a > c->max_albedo) c->max_albedo = a;
+    }
+  }
+  model_runner_destroy(&dl.runner);
+  free(own);
+  return st;
 }
 
 nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set,
@@ -132,23 +161,7 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
     st = train_project_params(dec, n, params, family, s->project_steps, 1, lat, err);
   for (size_t i = 0; i < n && !st && set != EVAL_REP && set != EVAL_SINGLE; i++)
     st = bundle_latent(model, &params[i], lat + i * D, err);
-  decoder_lobe dl = {dec, {0}, NULL};
-  if (!st) st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &dl.runner, err);
-  for (size_t i = 0; i < n && !st; i++) {
-    dl.latent = lat + i * D;
-    double *ref = r->ref + i * PER_BRDF, *img = r->approx + i * PER_BRDF;
-    st = nbrdf_lobe_images(decoder_lobe_fn, &dl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
-                           nbrdf_lobe_theta_deg, img, err);
-    if (st) break;
-    eval_case *c = &r->cases[i];
-    c->lobe_error = nbrdf_lobe_error(PER_BRDF, ref, img);
-    c->albedo_error = nbrdf_lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, ref, img, NULL);
-    for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
-      double a = nbrdf_lobe_albedo(NBRDF_LOBE_RES, img + t * IMG);
-      if (a > c->max_albedo) c->max_albedo = a;
-    }
-  }
-  model_runner_destroy(&dl.runner);
+  if (!st) st = eval_score_latents(dec, n, lat, r->ref, r->approx, r->cases, err);
   r->seconds_reference = t1 - t0;
   r->seconds_model = now_s() - t1;
   free(lat), free(params);

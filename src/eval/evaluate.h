@@ -59,7 +59,7 @@ typedef struct eval_result {
   int n;
   eval_case *cases;
   double median, p90, worst, median_albedo_error, max_albedo, ref_noise;
-  int worst_index, median_index;
+  int worst_index, median_index, max_albedo_index;
   double *ref, *approx; /* n × 4 × 64 × 64 lobe images, for plots */
   double seconds_reference, seconds_model;
 } eval_result;
@@ -73,6 +73,12 @@ int eval_set_parse(const char *name, eval_set *set);
 nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set,
                       const eval_settings *s, eval_result *out, nbrdf_error *err);
 void eval_result_free(eval_result *r);
+
+/* Lobe error, albedo error and maximum albedo (into cases[k]) of n latents
+ * [n × D] against reference lobe images ref [n × 4 × res²]; the decoded images
+ * go to approx (same shape) unless it is NULL. */
+nbrdf_status eval_score_latents(model_decoder *dec, size_t n, const float *lat, const double *ref,
+                                double *approx, eval_case *cases, nbrdf_error *err);
 
 /* Ground-truth lobe images of one set (cached); images [count × 4 × res²]. */
 nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images, double *noise,

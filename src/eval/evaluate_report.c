@@ -48,6 +48,8 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
             "      \"worst\": {\"index\": %d, \"lobe_error\": %.6g, \"params\": ", x->worst_index,
             x->worst);
     params_json(f, &x->cases[x->worst_index].params);
+    fprintf(f, "},\n      \"max_albedo_brdf\": {\"index\": %d, \"params\": ", x->max_albedo_index);
+    params_json(f, &x->cases[x->max_albedo_index].params);
     fprintf(f, "},\n      \"lobe_errors\": [");
     for (int i = 0; i < x->n; i++)
       fprintf(f, "%s%.5g", i ? ", " : "", x->cases[i].lobe_error);

@@ -12,7 +12,7 @@ struct model_fit {
   float *latents;
   model_fit_options opts;
   model_runner runner; /* TRAIN mode */
-  float *dy, *dx, *target;
+  float *dy, *dx, *target, *row_weight;
   size_t *row_brdf;
   float *grad_latent, *grad_weights; /* grad_weights NULL when the decoder is frozen */
   nbrdf_adam *adam_latent, *adam_weights;
@@ -25,6 +25,7 @@ void model_fit_destroy(model_fit *fit) {
   free(fit->dy);
   free(fit->dx);
   free(fit->target);
+  free(fit->row_weight);
   free(fit->row_brdf);
   free(fit->grad_latent);
   free(fit->grad_weights);
@@ -53,11 +54,12 @@ nbrdf_status model_fit_create(model_decoder *dec, size_t n_brdfs, float *latents
   fit->dy = malloc(batch * sizeof(float));
   fit->dx = malloc(batch * in * sizeof(float));
   fit->target = malloc(batch * sizeof(float));
+  fit->row_weight = malloc(batch * sizeof(float));
   fit->row_brdf = malloc(batch * sizeof(size_t));
   fit->grad_latent = malloc(n_latent * sizeof(float));
   if (opts->lr_weights > 0.0f)
     fit->grad_weights = malloc(nbrdf_nn_param_count(dec->nn) * sizeof(float));
-  if (!fit->dy || !fit->dx || !fit->target || !fit->row_brdf || !fit->grad_latent ||
+  if (!fit->dy || !fit->dx || !fit->target || !fit->row_weight || !fit->row_brdf || !fit->grad_latent ||
       (opts->lr_weights > 0.0f && !fit->grad_weights)) {
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "fit: out of memory for %zu latents", n_brdfs);
     goto fail;
@@ -98,6 +100,7 @@ static void fill_row(model_fit *fit, const model_samples *s, int r, size_t b, si
   memcpy(row, fit->latents + b * dim, dim * sizeof(float));
   model_encode(&fit->dec->cfg.encoding, 1, s->wi + 3 * idx, s->wo + 3 * idx, row + dim, in);
   fit->target[r] = s->f[idx];
+  fit->row_weight[r] = s->weight ? s->weight[b] : 1.0f;
   fit->row_brdf[r] = b;
 }
 
@@ -107,7 +110,7 @@ static nbrdf_status run_batch(model_fit *fit, int m, float scale, double *loss, 
   nbrdf_status st = nbrdf_nn_forward(dec->nn, fit->runner.ws, fit->runner.x, m, fit->runner.y, err);
   if (st != NBRDF_OK) return st;
   *loss += model_loss_sum(fit->opts.loss, dec->cfg.output, (size_t)m, fit->runner.y, fit->target,
-                          scale, fit->dy);
+                          fit->row_weight, scale, fit->dy);
   st = nbrdf_nn_backward(dec->nn, fit->runner.ws, fit->dy, fit->dx, fit->grad_weights, err);
   if (st != NBRDF_OK) return st;
   size_t dim = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
@@ -199,7 +202,7 @@ nbrdf_status model_fit_eval_loss(model_fit *fit, const model_samples *s, double 
           nbrdf_nn_forward(dec->nn, fit->runner.ws, fit->runner.x, m, fit->runner.y, err);
       if (st != NBRDF_OK) return st;
       sum += model_loss_sum(fit->opts.loss, dec->cfg.output, (size_t)m, fit->runner.y, fit->target,
-                            1.0f, NULL);
+                            NULL, 1.0f, NULL);
     }
     if (per_brdf) per_brdf[b] = sum / (double)(end - begin);
     all += sum;

@@ -31,6 +31,9 @@ typedef struct model_samples {
   const size_t *offsets; /* n_brdfs + 1 entries, offsets[0] = 0 */
   const float *wi, *wo;  /* [rows × 3] */
   const float *f;        /* [rows] */
+  /* [n_brdfs] weight of each BRDF's rows in the training loss (NULL: all 1);
+   * model_fit_eval_loss ignores it, so held-out losses stay comparable. */
+  const float *weight;
 } model_samples;
 
 typedef struct model_fit_options {

@@ -22,10 +22,10 @@ int model_loss_parse(const char *name, model_loss_kind *kind) {
 static double sign(double x) { return (x > 0.0) - (x < 0.0); }
 
 double model_loss_sum(model_loss_kind kind, model_output output, size_t n, const float *o,
-                      const float *f, float scale, float *dloss_do) {
+                      const float *f, const float *w, float scale, float *dloss_do) {
   double total = 0.0;
   for (size_t r = 0; r < n; r++) {
-    double x = o[r], pred, dpred;
+    double x = o[r], pred, dpred, wr = w ? (double)w[r] : 1.0;
     if (kind == MODEL_LOSS_L1_LOG1P) {
       if (output == MODEL_OUTPUT_LOG1P)
         pred = x, dpred = 1.0;
@@ -34,8 +34,8 @@ double model_loss_sum(model_loss_kind kind, model_output output, size_t n, const
       else
         pred = x, dpred = 1.0;
       double diff = pred - log1p((double)f[r]);
-      total += fabs(diff);
-      if (dloss_do) dloss_do[r] = (float)(scale * sign(diff) * dpred);
+      total += wr * fabs(diff);
+      if (dloss_do) dloss_do[r] = (float)(scale * wr * sign(diff) * dpred);
     } else {
       if (output == MODEL_OUTPUT_LOG1P) {
         double xc = fmin(x, 80.0);
@@ -44,8 +44,8 @@ double model_loss_sum(model_loss_kind kind, model_output output, size_t n, const
         pred = x, dpred = 1.0;
       }
       double diff = pred - (double)f[r];
-      total += fabs(diff);
-      if (dloss_do) dloss_do[r] = (float)(scale * sign(diff) * dpred);
+      total += wr * fabs(diff);
+      if (dloss_do) dloss_do[r] = (float)(scale * wr * sign(diff) * dpred);
     }
   }
   return total;

@@ -24,9 +24,10 @@ typedef enum model_loss_kind { MODEL_LOSS_L1_LOG1P = 0, MODEL_LOSS_L1 = 1 } mode
 const char *model_loss_name(model_loss_kind kind);
 int model_loss_parse(const char *name, model_loss_kind *kind);
 
-/* Sum over n rows of the loss; if dloss_do is non-NULL it receives
- * scale · ∂loss_r/∂o_r per row (scale = 1/N for a mean over N rows). */
+/* Sum over n rows of w_r · loss_r (w NULL: all weights 1); if dloss_do is
+ * non-NULL it receives scale · w_r · ∂loss_r/∂o_r per row (scale = 1/N for a
+ * mean over N rows). */
 double model_loss_sum(model_loss_kind kind, model_output output, size_t n, const float *o,
-                      const float *f, float scale, float *dloss_do);
+                      const float *f, const float *w, float scale, float *dloss_do);
 
 #endif

@@ -170,7 +170,7 @@ nbrdf_status nbrdf_model_project(const nbrdf_model *m, size_t n_brdfs, const siz
   fo.lr_weights = 0.0f; /* frozen: the fit never writes the decoder, so sharing it is safe */
   fo.seed = o->seed;
   fo.max_batch = batch_for(n_brdfs * (size_t)o->rows_per_brdf, 1);
-  model_samples samples = {n_brdfs, offsets, wi, wo, f};
+  model_samples samples = {n_brdfs, offsets, wi, wo, f, NULL};
   model_fit *fit = NULL;
   st = model_fit_create(m->decoder, n_brdfs, out, &fo, &fit, err);
   for (int s = 0; st == NBRDF_OK && s < o->steps; s++)

@@ -173,6 +173,6 @@ void train_samples_free(train_samples *s) {
 }
 
 model_samples train_samples_view(const train_samples *s) {
-  model_samples m = {s->n_brdfs, s->offsets, s->wi, s->wo, s->f};
+  model_samples m = {s->n_brdfs, s->offsets, s->wi, s->wo, s->f, NULL};
   return m;
 }

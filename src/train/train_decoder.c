@@ -95,6 +95,25 @@ void train_decoder_settings_default(train_decoder_settings *s) {
   s->validation_brdfs = 24;
 }
 
+/* The per-BRDF loss weights of settings->brdf_weight, or NULL for uniform. */
+static float *brdf_weights(const train_samples *d, double power) {
+  if (power == 0.0) return NULL;
+  float *w = malloc(d->n_brdfs * sizeof *w);
+  if (!w) return NULL;
+  double total = 0.0;
+  for (size_t b = 0; b < d->n_brdfs; b++) {
+    double m = 0.0;
+    for (size_t i = d->offsets[b]; i < d->offsets[b + 1]; i++)
+      m += log1p((double)d->f[i]);
+    m /= (double)(d->offsets[b + 1] - d->offsets[b]);
+    w[b] = (float)pow(fmax(m, 0.01), -power);
+    total += w[b];
+  }
+  for (size_t b = 0; b < d->n_brdfs; b++)
+    w[b] = (float)(w[b] * (double)d->n_brdfs / total);
+  return w;
+}
+
 nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_result *r,
                                nbrdf_error *err) {
   memset(r, 0, sizeof *r);
@@ -104,10 +123,11 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
   if (!st) st = join(dec_path, sizeof dec_path, s->run_dir, "decoder.safetensors", err);
   if (!st) st = join(log_path, sizeof log_path, s->run_dir, "log.csv", err);
   if (st) return st;
-  if (s->steps < 1 || s->rows_per_brdf < 1 || s->log_every < 1 || !(s->checkpoint_seconds > 0))
+  if (s->steps < 1 || s->rows_per_brdf < 1 || s->log_every < 1 || !(s->checkpoint_seconds > 0) ||
+      !(s->brdf_weight >= 0.0 && s->brdf_weight <= 2.0))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "train decoder: steps, rows per BRDF, log interval and checkpoint "
-                      "interval must be positive");
+                      "interval must be positive, the BRDF weight power in [0, 2]");
   if (mkdir(s->run_dir, 0777) != 0 && errno != EEXIST)
     return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create the run folder: %s", s->run_dir,
                       strerror(errno));
@@ -146,6 +166,10 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
   }
   if (!st) st = run_log_open(&log, log_path, "step,seconds,train_loss,val_loss,lr", step, err);
   model_samples view = train_samples_view(&data);
+  float *weight = st ? NULL : brdf_weights(&data, s->brdf_weight);
+  if (!st && s->brdf_weight != 0.0 && !weight)
+    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for BRDF weights");
+  view.weight = weight;
   double t0 = now_s(), last_ckpt = t0, sum = 0.0;
   int count = 0, stop = 0;
   r->train_loss = NAN;
@@ -189,6 +213,7 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
   model_fit_destroy(fit);
   model_decoder_destroy(dec);
   free(lat);
+  free(weight);
   train_samples_free(&val);
   train_samples_free(&data);
   return st;

@@ -38,6 +38,12 @@ typedef struct train_decoder_settings {
   int decay_every;
   float decay_gamma;
   model_loss_kind loss;
+  /* Loss weight of BRDF b ∝ max(m_b, 0.01)^−brdf_weight, m_b = the mean of
+   * log(1 + f) over its samples, normalised to mean 1: 0 (default) weighs
+   * every sample alike; > 0 moves the fit towards equal RELATIVE error per
+   * BRDF, which is what the lobe error measures (dim dielectrics otherwise
+   * count for little). */
+  double brdf_weight;
   uint64_t seed;
   double checkpoint_seconds;  /* at most this long between checkpoints */
   int log_every;              /* steps between log lines */

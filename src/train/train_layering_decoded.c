@@ -74,7 +74,7 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
         f[m] = data->f[k];
       }
       st = nbrdf_nn_forward(dec->nn, drun.ws, drun.x, m, drun.y, err);
-      if (!st) sum += model_loss_sum(loss, dec->cfg.output, (size_t)m, drun.y, f, 1.0f, NULL);
+      if (!st) sum += model_loss_sum(loss, dec->cfg.output, (size_t)m, drun.y, f, NULL, 1.0f, NULL);
       rows += (size_t)m;
     }
   }
@@ -192,7 +192,7 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
   st = nbrdf_nn_forward(dec->nn, t->drun.ws, t->drun.x, rows, t->drun.y, err);
   if (st) return st;
   double sum = model_loss_sum(t->loss, dec->cfg.output, (size_t)rows, t->drun.y, t->f,
-                              (float)(1.0 / rows), t->dy);
+                              NULL, (float)(1.0 / rows), t->dy);
   *loss = sum / rows;
   st = nbrdf_nn_backward(dec->nn, t->drun.ws, t->dy, t->dx, NULL, err);
   if (st) return st;

@@ -115,7 +115,7 @@ static void test_train_then_project(void) {
   o.seed = 7;
   model_fit *fit = NULL;
   CHECK_OK(model_fit_create(dec, NB, latents, &o, &fit, err), err);
-  model_samples s = {NB, offsets, wi, wo, f};
+  model_samples s = {NB, offsets, wi, wo, f, NULL};
   double first = 0.0, last = 0.0;
   CHECK_OK(model_fit_eval_loss(fit, &s, NULL, &first, err), err);
   for (int step = 0; step < 1000 && fit; step++)
@@ -139,7 +139,7 @@ static void test_train_then_project(void) {
   po.seed = 8;
   model_fit *proj = NULL;
   CHECK_OK(model_fit_create(dec, 1, z, &po, &proj, err), err);
-  model_samples hs = {1, hoff, hwi, hwo, hf};
+  model_samples hs = {1, hoff, hwi, hwo, hf, NULL};
   float before[64];
   size_t np = nbrdf_nn_param_count(dec->nn);
   memcpy(before, nbrdf_nn_params(dec->nn), sizeof before);

@@ -8,12 +8,12 @@
 #include <string.h>
 
 #include "core/rng.h"
+#include "fd_check.h"
 #include "model/autodecoder.h"
 #include "model/decoder.h"
 #include "model/layering.h"
 #include "model/loss.h"
 #include "model/sampler.h"
-#include "fd_check.h"
 #include "testing.h"
 
 static double max_abs(const float *x, size_t n) {
@@ -195,12 +195,12 @@ static void test_sampler_network(void) {
 typedef struct loss_ctx {
   model_loss_kind kind;
   model_output output;
-  float o[4], f[4];
+  float o[4], f[4], w[4];
 } loss_ctx;
 
 static double loss_value(void *p) {
   loss_ctx *c = p;
-  return model_loss_sum(c->kind, c->output, 4, c->o, c->f, 1.0f, NULL);
+  return model_loss_sum(c->kind, c->output, 4, c->o, c->f, c->w, 1.0f, NULL);
 }
 
 static void test_losses(void) {
@@ -209,19 +209,24 @@ static void test_losses(void) {
       loss_ctx c = {(model_loss_kind)kind,
                     (model_output)out,
                     {-0.4f, 0.3f, 1.7f, 2.5f},
-                    {0.5f, 3.0f, 0.2f, 40.0f}};
-      float d[4];
-      double l = model_loss_sum(c.kind, c.output, 4, c.o, c.f, 1.0f, d);
-      CHECK(isfinite(l) && l > 0.0);
+                    {0.5f, 3.0f, 0.2f, 40.0f},
+                    {1.0f, 0.25f, 3.0f, 1.5f}};
+      float d[4], d1[4];
+      double l = model_loss_sum(c.kind, c.output, 4, c.o, c.f, c.w, 1.0f, d);
+      double l1 = model_loss_sum(c.kind, c.output, 4, c.o, c.f, NULL, 1.0f, d1);
+      CHECK(isfinite(l) && l > 0.0 && fabs(l - l1) > 1e-3);
+      /* Per-row weights scale each row's gradient (NULL weights are all 1). */
+      for (int i = 0; i < 4; i++)
+        CHECK_NEAR(d[i], c.w[i] * d1[i], 1e-6 * (1.0 + fabs(d[i])));
       for (int i = 0; i < 4; i++)
         fd_check(model_loss_name(c.kind), i, c.o + i, d[i], loss_value, &c, 1e-3, 1.0);
     }
   }
   /* A perfect prediction has zero loss under both losses. */
   float o_log[1] = {(float)log1p(2.0)}, o_f[1] = {2.0f}, f[1] = {2.0f};
-  CHECK_NEAR(model_loss_sum(MODEL_LOSS_L1_LOG1P, MODEL_OUTPUT_LOG1P, 1, o_log, f, 1.0f, NULL), 0.0,
-             1e-6);
-  CHECK_NEAR(model_loss_sum(MODEL_LOSS_L1, MODEL_OUTPUT_F, 1, o_f, f, 1.0f, NULL), 0.0, 0.0);
+  CHECK_NEAR(model_loss_sum(MODEL_LOSS_L1_LOG1P, MODEL_OUTPUT_LOG1P, 1, o_log, f, NULL, 1.0f, NULL),
+             0.0, 1e-6);
+  CHECK_NEAR(model_loss_sum(MODEL_LOSS_L1, MODEL_OUTPUT_F, 1, o_f, f, NULL, 1.0f, NULL), 0.0, 0.0);
   model_loss_kind k;
   CHECK(model_loss_parse("l1-log1p", &k) && k == MODEL_LOSS_L1_LOG1P);
   CHECK(!model_loss_parse("l2", &k));
@@ -253,7 +258,8 @@ static void test_fit_gradients(void) {
   /* Targets far above what a fresh network predicts, so no residual changes sign. */
   for (int i = 0; i < NB * PER; i++)
     f[i] = (float)(30.0 + 20.0 * nbrdf_rng_uniform(&rng));
-  model_samples s = {NB, offsets, wi, wo, f};
+  const float brdf_weight[NB] = {0.5f, 2.0f, 1.25f};
+  model_samples s = {NB, offsets, wi, wo, f, brdf_weight};
   for (int out = 0; out < 2; out++) {
     for (int kind = 0; kind < 2; kind++) {
       model_decoder_config cfg;

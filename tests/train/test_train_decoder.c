@@ -1,7 +1,8 @@
 /* Decoder training end to end on a tiny data set: the loss falls, a run
  * interrupted and resumed from its checkpoint ends with the same weights as
- * an uninterrupted one, a checkpoint of other data is refused, and the base
- * tables fitted with the trained decoder load and reproduce their nodes. */
+ * an uninterrupted one, a checkpoint of other data is refused, per-BRDF loss
+ * weights take effect, and the base tables fitted with the trained decoder
+ * (warped axes) load and reproduce their nodes. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -111,13 +112,38 @@ static void test_loss_falls_and_resume_is_exact(void) {
   CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_MISMATCH, &err, "data sets");
 }
 
+/* --brdf-weight: the weighted run still learns, ends elsewhere than the
+ * unweighted one (the weights reach the gradient), and a bad power is refused. */
+static void test_brdf_weight(void) {
+  const char *data[1] = {path_of("c.nbds")};
+  nbrdf_error err;
+  train_decoder_result r;
+  train_decoder_settings s = tiny(data, path_of("run_w0"), 60);
+  CHECK_OK(train_decoder_run(&s, &r, &err), &err);
+  s = tiny(data, path_of("run_w1"), 60);
+  s.brdf_weight = 1.0;
+  CHECK_OK(train_decoder_run(&s, &r, &err), &err);
+  double first = first_logged_loss(path_of("run_w1/log.csv"));
+  CHECK_MSG(r.train_loss < 0.7 * first, "weighted loss %g -> %g", first, r.train_loss);
+  size_t na = 0, nb = 0;
+  float *a = load_params(path_of("run_w0/decoder.safetensors"), &na);
+  float *b = load_params(path_of("run_w1/decoder.safetensors"), &nb);
+  CHECK(a && b && na == nb && na > 0);
+  if (a && b && na == nb) CHECK_MSG(memcmp(a, b, na * sizeof *a), "BRDF weights had no effect");
+  free(a), free(b);
+  s = tiny(data, path_of("run_w2"), 10);
+  s.brdf_weight = 3.0;
+  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_ARGUMENT, &err, "weight power");
+}
+
 static void test_tables_from_trained_decoder(void) {
   model_decoder *dec = NULL;
   nbrdf_error err;
   CHECK_OK(model_decoder_load(path_of("run_a/decoder.safetensors"), &dec, &err), &err);
   if (!dec) return;
   train_table_settings ts = TRAIN_TABLE_SETTINGS_DEFAULT;
-  ts.alpha_nodes = 3, ts.eta_nodes = 2, ts.r0_nodes = 2, ts.steps = 30;
+  ts.alpha_nodes = 3, ts.eta_nodes = 3, ts.r0_nodes = 3, ts.steps = 30;
+  ts.eta_warp = 2.0, ts.r0_warp = 2.0;
   model_base_table t[2];
   CHECK_OK(train_tables_fit(dec, &ts, t, &err), &err);
   const model_base_table *const parts[2] = {&t[0], &t[1]};
@@ -129,6 +155,10 @@ static void test_tables_from_trained_decoder(void) {
   const float *want = t[1].latents + ((size_t)1 * t[1].n[1] + 1) * 32;
   for (int j = 0; j < 32; j++)
     CHECK_NEAR(got[j], want[j], 1e-6);
+  /* Warped axes: the middle node sits at u = 1/2, squared. */
+  CHECK_NEAR(t[0].axis[1][1], 1.05 + 0.95 * 0.25, 1e-6);
+  CHECK_NEAR(t[1].axis[1][1], 0.25, 1e-7);
+  CHECK(t[1].axis[1][0] == 0.0f && t[1].axis[1][2] == 1.0f);
   /* Projection moved the latents away from their zero start. */
   double norm = 0;
   for (size_t k = 0; k < (size_t)t[0].n[0] * t[0].n[1] * 32; k++)
@@ -141,6 +171,7 @@ static void test_tables_from_trained_decoder(void) {
 
 int main(void) {
   RUN(test_loss_falls_and_resume_is_exact);
+  RUN(test_brdf_weight);
   RUN(test_tables_from_trained_decoder);
   return nbrdf_test_finish();
 }
