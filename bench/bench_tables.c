@@ -5,13 +5,14 @@
  * Split by kind, since the dielectric table (α1, η) and the conductor table
  * (α2, R0) are separate grids.
  *
- *   bench_tables --decoder FILE [--grids 16x8x9,24x12x13] [--count 100]
- *                [--steps 800] [--eta-warp 1] [--r0-warp 1] [--csv FILE]
+ *   bench_tables --decoder FILE [--grids 16x8x9,24x12x13@2] [--count 100]
+ *                [--steps 800] [--csv FILE] [--plot FILE.png]
  *
- * A grid AxExR has A α nodes shared by both tables, E η nodes and R R0 nodes.
- * --eta-warp P places the η nodes as 1.05 + 0.95·u^P, --r0-warp P the R0
- * nodes as u^P (P > 1: denser at the dim end, where the BRDF changes fastest
- * relative to itself). */
+ * A grid AxExR[@P] has A α nodes shared by both tables, E η nodes and R R0
+ * nodes; @P places the η nodes as 1.05 + 0.95·u^P and the R0 nodes as u^P
+ * (P > 1: denser at the dim end, where the BRDF changes fastest relative to
+ * itself; default 1, uniform). The plot: 90th percentile and median against
+ * nodes, one line per warp, the projected BRDFs' as dashed floors. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +20,7 @@
 
 #include "eval/evaluate.h"
 #include "eval/lobe.h"
+#include "eval/plot.h"
 #include "model/decoder.h"
 #include "train/table_fit.h"
 
@@ -29,7 +31,7 @@
 
 static void usage(FILE *f) {
   fprintf(f, "usage: bench_tables --decoder FILE [--grids 16x8x9,...] [--count 100] "
-             "[--steps 800] [--eta-warp P] [--r0-warp P] [--csv FILE]\n");
+             "[--steps 800] [--csv FILE] [--plot FILE.png]\n");
 }
 
 static void die(const char *what, const nbrdf_error *err) {
@@ -60,12 +62,56 @@ static void stats(const double *v, const eval_case *c, int n, int kind, double o
 
 static int parse_grid(const char *s, train_table_settings *t) {
   char tail;
-  return sscanf(s, "%dx%dx%d%c", &t->alpha_nodes, &t->eta_nodes, &t->r0_nodes, &tail) == 3 &&
-         t->alpha_nodes >= 2 && t->eta_nodes >= 2 && t->r0_nodes >= 2;
+  double warp = 1.0;
+  int k = sscanf(s, "%dx%dx%d@%lf%c", &t->alpha_nodes, &t->eta_nodes, &t->r0_nodes, &warp, &tail);
+  if (k != 3 && k != 4) return 0;
+  if (k == 3 && strchr(s, '@')) return 0;
+  t->eta_warp = t->r0_warp = warp;
+  return t->alpha_nodes >= 2 && t->eta_nodes >= 2 && t->r0_nodes >= 2 && warp >= 0.25 && warp <= 4;
+}
+
+/* Table p90 and median against node count, one pair of lines per warp. */
+static void write_plot(const char *path, int n_grids, const train_table_settings *g,
+                       const double (*fig)[2], const double proj[2]) {
+  double warps[MAX_GRIDS], x[MAX_GRIDS][MAX_GRIDS], y[2][MAX_GRIDS][MAX_GRIDS];
+  int n_warps = 0, count[MAX_GRIDS] = {0};
+  for (int k = 0; k < n_grids; k++) {
+    int w = 0;
+    while (w < n_warps && warps[w] != g[k].eta_warp)
+      w++;
+    if (w == n_warps) warps[n_warps++] = g[k].eta_warp;
+    int i = count[w]++;
+    x[w][i] = g[k].alpha_nodes * (g[k].eta_nodes + g[k].r0_nodes);
+    y[0][w][i] = fig[k][1], y[1][w][i] = fig[k][0];
+  }
+  nbrdf_plot_series series[2 * MAX_GRIDS + 2];
+  char labels[2 * MAX_GRIDS][64];
+  int n = 0;
+  double fx[2] = {1e9, 0};
+  for (int w = 0; w < n_warps; w++)
+    for (int i = 0; i < count[w]; i++)
+      fx[0] = fmin(fx[0], x[w][i]), fx[1] = fmax(fx[1], x[w][i]);
+  for (int q = 0; q < 2; q++)
+    for (int w = 0; w < n_warps; w++) {
+      snprintf(labels[n], sizeof labels[n], "%s, warp %g", q ? "median" : "p90", warps[w]);
+      series[n] = (nbrdf_plot_series){labels[n], count[w], x[w], y[q][w], 0, q ? w + 1 : 0};
+      n++;
+    }
+  static double fy[2][2];
+  fy[0][0] = fy[0][1] = proj[1], fy[1][0] = fy[1][1] = proj[0];
+  series[n++] = (nbrdf_plot_series){"projected p90", 2, fx, fy[0], 1, 0};
+  series[n++] = (nbrdf_plot_series){"projected median", 2, fx, fy[1], 1, 0};
+  nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
+  o.title = "Base tables: single-set lobe error from table look-ups";
+  o.x_label = "table nodes (both tables)";
+  o.y_label = "lobe error %";
+  o.log_x = 1;
+  nbrdf_error err;
+  if (nbrdf_plot_write_png(path, &o, n, series, &err)) die(path, &err);
 }
 
 int main(int argc, char **argv) {
-  const char *decoder_path = NULL, *grids_arg = "16x8x9", *csv_path = NULL;
+  const char *decoder_path = NULL, *grids_arg = "16x8x9", *csv_path = NULL, *plot_path = NULL;
   int count = 100;
   train_table_settings base = TRAIN_TABLE_SETTINGS_DEFAULT;
   for (int i = 1; i < argc; i++) {
@@ -81,16 +127,14 @@ int main(int argc, char **argv) {
       count = atoi(v);
     else if (!strcmp(a, "--steps"))
       base.steps = atoi(v);
-    else if (!strcmp(a, "--eta-warp"))
-      base.eta_warp = atof(v);
-    else if (!strcmp(a, "--r0-warp"))
-      base.r0_warp = atof(v);
+    else if (!strcmp(a, "--plot"))
+      plot_path = v;
     else {
       usage(stderr);
       return 2;
     }
   }
-  if (!decoder_path || count < 1 || base.steps < 1 || !(base.eta_warp > 0) || !(base.r0_warp > 0)) {
+  if (!decoder_path || count < 1 || base.steps < 1) {
     usage(stderr);
     return 2;
   }
@@ -99,7 +143,7 @@ int main(int argc, char **argv) {
   char *list = strdup(grids_arg);
   for (char *tok = strtok(list, ","); tok; tok = strtok(NULL, ",")) {
     if (n_grids == MAX_GRIDS || !(grids[n_grids] = base, parse_grid(tok, &grids[n_grids]))) {
-      fprintf(stderr, "bench_tables: --grids: '%s' is not AxExR (up to %d grids)\n", tok,
+      fprintf(stderr, "bench_tables: --grids: '%s' is not AxExR[@P] (up to %d grids)\n", tok,
               MAX_GRIDS);
       return 2;
     }
@@ -137,18 +181,20 @@ int main(int argc, char **argv) {
          count, decoder_path);
   char load[128];
   bench_load_line(load, sizeof load);
-  printf("Projection %d steps per node; η nodes 1.05 + 0.95·u^%g, R0 nodes u^%g. Lobe error %% "
-         "(median / 90th pct / worst); added = table − projected, per BRDF. Load average %s.\n\n",
-         base.steps, base.eta_warp, base.r0_warp, load);
+  printf("Projection %d steps per node; grid @P: η nodes 1.05 + 0.95·u^P, R0 nodes u^P. Lobe "
+         "error %% (median / 90th pct / worst); added = table − projected, per BRDF. Load average "
+         "%s.\n\n",
+         base.steps, load);
   printf("| latents | nodes | fit CPU-s | all | dielectric | conductor | added, all | added, "
          "dielectric | added, conductor |\n|---|---|---|---|---|---|---|---|---|\n");
-  double s[3][3];
+  double s[3][3], fig[MAX_GRIDS][2], proj_fig[2];
   for (int k = 0; k < 3; k++)
     stats(err_proj, proj, count, k == 0 ? -1 : k == 1 ? TRAIN_DIELECTRIC : TRAIN_CONDUCTOR, s[k]);
   printf("| projected (%d steps) | | | %.2f / %.2f / %.1f | %.2f / %.2f / %.1f | %.2f / %.2f / "
          "%.1f | | | |\n",
          es.project_steps, s[0][0], s[0][1], s[0][2], s[1][0], s[1][1], s[1][2], s[2][0], s[2][1],
          s[2][2]);
+  proj_fig[0] = s[0][0], proj_fig[1] = s[0][1];
   fflush(stdout);
 
   for (int g = 0; g < n_grids; g++) {
@@ -177,15 +223,18 @@ int main(int argc, char **argv) {
       stats(err_tab, tab, count, kind, s[k]);
       stats(added, tab, count, kind, a[k]);
     }
+    fig[g][0] = s[0][0], fig[g][1] = s[0][1];
     int nodes = grids[g].alpha_nodes * (grids[g].eta_nodes + grids[g].r0_nodes);
-    printf("| table %dx%dx%d | %d | %.0f | %.2f / %.2f / %.1f | %.2f / %.2f / %.1f | %.2f / %.2f "
-           "/ %.1f | %.2f / %.2f | %.2f / %.2f | %.2f / %.2f |\n",
-           grids[g].alpha_nodes, grids[g].eta_nodes, grids[g].r0_nodes, nodes, fit_s, s[0][0],
-           s[0][1], s[0][2], s[1][0], s[1][1], s[1][2], s[2][0], s[2][1], s[2][2], a[0][0], a[0][1],
-           a[1][0], a[1][1], a[2][0], a[2][1]);
+    printf(
+        "| table %dx%dx%d@%g | %d | %.0f | %.2f / %.2f / %.1f | %.2f / %.2f / %.1f | %.2f / %.2f "
+        "/ %.1f | %.2f / %.2f | %.2f / %.2f | %.2f / %.2f |\n",
+        grids[g].alpha_nodes, grids[g].eta_nodes, grids[g].r0_nodes, grids[g].eta_warp, nodes,
+        fit_s, s[0][0], s[0][1], s[0][2], s[1][0], s[1][1], s[1][2], s[2][0], s[2][1], s[2][2],
+        a[0][0], a[0][1], a[1][0], a[1][1], a[2][0], a[2][1]);
     fflush(stdout);
   }
 
+  if (plot_path) write_plot(plot_path, n_grids, grids, (const double(*)[2])fig, proj_fig);
   if (csv_path) {
     FILE *f = fopen(csv_path, "w");
     if (!f) {
@@ -194,7 +243,8 @@ int main(int argc, char **argv) {
     }
     fprintf(f, "index,kind,alpha,eta_or_r0,projected");
     for (int g = 0; g < n_grids; g++)
-      fprintf(f, ",table_%dx%dx%d", grids[g].alpha_nodes, grids[g].eta_nodes, grids[g].r0_nodes);
+      fprintf(f, ",table_%dx%dx%d@%g", grids[g].alpha_nodes, grids[g].eta_nodes, grids[g].r0_nodes,
+              grids[g].eta_warp);
     fprintf(f, "\n");
     for (size_t i = 0; i < n; i++) {
       const train_params *p = &params[i];
