@@ -15,7 +15,8 @@ void cmd_train_usage(FILE *out) {
       out,
       "usage: nbrdf train decoder --data FILE[,FILE...] --run DIR [options]\n"
       "       nbrdf train tables --decoder FILE -o FILE [--alpha-nodes N] [--eta-nodes N]\n"
-      "                          [--r0-nodes N] [--steps N] [--seed S]\n"
+      "                          [--r0-nodes N] [--eta-warp P] [--r0-warp P] [--steps N]\n"
+      "                          [--seed S]\n"
       "       nbrdf train layering --data FILE[,...] --run DIR --tables FILE -o FILE\n"
       "                          [--loss latent|decoded] [--decoder FILE] [--init FILE]\n"
       "                          [--preset small|medium|paper] [--epochs N] [--batch N] [--lr X]\n"
@@ -47,6 +48,8 @@ void cmd_train_usage(FILE *out) {
       "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
       "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
       "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
+      "eta nodes 1.05 + 0.95 u^P, r0 nodes u^P (u uniform; P = 1 default, 2 is denser at the\n"
+      "dim end and measured better: docs/TRAINING.md, 'Base tables').\n"
       "layering: inputs from the tables as a bake looks them up. --loss latent (default):\n"
       "fits the latents a decoder run learned for its two-layer BRDFs (--data: the same\n"
       "files as that run). --loss decoded: the decoder (--decoder, or the run's) frozen,\n"

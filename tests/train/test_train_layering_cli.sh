@@ -11,11 +11,15 @@ D="$TMP/l2.nbds"
   --spp 16 2>/dev/null
 check "dataset" [ $? -eq 0 ]
 "$NBRDF" train decoder --data "$D" --run "$TMP/run" --preset small --steps 10 --validation 0 \
-  >/dev/null 2>&1
+  --brdf-weight 0.5 >/dev/null 2>&1
 check "decoder run" [ -f "$TMP/run/decoder.safetensors" ]
 "$NBRDF" train tables --decoder "$TMP/run/decoder.safetensors" -o "$TMP/t.safetensors" \
-  --alpha-nodes 3 --eta-nodes 2 --r0-nodes 2 --steps 5 >/dev/null 2>&1
-check "tables" [ -f "$TMP/t.safetensors" ]
+  --alpha-nodes 3 --eta-nodes 3 --r0-nodes 3 --eta-warp 2 --r0-warp 2 --steps 5 >/dev/null 2>&1
+check "tables (warped axes)" [ -f "$TMP/t.safetensors" ]
+expect_exit 2 "$NBRDF" train tables --decoder "$TMP/run/decoder.safetensors" -o "$TMP/t2.safetensors" \
+  --eta-warp 9
+check "a bad warp is named" grep -q -- "--eta-warp '9': expected 0.25..4" "$TMP/err"
+check "and writes nothing" [ ! -e "$TMP/t2.safetensors" ]
 
 common=(--data "$D" --tables "$TMP/t.safetensors" --batch 4 --rows 8)
 "$NBRDF" train layering "${common[@]}" --run "$TMP/run" --epochs 10 -o "$TMP/latent.safetensors" \
