@@ -16,14 +16,10 @@
 #include <unistd.h>
 
 #include "bench_clock.h"
+#include "bench_sort.h"
 #include "eval/verify_internal.h"
 #include "nbrdf/bake.h"
 #include "texture/latent_exr.h"
-
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return x < y ? -1 : x > y;
-}
 
 static void inputs(const char *maps, char paths[6][1024], nbrdf_bake_inputs *in) {
   static const char *files[6] = {"alpha1.png", "eta.exr",    "alpha2.png",
@@ -157,7 +153,7 @@ int main(int argc, char **argv) {
     errs[i] = nbrdf_lobe_error(VERIFY_SET * C, img[1], img[0]);
   }
   double dsec = bench_wall_seconds() - d0;
-  qsort(errs, n, sizeof *errs, cmp_double);
+  qsort(errs, n, sizeof *errs, bench_cmp_double);
   char load[128];
   bench_load_line(load, sizeof load);
   printf("bench_bake_half: maps %s, bundle %s, %d x %d %s texture, level %d (%d x %d), %zu "

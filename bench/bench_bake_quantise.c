@@ -14,15 +14,11 @@
 #include <unistd.h>
 
 #include "bench_clock.h"
+#include "bench_sort.h"
 #include "eval/verify_internal.h"
 #include "nbrdf/bake.h"
 #include "texture/latent_exr.h"
 #include "texture/oiio_shim.h"
-
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return x < y ? -1 : x > y;
-}
 
 /* Smooth float maps: every texel's tuple distinct, values spread over the
  * trained ranges. */
@@ -144,7 +140,7 @@ int main(int argc, char **argv) {
       errs[i] = b == 0 ? 0 : nbrdf_lobe_error(VERIFY_SET * C, ref + VERIFY_SET * 3 * i, img);
     }
     nbrdf_latent_reader_close(r);
-    qsort(errs, np, sizeof *errs, cmp_double);
+    qsort(errs, np, sizeof *errs, bench_cmp_double);
     char load[128];
     bench_load_line(load, sizeof load);
     char name[16];

@@ -24,6 +24,7 @@
 #include "bench_args.h"
 #include "bench_clock.h"
 #include "bench_sgemm.h"
+#include "bench_sort.h"
 
 enum { MAX_SPP = 12, PER_BRDF = NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES };
 
@@ -99,16 +100,11 @@ static void die(const char *what, const nbrdf_error *err) {
   exit(1);
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 static double quantile(const double *v, int n, double q) {
   double *s = malloc((size_t)n * sizeof *s);
   if (!s) return NAN;
   memcpy(s, v, (size_t)n * sizeof *s);
-  qsort(s, (size_t)n, sizeof *s, cmp_double);
+  qsort(s, (size_t)n, sizeof *s, bench_cmp_double);
   int k = (int)ceil(q * n) - 1;
   double r = s[k < 0 ? 0 : k];
   free(s);

@@ -21,6 +21,7 @@
 
 #include "bench_args.h"
 #include "bench_clock.h"
+#include "bench_sort.h"
 
 enum { N_THETA = 4, N_PHI = 2, MAX_CASES = N_THETA * N_PHI, N_ENV = 2 };
 static const double THETA_O[N_THETA] = {0.0, 30.0, 60.0, 80.0};
@@ -161,11 +162,6 @@ static double sun_azimuth(const eval_env *env) {
 
 /* ------------------------------------------------------------ statistics */
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 /* Quantile q of n values (sorted copy; non-finite ones count as +Inf). */
 static double quantile(const double *v, int n, double q) {
   double *s = malloc((size_t)n * sizeof *s);
@@ -175,7 +171,7 @@ static double quantile(const double *v, int n, double q) {
   }
   for (int i = 0; i < n; i++)
     s[i] = isfinite(v[i]) ? v[i] : INFINITY;
-  qsort(s, (size_t)n, sizeof *s, cmp_double);
+  qsort(s, (size_t)n, sizeof *s, bench_cmp_double);
   int k = (int)ceil(q * n) - 1;
   double r = s[k < 0 ? 0 : k];
   free(s);
@@ -287,7 +283,8 @@ int main(int argc, char **argv) {
             "the decoder's %s. Wall %.0f s, CPU %.0f s; load average %.2f at the start, %.2f at "
             "the end (shared 2-core machine).\n\n",
             c.bundle, nbrdf_model_name(m), nbrdf_model_checksum(m), c.count, n_cases / c.count,
-            c.reps, phi_sun * 180 / M_PI, c.swap ? "wo" : "wi", wall, cpu, load0, bench_load_average());
+            c.reps, phi_sun * 180 / M_PI, c.swap ? "wo" : "wi", wall, cpu, load0,
+            bench_load_average());
     for (int e = 0; e < N_ENV; e++) {
       if (!cases[e]) continue;
       fprintf(f, "### %s\n\n",
@@ -427,8 +424,8 @@ int main(int argc, char **argv) {
     ry[0][i] = r->var[0][K] / r->var[EVAL_IS_COSINE][K];
     ry[1][i] = r->var[0][K] / r->var[EVAL_IS_GGX][K];
   }
-  qsort(ry[0], (size_t)n_cases, sizeof *ry[0], cmp_double);
-  qsort(ry[1], (size_t)n_cases, sizeof *ry[1], cmp_double);
+  qsort(ry[0], (size_t)n_cases, sizeof *ry[0], bench_cmp_double);
+  qsort(ry[1], (size_t)n_cases, sizeof *ry[1], bench_cmp_double);
   double one[2] = {1, 1}, ends[2] = {0, 100};
   nbrdf_plot_series rs[3] = {{"proxy / cosine", n_cases, rx, ry[0], 0, 0},
                              {"proxy / ggx", n_cases, rx, ry[1], 0, 0},

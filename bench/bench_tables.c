@@ -26,6 +26,7 @@
 
 #include "bench_args.h"
 #include "bench_clock.h"
+#include "bench_sort.h"
 
 #define MAX_GRIDS 8
 
@@ -39,11 +40,6 @@ static void die(const char *what, const nbrdf_error *err) {
   exit(1);
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 /* Median, 90th percentile and worst of the values v[k] whose case matches `kind`
  * (-1: all), as percentages. */
 static void stats(const double *v, const eval_case *c, int n, int kind, double out[3]) {
@@ -53,7 +49,7 @@ static void stats(const double *v, const eval_case *c, int n, int kind, double o
     if (kind < 0 || (int)c[k].params.kind == kind) s[m++] = v[k];
   out[0] = out[1] = out[2] = NAN;
   if (m > 0) {
-    qsort(s, (size_t)m, sizeof *s, cmp_double);
+    qsort(s, (size_t)m, sizeof *s, bench_cmp_double);
     int k90 = (int)ceil(0.9 * m) - 1;
     out[0] = 100 * s[m / 2], out[1] = 100 * s[k90 < 0 ? 0 : k90], out[2] = 100 * s[m - 1];
   }
