@@ -93,7 +93,7 @@ static void write_plot(const char *path, int n_grids, const train_table_settings
       series[n] = (nbrdf_plot_series){labels[n], count[w], x[w], y[q][w], 0, q ? w + 1 : 0};
       n++;
     }
-  static double fy[2][2];
+  double fy[2][2];
   fy[0][0] = fy[0][1] = proj[1], fy[1][0] = fy[1][1] = proj[0];
   series[n++] = (nbrdf_plot_series){"projected p90", 2, fx, fy[0], 1, 0};
   series[n++] = (nbrdf_plot_series){"projected median", 2, fx, fy[1], 1, 0};

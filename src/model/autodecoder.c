@@ -59,8 +59,8 @@ nbrdf_status model_fit_create(model_decoder *dec, size_t n_brdfs, float *latents
   fit->grad_latent = malloc(n_latent * sizeof(float));
   if (opts->lr_weights > 0.0f)
     fit->grad_weights = malloc(nbrdf_nn_param_count(dec->nn) * sizeof(float));
-  if (!fit->dy || !fit->dx || !fit->target || !fit->row_weight || !fit->row_brdf || !fit->grad_latent ||
-      (opts->lr_weights > 0.0f && !fit->grad_weights)) {
+  if (!fit->dy || !fit->dx || !fit->target || !fit->row_weight || !fit->row_brdf ||
+      !fit->grad_latent || (opts->lr_weights > 0.0f && !fit->grad_weights)) {
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "fit: out of memory for %zu latents", n_brdfs);
     goto fail;
   }

@@ -20,7 +20,7 @@ typedef struct train_table_settings {
   /* 1: uniform; > 1: denser at the dim end (η near 1.05, R0 near 0), where a
    * latent changes fastest relative to the BRDF's own size. */
   double eta_warp, r0_warp;
-  int steps;       /* projection steps */
+  int steps; /* projection steps */
   uint64_t seed;
   nbrdf_progress_fn progress; /* stage "tables", done/total in steps */
   void *user;

@@ -191,8 +191,8 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
   int rows = m * (int)R;
   st = nbrdf_nn_forward(dec->nn, t->drun.ws, t->drun.x, rows, t->drun.y, err);
   if (st) return st;
-  double sum = model_loss_sum(t->loss, dec->cfg.output, (size_t)rows, t->drun.y, t->f,
-                              NULL, (float)(1.0 / rows), t->dy);
+  double sum = model_loss_sum(t->loss, dec->cfg.output, (size_t)rows, t->drun.y, t->f, NULL,
+                              (float)(1.0 / rows), t->dy);
   *loss = sum / rows;
   st = nbrdf_nn_backward(dec->nn, t->drun.ws, t->dy, t->dx, NULL, err);
   if (st) return st;
