@@ -65,7 +65,18 @@ static void test_deterministic(void) {
     float *c = render(&o, NBRDF_OK);
     size_t n = sizeof(float) * 3 * (size_t)o.width * o.height;
     if (a && b && c) {
-      CHECK_MSG(!memcmp(a, b, n), "mode %d: 1 and 2 threads differ", mode);
+      /* The Monte Carlo reference is ours alone: bit-identical for any thread
+       * count. The neural image goes through the BLAS, whose rounding may
+       * depend on how it threads a call: equal within float rounding. */
+      double worst = 0;
+      for (size_t i = 0; i < n / sizeof(float); i++) {
+        double d = fabs((double)a[i] - b[i]) / fmax(1e-6, fabs(a[i]));
+        if (!(d <= worst)) worst = isnan(d) ? HUGE_VAL : d;
+      }
+      if (mode)
+        CHECK_MSG(!memcmp(a, b, n), "mode %d: 1 and 2 threads differ", mode);
+      else
+        CHECK_MSG(worst <= 1e-4, "mode %d: 1 and 2 threads differ by %.3g", mode, worst);
       CHECK_MSG(memcmp(a, c, n) != 0, "mode %d: another seed gives the same image", mode);
       int finite = 1;
       for (size_t i = 0; i < 3 * (size_t)o.width * o.height; i++)
