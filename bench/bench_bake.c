@@ -27,6 +27,7 @@
 #include <unistd.h>
 
 #include "bench_clock.h"
+#include "bench_kernels.h"
 #include "model/bundle.h"
 #include "nbrdf/bake.h"
 #include "nn/nn.h"
@@ -471,7 +472,15 @@ static int layering_table(const bench_cfg *cfg) {
 
 /* ---------------------------------------------------------------- main -- */
 
+static int bench_main(int argc, char **argv);
+
 int main(int argc, char **argv) {
+  const char *second = bench_kernels_header(bench_kernels_take_option(&argc, argv));
+  int status = bench_main(argc, argv);
+  return status == 0 && second ? bench_kernels_rerun(second, argv) : status;
+}
+
+static int bench_main(int argc, char **argv) {
   bench_cfg cfg = {"models/default", NULL, -1};
   char sizes[128] = "1024";
   int big = 8192, compression = 1, layering = 1;
@@ -493,7 +502,8 @@ int main(int argc, char **argv) {
       layering = 0;
     else {
       fprintf(stderr, "usage: bench_bake [--bundle DIR] [--sizes 1024,4096] [--big 8192] "
-                      "[--dir TMP] [--cache N] [--no-compression] [--no-layering]\n");
+                      "[--dir TMP] [--cache N] [--no-compression] [--no-layering] "
+                      "[--kernels OPENBLAS_CORE]\n");
       return 2;
     }
   }

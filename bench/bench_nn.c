@@ -22,6 +22,7 @@
 #include "nn/nn.h"
 
 #include "bench_clock.h"
+#include "bench_kernels.h"
 
 #define ROUNDS 3                     /* interleaved rounds of network and replay timings */
 #define TRAIN_BYTES_CAP (1ull << 30) /* training workspaces stay under 1 GiB; chunk beyond */
@@ -320,7 +321,15 @@ static void threads_study(double min_s) {
   }
 }
 
+static int bench_main(int argc, char **argv);
+
 int main(int argc, char **argv) {
+  const char *second = bench_kernels_header(bench_kernels_take_option(&argc, argv));
+  int status = bench_main(argc, argv);
+  return status == 0 && second ? bench_kernels_rerun(second, argv) : status;
+}
+
+static int bench_main(int argc, char **argv) {
   int quick = 0, threads = 0;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--quick"))
@@ -328,7 +337,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--threads"))
       threads = 1;
     else {
-      fprintf(stderr, "usage: bench_nn [--quick | --threads]\n");
+      fprintf(stderr, "usage: bench_nn [--quick | --threads] [--kernels OPENBLAS_CORE]\n");
       return 2;
     }
   }

@@ -2,9 +2,11 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/cli_blas.h"
 #include "nbrdf/nbrdf.h"
 
 int main(int argc, char **argv) {
+  cli_blas_prefer_wide(argv);
   if (argc < 2) {
     cli_commands[0].run(1, argv); /* the overview of 'help' */
     return CLI_EXIT_USAGE;
@@ -12,6 +14,7 @@ int main(int argc, char **argv) {
   const char *name = argv[1];
   if (!strcmp(name, "--version") || !strcmp(name, "version")) {
     printf("nbrdf %s\n", nbrdf_version());
+    cli_blas_describe(stdout);
     return CLI_EXIT_OK;
   }
   if (cli_is_help(name)) name = "help";
