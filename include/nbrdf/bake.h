@@ -9,12 +9,15 @@
  * tuple is evaluated once, so painted maps with few distinct values and
  * constant inputs cost (almost) nothing per texel.
  *
+ * Example (`model` a loaded bundle, nbrdf_model_load; tests/docs compiles it):
+ *   nbrdf_error err;
  *   nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
  *   nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA1], 0.2f);
- *   in.param[NBRDF_BAKE_R0].path = "r0.png";
- *   ...
+ *   in.param[NBRDF_BAKE_R0].path = "r0.png"; // the other four likewise
  *   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
- *   nbrdf_status st = nbrdf_bake(model, &in, &opts, "out.exr", &err);
+ *   nbrdf_bake_report rep;
+ *   if (nbrdf_bake(model, &in, &opts, "out.exr", &rep, &err) != NBRDF_OK)
+ *     fprintf(stderr, "bake: %s\n", err.message);
  *
  * A failed or cancelled bake leaves no output file and never touches an
  * input; the output is written to a temporary file and renamed on success.

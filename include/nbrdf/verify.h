@@ -11,10 +11,12 @@
  * of the BRDFs, since lobe images are linear in f — which measures what
  * averaging latents costs.
  *
+ * Example (`model` a loaded bundle, `in` the bake's inputs; tests/docs compiles it):
+ *   nbrdf_error err;
  *   nbrdf_verify_options opts = NBRDF_VERIFY_OPTIONS_DEFAULT;
  *   nbrdf_verify_report *rep = NULL;
- *   nbrdf_status st = nbrdf_verify(model, "tex.exr", &inputs, &opts, &rep, &err);
- *   ... rep->overall.median ...
+ *   if (nbrdf_verify(model, "tex.exr", &in, &opts, &rep, &err) == NBRDF_OK)
+ *     printf("median lobe error %.2f %%\n", rep->overall.median);
  *   nbrdf_verify_report_free(rep);
  *
  * The parameter inputs are those of nbrdf_bake (nbrdf_bake_inputs). A

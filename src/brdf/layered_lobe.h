@@ -1,7 +1,7 @@
 /* Whole-lobe estimation of a layered BRDF: for a fixed ωi, every random walk
  * contributes to f(ωi, ωo_k) for all k at once (next-event estimation and
  * the exit terms are evaluated towards every ωo_k at every vertex), which
- * amortises the walk itself over thousands of lobe pixels (METRICS.md, "Noise
+ * amortises the walk itself over thousands of lobe pixels (docs/METRICS.md, "Noise
  * of the ground truth itself"). Same estimator as bsdf_layered_walk, started
  * from ωi (the BRDF is reciprocal), so the results are unbiased with the same
  * expectation as per-query evaluation; the pixels of one image are correlated
@@ -23,7 +23,7 @@
 int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
                       uint64_t seed, int threads, double *f, double *f_se);
 
-/* The lobe image of METRICS.md with src/eval/lobe.h's pixel convention:
+/* The lobe image of docs/METRICS.md with src/eval/lobe.h's pixel convention:
  * res×res, row 0 at the top, pixel (row, col) centred at
  * x = −1 + (col + ½)·2/res, y = 1 − (row + ½)·2/res, ωo = (x, y, √(1 − x² − y²)),
  * ωi = (sin θi, 0, cos θi); value f(ωi, ωo) cos θo, 0 outside the disk. */

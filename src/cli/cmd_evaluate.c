@@ -1,4 +1,4 @@
-/* nbrdf evaluate: the METRICS.md figures of a model on the held-out sets. */
+/* nbrdf evaluate: the docs/METRICS.md figures of a model on the held-out sets. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,9 +13,9 @@ void cmd_evaluate_usage(FILE *out) {
           "                      [--count N] [--walks N] [--noise-brdfs N] [--steps N]\n"
           "                      [--cache DIR] [--json FILE] [--plots DIR] [--progress=json]\n"
           "\n"
-          "Lobe error and albedo error (METRICS.md) of a model on the held-out sets, which no\n"
-          "training ever sees: rep (two-layer BRDFs projected), single (conductors and\n"
-          "dielectrics projected), layer (two-layer, tables + layering network, as a bake\n"
+          "Lobe error and albedo error (docs/METRICS.md) of a model on the held-out sets,\n"
+          "which no training ever sees: rep (two-layer BRDFs projected), single (conductors\n"
+          "and dielectrics projected), layer (two-layer, tables + layering network, as a bake\n"
           "does), layer3 (three layers, recursive layering), table (the single BRDFs from the\n"
           "bundle's base tables: their interpolation error). A decoder alone serves rep and\n"
           "single. References: exact for single BRDFs, the whole-lobe estimator with --walks\n"

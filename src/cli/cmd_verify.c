@@ -21,8 +21,9 @@ void cmd_verify_usage(FILE *out) {
                "Compares a baked latent texture with the physics it stands for: per texel, the\n"
                "decoded lobe images (64x64 at theta_i = 0, 30, 60, 80 degrees) against those of\n"
                "the Monte Carlo ground truth of the texel's parameters (lobe error and albedo\n"
-               "error of METRICS.md). A texel of mip level k is compared with the average of the\n"
-               "ground truth over its level-0 footprint. Pass the same inputs as to 'nbrdf bake'.\n"
+               "error of docs/METRICS.md). A texel of mip level k is compared with the average\n"
+               "of the ground truth over its level-0 footprint. Pass the same inputs as to\n"
+               "'nbrdf bake'.\n"
                "\n"
                "inputs (as for 'nbrdf bake'; --roughness defaults to the texture's setting):\n");
   cli_params_usage(out);

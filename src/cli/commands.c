@@ -29,7 +29,7 @@ const cli_command cli_commands[] = {
     {"dataset", "generate, resume or check ground-truth training data", cmd_dataset,
      cmd_dataset_usage},
     {"train", "train the networks (checkpointed, resumable)", cmd_train, cmd_train_usage},
-    {"evaluate", "model quality on the held-out sets (METRICS.md)", cmd_evaluate,
+    {"evaluate", "model quality on the held-out sets (docs/METRICS.md)", cmd_evaluate,
      cmd_evaluate_usage},
 };
 const int cli_command_count = (int)(sizeof cli_commands / sizeof cli_commands[0]);

@@ -1,4 +1,4 @@
-/* Model quality on the held-out sets of METRICS.md (`nbrdf evaluate`): for
+/* Model quality on the held-out sets of docs/METRICS.md (`nbrdf evaluate`): for
  * each BRDF of a set, the lobe images of the ground truth and of the neural
  * model at θi ∈ {0°, 30°, 60°, 80°}, their lobe error and albedo error.
  *
@@ -15,7 +15,7 @@
  * References: analytic BRDFs are evaluated exactly; layered ones by the
  * whole-lobe estimator with `walks` walks per image. The reference's own
  * noise is measured as the lobe error between two seeds on the first
- * `noise_brdfs` BRDFs (METRICS.md asks for it beside every figure).
+ * `noise_brdfs` BRDFs (docs/METRICS.md asks for it beside every figure).
  * References are cached in `cache_dir` (if set) as safetensors files keyed by
  * set, count and walks, since they cost far more than the model. */
 #ifndef NBRDF_EVAL_EVALUATE_H
@@ -35,7 +35,7 @@ typedef enum eval_set {
 } eval_set;
 
 typedef struct eval_settings {
-  int count;         /* BRDFs per set (METRICS.md: >= 100) */
+  int count;         /* BRDFs per set (docs/METRICS.md: >= 100) */
   int walks;         /* whole-lobe walks per reference image */
   int noise_brdfs;   /* BRDFs whose reference is recomputed with a second seed */
   int project_steps; /* projection steps (rep, single) */

@@ -1,4 +1,4 @@
-/* Lobe images and the accuracy metrics of METRICS.md, shared by the ground-truth
+/* Lobe images and the accuracy metrics of docs/METRICS.md, shared by the ground-truth
  * benchmark, `nbrdf verify` and `nbrdf evaluate`.
  *
  * A lobe image of a single-channel BRDF f at incidence θi (φi = 0) is a res×res
@@ -17,7 +17,7 @@
 #include "nbrdf/brdf.h"
 #include "nbrdf/status.h"
 
-/* The standard set of METRICS.md: 64×64 images at θi ∈ {0°, 30°, 60°, 80°}. */
+/* The standard set of docs/METRICS.md: 64×64 images at θi ∈ {0°, 30°, 60°, 80°}. */
 #define NBRDF_LOBE_RES 64
 #define NBRDF_LOBE_N_THETA 4
 extern const double nbrdf_lobe_theta_deg[NBRDF_LOBE_N_THETA];

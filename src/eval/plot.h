@@ -1,4 +1,4 @@
-/* Line plots as PNG (speed/accuracy trade-offs, METRICS.md: "a plot accompanies
+/* Line plots as PNG (speed/accuracy trade-offs, docs/METRICS.md: "a plot accompanies
  * each table"), rasterised here so that no plotting tool is needed: axes with
  * linear or logarithmic scales, tick labels, a title, axis labels and a legend
  * in a built-in 5×7 pixel font (ASCII; lower case is drawn as upper case). */

@@ -1,5 +1,5 @@
 /* The texture's side of verify: one latent decoded into the lobe images of
- * METRICS.md. The query directions are built once; latents decoded before
+ * docs/METRICS.md. The query directions are built once; latents decoded before
  * are served from a small cache, since a texture baked from constants or a
  * few painted values repeats the same latent in most texels. */
 #include <math.h>

@@ -1,5 +1,5 @@
 /* The verify report as JSON for pipelines (fields: docs/VERIFY.md). Lobe
- * errors are in percent, as METRICS.md reports them; a damaged texel's
+ * errors are in percent, as docs/METRICS.md reports them; a damaged texel's
  * infinite error is written as null (JSON has no infinity). */
 #include <cjson/cJSON.h>
 #include <math.h>

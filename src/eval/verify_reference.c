@@ -3,7 +3,7 @@
  * painted regions) share one reference, which is what keeps verify cheap on
  * real maps. Each reference is two independent runs of the whole-lobe
  * estimator (src/brdf/layered_lobe.h): their mean is compared with the
- * texture, their difference is the reference's own noise (METRICS.md). */
+ * texture, their difference is the reference's own noise (docs/METRICS.md). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

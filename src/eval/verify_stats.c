@@ -1,4 +1,4 @@
-/* Summaries of verify's per-texel errors (METRICS.md reports the median and
+/* Summaries of verify's per-texel errors (docs/METRICS.md reports the median and
  * the 90th percentile), and the report's memory. */
 #include <math.h>
 #include <stdlib.h>

@@ -44,7 +44,7 @@ typedef struct train_params {
   double base_alpha, base_r0, base_eta;
 } train_params;
 
-/* The held-out sets of METRICS.md. */
+/* The held-out sets of docs/METRICS.md. */
 typedef enum train_heldout {
   TRAIN_HELDOUT_REP = 1,    /* two-layer BRDFs (projected) */
   TRAIN_HELDOUT_LAYER = 2,  /* two-layer BRDFs (end to end) */
