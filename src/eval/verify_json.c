@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "eval/verify_internal.h"
-#include "texture/output_file.h"
+#include "core/output_file.h"
 
 static void number(cJSON *o, const char *key, double v) {
   if (isfinite(v))
