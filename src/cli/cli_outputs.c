@@ -34,9 +34,13 @@ void cli_inputs_add_model(cli_inputs *in, const nbrdf_model *model) {
     cli_inputs_add(in, files[i]);
 }
 
-static const char *const bundle_files[] = {"model.json",          "decoder.safetensors",
-                                           "layering.safetensors", "sampler.safetensors",
-                                           "base_tables.safetensors", "MODEL_CARD.md", NULL};
+static const char *const bundle_files[] = {"model.json",
+                                           "decoder.safetensors",
+                                           "layering.safetensors",
+                                           "sampler.safetensors",
+                                           "base_tables.safetensors",
+                                           "MODEL_CARD.md",
+                                           NULL};
 
 void cli_inputs_add_bundle_dir(cli_inputs *in, const char *dir) {
   const char *const *names = bundle_files;
@@ -55,8 +59,7 @@ void cli_inputs_add_bundle_dir(cli_inputs *in, const char *dir) {
 static int same_file(const char *a, const char *b) {
   if (!strcmp(a, b)) return 1;
   struct stat sa, sb;
-  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev &&
-         sa.st_ino == sb.st_ino;
+  return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
 int cli_outputs_check(const char *cmd, const cli_inputs *in, const char *const *outputs,

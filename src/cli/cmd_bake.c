@@ -46,7 +46,9 @@ void cmd_bake_usage(FILE *out) {
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
-      "Ctrl-C cancels cleanly: no output file is left.\n"
+      "Ctrl-C, SIGTERM or SIGHUP cancel cleanly: no output file is left. An output that\n"
+      "is one of the inputs (a map, a bundle file), a FIFO or device, or read-only is\n"
+      "refused (docs/RELIABILITY.md).\n"
       "exit status: 0 success, 1 failure (the message names the file and texel), 2 bad usage\n");
 }
 

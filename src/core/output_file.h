@@ -27,8 +27,8 @@
 #include "nbrdf/status.h"
 
 typedef struct nbrdf_output_file {
-  char *path;      /* the destination */
-  char *temp_path; /* the named temporary file, or NULL for an unnamed (O_TMPFILE) one */
+  char *path;         /* the destination */
+  char *temp_path;    /* the named temporary file, or NULL for an unnamed (O_TMPFILE) one */
   char proc_path[32]; /* "/proc/self/fd/N" of an unnamed temporary file */
   int fd;             /* open for writing until commit or abort */
   int keep_mode;      /* the destination existed: its mode and owner are carried over */
@@ -69,7 +69,6 @@ void nbrdf_output_file_abort(nbrdf_output_file *f);
 
 /* The whole of `data` as the file `path` (open, write, commit). */
 nbrdf_status nbrdf_output_file_write_all(const char *path, const void *data, size_t n,
-                                         const char *const *inputs, int n_inputs,
-                                         nbrdf_error *err);
+                                         const char *const *inputs, int n_inputs, nbrdf_error *err);
 
 #endif

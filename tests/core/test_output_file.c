@@ -203,8 +203,7 @@ static void test_read_only_refused_and_mode_kept(void) {
   put(ro, "keep");
   CHECK(chmod(ro, 0444) == 0);
   nbrdf_output_file f;
-  CHECK_FAILS(nbrdf_output_file_open(&f, ro, NULL, 0, err), NBRDF_ERR_ARGUMENT, err,
-              "read-only");
+  CHECK_FAILS(nbrdf_output_file_open(&f, ro, NULL, 0, err), NBRDF_ERR_ARGUMENT, err, "read-only");
   CHECK(file_is(ro, "keep"));
   CHECK((mode_of(ro) & 07777) == 0444);
 
@@ -247,8 +246,7 @@ static void test_inputs_refused(void) {
   }
   /* The input named through a link is caught the other way round too. */
   const char *via_link[1] = {sym};
-  CHECK_FAILS(nbrdf_output_check(input, via_link, 1, err), NBRDF_ERR_ARGUMENT, err,
-              "is the input");
+  CHECK_FAILS(nbrdf_output_check(input, via_link, 1, err), NBRDF_ERR_ARGUMENT, err, "is the input");
   CHECK(file_is(input, "pixels"));
   CHECK(count_entries(dir) == 3);
   char fresh[700];
