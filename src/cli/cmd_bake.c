@@ -174,7 +174,8 @@ int cmd_bake(int argc, char **argv) {
       json_string(err.message);
       printf("}\n");
     }
-    if (st == NBRDF_ERR_CANCELLED) return cli_fail("bake", "%s: cancelled; no file written", cli_cancel_reason());
+    if (st == NBRDF_ERR_CANCELLED)
+      return cli_fail("bake", "%s: cancelled; no file written", cli_cancel_reason());
     return cli_fail_error("bake", &err);
   }
   if (ps.json) {

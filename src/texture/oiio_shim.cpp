@@ -211,7 +211,8 @@ extern "C" nbrdf_status nbrdf_image_write(const char *path, int width, int heigh
     }
     ImageSpec spec(width, height, channels, to_type(format));
     if (channels == 4) spec.alpha_channel = 3;
-    bool ok = out->open(nbrdf_output_file_name(&f), spec) && out->write_image(TypeDesc::FLOAT, pixels);
+    bool ok =
+        out->open(nbrdf_output_file_name(&f), spec) && out->write_image(TypeDesc::FLOAT, pixels);
     std::string why = ok ? std::string() : first_line(out->geterror());
     ok = out->close() && ok;
     if (!ok) {

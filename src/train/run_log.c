@@ -59,8 +59,7 @@ nbrdf_status run_log_open(run_log *log, const char *path, const char *header, in
   if (st != NBRDF_OK) return st;
   log->f = fopen(path, "a");
   if (!log->f)
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot append to the log: %s", path,
-                      strerror(errno));
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot append to the log: %s", path, strerror(errno));
   return NBRDF_OK;
 }
 

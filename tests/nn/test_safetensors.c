@@ -310,8 +310,7 @@ static void test_save_failures_leave_nothing(void) {
   CHECK(mkdir(dir, 0777) == 0);
   snprintf(path, sizeof path, "%s/target", dir);
   CHECK(mkdir(path, 0777) == 0);
-  CHECK_FAILS(nbrdf_st_writer_save(w, path, NULL, err), NBRDF_ERR_ARGUMENT, err,
-              "is a directory");
+  CHECK_FAILS(nbrdf_st_writer_save(w, path, NULL, err), NBRDF_ERR_ARGUMENT, err, "is a directory");
   CHECK(count_entries(dir) == 1);
 
   /* A write that fails half-way (file size limit; works as root too): the existing file is
