@@ -60,10 +60,13 @@ nbrdf_status nbrdf_output_check(const char *path, const char *const *inputs, int
   return NBRDF_OK;
 }
 
-/* Seconds since the epoch at which this process started (from /proc), or now
- * when /proc cannot tell. */
-static time_t process_start(void) {
-  time_t now = time(NULL);
+/* Seconds since the epoch at which this process started: now less the time since its start
+ * (its start and the uptime both count from boot, in /proc), so no boot-time rounding enters.
+ * Now when /proc cannot tell. */
+static double process_start(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  double now = (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
   FILE *fp = fopen("/proc/self/stat", "r");
   if (!fp) return now;
   char buf[1024];
@@ -72,21 +75,19 @@ static time_t process_start(void) {
   buf[n] = '\0';
   char *p = strrchr(buf, ')'); /* the command name may hold spaces */
   unsigned long long ticks = 0;
-  /* Field 22 (starttime); p + 2 is field 3. */
+  /* p + 1 is the space before field 3; the loop stops at the one before field 22 (starttime). */
   for (int field = 3; p && field <= 22; field++)
     p = strchr(p + 1, ' ');
   if (!p || sscanf(p + 1, "%llu", &ticks) != 1) return now;
-  fp = fopen("/proc/stat", "r");
+  double uptime = -1;
+  fp = fopen("/proc/uptime", "r");
   if (!fp) return now;
-  char line[256];
-  long long btime = -1;
-  while (fgets(line, sizeof line, fp))
-    if (sscanf(line, "btime %lld", &btime) == 1) break;
+  if (fscanf(fp, "%lf", &uptime) != 1) uptime = -1;
   fclose(fp);
   long hz = sysconf(_SC_CLK_TCK);
-  if (btime < 0 || hz <= 0) return now;
-  time_t start = (time_t)(btime + (long long)(ticks / (unsigned long long)hz));
-  return start < now ? start : now;
+  if (uptime < 0 || hz <= 0) return now;
+  double age = uptime - (double)ticks / (double)hz;
+  return age > 0 ? now - age : now;
 }
 
 static int is_temp_name(const char *name) {
@@ -105,7 +106,7 @@ static int is_temp_name(const char *name) {
 static void remove_stale_temps(const char *dir) {
   DIR *d = opendir(dir);
   if (!d) return;
-  time_t start = process_start();
+  double start = process_start();
   uid_t me = geteuid();
   int dfd = dirfd(d);
   struct dirent *e;
@@ -113,7 +114,7 @@ static void remove_stale_temps(const char *dir) {
     if (!is_temp_name(e->d_name)) continue;
     struct stat sb;
     if (fstatat(dfd, e->d_name, &sb, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(sb.st_mode) ||
-        sb.st_uid != me || sb.st_mtime >= start)
+        sb.st_uid != me || (double)sb.st_mtim.tv_sec + 1e-9 * (double)sb.st_mtim.tv_nsec >= start)
       continue;
     int fd = openat(dfd, e->d_name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) continue;
