@@ -128,8 +128,12 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   if (st != NBRDF_OK) return st;
   if (W == 0) W = H = 1;
   int rgb = 0;
-  const char *inputs[NBRDF_BAKE_PARAM_COUNT];
-  int n_inputs = 0;
+  /* Every file the bake reads: the maps and the bundle's files (no output may replace them). */
+  const char *inputs[NBRDF_BAKE_PARAM_COUNT + 8];
+  const char *const *model_files;
+  int n_inputs = nbrdf_model_files(model, &model_files);
+  for (int i = 0; i < n_inputs; i++)
+    inputs[i] = model_files[i];
   char sources[4096] = "";
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
     rgb |= nbrdf_param_source_channels(src[id]) == 3;

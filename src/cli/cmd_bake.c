@@ -8,6 +8,7 @@
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
 #include "nbrdf/bake.h"
@@ -45,7 +46,9 @@ void cmd_bake_usage(FILE *out) {
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
-      "Ctrl-C cancels cleanly: no output file is left.\n"
+      "Ctrl-C, SIGTERM or SIGHUP cancel cleanly: no output file is left. An output that\n"
+      "is one of the inputs (a map, a bundle file), a FIFO or device, or read-only is\n"
+      "refused (docs/RELIABILITY.md).\n"
       "exit status: 0 success, 1 failure (the message names the file and texel), 2 bad usage\n");
 }
 
@@ -143,6 +146,14 @@ int cmd_bake(int argc, char **argv) {
   }
   nbrdf_model *model = NULL;
   if (nbrdf_model_load(bundle, &model, &err) != NBRDF_OK) return cli_fail_error("bake", &err);
+  cli_inputs inputs;
+  cli_inputs_init(&inputs);
+  cli_inputs_add_params(&inputs, &params);
+  cli_inputs_add_model(&inputs, model);
+  if (cli_output_check("bake", &inputs, out) != CLI_EXIT_OK) {
+    nbrdf_model_destroy(model);
+    return CLI_EXIT_FAILURE;
+  }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", bundle);
 
@@ -151,11 +162,10 @@ int cmd_bake(int argc, char **argv) {
   opts.warning = on_warning;
   opts.user = &ps;
   opts.cancel = cli_cancel_flag();
-  struct sigaction old;
-  cli_cancel_watch(&old);
+  cli_cancel_watch();
   nbrdf_bake_report rep;
   nbrdf_status st = nbrdf_bake(model, &params.in, &opts, out, &rep, &err);
-  cli_cancel_unwatch(&old);
+  cli_cancel_unwatch();
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) {
     if (ps.bar) fputc('\n', stderr);
@@ -164,7 +174,8 @@ int cmd_bake(int argc, char **argv) {
       json_string(err.message);
       printf("}\n");
     }
-    if (st == NBRDF_ERR_CANCELLED) return cli_fail("bake", "cancelled; no file written");
+    if (st == NBRDF_ERR_CANCELLED)
+      return cli_fail("bake", "%s: cancelled; no file written", cli_cancel_reason());
     return cli_fail_error("bake", &err);
   }
   if (ps.json) {

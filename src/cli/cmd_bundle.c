@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "cli/cli_outputs.h"
 #include "model/bundle.h"
 
 void cmd_bundle_usage(FILE *out) {
@@ -89,6 +90,9 @@ static int bundle_init(int argc, char **argv) {
     base[n] = '\0';
     name = n > 0 && strcmp(base, ".") && strcmp(base, "..") ? base : "untrained";
   }
+  cli_inputs none; /* nothing read; the files replaced are still checked */
+  cli_inputs_init(&none);
+  if (cli_outputs_check_bundle("bundle", &none, dir) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
   nbrdf_error err = {0};
   if (model_bundle_init_random(dir, name, seed, preset, &err) != NBRDF_OK)
     return cli_fail_error("bundle", &err);

@@ -12,6 +12,7 @@
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "train/dataset.h"
 
 void cmd_dataset_usage(FILE *out) {
@@ -184,14 +185,16 @@ int cmd_dataset(int argc, char **argv) {
   if (!have_sampled) s.sampled = s.outgoing / 2;
   if (s.sampled > s.outgoing)
     return cli_usage_error("dataset", "--sampled %d exceeds --outgoing %d", s.sampled, s.outgoing);
+  cli_inputs none; /* generated, nothing read; the output is still checked */
+  cli_inputs_init(&none);
+  if (cli_output_check("dataset", &none, out) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
   s.progress = on_progress, s.user = &prog;
   prog.start = now_s();
-  struct sigaction old;
-  cli_cancel_watch(&old);
+  cli_cancel_watch();
   uint64_t resumed = 0;
   nbrdf_error err = {0};
   nbrdf_status st = train_dataset_write(out, &s, &resumed, &err);
-  cli_cancel_unwatch(&old);
+  cli_cancel_unwatch();
   if (st != NBRDF_OK) return cli_fail_error("dataset", &err);
   double t = now_s() - prog.start;
   uint64_t made = s.count - resumed;

@@ -3,6 +3,8 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "cli/cmd_train.h"
 #include "eval/evaluate.h"
 #include "model/bundle.h"
@@ -75,6 +77,23 @@ int cmd_evaluate(int argc, char **argv) {
   nbrdf_status st =
       bundle ? nbrdf_model_load(bundle, &model, &err) : model_decoder_load(decoder, &dec, &err);
   if (st) return cli_fail_error("evaluate", &err);
+  cli_inputs inputs; /* the --cache references are read and rewritten: that is the cache */
+  cli_inputs_init(&inputs);
+  cli_inputs_add(&inputs, decoder);
+  cli_inputs_add_model(&inputs, model);
+  int rc = cli_output_check("evaluate", &inputs, json);
+  for (int k = 0; k < EVAL_SET_COUNT && plots && rc == CLI_EXIT_OK; k++) {
+    char median[4096], worst[4096];
+    snprintf(median, sizeof median, "%s_median.png", eval_set_name((eval_set)k));
+    snprintf(worst, sizeof worst, "%s_worst.png", eval_set_name((eval_set)k));
+    const char *const names[3] = {median, worst, NULL};
+    rc = cli_outputs_check_in("evaluate", &inputs, plots, names);
+  }
+  if (rc != CLI_EXIT_OK) {
+    nbrdf_model_destroy(model);
+    model_decoder_destroy(dec);
+    return rc;
+  }
   char list[256];
   snprintf(list, sizeof list, "%s",
            sets    ? sets
@@ -83,7 +102,7 @@ int cmd_evaluate(int argc, char **argv) {
   eval_result results[EVAL_SET_COUNT];
   int n_results = 0;
   s.progress = train_on_progress, s.user = &prog;
-  train_watch_sigint(1);
+  cli_cancel_watch();
   for (char *tok = strtok(list, ","); tok && !st; tok = strtok(NULL, ",")) {
     eval_set set;
     if (!eval_set_parse(tok, &set) || n_results == EVAL_SET_COUNT) {
@@ -102,7 +121,7 @@ int cmd_evaluate(int argc, char **argv) {
            r->median_albedo_error, r->max_albedo, 100 * r->ref_noise);
     fflush(stdout);
   }
-  train_watch_sigint(0);
+  cli_cancel_unwatch();
   const char *label = bundle ? bundle : decoder;
   if (!st && json) st = eval_write_json(json, label, &s, results, n_results, &err);
   if (!st && plots) st = eval_write_plots(plots, results, n_results, &err);

@@ -10,6 +10,7 @@
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
 #include "nbrdf/render.h"
@@ -99,20 +100,19 @@ static int make_reference(const cli_params *p, nbrdf_brdf **brdfs, int *channels
   return CLI_EXIT_OK;
 }
 
-static int same_file(const char *a, const char *b) {
-  struct stat sa, sb;
-  if (stat(a, &sa) != 0 || stat(b, &sb) != 0) return !strcmp(a, b);
-  return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+/* OUT.exr -> OUT-lobe-X-Y-L.png */
+static void lobe_path(const char *out, const int xyl[3], char path[4096]) {
+  size_t n = strlen(out);
+  if (n > 4 && !strcmp(out + n - 4, ".exr")) n -= 4;
+  snprintf(path, 4096, "%.*s-lobe-%d-%d-%d.png", (int)(n < 4000 ? n : 4000), out, xyl[0], xyl[1],
+           xyl[2]);
 }
 
-/* OUT.exr -> OUT-lobe-X-Y-L.png, with the lobe error in reference mode. */
+/* The lobe images of texel xyl, with the lobe error in reference mode. */
 static int write_lobe(const nbrdf_model *model, const char *latent, const char *out,
                       const int xyl[3], const nbrdf_render_options *o, int json) {
   char path[4096];
-  size_t n = strlen(out);
-  if (n > 4 && !strcmp(out + n - 4, ".exr")) n -= 4;
-  snprintf(path, sizeof path, "%.*s-lobe-%d-%d-%d.png", (int)(n < 4000 ? n : 4000), out, xyl[0],
-           xyl[1], xyl[2]);
+  lobe_path(out, xyl, path);
   int ref = o->mode == NBRDF_RENDER_REFERENCE;
   double lobe_error;
   nbrdf_error err = {0};
@@ -231,10 +231,6 @@ int cmd_render(int argc, char **argv) {
   }
   if (!latent) return cli_usage_error("render", "the latent texture LATENT.exr is required");
   if (!out) return cli_usage_error("render", "-o OUT.exr is required");
-  if (same_file(out, latent) || (png && same_file(png, latent)) ||
-      (o.env_path && same_file(out, o.env_path)))
-    return cli_fail("render", "an output would overwrite an input (%s)", out);
-
   nbrdf_brdf *ref[3] = {NULL, NULL, NULL};
   nbrdf_model *model = NULL;
   nbrdf_error err = {0};
@@ -254,6 +250,21 @@ int cmd_render(int argc, char **argv) {
       fprintf(stderr, "nbrdf render: warning: bundle '%s' is untrained (random networks)\n",
               bundle ? bundle : "models/default");
   }
+  if (rc == CLI_EXIT_OK) {
+    cli_inputs inputs;
+    cli_inputs_init(&inputs);
+    cli_inputs_add(&inputs, latent);
+    cli_inputs_add(&inputs, o.env_path);
+    cli_inputs_add_params(&inputs, &params);
+    cli_inputs_add_model(&inputs, model);
+    char lobe_paths[8][4096];
+    const char *outputs[10] = {out, png};
+    for (int k = 0; k < n_lobes; k++) {
+      lobe_path(out, lobes[k], lobe_paths[k]);
+      outputs[2 + k] = lobe_paths[k];
+    }
+    rc = cli_outputs_check("render", &inputs, outputs, 2 + n_lobes);
+  }
   float *rgb = rc == CLI_EXIT_OK ? malloc(sizeof(float) * 3 * (size_t)o.width * o.height) : NULL;
   if (rc == CLI_EXIT_OK && !rgb) rc = cli_fail("render", "out of memory");
   /* Lobes first: a bad texel fails before the render writes anything. */
@@ -262,17 +273,17 @@ int cmd_render(int argc, char **argv) {
   if (rc == CLI_EXIT_OK) {
     ps.bar = !ps.json && isatty(STDERR_FILENO);
     o.progress = cli_progress, o.user = &ps, o.cancel = cli_cancel_flag();
-    struct sigaction old;
-    cli_cancel_watch(&old);
+    cli_cancel_watch();
     nbrdf_render_stats stats;
     nbrdf_status st = nbrdf_render(model, latent, &o, rgb, &stats, &err);
-    cli_cancel_unwatch(&old);
+    cli_cancel_unwatch();
     if (st == NBRDF_OK)
       st = nbrdf_render_write(out, png, o.width, o.height, rgb, NULL, params.in.ocio_config, &err);
     if (st != NBRDF_OK) {
       if (ps.json) printf("{\"event\":\"error\",\"status\":\"%s\"}\n", nbrdf_status_name(st));
-      rc = st == NBRDF_ERR_CANCELLED ? cli_fail("render", "cancelled; no file written")
-                                     : cli_fail_error("render", &err);
+      rc = st == NBRDF_ERR_CANCELLED
+               ? cli_fail("render", "%s: cancelled; no file written", cli_cancel_reason())
+               : cli_fail_error("render", &err);
     } else if (ps.json) {
       printf("{\"event\":\"done\",\"width\":%d,\"height\":%d,\"spp\":%d,\"decoded\":%zu,"
              "\"brdf_evals\":%zu}\n",

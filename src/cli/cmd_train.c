@@ -1,12 +1,12 @@
 /* nbrdf train: the training loops of src/train (checkpointed, resumable). */
 #include <math.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "cli/cmd_train.h"
 #include "train/train_decoder.h"
 
@@ -29,7 +29,8 @@ void cmd_train_usage(FILE *out) {
       "\n"
       "Auto-decoder training (paper §3.2): decoder weights and one latent per training\n"
       "BRDF learned together. DIR holds checkpoint.safetensors (resume: run the same\n"
-      "command again), decoder.safetensors and log.csv. Ctrl-C checkpoints and stops.\n"
+      "command again), decoder.safetensors and log.csv. Ctrl-C (SIGTERM, SIGHUP)\n"
+      "checkpoints and stops.\n"
       "\n"
       "architecture (a preset, or your own residual MLP):\n"
       "  --preset NAME       paper, large, medium (default), small\n"
@@ -62,14 +63,6 @@ void cmd_train_usage(FILE *out) {
       "run's: they are what a bake feeds the sampler.\n"
       "bundle: assembles a model bundle; without --sampler the proxy network keeps its\n"
       "initial weights (and the card must say so).\n");
-}
-
-void train_watch_sigint(int on) {
-  static struct sigaction old;
-  if (on)
-    cli_cancel_watch(&old);
-  else
-    cli_cancel_unwatch(&old);
 }
 
 int train_on_progress(void *user, const char *stage, double done, double total) {
@@ -181,16 +174,26 @@ static int train_decoder(int argc, char **argv) {
     free(data_list);
     return cli_fail_error("train", &err);
   }
+  cli_inputs inputs; /* the run's checkpoint is read and rewritten: resuming is the point */
+  cli_inputs_init(&inputs);
+  for (int k = 0; k < n_data; k++)
+    cli_inputs_add(&inputs, data[k]);
+  static const char *const run_files[] = {"checkpoint.safetensors", "decoder.safetensors",
+                                          "log.csv", NULL};
+  if (cli_outputs_check_in("train", &inputs, s.run_dir, run_files) != CLI_EXIT_OK) {
+    free(data_list);
+    return CLI_EXIT_FAILURE;
+  }
   s.data = data, s.n_data = n_data;
   s.steps = (int64_t)steps, s.max_seconds = 60.0 * minutes, s.rows_per_brdf = (int)rows;
   s.lr_weights = (float)lrw, s.lr_latent = (float)lrl, s.latent_l2 = (float)l2;
   s.decay_every = (int)decay, s.decay_gamma = (float)gamma, s.seed = (uint64_t)seed;
   s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval, s.brdf_weight = bweight;
   s.progress = train_on_progress, s.user = &prog;
-  train_watch_sigint(1);
+  cli_cancel_watch();
   train_decoder_result r;
   st = train_decoder_run(&s, &r, &err);
-  train_watch_sigint(0);
+  cli_cancel_unwatch();
   free(data_list);
   if (!prog.json) fputc('\n', stderr);
   if (st == NBRDF_ERR_CANCELLED) {

@@ -15,13 +15,12 @@ int cmd_train_bundle(int argc, char **argv);
 int cmd_train_sampler(int argc, char **argv);
 
 /* Progress on stderr (a line per second, or JSON lines) that also stops on
- * Ctrl-C once train_watch_sigint() is active. */
+ * Ctrl-C (SIGINT, SIGTERM, SIGHUP) once cli_cancel_watch() is active. */
 typedef struct train_progress {
   int json;
   long last;
 } train_progress;
 int train_on_progress(void *user, const char *stage, double done, double total);
-void train_watch_sigint(int on);
 
 /* Splits a comma-separated list in place into at most max items. */
 int train_split_list(char *list, const char **out, int max);

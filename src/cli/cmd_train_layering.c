@@ -3,6 +3,8 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "cli/cmd_train.h"
 #include "core/error.h"
 #include "model/bundle.h"
@@ -68,6 +70,22 @@ int cmd_train_layering(int argc, char **argv) {
     return cli_usage_error("train", "layering: --data, --tables, -o and --run (or, with --loss "
                                     "decoded, --decoder) are required");
   }
+  char ckpt[4096], dec_path[4096];
+  snprintf(ckpt, sizeof ckpt, "%s/checkpoint.safetensors", run ? run : ".");
+  snprintf(dec_path, sizeof dec_path, "%s/decoder.safetensors", run ? run : ".");
+  cli_inputs inputs; /* --checkpoint is read and rewritten: resuming is the point */
+  cli_inputs_init(&inputs);
+  for (int k = 0; k < n_data; k++)
+    cli_inputs_add(&inputs, data[k]);
+  cli_inputs_add(&inputs, tables);
+  cli_inputs_add(&inputs, decoder ? decoder : dec_path);
+  cli_inputs_add(&inputs, init);
+  if (!decoded) cli_inputs_add(&inputs, ckpt);
+  const char *outputs[3] = {out, s.log_path, s.checkpoint};
+  if (cli_outputs_check("train", &inputs, outputs, 3) != CLI_EXIT_OK) {
+    free(list);
+    return CLI_EXIT_FAILURE;
+  }
   nbrdf_error err = {0};
   train_samples d;
   model_base_table t[2];
@@ -76,9 +94,6 @@ int cmd_train_layering(int argc, char **argv) {
   model_layering *net = NULL, *init_net = NULL;
   model_decoder *dec = NULL;
   train_layering_result r;
-  char ckpt[4096], dec_path[4096];
-  snprintf(ckpt, sizeof ckpt, "%s/checkpoint.safetensors", run ? run : ".");
-  snprintf(dec_path, sizeof dec_path, "%s/decoder.safetensors", run ? run : ".");
   nbrdf_status st = train_samples_load(n_data, data, &d, &err);
   if (!st) st = train_load_tables(tables, t, &err);
   if (!st) st = model_decoder_load(decoder ? decoder : dec_path, &dec, &err);
@@ -88,11 +103,11 @@ int cmd_train_layering(int argc, char **argv) {
   if (!st && !decoded) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
   s.progress = train_on_progress, s.user = &prog;
   s.init = init_net;
-  train_watch_sigint(1);
+  cli_cancel_watch();
   if (!st)
     st = decoded ? train_layering_fit_decoded(&d, dec, t, &s, &net, &r, &err)
                  : train_layering_fit(&d, lat, dec, t, &s, &net, &r, &err);
-  train_watch_sigint(0);
+  cli_cancel_unwatch();
   if (!st) st = model_layering_save(net, out, NULL, &err);
   if (!prog.json) fputc('\n', stderr);
   if (!st && !decoded)
@@ -157,6 +172,12 @@ int cmd_train_bundle(int argc, char **argv) {
   }
   if (!out || !decoder || !tables || !layering)
     return cli_usage_error("train", "bundle: -o, --decoder, --tables and --layering are required");
+  cli_inputs inputs;
+  cli_inputs_init(&inputs);
+  const char *read[5] = {decoder, tables, layering, sampler, card};
+  for (int k = 0; k < 5; k++)
+    cli_inputs_add(&inputs, read[k]);
+  if (cli_outputs_check_bundle("train", &inputs, out) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
   nbrdf_error err = {0};
   model_decoder *dec = NULL;
   model_layering *lay = NULL;

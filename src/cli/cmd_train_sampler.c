@@ -3,6 +3,8 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "cli/cmd_train.h"
 #include "core/error.h"
 #include "train/samples.h"
@@ -74,7 +76,21 @@ int cmd_train_sampler(int argc, char **argv) {
     return cli_usage_error("train", "sampler: --run and -o are required; --layering needs "
                                     "--tables and --data");
   }
-  char path[4096];
+  char path[4096], ckpt[4096];
+  snprintf(path, sizeof path, "%s/decoder.safetensors", run);
+  snprintf(ckpt, sizeof ckpt, "%s/checkpoint.safetensors", run);
+  cli_inputs inputs;
+  cli_inputs_init(&inputs);
+  cli_inputs_add(&inputs, path);
+  cli_inputs_add(&inputs, ckpt);
+  cli_inputs_add(&inputs, layering);
+  cli_inputs_add(&inputs, tables);
+  for (int k = 0; k < n_data; k++)
+    cli_inputs_add(&inputs, data[k]);
+  if (cli_output_check("train", &inputs, out) != CLI_EXIT_OK) {
+    free(list);
+    return CLI_EXIT_FAILURE;
+  }
   nbrdf_error err = {0};
   model_decoder *dec = NULL;
   model_sampler *net = NULL;
@@ -99,9 +115,9 @@ int cmd_train_sampler(int argc, char **argv) {
   if (!st && layering) st = add_layered_latents(layering, tables, n_data, data, &lat, &use, &err);
   train_sampler_result res;
   s.progress = train_on_progress, s.user = &prog;
-  train_watch_sigint(1);
+  cli_cancel_watch();
   if (!st) st = train_sampler_fit(dec, use, lat, &s, &net, &res, &err);
-  train_watch_sigint(0);
+  cli_cancel_unwatch();
   if (!st) st = model_sampler_save(net, out, NULL, &err);
   if (!prog.json) fputc('\n', stderr);
   if (!st)

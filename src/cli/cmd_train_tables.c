@@ -2,6 +2,8 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "cli/cmd_train.h"
 #include "model/bundle.h"
 #include "train/table_fit.h"
@@ -50,15 +52,19 @@ int cmd_train_tables(int argc, char **argv) {
     }
   }
   if (!decoder || !out) return cli_usage_error("train", "tables: --decoder and -o are required");
+  cli_inputs inputs;
+  cli_inputs_init(&inputs);
+  cli_inputs_add(&inputs, decoder);
+  if (cli_output_check("train", &inputs, out) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
   nbrdf_error err = {0};
   model_decoder *dec = NULL;
   model_base_table tables[2];
   memset(tables, 0, sizeof tables);
   nbrdf_status st = model_decoder_load(decoder, &dec, &err);
   s.progress = train_on_progress, s.user = &prog;
-  train_watch_sigint(1);
+  cli_cancel_watch();
   if (!st) st = train_tables_fit(dec, &s, tables, &err);
-  train_watch_sigint(0);
+  cli_cancel_unwatch();
   const model_base_table *const parts[2] = {&tables[0], &tables[1]};
   if (!st) st = model_tables_save(parts, out, &err);
   model_base_table_free(&tables[0]);

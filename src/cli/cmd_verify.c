@@ -10,6 +10,7 @@
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
+#include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
 #include "nbrdf/verify.h"
@@ -237,16 +238,25 @@ int cmd_verify(int argc, char **argv) {
   nbrdf_error err = {0};
   nbrdf_model *model = NULL;
   if (nbrdf_model_load(a.bundle, &model, &err) != NBRDF_OK) return cli_fail_error("verify", &err);
+  cli_inputs inputs;
+  cli_inputs_init(&inputs);
+  cli_inputs_add(&inputs, a.texture);
+  cli_inputs_add_params(&inputs, &params);
+  cli_inputs_add_model(&inputs, model);
+  const char *outputs[2] = {a.json, a.heatmap};
+  if (cli_outputs_check("verify", &inputs, outputs, 2) != CLI_EXIT_OK) {
+    nbrdf_model_destroy(model);
+    return CLI_EXIT_FAILURE;
+  }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n",
             a.bundle);
   a.ps.bar = !a.ps.json && isatty(STDERR_FILENO);
   a.o.progress = cli_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
-  struct sigaction old;
-  cli_cancel_watch(&old);
+  cli_cancel_watch();
   nbrdf_verify_report *rep = NULL;
   nbrdf_status st = nbrdf_verify(model, a.texture, &params.in, &a.o, &rep, &err);
-  cli_cancel_unwatch(&old);
+  cli_cancel_unwatch();
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) return cli_fail_error("verify", &err);
   if (!a.ps.json) print_report(&a, rep);

@@ -3,10 +3,12 @@
 
 #include "cli/cli.h"
 #include "cli/cli_blas.h"
+#include "cli/cli_cancel.h"
 #include "nbrdf/nbrdf.h"
 
 int main(int argc, char **argv) {
   cli_blas_prefer_wide(argv);
+  cli_signals_setup();
   if (argc < 2) {
     cli_commands[0].run(1, argv); /* the overview of 'help' */
     return CLI_EXIT_USAGE;

@@ -1,11 +1,13 @@
 /* `nbrdf evaluate` output: the JSON summary and lobe plots. */
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/output_file.h"
 #include "eval/evaluate.h"
 #include "eval/lobe.h"
 #include "eval/lobe_png.h"
@@ -27,10 +29,10 @@ static void params_json(FILE *f, const train_params *p) {
 
 nbrdf_status eval_write_json(const char *path, const char *model_label, const eval_settings *s,
                              const eval_result *r, int n_results, nbrdf_error *err) {
-  char tmp[4096];
-  snprintf(tmp, sizeof tmp, "%s.tmp", path);
-  FILE *f = fopen(tmp, "w");
-  if (!f) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write: %s", tmp, strerror(errno));
+  char *text = NULL;
+  size_t len = 0;
+  FILE *f = open_memstream(&text, &len); /* written whole by the output module */
+  if (!f) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   fprintf(f, "{\n  \"model\": \"%s\",\n  \"count\": %d,\n  \"reference_walks\": %d,\n", model_label,
           s->count, s->walks);
   fprintf(f, "  \"projection_steps\": %d,\n  \"sets\": {", s->project_steps);
@@ -57,11 +59,10 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
   }
   fprintf(f, "\n  }\n}\n");
   int bad = ferror(f) | fclose(f);
-  if (bad || rename(tmp, path) != 0) {
-    unlink(tmp);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
-  }
-  return NBRDF_OK;
+  nbrdf_status st = bad ? nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path)
+                        : nbrdf_output_file_write_all(path, text, len, NULL, 0, err);
+  free(text);
+  return st;
 }
 
 nbrdf_status eval_write_plots(const char *dir, const eval_result *r, int n_results,

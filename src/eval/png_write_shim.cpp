@@ -3,43 +3,37 @@
 
 #include <OpenImageIO/imageio.h>
 
-#include <cstdio>
 #include <exception>
 #include <string>
-#include <unistd.h>
 
 extern "C" {
 #include "core/error.h"
+#include "core/output_file.h"
 }
 
 namespace {
 
 nbrdf_status write_png(const char *path, int width, int height, const unsigned char *rgb,
                        nbrdf_error *err) {
-  // The temporary name keeps the target's folder (rename must not cross file systems)
-  // and the process id (two writers of the same path do not clobber each other).
-  const std::string tmp = std::string(path) + "." + std::to_string(getpid()) + ".tmp";
   auto out = OIIO::ImageOutput::create("png");
   if (!out)
     return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: OpenImageIO has no PNG writer: %s", path,
                       OIIO::geterror().c_str());
+  nbrdf_output_file f;
+  nbrdf_status st = nbrdf_output_file_open(&f, path, nullptr, 0, err);
+  if (st != NBRDF_OK) return st;
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-  if (!out->open(tmp, spec))
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", tmp.c_str(),
-                      out->geterror().c_str());
-  bool ok = out->write_image(OIIO::TypeDesc::UINT8, rgb);
+  // OpenImageIO opens the file by name: "/proc/self/fd/N" reaches the unnamed temporary file.
+  bool ok =
+      out->open(nbrdf_output_file_name(&f), spec) && out->write_image(OIIO::TypeDesc::UINT8, rgb);
   std::string why = ok ? "" : out->geterror();
   ok = out->close() && ok;
-  if (ok && std::rename(tmp.c_str(), path) != 0) {
-    why = "cannot rename " + tmp;
-    ok = false;
-  }
   if (!ok) {
-    std::remove(tmp.c_str());
+    nbrdf_output_file_abort(&f);
     return nbrdf_fail(err, NBRDF_ERR_IO, "%s: writing failed: %s", path,
                       why.empty() ? out->geterror().c_str() : why.c_str());
   }
-  return NBRDF_OK;
+  return nbrdf_output_file_commit(&f, err);
 }
 
 } // namespace

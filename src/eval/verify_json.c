@@ -7,8 +7,8 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/output_file.h"
 #include "eval/verify_internal.h"
-#include "texture/output_file.h"
 
 static void number(cJSON *o, const char *key, double v) {
   if (isfinite(v))

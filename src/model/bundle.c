@@ -29,6 +29,7 @@ void nbrdf_model_destroy(nbrdf_model *m) {
   model_sampler_destroy(m->sampler);
   model_base_table_free(&m->tables[0]);
   model_base_table_free(&m->tables[1]);
+  free(m->files_text);
   free(m);
 }
 
@@ -94,6 +95,22 @@ static nbrdf_status load_part(const char *dir, int i, nbrdf_model *m, uint64_t *
   return st;
 }
 
+/* The paths nbrdf_model_files reports, in one allocation. */
+static nbrdf_status remember_files(const char *dir, nbrdf_model *m, nbrdf_error *err) {
+  const char *names[5] = {"model.json", model_bundle_files[0], model_bundle_files[1],
+                          model_bundle_files[2], model_bundle_files[3]};
+  size_t total = 0;
+  for (int i = 0; i < 5; i++)
+    total += strlen(dir) + strlen(names[i]) + 2;
+  char *p = m->files_text = malloc(total);
+  if (!p) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", dir);
+  for (int i = 0; i < 5; i++) {
+    m->files[i] = p;
+    p += sprintf(p, "%s/%s", dir, names[i]) + 1;
+  }
+  return NBRDF_OK;
+}
+
 nbrdf_status nbrdf_model_load(const char *dir, nbrdf_model **out, nbrdf_error *err) {
   if (!dir || !out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "model load: NULL argument");
   nbrdf_model *m = calloc(1, sizeof *m);
@@ -112,6 +129,7 @@ nbrdf_status nbrdf_model_load(const char *dir, nbrdf_model **out, nbrdf_error *e
                       "replaced without updating the bundle)",
                       dir, expected_checksum, m->checksum_hex);
   }
+  if (st == NBRDF_OK) st = remember_files(dir, m, err);
   if (st != NBRDF_OK) {
     nbrdf_model_destroy(m);
     return st;
@@ -124,6 +142,10 @@ const char *nbrdf_model_name(const nbrdf_model *m) { return m->name; }
 const char *nbrdf_model_checksum(const nbrdf_model *m) { return m->checksum_hex; }
 int nbrdf_model_latent_dim(const nbrdf_model *m) { return m->latent_dim; }
 int nbrdf_model_is_trained(const nbrdf_model *m) { return m->trained; }
+int nbrdf_model_files(const nbrdf_model *m, const char *const **paths) {
+  *paths = m->files;
+  return 5;
+}
 int64_t nbrdf_model_decoder_macs(const nbrdf_model *m) { return model_decoder_macs(m->decoder); }
 int64_t nbrdf_model_layering_macs(const nbrdf_model *m) {
   return nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->layering->nn));

@@ -42,6 +42,8 @@ struct nbrdf_model {
   model_layering *layering;
   model_sampler *sampler;
   model_base_table tables[2]; /* indexed by nbrdf_base_kind */
+  const char *files[5];       /* nbrdf_model_files: model.json and model_bundle_files */
+  char *files_text;           /* owns the strings of files[] */
 };
 
 /* What a bundle is made of, for saving (all borrowed). */

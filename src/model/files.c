@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/output_file.h"
 
 #define FILES_PATH_MAX 4096
 #define FILES_SIZE_MAX ((size_t)1 << 31)
@@ -48,35 +49,11 @@ nbrdf_status model_read_file(const char *path, char **bytes, size_t *size, nbrdf
 
 nbrdf_status model_write_text_file(const char *dir, const char *file, const char *text,
                                    nbrdf_error *err) {
-  char path[FILES_PATH_MAX], tmp[FILES_PATH_MAX + 16];
+  char path[FILES_PATH_MAX];
   int n = snprintf(path, sizeof path, "%s/%s", dir, file);
   if (n < 0 || n >= (int)sizeof path)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
-  snprintf(tmp, sizeof tmp, "%s.XXXXXX", path);
-  int fd = mkstemp(tmp);
-  if (fd < 0) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
-  FILE *fp = fdopen(fd, "wb");
-  if (!fp) {
-    close(fd);
-    unlink(tmp);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write: %s", path, strerror(errno));
-  }
-  size_t len = strlen(text);
-  int ok = fwrite(text, 1, len, fp) == len;
-  ok = fflush(fp) == 0 && ok;
-  ok = fsync(fileno(fp)) == 0 && ok;
-  ok = fclose(fp) == 0 && ok;
-  /* mkstemp creates 0600; a bundle is meant to be shared like any other file. */
-  mode_t mask = umask(0);
-  umask(mask);
-  if (ok) ok = chmod(tmp, 0666 & ~mask) == 0;
-  if (ok) ok = rename(tmp, path) == 0;
-  if (!ok) {
-    int e = errno;
-    unlink(tmp);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write: %s", path, strerror(e));
-  }
-  return NBRDF_OK;
+  return nbrdf_output_file_write_all(path, text, strlen(text), NULL, 0, err);
 }
 
 nbrdf_status model_make_dirs(const char *dir, nbrdf_error *err) {

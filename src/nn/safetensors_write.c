@@ -1,16 +1,13 @@
 /* Writing safetensors: deterministic bytes (tensors sorted by name, metadata by key, the
  * header padded with spaces to 8 bytes, as the reference implementation writes them) and an
- * atomic save (temporary file in the same directory, fsync, rename). */
-#include <errno.h>
-#include <fcntl.h>
+ * atomic save (core/output_file.h). */
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 #include "core/error.h"
+#include "core/output_file.h"
 #include "nn/safetensors_internal.h"
 
 typedef struct wtensor {
@@ -288,44 +285,6 @@ nbrdf_status nbrdf_st_writer_serialize(const nbrdf_st_writer *w, void **bytes, s
   return NBRDF_OK;
 }
 
-static nbrdf_status io_error(nbrdf_error *err, const char *path, const char *what, int code) {
-  char reason[128] = "unknown error";
-  if (strerror_r(code, reason, sizeof reason) != 0)
-    snprintf(reason, sizeof reason, "errno %d", code);
-  return nbrdf_fail(err, NBRDF_ERR_IO, "%s: %s: %s", path, what, reason);
-}
-
-/* Creates "<path>.<pid>-<nanoseconds>-<try>.tmp" exclusively: mode 0666 minus the umask, as
- * the final file would get, with no process-wide state (mkstemp would force mode 0600). */
-static int create_temp(const char *path, char *tmp, size_t size) {
-  struct timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);
-  for (int attempt = 0; attempt < 100; attempt++) {
-    int n =
-        snprintf(tmp, size, "%s.%ld-%ld-%d.tmp", path, (long)getpid(), (long)ts.tv_nsec, attempt);
-    if (n < 0 || (size_t)n >= size) {
-      errno = ENAMETOOLONG;
-      return -1;
-    }
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd >= 0 || errno != EEXIST) return fd;
-  }
-  return -1;
-}
-
-static int write_all(int fd, const unsigned char *p, size_t n) {
-  while (n) {
-    ssize_t k = write(fd, p, n);
-    if (k < 0 && errno == EINTR) continue;
-    if (k <= 0) {
-      if (k == 0) errno = EIO;
-      return -1;
-    }
-    p += k, n -= (size_t)k;
-  }
-  return 0;
-}
-
 nbrdf_status nbrdf_st_writer_save(const nbrdf_st_writer *w, const char *path, uint64_t *checksum,
                                   nbrdf_error *err) {
   if (!w || !path || !path[0])
@@ -337,32 +296,8 @@ nbrdf_status nbrdf_st_writer_save(const nbrdf_st_writer *w, const char *path, ui
     nbrdf_error_prefix(err, "%s: ", path);
     return st;
   }
-  size_t tmp_size = strlen(path) + 64;
-  char *tmp = malloc(tmp_size);
-  if (!tmp) {
-    free(bytes);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
-  }
-  int fd = create_temp(path, tmp, tmp_size);
-  if (fd < 0) {
-    st = io_error(err, path, "cannot create a temporary file next to it", errno);
-  } else {
-    const char *step = NULL;
-    if (write_all(fd, bytes, size) != 0)
-      step = "cannot write";
-    else if (fsync(fd) != 0)
-      step = "cannot sync";
-    int code = errno;
-    if (close(fd) != 0 && !step) step = "cannot close", code = errno;
-    if (!step && rename(tmp, path) != 0)
-      step = "cannot rename the temporary file over it", code = errno;
-    if (step) {
-      unlink(tmp);
-      st = io_error(err, path, step, code);
-    }
-  }
+  st = nbrdf_output_file_write_all(path, bytes, size, NULL, 0, err);
   if (!st && checksum) *checksum = nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, bytes, size);
-  free(tmp);
   free(bytes);
   return st;
 }

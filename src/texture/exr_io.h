@@ -7,9 +7,9 @@
 
 #include <openexr.h>
 
+#include "core/output_file.h"
 #include "nbrdf/status.h"
 #include "texture/latent_exr.h"
-#include "texture/output_file.h"
 
 /* The user data of every context we create. */
 typedef struct nbrdf_exr_stream {

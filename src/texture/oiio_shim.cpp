@@ -14,7 +14,7 @@
 
 extern "C" {
 #include "core/error.h"
-#include "texture/output_file.h"
+#include "core/output_file.h"
 }
 
 using OIIO::ImageInput;
@@ -201,8 +201,7 @@ extern "C" nbrdf_status nbrdf_image_write(const char *path, int width, int heigh
   nbrdf_output_file f;
   nbrdf_status st = nbrdf_output_file_open(&f, path, nullptr, 0, err);
   if (st != NBRDF_OK) return st;
-  close(f.fd); /* OpenImageIO reopens the temporary file by name */
-  f.fd = -1;
+  /* OpenImageIO opens the file by name: "/proc/self/fd/N" reaches the unnamed temporary file. */
   try {
     std::unique_ptr<ImageOutput> out = ImageOutput::create(path);
     if (!out) {
@@ -212,7 +211,8 @@ extern "C" nbrdf_status nbrdf_image_write(const char *path, int width, int heigh
     }
     ImageSpec spec(width, height, channels, to_type(format));
     if (channels == 4) spec.alpha_channel = 3;
-    bool ok = out->open(f.temp_path, spec) && out->write_image(TypeDesc::FLOAT, pixels);
+    bool ok =
+        out->open(nbrdf_output_file_name(&f), spec) && out->write_image(TypeDesc::FLOAT, pixels);
     std::string why = ok ? std::string() : first_line(out->geterror());
     ok = out->close() && ok;
     if (!ok) {

@@ -1,4 +1,5 @@
 /* Writing and resuming a data set file (train/dataset.h, docs/DATASET.md). */
+#include <errno.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -6,6 +7,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/output_file.h"
 #include "nn/safetensors.h"
 #include "train/dataset_format.h"
 
@@ -20,6 +22,10 @@ static int same_settings(const train_dataset_settings *a, const train_dataset_se
 static nbrdf_status open_output(const char *path, const train_dataset_settings *s, FILE **out,
                                 uint64_t *done, uint64_t *sum, int *complete, nbrdf_error *err) {
   *done = 0, *complete = 0;
+  /* Appended in place (a stopped run resumes from the valid prefix), so not through a
+   * temporary file; the destination is still checked like every output's. */
+  nbrdf_status checked = nbrdf_output_check(path, NULL, 0, err);
+  if (checked != NBRDF_OK) return checked;
   if (access(path, F_OK) == 0) {
     train_dataset_info info;
     nbrdf_status st = train_dataset_read(path, 0, &info, NULL, NULL, err);
@@ -50,7 +56,7 @@ static nbrdf_status open_output(const char *path, const train_dataset_settings *
   unsigned char head[DS_HEADER_BYTES];
   ds_encode_header(s, head);
   *out = fopen(path, "wb");
-  if (!*out) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create", path);
+  if (!*out) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
   if (fwrite(head, 1, sizeof head, *out) != sizeof head || fflush(*out) != 0) {
     fclose(*out);
     return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write the header", path);
@@ -115,8 +121,8 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
     st = generate_batch(s, done, n, threads, recs, samples, per_thread, err);
     if (st) goto done;
     if (fwrite(recs, rb, (size_t)n, f) != (size_t)n || fflush(f) != 0) {
-      st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: write failed after %llu records", path,
-                      (unsigned long long)done);
+      st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: write failed after %llu records: %s", path,
+                      (unsigned long long)done, strerror(errno));
       goto done;
     }
     sum = nbrdf_st_fnv1a64(sum, recs, (size_t)n * rb);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/output_file.h"
 
 /* Reads the rows of an existing log with step <= keep (header excluded). */
 static char *kept_rows(const char *path, int64_t keep) {
@@ -42,15 +43,23 @@ static char *kept_rows(const char *path, int64_t keep) {
 
 nbrdf_status run_log_open(run_log *log, const char *path, const char *header, int64_t keep_to_step,
                           nbrdf_error *err) {
+  log->f = NULL;
   char *rows = keep_to_step > 0 ? kept_rows(path, keep_to_step) : NULL;
-  log->f = fopen(path, "w");
-  if (!log->f) {
+  size_t n = strlen(header) + 2 + (rows ? strlen(rows) : 0);
+  char *text = malloc(n);
+  if (!text) {
     free(rows);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write the log: %s", path, strerror(errno));
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   }
-  fprintf(log->f, "%s\n%s", header, rows ? rows : "");
-  fflush(log->f);
+  snprintf(text, n, "%s\n%s", header, rows ? rows : "");
   free(rows);
+  /* The kept rows replace the log whole (core/output_file.h); later rows are appended. */
+  nbrdf_status st = nbrdf_output_file_write_all(path, text, strlen(text), NULL, 0, err);
+  free(text);
+  if (st != NBRDF_OK) return st;
+  log->f = fopen(path, "a");
+  if (!log->f)
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot append to the log: %s", path, strerror(errno));
   return NBRDF_OK;
 }
 

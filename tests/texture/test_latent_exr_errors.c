@@ -51,7 +51,9 @@ static void test_abort_and_incomplete_leave_nothing(void) {
   float *l0 = fixture_texels(30, 10, &mono2, 1);
   nbrdf_latent_writer *w = NULL;
   CHECK_OK(nbrdf_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
-  CHECK(count_entries(dir) == 1); /* the temporary file, hidden */
+  /* The temporary file has no name (O_TMPFILE), or a hidden one where the file system
+   * lacks O_TMPFILE. */
+  CHECK(count_entries(dir) <= 1);
   if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, l0, 4, err), err);
   nbrdf_latent_writer_abort(w);
   CHECK(count_entries(dir) == 0);
