@@ -1,6 +1,5 @@
 #include "bake/bake_band.h"
 
-#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>

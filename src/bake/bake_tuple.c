@@ -45,7 +45,6 @@ bake_verdict bake_value_prepare_read(const float *lo, const float *hi, int id,
 
 nbrdf_status bake_value_fail(bake_verdict verdict, const float *lo, const float *hi, int id,
                              const char *at, float value, nbrdf_error *err) {
-  (void)id;
   if (verdict == BAKE_VALUE_INVALID)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is not a finite value >= 0", at,
                       (double)value);

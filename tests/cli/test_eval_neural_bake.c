@@ -87,10 +87,11 @@ static void check_tuple(const nbrdf_model *m, const char *params[6], const char 
   float texel[64], latent[32], wi[3 * N_DIRS], wo[3 * N_DIRS], dec[N_DIRS];
   CHECK(in->channels <= 64 && in->layout.latent_dim == 32);
   CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 1, 1, texel, &err), &err);
+  const nbrdf_latent_layout layout = in->layout;
   nbrdf_latent_reader_close(r);
   float lat[32 * N_DIRS];
   for (int k = 0; k < 32; k++)
-    latent[k] = texel[nbrdf_latent_index_latent(&in->layout, 0, k)];
+    latent[k] = texel[nbrdf_latent_index_latent(&layout, 0, k)];
   for (int d = 0; d < N_DIRS; d++) {
     memcpy(lat + 32 * d, latent, sizeof latent);
     for (int s = 0; s < 2; s++) {
