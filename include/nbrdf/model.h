@@ -16,9 +16,10 @@
  * loading validates the files against each other.
  *
  * The checksum is FNV-1a 64 over the bytes of the four .safetensors files in
- * the order above (not model.json or the card, which describe the model), as
- * 16 lower-case hex digits; a latent texture records it so that a texture
- * baked with another model is refused.
+ * the order above, as 16 lower-case hex digits; model.json must record it,
+ * and a latent texture records it so that a texture baked with another model
+ * is refused. model.json's statements about the networks and the tables must
+ * equal the files' (docs/MODEL_BUNDLE.md, "Checksums").
  *
  * A loaded model is immutable: any call may run on one model from several
  * threads at once (each call allocates its own scratch buffers). */

@@ -110,10 +110,9 @@ static void warn_clamped(const bake_band *b, const nbrdf_bake_options *o) {
   if (!o->warning) return;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
     if (!b->clamped[id]) continue;
-    char msg[256];
-    snprintf(msg, sizeof msg,
-             "%s: %zu texel channel(s) outside the model's trained range [%g, %g] were clamped",
-             param_names[id], b->clamped[id], (double)b->lo[id], (double)b->hi[id]);
+    char msg[256], what[64];
+    snprintf(what, sizeof what, "%zu texel channel(s)", b->clamped[id]);
+    bake_clamp_warning(msg, sizeof msg, param_names[id], b->lo, b->hi, id, what, 1);
     o->warning(o->user, msg);
   }
 }

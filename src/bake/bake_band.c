@@ -1,6 +1,5 @@
 #include "bake/bake_band.h"
 
-#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,16 +23,7 @@ void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source *
   b->width = width;
   b->roughness = roughness;
   b->range = range;
-  int n0, n1;
-  const float *a0, *a1;
-  nbrdf_model_base_grid(model, NBRDF_BASE_DIELECTRIC, &n0, &a0, &n1, &a1);
-  b->lo[NBRDF_BAKE_ALPHA1] = a0[0], b->hi[NBRDF_BAKE_ALPHA1] = a0[n0 - 1];
-  b->lo[NBRDF_BAKE_ETA] = a1[0], b->hi[NBRDF_BAKE_ETA] = a1[n1 - 1];
-  nbrdf_model_base_grid(model, NBRDF_BASE_CONDUCTOR, &n0, &a0, &n1, &a1);
-  b->lo[NBRDF_BAKE_ALPHA2] = a0[0], b->hi[NBRDF_BAKE_ALPHA2] = a0[n0 - 1];
-  b->lo[NBRDF_BAKE_R0] = a1[0], b->hi[NBRDF_BAKE_R0] = a1[n1 - 1];
-  b->lo[NBRDF_BAKE_ALBEDO] = 0.0f, b->hi[NBRDF_BAKE_ALBEDO] = 1.0f;
-  b->lo[NBRDF_BAKE_SIGMA_T] = 0.0f, b->hi[NBRDF_BAKE_SIGMA_T] = NBRDF_BAKE_SIGMA_T_MAX;
+  bake_ranges_init(model, b->lo, b->hi);
 }
 
 void bake_band_free(bake_band *b) {
@@ -74,58 +64,16 @@ static void where(const bake_band *b, int id, int x, int y, int c, char *buf, si
              nbrdf_bake_param_name((nbrdf_bake_param_id)id));
 }
 
-/* Validates (and, under the clamp policy, clamps) one parameter value. */
+/* Applies the roughness convention to one parameter value, validates it and,
+ * under the clamp policy, clamps it (bake_tuple.h, shared with eval). */
 static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, int c,
                                 nbrdf_error *err) {
+  bake_verdict verdict = bake_value_prepare(b->lo, b->hi, id, b->roughness, b->range, v);
+  if (verdict == BAKE_VALUE_CLAMPED) b->clamped[id]++;
+  if (verdict <= BAKE_VALUE_CLAMPED) return NBRDF_OK;
   char at[600];
-  if (!isfinite(*v) || *v < 0.0f) {
-    where(b, id, x, y, c, at, sizeof at);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is not a finite value >= 0", at,
-                      (double)*v);
-  }
-  if (*v >= b->lo[id] && *v <= b->hi[id]) return NBRDF_OK;
-  int physical = id == NBRDF_BAKE_R0 || id == NBRDF_BAKE_ALBEDO;
-  if (physical && *v > 1.0f) {
-    where(b, id, x, y, c, at, sizeof at);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is above 1 (not physical)", at, (double)*v);
-  }
-  if (b->range == NBRDF_RANGE_REFUSE) {
-    where(b, id, x, y, c, at, sizeof at);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s = %g is outside the model's trained range [%g, %g]", at, (double)*v,
-                      (double)b->lo[id], (double)b->hi[id]);
-  }
-  *v = *v < b->lo[id] ? b->lo[id] : b->hi[id];
-  b->clamped[id]++;
-  return NBRDF_OK;
-}
-
-/* Optional quantisation (nbrdf_bake_options.quantise_bits): 2^bits levels
- * over the trained range, evenly spaced where the parameter's effect is
- * about even: alpha in sqrt (perceptual roughness; linear steps would be
- * 40 % of alpha = 0.01 at 8 bits), sigma_t in log(1 + sigma_t) (as the
- * layering network sees it), the rest linearly. The ends of the range are
- * levels, so quantised values stay inside it. */
-static float warp(int id, float v) {
-  if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2) return sqrtf(v);
-  if (id == NBRDF_BAKE_SIGMA_T) return log1pf(v);
-  return v;
-}
-
-static float unwarp(int id, float u) {
-  if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2) return u * u;
-  if (id == NBRDF_BAKE_SIGMA_T) return expm1f(u);
-  return u;
-}
-
-static float quantise(const bake_band *b, int id, float v) {
-  float lo = warp(id, b->lo[id]), hi = warp(id, b->hi[id]);
-  if (!(hi > lo)) return v;
-  float steps = (float)((1u << b->quantise_bits) - 1);
-  float q = roundf((warp(id, v) - lo) / (hi - lo) * steps);
-  float r = unwarp(id, lo + (hi - lo) * q / steps);
-  /* keep the ends exact (sqrt/square and log1p/expm1 round) */
-  return q <= 0 ? b->lo[id] : q >= steps ? b->hi[id] : r;
+  where(b, id, x, y, c, at, sizeof at);
+  return bake_value_fail(verdict, b->lo, b->hi, id, at, *v, err);
 }
 
 static uint64_t tuple_hash(const bake_tuple *t) {
@@ -221,43 +169,7 @@ static void cache_store(bake_band *b, size_t n_missing) {
 
 /* Latent, sigma, w of the distinct tuples idx[0 .. n). */
 static nbrdf_status evaluate(bake_band *b, const size_t *idx, size_t n, nbrdf_error *err) {
-  int D = b->layout.latent_dim;
-  double *p0 = malloc(sizeof(double) * n * 4);
-  float *lat = malloc(sizeof(float) * n * ((size_t)D * 3 + 4));
-  if (!p0 || !lat) {
-    free(p0);
-    free(lat);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples", n);
-  }
-  double *p1 = p0 + n, *q0 = p0 + 2 * n, *q1 = p0 + 3 * n;
-  float *top = lat, *bottom = top + n * D, *layered = bottom + n * D;
-  float *albedo = layered + n * D, *sigma_t = albedo + n, *sigma = sigma_t + n, *w = sigma + n;
-  for (size_t k = 0; k < n; k++) {
-    const float *t = b->uniq[idx[k]].p;
-    p0[k] = t[NBRDF_BAKE_ALPHA1], p1[k] = t[NBRDF_BAKE_ETA];
-    q0[k] = t[NBRDF_BAKE_ALPHA2], q1[k] = t[NBRDF_BAKE_R0];
-    albedo[k] = t[NBRDF_BAKE_ALBEDO], sigma_t[k] = t[NBRDF_BAKE_SIGMA_T];
-  }
-  /* Values are already inside the grids (check_value), so CLAMP never moves them. */
-  nbrdf_status st = nbrdf_model_base_latents(b->model, NBRDF_BASE_DIELECTRIC, n, p0, p1,
-                                             NBRDF_RANGE_CLAMP, top, NULL, err);
-  if (st == NBRDF_OK)
-    st = nbrdf_model_base_latents(b->model, NBRDF_BASE_CONDUCTOR, n, q0, q1, NBRDF_RANGE_CLAMP,
-                                  bottom, NULL, err);
-  if (st == NBRDF_OK)
-    st = nbrdf_model_layer(b->model, n, top, bottom, albedo, sigma_t, layered, err);
-  if (st == NBRDF_OK) st = nbrdf_model_proxy_params(b->model, n, layered, sigma, w, err);
-  if (st == NBRDF_OK) {
-    for (size_t k = 0; k < n; k++) {
-      float *o = b->uniq_out + idx[k] * (size_t)(D + 2);
-      memcpy(o, layered + k * D, sizeof(float) * D);
-      o[D] = sigma[k];
-      o[D + 1] = w[k];
-    }
-  }
-  free(p0);
-  free(lat);
-  return st;
+  return bake_tuples_evaluate(b->model, b->uniq, idx, n, b->uniq_out, err);
 }
 
 nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err) {
@@ -286,13 +198,11 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
       for (int c = 0; c < C; c++) {
         bake_tuple t;
         for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-          float v = nbrdf_param_band_at(&band[id], x, j, c) + 0.0f; /* -0 -> +0 */
-          if (b->roughness == NBRDF_ROUGHNESS_PERCEPTUAL &&
-              (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2))
-            v = v * v;
+          float v = nbrdf_param_band_at(&band[id], x, j, c);
           nbrdf_status st = check_value(b, id, &v, x, y0 + j, c, err);
           if (st != NBRDF_OK) return st;
-          t.p[id] = b->quantise_bits ? quantise(b, id, v) : v;
+          t.p[id] =
+              b->quantise_bits ? bake_value_quantise(b->lo, b->hi, id, b->quantise_bits, v) : v;
         }
         b->slot[((size_t)j * b->width + x) * C + c] = intern(b, &t, &n_uniq);
       }

@@ -8,15 +8,10 @@
 
 #include <stddef.h>
 
+#include "bake/bake_tuple.h"
 #include "nbrdf/bake.h"
 #include "texture/latent_layout.h"
 #include "texture/param_source.h"
-
-/* A tuple: alpha1, eta, alpha2, r0, albedo, sigma_t (after the roughness
- * convention and any clamping). */
-typedef struct bake_tuple {
-  float p[NBRDF_BAKE_PARAM_COUNT];
-} bake_tuple;
 
 /* Opens the six sources of `in` as nbrdf_bake reads them (maps of r0 and
  * albedo as colour data); `nbrdf verify` opens them the same way. On failure

@@ -34,23 +34,24 @@ typedef struct model_spec {
 
 #define ALPHA_RANGE NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, 0
 #define ETA_RANGE NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX, 0
-/* The layered model's columns, shared by its neural counterpart. */
+/* The neural models accept any finite number here: the bake's own checks
+ * (src/bake/bake_tuple.h) then refuse, clamp or keep it exactly as a bake
+ * would. */
+#define ANY -INFINITY, INFINITY, 0
 // clang-format off
 #define LAYERED_COLUMNS                                                                            \
   {{"alpha1", ALPHA_RANGE}, {"eta", ETA_RANGE}, {"alpha2", ALPHA_RANGE},                          \
    {"r0", 0, 1, 0}, {"albedo", 0, 1, 0}, {"sigma_t", 0, NBRDF_GT_SIGMA_T_MAX, 0}}
+#define NEURAL_COLUMNS                                                                             \
+  {{"alpha1", ANY}, {"eta", ANY}, {"alpha2", ANY}, {"r0", ANY}, {"albedo", ANY}, {"sigma_t", ANY}}
 // clang-format on
 static const model_spec MODELS[] = {
     {"layered", 1, EVAL_NEURAL_NONE, 6, LAYERED_COLUMNS},
     {"conductor", 0, EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
     {"dielectric", 0, EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
-    {"neural", 0, EVAL_NEURAL_LAYERED, 6, LAYERED_COLUMNS},
-    {"neural-conductor", 0, EVAL_NEURAL_CONDUCTOR, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
-    {"neural-dielectric",
-     0,
-     EVAL_NEURAL_DIELECTRIC,
-     2,
-     {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
+    {"neural", 0, EVAL_NEURAL_LAYERED, 6, NEURAL_COLUMNS},
+    {"neural-conductor", 0, EVAL_NEURAL_CONDUCTOR, 2, {{"alpha", ANY}, {"r0", ANY}}},
+    {"neural-dielectric", 0, EVAL_NEURAL_DIELECTRIC, 2, {{"alpha", ANY}, {"eta", ANY}}},
 };
 static const column_spec ANGLES[N_ANGLES] = {
     {"theta_i", 0, 90, 1}, {"phi_i", -360, 360, 0}, {"theta_o", 0, 90, 1}, {"phi_o", -360, 360, 0}};
@@ -61,18 +62,23 @@ void cmd_eval_usage(FILE *out) {
           "[--seed S] [--threads T]\n"
           "       nbrdf eval --model neural|neural-conductor|neural-dielectric "
           "[--bundle DIR]\n"
+          "                  [--roughness alpha|perceptual] [--range clamp|refuse]\n"
           "\n"
-          "Evaluates ground-truth BRDF values at point queries: reads CSV on "
-          "stdin, writes CSV\n"
-          "on stdout.\n"
+          "Evaluates ground-truth or neural BRDF values at point queries: reads CSV on "
+          "stdin,\n"
+          "writes CSV on stdout.\n"
           "\n"
           "options:\n"
-          "  --model M    layered, conductor or dielectric (required)\n"
+          "  --model M    layered, conductor, dielectric (ground truth) or neural,\n"
+          "               neural-conductor, neural-dielectric (a bundle) (required)\n"
           "  --spp N      random walks per query for stochastic models (default "
           "1024, 1..1e9);\n"
           "               ignored by the analytic models\n"
           "  --seed S     base seed, an unsigned 64-bit integer (default 0)\n"
           "  --threads T  worker threads; 0 = all cores (default 0)\n"
+          "  --bundle DIR, --roughness alpha|perceptual, --range clamp|refuse\n"
+          "               neural models only: the bundle and the options of 'nbrdf bake'\n"
+          "               (defaults models/default, alpha, clamp)\n"
           "\n"
           "input: a header row naming the columns, then one query per row. Columns "
           "may come in\n"
@@ -90,14 +96,21 @@ void cmd_eval_usage(FILE *out) {
           "reflection lobe only)\n"
           "  neural, neural-conductor, neural-dielectric: the columns of layered, "
           "conductor,\n"
-          "              dielectric; f as a bake computes a texel (base-table look-up, "
-          "layering\n"
-          "              network, decoder) with the bundle of --bundle DIR (default "
-          "models/default).\n"
-          "              Outside the bundle's tables a parameter is clamped to them, "
-          "with a warning\n"
-          "              naming the line; sigma_t above the trained 5 is extrapolated "
-          "(warned).\n"
+          "              dielectric; f exactly as a bake with the same options computes "
+          "a texel,\n"
+          "              through the bake's own code: roughness convention, range "
+          "checks, base-table\n"
+          "              look-up, layering network, then the decoder (a --float bake's "
+          "texel; a half\n"
+          "              bake rounds the latent to 16 bits). A value outside the "
+          "model's trained\n"
+          "              range (the bundle's table grids for alpha1, eta, alpha2, r0; "
+          "sigma_t 0..5)\n"
+          "              is clamped onto it with a warning naming the line, as the bake "
+          "does, or\n"
+          "              refused with --range refuse; negative values and r0 or albedo "
+          "above 1 are\n"
+          "              refused.\n"
           "  angles:     theta_i,phi_i,theta_o,phi_o in DEGREES; theta from the "
           "surface normal,\n"
           "              phi the azimuth from the x axis; both directions point "
@@ -113,9 +126,9 @@ void cmd_eval_usage(FILE *out) {
           "  sigma_t                [0, %g]  optical depth of the slab\n"
           "  theta_i, theta_o       [0, 90)   degrees\n"
           "  phi_i, phi_o           [-360, 360] degrees\n"
-          "The neural models are trained on a narrower range (paper Table 2: alpha "
-          "0.01..1,\n"
-          "eta 1.05..2, sigma_t 0..5).\n"
+          "The neural models take what a bake takes instead: any finite value >= 0 "
+          "(r0, albedo\n"
+          "at most 1), clamped to the trained ranges as described above.\n"
           "\n"
           "output: the input columns in input order, then\n"
           "  f          the BRDF value f(wi, wo) in 1/sr, WITHOUT the cosine "
@@ -149,12 +162,14 @@ void cmd_eval_usage(FILE *out) {
 typedef struct eval_args {
   const model_spec *model;
   nbrdf_eval_options options;
-  const char *bundle;
+  eval_neural_options neural;
+  int neural_option; /* an option of the neural models was given */
 } eval_args;
 
 static int parse_args(int argc, char **argv, eval_args *a) {
   a->model = NULL;
-  a->bundle = NULL;
+  a->neural = (eval_neural_options){NULL, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP};
+  a->neural_option = 0;
   a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
   for (int i = 1; i < argc; i++) {
     const char *v;
@@ -168,7 +183,19 @@ static int parse_args(int argc, char **argv, eval_args *a) {
                                "dielectric, neural, neural-conductor or neural-dielectric)",
                                v);
     } else if ((v = cli_option_value(argc, argv, &i, "--bundle"))) {
-      a->bundle = v;
+      a->neural.bundle = v;
+      a->neural_option = 1;
+    } else if ((v = cli_option_value(argc, argv, &i, "--roughness"))) {
+      if (strcmp(v, "alpha") && strcmp(v, "perceptual"))
+        return cli_usage_error("eval", "--roughness is 'alpha' or 'perceptual', not '%s'", v);
+      a->neural.roughness =
+          !strcmp(v, "alpha") ? NBRDF_ROUGHNESS_ALPHA : NBRDF_ROUGHNESS_PERCEPTUAL;
+      a->neural_option = 1;
+    } else if ((v = cli_option_value(argc, argv, &i, "--range"))) {
+      if (strcmp(v, "clamp") && strcmp(v, "refuse"))
+        return cli_usage_error("eval", "--range is 'clamp' or 'refuse', not '%s'", v);
+      a->neural.range = !strcmp(v, "clamp") ? NBRDF_RANGE_CLAMP : NBRDF_RANGE_REFUSE;
+      a->neural_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
       if (!cli_parse_int(v, 1, 1000000000L, &n))
         return cli_usage_error("eval", "--spp '%s' is not an integer in [1, 1e9]", v);
@@ -192,6 +219,9 @@ static int parse_args(int argc, char **argv, eval_args *a) {
     }
   }
   if (!a->model) return cli_usage_error("eval", "--model is required");
+  if (a->neural_option && !a->model->neural)
+    return cli_usage_error("eval",
+                           "--bundle, --roughness and --range apply to the neural models only");
   return CLI_EXIT_OK;
 }
 
@@ -232,12 +262,14 @@ static int find_columns(const csv_table *t, const model_spec *m, layout *lay) {
     }
   }
   for (int c = 0; c < lay->n; c++)
-    if (lay->index[c] == width)
-      return cli_fail("eval", "missing column '%s' (model %s needs %s)", lay->spec[c]->name,
-                      m->name,
-                      m->stochastic ? "alpha1,eta,alpha2,r0,albedo,sigma_t and the angles"
-                                    : (m->params[1].name[0] == 'r' ? "alpha,r0 and the angles"
-                                                                   : "alpha,eta and the angles"));
+    if (lay->index[c] == width) {
+      char needs[128] = "";
+      for (int p = 0; p < m->n_params; p++)
+        snprintf(needs + strlen(needs), sizeof needs - strlen(needs), "%s%s", p ? "," : "",
+                 m->params[p].name);
+      return cli_fail("eval", "missing column '%s' (model %s needs %s and the angles)",
+                      lay->spec[c]->name, m->name, needs);
+    }
   return CLI_EXIT_OK;
 }
 
@@ -367,8 +399,13 @@ int cmd_eval(int argc, char **argv) {
   batch b = {0};
   rc = find_columns(&t, a.model, &lay);
   if (rc == CLI_EXIT_OK) rc = build_batch(&t, &a, &lay, &b);
-  if (rc == CLI_EXIT_OK && b.n > 0 && a.model->neural)
-    rc = eval_neural(a.bundle, a.model->neural, b.n, b.params, b.queries, t.line + 1, b.f);
+  if (rc == CLI_EXIT_OK && b.n > 0 && a.model->neural) {
+    const char *columns[MAX_PARAMS];
+    for (int p = 0; p < a.model->n_params; p++)
+      columns[p] = a.model->params[p].name;
+    rc = eval_neural(&a.neural, a.model->neural, b.n, b.params, columns, b.queries, t.line + 1,
+                     b.f);
+  }
   else if (rc == CLI_EXIT_OK && b.n > 0 &&
            nbrdf_brdf_eval_many(b.n, b.brdfs, b.queries, &a.options, b.f, b.f_stderr, &err) !=
                NBRDF_OK)

@@ -7,21 +7,32 @@
 
 void cmd_info_usage(FILE *out) {
   fprintf(out,
-          "usage: nbrdf info TEXTURE.exr\n"
+          "usage: nbrdf info [--header-only] TEXTURE.exr\n"
           "\n"
           "Prints a latent texture's size, mip levels, channels, colour mode, storage,\n"
           "compression, the model that baked it (name and checksum), its parameter\n"
-          "sources and bake settings (docs/LATENT-TEXTURE.md).\n"
+          "sources and bake settings (docs/LATENT-TEXTURE.md), then checks the whole file:\n"
+          "every tile of every level is read and decoded and every value must be finite\n"
+          "(about 0.4 s of CPU for a 1024 x 1024 half texture; docs/LATENT-TEXTURE.md).\n"
           "\n"
-          "exit status: 0 success, 1 failure (unreadable or not a latent texture), 2 bad usage\n");
+          "  --header-only   read the header only (instant; a truncated or damaged tile\n"
+          "                  goes unnoticed)\n"
+          "\n"
+          "exit status: 0 success, 1 failure (unreadable, truncated, damaged or not a latent\n"
+          "texture; the message names the file, and the level and tile of a damaged one),\n"
+          "2 bad usage\n");
 }
 
 int cmd_info(int argc, char **argv) {
   const char *path = NULL;
+  int header_only = 0;
   for (int i = 1; i < argc; i++) {
     if (cli_is_help(argv[i])) {
       cmd_info_usage(stdout);
       return CLI_EXIT_OK;
+    } else if (!strcmp(argv[i], "--header-only")) {
+      header_only = 1;
+      continue;
     } else if (argv[i][0] == '-') {
       return cli_usage_error("info", "unknown option '%s'", argv[i]);
     } else if (path) {
@@ -54,6 +65,16 @@ int cmd_info(int argc, char **argv) {
   printf("sources:       %s\n", in->sources);
   printf("bake settings: %s\n", in->settings);
   printf("writer:        %s\n", in->writer);
+  int rc = CLI_EXIT_OK;
+  fflush(stdout); /* what the header says comes out before the check's verdict */
+  if (header_only) {
+    printf("check:         header only (--header-only)\n");
+  } else if (nbrdf_latent_reader_check(r, &err) != NBRDF_OK) {
+    printf("check:         FAILED\n");
+    rc = cli_fail_error("info", &err);
+  } else {
+    printf("check:         every tile of %d level(s) read, all values finite\n", in->levels);
+  }
   nbrdf_latent_reader_close(r);
-  return CLI_EXIT_OK;
+  return rc;
 }

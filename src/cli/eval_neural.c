@@ -4,21 +4,90 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bake/bake_tuple.h"
 #include "cli/cli.h"
+#include "core/error.h"
 #include "nbrdf/model.h"
 
-/* Trained σT values are {0, 1, 2, 5} (paper Table 2). */
-#define SIGMA_T_TRAINED_MAX 5.0
+/* Rows go through the networks this many at a time, so memory stays bounded. */
+#define EVAL_NEURAL_CHUNK 16384
 
-static void warn_clamped(size_t line, const char *const names[2], unsigned char flags) {
-  for (int a = 0; a < 2; a++)
-    if (flags & (1u << a))
-      fprintf(stderr, "nbrdf eval: warning: line %zu: %s outside the bundle's table, clamped\n",
-              line, names[a]);
+/* The bake parameter each column of a kind stands for. */
+static const int LAYERED_IDS[6] = {NBRDF_BAKE_ALPHA1, NBRDF_BAKE_ETA,    NBRDF_BAKE_ALPHA2,
+                                   NBRDF_BAKE_R0,     NBRDF_BAKE_ALBEDO, NBRDF_BAKE_SIGMA_T};
+static const int CONDUCTOR_IDS[2] = {NBRDF_BAKE_ALPHA2, NBRDF_BAKE_R0};
+static const int DIELECTRIC_IDS[2] = {NBRDF_BAKE_ALPHA1, NBRDF_BAKE_ETA};
+
+/* Row k's parameters through the bake's conventions into t (a full tuple;
+ * columns a kind does not have keep a value inside the range). */
+static int prepare_row(const eval_neural_options *o, const float *lo, const float *hi,
+                       eval_neural_kind kind, const double *v, const char *const *columns,
+                       size_t line, bake_tuple *t) {
+  const int *ids = kind == EVAL_NEURAL_LAYERED     ? LAYERED_IDS
+                   : kind == EVAL_NEURAL_CONDUCTOR ? CONDUCTOR_IDS
+                                                   : DIELECTRIC_IDS;
+  int np = kind == EVAL_NEURAL_LAYERED ? 6 : 2;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+    t->p[id] = lo[id];
+  for (int c = 0; c < np; c++) {
+    int id = ids[c];
+    float x = (float)v[c], read = x;
+    bake_verdict verdict = bake_value_prepare_read(lo, hi, id, o->roughness, o->range, &x, &read);
+    if (verdict > BAKE_VALUE_CLAMPED) {
+      char at[160];
+      nbrdf_error err = {0};
+      snprintf(at, sizeof at, "line %zu, column '%s'", line, columns[c]);
+      bake_value_fail(verdict, lo, hi, id, at, read, &err);
+      return cli_fail_error("eval", &err);
+    }
+    if (verdict == BAKE_VALUE_CLAMPED) {
+      char what[48], msg[256];
+      snprintf(what, sizeof what, "%g", (double)read);
+      bake_clamp_warning(msg, sizeof msg, columns[c], lo, hi, id, what, 0);
+      fprintf(stderr, "nbrdf eval: warning: line %zu: %s to %g\n", line, msg, (double)x);
+    }
+    t->p[id] = x;
+  }
+  return CLI_EXIT_OK;
 }
 
-int eval_neural(const char *bundle, eval_neural_kind kind, size_t n, const double *params,
-                const nbrdf_query *q, const size_t *lines, double *f) {
+/* f of rows [k0, k0 + m): the bake's tuple evaluation (or, for the base
+ * BRDFs alone, its table look-up), then the decoder. */
+static nbrdf_status run_chunk(const nbrdf_model *model, eval_neural_kind kind, const bake_tuple *t,
+                              size_t m, const nbrdf_query *q, float *scratch, double *f,
+                              nbrdf_error *err) {
+  const size_t D = (size_t)nbrdf_model_latent_dim(model);
+  float *tuple_out = scratch, *lat = tuple_out + m * (D + 2), *wi = lat + m * D, *wo = wi + 3 * m,
+        *out = wo + 3 * m;
+  double *p0 = malloc(sizeof(double) * 2 * m);
+  if (!p0) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "eval: out of memory");
+  nbrdf_status st = NBRDF_OK;
+  if (kind == EVAL_NEURAL_LAYERED) {
+    st = bake_tuples_evaluate(model, t, NULL, m, tuple_out, err);
+    for (size_t k = 0; st == NBRDF_OK && k < m; k++)
+      memcpy(lat + k * D, tuple_out + k * (D + 2), sizeof(float) * D);
+  } else {
+    int a = kind == EVAL_NEURAL_CONDUCTOR ? NBRDF_BAKE_ALPHA2 : NBRDF_BAKE_ALPHA1;
+    int b = kind == EVAL_NEURAL_CONDUCTOR ? NBRDF_BAKE_R0 : NBRDF_BAKE_ETA;
+    for (size_t k = 0; k < m; k++)
+      p0[k] = t[k].p[a], p0[m + k] = t[k].p[b];
+    st = nbrdf_model_base_latents(
+        model, kind == EVAL_NEURAL_CONDUCTOR ? NBRDF_BASE_CONDUCTOR : NBRDF_BASE_DIELECTRIC, m, p0,
+        p0 + m, NBRDF_RANGE_CLAMP, lat, NULL, err);
+  }
+  for (size_t k = 0; k < m; k++)
+    for (int j = 0; j < 3; j++)
+      wi[3 * k + j] = (float)q[k].wi[j], wo[3 * k + j] = (float)q[k].wo[j];
+  if (st == NBRDF_OK) st = nbrdf_model_decode(model, m, 1, lat, wi, wo, out, err);
+  for (size_t k = 0; st == NBRDF_OK && k < m; k++)
+    f[k] = out[k];
+  free(p0);
+  return st;
+}
+
+int eval_neural(const eval_neural_options *o, eval_neural_kind kind, size_t n, const double *params,
+                const char *const *columns, const nbrdf_query *q, const size_t *lines, double *f) {
+  const char *bundle = o->bundle;
   struct stat sb;
   if (!bundle) {
     if (stat("models/default", &sb) != 0 || !S_ISDIR(sb.st_mode))
@@ -30,61 +99,22 @@ int eval_neural(const char *bundle, eval_neural_kind kind, size_t n, const doubl
   if (nbrdf_model_load(bundle, &m, &err) != NBRDF_OK) return cli_fail_error("eval", &err);
   if (!nbrdf_model_is_trained(m))
     fprintf(stderr, "nbrdf eval: warning: bundle '%s' is untrained (random networks)\n", bundle);
-  int D = nbrdf_model_latent_dim(m), np = kind == EVAL_NEURAL_LAYERED ? 6 : 2;
-  float *top = malloc(n * (size_t)D * sizeof *top), *bottom = malloc(n * (size_t)D * sizeof *top);
-  float *lat = malloc(n * (size_t)D * sizeof *lat), *a = malloc(n * sizeof *a);
-  float *s = malloc(n * sizeof *s), *wi = malloc(6 * n * sizeof *wi),
-        *out = malloc(n * sizeof *out);
-  double *p0 = malloc(4 * n * sizeof *p0);
-  unsigned char *c0 = malloc(2 * n);
-  int rc = CLI_EXIT_OK;
-  if (!top || !bottom || !lat || !a || !s || !wi || !out || !p0 || !c0)
-    rc = cli_fail("eval", "out of memory for %zu rows", n);
-  double *p1 = p0 + n, *p2 = p0 + 2 * n, *p3 = p0 + 3 * n;
-  unsigned char *c1 = c0 + n;
-  for (size_t k = 0; k < n && rc == CLI_EXIT_OK; k++) {
-    const double *v = params + k * (size_t)np;
-    p0[k] = v[0], p1[k] = v[1];
-    if (kind == EVAL_NEURAL_LAYERED) {
-      p2[k] = v[2], p3[k] = v[3], a[k] = (float)v[4], s[k] = (float)v[5];
-      if (v[5] > SIGMA_T_TRAINED_MAX)
-        fprintf(stderr, "nbrdf eval: warning: line %zu: sigma_t %g beyond the trained 0..5\n",
-                lines[k], v[5]);
-    }
-    for (int j = 0; j < 3; j++)
-      wi[3 * k + j] = (float)q[k].wi[j], wi[3 * n + 3 * k + j] = (float)q[k].wo[j];
+  float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_ranges_init(m, lo, hi);
+  const size_t D = (size_t)nbrdf_model_latent_dim(m), np = kind == EVAL_NEURAL_LAYERED ? 6 : 2;
+  const size_t chunk = n < EVAL_NEURAL_CHUNK ? n : EVAL_NEURAL_CHUNK;
+  bake_tuple *t = malloc(sizeof *t * (n ? n : 1));
+  float *scratch = malloc(sizeof(float) * chunk * (2 * D + 2 + 7));
+  int rc = t && scratch ? CLI_EXIT_OK : cli_fail("eval", "out of memory for %zu rows", n);
+  for (size_t k = 0; k < n && rc == CLI_EXIT_OK; k++)
+    rc = prepare_row(o, lo, hi, kind, params + k * np, columns, lines[k], &t[k]);
+  for (size_t k = 0; k < n && rc == CLI_EXIT_OK; k += chunk) {
+    size_t len = n - k < chunk ? n - k : chunk;
+    if (run_chunk(m, kind, t + k, len, q + k, scratch, f + k, &err) != NBRDF_OK)
+      rc = cli_fail_error("eval", &err);
   }
-  nbrdf_status st = NBRDF_OK;
-  if (rc == CLI_EXIT_OK) {
-    if (kind == EVAL_NEURAL_LAYERED) {
-      st = nbrdf_model_base_latents(m, NBRDF_BASE_DIELECTRIC, n, p0, p1, NBRDF_RANGE_CLAMP, top, c0,
-                                    &err);
-      if (!st)
-        st = nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, n, p2, p3, NBRDF_RANGE_CLAMP, bottom,
-                                      c1, &err);
-      if (!st) st = nbrdf_model_layer(m, n, top, bottom, a, s, lat, &err);
-    } else {
-      nbrdf_base_kind bk =
-          kind == EVAL_NEURAL_CONDUCTOR ? NBRDF_BASE_CONDUCTOR : NBRDF_BASE_DIELECTRIC;
-      memset(c1, 0, n);
-      st = nbrdf_model_base_latents(m, bk, n, p0, p1, NBRDF_RANGE_CLAMP, lat, c0, &err);
-    }
-    if (!st) st = nbrdf_model_decode(m, n, 1, lat, wi, wi + 3 * n, out, &err);
-    if (st) rc = cli_fail_error("eval", &err);
-  }
-  for (size_t k = 0; k < n && rc == CLI_EXIT_OK; k++) {
-    static const char *const top_names[2] = {"alpha1", "eta"},
-                             *const bottom_names[2] = {"alpha2", "r0"},
-                             *const cond[2] = {"alpha", "r0"}, *const diel[2] = {"alpha", "eta"};
-    warn_clamped(lines[k],
-                 kind == EVAL_NEURAL_LAYERED     ? top_names
-                 : kind == EVAL_NEURAL_CONDUCTOR ? cond
-                                                 : diel,
-                 c0[k]);
-    if (kind == EVAL_NEURAL_LAYERED) warn_clamped(lines[k], bottom_names, c1[k]);
-    f[k] = out[k];
-  }
-  free(top), free(bottom), free(lat), free(a), free(s), free(wi), free(out), free(p0), free(c0);
+  free(t);
+  free(scratch);
   nbrdf_model_destroy(m);
   return rc;
 }

@@ -1,11 +1,15 @@
-/* `nbrdf eval --model neural*`: f computed the way a bake computes a texel
- * (base-table look-up, layering network, decoder), for the same CSV contract
- * as the ground-truth models. */
+/* `nbrdf eval --model neural*`: f computed exactly the way a bake computes a
+ * texel, for the same CSV contract as the ground-truth models. Parameters go
+ * through the bake's own code (src/bake/bake_tuple.h): the roughness
+ * convention, validation, the trained ranges under the range policy (clamp
+ * with a warning, or refuse), then base-table look-up, layering network and
+ * decoder. */
 #ifndef NBRDF_CLI_EVAL_NEURAL_H
 #define NBRDF_CLI_EVAL_NEURAL_H
 
 #include <stddef.h>
 
+#include "nbrdf/bake.h"
 #include "nbrdf/brdf.h"
 
 typedef enum eval_neural_kind {
@@ -15,12 +19,19 @@ typedef enum eval_neural_kind {
   EVAL_NEURAL_DIELECTRIC /* alpha, eta */
 } eval_neural_kind;
 
-/* Loads `bundle` (NULL: models/default) and fills f[k] for n rows of
- * parameters (n × that kind's count) and queries. Parameters outside the
- * bundle's tables are clamped to them with one warning per row on stderr
- * naming its line (`lines[k]`); σT beyond the trained 5 is extrapolated by the
- * layering network and warned about the same way. Returns a CLI exit status. */
-int eval_neural(const char *bundle, eval_neural_kind kind, size_t n, const double *params,
-                const nbrdf_query *queries, const size_t *lines, double *f);
+typedef struct eval_neural_options {
+  const char *bundle; /* NULL: models/default */
+  nbrdf_roughness roughness;
+  nbrdf_range_policy range;
+} eval_neural_options;
+
+/* Loads the bundle and fills f[k] for n rows of parameters (n × that kind's
+ * count, named by `columns`) and queries. A value the bake would clamp is
+ * clamped with one warning per value on stderr naming its line (`lines[k]`)
+ * in the bake's words; one the bake would refuse stops with an error naming
+ * the line and column. Returns a CLI exit status. */
+int eval_neural(const eval_neural_options *o, eval_neural_kind kind, size_t n, const double *params,
+                const char *const *columns, const nbrdf_query *queries, const size_t *lines,
+                double *f);
 
 #endif

@@ -123,12 +123,14 @@ nbrdf_status nbrdf_model_load(const char *dir, nbrdf_model **out, nbrdf_error *e
   if (st == NBRDF_OK) {
     m->checksum = hash;
     snprintf(m->checksum_hex, sizeof m->checksum_hex, "%016" PRIx64, hash);
-    if (expected_checksum[0] && strcmp(expected_checksum, m->checksum_hex) != 0)
+    if (strcmp(expected_checksum, m->checksum_hex) != 0)
       st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
                       "%s/model.json: checksum %s does not match the weight files' %s (a file was "
-                      "replaced without updating the bundle)",
+                      "damaged, or replaced without reassembling the bundle with `nbrdf train "
+                      "bundle`)",
                       dir, expected_checksum, m->checksum_hex);
   }
+  if (st == NBRDF_OK) st = model_bundle_check_json(dir, m, err);
   if (st == NBRDF_OK) st = remember_files(dir, m, err);
   if (st != NBRDF_OK) {
     nbrdf_model_destroy(m);

@@ -11,9 +11,10 @@
  *                    "conductor": {"alpha2": [..], "r0": [..]}},
  *    "note": "..."}
  * Load reads name, trained and latent_dim from it (latent_dim must agree with
- * every file); everything else is a summary for people and tools, the
- * safetensors files being the truth. A stored checksum that differs from the
- * files' is refused (a file was replaced without rewriting model.json). */
+ * every file); the safetensors files are the truth, and every other value it
+ * states about the networks and tables must equal theirs (bundle_check.c).
+ * The checksum is required, and one that differs from the files' is refused
+ * (a file was damaged or replaced without rewriting model.json). */
 #ifndef NBRDF_MODEL_BUNDLE_H
 #define NBRDF_MODEL_BUNDLE_H
 

@@ -50,15 +50,24 @@ nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checks
            dim->valuedouble < 1 || dim->valuedouble > 4096)
     st =
         nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"latent_dim\" must be an integer in 1..4096", path);
-  else if (sum && (!cJSON_IsString(sum) || strlen(sum->valuestring) != 16 ||
-                   strspn(sum->valuestring, "0123456789abcdef") != 16))
+  else if (!sum)
+    st = nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                    "%s: no \"checksum\" (a bundle records the checksum of its four .safetensors "
+                    "files, so that a damaged or replaced file is refused); if the files are the "
+                    "intended ones, reassemble the bundle from them with `nbrdf train bundle -o "
+                    "NEW_DIR --name NAME --decoder F --tables F --layering F --sampler F "
+                    "[--card F] [--note TEXT]`, which writes model.json with it "
+                    "(docs/MODEL_BUNDLE.md, \"Checksums\")",
+                    path);
+  else if (!cJSON_IsString(sum) || strlen(sum->valuestring) != 16 ||
+           strspn(sum->valuestring, "0123456789abcdef") != 16)
     st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"checksum\" must be 16 lower-case hex digits",
                     path);
   if (st == NBRDF_OK) {
     snprintf(m->name, sizeof m->name, "%s", name->valuestring);
     m->trained = cJSON_IsTrue(trained);
     m->latent_dim = (int)dim->valuedouble;
-    snprintf(checksum, 17, "%s", sum ? sum->valuestring : "");
+    snprintf(checksum, 17, "%s", sum->valuestring);
   }
   cJSON_Delete(root);
   return st;

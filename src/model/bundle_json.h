@@ -7,9 +7,14 @@
 #include "model/bundle.h"
 
 /* Reads dir/model.json into m->name, m->trained, m->latent_dim; copies its
- * "checksum" (16 hex digits, or "" when absent) into checksum[17]. */
+ * "checksum" (16 hex digits, required) into checksum[17]. */
 nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checksum[17],
                                     nbrdf_error *err);
+
+/* Refuses a model.json whose statements about the networks and tables
+ * (presets, sizes, MACs, parameters, encoding, table axes) differ from the
+ * loaded weight files `m` (bundle_check.c). */
+nbrdf_status model_bundle_check_json(const char *dir, const nbrdf_model *m, nbrdf_error *err);
 
 nbrdf_status model_bundle_write_json(const char *dir, const model_bundle_parts *p,
                                      uint64_t checksum, nbrdf_error *err);

@@ -122,6 +122,8 @@ typedef struct nbrdf_latent_reader nbrdf_latent_reader;
 nbrdf_status nbrdf_latent_reader_open(nbrdf_latent_reader **out, const char *path,
                                       nbrdf_error *err);
 const nbrdf_latent_info *nbrdf_latent_reader_info(const nbrdf_latent_reader *r);
+/* The path the reader was opened with (for messages). */
+const char *nbrdf_latent_reader_path(const nbrdf_latent_reader *r);
 /* Size of mip level `level`. */
 nbrdf_status nbrdf_latent_reader_level_size(const nbrdf_latent_reader *r, int level, int *width,
                                             int *height, nbrdf_error *err);
@@ -135,6 +137,14 @@ nbrdf_status nbrdf_latent_reader_read_channels(nbrdf_latent_reader *r, int level
                                                int w, int h, const char *const *names, int n,
                                                float *out, nbrdf_error *err);
 void nbrdf_latent_reader_close(nbrdf_latent_reader *r);
+
+/* Reads and decodes every tile of every level and checks that every value
+ * of nbrdf's channels is finite: what opening (which reads the header and
+ * nothing else) cannot see, a truncated file or a damaged tile, fails here
+ * with NBRDF_ERR_FORMAT naming the file, the level and the tile (and the
+ * texel and channel of a non-finite value). Costs a full read: about as much
+ * as decompressing the file (docs/LATENT-TEXTURE.md, "Checking a file"). */
+nbrdf_status nbrdf_latent_reader_check(nbrdf_latent_reader *r, nbrdf_error *err);
 
 /* NBRDF_ERR_MISMATCH unless the texture was baked with this model. */
 nbrdf_status nbrdf_latent_check_model(const nbrdf_latent_info *info, const char *path,

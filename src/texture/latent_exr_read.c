@@ -231,6 +231,7 @@ nbrdf_status nbrdf_latent_reader_open(nbrdf_latent_reader **out, const char *pat
 }
 
 const nbrdf_latent_info *nbrdf_latent_reader_info(const nbrdf_latent_reader *r) { return &r->info; }
+const char *nbrdf_latent_reader_path(const nbrdf_latent_reader *r) { return r->path; }
 
 nbrdf_status nbrdf_latent_reader_level_size(const nbrdf_latent_reader *r, int level, int *width,
                                             int *height, nbrdf_error *err) {
