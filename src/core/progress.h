@@ -19,7 +19,7 @@
 #define NBRDF_PROGRESS_INTERVAL 0.1
 
 typedef struct nbrdf_ticker {
-  nbrdf_progress_fn fn;          /* may be NULL */
+  nbrdf_progress_fn fn; /* may be NULL */
   void *user;
   volatile sig_atomic_t *cancel; /* may be NULL */
   double last;                   /* monotonic seconds of the last call of fn; < 0: none yet */
