@@ -150,16 +150,22 @@ static int lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, i
 #pragma omp atomic read
       h = halted;
       if (!lw.ex || !lw.acc || h) continue;
-      /* the calling thread (0 of the team) runs the hook between its chunks */
-      if (hook && ((hook->stop && *hook->stop) ||
-                   (omp_get_thread_num() == 0 && hook->tick && hook->tick(hook->user)))) {
-#pragma omp atomic write
-        halted = 1;
-        continue;
-      }
       double *s1 = sums + 2 * (size_t)c * n, *s2 = s1 + n;
       int end = (c + 1) * chunk < walks ? (c + 1) * chunk : walks;
       for (int j = c * chunk; j < end; j++) {
+        /* a chunk holds walks / 64 walks: with many walks, seconds; the hook
+         * is asked every 8 walks (the calling thread, 0 of the team, ticks) */
+        if (hook && (j - c * chunk) % 8 == 0) {
+          int stop = (hook->stop && *hook->stop) ||
+                     (omp_get_thread_num() == 0 && hook->tick && hook->tick(hook->user));
+          if (stop) {
+#pragma omp atomic write
+            halted = 1;
+          }
+#pragma omp atomic read
+          stop = halted;
+          if (stop) break;
+        }
         nbrdf_rng rng;
         nbrdf_rng_init(&rng, seed, (uint64_t)j);
         walk(&lw, wi, &rng);

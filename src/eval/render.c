@@ -91,6 +91,8 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   nbrdf_error first = {NBRDF_OK, ""};
   nbrdf_ticker ticker; /* ticked inside the critical section below only */
   nbrdf_ticker_init(&ticker, o->progress, o->user, o->cancel);
+  if (nbrdf_ticker_tick(&ticker, "render", 0, tiles, 1))
+    nbrdf_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled before the first tile"), stop = 1;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : decoded, evals)
   for (int t = 0; t < tiles; t++) {
     int halt;

@@ -101,10 +101,9 @@ static nbrdf_status estimate(const verify_refs *r, const verify_tuple *t, double
       double *img = images + (size_t)run * VERIFY_SET + (size_t)k * per;
       image_tick it = {r, run * NBRDF_LOBE_N_THETA + k};
       layered_lobe_hook hook = {r->stop, r->tick ? on_tick : NULL, &it};
-      int ok = layered_lobe_image_hooked(l, nbrdf_lobe_theta_deg[k] * (M_PI / 180.0),
-                                         NBRDF_LOBE_RES, r->walks,
-                                         nbrdf_hash64(base, (uint64_t)(run * 16 + k)), r->threads,
-                                         &hook, img, NULL);
+      int ok = layered_lobe_image_hooked(
+          l, nbrdf_lobe_theta_deg[k] * (M_PI / 180.0), NBRDF_LOBE_RES, r->walks,
+          nbrdf_hash64(base, (uint64_t)(run * 16 + k)), r->threads, &hook, img, NULL);
       if (ok < 0)
         st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled in a ground truth");
       else if (!ok)

@@ -163,8 +163,8 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
     }
     sum = nbrdf_st_fnv1a64(sum, recs, (size_t)n * rb);
     done += (uint64_t)n;
-    if ((stopped || nbrdf_ticker_tick(&tk, "dataset", (double)done, (double)s->count,
-                                      done == s->count)) &&
+    if ((stopped ||
+         nbrdf_ticker_tick(&tk, "dataset", (double)done, (double)s->count, done == s->count)) &&
         done < s->count) {
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
                       "%s: stopped at %llu of %llu BRDFs; run again to resume", path,

@@ -25,8 +25,8 @@ nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_para
   model_samples view = train_samples_view(&data);
   if (!st) st = model_fit_create(dec, n, out, &o, &fit, err);
   for (int i = 0; i < steps && !st; i++) {
-    if (progress && nbrdf_ticker_tick(progress->tk, progress->stage, progress->done0 + i,
-                                      progress->total, 0))
+    if (progress &&
+        nbrdf_ticker_tick(progress->tk, progress->stage, progress->done0 + i, progress->total, 0))
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "%s: cancelled at step %d of %d", progress->stage,
                       i, steps);
     else
