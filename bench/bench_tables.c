@@ -167,7 +167,7 @@ int main(int argc, char **argv) {
     proj[i].params = tab[i].params = params[i];
   }
   if (eval_reference(EVAL_SINGLE, &es, ref, &noise, &err)) die("references", &err);
-  if (train_project_params(dec, n, params, family, es.project_steps, 1, lat, &err))
+  if (train_project_params(dec, n, params, family, es.project_steps, 1, lat, NULL, &err))
     die("projection", &err);
   if (eval_score_latents(dec, n, lat, ref, NULL, proj, &err)) die("projected", &err);
   for (size_t i = 0; i < n; i++)

@@ -126,12 +126,15 @@ typedef struct nbrdf_bake_options {
    * the count through `warning`; REFUSE fails naming the file and texel.
    * r0 or albedo above 1 are never physical and always fail. */
   nbrdf_range_policy range;
-  /* Called per band of rows with stage "bake", done/total in rows; a
-   * non-zero return cancels. May be NULL. */
+  /* Called with stage "bake", done/total in rows; `done` moves within a band
+   * (fractional rows) as its tuples go through the networks and its rows
+   * are written, at most ~10 times a second (and once at 0 and at total);
+   * a non-zero return cancels. May be NULL. */
   nbrdf_progress_fn progress;
   void *user;
   /* Cancels when it becomes non-zero (a signal handler or another thread
-   * may set it); checked between bands. May be NULL. */
+   * may set it); checked between chunks of a few thousand tuples or a few
+   * rows, well under a second apart (docs/RELIABILITY.md). May be NULL. */
   volatile sig_atomic_t *cancel;
   /* Receives warnings (clamped values), one line each without a newline. May be NULL. */
   void (*warning)(void *user, const char *message);

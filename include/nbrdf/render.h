@@ -80,11 +80,14 @@ typedef struct nbrdf_render_options {
   /* NBRDF_RENDER_REFERENCE: one BRDF per colour channel of the texture (1 or 3 handles). */
   const nbrdf_brdf *const *reference;
   int reference_channels;
-  /* Stage "render", done/total in tiles; non-zero return cancels. Called from the tile
-   * threads, one call at a time. May be NULL. */
+  /* Stage "render", done/total in tiles, at most ~10 times a second (and at
+   * the last tile); non-zero return cancels. Called from the tile threads,
+   * one call at a time. May be NULL. */
   nbrdf_progress_fn progress;
   void *user;
-  volatile sig_atomic_t *cancel; /* cancels when non-zero; checked between tiles. May be NULL. */
+  /* Cancels when non-zero; checked between tiles and between a tile's
+   * batches of samples (docs/RELIABILITY.md). May be NULL. */
+  volatile sig_atomic_t *cancel;
 } nbrdf_render_options;
 
 #define NBRDF_RENDER_OPTIONS_DEFAULT                                                               \

@@ -57,11 +57,15 @@ typedef struct nbrdf_verify_options {
   uint64_t seed; /* the references' seed; the texel sample's too */
   int threads;   /* for the ground truth; 0 = all cores */
   int roughness; /* an nbrdf_roughness or NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE */
-  /* Called after each texel with stage "verify", done/total in texels; a
-   * non-zero return cancels. May be NULL. */
+  /* Stage "verify", done/total in texels; `done` moves within a texel
+   * (fractional) as its ground truth's lobe images are computed, at most
+   * ~10 times a second (and once at 0 and at total); a non-zero return
+   * cancels. May be NULL. */
   nbrdf_progress_fn progress;
   void *user;
-  volatile sig_atomic_t *cancel; /* cancels when non-zero; may be NULL */
+  /* Cancels when non-zero; checked between chunks of the ground truth's
+   * random walks, well under a second apart (docs/RELIABILITY.md). May be NULL. */
+  volatile sig_atomic_t *cancel;
 } nbrdf_verify_options;
 
 #define NBRDF_VERIFY_OPTIONS_DEFAULT                                                               \

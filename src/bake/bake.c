@@ -9,6 +9,7 @@
 
 #include "bake/bake_band.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "texture/latent_exr.h"
 
 /* Texels per band: big enough that the networks run on full batches, small
@@ -117,7 +118,29 @@ static void warn_clamped(const bake_band *b, const nbrdf_bake_options *o) {
   }
 }
 
-static int cancelled(const nbrdf_bake_options *o) { return o->cancel && *o->cancel; }
+/* Progress in rows, fractional inside a band: the band's own ticks cover
+ * BAKE_BAND_FRACTION of it, the writer the rest (docs/BAKE.md, "Progress"). */
+typedef struct bake_progress {
+  nbrdf_ticker ticker;
+  int y, rows, height;
+  double fraction; /* of the current band, for the writer's ticks */
+} bake_progress;
+
+static int band_tick(void *user, double fraction) {
+  bake_progress *p = user;
+  p->fraction = fraction;
+  return nbrdf_ticker_tick(&p->ticker, "bake", p->y + p->rows * fraction, p->height, 0);
+}
+
+static int writer_tick(void *user) {
+  bake_progress *p = user;
+  return nbrdf_ticker_tick(&p->ticker, "bake", p->y + p->rows * p->fraction, p->height, 0);
+}
+
+/* Level-0 rows handed to the writer at a time, so that cancel is seen
+ * between them too (the writer encodes a row of tiles when one is full and
+ * checks between groups of tiles itself). */
+#define WRITE_ROWS 8
 
 static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
                         const nbrdf_bake_options *o, const char *out_path, nbrdf_bake_report *rep,
@@ -165,6 +188,10 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   wo.mip_levels = o->mip_levels;
   wo.mip_row = mip_row;
   wo.mip_row_user = &mctx;
+  bake_progress prog = {.height = H};
+  nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
+  wo.tick = writer_tick;
+  wo.tick_user = &prog;
 
   int band_rows = BAND_TEXELS / W;
   if (band_rows < 1) band_rows = 1;
@@ -181,16 +208,27 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   size_t cache_max = band_rows < H ? o->tuple_cache : 0;
   bake_band_init(&band, model, src, &layout, W, o->roughness, o->range, cache_max,
                  o->quantise_bits);
+  band.tick = band_tick;
+  band.tick_user = &prog;
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
-    if (cancelled(o) || (o->progress && o->progress(o->user, "bake", y, H))) {
+    int rows = H - y < band_rows ? H - y : band_rows;
+    prog.y = y, prog.rows = rows, prog.fraction = 0.0;
+    if (nbrdf_ticker_tick(&prog.ticker, "bake", y, H, y == 0)) {
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y, H);
       break;
     }
-    int rows = H - y < band_rows ? H - y : band_rows;
     st = bake_band_run(&band, y, rows, texels, err);
-    if (st == NBRDF_OK) st = nbrdf_latent_writer_write_rows(writer, texels, rows, err);
+    for (int j = 0; st == NBRDF_OK && j < rows; j += WRITE_ROWS) {
+      int n = rows - j < WRITE_ROWS ? rows - j : WRITE_ROWS;
+      prog.fraction = BAKE_BAND_FRACTION + (1.0 - BAKE_BAND_FRACTION) * j / rows;
+      if (j && writer_tick(&prog)) {
+        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y + j, H);
+        break;
+      }
+      st = nbrdf_latent_writer_write_rows(writer, texels + (size_t)j * W * texel_floats, n, err);
+    }
   }
-  if (st == NBRDF_OK && (cancelled(o) || (o->progress && o->progress(o->user, "bake", H, H))))
+  if (st == NBRDF_OK && nbrdf_ticker_tick(&prog.ticker, "bake", H, H, 1))
     st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the file was complete");
   if (st == NBRDF_OK) {
     st = nbrdf_latent_writer_finish(writer, err);

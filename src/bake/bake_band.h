@@ -47,6 +47,12 @@ typedef struct bake_band {
   size_t *missing;  /* distinct tuples of the band not in the cache */
   size_t uniq_cap, slot_cap, hash_cap, missing_cap;
   bake_cache cache;
+  /* Optional: called between chunks of a band's work (a few rows of the
+   * gather, EVAL_CHUNK tuples of the networks) with the fraction of the
+   * band done so far, up to BAKE_BAND_FRACTION; non-zero stops the band
+   * with NBRDF_ERR_CANCELLED. */
+  int (*tick)(void *user, double fraction);
+  void *tick_user;
   /* totals over bands */
   size_t evaluated, reused, clamped[NBRDF_BAKE_PARAM_COUNT];
 } bake_band;
@@ -58,6 +64,10 @@ typedef struct bake_band {
 void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
                     const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
                     nbrdf_range_policy range, size_t cache_max, int quantise_bits);
+/* The fraction of a band's time bake_band_run's ticks reach (the rest is
+ * the caller's: writing the band). */
+#define BAKE_BAND_FRACTION 0.8
+
 /* Computes rows [y0, y0 + rows) into `texels` (rows * width texels of
  * nbrdf_latent_channel_count floats, logical order). */
 nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err);

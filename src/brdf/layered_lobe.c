@@ -125,8 +125,10 @@ static void walk(lobe_walker *lw, vec3 wi, nbrdf_rng *rng) {
   }
 }
 
-int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
-                      uint64_t seed, int threads, double *f, double *f_se) {
+/* 1: done; 0: out of memory; -1: stopped by the hook. */
+static int lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
+                     uint64_t seed, int threads, const layered_lobe_hook *hook, double *f,
+                     double *f_se) {
   if (n == 0) return 1;
   if (walks < 1) walks = 1;
   int chunk = (walks + MAX_CHUNKS - 1) / MAX_CHUNKS;
@@ -134,7 +136,7 @@ int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, 
   double *sums = calloc(2 * (size_t)chunks * n, sizeof *sums);
   if (!sums) return 0;
   int nt = threads > 0 ? threads : omp_get_max_threads();
-  int failed = 0;
+  int failed = 0, halted = 0;
 #pragma omp parallel num_threads(nt)
   {
     lobe_walker lw = {l, n, wo, malloc(n * sizeof(lobe_exit)), malloc(n * sizeof(double))};
@@ -144,10 +146,26 @@ int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, 
     }
 #pragma omp for schedule(dynamic, 1)
     for (int c = 0; c < chunks; c++) {
-      if (!lw.ex || !lw.acc) continue;
+      int h;
+#pragma omp atomic read
+      h = halted;
+      if (!lw.ex || !lw.acc || h) continue;
       double *s1 = sums + 2 * (size_t)c * n, *s2 = s1 + n;
       int end = (c + 1) * chunk < walks ? (c + 1) * chunk : walks;
       for (int j = c * chunk; j < end; j++) {
+        /* a chunk holds walks / 64 walks: with many walks, seconds; the hook
+         * is asked every 8 walks (the calling thread, 0 of the team, ticks) */
+        if (hook && (j - c * chunk) % 8 == 0) {
+          int stop = (hook->stop && *hook->stop) ||
+                     (omp_get_thread_num() == 0 && hook->tick && hook->tick(hook->user));
+          if (stop) {
+#pragma omp atomic write
+            halted = 1;
+          }
+#pragma omp atomic read
+          stop = halted;
+          if (stop) break;
+        }
         nbrdf_rng rng;
         nbrdf_rng_init(&rng, seed, (uint64_t)j);
         walk(&lw, wi, &rng);
@@ -160,9 +178,9 @@ int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, 
     free(lw.ex);
     free(lw.acc);
   }
-  if (failed) {
+  if (failed || halted) {
     free(sums);
-    return 0;
+    return failed ? 0 : -1;
   }
   for (size_t k = 0; k < n; k++) {
     double s1 = 0.0, s2 = 0.0;
@@ -181,8 +199,19 @@ int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, 
   return 1;
 }
 
+int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
+                      uint64_t seed, int threads, double *f, double *f_se) {
+  return lobe_eval(l, wi, n, wo, walks, seed, threads, NULL, f, f_se);
+}
+
 int layered_lobe_image(const bsdf_layered *l, double theta_i, int res, int walks, uint64_t seed,
                        int threads, double *image, double *image_se) {
+  return layered_lobe_image_hooked(l, theta_i, res, walks, seed, threads, NULL, image, image_se);
+}
+
+int layered_lobe_image_hooked(const bsdf_layered *l, double theta_i, int res, int walks,
+                              uint64_t seed, int threads, const layered_lobe_hook *hook,
+                              double *image, double *image_se) {
   size_t npix = (size_t)res * res, n = 0;
   vec3 *wo = calloc(npix, sizeof *wo);
   size_t *at = malloc(npix * sizeof *at);
@@ -200,8 +229,8 @@ int layered_lobe_image(const bsdf_layered *l, double theta_i, int res, int walks
         at[n++] = (size_t)row * res + col;
       }
     vec3 wi = v3(sin(theta_i), 0.0, cos(theta_i));
-    ok = layered_lobe_eval(l, wi, n, wo, walks, seed, threads, f, se);
-    for (size_t k = 0; ok && k < n; k++) {
+    ok = lobe_eval(l, wi, n, wo, walks, seed, threads, hook, f, se);
+    for (size_t k = 0; ok == 1 && k < n; k++) {
       image[at[k]] = f[k] * wo[k].z;
       if (image_se) image_se[at[k]] = se[k] * wo[k].z;
     }

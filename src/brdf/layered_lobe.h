@@ -9,6 +9,7 @@
 #ifndef NBRDF_BRDF_LAYERED_LOBE_H
 #define NBRDF_BRDF_LAYERED_LOBE_H
 
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -29,5 +30,20 @@ int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, 
  * ωi = (sin θi, 0, cos θi); value f(ωi, ωo) cos θo, 0 outside the disk. */
 int layered_lobe_image(const bsdf_layered *l, double theta_i, int res, int walks, uint64_t seed,
                        int threads, double *image, double *image_se);
+/* Cancel and progress for long lobe images (a 64x64 image of 256 walks
+ * takes up to seconds on a loaded machine): the walks stop once *stop (may
+ * be NULL) becomes non-zero, and tick (may be NULL) is called on the
+ * calling thread between chunks of walks; a non-zero return stops too. */
+typedef struct layered_lobe_hook {
+  const volatile sig_atomic_t *stop;
+  int (*tick)(void *user);
+  void *user;
+} layered_lobe_hook;
+
+/* layered_lobe_image under a hook (may be NULL): returns -1 when stopped,
+ * the image then undefined. */
+int layered_lobe_image_hooked(const bsdf_layered *l, double theta_i, int res, int walks,
+                              uint64_t seed, int threads, const layered_lobe_hook *hook,
+                              double *image, double *image_se);
 
 #endif

@@ -5,8 +5,9 @@
 int cli_progress(void *user, const char *stage, double done, double total) {
   const cli_progress_state *p = user;
   if (p->json) {
-    printf("{\"event\":\"progress\",\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f}\n", stage, done,
-           total);
+    /* done moves within a band / texel: fractional, two decimals */
+    printf("{\"event\":\"progress\",\"stage\":\"%s\",\"done\":%.*f,\"total\":%.0f}\n", stage,
+           done == (double)(long long)done ? 0 : 2, done, total);
     fflush(stdout);
   } else if (p->bar) {
     int width = 40, filled = total > 0 ? (int)(width * done / total) : width;

@@ -42,7 +42,7 @@ void cmd_dataset_usage(FILE *out) {
 
 typedef struct progress_state {
   int json;
-  double start, first_done;
+  double start, first_done, last_print;
 } progress_state;
 
 static double now_s(void) {
@@ -57,6 +57,10 @@ static int on_progress(void *user, const char *stage, double done, double total)
   if (p->first_done < 0) p->first_done = done;
   double rate = t > 0 ? (done - p->first_done) / t : 0.0;
   double eta = rate > 0 ? (total - done) / rate : -1.0;
+  /* the library calls up to ~10 times a second (that is how Ctrl-C is
+   * seen); a line a second is enough to read */
+  if (done < total && t - p->last_print < 1.0 && p->last_print >= 0) return *cli_cancel_flag();
+  p->last_print = t;
   if (p->json)
     fprintf(stderr,
             "{\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f,\"seconds\":%.2f,"
@@ -122,7 +126,7 @@ int cmd_dataset(int argc, char **argv) {
   train_dataset_settings s = TRAIN_DATASET_SETTINGS_DEFAULT;
   const char *out = NULL, *check = NULL;
   int have_kind = 0, have_count = 0, have_seed = 0, have_sampled = 0;
-  progress_state prog = {0, 0.0, -1.0};
+  progress_state prog = {0, 0.0, -1.0, -1.0};
   for (int i = 1; i < argc; i++) {
     const char *v;
     long n;

@@ -158,7 +158,7 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
   nbrdf_status st = eval_reference(set, s, r->ref, &r->ref_noise, err);
   double t1 = now_s();
   if (!st && (set == EVAL_REP || set == EVAL_SINGLE))
-    st = train_project_params(dec, n, params, family, s->project_steps, 1, lat, err);
+    st = train_project_params(dec, n, params, family, s->project_steps, 1, lat, NULL, err);
   for (size_t i = 0; i < n && !st && set != EVAL_REP && set != EVAL_SINGLE; i++)
     st = bundle_latent(model, &params[i], lat + i * D, err);
   if (!st) st = eval_score_latents(dec, n, lat, r->ref, r->approx, r->cases, err);

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "eval/render_tile.h"
 
 static nbrdf_status check_options(const nbrdf_model *model, const nbrdf_render_options *o,
@@ -88,6 +89,10 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
       o->threads ? o->threads : (o->mode == NBRDF_RENDER_NEURAL ? 1 : omp_get_max_threads());
   size_t decoded = 0, evals = 0;
   nbrdf_error first = {NBRDF_OK, ""};
+  nbrdf_ticker ticker; /* ticked inside the critical section below only */
+  nbrdf_ticker_init(&ticker, o->progress, o->user, o->cancel);
+  if (nbrdf_ticker_tick(&ticker, "render", 0, tiles, 1))
+    nbrdf_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled before the first tile"), stop = 1;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : decoded, evals)
   for (int t = 0; t < tiles; t++) {
     int halt;
@@ -103,8 +108,7 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
     {
       if (ts != NBRDF_OK && first.status == NBRDF_OK) first = e, first.status = ts;
       done++;
-      if (ts != NBRDF_OK || (o->cancel && *o->cancel) ||
-          (o->progress && o->progress(o->user, "render", done, tiles))) {
+      if (ts != NBRDF_OK || nbrdf_ticker_tick(&ticker, "render", done, tiles, done == tiles)) {
         if (first.status == NBRDF_OK)
           nbrdf_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled after %d of %d tiles", done,
                      tiles);

@@ -170,6 +170,12 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
     nbrdf_rng_init(&b.rng[p], o->seed, (uint64_t)(y0 + p / w) * o->width + (uint64_t)(x0 + p % w));
   nbrdf_status st = NBRDF_OK;
   for (int s0 = 0; st == NBRDF_OK && s0 < spp; s0 += per_chunk) {
+    /* a tile of thousands of samples per pixel takes seconds: Ctrl-C is seen
+     * between its batches too (the caller reports progress per tile) */
+    if (o->cancel && *o->cancel) {
+      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "render: cancelled in tile %d", tile);
+      break;
+    }
     int s1 = s0 + per_chunk < spp ? s0 + per_chunk : spp, nq = 0;
     for (int p = 0; st == NBRDF_OK && p < npix; p++) {
       int px = x0 + p % w, py = y0 + p / w;

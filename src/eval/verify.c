@@ -8,6 +8,7 @@
 
 #include "bake/bake_band.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "eval/verify_internal.h"
 #include "texture/latent_exr.h"
 #include "texture/mip_chain.h"
@@ -26,7 +27,23 @@ typedef struct verify_run {
   float *texel;                         /* one texel of the file, all channels */
   double *ref, *approx, *run_a, *run_b; /* colours × VERIFY_SET each */
   nbrdf_verify_report *rep;
+  nbrdf_ticker ticker;
+  size_t texel_index; /* of the texel being compared, for the progress */
+  int references;     /* references computed for it so far */
+  int last_image;
 } verify_run;
+
+/* Between chunks of a reference's random walks: the progress moves within a
+ * texel, by lobe images (8 per reference, one reference per colour channel
+ * at level 0; a footprint's texels for coarser levels, capped below the next). */
+static int reference_tick(void *user, int image) {
+  verify_run *v = user;
+  if (image < v->last_image) v->references++;
+  v->last_image = image;
+  double f = (v->references * 8.0 + image) / (8.0 * v->colours);
+  return nbrdf_ticker_tick(&v->ticker, "verify", (double)v->texel_index + (f < 0.95 ? f : 0.95),
+                           (double)v->rep->n_texels, 0);
+}
 
 static double now(void) {
   struct timespec ts;
@@ -210,16 +227,21 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   if (damage.texels)
     rep->nonfinite_level = damage.level, rep->nonfinite_x = damage.x, rep->nonfinite_y = damage.y;
   if (st == NBRDF_OK) st = plan(v, first, last, err);
+  nbrdf_ticker_init(&v->ticker, v->o.progress, v->o.user, v->o.cancel);
+  verify_refs_set_cancel(v->refs, v->o.cancel, reference_tick, v);
   for (size_t i = 0; st == NBRDF_OK && i < rep->n_texels; i++) {
-    if ((v->o.cancel && *v->o.cancel) ||
-        (v->o.progress && v->o.progress(v->o.user, "verify", (double)i, (double)rep->n_texels)))
+    v->texel_index = i, v->references = 0, v->last_image = 0;
+    if (nbrdf_ticker_tick(&v->ticker, "verify", (double)i, (double)rep->n_texels, i == 0))
       return nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after %zu of %zu texels", i,
                         rep->n_texels);
     st = compare_texel(v, &rep->texels[i], err);
+    if (st == NBRDF_ERR_CANCELLED) /* inside a ground truth */
+      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after %zu of %zu texels", i,
+                      rep->n_texels);
   }
   if (st != NBRDF_OK) return st;
-  if (v->o.progress)
-    v->o.progress(v->o.user, "verify", (double)rep->n_texels, (double)rep->n_texels);
+  if (nbrdf_ticker_tick(&v->ticker, "verify", (double)rep->n_texels, (double)rep->n_texels, 1))
+    return nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after the last texel");
   rep->n_levels = last - first + 1;
   rep->per_level = malloc(sizeof *rep->per_level * (size_t)rep->n_levels);
   if (!rep->per_level) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory");

@@ -12,6 +12,7 @@
 #ifndef NBRDF_EVAL_VERIFY_INTERNAL_H
 #define NBRDF_EVAL_VERIFY_INTERNAL_H
 
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -55,6 +56,13 @@ void verify_refs_free(verify_refs *r);
 nbrdf_status verify_refs_get(verify_refs *r, const verify_tuple *t, const double **a,
                              const double **b, size_t *clamped, nbrdf_error *err);
 size_t verify_refs_count(const verify_refs *r);
+/* Cancel inside a reference (each costs 8 lobe images of random walks, up to
+ * tens of seconds on a loaded machine): the walks stop once *stop becomes
+ * non-zero, and tick (may be NULL) is called between chunks of walks with
+ * the lobe image of the reference (0..7) being computed; either makes
+ * verify_refs_get fail with NBRDF_ERR_CANCELLED. */
+void verify_refs_set_cancel(verify_refs *r, const volatile sig_atomic_t *stop,
+                            int (*tick)(void *user, int image), void *user);
 
 /* ---- decoding ---- */
 typedef struct verify_decoder verify_decoder;

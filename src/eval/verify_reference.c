@@ -22,6 +22,9 @@ typedef struct ref_entry {
 struct verify_refs {
   int walks, threads;
   uint64_t seed;
+  const volatile sig_atomic_t *stop;
+  int (*tick)(void *user, int image);
+  void *tick_user;
   ref_entry *e;
   size_t n, cap;
 };
@@ -42,6 +45,11 @@ void verify_refs_free(verify_refs *r) {
 
 size_t verify_refs_count(const verify_refs *r) { return r->n; }
 
+void verify_refs_set_cancel(verify_refs *r, const volatile sig_atomic_t *stop,
+                            int (*tick)(void *user, int image), void *user) {
+  r->stop = stop, r->tick = tick, r->tick_user = user;
+}
+
 static float clampf(float v, double lo, double hi, size_t *clamped) {
   if (v >= lo && v <= hi) return v;
   ++*clamped;
@@ -58,6 +66,17 @@ static uint64_t tuple_seed(uint64_t seed, const verify_tuple *t) {
     h = nbrdf_hash64(h, bits);
   }
   return h;
+}
+
+/* The hook's tick: the lobe image being computed joins the caller's tick. */
+typedef struct image_tick {
+  const verify_refs *r;
+  int image;
+} image_tick;
+
+static int on_tick(void *user) {
+  const image_tick *t = user;
+  return t->r->tick(t->r->tick_user, t->image);
 }
 
 static nbrdf_status estimate(const verify_refs *r, const verify_tuple *t, double *images,
@@ -80,8 +99,14 @@ static nbrdf_status estimate(const verify_refs *r, const verify_tuple *t, double
   for (int run = 0; run < 2 && st == NBRDF_OK; run++)
     for (int k = 0; k < NBRDF_LOBE_N_THETA && st == NBRDF_OK; k++) {
       double *img = images + (size_t)run * VERIFY_SET + (size_t)k * per;
-      if (!layered_lobe_image(l, nbrdf_lobe_theta_deg[k] * (M_PI / 180.0), NBRDF_LOBE_RES, r->walks,
-                              nbrdf_hash64(base, (uint64_t)(run * 16 + k)), r->threads, img, NULL))
+      image_tick it = {r, run * NBRDF_LOBE_N_THETA + k};
+      layered_lobe_hook hook = {r->stop, r->tick ? on_tick : NULL, &it};
+      int ok = layered_lobe_image_hooked(
+          l, nbrdf_lobe_theta_deg[k] * (M_PI / 180.0), NBRDF_LOBE_RES, r->walks,
+          nbrdf_hash64(base, (uint64_t)(run * 16 + k)), r->threads, &hook, img, NULL);
+      if (ok < 0)
+        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled in a ground truth");
+      else if (!ok)
         st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory in the ground truth");
     }
   nbrdf_brdf_destroy(layered);

@@ -49,6 +49,11 @@ typedef struct nbrdf_latent_exr_options {
                      complete, so no value in between exists) */
   nbrdf_latent_mip_row_fn mip_row; /* optional, see above */
   void *mip_row_user;
+  /* Optional: called between groups of tiles being encoded (a row of tiles
+   * of a wide texture takes seconds); non-zero stops the writer with
+   * NBRDF_ERR_CANCELLED and removes the temporary file. */
+  int (*tick)(void *user);
+  void *tick_user;
 } nbrdf_latent_exr_options;
 
 /* Readers refuse bigger tiles, so that a damaged header cannot ask for
@@ -56,7 +61,7 @@ typedef struct nbrdf_latent_exr_options {
 #define NBRDF_LATENT_MAX_TILE_BYTES (256u << 20)
 
 #define NBRDF_LATENT_EXR_OPTIONS_DEFAULT                                                           \
-  { NBRDF_LATENT_HALF, NBRDF_LATENT_ZIP, 64, 0, NULL, NULL }
+  { NBRDF_LATENT_HALF, NBRDF_LATENT_ZIP, 64, 0, NULL, NULL, NULL, NULL }
 
 /* Provenance stored in the header. Strings may be NULL (stored empty). */
 typedef struct nbrdf_latent_meta {

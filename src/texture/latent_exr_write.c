@@ -121,6 +121,9 @@ static nbrdf_status write_tile_row(nbrdf_latent_writer *w, int level, int ty, nb
   int pipes = row_bytes >= PARALLEL_MIN_BYTES ? w->pipes : 1;
   char what[80];
   for (int g0 = 0; g0 < tiles_x; g0 += pipes) {
+    if (w->opts.tick && w->opts.tick(w->opts.tick_user))
+      return nbrdf_fail(err, NBRDF_ERR_CANCELLED, "%s: cancelled while writing level %d",
+                        w->out.path, level);
     int n = tiles_x - g0 < pipes ? tiles_x - g0 : pipes;
     for (int i = 0; i < n; i++) {
       nbrdf_status st = prepare_tile(w, i, level, g0 + i, ty, err);

@@ -35,7 +35,11 @@ typedef struct train_dataset_settings {
   int sampled;                /* S ≤ M of them importance-sampled from the BRDF */
   int spp;                    /* whole-lobe walks per incident direction (layered; ≥ 2) */
   int threads;                /* 0 = all (OpenMP); never changes the output */
-  nbrdf_progress_fn progress; /* stage "dataset", done/total in BRDFs; may be NULL */
+  /* Stage "dataset", done/total in BRDFs, at most ~10 times a second, also
+   * between the BRDFs of a batch; a non-zero return stops after the BRDFs
+   * in progress (the file keeps every finished one, in order; resumable).
+   * May be NULL. */
+  nbrdf_progress_fn progress;
   void *user;
 } train_dataset_settings;
 

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/output_file.h"
+#include "core/progress.h"
 #include "nn/safetensors.h"
 #include "train/dataset_format.h"
 
@@ -65,25 +66,51 @@ static nbrdf_status open_output(const char *path, const train_dataset_settings *
   return NBRDF_OK;
 }
 
-/* Generates BRDFs [first, first + n) into recs (n records of rb bytes). */
+/* Generates BRDFs [first, first + n) into recs (n records of rb bytes);
+ * ok[k] is set for each record made. The calling thread (0 of the team) asks
+ * the ticker between its BRDFs (a layered BRDF takes seconds under load, a
+ * batch several); once it says stop, no further BRDF is started and
+ * *stopped is set: the caller keeps the records made in order. */
 static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t first, int n,
                                    int threads, unsigned char *recs, float *samples,
-                                   size_t per_thread, nbrdf_error *err) {
+                                   size_t per_thread, nbrdf_ticker *tk, unsigned char *ok,
+                                   int *stopped, nbrdf_error *err) {
   size_t rb = ds_record_bytes(s);
   nbrdf_status st = NBRDF_OK;
+  int halt = 0, made = 0;
+  memset(ok, 0, (size_t)n);
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
   for (int k = 0; k < n; k++) {
+    int h, m;
+#pragma omp atomic read
+    h = halt;
+    if (!h && omp_get_thread_num() == 0) {
+#pragma omp atomic read
+      m = made;
+      if (nbrdf_ticker_tick(tk, "dataset", (double)(first + (uint64_t)m), (double)s->count, 0)) {
+#pragma omp atomic write
+        halt = 1;
+        h = 1;
+      }
+    }
+    if (h) continue;
     float *mine = samples + (size_t)omp_get_thread_num() * per_thread;
     train_params p;
     nbrdf_error e;
     nbrdf_status sk = train_dataset_generate_one(s, first + (uint64_t)k, &p, mine, &e);
-    if (sk == NBRDF_OK) ds_encode_record(s, first + (uint64_t)k, &p, mine, recs + (size_t)k * rb);
+    if (sk == NBRDF_OK) {
+      ds_encode_record(s, first + (uint64_t)k, &p, mine, recs + (size_t)k * rb);
+      ok[k] = 1;
+#pragma omp atomic update
+      made++;
+    }
 #pragma omp critical(nbrdf_dataset_error)
     if (sk != NBRDF_OK && st == NBRDF_OK) {
       st = sk;
       if (err) *err = e;
     }
   }
+  *stopped = halt;
   return st;
 }
 
@@ -104,13 +131,15 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
   int batch = 4 * threads;
   size_t rb = ds_record_bytes(s);
   size_t per_thread = (size_t)s->incident * (size_t)s->outgoing * TRAIN_DATASET_FLOATS;
-  unsigned char *recs = malloc((size_t)batch * rb);
+  unsigned char *recs = malloc((size_t)batch * rb), *ok = malloc((size_t)batch);
   float *samples = malloc((size_t)threads * per_thread * sizeof *samples);
-  if (!recs || !samples) {
+  nbrdf_ticker tk;
+  nbrdf_ticker_init(&tk, s->progress, s->user, NULL);
+  if (!recs || !ok || !samples) {
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory for a batch of %d", batch);
     goto done;
   }
-  if (s->progress && s->progress(s->user, "dataset", (double)done, (double)s->count)) {
+  if (nbrdf_ticker_tick(&tk, "dataset", (double)done, (double)s->count, 1)) {
     st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
                     "%s: stopped at %llu of %llu BRDFs; run again to resume", path,
                     (unsigned long long)done, (unsigned long long)s->count);
@@ -118,8 +147,15 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
   }
   while (done < s->count) {
     int n = s->count - done < (uint64_t)batch ? (int)(s->count - done) : batch;
-    st = generate_batch(s, done, n, threads, recs, samples, per_thread, err);
+    int stopped = 0;
+    st = generate_batch(s, done, n, threads, recs, samples, per_thread, &tk, ok, &stopped, err);
     if (st) goto done;
+    if (stopped) /* keep the records made in order: a later run resumes after them */
+      for (int k = 0; k < n; k++)
+        if (!ok[k]) {
+          n = k;
+          break;
+        }
     if (fwrite(recs, rb, (size_t)n, f) != (size_t)n || fflush(f) != 0) {
       st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: write failed after %llu records: %s", path,
                       (unsigned long long)done, strerror(errno));
@@ -127,7 +163,8 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
     }
     sum = nbrdf_st_fnv1a64(sum, recs, (size_t)n * rb);
     done += (uint64_t)n;
-    if (s->progress && s->progress(s->user, "dataset", (double)done, (double)s->count) &&
+    if ((stopped ||
+         nbrdf_ticker_tick(&tk, "dataset", (double)done, (double)s->count, done == s->count)) &&
         done < s->count) {
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
                       "%s: stopped at %llu of %llu BRDFs; run again to resume", path,
@@ -140,7 +177,7 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
   if (fwrite(foot, 1, sizeof foot, f) != sizeof foot || fflush(f) != 0)
     st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write the footer", path);
 done:
-  free(recs), free(samples);
+  free(recs), free(ok), free(samples);
   if (fclose(f) != 0 && !st) st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: close failed", path);
   return st;
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "model/autodecoder.h"
 #include "train/dataset.h"
 #include "train/samples.h"
@@ -28,7 +29,8 @@ static void warped_space(float *x, int n, double lo, double hi, double warp) {
 }
 
 static nbrdf_status fit_table(model_decoder *dec, const train_table_settings *s,
-                              model_base_table *t, nbrdf_error *err) {
+                              model_base_table *t, const train_project_progress *progress,
+                              nbrdf_error *err) {
   size_t n = (size_t)t->n[0] * (size_t)t->n[1];
   train_params *p = calloc(n, sizeof *p);
   if (!p) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
@@ -42,7 +44,7 @@ static nbrdf_status fit_table(model_decoder *dec, const train_table_settings *s,
         q->kind = TRAIN_CONDUCTOR, q->base_r0 = t->axis[1][b];
     }
   nbrdf_status st =
-      train_project_params(dec, n, p, TABLE_FAMILY, s->steps, s->seed, t->latents, err);
+      train_project_params(dec, n, p, TABLE_FAMILY, s->steps, s->seed, t->latents, progress, err);
   free(p);
   return st;
 }
@@ -70,11 +72,18 @@ nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
   if (!st)
     st = model_base_table_init(&tables[1], MODEL_TABLE_CONDUCTOR, D, na, alpha, s->r0_nodes, r0,
                                err);
+  /* progress per step of the two fits (a table of 16 x 9 nodes takes ~0.1 s a step) */
+  nbrdf_ticker tk;
+  nbrdf_ticker_init(&tk, s->progress, s->user, NULL);
   for (int k = 0; k < 2 && !st; k++) {
-    if (s->progress) s->progress(s->user, "tables", k, 2);
-    st = fit_table(dec, s, &tables[k], err);
+    train_project_progress pp = {&tk, "tables", (double)k * s->steps, 2.0 * s->steps};
+    if (nbrdf_ticker_tick(&tk, "tables", pp.done0, pp.total, k == 0))
+      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "tables: cancelled");
+    else
+      st = fit_table(dec, s, &tables[k], &pp, err);
   }
-  if (!st && s->progress) s->progress(s->user, "tables", 2, 2);
+  if (!st && nbrdf_ticker_tick(&tk, "tables", 2.0 * s->steps, 2.0 * s->steps, 1))
+    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "tables: cancelled");
   free(alpha), free(eta), free(r0);
   if (st) {
     model_base_table_free(&tables[0]);

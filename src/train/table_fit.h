@@ -39,8 +39,16 @@ nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
  * streams of (family, index k) (generated in parallel). Analytic and layered
  * BRDFs alike: tables, held-out evaluation and the interpolation-error
  * measurement use it. */
+typedef struct nbrdf_ticker nbrdf_ticker;
+/* Progress of a projection (optional): each step ticks `tk` with `stage`,
+ * done = done0 + step of `total`; a stop fails with NBRDF_ERR_CANCELLED. */
+typedef struct train_project_progress {
+  nbrdf_ticker *tk;
+  const char *stage;
+  double done0, total;
+} train_project_progress;
 nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_params *params,
                                   uint64_t family, int steps, uint64_t seed, float *out,
-                                  nbrdf_error *err);
+                                  const train_project_progress *progress, nbrdf_error *err);
 
 #endif

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/rng.h"
 #include "train/run_log.h"
 
@@ -98,6 +99,8 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     st = run_log_open(&log, s->log_path, "epoch,train_loss,val_loss,val_decoded,lr", 0, err);
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, s->seed, 0x6c61796572u);
+  nbrdf_ticker tk;
+  nbrdf_ticker_init(&tk, s->progress, s->user, NULL);
   for (int e = 0; e < s->epochs && !st; e++) {
     for (size_t i = 0; i < train.n; i++)
       idx[i] = i;
@@ -107,6 +110,12 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     }
     double sum = 0.0;
     for (size_t k0 = 0; k0 < train.n && !st; k0 += B) {
+      /* an epoch of many rows takes seconds: cancel and progress between batches */
+      if (nbrdf_ticker_tick(&tk, "train layering", e + (double)k0 / (double)train.n, s->epochs,
+                            0)) {
+        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train layering: cancelled in epoch %d", e + 1);
+        break;
+      }
       size_t m = train.n - k0 < B ? train.n - k0 : B;
       double l = 0.0;
       memset(grad, 0, nbrdf_nn_param_count(net->nn) * sizeof *grad);
@@ -123,7 +132,7 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
       run_log_row(&log, "%d,%.6g,%.6g,%.6g,%.4g", e + 1, r->train_loss, r->val_loss, r->val_decoded,
                   (double)nbrdf_adam_lr(adam, 0));
     }
-    if (!st && s->progress && s->progress(s->user, "train layering", e + 1, s->epochs))
+    if (!st && nbrdf_ticker_tick(&tk, "train layering", e + 1, s->epochs, e + 1 == s->epochs))
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train layering: cancelled");
   }
   if (!st && dec && val.n)

@@ -172,7 +172,7 @@ static void test_cancel_and_outputs(void) {
   nbrdf_verify_report *rep = NULL;
   CHECK_FAILS(nbrdf_verify(fix_model, fix_path("mips.exr"), &in, &o, &rep, err),
               NBRDF_ERR_CANCELLED, err, "cancelled");
-  CHECK(rep == NULL && calls == 3);
+  CHECK(rep == NULL && calls >= 1); /* calls are throttled to ~10 a second */
   o.progress = NULL;
   rep = run(fix_path("mips.exr"), &in, &o);
   if (!rep) return;
