@@ -7,6 +7,7 @@
 
 #include "brdf/brdf_handle.h"
 #include "brdf/layered_lobe.h"
+#include "core/progress.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "eval/evaluate.h"
@@ -37,18 +38,36 @@ int eval_set_parse(const char *name, eval_set *set) {
   return 0;
 }
 
+/* Progress inside one BRDF's reference (its layered images take seconds):
+ * the ticker is asked between chunks of walks. */
+typedef struct ref_tick {
+  nbrdf_ticker *ticker;
+  const char *stage;
+  double done, total;
+} ref_tick;
+
+static int ref_tick_fn(void *user) {
+  ref_tick *t = user;
+  return nbrdf_ticker_tick(t->ticker, t->stage, t->done, t->total, 0);
+}
+
 /* The images of one BRDF with the given seed. */
-static nbrdf_status images_of(const train_params *p, uint64_t seed, int walks, double *out,
-                              nbrdf_error *err) {
+static nbrdf_status images_of(const train_params *p, uint64_t seed, int walks,
+                              const layered_lobe_hook *hook, double *out, nbrdf_error *err) {
   nbrdf_brdf *b = NULL;
   nbrdf_status st = train_params_create(p, &b, err);
   if (st) return st;
   if (nbrdf_brdf_is_stochastic(b)) {
-    for (int t = 0; t < NBRDF_LOBE_N_THETA && !st; t++)
-      if (!layered_lobe_image(&nbrdf_brdf_bsdf(b)->layered,
-                              nbrdf_lobe_theta_deg[t] * (M_PI / 180.0), NBRDF_LOBE_RES, walks,
-                              nbrdf_hash64(seed, (uint64_t)t), 0, out + t * IMG, NULL))
+    for (int t = 0; t < NBRDF_LOBE_N_THETA && !st; t++) {
+      int ok = layered_lobe_image_hooked(&nbrdf_brdf_bsdf(b)->layered,
+                                         nbrdf_lobe_theta_deg[t] * (M_PI / 180.0), NBRDF_LOBE_RES,
+                                         walks, nbrdf_hash64(seed, (uint64_t)t), 0, hook,
+                                         out + t * IMG, NULL);
+      if (ok < 0)
+        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
+      else if (!ok)
         st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory in the lobe estimator");
+    }
   } else {
     nbrdf_lobe_brdf lb = {b, {seed, 1, 1}};
     st = nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
@@ -118,16 +137,21 @@ nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images
   int nn = s->noise_brdfs < s->count ? s->noise_brdfs : s->count, n_noise = 0;
   double *second = malloc(PER_BRDF * sizeof *second), *errs = malloc((size_t)(nn + 1) * 8);
   nbrdf_status st = second && errs ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  nbrdf_ticker ticker;
+  nbrdf_ticker_init(&ticker, s->progress, s->user, NULL);
+  ref_tick rt = {&ticker, stage, 0.0, s->count};
+  layered_lobe_hook hook = {NULL, ref_tick_fn, &rt};
   for (int i = 0; i < s->count && !st; i++) {
     train_params p;
     train_params_draw(family, kind, (uint64_t)i, &p);
     uint64_t seed = nbrdf_hash64(nbrdf_hash64(family, REF_TAG), (uint64_t)i);
-    st = images_of(&p, seed, s->walks, images + (size_t)i * PER_BRDF, err);
+    rt.done = i;
+    st = images_of(&p, seed, s->walks, &hook, images + (size_t)i * PER_BRDF, err);
     if (!st && i < nn && p.n_coats > 0) {
-      st = images_of(&p, seed ^ UINT64_C(0x9e3779b97f4a7c15), s->walks, second, err);
+      st = images_of(&p, seed ^ UINT64_C(0x9e3779b97f4a7c15), s->walks, &hook, second, err);
       if (!st) errs[n_noise++] = nbrdf_lobe_error(PER_BRDF, images + (size_t)i * PER_BRDF, second);
     }
-    if (!st && s->progress && s->progress(s->user, stage, i + 1, s->count))
+    if (!st && nbrdf_ticker_tick(&ticker, stage, i + 1, s->count, 1))
       st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
   }
   *noise = 0.0;

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/rng.h"
+#include "core/progress.h"
 #include "train/checkpoint.h"
 #include "train/run_log.h"
 #include "train/train_layering.h"
@@ -48,16 +49,21 @@ static void run_key(const trainer *t, char *out, size_t size) {
            (double)s->decay_gamma, s->validation_every, s->seed, model_loss_name(s->loss), data);
 }
 
-static nbrdf_status save_checkpoint(const trainer *t, int epoch, nbrdf_error *err) {
+/* `epoch` epochs done, and `batch` batches of the next one (a run cancelled
+ * inside an epoch resumes at the next batch, exactly: the epoch's shuffle and
+ * each step's draws are functions of the seed, the epoch and the step). */
+static nbrdf_status save_checkpoint(const trainer *t, int epoch, int64_t batch, nbrdf_error *err) {
   nbrdf_st_writer *w = NULL;
-  char key[2048], ep[32];
+  char key[2048], ep[32], bt[32];
   size_t n = nbrdf_nn_param_count(t->net->nn);
   run_key(t, key, sizeof key);
   snprintf(ep, sizeof ep, "%d", epoch);
+  snprintf(bt, sizeof bt, "%" PRId64, batch);
   nbrdf_status st = nbrdf_st_writer_create(&w, err);
   if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", CHECKPOINT_FORMAT, err);
   if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.run", key, err);
   if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.epoch", ep, err);
+  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.batch", bt, err);
   if (!st) st = add(w, "layering.params", n, nbrdf_nn_params_const(t->net->nn), err);
   if (!st) st = add(w, "adam.m", n, nbrdf_adam_moment(t->adam, 0), err);
   if (!st) st = add(w, "adam.v", n, nbrdf_adam_moment(t->adam, 1), err);
@@ -66,10 +72,12 @@ static nbrdf_status save_checkpoint(const trainer *t, int epoch, nbrdf_error *er
   return st;
 }
 
-/* Restores a checkpoint if there is one; *epoch = epochs done (0 without). */
+/* Restores a checkpoint if there is one; *epoch = epochs done and *batch =
+ * batches done of the next epoch (0 and 0 without; checkpoints written before
+ * nbrdf.batch existed are at an epoch's end). */
 static nbrdf_status load_checkpoint(trainer *t, int64_t steps_per_epoch, int *epoch,
-                                    nbrdf_error *err) {
-  *epoch = 0;
+                                    int64_t *batch, nbrdf_error *err) {
+  *epoch = 0, *batch = 0;
   FILE *probe = fopen(t->s->checkpoint, "rb");
   if (!probe) return NBRDF_OK;
   fclose(probe);
@@ -81,9 +89,13 @@ static nbrdf_status load_checkpoint(trainer *t, int64_t steps_per_epoch, int *ep
   const char *fmt = nbrdf_st_metadata_get(r, "nbrdf.format"),
              *k = nbrdf_st_metadata_get(r, "nbrdf.run");
   const char *e = nbrdf_st_metadata_get(r, "nbrdf.epoch");
-  char *end = NULL;
+  const char *b = nbrdf_st_metadata_get(r, "nbrdf.batch");
+  char *end = NULL, *bend = NULL;
   long ep = e ? strtol(e, &end, 10) : -1;
-  if (!fmt || strcmp(fmt, CHECKPOINT_FORMAT) || !k || strcmp(k, key) || !e || *end || ep < 0)
+  long long bt = b ? strtoll(b, &bend, 10) : 0;
+  if (b && (*bend || bt < 0 || bt >= steps_per_epoch)) bt = -1;
+  if (!fmt || strcmp(fmt, CHECKPOINT_FORMAT) || !k || strcmp(k, key) || !e || *end || ep < 0 ||
+      bt < 0)
     st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
                     "%s: a checkpoint of another layering run (data, preset or settings differ); "
                     "remove it or give the same settings",
@@ -96,8 +108,8 @@ static nbrdf_status load_checkpoint(trainer *t, int64_t steps_per_epoch, int *ep
   if (!st) st = nbrdf_st_expect_copy(r, "adam.v", 1, shape, nbrdf_adam_moment(t->adam, 1), err);
   nbrdf_st_close(r);
   if (!st) {
-    nbrdf_adam_set_steps(t->adam, (int64_t)ep * steps_per_epoch);
-    *epoch = (int)ep;
+    nbrdf_adam_set_steps(t->adam, (int64_t)ep * steps_per_epoch + bt);
+    *epoch = (int)ep, *batch = bt;
   }
   return st;
 }
@@ -161,34 +173,53 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
     st = nbrdf_adam_create(nbrdf_nn_param_count(t.net->nn), &ao, &t.adam, err);
   }
   int epoch = 0;
-  if (!st && s->checkpoint) st = load_checkpoint(&t, steps_per_epoch, &epoch, err);
+  int64_t first_batch = 0; /* of the first epoch run here: > 0 when resuming inside it */
+  if (!st && s->checkpoint) st = load_checkpoint(&t, steps_per_epoch, &epoch, &first_batch, err);
   r->resumed_from = epoch;
+  /* Ctrl-C (the callback's answer) is heard after every batch, not only at an
+   * epoch's end: an epoch of the shipped recipe takes minutes. */
+  nbrdf_ticker ticker;
+  nbrdf_ticker_init(&ticker, s->progress, s->user, NULL);
   if (!st && s->log_path)
     st = run_log_open(&log, s->log_path, "epoch,seconds,train_loss,val_decoded,lr", epoch, err);
   double t0 = now_s(), last_ckpt = t0;
   for (; epoch < s->epochs && !st; epoch++) {
     shuffle(idx, train.n, s->seed, epoch);
     double sum = 0.0;
-    for (size_t k0 = 0; k0 < train.n && !st; k0 += B) {
+    size_t rows = 0;
+    int stop = 0;
+    for (size_t k0 = (size_t)first_batch * B; k0 < train.n && !st && !stop; k0 += B) {
       int m = (int)(train.n - k0 < B ? train.n - k0 : B);
       int64_t step = (int64_t)epoch * steps_per_epoch + (int64_t)(k0 / B);
       double l = 0.0;
       memset(t.grad, 0, nbrdf_nn_param_count(t.net->nn) * sizeof *t.grad);
       st = train_layering_decoded_gradient(t.engine, &train, idx + k0, m, step, t.grad, &l, err);
-      sum += l * m;
+      sum += l * m, rows += (size_t)m;
       if (!st) st = nbrdf_adam_step(t.adam, nbrdf_nn_params(t.net->nn), t.grad, err);
+      if (!st && k0 + (size_t)m < train.n &&
+          nbrdf_ticker_tick(&ticker, "train layering", epoch + (double)(k0 + m) / (double)train.n,
+                            s->epochs, 0)) {
+        stop = 1;
+        if (s->checkpoint) st = save_checkpoint(&t, epoch, (int64_t)(k0 / B) + 1, err);
+        if (!st)
+          st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
+                          "train layering: cancelled in epoch %d after batch %d of %d%s", epoch + 1,
+                          (int)(k0 / B) + 1, (int)steps_per_epoch,
+                          s->checkpoint ? " (resumable)" : "");
+      }
     }
+    first_batch = 0;
     if (st) break;
-    r->train_loss = sum / (double)train.n;
+    r->train_loss = sum / (double)(rows ? rows : 1);
     int last = epoch + 1 == s->epochs;
     if (val.n && (epoch % 5 == 4 || last))
       st = train_layering_decoded_loss(t.net, dec, s->loss, data, &val, &r->val_decoded, err);
     if (!st)
       run_log_row(&log, "%d,%.1f,%.6g,%.6g,%.4g", epoch + 1, now_s() - t0, r->train_loss,
                   r->val_decoded, (double)nbrdf_adam_lr(t.adam, 0));
-    int cancel = !st && s->progress && s->progress(s->user, "train layering", epoch + 1, s->epochs);
+    int cancel = !st && nbrdf_ticker_tick(&ticker, "train layering", epoch + 1, s->epochs, 1);
     if (!st && s->checkpoint && (last || cancel || now_s() - last_ckpt >= s->checkpoint_seconds)) {
-      st = save_checkpoint(&t, epoch + 1, err);
+      st = save_checkpoint(&t, epoch + 1, 0, err);
       last_ckpt = now_s();
     }
     if (!st && cancel)

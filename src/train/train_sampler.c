@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/rng.h"
 #include "model/proxy.h"
 
@@ -182,6 +183,10 @@ nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latent
   }
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, s->seed, 0x73616d70u);
+  /* Asked after every batch, so Ctrl-C (the callback's answer) is heard within
+   * one batch, not one epoch. */
+  nbrdf_ticker ticker;
+  nbrdf_ticker_init(&ticker, s->progress, s->user, NULL);
   for (int e = 0; e < s->epochs && !st; e++) {
     for (size_t i = 0; i < n; i++)
       idx[i] = i;
@@ -199,9 +204,10 @@ nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latent
       if (!st) memset(grad, 0, nbrdf_nn_param_count(net->nn) * sizeof *grad);
       if (!st) st = nbrdf_nn_backward(net->nn, run.ws, dy, NULL, grad, err);
       if (!st) st = nbrdf_adam_step(adam, nbrdf_nn_params(net->nn), grad, err);
+      if (!st && nbrdf_ticker_tick(&ticker, "sampler: network", e + (double)(k0 + m) / (double)n,
+                                   s->epochs, k0 + m == n))
+        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train sampler: cancelled");
     }
-    if (!st && s->progress && s->progress(s->user, "sampler: network", e + 1, s->epochs))
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train sampler: cancelled");
   }
   /* RMS error of the raw outputs over all latents. */
   double sq = 0.0;

@@ -91,7 +91,29 @@ static void test_single_set(void) {
   model_decoder_destroy(dec);
 }
 
+static int stop_inside_first(void *user, const char *stage, double done, double total) {
+  (void)stage, (void)total;
+  *(int *)user += 1;
+  return done < 1.0; /* before the first BRDF's references are done */
+}
+
+/* Ctrl-C (the callback's answer) reaches inside one layered BRDF's
+ * references: a layered reference takes seconds of random walks. */
+static void test_reference_cancel(void) {
+  nbrdf_error err;
+  eval_settings s = EVAL_SETTINGS_DEFAULT;
+  int calls = 0;
+  s.count = 3, s.walks = 200000, s.cache_dir = NULL;
+  s.progress = stop_inside_first, s.user = &calls;
+  double *images = malloc((size_t)s.count * PER * sizeof *images), noise;
+  CHECK_FAILS(eval_reference(EVAL_LAYER, &s, images, &noise, &err), NBRDF_ERR_CANCELLED, &err,
+              "cancelled");
+  CHECK(calls == 1);
+  free(images);
+}
+
 int main(void) {
   RUN(test_single_set);
+  RUN(test_reference_cancel);
   return nbrdf_test_finish();
 }

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "model/bundle.h"
 #include "testing.h"
@@ -21,6 +22,15 @@ static char *path_of(const char *name) {
   char *p = buf[next++ % 8];
   snprintf(p, 512, "%s/%s", nbrdf_test_tmpdir(), name);
   return p;
+}
+
+/* Cancels at the first report inside epoch 8; after epoch 7's report it waits
+ * out the progress throttle so that the next batch's report reaches it. */
+static int cancel_inside_epoch_8(void *user, const char *stage, double done, double total) {
+  (void)user, (void)stage, (void)total;
+  if (done > 7.0 && done < 8.0) return 1;
+  if (done == 7.0) nanosleep(&(struct timespec){0, 150000000L}, NULL);
+  return 0;
 }
 
 /* The decoded loss: it falls from the latent-trained network it starts from,
@@ -69,6 +79,23 @@ static void test_decoded(const train_samples *d, model_decoder *dec, const model
     CHECK(n == nbrdf_nn_param_count(c->nn) &&
           !memcmp(nbrdf_nn_params(b->nn), nbrdf_nn_params(c->nn), n * sizeof(float)));
   }
+  /* Cancelled inside an epoch (the callback is asked after every batch), the
+   * run saves the batch it reached and resumes there exactly. */
+  model_layering *cut = NULL, *d2 = NULL;
+  s.checkpoint = path_of("dec_cut.ckpt"), s.progress = cancel_inside_epoch_8;
+  CHECK(train_layering_fit_decoded(d, dec, t, &s, &cut, &r, &err) == NBRDF_ERR_CANCELLED);
+  CHECK_MSG(cut == NULL && strstr(err.message, "cancelled in epoch 8 after batch 1"), "%s",
+            err.message);
+  s.progress = NULL;
+  CHECK_OK(train_layering_fit_decoded(d, dec, t, &s, &d2, &r, &err), &err);
+  CHECK(r.resumed_from == 7 && r.epochs_done == 12);
+  if (b && d2) {
+    size_t n = nbrdf_nn_param_count(b->nn);
+    CHECK_MSG(!memcmp(nbrdf_nn_params(b->nn), nbrdf_nn_params(d2->nn), n * sizeof(float)),
+              "a run resumed inside an epoch differs from one that never stopped");
+  }
+  model_layering_destroy(d2);
+  s.checkpoint = path_of("dec.ckpt");
   s.rows_per_pair = 8;
   model_layering *x = NULL;
   CHECK(train_layering_fit_decoded(d, dec, t, &s, &x, &r, &err) == NBRDF_ERR_MISMATCH);
@@ -141,6 +168,12 @@ static void test_layering_chain(void) {
             sr.mean_ce_cosine);
   CHECK_MSG(sr.rms_o < 0.5 * sr1.rms_o, "sampler rms %g -> %g", sr1.rms_o, sr.rms_o);
   model_sampler_destroy(smp1);
+  /* Ctrl-C reaches the network's training inside an epoch, not only at its end. */
+  model_sampler *stopped = NULL;
+  ss.progress = cancel_inside_epoch_8;
+  CHECK(train_sampler_fit(dec, d.n_brdfs, lat, &ss, &stopped, &sr1, &err) == NBRDF_ERR_CANCELLED);
+  CHECK(stopped == NULL);
+  ss.progress = NULL;
 
   /* A bundle of the trained parts loads, and layering it gives finite latents. */
   model_bundle_parts parts = {.name = "tiny",
