@@ -204,6 +204,12 @@ int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, 
   return lobe_eval(l, wi, n, wo, walks, seed, threads, NULL, f, f_se);
 }
 
+int layered_lobe_eval_hooked(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
+                             uint64_t seed, int threads, const layered_lobe_hook *hook, double *f,
+                             double *f_se) {
+  return lobe_eval(l, wi, n, wo, walks, seed, threads, hook, f, f_se);
+}
+
 int layered_lobe_image(const bsdf_layered *l, double theta_i, int res, int walks, uint64_t seed,
                        int threads, double *image, double *image_se) {
   return layered_lobe_image_hooked(l, theta_i, res, walks, seed, threads, NULL, image, image_se);

@@ -40,6 +40,12 @@ typedef struct layered_lobe_hook {
   void *user;
 } layered_lobe_hook;
 
+/* layered_lobe_eval under a hook (may be NULL): returns -1 when stopped, the
+ * values then undefined. */
+int layered_lobe_eval_hooked(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
+                             uint64_t seed, int threads, const layered_lobe_hook *hook, double *f,
+                             double *f_se);
+
 /* layered_lobe_image under a hook (may be NULL): returns -1 when stopped,
  * the image then undefined. */
 int layered_lobe_image_hooked(const bsdf_layered *l, double theta_i, int res, int walks,

@@ -72,18 +72,31 @@ static nbrdf_status choose_outgoing(const train_dataset_settings *s, const nbrdf
   return NBRDF_OK;
 }
 
+static nbrdf_status samples_generate(const train_dataset_settings *s, uint64_t family,
+                                     uint64_t index, const train_params *params,
+                                     const layered_lobe_hook *hook, float *samples,
+                                     nbrdf_error *err);
+
 nbrdf_status train_dataset_generate_one(const train_dataset_settings *s, uint64_t index,
-                                        train_params *params, float *samples, nbrdf_error *err) {
+                                        const layered_lobe_hook *hook, train_params *params,
+                                        float *samples, nbrdf_error *err) {
   nbrdf_status st = train_dataset_check_settings(s, err);
   if (st) return st;
   uint64_t family = train_family_seed(s->seed);
   train_params_draw(family, s->kind, index, params);
-  return train_samples_generate(s, family, index, params, samples, err);
+  return samples_generate(s, family, index, params, hook, samples, err);
 }
 
 nbrdf_status train_samples_generate(const train_dataset_settings *s, uint64_t family,
                                     uint64_t index, const train_params *params, float *samples,
                                     nbrdf_error *err) {
+  return samples_generate(s, family, index, params, NULL, samples, err);
+}
+
+static nbrdf_status samples_generate(const train_dataset_settings *s, uint64_t family,
+                                     uint64_t index, const train_params *params,
+                                     const layered_lobe_hook *hook, float *samples,
+                                     nbrdf_error *err) {
   nbrdf_brdf *b = NULL;
   nbrdf_status st = train_params_create(params, &b, err);
   if (st) return st;
@@ -106,7 +119,12 @@ nbrdf_status train_samples_generate(const train_dataset_settings *s, uint64_t fa
     st = choose_outgoing(s, b, wi, seed, &rng, wo, err);
     if (st) break;
     if (nbrdf_brdf_is_stochastic(b)) {
-      if (!layered_lobe_eval(&nbrdf_brdf_bsdf(b)->layered, wi, m, wo, s->spp, seed, 1, f, se))
+      int ok = layered_lobe_eval_hooked(&nbrdf_brdf_bsdf(b)->layered, wi, m, wo, s->spp, seed, 1,
+                                        hook, f, se);
+      if (ok < 0)
+        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "dataset: BRDF %llu stopped",
+                        (unsigned long long)index);
+      else if (!ok)
         st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory in the lobe estimator");
     } else {
       for (size_t j = 0; j < m; j++) {

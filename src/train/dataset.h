@@ -19,6 +19,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "brdf/layered_lobe.h"
 #include "nbrdf/status.h"
 #include "train/params.h"
 
@@ -28,13 +29,13 @@
 
 typedef struct train_dataset_settings {
   train_kind kind;
-  uint64_t count;             /* BRDFs */
-  uint64_t seed;              /* user seed (train_family_seed(seed) draws the BRDFs) */
-  int incident;               /* K, incident directions per BRDF */
-  int outgoing;               /* M, outgoing directions per incident direction */
-  int sampled;                /* S ≤ M of them importance-sampled from the BRDF */
-  int spp;                    /* whole-lobe walks per incident direction (layered; ≥ 2) */
-  int threads;                /* 0 = all (OpenMP); never changes the output */
+  uint64_t count; /* BRDFs */
+  uint64_t seed;  /* user seed (train_family_seed(seed) draws the BRDFs) */
+  int incident;   /* K, incident directions per BRDF */
+  int outgoing;   /* M, outgoing directions per incident direction */
+  int sampled;    /* S ≤ M of them importance-sampled from the BRDF */
+  int spp;        /* whole-lobe walks per incident direction (layered; ≥ 2) */
+  int threads;    /* 0 = all (OpenMP); never changes the output */
   /* Stage "dataset", done/total in BRDFs, at most ~10 times a second, also
    * between the BRDFs of a batch; a non-zero return stops after the BRDFs
    * in progress (the file keeps every finished one, in order; resumable).
@@ -58,9 +59,12 @@ typedef struct train_dataset_record {
 nbrdf_status train_dataset_check_settings(const train_dataset_settings *s, nbrdf_error *err);
 
 /* Fills the samples of BRDF `index` (incident·outgoing·8 floats) and its
- * parameters; single-threaded, a pure function of (settings, index). */
+ * parameters; single-threaded, a pure function of (settings, index). A
+ * layered BRDF's random walks ask `hook` (may be NULL) between chunks, and
+ * NBRDF_ERR_CANCELLED is returned (samples undefined) when it says stop. */
 nbrdf_status train_dataset_generate_one(const train_dataset_settings *s, uint64_t index,
-                                        train_params *params, float *samples, nbrdf_error *err);
+                                        const layered_lobe_hook *hook, train_params *params,
+                                        float *samples, nbrdf_error *err);
 
 /* The samples of any BRDF `params` (not necessarily a Table 2 draw: base-latent
  * tables and held-out sets use it), with the random streams of (family, index):

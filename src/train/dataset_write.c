@@ -66,18 +66,41 @@ static nbrdf_status open_output(const char *path, const train_dataset_settings *
   return NBRDF_OK;
 }
 
+/* The calling thread's ticker, asked from inside its BRDF's random walks. */
+typedef struct batch_tick {
+  nbrdf_ticker *tk;
+  const train_dataset_settings *s;
+  uint64_t first;
+  int *made;
+  volatile sig_atomic_t *halt;
+} batch_tick;
+
+static int batch_tick_fn(void *user) {
+  batch_tick *b = user;
+  int m;
+#pragma omp atomic read
+  m = *b->made;
+  if (nbrdf_ticker_tick(b->tk, "dataset", (double)(b->first + (uint64_t)m), (double)b->s->count, 0))
+    *b->halt = 1;
+  return *b->halt;
+}
+
 /* Generates BRDFs [first, first + n) into recs (n records of rb bytes);
  * ok[k] is set for each record made. The calling thread (0 of the team) asks
- * the ticker between its BRDFs (a layered BRDF takes seconds under load, a
- * batch several); once it says stop, no further BRDF is started and
- * *stopped is set: the caller keeps the records made in order. */
+ * the ticker between its BRDFs and between chunks of a layered BRDF's walks
+ * (one layered BRDF takes seconds under load); once it says stop, every
+ * thread's walks stop, the unfinished BRDFs are dropped and *stopped is set:
+ * the caller keeps the records made in order. */
 static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t first, int n,
                                    int threads, unsigned char *recs, float *samples,
                                    size_t per_thread, nbrdf_ticker *tk, unsigned char *ok,
                                    int *stopped, nbrdf_error *err) {
   size_t rb = ds_record_bytes(s);
   nbrdf_status st = NBRDF_OK;
-  int halt = 0, made = 0;
+  volatile sig_atomic_t halt = 0;
+  int made = 0;
+  batch_tick bt = {tk, s, first, &made, &halt};
+  const layered_lobe_hook caller = {&halt, batch_tick_fn, &bt}, others = {&halt, NULL, NULL};
   memset(ok, 0, (size_t)n);
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
   for (int k = 0; k < n; k++) {
@@ -97,7 +120,8 @@ static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t fir
     float *mine = samples + (size_t)omp_get_thread_num() * per_thread;
     train_params p;
     nbrdf_error e;
-    nbrdf_status sk = train_dataset_generate_one(s, first + (uint64_t)k, &p, mine, &e);
+    nbrdf_status sk = train_dataset_generate_one(
+        s, first + (uint64_t)k, omp_get_thread_num() == 0 ? &caller : &others, &p, mine, &e);
     if (sk == NBRDF_OK) {
       ds_encode_record(s, first + (uint64_t)k, &p, mine, recs + (size_t)k * rb);
       ok[k] = 1;
@@ -105,7 +129,7 @@ static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t fir
       made++;
     }
 #pragma omp critical(nbrdf_dataset_error)
-    if (sk != NBRDF_OK && st == NBRDF_OK) {
+    if (sk != NBRDF_OK && sk != NBRDF_ERR_CANCELLED && st == NBRDF_OK) {
       st = sk;
       if (err) *err = e;
     }
