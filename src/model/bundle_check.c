@@ -93,19 +93,9 @@ static void expect_net(checker *c, const cJSON *root, const char *section, const
 
 nbrdf_status model_bundle_check_json(const char *dir, const nbrdf_model *m, nbrdf_error *err) {
   char path[4096];
-  int n = snprintf(path, sizeof path, "%s/model.json", dir);
-  if (n < 0 || n >= (int)sizeof path)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
-  char *text = NULL;
-  size_t size = 0;
-  nbrdf_status st = model_read_file(path, &text, &size, err);
+  cJSON *root = NULL;
+  nbrdf_status st = model_bundle_parse_json(dir, path, &root, err);
   if (st != NBRDF_OK) return st;
-  cJSON *root = cJSON_ParseWithLength(text, size);
-  free(text);
-  if (!cJSON_IsObject(root)) {
-    cJSON_Delete(root);
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: not a JSON object", path);
-  }
   checker c = {path, err, NBRDF_OK};
   const model_decoder_config *dc = &m->decoder->cfg;
   const char *dec = "decoder.safetensors";

@@ -12,22 +12,31 @@
 #include "model/files.h"
 #include "model/proxy.h"
 
-nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checksum[17],
-                                    nbrdf_error *err) {
-  char path[4096];
-  int n = snprintf(path, sizeof path, "%s/model.json", dir);
-  if (n < 0 || n >= (int)sizeof path)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
+nbrdf_status model_bundle_parse_json(const char *dir, char path[4096], cJSON **root,
+                                     nbrdf_error *err) {
+  *root = NULL;
+  int n = snprintf(path, 4096, "%s/model.json", dir);
+  if (n < 0 || n >= 4096) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
   char *text = NULL;
   size_t size = 0;
   nbrdf_status st = model_read_file(path, &text, &size, err);
   if (st != NBRDF_OK) return st;
-  cJSON *root = cJSON_ParseWithLength(text, size);
+  *root = cJSON_ParseWithLength(text, size);
   free(text);
-  if (!cJSON_IsObject(root)) {
-    cJSON_Delete(root);
+  if (!cJSON_IsObject(*root)) {
+    cJSON_Delete(*root);
+    *root = NULL;
     return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: not a JSON object", path);
   }
+  return NBRDF_OK;
+}
+
+nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checksum[17],
+                                    nbrdf_error *err) {
+  char path[4096];
+  cJSON *root = NULL;
+  nbrdf_status st = model_bundle_parse_json(dir, path, &root, err);
+  if (st != NBRDF_OK) return st;
   const cJSON *format = cJSON_GetObjectItemCaseSensitive(root, "format");
   const cJSON *version = cJSON_GetObjectItemCaseSensitive(root, "version");
   const cJSON *name = cJSON_GetObjectItemCaseSensitive(root, "name");

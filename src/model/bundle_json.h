@@ -6,6 +6,13 @@
 
 #include "model/bundle.h"
 
+struct cJSON;
+
+/* Parses dir/model.json (its path into path[4096]) into a JSON object the
+ * caller frees with cJSON_Delete. */
+nbrdf_status model_bundle_parse_json(const char *dir, char path[4096], struct cJSON **root,
+                                     nbrdf_error *err);
+
 /* Reads dir/model.json into m->name, m->trained, m->latent_dim; copies its
  * "checksum" (16 hex digits, required) into checksum[17]. */
 nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checksum[17],
