@@ -230,9 +230,10 @@ int cmd_render(int argc, char **argv) {
   }
   if (!latent) return cli_usage_error("render", "the latent texture LATENT.exr is required");
   if (!out) return cli_usage_error("render", "-o OUT.exr is required");
-  if (same_file(out, latent) || (png && same_file(png, latent)) ||
-      (o.env_path && same_file(out, o.env_path)))
+  if (same_file(out, latent) || (o.env_path && same_file(out, o.env_path)))
     return cli_fail("render", "an output would overwrite an input (%s)", out);
+  if (png && (same_file(png, latent) || (o.env_path && same_file(png, o.env_path))))
+    return cli_fail("render", "an output would overwrite an input (--png %s)", png);
 
   nbrdf_brdf *ref[3] = {NULL, NULL, NULL};
   nbrdf_model *model = NULL;

@@ -20,7 +20,7 @@ nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checks
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
   char *text = NULL;
   size_t size = 0;
-  nbrdf_status st = model_read_file(path, &text, &size, err);
+  nbrdf_status st = model_read_file(path, MODEL_JSON_MAX, &text, &size, err);
   if (st != NBRDF_OK) return st;
   cJSON *root = cJSON_ParseWithLength(text, size);
   free(text);

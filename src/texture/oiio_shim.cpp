@@ -14,6 +14,7 @@
 
 extern "C" {
 #include "core/error.h"
+#include "core/input_file.h"
 #include "texture/output_file.h"
 }
 
@@ -86,14 +87,19 @@ extern "C" const char *nbrdf_pixel_format_name(nbrdf_pixel_format format) {
   return "other";
 }
 
-extern "C" nbrdf_status nbrdf_image_open(const char *path, nbrdf_image_in **out,
+extern "C" nbrdf_status nbrdf_image_open(const char *path, int flags, nbrdf_image_in **out,
                                          nbrdf_image_info *info, nbrdf_error *err) {
   *out = nullptr;
   if (!path) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "image path is NULL");
+  // OpenImageIO opens by name: a FIFO or a device would block it or never end.
+  nbrdf_status st = nbrdf_input_check(path, NBRDF_INPUT_ANY_SIZE, nullptr, err);
+  if (st != NBRDF_OK) return st;
   try {
     std::unique_ptr<nbrdf_image_in> img(new nbrdf_image_in);
     img->path = path;
-    img->in = ImageInput::open(path);
+    ImageSpec config;
+    if (flags & NBRDF_IMAGE_UNASSOCIATED_ALPHA) config.attribute("oiio:UnassociatedAlpha", 1);
+    img->in = ImageInput::open(path, &config);
     if (!img->in)
       return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path,
                         first_line(OIIO::geterror()).c_str());
