@@ -1,0 +1,88 @@
+#include "texture/image_check.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "core/error.h"
+
+static uint32_t be32(const unsigned char *b) {
+  return (uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3];
+}
+static uint32_t le32(const unsigned char *b) {
+  return (uint32_t)b[3] << 24 | (uint32_t)b[2] << 16 | (uint32_t)b[1] << 8 | b[0];
+}
+
+/* PNG: signature, then chunks of length, type, data, CRC up to IEND. */
+static nbrdf_status check_png(FILE *f, const char *path, uint64_t size, nbrdf_error *err) {
+  uint64_t pos = 8;
+  for (;;) {
+    unsigned char head[8];
+    if (fseek(f, (long)pos, SEEK_SET) != 0 || fread(head, 1, 8, f) != 8)
+      return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: truncated PNG (no IEND chunk)", path);
+    uint64_t len = be32(head);
+    if (len > 0x7fffffffu || len + 12 > size - pos)
+      return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                        "%s: PNG chunk '%.4s' at byte %llu claims %llu bytes; the file has %llu",
+                        path, (const char *)head + 4, (unsigned long long)pos,
+                        (unsigned long long)len, (unsigned long long)(size - pos));
+    if (!memcmp(head + 4, "IEND", 4)) return NBRDF_OK;
+    pos += len + 12;
+  }
+}
+
+/* OpenEXR: magic, version, then headers of attributes (name NUL, type NUL,
+ * int32 size, value) each ending with an empty name; a multi-part file has
+ * several headers and an empty one after them. */
+static int read_name(FILE *f, char name[256], uint64_t *pos) {
+  int n = 0, c;
+  while ((c = fgetc(f)) > 0 && n < 255)
+    name[n++] = (char)c;
+  name[n] = '\0';
+  *pos += (uint64_t)n + 1;
+  return c == 0;
+}
+
+static nbrdf_status check_exr(FILE *f, const char *path, uint64_t size, unsigned flags,
+                              nbrdf_error *err) {
+  const int multipart = (flags & 0x1000u) != 0;
+  uint64_t pos = 8;
+  for (;;) {
+    int attrs = 0;
+    for (;; attrs++) {
+      char name[256], type[256];
+      unsigned char b[4];
+      if (!read_name(f, name, &pos) || (name[0] && !read_name(f, type, &pos)))
+        return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: OpenEXR header truncated or malformed",
+                          path);
+      if (!name[0]) break;
+      if (fread(b, 1, 4, f) != 4)
+        return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: OpenEXR header truncated", path);
+      pos += 4;
+      uint64_t len = le32(b);
+      if (len > 0x7fffffffu || len > size - pos)
+        return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                          "%s: OpenEXR attribute '%s' claims %llu bytes; the file has %llu left",
+                          path, name, (unsigned long long)len, (unsigned long long)(size - pos));
+      pos += len;
+      if (fseek(f, (long)pos, SEEK_SET) != 0)
+        return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot seek", path);
+    }
+    /* One header, or a multi-part file's headers up to an empty one. */
+    if (!multipart || attrs == 0) return NBRDF_OK;
+  }
+}
+
+nbrdf_status nbrdf_image_check_structure(const char *path, uint64_t size, nbrdf_error *err) {
+  if (size == 0) return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: is empty (0 bytes)", path);
+  FILE *f = fopen(path, "rb");
+  if (!f) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open", path);
+  unsigned char magic[8] = {0};
+  size_t got = fread(magic, 1, 8, f);
+  nbrdf_status st = NBRDF_OK;
+  if (got == 8 && !memcmp(magic, "\x89PNG\r\n\x1a\n", 8))
+    st = check_png(f, path, size, err);
+  else if (got == 8 && !memcmp(magic, "\x76\x2f\x31\x01", 4))
+    st = check_exr(f, path, size, le32(magic + 4), err);
+  fclose(f);
+  return st;
+}
