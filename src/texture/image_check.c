@@ -33,9 +33,12 @@ static nbrdf_status check_png(FILE *f, const char *path, uint64_t size, nbrdf_er
 /* OpenEXR: magic, version, then headers of attributes (name NUL, type NUL,
  * int32 size, value) each ending with an empty name; a multi-part file has
  * several headers and an empty one after them. */
-static int read_name(FILE *f, char name[256], uint64_t *pos) {
+/* A NUL-terminated name of at most `max` characters: OpenEXR's reader stops
+ * at the limit without looking for the NUL, so a longer name would make it
+ * read the following bytes as the type and size this walk did not check. */
+static int read_name(FILE *f, char name[256], int max, uint64_t *pos) {
   int n = 0, c;
-  while ((c = fgetc(f)) > 0 && n < 255)
+  while ((c = fgetc(f)) > 0 && n < max)
     name[n++] = (char)c;
   name[n] = '\0';
   *pos += (uint64_t)n + 1;
@@ -45,15 +48,19 @@ static int read_name(FILE *f, char name[256], uint64_t *pos) {
 static nbrdf_status check_exr(FILE *f, const char *path, uint64_t size, unsigned flags,
                               nbrdf_error *err) {
   const int multipart = (flags & 0x1000u) != 0;
+  const int max_name = flags & 0x400u ? 255 : 31; /* the "long names" bit */
   uint64_t pos = 8;
   for (;;) {
     int attrs = 0;
     for (;; attrs++) {
       char name[256], type[256];
       unsigned char b[4];
-      if (!read_name(f, name, &pos) || (name[0] && !read_name(f, type, &pos)))
-        return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: OpenEXR header truncated or malformed",
-                          path);
+      if (!read_name(f, name, max_name, &pos) ||
+          (name[0] && !read_name(f, type, max_name, &pos)))
+        return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                          "%s: OpenEXR header truncated or malformed (a name of more than %d "
+                          "characters, or no end)",
+                          path, max_name);
       if (!name[0]) break;
       if (fread(b, 1, 4, f) != 4)
         return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: OpenEXR header truncated", path);
