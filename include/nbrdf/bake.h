@@ -89,7 +89,11 @@ typedef struct nbrdf_bake_inputs {
 /* Sets a grey constant. */
 void nbrdf_bake_param_constant(nbrdf_bake_param *p, float value);
 /* A command-line argument: "0.3" (grey) or "0.8,0.5,0.2" (RGB) is a
- * constant, anything else a path (kept as a pointer into `arg`). */
+ * constant (decimal numbers, white space around them allowed; no hex, inf or
+ * nan), anything else the path of an existing file (kept as a pointer into
+ * `arg`; write "./0.5" for a file named like a number). NBRDF_ERR_ARGUMENT,
+ * naming the parameter, for a number that overflows or underflows a float
+ * and for text that is neither numbers nor an existing file. */
 nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bake_param *p,
                                     nbrdf_error *err);
 

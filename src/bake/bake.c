@@ -6,15 +6,19 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "bake/bake_band.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "core/number.h"
 #include "texture/latent_exr.h"
 
 /* Texels per band: big enough that the networks run on full batches, small
  * enough that band buffers stay far below the writer's tile rows. */
 #define BAND_TEXELS 65536
+/* The largest width and height of a latent texture (latent_exr_write.c). */
+#define TEXTURE_SIZE_MAX 65536
 
 static const char *const param_names[NBRDF_BAKE_PARAM_COUNT] = {"alpha1", "eta",    "alpha2",
                                                                 "r0",     "albedo", "sigma_t"};
@@ -32,27 +36,39 @@ void nbrdf_bake_param_constant(nbrdf_bake_param *p, float value) {
 nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bake_param *p,
                                     nbrdf_error *err) {
   if (!arg || !*arg) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name);
+  /* "v" or "v,v,v", each number as core/number.h reads it (white space
+   * around it allowed, hex/inf/nan not). */
   float v[3];
-  int n = 0;
-  const char *s = arg;
-  for (;;) {
-    char *end;
-    errno = 0;
-    double d = strtod(s, &end);
-    if (end == s || errno == ERANGE || n == 3) break;
-    v[n++] = (float)d;
-    if (*end == '\0') {
-      if (n == 2) break;
-      p->path = NULL;
-      p->channels = n;
-      for (int c = 0; c < 3; c++)
-        p->value[c] = v[n == 3 ? c : 0];
-      return NBRDF_OK;
-    }
-    if (*end != ',') break;
-    s = end + 1;
+  int n = 0, numbers = 1;
+  for (const char *s = arg;; n++) {
+    const char *comma = strchr(s, ',');
+    size_t len = comma ? (size_t)(comma - s) : strlen(s);
+    nbrdf_number_result r = n < 3 ? nbrdf_parse_float(s, len, &v[n]) : NBRDF_NUMBER_SYNTAX;
+    if (r == NBRDF_NUMBER_OVERFLOW || r == NBRDF_NUMBER_UNDERFLOW)
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                        "%s: '%.*s' %s as a float; write ./%s for a file of that name", name,
+                        (int)len, s, nbrdf_number_problem(r), arg);
+    if (r != NBRDF_NUMBER_OK) numbers = 0;
+    if (!comma) break;
+    s = comma + 1;
   }
-  p->path = arg; /* not a number list: a file */
+  n++;
+  if (numbers && (n == 1 || n == 3)) {
+    p->path = NULL;
+    p->channels = n;
+    for (int c = 0; c < 3; c++)
+      p->value[c] = v[n == 3 ? c : 0];
+    return NBRDF_OK;
+  }
+  /* Not one or three numbers: a file, which must exist (so that a mistyped
+   * value, "0x10" or "0.5,0.5", is not reported as a missing image). */
+  struct stat sb;
+  if (stat(arg, &sb) != 0 && errno == ENOENT)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "%s: '%s' is neither a number (nor three, comma-separated) nor an "
+                      "existing file",
+                      name, arg);
+  p->path = arg;
   return NBRDF_OK;
 }
 
@@ -149,6 +165,18 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   nbrdf_status st = nbrdf_param_sources_common_size(src, NBRDF_BAKE_PARAM_COUNT, &W, &H, err);
   if (st != NBRDF_OK) return st;
   if (W == 0) W = H = 1;
+  /* The texture's limit (latent_exr_write.c), refused here so that the
+   * message names the map that is too large rather than the output. */
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT && (W > TEXTURE_SIZE_MAX || H > TEXTURE_SIZE_MAX);
+       id++) {
+    nbrdf_param_map *m = nbrdf_param_source_get_map(src[id]);
+    const nbrdf_param_map_info *mi = m ? nbrdf_param_map_get_info(m) : NULL;
+    if (mi && (mi->width > TEXTURE_SIZE_MAX || mi->height > TEXTURE_SIZE_MAX))
+      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
+                        "%s: %s is %dx%d; a texture is at most %dx%d texels", param_names[id],
+                        nbrdf_param_map_path(m), mi->width, mi->height, TEXTURE_SIZE_MAX,
+                        TEXTURE_SIZE_MAX);
+  }
   int rgb = 0;
   /* Every file the bake reads: the maps and the bundle's files (no output may replace them). */
   const char *inputs[NBRDF_BAKE_PARAM_COUNT + 8];

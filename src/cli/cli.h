@@ -26,7 +26,9 @@ int cli_fail(const char *cmd, const char *fmt, ...);
 /* Prints an nbrdf_error; returns CLI_EXIT_FAILURE. */
 int cli_fail_error(const char *cmd, const nbrdf_error *err);
 
-/* Strict number parsing: the whole string must be a finite number. */
+/* Strict number parsing (core/number.h): the whole string must be a decimal
+ * number, white space around it allowed; no hex, inf or nan; overflow and
+ * underflow refused. An int has no fraction or exponent. */
 int cli_parse_double(const char *text, double *out);
 int cli_parse_int(const char *text, long lo, long hi, long *out);
 /* Matches argv[*i] against option `name` in the forms "--name value" and

@@ -1,10 +1,10 @@
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
+#include "core/number.h"
 
 int cli_usage_error(const char *cmd, const char *fmt, ...) {
   va_list ap;
@@ -31,22 +31,16 @@ int cli_fail_error(const char *cmd, const nbrdf_error *err) {
 }
 
 int cli_parse_double(const char *text, double *out) {
-  if (!text || !*text) return 0;
-  char *end;
-  errno = 0;
-  double v = strtod(text, &end);
-  if (*end != '\0' || errno == ERANGE || !isfinite(v)) return 0;
-  *out = v;
-  return 1;
+  return text && nbrdf_parse_number(text, strlen(text), out) == NBRDF_NUMBER_OK;
 }
 
 int cli_parse_int(const char *text, long lo, long hi, long *out) {
-  if (!text || !*text) return 0;
-  char *end;
-  errno = 0;
-  long v = strtol(text, &end, 10);
-  if (*end != '\0' || errno == ERANGE || v < lo || v > hi) return 0;
-  *out = v;
+  /* Decimal digits only (strtol would take "0x10" with base 0, and "12abc"
+   * up to the letters), white space around them allowed as for numbers. */
+  double v;
+  if (!cli_parse_double(text, &v) || v != floor(v) || strpbrk(text, ".eE")) return 0;
+  if (v < (double)lo || v > (double)hi) return 0;
+  *out = (long)v;
   return 1;
 }
 

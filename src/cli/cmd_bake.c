@@ -21,7 +21,10 @@ void cmd_bake_usage(FILE *out) {
                "Bakes a layered BRDF (rough dielectric coat over a rough conductor, with a slab\n"
                "of albedo A and optical depth sigma_t between them) into a tiled, mip-mapped\n"
                "latent OpenEXR texture (docs/LATENT-TEXTURE.md). Each V is a constant ('0.3',\n"
-               "or '0.8,0.5,0.2' for RGB) or an image file (1 or 3 channels; all maps one size).\n"
+               "or '0.8,0.5,0.2' for RGB; decimal, no hex/inf/nan) or an existing image file\n"
+               "(grey or RGB, either optionally with alpha, which is ignored: colour under\n"
+               "alpha 0 is read as stored; a regular file, at most 65536x65536; all maps one\n"
+               "size). Write './0.5' for a file named like a number.\n"
                "The texture is mono when every input is grey, else RGB (one BRDF per channel).\n"
                "\n"
                "inputs (shared with 'nbrdf verify'):\n");

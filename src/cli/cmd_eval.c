@@ -11,8 +11,9 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
-#include "cli/csv.h"
 #include "cli/eval_neural.h"
+#include "core/csv.h"
+#include "core/number.h"
 #include "core/vec3.h"
 #include "nbrdf/brdf.h"
 
@@ -64,9 +65,9 @@ void cmd_eval_usage(FILE *out) {
           "[--bundle DIR]\n"
           "                  [--roughness alpha|perceptual] [--range clamp|refuse]\n"
           "\n"
-          "Evaluates ground-truth or neural BRDF values at point queries: reads CSV on "
-          "stdin,\n"
-          "writes CSV on stdout.\n"
+          "Evaluates ground-truth or neural BRDF values at point queries: reads CSV on\n"
+          "stdin, writes CSV on stdout. A line holds at most 65536 bytes; values are\n"
+          "decimal numbers (white space around them allowed; no hex, inf or nan).\n"
           "\n"
           "options:\n"
           "  --model M    layered, conductor, dielectric (ground truth) or neural,\n"
@@ -284,14 +285,13 @@ static int parse_row(const csv_table *t, size_t r, const layout *lay, double *v)
     const column_spec *s = lay->spec[c];
     size_t len = csv_value(t, r, lay->index[c], buf, sizeof buf);
     if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
-    char *end = buf;
-    double x = len < sizeof buf ? strtod(buf, &end) : 0;
-    if (end != buf + len || strlen(buf) != len)
-      return cli_fail("eval", "line %zu, column '%s': '%s' is not a number", t->line[r], s->name,
-                      printable(buf, shown, sizeof shown));
-    if (!isfinite(x))
-      return cli_fail("eval", "line %zu, column '%s': '%s' is not a finite number", t->line[r],
-                      s->name, printable(buf, shown, sizeof shown));
+    double x = 0;
+    nbrdf_number_result nr = len < sizeof buf && strlen(buf) == len
+                                 ? nbrdf_parse_number(buf, len, &x)
+                                 : NBRDF_NUMBER_SYNTAX;
+    if (nr != NBRDF_NUMBER_OK)
+      return cli_fail("eval", "line %zu, column '%s': '%s' %s", t->line[r], s->name,
+                      printable(buf, shown, sizeof shown), nbrdf_number_problem(nr));
     if (x < s->lo || x > s->hi || (s->hi_open && x == s->hi))
       return cli_fail("eval", "line %zu, column '%s': %s is outside %c%g, %g%c", t->line[r],
                       s->name, printable(buf, shown, sizeof shown), '[', s->lo, s->hi,

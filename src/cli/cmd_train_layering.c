@@ -8,6 +8,7 @@
 #include "cli/cmd_train.h"
 #include "core/error.h"
 #include "model/bundle.h"
+#include "model/files.h"
 #include "train/train_layering.h"
 
 int cmd_train_layering(int argc, char **argv) {
@@ -131,21 +132,6 @@ int cmd_train_layering(int argc, char **argv) {
   return st ? cli_fail_error("train", &err) : CLI_EXIT_OK;
 }
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *b = n >= 0 ? malloc((size_t)n + 1) : NULL;
-  if (b && fread(b, 1, (size_t)n, f) == (size_t)n)
-    b[n] = '\0';
-  else
-    free(b), b = NULL;
-  fclose(f);
-  return b;
-}
-
 int cmd_train_bundle(int argc, char **argv) {
   const char *out = NULL, *name = "default", *decoder = NULL, *tables = NULL, *layering = NULL,
              *sampler = NULL, *card = NULL, *note = NULL;
@@ -192,8 +178,8 @@ int cmd_train_bundle(int argc, char **argv) {
   if (!st)
     st = sampler ? train_read_net(sampler, 0, NULL, &smp, &err)
                  : model_sampler_create("default", 32, 1, &smp, &err);
-  if (!st && card && !(card_text = slurp(card)))
-    st = nbrdf_fail(&err, NBRDF_ERR_IO, "%s: cannot read the model card", card);
+  size_t card_size = 0;
+  if (!st && card) st = model_read_file(card, MODEL_JSON_MAX, &card_text, &card_size, &err);
   uint64_t sum = 0;
   if (!st) {
     model_bundle_parts parts = {.name = name,

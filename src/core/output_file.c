@@ -101,12 +101,17 @@ static int is_temp_name(const char *name) {
   return 1;
 }
 
+#define STALE_MARGIN_S 2.0
+
 /* Removes what a killed writer left in `dir`: files named like our temporary
  * files, ours, older than this process and not locked by a live writer. */
 static void remove_stale_temps(const char *dir) {
   DIR *d = opendir(dir);
   if (!d) return;
-  double start = process_start();
+  /* /proc's uptime and start ticks have 10 ms steps: a process a few ms old may
+   * compute its start as now. The margin keeps a file made just before this
+   * process (another writer's, not yet locked) from counting as stale. */
+  double start = process_start() - STALE_MARGIN_S;
   uid_t me = geteuid();
   int dfd = dirfd(d);
   struct dirent *e;

@@ -6,7 +6,7 @@
  *   crash or SIGKILL leaves nothing. Where the file system has no O_TMPFILE the
  *   temporary file is named ".<name>.<8 hex>.tmp" and held under flock(); a
  *   later output into the same directory removes such files of ours that are
- *   unlocked and older than the process (what a killed writer left).
+ *   unlocked and older than the process by 2 s (what a killed writer left).
  * - never an input: a destination that is the same file (device and inode,
  *   so symlinks, "../" and hard links are caught) as one of the given inputs
  *   is refused, as is a directory.

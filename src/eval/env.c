@@ -194,7 +194,7 @@ double eval_env_pdf(const eval_env *env, vec3 d) {
 static nbrdf_status load_image(eval_env *env, const char *path, nbrdf_error *err) {
   nbrdf_image_in *in = NULL;
   nbrdf_image_info info;
-  nbrdf_status st = nbrdf_image_open(path, &in, &info, err);
+  nbrdf_status st = nbrdf_image_open(path, 0, &in, &info, err);
   if (st != NBRDF_OK) return st;
   int colour = info.channels >= 3 && info.alpha_channel != 1 && info.alpha_channel != 2 ? 3 : 1;
   float *raw = malloc(sizeof(float) * (size_t)info.width * info.height * colour);

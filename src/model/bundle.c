@@ -61,7 +61,7 @@ static nbrdf_status load_part(const char *dir, int i, nbrdf_model *m, uint64_t *
   nbrdf_status st = join(path, dir, model_bundle_files[i], err);
   char *bytes = NULL;
   size_t size = 0;
-  if (st == NBRDF_OK) st = model_read_file(path, &bytes, &size, err);
+  if (st == NBRDF_OK) st = model_read_file(path, NBRDF_ST_FILE_MAX, &bytes, &size, err);
   if (st != NBRDF_OK) return st;
   *hash = nbrdf_st_fnv1a64(*hash, bytes, size);
   nbrdf_st_reader *r = NULL;
@@ -213,7 +213,7 @@ nbrdf_status model_bundle_save(const char *dir, const model_bundle_parts *p, uin
     /* Hash what is on disk, so the value is the one load computes. */
     char *bytes = NULL;
     size_t size = 0;
-    if (st == NBRDF_OK) st = model_read_file(path, &bytes, &size, err);
+    if (st == NBRDF_OK) st = model_read_file(path, NBRDF_ST_FILE_MAX, &bytes, &size, err);
     if (st == NBRDF_OK) hash = nbrdf_st_fnv1a64(hash, bytes, size);
     free(bytes);
   }

@@ -19,7 +19,7 @@ nbrdf_status model_bundle_parse_json(const char *dir, char path[4096], cJSON **r
   if (n < 0 || n >= 4096) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
   char *text = NULL;
   size_t size = 0;
-  nbrdf_status st = model_read_file(path, &text, &size, err);
+  nbrdf_status st = model_read_file(path, MODEL_JSON_MAX, &text, &size, err);
   if (st != NBRDF_OK) return st;
   *root = cJSON_ParseWithLength(text, size);
   free(text);

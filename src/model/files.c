@@ -9,34 +9,38 @@
 
 #include "core/error.h"
 #include "core/output_file.h"
+#include "core/input_file.h"
 
 #define FILES_PATH_MAX 4096
 #define FILES_SIZE_MAX ((size_t)1 << 31)
 
-nbrdf_status model_read_file(const char *path, char **bytes, size_t *size, nbrdf_error *err) {
-  FILE *fp = fopen(path, "rb");
-  if (!fp) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  char *buf = NULL;
-  size_t len = 0, cap = 0;
-  nbrdf_status st = NBRDF_OK;
-  for (;;) {
-    if (len == cap) {
-      cap = cap ? 2 * cap : (size_t)1 << 16;
-      char *grown = cap <= FILES_SIZE_MAX ? realloc(buf, cap + 1) : NULL;
-      if (!grown) {
-        st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: too large or out of memory", path);
-        break;
-      }
-      buf = grown;
-    }
-    size_t got = fread(buf + len, 1, cap - len, fp);
-    len += got;
-    if (got == 0) {
-      if (ferror(fp)) st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: read error", path);
+nbrdf_status model_read_file(const char *path, uint64_t max_bytes, char **bytes, size_t *size,
+                             nbrdf_error *err) {
+  /* Regular files only, sized by stat before the buffer is allocated: a
+   * bundle file symlinked to /dev/zero would otherwise grow to the cap. */
+  int fd = -1;
+  uint64_t n = 0;
+  if (max_bytes > FILES_SIZE_MAX) max_bytes = FILES_SIZE_MAX;
+  nbrdf_status st = nbrdf_input_open(path, max_bytes, &fd, &n, err);
+  if (st != NBRDF_OK) return st;
+  char *buf = malloc((size_t)n + 1);
+  if (!buf) {
+    close(fd);
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %llu bytes", path,
+                      (unsigned long long)n);
+  }
+  size_t len = 0;
+  while (len < n) {
+    ssize_t got = read(fd, buf + len, (size_t)n - len);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) {
+      st = got < 0 ? nbrdf_fail(err, NBRDF_ERR_IO, "%s: read error: %s", path, strerror(errno))
+                   : nbrdf_fail(err, NBRDF_ERR_IO, "%s: file shrank while being read", path);
       break;
     }
+    len += (size_t)got;
   }
-  fclose(fp);
+  close(fd);
   if (st != NBRDF_OK) {
     free(buf);
     return st;

@@ -3,12 +3,17 @@
 #define NBRDF_MODEL_FILES_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "nbrdf/status.h"
 
-/* Reads a whole file (at most 2 GiB) into a malloc'd buffer with a NUL after
- * its last byte; messages start with the path. */
-nbrdf_status model_read_file(const char *path, char **bytes, size_t *size, nbrdf_error *err);
+/* Reads a whole regular file of at most max_bytes (and 2 GiB) into a malloc'd
+ * buffer with a NUL after its last byte; messages start with the path. */
+nbrdf_status model_read_file(const char *path, uint64_t max_bytes, char **bytes, size_t *size,
+                             nbrdf_error *err);
+
+/* model.json is a page of text; anything much larger is not one. */
+#define MODEL_JSON_MAX ((uint64_t)16 << 20)
 
 /* Writes `text` to dir/file through a temporary file in dir, synced, then renamed. */
 nbrdf_status model_write_text_file(const char *dir, const char *file, const char *text,

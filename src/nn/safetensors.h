@@ -43,6 +43,9 @@
 #include "nbrdf/status.h"
 
 #define NBRDF_ST_MAX_DIMS 8
+/* The largest file nbrdf_st_open reads (the networks and tables nbrdf writes
+ * are a few MB); checked against stat before anything is allocated. */
+#define NBRDF_ST_FILE_MAX ((uint64_t)1 << 30)
 
 typedef enum nbrdf_st_dtype {
   NBRDF_ST_F32 = 0,

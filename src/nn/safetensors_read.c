@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "nn/safetensors_internal.h"
 
 struct nbrdf_st_reader {
@@ -242,23 +243,13 @@ static nbrdf_status io_error(nbrdf_error *err, const char *path, const char *wha
 nbrdf_status nbrdf_st_open(const char *path, nbrdf_st_reader **out, nbrdf_error *err) {
   if (!path || !out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_open: NULL argument");
   *out = NULL;
-  int fd = open(path, O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return io_error(err, path, "cannot open", errno);
-  struct stat sb;
-  if (fstat(fd, &sb) != 0) {
-    int code = errno;
-    close(fd);
-    return io_error(err, path, "cannot stat", code);
-  }
-  if (!S_ISREG(sb.st_mode)) {
-    close(fd);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: not a regular file", path);
-  }
-  if ((uint64_t)sb.st_size > (uint64_t)(SIZE_MAX / 2)) {
-    close(fd);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: file too large for memory", path);
-  }
-  size_t size = (size_t)sb.st_size, done = 0;
+  /* Regular files only (a FIFO would block, a device never end), and the
+   * size comes from stat before anything is allocated. */
+  int fd = -1;
+  uint64_t file_size = 0;
+  nbrdf_status opened = nbrdf_input_open(path, NBRDF_ST_FILE_MAX, &fd, &file_size, err);
+  if (opened != NBRDF_OK) return opened;
+  size_t size = (size_t)file_size, done = 0;
   unsigned char *bytes = malloc(size ? size : 1);
   if (!bytes) {
     close(fd);

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "texture/exr_io.h"
 #include "texture/latent_exr.h"
 #include "texture/mip_chain.h"
@@ -202,15 +203,10 @@ nbrdf_status nbrdf_latent_reader_open(nbrdf_latent_reader **out, const char *pat
     free(r);
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   }
-  r->stream.fd = open(path, O_RDONLY | O_CLOEXEC);
-  struct stat sb;
-  nbrdf_status st = NBRDF_OK;
-  if (r->stream.fd < 0 || fstat(r->stream.fd, &sb) != 0)
-    st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-  else if (!S_ISREG(sb.st_mode))
-    st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: not a regular file", path);
+  uint64_t file_size = 0;
+  nbrdf_status st = nbrdf_input_open(path, NBRDF_INPUT_ANY_SIZE, &r->stream.fd, &file_size, err);
   if (st == NBRDF_OK) {
-    r->info.file_size = (int64_t)sb.st_size;
+    r->info.file_size = (int64_t)file_size;
     exr_context_initializer_t init = nbrdf_exr_initializer(&r->stream, 0);
     exr_result_t rv = exr_start_read(&r->exr, path, &init);
     if (rv != EXR_ERR_SUCCESS) {

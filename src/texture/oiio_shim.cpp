@@ -14,7 +14,9 @@
 
 extern "C" {
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/output_file.h"
+#include "texture/image_check.h"
 }
 
 using OIIO::ImageInput;
@@ -29,6 +31,9 @@ struct nbrdf_image_in {
 };
 
 namespace {
+
+// The largest tile read (floats): real maps use tiles of 64x64 to 512x512.
+constexpr size_t kTileBytesMax = size_t(64) << 20;
 
 std::string first_line(std::string s) {
   size_t nl = s.find('\n');
@@ -86,14 +91,21 @@ extern "C" const char *nbrdf_pixel_format_name(nbrdf_pixel_format format) {
   return "other";
 }
 
-extern "C" nbrdf_status nbrdf_image_open(const char *path, nbrdf_image_in **out,
+extern "C" nbrdf_status nbrdf_image_open(const char *path, int flags, nbrdf_image_in **out,
                                          nbrdf_image_info *info, nbrdf_error *err) {
   *out = nullptr;
   if (!path) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "image path is NULL");
+  // OpenImageIO opens by name: a FIFO or a device would block it or never end.
+  uint64_t size = 0;
+  nbrdf_status st = nbrdf_input_check(path, NBRDF_INPUT_ANY_SIZE, &size, err);
+  if (st == NBRDF_OK) st = nbrdf_image_check_structure(path, size, err);
+  if (st != NBRDF_OK) return st;
   try {
     std::unique_ptr<nbrdf_image_in> img(new nbrdf_image_in);
     img->path = path;
-    img->in = ImageInput::open(path);
+    ImageSpec config;
+    if (flags & NBRDF_IMAGE_UNASSOCIATED_ALPHA) config.attribute("oiio:UnassociatedAlpha", 1);
+    img->in = ImageInput::open(path, &config);
     if (!img->in)
       return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path,
                         first_line(OIIO::geterror()).c_str());
@@ -102,6 +114,13 @@ extern "C" nbrdf_status nbrdf_image_open(const char *path, nbrdf_image_in **out,
     if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
       return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
                         path, s.width, s.height, s.depth, s.nchannels);
+    // OpenImageIO reads a whole tile (as floats) to deliver any row of it: a
+    // forged tile size would make it allocate gigabytes for a small image.
+    if (s.tile_width > 0 && s.tile_height > 0 &&
+        (double)s.tile_width * s.tile_height * s.nchannels * 4.0 > kTileBytesMax)
+      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
+                        "%s: tiles of %dx%d texels and %d channels (at most %d MiB a tile)", path,
+                        s.tile_width, s.tile_height, s.nchannels, (int)(kTileBytesMax >> 20));
     std::memset(info, 0, sizeof *info);
     info->width = s.width;
     info->height = s.height;

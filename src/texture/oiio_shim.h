@@ -35,8 +35,17 @@ typedef struct nbrdf_image_info {
 
 typedef struct nbrdf_image_in nbrdf_image_in;
 
-nbrdf_status nbrdf_image_open(const char *path, nbrdf_image_in **out, nbrdf_image_info *info,
-                              nbrdf_error *err);
+/* Flags of nbrdf_image_open. UNASSOCIATED_ALPHA: colour channels as stored in
+ * formats that store them unassociated (PNG, TIFF...): OpenImageIO otherwise
+ * multiplies them by alpha on read, which turns a parameter map's texels
+ * under alpha = 0 into 0. Files that store associated colour (OpenEXR) are
+ * read as stored either way. */
+enum { NBRDF_IMAGE_UNASSOCIATED_ALPHA = 1 };
+
+/* Refuses anything but a regular file (core/input_file.h) before OpenImageIO
+ * sees it. */
+nbrdf_status nbrdf_image_open(const char *path, int flags, nbrdf_image_in **out,
+                              nbrdf_image_info *info, nbrdf_error *err);
 /* The name of channel c ("R", "latent.L00.R", ...). */
 const char *nbrdf_image_channel_name(const nbrdf_image_in *img, int c);
 /* Size of a mip level; NBRDF_ERR_ARGUMENT if the file has no such level. */

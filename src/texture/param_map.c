@@ -15,6 +15,7 @@ struct nbrdf_param_map {
   nbrdf_param_map_options opts;
   nbrdf_colour_xform *xform; /* NULL: no colour conversion */
   int integer;               /* 8/16-bit (or other integer) samples */
+  int first_channel;         /* 1 when alpha comes first, else 0 */
 };
 
 static int is_integer(nbrdf_pixel_format f, const char *name) {
@@ -60,7 +61,9 @@ nbrdf_status nbrdf_param_map_open(const char *path, const nbrdf_param_map_option
   }
   m->opts = *opts;
   nbrdf_image_info ii;
-  nbrdf_status st = nbrdf_image_open(path, &m->img, &ii, err);
+  /* Alpha is coverage, not a parameter: read the colour as stored (not
+   * multiplied by alpha, which zeroes texels under alpha = 0) and drop it. */
+  nbrdf_status st = nbrdf_image_open(path, NBRDF_IMAGE_UNASSOCIATED_ALPHA, &m->img, &ii, err);
   if (st == NBRDF_OK) {
     nbrdf_param_map_info *in = &m->info;
     in->width = ii.width;
@@ -72,15 +75,21 @@ nbrdf_status nbrdf_param_map_open(const char *path, const nbrdf_param_map_option
     memcpy(in->file_format, ii.file_format, sizeof in->file_format);
     memcpy(in->reported_colour_space, ii.colour_space, sizeof in->reported_colour_space);
     m->integer = is_integer(ii.format, ii.format_name);
-    if (ii.channels == 1 || ii.channels == 3)
+    /* Grey + alpha and RGB + alpha (alpha first or last; a 4th channel not
+     * marked as alpha is ignored the same way). */
+    int alpha = ii.alpha_channel;
+    if (ii.channels == 4 && alpha != 0) alpha = 3;
+    if (ii.channels == 1 || ii.channels == 3) {
       in->channels = ii.channels;
-    else if (ii.channels == 4)
-      in->channels = 3; /* RGBA: alpha is coverage, not a parameter */
-    else
+    } else if ((ii.channels == 2 || ii.channels == 4) && (alpha == 0 || alpha == ii.channels - 1)) {
+      in->channels = ii.channels - 1;
+      m->first_channel = alpha == 0 ? 1 : 0;
+    } else {
       st = nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                      "%s: %d channels; a parameter map has 1 (grey), 3 (RGB) or 4 (RGBA, "
-                      "alpha ignored)",
+                      "%s: %d channels; a parameter map has 1 (grey), 3 (RGB), or either plus "
+                      "alpha (ignored)",
                       path, ii.channels);
+    }
   }
   if (st == NBRDF_OK) st = set_up_colour(m, err);
   if (st == NBRDF_OK && opts->remap && m->integer) {
@@ -124,7 +133,8 @@ nbrdf_status nbrdf_param_map_read_rows(nbrdf_param_map *m, int y0, int rows, flo
   if (y0 < 0 || rows < 1 || rows > in->height - y0)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows %d..%d of a map %d rows high", m->path, y0,
                       y0 + rows - 1, in->height);
-  nbrdf_status st = nbrdf_image_read_rows(m->img, 0, y0, y0 + rows, 0, in->channels, out, err);
+  nbrdf_status st = nbrdf_image_read_rows(m->img, 0, y0, y0 + rows, m->first_channel,
+                                          m->first_channel + in->channels, out, err);
   if (st != NBRDF_OK) return st;
   size_t texels = (size_t)rows * in->width;
   if (m->xform && in->channels == 3) st = nbrdf_colour_xform_apply_rgb(m->xform, out, texels, err);

@@ -2,9 +2,11 @@
  * in any format OpenImageIO reads, delivered as validated floats a band of
  * rows at a time, so that a bake never holds a whole map in memory.
  *
- * Channels: 1 (grey) or 3 (RGB); a 4th channel is alpha and is ignored;
- * 2 or 5+ channels are refused. Integer images (8/16-bit) read as [0, 1].
- * Colour data (R0, A) in integer images is linearised (sRGB by default,
+ * Channels: 1 (grey) or 3 (RGB), or either plus alpha: alpha is ignored,
+ * and colour under alpha = 0 is read as stored, not multiplied by alpha
+ * (oiio_shim.h, NBRDF_IMAGE_UNASSOCIATED_ALPHA); a 4th channel not marked as
+ * alpha is ignored too; 5+ channels, or 2 without alpha, are refused. Integer images (8/16-bit)
+ * read as [0, 1]. Colour data (R0, A) in integer images is linearised (sRGB by default,
  * ocio_shim.h); float images are taken as linear; non-colour data is never
  * converted. Every texel must end up finite and >= 0. */
 #ifndef NBRDF_TEXTURE_PARAM_MAP_H
@@ -38,7 +40,7 @@ typedef struct nbrdf_param_map_options {
 typedef struct nbrdf_param_map_info {
   int width, height;
   int channels;      /* 1 or 3: floats per texel delivered */
-  int file_channels; /* as stored: 1, 3 or 4 */
+  int file_channels; /* as stored: 1 to 4 */
   nbrdf_pixel_format format;
   int bits_per_sample;
   char format_name[16];           /* "uint8", "half", ... */

@@ -1,12 +1,12 @@
 #include "texture/param_source.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
+#include "core/number.h"
 
 struct nbrdf_param_source {
   char name[32];
@@ -76,23 +76,20 @@ nbrdf_status nbrdf_param_source_map(const char *name, const char *path,
   return NBRDF_OK;
 }
 
-/* Parses "v" or "v,v,v" completely; returns the number of values, or 0. */
-static int parse_numbers(const char *arg, float v[3]) {
-  const char *p = arg;
+/* Parses "v" or "v,v,v" completely; returns the number of values, 0 if not
+ * numbers, -1 if one is out of a float's range (*bad says which). */
+static int parse_numbers(const char *arg, float v[3], nbrdf_number_result *bad) {
   int n = 0;
-  while (n < 3) {
-    char *end;
-    errno = 0;
-    double d = strtod(p, &end);
-    if (end == p || errno == ERANGE) return 0;
-    v[n++] = (float)d;
-    while (*end == ' ')
-      end++;
-    if (*end == '\0') return n == 1 || n == 3 ? n : 0;
-    if (*end != ',') return 0;
-    p = end + 1;
+  for (const char *s = arg;;) {
+    const char *comma = strchr(s, ',');
+    size_t len = comma ? (size_t)(comma - s) : strlen(s);
+    if (n == 3) return 0;
+    nbrdf_number_result r = nbrdf_parse_float(s, len, &v[n++]);
+    if (r == NBRDF_NUMBER_OVERFLOW || r == NBRDF_NUMBER_UNDERFLOW) return *bad = r, -1;
+    if (r != NBRDF_NUMBER_OK) return 0;
+    if (!comma) return n == 1 || n == 3 ? n : 0;
+    s = comma + 1;
   }
-  return 0;
 }
 
 nbrdf_status nbrdf_param_source_parse(const char *name, const char *arg,
@@ -102,7 +99,11 @@ nbrdf_status nbrdf_param_source_parse(const char *name, const char *arg,
   if (!arg || !arg[0])
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name ? name : "parameter");
   float v[3];
-  int n = parse_numbers(arg, v);
+  nbrdf_number_result bad = NBRDF_NUMBER_OK;
+  int n = parse_numbers(arg, v, &bad);
+  if (n < 0)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: '%s': a value %s for a float",
+                      name ? name : "parameter", arg, nbrdf_number_problem(bad));
   if (n) return nbrdf_param_source_constant(name, v, n, out, err);
   return nbrdf_param_source_map(name, arg, opts, out, err);
 }

@@ -3,8 +3,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "nn/safetensors.h"
 #include "train/dataset_format.h"
 
@@ -57,8 +59,14 @@ static const char *check_record(const train_dataset_settings *s, uint64_t family
 nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info *info,
                                 train_dataset_record_fn on_record, void *user, nbrdf_error *err) {
   memset(info, 0, sizeof *info);
-  FILE *f = fopen(path, "rb");
-  if (!f) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open for reading", path);
+  int fd = -1;
+  nbrdf_status opened = nbrdf_input_open(path, NBRDF_INPUT_ANY_SIZE, &fd, NULL, err);
+  if (opened != NBRDF_OK) return opened;
+  FILE *f = fdopen(fd, "rb");
+  if (!f) {
+    close(fd);
+    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open for reading", path);
+  }
   unsigned char head[DS_HEADER_BYTES];
   const char *why = "truncated header";
   if (fread(head, 1, sizeof head, f) != sizeof head ||

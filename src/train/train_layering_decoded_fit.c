@@ -1,10 +1,12 @@
 /* The loop of the decoded-loss layering training (train_layering.h):
  * epochs of shuffled batches, Adam, validation, checkpoints. */
+#include <errno.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #include "core/error.h"
@@ -78,9 +80,10 @@ static nbrdf_status save_checkpoint(const trainer *t, int epoch, int64_t batch, 
 static nbrdf_status load_checkpoint(trainer *t, int64_t steps_per_epoch, int *epoch,
                                     int64_t *batch, nbrdf_error *err) {
   *epoch = 0, *batch = 0;
-  FILE *probe = fopen(t->s->checkpoint, "rb");
-  if (!probe) return NBRDF_OK;
-  fclose(probe);
+  /* No checkpoint yet: start afresh (anything else, a FIFO included, is for
+   * nbrdf_st_open to refuse: opening it here could block). */
+  struct stat sb;
+  if (stat(t->s->checkpoint, &sb) != 0 && errno == ENOENT) return NBRDF_OK;
   nbrdf_st_reader *r = NULL;
   nbrdf_status st = nbrdf_st_open(t->s->checkpoint, &r, err);
   if (st) return st;

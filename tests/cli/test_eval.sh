@@ -152,7 +152,7 @@ eval_error "line 7, column 'alpha1': 2 is outside" "$TMP/bad2.csv" --model layer
 printf 'alpha,r0,%s\n0.5,1,0,0,95,0\n' "$SINGLE_ANGLES" >"$TMP/bad3.csv"
 eval_error "line 2, column 'theta_o': 95 is outside [0, 90)" "$TMP/bad3.csv" --model conductor
 printf 'alpha,r0,%s\n0.5,1,0,0,inf,0\n' "$SINGLE_ANGLES" >"$TMP/bad4.csv"
-eval_error "line 2, column 'theta_o': 'inf' is not a finite number" "$TMP/bad4.csv" --model conductor
+eval_error "line 2, column 'theta_o': 'inf' is not a number" "$TMP/bad4.csv" --model conductor
 printf 'alpha,r0,%s\n0.5,-0.1,0,0,5,0\n' "$SINGLE_ANGLES" >"$TMP/bad5.csv"
 eval_error "line 2, column 'r0': -0.1 is outside [0, 1]" "$TMP/bad5.csv" --model conductor
 printf 'alpha,r0,%s\n\n0.5,,0,0,5,0\n' "$SINGLE_ANGLES" >"$TMP/bad6.csv"

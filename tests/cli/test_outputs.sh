@@ -162,7 +162,7 @@ check "SIGKILL: nothing left: $(ls -A sig)" test -z "$(ls -A sig)"
 status=$(bake_signalled KILL NBRDF_OUTPUT_NAMED_TEMP=1)
 check "SIGKILL, named: the temporary file is left: $(ls -A sig)" \
   test "$(ls -A sig | grep -Ec '^\.big\.exr\.[0-9a-f]{8}\.tmp$')" = 1
-sleep 1.1 # older than the next process, to the second
+sleep 2.2 # older than the next process by the 2 s margin (output_file.c)
 expect_exit 0 env NBRDF_OUTPUT_NAMED_TEMP=1 "$NBRDF" bake "${base[@]}" -o sig/small.exr
 check "stale temporary file removed: $(ls -A sig)" test "$(ls -A sig)" = small.exr
 rm -f sig/small.exr

@@ -32,7 +32,7 @@ static void random_queries(nbrdf_rng *rng, size_t n, float *wi, float *wo) {
 static void copy_file(const char *from, const char *to) {
   char *bytes = NULL;
   size_t size = 0;
-  if (model_read_file(from, &bytes, &size, NULL) != NBRDF_OK) return;
+  if (model_read_file(from, UINT64_MAX, &bytes, &size, NULL) != NBRDF_OK) return;
   FILE *fp = fopen(to, "wb");
   if (fp) {
     fwrite(bytes, 1, size, fp);
@@ -260,7 +260,7 @@ static void test_bundle_refusals(void) {
   /* A truncated decoder. */
   char *bytes = NULL;
   size_t size = 0;
-  CHECK_OK(model_read_file(path_in(tmp, "decoder.keep"), &bytes, &size, err), err);
+  CHECK_OK(model_read_file(path_in(tmp, "decoder.keep"), UINT64_MAX, &bytes, &size, err), err);
   FILE *fp = fopen(path_in(dir, "decoder.safetensors"), "wb");
   if (fp && bytes) {
     fwrite(bytes, 1, size / 2, fp);

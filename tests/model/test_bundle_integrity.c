@@ -26,7 +26,8 @@ static char bundle_dir[4096];
 static cJSON *read_json(const char *dir) {
   char *text = NULL;
   size_t size = 0;
-  if (model_read_file(path_in(dir, "model.json"), &text, &size, NULL) != NBRDF_OK) return NULL;
+  if (model_read_file(path_in(dir, "model.json"), UINT64_MAX, &text, &size, NULL) != NBRDF_OK)
+    return NULL;
   cJSON *root = cJSON_Parse(text);
   free(text);
   return root;
@@ -85,7 +86,8 @@ static void test_checksum_required(void) {
   char *bytes = NULL;
   size_t size = 0;
   nbrdf_error err = {0};
-  CHECK_OK(model_read_file(path_in(dir, "decoder.safetensors"), &bytes, &size, &err), &err);
+  CHECK_OK(model_read_file(path_in(dir, "decoder.safetensors"), UINT64_MAX, &bytes, &size, &err),
+           &err);
   flip_byte(path_in(dir, "decoder.safetensors"), 5);
   refused(dir, NBRDF_ERR_FORMAT, "checksum");
   /* With the checksum, the same flip is refused as a mismatch. */
@@ -200,7 +202,7 @@ int main(void) {
   nbrdf_error err = {0};
   size_t size = 0;
   CHECK_OK(model_bundle_init_random(dir, "integrity", 4, "small", &err), &err);
-  CHECK_OK(model_read_file(path_in(dir, "model.json"), &saved_json, &size, &err), &err);
+  CHECK_OK(model_read_file(path_in(dir, "model.json"), UINT64_MAX, &saved_json, &size, &err), &err);
   if (!saved_json) return nbrdf_test_finish();
   loads(dir);
   RUN(test_checksum_required);

@@ -365,7 +365,7 @@ static void test_save_failures_leave_nothing(void) {
   nbrdf_st_writer_destroy(w2);
   nbrdf_st_writer_destroy(w);
 
-  CHECK_FAILS(nbrdf_st_open(dir, &r, err), NBRDF_ERR_IO, err, "not a regular file");
+  CHECK_FAILS(nbrdf_st_open(dir, &r, err), NBRDF_ERR_IO, err, "is a directory, not a file");
   snprintf(path, sizeof path, "%s/absent.safetensors", dir);
   CHECK_FAILS(nbrdf_st_open(path, &r, err), NBRDF_ERR_IO, err, "cannot open: No such file");
 }

@@ -211,7 +211,7 @@ static void test_reader_refusals(void) {
   nbrdf_latent_reader *r = NULL;
   snprintf(path, sizeof path, "%s/missing.exr", dir);
   CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_IO, err, "cannot open");
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, dir, err), NBRDF_ERR_IO, err, "not a regular file");
+  CHECK_FAILS(nbrdf_latent_reader_open(&r, dir, err), NBRDF_ERR_IO, err, "is a directory, not a file");
   snprintf(text, sizeof text, "%s/text.exr", dir);
   write_bytes(text, "not an image at all");
   CHECK_FAILS(nbrdf_latent_reader_open(&r, text, err), NBRDF_ERR_FORMAT, err,

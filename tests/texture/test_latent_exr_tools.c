@@ -52,7 +52,7 @@ static void compare_with_oiio(const char *path) {
   nbrdf_image_in *img = NULL;
   nbrdf_image_info ii;
   CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
-  CHECK_OK(nbrdf_image_open(path, &img, &ii, err), err);
+  CHECK_OK(nbrdf_image_open(path, 0, &img, &ii, err), err);
   if (!r || !img) {
     nbrdf_latent_reader_close(r);
     nbrdf_image_close(img);

@@ -7,14 +7,21 @@
  * byte for byte. Blank lines (empty or only spaces/tabs) are skipped wherever
  * they are; a UTF-8 byte-order mark before the header is dropped. Line numbers
  * are physical lines of the input, counted from 1 (the header's line); parse
- * errors name the line and leave `name` (the input's name) to I/O errors. */
-#ifndef NBRDF_CLI_CSV_H
-#define NBRDF_CLI_CSV_H
+ * errors name the line and leave `name` (the input's name) to I/O errors.
+ *
+ * A physical line holds at most CSV_LINE_MAX bytes (its line break excluded):
+ * a longer one is refused, naming it, as soon as it has been read that far,
+ * so that a stream without line breaks (`< /dev/zero`) cannot grow memory
+ * without bound. */
+#ifndef NBRDF_CORE_CSV_H
+#define NBRDF_CORE_CSV_H
 
 #include <stddef.h>
 #include <stdio.h>
 
 #include "nbrdf/status.h"
+
+#define CSV_LINE_MAX 65536
 
 typedef struct csv_span {
   size_t start; /* offset into csv_table.text */

@@ -1,4 +1,4 @@
-#include "cli/csv.h"
+#include "core/csv.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -29,16 +29,40 @@ void csv_free(csv_table *t) {
   memset(t, 0, sizeof *t);
 }
 
+/* Counts the physical lines of text[from..to), continuing *line and *line_len
+ * (the bytes of the current line so far); 0 once a line exceeds CSV_LINE_MAX. */
+static int lines_within_bound(const char *text, size_t from, size_t to, size_t *line,
+                              size_t *line_len) {
+  for (size_t i = from; i < to; i++) {
+    if (text[i] == '\n') {
+      ++*line;
+      *line_len = 0;
+    } else if (++*line_len > CSV_LINE_MAX + (text[i] == '\r')) {
+      return 0; /* a CR before the LF is part of the line break */
+    }
+  }
+  return 1;
+}
+
+static nbrdf_status line_too_long(nbrdf_error *err, const char *name, size_t line) {
+  return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: line %zu is longer than %d bytes (the limit)", name,
+                    line, CSV_LINE_MAX);
+}
+
 nbrdf_status csv_read(FILE *in, const char *name, csv_table *table, nbrdf_error *err) {
   memset(table, 0, sizeof *table);
   char *buf = NULL;
-  size_t len = 0, cap = 0;
+  size_t len = 0, cap = 0, line = 1, line_len = 0;
   for (;;) {
     if (!grow((void **)&buf, &cap, len + 65536, 1)) {
       free(buf);
       return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory after %zu bytes", name, len);
     }
     size_t got = fread(buf + len, 1, cap - len, in);
+    if (!lines_within_bound(buf, len, len + got, &line, &line_len)) {
+      free(buf);
+      return line_too_long(err, name, line);
+    }
     len += got;
     if (got == 0) break;
   }
@@ -81,7 +105,12 @@ nbrdf_status csv_parse(char *text, size_t len, const char *name, csv_table *tabl
   table->text_len = len;
   parser p = {table, 0, 0, 0};
   nbrdf_status st = NBRDF_OK;
-  size_t pos = 0, line = 1;
+  size_t pos = 0, line = 1, line_len = 0;
+  if (!lines_within_bound(text, 0, len, &line, &line_len)) {
+    st = line_too_long(err, name, line);
+    goto fail;
+  }
+  line = 1;
   if (len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3)) pos = 3;
   if (!push_record(&p, 0)) goto oom; /* allocates first_field[0] for an empty input */
   table->n_records = 0;

@@ -1,0 +1,106 @@
+/* libFuzzer target for the parameter-map path: what `nbrdf bake --alpha1 FILE`
+ * (and every other map option) goes through: nbrdf_param_map_open and
+ * nbrdf_param_map_read_rows (src/texture/param_map.c) over the OpenImageIO
+ * shim (src/texture/oiio_shim.cpp) and, for colour maps, the OpenColorIO one.
+ * OpenImageIO and the codecs under it are the system's and not instrumented:
+ * the coverage that guides the fuzzer is nbrdf's own.
+ *
+ * The first byte of an input chooses the file name's extension (OpenImageIO
+ * tries the format it names first), whether the map is colour data (sRGB ->
+ * linear) and whether integer samples are remapped; the rest is the file.
+ *
+ * Properties checked on every input, beyond "no crash, no sanitizer report":
+ * - a refusal returns no map and a message that names the file;
+ * - an accepted map has a size >= 1 and 1 or 3 channels delivered;
+ * - bands of rows (as a bake reads them, up to a budget) read, or fail the
+ *   same way; every texel delivered is finite and >= 0 (the map's promise).
+ *
+ * Build and run: see fuzz/README.md. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "texture/param_map.h"
+
+#define REQUIRE(cond)                                                                              \
+  do {                                                                                             \
+    if (!(cond)) abort();                                                                          \
+  } while (0)
+
+/* Texels read per input at most, and floats of one band at most: a forged
+ * header can claim a 2^31-wide image. */
+#define TEXEL_BUDGET (1u << 18)
+#define BAND_FLOATS_MAX (1u << 22)
+/* As a bake: a band holds about this many texels (src/bake/bake.c). */
+#define BAND_TEXELS 65536
+
+static const char *const extensions[8] = {"png", "exr", "tif", "hdr", "tga", "bmp", "ppm", "jpg"};
+
+static void check_refusal(nbrdf_status st, const nbrdf_error *err, const char *path) {
+  REQUIRE(st != NBRDF_OK);
+  REQUIRE(strstr(err->message, path) != NULL);
+}
+
+static void read_map(nbrdf_param_map *m, const char *path) {
+  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(m);
+  REQUIRE(in->width >= 1 && in->height >= 1);
+  REQUIRE(in->channels == 1 || in->channels == 3);
+  REQUIRE(in->file_channels >= in->channels && in->file_channels <= 4);
+  int rows = BAND_TEXELS / in->width;
+  if (rows < 1) rows = 1;
+  if (rows > in->height) rows = in->height;
+  size_t floats = (size_t)rows * (size_t)in->width * (size_t)in->channels;
+  if (floats > BAND_FLOATS_MAX) return;
+  float *buf = malloc(floats * sizeof(float));
+  REQUIRE(buf != NULL);
+  size_t budget = TEXEL_BUDGET;
+  for (int y = 0; y < in->height && budget > 0; y += rows) {
+    int n = in->height - y < rows ? in->height - y : rows;
+    nbrdf_error err = {0};
+    nbrdf_status st = nbrdf_param_map_read_rows(m, y, n, buf, &err);
+    size_t texels = (size_t)n * (size_t)in->width;
+    budget = texels < budget ? budget - texels : 0;
+    if (st != NBRDF_OK) {
+      check_refusal(st, &err, path);
+      break; /* a bake stops at the first error */
+    }
+    for (size_t k = 0; k < texels * (size_t)in->channels; k++)
+      REQUIRE(isfinite(buf[k]) && buf[k] >= 0.0f);
+  }
+  free(buf);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+  if (size < 1) return 0;
+  static char dir[200];
+  if (!dir[0]) {
+    const char *tmp = getenv("TMPDIR");
+    snprintf(dir, sizeof dir, "%s", tmp && *tmp ? tmp : "/tmp");
+  }
+  char path[256];
+  snprintf(path, sizeof path, "%s/fuzz_param_map.%ld.%s", dir, (long)getpid(),
+           extensions[data[0] & 7]);
+  FILE *f = fopen(path, "wb");
+  REQUIRE(f != NULL);
+  REQUIRE(fwrite(data + 1, 1, size - 1, f) == size - 1);
+  REQUIRE(fclose(f) == 0);
+  nbrdf_param_map_options o = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+  if (data[0] & 8) o.kind = NBRDF_PARAM_COLOUR;
+  if (data[0] & 16) o.remap = 1, o.lo = 1.0f, o.hi = 2.0f;
+  nbrdf_param_map *m = NULL;
+  nbrdf_error err = {0};
+  nbrdf_status st = nbrdf_param_map_open(path, &o, &m, &err);
+  if (st == NBRDF_OK) {
+    REQUIRE(m != NULL);
+    read_map(m, path);
+  } else {
+    REQUIRE(m == NULL);
+    check_refusal(st, &err, path);
+  }
+  nbrdf_param_map_close(m);
+  unlink(path);
+  return 0;
+}
