@@ -121,6 +121,18 @@ extern "C" nbrdf_status nbrdf_image_open(const char *path, int flags, nbrdf_imag
       return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
                         "%s: tiles of %dx%d texels and %d channels (at most %d MiB a tile)", path,
                         s.tile_width, s.tile_height, s.nchannels, (int)(kTileBytesMax >> 20));
+    // OpenImageIO's Targa reader decodes the whole image when the first row is
+    // asked for: a 21-byte file claiming 13000x13000 texels allocated 676 MB
+    // (fuzz_param_map). Run-length packets hold at most 128 texels for one
+    // header byte and one texel, which bounds what a file of `size` can hold.
+    if (!std::strcmp(img->in->format_name(), "targa")) {
+      double texel_bytes = (double)s.nchannels * (double)s.format.size();
+      double most = 128.0 * (double)size / (1.0 + texel_bytes);
+      if ((double)s.width * (double)s.height > most)
+        return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                          "%s: a Targa image of %dx%d texels cannot fit in %llu bytes", path,
+                          s.width, s.height, (unsigned long long)size);
+    }
     std::memset(info, 0, sizeof *info);
     info->width = s.width;
     info->height = s.height;
