@@ -3,6 +3,7 @@
 #ifndef NBRDF_CLI_H
 #define NBRDF_CLI_H
 
+#include <stdint.h>
 #include <stdio.h>
 
 #include "nbrdf/status.h"
@@ -31,6 +32,8 @@ int cli_fail_error(const char *cmd, const nbrdf_error *err);
  * underflow refused. An int has no fraction or exponent. */
 int cli_parse_double(const char *text, double *out);
 int cli_parse_int(const char *text, long lo, long hi, long *out);
+/* Decimal digits only, the whole of 0..2^64-1 (seeds, counts). */
+int cli_parse_u64(const char *text, uint64_t *out);
 /* Matches argv[*i] against option `name` in the forms "--name value" and
  * "--name=value": returns the value (advancing *i past a separate value), ""
  * when the value is missing, or NULL when argv[*i] is another option. */

@@ -1,5 +1,8 @@
+#include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -41,6 +44,18 @@ int cli_parse_int(const char *text, long lo, long hi, long *out) {
   if (!cli_parse_double(text, &v) || v != floor(v) || strpbrk(text, ".eE")) return 0;
   if (v < (double)lo || v > (double)hi) return 0;
   *out = (long)v;
+  return 1;
+}
+
+int cli_parse_u64(const char *text, uint64_t *out) {
+  /* Decimal digits only: seeds and counts are exact 64-bit integers, which a
+   * double would round, and "0x10" or "-1" are refused as elsewhere. */
+  if (!text || !isdigit((unsigned char)text[0])) return 0;
+  char *end;
+  errno = 0;
+  unsigned long long v = strtoull(text, &end, 10);
+  if (*end || errno == ERANGE) return 0;
+  *out = (uint64_t)v;
   return 1;
 }
 

@@ -1,5 +1,4 @@
 /* nbrdf bundle: create an untrained model bundle, or describe one. */
-#include <errno.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,16 +31,6 @@ void cmd_bundle_usage(FILE *out) {
           "exit status: 0 success, 1 failure (the message names the file), 2 bad usage\n");
 }
 
-static int parse_u64(const char *text, uint64_t *out) {
-  if (!text || !*text || *text == '-') return 0;
-  char *end;
-  errno = 0;
-  unsigned long long v = strtoull(text, &end, 10);
-  if (*end || errno) return 0;
-  *out = (uint64_t)v;
-  return 1;
-}
-
 static int bundle_init(int argc, char **argv) {
   const char *dir = NULL, *name = NULL, *preset = "small";
   uint64_t seed = 1;
@@ -51,7 +40,7 @@ static int bundle_init(int argc, char **argv) {
     if (!strcmp(a, "--name") && i + 1 < argc) {
       name = argv[++i];
     } else if (!strcmp(a, "--seed") && i + 1 < argc) {
-      if (!parse_u64(argv[++i], &seed))
+      if (!cli_parse_u64(argv[++i], &seed))
         return cli_usage_error("bundle", "--seed needs an unsigned 64-bit integer, not '%s'",
                                argv[i]);
     } else if (!strcmp(a, "--decoder") && i + 1 < argc) {

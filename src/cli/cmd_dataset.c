@@ -1,7 +1,5 @@
 /* nbrdf dataset: generates (or resumes) a training data set, or checks one.
  * The format is docs/DATASET.md; the generator is src/train/dataset.h. */
-#include <ctype.h>
-#include <errno.h>
 #include <inttypes.h>
 #include <math.h>
 #include <signal.h>
@@ -113,15 +111,6 @@ static int run_check(const char *path) {
   return CLI_EXIT_OK;
 }
 
-static int parse_u64(const char *v, uint64_t *out) {
-  char *end;
-  errno = 0;
-  unsigned long long x = strtoull(v, &end, 10);
-  if (!isdigit((unsigned char)v[0]) || *end || errno == ERANGE) return 0;
-  *out = (uint64_t)x;
-  return 1;
-}
-
 int cmd_dataset(int argc, char **argv) {
   train_dataset_settings s = TRAIN_DATASET_SETTINGS_DEFAULT;
   const char *out = NULL, *check = NULL;
@@ -143,11 +132,11 @@ int cmd_dataset(int argc, char **argv) {
                                v);
       s.kind = (train_kind)k, have_kind = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--count"))) {
-      if (!parse_u64(v, &s.count) || s.count < 1)
+      if (!cli_parse_u64(v, &s.count) || s.count < 1)
         return cli_usage_error("dataset", "--count '%s' is not a positive integer", v);
       have_count = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
-      if (!parse_u64(v, &s.seed))
+      if (!cli_parse_u64(v, &s.seed))
         return cli_usage_error("dataset", "--seed '%s' is not an unsigned 64-bit integer", v);
       have_seed = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--incident"))) {

@@ -4,12 +4,17 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/error.h"
 #include "core/output_file.h"
 
 /* Reads the rows of an existing log with step <= keep (header excluded). */
 static char *kept_rows(const char *path, int64_t keep) {
+  /* Only a regular file is read: a FIFO would block here (the write that
+   * follows refuses any other kind of file with a message). */
+  struct stat sb;
+  if (stat(path, &sb) != 0 || !S_ISREG(sb.st_mode)) return NULL;
   FILE *f = fopen(path, "r");
   if (!f) return NULL;
   size_t cap = 4096, len = 0;
