@@ -24,10 +24,17 @@ nbrdf_status write_png(const char *path, int width, int height, const unsigned c
   if (st != NBRDF_OK) return st;
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   // OpenImageIO opens the file by name: "/proc/self/fd/N" reaches the unnamed temporary file.
-  bool ok =
-      out->open(nbrdf_output_file_name(&f), spec) && out->write_image(OIIO::TypeDesc::UINT8, rgb);
-  std::string why = ok ? "" : out->geterror();
-  ok = out->close() && ok;
+  bool ok = false;
+  std::string why;
+  try {
+    ok = out->open(nbrdf_output_file_name(&f), spec) &&
+         out->write_image(OIIO::TypeDesc::UINT8, rgb);
+    why = ok ? "" : out->geterror();
+    ok = out->close() && ok;
+  } catch (...) { // the temporary file must not outlive a throw
+    nbrdf_output_file_abort(&f);
+    throw;
+  }
   if (!ok) {
     nbrdf_output_file_abort(&f);
     return nbrdf_fail(err, NBRDF_ERR_IO, "%s: writing failed: %s", path,
