@@ -1,5 +1,6 @@
 #include "testing.h"
 
+#include <dirent.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,4 +61,26 @@ int nbrdf_test_png_size(const char *path, int *w, int *h) {
   *w = (b[16] << 24) | (b[17] << 16) | (b[18] << 8) | b[19];
   *h = (b[20] << 24) | (b[21] << 16) | (b[22] << 8) | b[23];
   return b[24] == 8 && b[25] == 2;
+}
+
+static int compare_names(const void *a, const void *b) {
+  return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+char **nbrdf_test_list_dir(const char *dir, size_t *n) {
+  *n = 0;
+  DIR *d = opendir(dir);
+  CHECK_MSG(d != NULL, "cannot open %s", dir);
+  if (!d) return NULL;
+  char **names = NULL;
+  for (struct dirent *e; (e = readdir(d));) {
+    if (e->d_name[0] == '.') continue;
+    char **more = realloc(names, (*n + 1) * sizeof *names);
+    if (!more) break;
+    names = more;
+    names[(*n)++] = strdup(e->d_name);
+  }
+  closedir(d);
+  if (names) qsort(names, *n, sizeof *names, compare_names);
+  return names ? names : calloc(1, sizeof *names);
 }

@@ -4,6 +4,7 @@
 #define NBRDF_TESTING_H
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 
 #include "nbrdf/status.h"
@@ -22,69 +23,71 @@ const char *nbrdf_test_message(const nbrdf_error *err);
 int nbrdf_test_png_size(const char *path, int *w, int *h);
 /* $NBRDF_SOURCE_DIR (the repository root), for fixtures. */
 const char *nbrdf_test_source_dir(void);
+/* The names in `dir` not starting with '.', sorted (strdup'd, in a malloc'd
+ * array: free each and the array); NULL, a failed CHECK, when it cannot be read. */
+char **nbrdf_test_list_dir(const char *dir, size_t *n);
 
-#define RUN(fn)                                                                                  \
-  do {                                                                                           \
-    int before_ = nbrdf_test_failures;                                                           \
-    fn();                                                                                        \
-    printf("%s %s\n", nbrdf_test_failures == before_ ? "ok  " : "FAIL", #fn);                    \
-    fflush(stdout);                                                                              \
+#define RUN(fn)                                                                                    \
+  do {                                                                                             \
+    int before_ = nbrdf_test_failures;                                                             \
+    fn();                                                                                          \
+    printf("%s %s\n", nbrdf_test_failures == before_ ? "ok  " : "FAIL", #fn);                      \
+    fflush(stdout);                                                                                \
   } while (0)
 
-#define CHECK(cond)                                                                              \
-  do {                                                                                           \
-    nbrdf_test_checks++;                                                                         \
-    if (!(cond)) nbrdf_test_fail(__FILE__, __LINE__, "CHECK(%s)", #cond);                        \
+#define CHECK(cond)                                                                                \
+  do {                                                                                             \
+    nbrdf_test_checks++;                                                                           \
+    if (!(cond)) nbrdf_test_fail(__FILE__, __LINE__, "CHECK(%s)", #cond);                          \
   } while (0)
 
-#define CHECK_MSG(cond, ...)                                                                     \
-  do {                                                                                           \
-    nbrdf_test_checks++;                                                                         \
-    if (!(cond)) nbrdf_test_fail(__FILE__, __LINE__, __VA_ARGS__);                               \
+#define CHECK_MSG(cond, ...)                                                                       \
+  do {                                                                                             \
+    nbrdf_test_checks++;                                                                           \
+    if (!(cond)) nbrdf_test_fail(__FILE__, __LINE__, __VA_ARGS__);                                 \
   } while (0)
 
 /* |a - b| <= tol, and neither is NaN. */
-#define CHECK_NEAR(a, b, tol)                                                                    \
-  do {                                                                                           \
-    double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);                               \
-    nbrdf_test_checks++;                                                                         \
-    if (!(fabs(a_ - b_) <= t_))                                                                  \
-      nbrdf_test_fail(__FILE__, __LINE__, "CHECK_NEAR(%s, %s): %.9g vs %.9g, tol %.3g", #a, #b,  \
-                      a_, b_, t_);                                                               \
+#define CHECK_NEAR(a, b, tol)                                                                      \
+  do {                                                                                             \
+    double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);                                 \
+    nbrdf_test_checks++;                                                                           \
+    if (!(fabs(a_ - b_) <= t_))                                                                    \
+      nbrdf_test_fail(__FILE__, __LINE__, "CHECK_NEAR(%s, %s): %.9g vs %.9g, tol %.3g", #a, #b,    \
+                      a_, b_, t_);                                                                 \
   } while (0)
 
 /* |a - b| <= rel * max(|a|, |b|) + abs_tol. */
-#define CHECK_REL(a, b, rel, abs_tol)                                                            \
-  do {                                                                                           \
-    double a_ = (double)(a), b_ = (double)(b);                                                   \
-    double t_ = (double)(rel) * fmax(fabs(a_), fabs(b_)) + (double)(abs_tol);                  \
-    nbrdf_test_checks++;                                                                         \
-    if (!(fabs(a_ - b_) <= t_))                                                                  \
-      nbrdf_test_fail(__FILE__, __LINE__, "CHECK_REL(%s, %s): %.9g vs %.9g (rel %.3g)", #a, #b,  \
-                      a_, b_, (double)(rel));                                                    \
+#define CHECK_REL(a, b, rel, abs_tol)                                                              \
+  do {                                                                                             \
+    double a_ = (double)(a), b_ = (double)(b);                                                     \
+    double t_ = (double)(rel)*fmax(fabs(a_), fabs(b_)) + (double)(abs_tol);                        \
+    nbrdf_test_checks++;                                                                           \
+    if (!(fabs(a_ - b_) <= t_))                                                                    \
+      nbrdf_test_fail(__FILE__, __LINE__, "CHECK_REL(%s, %s): %.9g vs %.9g (rel %.3g)", #a, #b,    \
+                      a_, b_, (double)(rel));                                                      \
   } while (0)
 
 /* A call returning nbrdf_status must succeed; prints the error message if not. */
-#define CHECK_OK(call, errp)                                                                     \
-  do {                                                                                           \
-    nbrdf_test_checks++;                                                                         \
-    nbrdf_status s_ = (call);                                                                    \
-    if (s_ != NBRDF_OK)                                                                          \
-      nbrdf_test_fail(__FILE__, __LINE__, "%s failed: %s", #call,                                \
-                      nbrdf_test_message(errp));                                \
+#define CHECK_OK(call, errp)                                                                       \
+  do {                                                                                             \
+    nbrdf_test_checks++;                                                                           \
+    nbrdf_status s_ = (call);                                                                      \
+    if (s_ != NBRDF_OK)                                                                            \
+      nbrdf_test_fail(__FILE__, __LINE__, "%s failed: %s", #call, nbrdf_test_message(errp));       \
   } while (0)
 
 /* A call must fail with `status` and a message containing `needle`. */
-#define CHECK_FAILS(call, status, errp, needle)                                                  \
-  do {                                                                                           \
-    nbrdf_test_checks++;                                                                         \
-    nbrdf_status s_ = (call);                                                                    \
-    if (s_ != (status))                                                                          \
-      nbrdf_test_fail(__FILE__, __LINE__, "%s returned %s, expected %s", #call,                  \
-                      nbrdf_status_name(s_), nbrdf_status_name(status));                         \
-    else if (!strstr((errp)->message, (needle)))                                                 \
-      nbrdf_test_fail(__FILE__, __LINE__, "%s: message \"%s\" lacks \"%s\"", #call,              \
-                      (errp)->message, (needle));                                                \
+#define CHECK_FAILS(call, status, errp, needle)                                                    \
+  do {                                                                                             \
+    nbrdf_test_checks++;                                                                           \
+    nbrdf_status s_ = (call);                                                                      \
+    if (s_ != (status))                                                                            \
+      nbrdf_test_fail(__FILE__, __LINE__, "%s returned %s, expected %s", #call,                    \
+                      nbrdf_status_name(s_), nbrdf_status_name(status));                           \
+    else if (!strstr((errp)->message, (needle)))                                                   \
+      nbrdf_test_fail(__FILE__, __LINE__, "%s: message \"%s\" lacks \"%s\"", #call,                \
+                      (errp)->message, (needle));                                                  \
   } while (0)
 
 #endif

@@ -3,7 +3,6 @@
  * consistent table, the same in memory (csv_parse) and streamed (csv_read),
  * or is refused the same way by both, naming a line; every field's value
  * reads and parses as a number or is refused. */
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,10 +11,6 @@
 #include "core/csv.h"
 #include "core/number.h"
 #include "testing.h"
-
-static int compare_names(const void *a, const void *b) {
-  return strcmp(*(char *const *)a, *(char *const *)b);
-}
 
 /* Returns 1 if the file parsed. */
 static int replay(const char *path, const char *name) {
@@ -57,18 +52,9 @@ static int replay(const char *path, const char *name) {
 static void test_corpus(void) {
   char dir[512];
   snprintf(dir, sizeof dir, "%s/tests/core/csv_corpus", nbrdf_test_source_dir());
-  DIR *d = opendir(dir);
-  CHECK_MSG(d != NULL, "cannot open %s", dir);
-  if (!d) return;
-  char **names = NULL;
   size_t n = 0;
-  for (struct dirent *e; (e = readdir(d));) {
-    if (e->d_name[0] == '.') continue;
-    names = realloc(names, (n + 1) * sizeof *names);
-    names[n++] = strdup(e->d_name);
-  }
-  closedir(d);
-  qsort(names, n, sizeof *names, compare_names);
+  char **names = nbrdf_test_list_dir(dir, &n); /* sorted: a stable order for the log */
+  if (!names) return;
   int parsed = 0;
   for (size_t i = 0; i < n; i++) {
     char path[1024];

@@ -2,17 +2,12 @@
  * fuzz/fuzz_safetensors): every file either loads into a self-consistent reader or is
  * refused with a format/unsupported status and a message naming the file. Under the
  * sanitizer build this catches any out-of-bounds read or leak the fuzzer once found. */
-#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "nn/safetensors.h"
 #include "testing.h"
-
-static int compare_names(const void *a, const void *b) {
-  return strcmp(*(char *const *)a, *(char *const *)b);
-}
 
 static void check_loaded(const nbrdf_st_reader *r, const char *path) {
   for (size_t i = 0; i < nbrdf_st_tensor_count(r); i++) {
@@ -33,18 +28,9 @@ static void check_loaded(const nbrdf_st_reader *r, const char *path) {
 static void test_corpus(void) {
   char dir[512];
   snprintf(dir, sizeof dir, "%s/tests/nn/safetensors_corpus", nbrdf_test_source_dir());
-  DIR *d = opendir(dir);
-  CHECK_MSG(d != NULL, "cannot open %s", dir);
-  if (!d) return;
-  char **names = NULL;
   size_t n = 0;
-  for (struct dirent *e; (e = readdir(d));) {
-    if (e->d_name[0] == '.') continue;
-    names = realloc(names, (n + 1) * sizeof *names);
-    names[n++] = strdup(e->d_name);
-  }
-  closedir(d);
-  qsort(names, n, sizeof *names, compare_names); /* a stable order for the log */
+  char **names = nbrdf_test_list_dir(dir, &n); /* sorted: a stable order for the log */
+  if (!names) return;
   int loaded = 0, refused = 0;
   for (size_t i = 0; i < n; i++) {
     char path[1024];

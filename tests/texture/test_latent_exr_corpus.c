@@ -4,7 +4,6 @@
  * fail with a message naming the file, or is refused with such a message.
  * Under the sanitizer build this catches any out-of-bounds access or leak the
  * fuzzer once found. */
-#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,10 +11,6 @@
 #include "testing.h"
 #include "texture/latent_exr.h"
 #include "texture/mip_chain.h"
-
-static int compare_names(const void *a, const void *b) {
-  return strcmp(*(char *const *)a, *(char *const *)b);
-}
 
 static int refused_properly(nbrdf_status st, const nbrdf_error *err, const char *path) {
   return (st == NBRDF_ERR_FORMAT || st == NBRDF_ERR_IO || st == NBRDF_ERR_UNSUPPORTED) &&
@@ -55,18 +50,9 @@ static int check_loaded(nbrdf_latent_reader *r, const char *path, const char *na
 static void test_corpus(void) {
   char dir[512];
   snprintf(dir, sizeof dir, "%s/tests/texture/latent_exr_corpus", nbrdf_test_source_dir());
-  DIR *d = opendir(dir);
-  CHECK_MSG(d != NULL, "cannot open %s", dir);
-  if (!d) return;
-  char **names = NULL;
   size_t n = 0;
-  for (struct dirent *e; (e = readdir(d));) {
-    if (e->d_name[0] == '.') continue;
-    names = realloc(names, (n + 1) * sizeof *names);
-    names[n++] = strdup(e->d_name);
-  }
-  closedir(d);
-  qsort(names, n, sizeof *names, compare_names);
+  char **names = nbrdf_test_list_dir(dir, &n); /* sorted: a stable order for the log */
+  if (!names) return;
   int loaded = 0, refused = 0, bad_tiles = 0;
   for (size_t i = 0; i < n; i++) {
     char path[1024];

@@ -4,7 +4,6 @@
  * remapping, the rest is the image. Every file opens into a map whose texels
  * read finite and >= 0 (or fail naming the file), or is refused naming the
  * file. Under the sanitizer build this replays what the fuzzer explored. */
-#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,10 +14,6 @@
 #include "texture/param_map.h"
 
 static const char *const extensions[8] = {"png", "exr", "tif", "hdr", "tga", "bmp", "ppm", "jpg"};
-
-static int compare_names(const void *a, const void *b) {
-  return strcmp(*(char *const *)a, *(char *const *)b);
-}
 
 static unsigned char *slurp(const char *path, size_t *size) {
   FILE *f = fopen(path, "rb");
@@ -71,18 +66,9 @@ static int replay(const unsigned char *data, size_t size, const char *name) {
 static void test_corpus(void) {
   char dir[512];
   snprintf(dir, sizeof dir, "%s/tests/texture/param_map_corpus", nbrdf_test_source_dir());
-  DIR *d = opendir(dir);
-  CHECK_MSG(d != NULL, "cannot open %s", dir);
-  if (!d) return;
-  char **names = NULL;
   size_t n = 0;
-  for (struct dirent *e; (e = readdir(d));) {
-    if (e->d_name[0] == '.') continue;
-    names = realloc(names, (n + 1) * sizeof *names);
-    names[n++] = strdup(e->d_name);
-  }
-  closedir(d);
-  qsort(names, n, sizeof *names, compare_names);
+  char **names = nbrdf_test_list_dir(dir, &n); /* sorted: a stable order for the log */
+  if (!names) return;
   int opened = 0, refused = 0;
   for (size_t i = 0; i < n; i++) {
     char path[1024];
