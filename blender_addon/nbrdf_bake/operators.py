@@ -28,7 +28,7 @@ class NBRDF_OT_bake_latent(bpy.types.Operator):
     """Bake the material's layered parameters into a latent texture with nbrdf"""
     bl_idname = "nbrdf.bake_latent"
     bl_label = "Bake Latent Texture"
-    bl_options = {"REGISTER"}
+    bl_options = {"REGISTER", "UNDO"}
 
     material: StringProperty(name="Material", options={"SKIP_SAVE"},
                              description="Material to bake (default: the active one)")

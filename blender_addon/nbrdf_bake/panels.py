@@ -40,6 +40,9 @@ def draw_bake(layout, context, s):
     session = operators.running_session()
     if session is not None:
         box = layout.box()
+        if session.cancelling:
+            box.label(text="Cancelling %s …" % session.material_name, icon="CANCEL")
+            return
         doing = "Baking" if session.stage == "bake" else "Rendering a preview of"
         box.label(text="%s %s: %.0f %%" % (doing, session.material_name,
                                            100.0 * session.progress), icon="TIME")
@@ -74,7 +77,6 @@ class NBRDF_PT_material(bpy.types.Panel):
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
     bl_context = "material"
-    bl_options = {"DEFAULT_CLOSED"}
 
     @classmethod
     def poll(cls, context):

@@ -87,6 +87,11 @@ class BakeProcess:
             time.sleep(interval)
         return self.state
 
+    @property
+    def cancelling(self):
+        """Cancel was asked for and the CLI has not stopped yet."""
+        return self.state == "running" and self._cancel_at is not None
+
     def cancel(self):
         """Asks the CLI to stop (SIGINT: it removes its temporary file and exits 1)."""
         if self.state != "running" or self._cancel_at is not None:
@@ -137,9 +142,11 @@ class BakeProcess:
         if self._error_event is not None:
             self.message = str(self._error_event.get("message", ""))
         if not self.message:  # usage errors (exit 2) and crashes say it on stderr only
-            text = "".join(self._stderr).strip().splitlines()
+            # All of it but the warnings: a usage error's cause is on its first line and
+            # the hint to --help on the last.
+            text = [l.strip() for l in "".join(self._stderr).strip().splitlines() if l.strip()]
             errors = [l for l in text if "warning:" not in l]
-            self.message = (errors or text or [""])[-1]
+            self.message = " ".join(errors or text[-1:])
         if not self.message:
             self.message = "nbrdf exited with status %d" % code
 

@@ -65,6 +65,10 @@ class Session:
     def progress(self):
         return self.process.progress
 
+    @property
+    def cancelling(self):
+        return self.process.cancelling
+
     def poll(self):
         """True while running; at the end the inputs are removed and the results loaded."""
         if self.process.poll():

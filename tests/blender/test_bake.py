@@ -141,6 +141,20 @@ t.check("mismatch reported as an error: %s" % message,
 t.check("mismatch: no file", not os.path.exists(os.path.join(work, "mismatch.exr")))
 t.check("mismatch: no temporaries", not t.temporaries(work) and t.bake_temp_dirs() == before)
 
+# A usage error's whole text reaches the report: its cause, not only the hint to --help.
+small = s.sigma_t_image
+s.sigma_t_source = "VALUE"
+s.eta_range = (2.0, 1.2)
+try:
+    bpy.ops.nbrdf.bake_latent(material=mat.name)
+    message = None
+except RuntimeError as e:
+    message = str(e)
+t.check("reversed IOR range: the cause reported: %s" % message,
+        message is not None and "--eta-range needs LO,HI with LO < HI" in message)
+s.eta_range = (1.0, 2.0)
+s.sigma_t_source, s.sigma_t_image = "IMAGE", small
+
 # Setup problems are reported before anything runs: a path relative to an unsaved .blend,
 # an image parameter without an image.
 s.output = "//latent/{material}.exr"
@@ -176,7 +190,9 @@ deadline = time.monotonic() + 60
 while session.poll() and session.bake.progress_events == 0 and time.monotonic() < deadline:
     time.sleep(0.01)
 session.cancel()
+t.check("cancelling: the panel's state says so", session.cancelling or not session.poll())
 state = session.wait()
+t.check("cancelled: no longer cancelling", not session.cancelling)
 t.check("cancelled: state %s (%s)" % (state, session.bake.message), state == "cancelled")
 t.check("cancelled: report is a warning",
         session.report()[0] == "WARNING" and "no file" in session.report()[1])
