@@ -42,6 +42,24 @@ typedef struct nbrdf_model nbrdf_model;
 nbrdf_status nbrdf_model_load(const char *dir, nbrdf_model **out, nbrdf_error *err);
 void nbrdf_model_destroy(nbrdf_model *model); /* NULL is allowed */
 
+/* The default bundle, without a path. It is looked up in this order; the first place that
+ * holds a model.json wins:
+ *   1. $NBRDF_BUNDLE, when set and not empty. It must then be a bundle folder: a missing
+ *      folder is an error naming it, never a silent fallback to the places below.
+ *   2. The installed bundle, share/nbrdf/models/default of the install prefix, found at run
+ *      time from the folder of the loaded libnbrdf (dladdr) and of the executable
+ *      (/proc/self/exe), so a moved install still finds its own.
+ *   3. models/default of the source tree the library was built from (a program run from a
+ *      build folder).
+ *   4. models/default in the current directory.
+ * Writes the folder into `path` (NUL-terminated, `size` bytes at most). When nothing is
+ * found, fails with NBRDF_ERR_IO and a message listing every place tried. */
+nbrdf_status nbrdf_default_bundle_path(char *path, size_t size, nbrdf_error *err);
+/* nbrdf_default_bundle_path, then nbrdf_model_load. `path_used` (may be NULL) receives the
+ * folder; a load error names it. */
+nbrdf_status nbrdf_model_load_default(nbrdf_model **out, char *path_used, size_t size,
+                                      nbrdf_error *err);
+
 /* model.json's "name" (e.g. "default"). */
 const char *nbrdf_model_name(const nbrdf_model *model);
 /* The bundle checksum, 16 hex digits (see above). */

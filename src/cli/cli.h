@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "nbrdf/model.h"
 #include "nbrdf/status.h"
 
 enum { CLI_EXIT_OK = 0, CLI_EXIT_FAILURE = 1, CLI_EXIT_USAGE = 2 };
@@ -26,6 +27,13 @@ int cli_usage_error(const char *cmd, const char *fmt, ...);
 int cli_fail(const char *cmd, const char *fmt, ...);
 /* Prints an nbrdf_error; returns CLI_EXIT_FAILURE. */
 int cli_fail_error(const char *cmd, const nbrdf_error *err);
+/* "bundle: DIR" (the default bundle), or why none is found, for --version. */
+void cli_bundle_describe(FILE *out);
+/* Loads the bundle of --bundle DIR (`bundle`), or when it is NULL the default bundle
+ * (nbrdf_default_bundle_path: $NBRDF_BUNDLE, the install, the source tree, ./models/default).
+ * `used` (may be NULL) receives the folder. Returns CLI_EXIT_OK or reports the failure. */
+int cli_model_load(const char *cmd, const char *bundle, nbrdf_model **out, char *used,
+                   size_t size);
 
 /* Strict number parsing (core/number.h): the whole string must be a decimal
  * number, white space around it allowed; no hex, inf or nan; overflow and

@@ -1,4 +1,5 @@
 /* nbrdf bake: parameter maps or constants -> a latent OpenEXR texture. */
+#include <limits.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,7 +41,8 @@ void cmd_bake_usage(FILE *out) {
       "  --compression zip|piz|rle|none\n"
       "                        lossless EXR compression (default zip: smallest; rle or\n"
       "                        none write faster, see docs/BAKE.md)\n"
-      "  --bundle DIR          model bundle (default: models/default)\n"
+      "  --bundle DIR          model bundle (default: $NBRDF_BUNDLE, else the installed\n"
+      "                        one: see 'nbrdf --version')\n"
       "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
       "                        warning (default) or stop naming the file and texel\n"
       "  --quantise BITS       round every parameter to 2^BITS levels over its trained\n"
@@ -141,14 +143,10 @@ int cmd_bake(int argc, char **argv) {
   if (missing != CLI_EXIT_OK) return missing;
   opts.roughness = params.roughness;
   if (!out) return cli_usage_error("bake", "-o OUT.exr is required");
-  if (!bundle) {
-    struct stat sb;
-    if (stat("models/default", &sb) != 0 || !S_ISDIR(sb.st_mode))
-      return cli_fail("bake", "no models/default bundle here; pass --bundle DIR");
-    bundle = "models/default";
-  }
   nbrdf_model *model = NULL;
-  if (nbrdf_model_load(bundle, &model, &err) != NBRDF_OK) return cli_fail_error("bake", &err);
+  char used[PATH_MAX];
+  int loaded = cli_model_load("bake", bundle, &model, used, sizeof used);
+  if (loaded != CLI_EXIT_OK) return loaded;
   cli_inputs inputs;
   cli_inputs_init(&inputs);
   cli_inputs_add_params(&inputs, &params);
@@ -158,7 +156,7 @@ int cmd_bake(int argc, char **argv) {
     return CLI_EXIT_FAILURE;
   }
   if (!nbrdf_model_is_trained(model))
-    fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", bundle);
+    fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", used);
 
   ps.bar = !ps.json && isatty(STDERR_FILENO);
   opts.progress = cli_progress;

@@ -1,5 +1,6 @@
 /* nbrdf render: a preview (or a reference image) of a latent texture on a
  * sphere or a plane; linear EXR and a display PNG. */
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -41,7 +42,8 @@ void cmd_render_usage(FILE *out) {
           "  --threads N           tile threads (default: 1 neural, all cores reference)\n"
           "  --no-mip              fetch level 0 only (no trilinear mip filtering)\n"
           "  --plane-repeat R      plane: world units per texture repeat (default 1)\n"
-          "  --bundle DIR          model bundle (neural; default: models/default)\n"
+          "  --bundle DIR          model bundle (neural; default: $NBRDF_BUNDLE, else the\n"
+          "                        installed one: see 'nbrdf --version')\n"
           "  --lobe X,Y[,LEVEL]    also write the lobe images (docs/METRICS.md) of texel\n"
           "                        (X, Y) of mip LEVEL (default 0) to OUT-lobe-X-Y-LEVEL.png:\n"
           "                        decoded, and in reference mode beside the ground truth\n"
@@ -241,14 +243,10 @@ int cmd_render(int argc, char **argv) {
     o.reference = (const nbrdf_brdf *const *)ref;
   }
   if (rc == CLI_EXIT_OK && (o.mode == NBRDF_RENDER_NEURAL || n_lobes > 0)) {
-    struct stat sb;
-    if (!bundle && (stat("models/default", &sb) != 0 || !S_ISDIR(sb.st_mode)))
-      rc = cli_fail("render", "no models/default bundle here; pass --bundle DIR");
-    else if (nbrdf_model_load(bundle ? bundle : "models/default", &model, &err) != NBRDF_OK)
-      rc = cli_fail_error("render", &err);
-    else if (!nbrdf_model_is_trained(model))
-      fprintf(stderr, "nbrdf render: warning: bundle '%s' is untrained (random networks)\n",
-              bundle ? bundle : "models/default");
+    char used[PATH_MAX];
+    rc = cli_model_load("render", bundle, &model, used, sizeof used);
+    if (rc == CLI_EXIT_OK && !nbrdf_model_is_trained(model))
+      fprintf(stderr, "nbrdf render: warning: bundle '%s' is untrained (random networks)\n", used);
   }
   if (rc == CLI_EXIT_OK) {
     cli_inputs inputs;

@@ -1,5 +1,6 @@
 /* nbrdf verify: a baked latent texture against the ground truth of the
  * parameters it was baked from (docs/VERIFY.md). */
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -30,8 +31,9 @@ void cmd_verify_usage(FILE *out) {
   cli_params_usage(out);
   fprintf(out, "\n"
                "options:\n"
-               "  --bundle DIR          the bundle the texture was baked with (default:\n"
-               "                        models/default); another one is refused (checksum)\n"
+               "  --bundle DIR          the bundle the texture was baked with (default: the\n"
+               "                        default bundle, see 'nbrdf --version'); another one\n"
+               "                        is refused (checksum)\n"
                "  --texels N            per level: all texels of a level with at most N, else a\n"
                "                        stratified sample of N (default 256)\n"
                "  --level K|all         mip level to verify (default 0)\n"
@@ -229,15 +231,11 @@ int cmd_verify(int argc, char **argv) {
   int missing = cli_params_require("verify", &params);
   if (missing != CLI_EXIT_OK) return missing;
   if (params.roughness_given) a.o.roughness = (int)params.roughness;
-  if (!a.bundle) {
-    struct stat sb;
-    if (stat("models/default", &sb) != 0 || !S_ISDIR(sb.st_mode))
-      return cli_fail("verify", "no models/default bundle here; pass --bundle DIR");
-    a.bundle = "models/default";
-  }
   nbrdf_error err = {0};
   nbrdf_model *model = NULL;
-  if (nbrdf_model_load(a.bundle, &model, &err) != NBRDF_OK) return cli_fail_error("verify", &err);
+  char used[PATH_MAX];
+  int loaded = cli_model_load("verify", a.bundle, &model, used, sizeof used);
+  if (loaded != CLI_EXIT_OK) return loaded;
   cli_inputs inputs;
   cli_inputs_init(&inputs);
   cli_inputs_add(&inputs, a.texture);
@@ -250,7 +248,7 @@ int cmd_verify(int argc, char **argv) {
   }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n",
-            a.bundle);
+            used);
   a.ps.bar = !a.ps.json && isatty(STDERR_FILENO);
   a.o.progress = cli_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
   cli_cancel_watch();

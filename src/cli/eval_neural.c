@@ -1,5 +1,6 @@
 #include "cli/eval_neural.h"
 
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -87,16 +88,11 @@ static nbrdf_status run_chunk(const nbrdf_model *model, eval_neural_kind kind, c
 
 int eval_neural(const eval_neural_options *o, eval_neural_kind kind, size_t n, const double *params,
                 const char *const *columns, const nbrdf_query *q, const size_t *lines, double *f) {
-  const char *bundle = o->bundle;
-  struct stat sb;
-  if (!bundle) {
-    if (stat("models/default", &sb) != 0 || !S_ISDIR(sb.st_mode))
-      return cli_fail("eval", "no models/default bundle here; pass --bundle DIR");
-    bundle = "models/default";
-  }
+  char bundle[PATH_MAX];
   nbrdf_error err = {0};
   nbrdf_model *m = NULL;
-  if (nbrdf_model_load(bundle, &m, &err) != NBRDF_OK) return cli_fail_error("eval", &err);
+  int loaded = cli_model_load("eval", o->bundle, &m, bundle, sizeof bundle);
+  if (loaded != CLI_EXIT_OK) return loaded;
   if (!nbrdf_model_is_trained(m))
     fprintf(stderr, "nbrdf eval: warning: bundle '%s' is untrained (random networks)\n", bundle);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];

@@ -20,7 +20,7 @@ typedef enum eval_neural_kind {
 } eval_neural_kind;
 
 typedef struct eval_neural_options {
-  const char *bundle; /* NULL: models/default */
+  const char *bundle; /* NULL: the default bundle (cli_model_load) */
   nbrdf_roughness roughness;
   nbrdf_range_policy range;
 } eval_neural_options;

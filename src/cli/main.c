@@ -17,6 +17,7 @@ int main(int argc, char **argv) {
   if (!strcmp(name, "--version") || !strcmp(name, "version")) {
     printf("nbrdf %s\n", nbrdf_version());
     cli_blas_describe(stdout);
+    cli_bundle_describe(stdout);
     return CLI_EXIT_OK;
   }
   if (cli_is_help(name)) name = "help";

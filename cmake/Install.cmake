@@ -1,0 +1,38 @@
+# `cmake --install`: the libraries, headers, CMake package, pkg-config file, the CLI and
+# its data (default model bundle, shaders, Blender add-on, docs). See README "Install".
+include(CMakePackageConfigHelpers)
+
+install(TARGETS nbrdf_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS nbrdf_shared EXPORT nbrdfTargets
+  LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} NAMELINK_COMPONENT Unspecified
+  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(TARGETS nbrdf EXPORT nbrdfStaticTargets
+  ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/nbrdf DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+
+set(nbrdf_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/nbrdf)
+install(EXPORT nbrdfTargets NAMESPACE nbrdf:: DESTINATION ${nbrdf_cmake_dir})
+install(EXPORT nbrdfStaticTargets NAMESPACE nbrdf:: DESTINATION ${nbrdf_cmake_dir})
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/install/nbrdfConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/nbrdfConfig.cmake INSTALL_DESTINATION ${nbrdf_cmake_dir})
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/nbrdfConfigVersion.cmake
+  COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/nbrdfConfig.cmake ${PROJECT_BINARY_DIR}/nbrdfConfigVersion.cmake
+  DESTINATION ${nbrdf_cmake_dir})
+
+# pkg-config: the shared library by default; `--static` lists what libnbrdf.a needs.
+# The prefix is found from the .pc file's own place, so a moved install still works.
+file(RELATIVE_PATH NBRDF_PC_TO_PREFIX /p/${CMAKE_INSTALL_LIBDIR}/pkgconfig /p)
+configure_file(${PROJECT_SOURCE_DIR}/cmake/install/nbrdf.pc.in ${PROJECT_BINARY_DIR}/nbrdf.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/nbrdf.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/models/default
+  DESTINATION ${CMAKE_INSTALL_DATADIR}/nbrdf/models)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/shaders/ DESTINATION ${CMAKE_INSTALL_DATADIR}/nbrdf/shaders
+  FILES_MATCHING PATTERN "*.glsl" PATTERN "*.comp" PATTERN "README.md")
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/blender_addon/ DESTINATION ${CMAKE_INSTALL_DATADIR}/nbrdf/blender_addon
+  PATTERN "__pycache__" EXCLUDE PATTERN "*.pyc" EXCLUDE)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)
