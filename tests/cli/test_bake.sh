@@ -48,7 +48,15 @@ check "input untouched" cmp -s alpha1.png keep.png
 check "no output after failures" test ! -e bad.exr
 check "no temporary files" test -z "$(ls -A | grep '\.tmp$')"
 
-# Without --bundle and models/default: an error saying to pass --bundle.
-expect_exit 1 "$NBRDF" bake "${base[@]:2}" -o x.exr
-check "default bundle message: $(cat "$TMP/err")" grep -Fq -- "--bundle" "$TMP/err"
+# Without --bundle, $NBRDF_BUNDLE decides; a missing or corrupt one is an error naming it,
+# never a silent fallback to another bundle.
+expect_exit 1 env NBRDF_BUNDLE="$TMP/nowhere" "$NBRDF" bake "${base[@]:2}" -o x.exr
+check "missing \$NBRDF_BUNDLE named: $(cat "$TMP/err")" grep -Fq -- "\$NBRDF_BUNDLE=$TMP/nowhere" "$TMP/err"
+check "missing \$NBRDF_BUNDLE: pass --bundle" grep -Fq -- "--bundle" "$TMP/err"
+cp -r bundle broken && head -c 100 bundle/decoder.safetensors >broken/decoder.safetensors
+expect_exit 1 env NBRDF_BUNDLE="$TMP/broken" "$NBRDF" bake "${base[@]:2}" -o x.exr
+check "corrupt \$NBRDF_BUNDLE named: $(cat "$TMP/err")" grep -Fq -- "\$NBRDF_BUNDLE=$TMP/broken" "$TMP/err"
+check "no output from a bundle error" test ! -e x.exr
+expect_exit 0 env NBRDF_BUNDLE="$TMP/bundle" "$NBRDF" --version
+check "--version names \$NBRDF_BUNDLE's bundle" grep -Fq "bundle: $TMP/bundle" "$TMP/out"
 finish
