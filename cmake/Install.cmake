@@ -36,3 +36,19 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/blender_addon/ DESTINATION ${CMAKE_INSTA
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)
+
+# `cpack -G DEB` in the build folder: one package with all of the above under /usr. Its
+# dependencies on the runtime libraries (OpenEXR, OpenImageIO, OpenColorIO, OpenBLAS, cJSON,
+# libgomp) are computed by dpkg-shlibdeps from what the library and the CLI link.
+set(CPACK_PACKAGE_NAME nbrdf)
+set(CPACK_PACKAGE_VENDOR nbrdf)
+set(CPACK_PACKAGE_CONTACT "nbrdf maintainers <nbrdf@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
+  "neural layered BRDFs (Fan et al. 2022): bake, verify and render latent textures")
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# dpkg-shlibdeps must find libnbrdf.so.0 itself when it scans the CLI and the library.
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${PROJECT_BINARY_DIR}/src)
+include(CPack)
