@@ -11,6 +11,11 @@ build=$(cd "$(dirname "$NBRDF")" && pwd)
 [ -f "$build/CMakeCache.txt" ] || { echo "no CMakeCache.txt beside $NBRDF" >&2; exit 1; }
 libdir=$(sed -n 's/^CMAKE_INSTALL_LIBDIR:[A-Z]*=//p' "$build/CMakeCache.txt")
 libdir=${libdir:-lib}
+# A sanitized libnbrdf.so needs the ASan runtime loaded first in an uninstrumented program.
+preload=
+if grep -q '^NBRDF_SANITIZE:BOOL=ON' "$build/CMakeCache.txt"; then
+  preload=$(${CC:-cc} -print-file-name=libasan.so)
+fi
 prefix=$TMP/prefix
 if ! cmake --install "$build" --prefix "$prefix" >"$TMP/install.log" 2>&1; then
   echo "cmake --install failed:" >&2; tail -20 "$TMP/install.log" >&2; exit 1
@@ -58,7 +63,7 @@ run_all() {
   for exe in "$TMP/cm/nbrdf_consumer" "$TMP/pc_consumer"; do
     [ -x "$exe" ] || continue
     rm -rf out && mkdir out
-    expect_exit 0 env LD_LIBRARY_PATH="$p/$libdir" "$exe" out
+    expect_exit 0 env LD_LIBRARY_PATH="$p/$libdir" LD_PRELOAD="$preload" "$exe" out
     check "$tag $(basename "$exe"): bundle of the prefix: $(head -c 300 "$TMP/out")" \
       grep -Fq "bundle $bundle " "$TMP/out"
     check "$tag $(basename "$exe"): two textures" test -s out/grey.exr -a -s out/red.exr
@@ -85,7 +90,7 @@ check "\$NBRDF_BUNDLE=/nonexistent named: $(cat "$TMP/err")" \
 check "no output after a bundle error" test ! -e never.exr
 if [ -x "$TMP/pc_consumer" ]; then
   expect_exit 1 env NBRDF_BUNDLE=/nonexistent LD_LIBRARY_PATH="$TMP/moved/$libdir" \
-    "$TMP/pc_consumer" out
+    LD_PRELOAD="$preload" "$TMP/pc_consumer" out
   check "library: \$NBRDF_BUNDLE=/nonexistent named: $(cat "$TMP/err")" \
     grep -Fq '$NBRDF_BUNDLE=/nonexistent' "$TMP/err"
 fi
