@@ -32,8 +32,7 @@ void cli_bundle_describe(FILE *out);
 /* Loads the bundle of --bundle DIR (`bundle`), or when it is NULL the default bundle
  * (nbrdf_default_bundle_path: $NBRDF_BUNDLE, the install, the source tree, ./models/default).
  * `used` (may be NULL) receives the folder. Returns CLI_EXIT_OK or reports the failure. */
-int cli_model_load(const char *cmd, const char *bundle, nbrdf_model **out, char *used,
-                   size_t size);
+int cli_model_load(const char *cmd, const char *bundle, nbrdf_model **out, char *used, size_t size);
 
 /* Strict number parsing (core/number.h): the whole string must be a decimal
  * number, white space around it allowed; no hex, inf or nan; overflow and

@@ -247,8 +247,7 @@ int cmd_verify(int argc, char **argv) {
     return CLI_EXIT_FAILURE;
   }
   if (!nbrdf_model_is_trained(model))
-    fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n",
-            used);
+    fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n", used);
   a.ps.bar = !a.ps.json && isatty(STDERR_FILENO);
   a.o.progress = cli_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
   cli_cancel_watch();
