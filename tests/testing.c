@@ -84,3 +84,20 @@ char **nbrdf_test_list_dir(const char *dir, size_t *n) {
   if (names) qsort(names, *n, sizeof *names, compare_names);
   return names ? names : calloc(1, sizeof *names);
 }
+
+void nbrdf_test_write_text(const char *path, const char *text) {
+  FILE *f = fopen(path, "wb");
+  if (f) {
+    fputs(text, f);
+    fclose(f);
+  }
+}
+
+int nbrdf_test_file_is(const char *path, const char *text) {
+  char buf[256] = {0};
+  FILE *f = fopen(path, "rb");
+  if (!f) return 0;
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  fclose(f);
+  return n == strlen(text) && memcmp(buf, text, n) == 0;
+}

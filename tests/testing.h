@@ -26,6 +26,10 @@ const char *nbrdf_test_source_dir(void);
 /* The names in `dir` not starting with '.', sorted (strdup'd, in a malloc'd
  * array: free each and the array); NULL, a failed CHECK, when it cannot be read. */
 char **nbrdf_test_list_dir(const char *dir, size_t *n);
+/* Writes `text` to `path` (nothing on failure: the test's next CHECK sees it). */
+void nbrdf_test_write_text(const char *path, const char *text);
+/* 1 when the file at `path` holds exactly `text` (up to 255 bytes). */
+int nbrdf_test_file_is(const char *path, const char *text);
 
 #define RUN(fn)                                                                                    \
   do {                                                                                             \

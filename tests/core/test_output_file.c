@@ -29,23 +29,6 @@ static int count_entries(const char *dir) {
   return n;
 }
 
-static void put(const char *path, const char *text) {
-  FILE *f = fopen(path, "wb");
-  if (f) {
-    fputs(text, f);
-    fclose(f);
-  }
-}
-
-static int file_is(const char *path, const char *text) {
-  char buf[256] = {0};
-  FILE *f = fopen(path, "rb");
-  if (!f) return 0;
-  size_t n = fread(buf, 1, sizeof buf - 1, f);
-  fclose(f);
-  return n == strlen(text) && memcmp(buf, text, n) == 0;
-}
-
 static mode_t mode_of(const char *path) {
   struct stat sb;
   return stat(path, &sb) == 0 ? sb.st_mode : 0;
@@ -67,7 +50,7 @@ static void test_unnamed_temporary(void) {
   CHECK_OK(nbrdf_output_file_pwrite(&f, "hello", 5, 0, err), err);
   CHECK(count_entries(dir) == 0); /* nothing a SIGKILL could leave */
   CHECK_OK(nbrdf_output_file_commit(&f, err), err);
-  CHECK(file_is(path, "hello"));
+  CHECK(nbrdf_test_file_is(path, "hello"));
   CHECK(count_entries(dir) == 1);
   mode_t mask = umask(0);
   umask(mask);
@@ -76,16 +59,16 @@ static void test_unnamed_temporary(void) {
   /* Over an existing file: replaced whole, no other entry left. */
   CHECK_OK(nbrdf_output_file_open(&f, path, NULL, 0, err), err);
   CHECK_OK(nbrdf_output_file_pwrite(&f, "again", 5, 0, err), err);
-  CHECK(file_is(path, "hello"));
+  CHECK(nbrdf_test_file_is(path, "hello"));
   CHECK_OK(nbrdf_output_file_commit(&f, err), err);
-  CHECK(file_is(path, "again"));
+  CHECK(nbrdf_test_file_is(path, "again"));
   CHECK(count_entries(dir) == 1);
 
   /* Abort: the old file stays, nothing else appears. */
   CHECK_OK(nbrdf_output_file_open(&f, path, NULL, 0, err), err);
   CHECK_OK(nbrdf_output_file_pwrite(&f, "lost", 4, 0, err), err);
   nbrdf_output_file_abort(&f);
-  CHECK(file_is(path, "again"));
+  CHECK(nbrdf_test_file_is(path, "again"));
   CHECK(count_entries(dir) == 1);
 
   /* A writer that opens the file by name (as OpenImageIO does) reaches the same file. */
@@ -97,7 +80,7 @@ static void test_unnamed_temporary(void) {
     fclose(byname);
   }
   CHECK_OK(nbrdf_output_file_commit(&f, err), err);
-  CHECK(file_is(path, "by name"));
+  CHECK(nbrdf_test_file_is(path, "by name"));
 }
 
 static void test_named_fallback(void) {
@@ -118,14 +101,14 @@ static void test_named_fallback(void) {
   CHECK_OK(nbrdf_output_file_pwrite(&f, "named", 5, 0, err), err);
   CHECK(count_entries(dir) == 1);
   CHECK_OK(nbrdf_output_file_commit(&f, err), err);
-  CHECK(file_is(path, "named"));
+  CHECK(nbrdf_test_file_is(path, "named"));
   CHECK(count_entries(dir) == 1);
 
   CHECK_OK(nbrdf_output_file_open_flags(&f, path, NULL, 0, NBRDF_OUTPUT_NAMED_TEMP, err), err);
   CHECK(count_entries(dir) == 2);
   nbrdf_output_file_abort(&f);
   CHECK(count_entries(dir) == 1);
-  CHECK(file_is(path, "named"));
+  CHECK(nbrdf_test_file_is(path, "named"));
 }
 
 /* What a killed writer leaves is removed by the next output into the directory; a live
@@ -138,7 +121,8 @@ static void test_stale_temporaries_removed(void) {
   snprintf(live, sizeof live, "%s/.tex.exr.89abcdef.tmp", dir);
   snprintf(recent, sizeof recent, "%s/.b.exr.00000000.tmp", dir);
   snprintf(other, sizeof other, "%s/.notes.0123abcd.tmp.txt", dir);
-  put(stale, "x"), put(live, "x"), put(recent, "x"), put(other, "x");
+  nbrdf_test_write_text(stale, "x"), nbrdf_test_write_text(live, "x"),
+      nbrdf_test_write_text(recent, "x"), nbrdf_test_write_text(other, "x");
   struct timeval old[2] = {{time(NULL) - 86400, 0}, {time(NULL) - 86400, 0}};
   CHECK(utimes(stale, old) == 0 && utimes(live, old) == 0 && utimes(other, old) == 0);
   int held = open(live, O_RDONLY);
@@ -200,18 +184,18 @@ static void test_read_only_refused_and_mode_kept(void) {
   char dir[512], ro[600], rw[600];
   fresh_dir(dir, sizeof dir, "modes");
   snprintf(ro, sizeof ro, "%s/ro", dir);
-  put(ro, "keep");
+  nbrdf_test_write_text(ro, "keep");
   CHECK(chmod(ro, 0444) == 0);
   nbrdf_output_file f;
   CHECK_FAILS(nbrdf_output_file_open(&f, ro, NULL, 0, err), NBRDF_ERR_ARGUMENT, err, "read-only");
-  CHECK(file_is(ro, "keep"));
+  CHECK(nbrdf_test_file_is(ro, "keep"));
   CHECK((mode_of(ro) & 07777) == 0444);
 
   snprintf(rw, sizeof rw, "%s/rw", dir);
-  put(rw, "old");
+  nbrdf_test_write_text(rw, "old");
   CHECK(chmod(rw, 0640) == 0);
   CHECK_OK(nbrdf_output_file_write_all(rw, "new", 3, NULL, 0, err), err);
-  CHECK(file_is(rw, "new"));
+  CHECK(nbrdf_test_file_is(rw, "new"));
   CHECK((mode_of(rw) & 07777) == 0640);
   CHECK(chmod(rw, 0604) == 0);
   nbrdf_output_file g;
@@ -227,7 +211,7 @@ static void test_inputs_refused(void) {
   char dir[512], input[600], sym[600], hard[600], dotdot[700];
   fresh_dir(dir, sizeof dir, "inputs");
   snprintf(input, sizeof input, "%s/map.png", dir);
-  put(input, "pixels");
+  nbrdf_test_write_text(input, "pixels");
   snprintf(sym, sizeof sym, "%s/sym.png", dir);
   snprintf(hard, sizeof hard, "%s/hard.png", dir);
   CHECK(symlink("map.png", sym) == 0);
@@ -247,7 +231,7 @@ static void test_inputs_refused(void) {
   /* The input named through a link is caught the other way round too. */
   const char *via_link[1] = {sym};
   CHECK_FAILS(nbrdf_output_check(input, via_link, 1, err), NBRDF_ERR_ARGUMENT, err, "is the input");
-  CHECK(file_is(input, "pixels"));
+  CHECK(nbrdf_test_file_is(input, "pixels"));
   CHECK(count_entries(dir) == 3);
   char fresh[700];
   snprintf(fresh, sizeof fresh, "%s/new.png", dir);

@@ -26,23 +26,6 @@ static void fresh_dir(char *buf, size_t n, const char *name) {
   mkdir(buf, 0755);
 }
 
-static void write_bytes(const char *path, const char *text) {
-  FILE *f = fopen(path, "wb");
-  if (f) {
-    fputs(text, f);
-    fclose(f);
-  }
-}
-
-static int file_is(const char *path, const char *text) {
-  char buf[256] = {0};
-  FILE *f = fopen(path, "rb");
-  if (!f) return 0;
-  size_t n = fread(buf, 1, sizeof buf - 1, f);
-  fclose(f);
-  return n == strlen(text) && memcmp(buf, text, n) == 0;
-}
-
 static void test_abort_and_incomplete_leave_nothing(void) {
   nbrdf_error e, *err = &e;
   char dir[512], path[600];
@@ -112,7 +95,7 @@ static void test_never_overwrites_an_input(void) {
   snprintf(in, sizeof in, "%s/alpha.exr", dir);
   snprintf(link, sizeof link, "%s/link.exr", dir);
   snprintf(other, sizeof other, "%s/../inputs/./alpha.exr", dir);
-  write_bytes(in, "an input map");
+  nbrdf_test_write_text(in, "an input map");
   CHECK(symlink(in, link) == 0);
   const char *inputs[] = {"/nonexistent/r0.png", other};
   nbrdf_latent_writer *w = NULL;
@@ -120,7 +103,7 @@ static void test_never_overwrites_an_input(void) {
               NBRDF_ERR_ARGUMENT, err, "refusing to overwrite an input");
   CHECK_FAILS(nbrdf_latent_writer_create(&w, link, 8, 8, &mono2, NULL, NULL, inputs, 2, err),
               NBRDF_ERR_ARGUMENT, err, "refusing to overwrite an input");
-  CHECK(w == NULL && file_is(in, "an input map") && count_entries(dir) == 2);
+  CHECK(w == NULL && nbrdf_test_file_is(in, "an input map") && count_entries(dir) == 2);
 }
 
 static void test_unwritable_destinations(void) {
@@ -133,7 +116,7 @@ static void test_unwritable_destinations(void) {
               NBRDF_ERR_IO, err, "cannot create a file in");
   CHECK(strstr(e.message, "No such file or directory") != NULL);
   snprintf(path, sizeof path, "%s/file", dir);
-  write_bytes(path, "x");
+  nbrdf_test_write_text(path, "x");
   snprintf(path, sizeof path, "%s/file/t.exr", dir);
   CHECK_FAILS(nbrdf_latent_writer_create(&w, path, 8, 8, &mono2, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_IO, err, "Not a directory");
@@ -150,13 +133,13 @@ static void test_replaces_only_on_success(void) {
   char dir[512], path[600];
   fresh_dir(dir, sizeof dir, "replace");
   snprintf(path, sizeof path, "%s/t.exr", dir);
-  write_bytes(path, "previous bake");
+  nbrdf_test_write_text(path, "previous bake");
   float *l0 = fixture_texels(16, 16, &mono2, 3);
   nbrdf_latent_writer *w = NULL;
   CHECK_OK(nbrdf_latent_writer_create(&w, path, 16, 16, &mono2, NULL, NULL, NULL, 0, err), err);
   if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, l0, 8, err), err);
   nbrdf_latent_writer_abort(w);
-  CHECK(file_is(path, "previous bake") && count_entries(dir) == 1);
+  CHECK(nbrdf_test_file_is(path, "previous bake") && count_entries(dir) == 1);
   CHECK_OK(fixture_write(path, 16, 16, &mono2, NULL, NULL, l0, 16, err), err);
   nbrdf_latent_reader *r = NULL;
   CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
@@ -211,9 +194,10 @@ static void test_reader_refusals(void) {
   nbrdf_latent_reader *r = NULL;
   snprintf(path, sizeof path, "%s/missing.exr", dir);
   CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_IO, err, "cannot open");
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, dir, err), NBRDF_ERR_IO, err, "is a directory, not a file");
+  CHECK_FAILS(nbrdf_latent_reader_open(&r, dir, err), NBRDF_ERR_IO, err,
+              "is a directory, not a file");
   snprintf(text, sizeof text, "%s/text.exr", dir);
-  write_bytes(text, "not an image at all");
+  nbrdf_test_write_text(text, "not an image at all");
   CHECK_FAILS(nbrdf_latent_reader_open(&r, text, err), NBRDF_ERR_FORMAT, err,
               "not a readable OpenEXR file");
 
