@@ -23,6 +23,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "param_map_input.h"
 #include "texture/param_map.h"
 
 #define REQUIRE(cond)                                                                              \
@@ -36,8 +37,6 @@
 #define BAND_FLOATS_MAX (1u << 22)
 /* As a bake: a band holds about this many texels (src/bake/bake.c). */
 #define BAND_TEXELS 65536
-
-static const char *const extensions[8] = {"png", "exr", "tif", "hdr", "tga", "bmp", "ppm", "jpg"};
 
 static void check_refusal(nbrdf_status st, const nbrdf_error *err, const char *path) {
   REQUIRE(st != NBRDF_OK);
@@ -81,15 +80,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     snprintf(dir, sizeof dir, "%s", tmp && *tmp ? tmp : "/tmp");
   }
   char path[256];
-  snprintf(path, sizeof path, "%s/fuzz_param_map.%ld.%s", dir, (long)getpid(),
-           extensions[data[0] & 7]);
+  nbrdf_param_map_options o;
+  const char *ext = param_map_input_decode(data[0], &o);
+  snprintf(path, sizeof path, "%s/fuzz_param_map.%ld.%s", dir, (long)getpid(), ext);
   FILE *f = fopen(path, "wb");
   REQUIRE(f != NULL);
   REQUIRE(fwrite(data + 1, 1, size - 1, f) == size - 1);
   REQUIRE(fclose(f) == 0);
-  nbrdf_param_map_options o = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
-  if (data[0] & 8) o.kind = NBRDF_PARAM_COLOUR;
-  if (data[0] & 16) o.remap = 1, o.lo = 1.0f, o.hi = 2.0f;
   nbrdf_param_map *m = NULL;
   nbrdf_error err = {0};
   nbrdf_status st = nbrdf_param_map_open(path, &o, &m, &err);

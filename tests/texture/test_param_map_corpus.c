@@ -10,10 +10,9 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "../../fuzz/param_map_input.h"
 #include "testing.h"
 #include "texture/param_map.h"
-
-static const char *const extensions[8] = {"png", "exr", "tif", "hdr", "tga", "bmp", "ppm", "jpg"};
 
 static unsigned char *slurp(const char *path, size_t *size) {
   FILE *f = fopen(path, "rb");
@@ -27,13 +26,12 @@ static unsigned char *slurp(const char *path, size_t *size) {
 /* 1: opened and read, 0: refused (properly or not, CHECKed). */
 static int replay(const unsigned char *data, size_t size, const char *name) {
   char path[1024];
-  snprintf(path, sizeof path, "%s/corpus_map.%s", nbrdf_test_tmpdir(), extensions[data[0] & 7]);
+  nbrdf_param_map_options o;
+  snprintf(path, sizeof path, "%s/corpus_map.%s", nbrdf_test_tmpdir(),
+           param_map_input_decode(data[0], &o));
   FILE *f = fopen(path, "wb");
   CHECK(f && fwrite(data + 1, 1, size - 1, f) == size - 1);
   if (f) fclose(f);
-  nbrdf_param_map_options o = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
-  if (data[0] & 8) o.kind = NBRDF_PARAM_COLOUR;
-  if (data[0] & 16) o.remap = 1, o.lo = 1.0f, o.hi = 2.0f;
   nbrdf_param_map *m = NULL;
   nbrdf_error err = {0};
   nbrdf_status st = nbrdf_param_map_open(path, &o, &m, &err);
