@@ -17,7 +17,7 @@
 
 #include "bench_clock.h"
 #include "bench_sort.h"
-#include "eval/verify_internal.h"
+#include "verify/verify_internal.h"
 #include "nbrdf/bake.h"
 #include "texture/latent_exr.h"
 

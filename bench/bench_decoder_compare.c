@@ -16,7 +16,7 @@
 
 #include "core/rng.h"
 #include "eval/evaluate.h"
-#include "eval/plot.h"
+#include "support/plot.h"
 #include "model/decoder.h"
 
 #include "bench_args.h"

@@ -13,9 +13,9 @@
 
 #include "brdf/brdf_handle.h"
 #include "brdf/layered_lobe.h"
-#include "eval/lobe.h"
-#include "eval/lobe_png.h"
-#include "eval/plot.h"
+#include "lobe/lobe.h"
+#include "lobe/lobe_png.h"
+#include "support/plot.h"
 #include "nbrdf/brdf.h"
 
 #include "bench_args.h"

@@ -15,8 +15,8 @@
 
 #include "core/error.h"
 #include "core/rng.h"
-#include "eval/lobe.h"
-#include "eval/plot.h"
+#include "lobe/lobe.h"
+#include "support/plot.h"
 #include "nbrdf/model.h"
 #include "nn/safetensors.h"
 #include "train/params.h"

@@ -4,7 +4,7 @@
  * sampling the top layer's GGX, and one-sample MIS of proxy and cosine, at
  * equal sample counts, for the held-out two-layer BRDFs of the `layer` set
  * obtained as a bake obtains them (base tables + layering network), decoded by
- * the bundle's decoder. src/eval/radiance_variance.h has the estimators.
+ * the bundle's decoder. src/bench/support/radiance_variance.h has the estimators.
  * docs/SAMPLING_AND_COST.md has the figures and the command. */
 #include <math.h>
 #include <stdio.h>
@@ -12,9 +12,9 @@
 #include <string.h>
 
 #include "core/error.h"
-#include "eval/env.h"
-#include "eval/plot.h"
-#include "eval/radiance_variance.h"
+#include "render/env.h"
+#include "support/plot.h"
+#include "support/radiance_variance.h"
 #include "nbrdf/model.h"
 #include "nbrdf/render.h"
 #include "train/params.h"
@@ -288,7 +288,7 @@ int main(int argc, char **argv) {
     for (int e = 0; e < N_ENV; e++) {
       if (!cases[e]) continue;
       fprintf(f, "### %s\n\n",
-              e == 0 ? "Sky (src/eval/env.c, luminance)" : "White furnace (L = 1)");
+              e == 0 ? "Sky (src/render/env.c, luminance)" : "White furnace (L = 1)");
       fprintf(f, "| N | strategy | median var/L^2 | 90th pct var/L^2 | lost draws | proxy "
                  "variance lower on |\n|---:|---|---:|---:|---:|---:|\n");
       double *v = malloc((size_t)n_cases * sizeof *v);

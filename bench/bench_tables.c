@@ -19,8 +19,8 @@
 #include <string.h>
 
 #include "eval/evaluate.h"
-#include "eval/lobe.h"
-#include "eval/plot.h"
+#include "lobe/lobe.h"
+#include "support/plot.h"
 #include "model/decoder.h"
 #include "train/table_fit.h"
 

@@ -1,5 +1,5 @@
 /* Cost of `nbrdf verify` (docs/VERIFY.md): decoder queries per second on
- * verify's own path (src/eval/verify_decode.c: 12,912 lobe queries per
+ * verify's own path (src/verify/verify_decode.c: 12,912 lobe queries per
  * distinct latent), against the machine's cblas_sgemm rate on the decoder's
  * width measured in the same run; and the ground truth's cost per reference
  * (2 runs x 4 images x walks). CPU seconds are the figures to quote on a
@@ -15,7 +15,7 @@
 #include "bench_clock.h"
 #include "bench_sgemm.h"
 #include "core/rng.h"
-#include "eval/verify_internal.h"
+#include "verify/verify_internal.h"
 #include "model/bundle.h"
 
 int main(int argc, char **argv) {

@@ -1,6 +1,6 @@
 // nbrdf shaders: filtered fetch of a latent texture from a storage buffer (GLSL 450).
 //
-// The convention is src/eval/latent_fetch.h's (the C reference evaluator), which is
+// The convention is src/texture/latent_fetch.h's (the C reference evaluator), which is
 // OpenGL's GL_LINEAR_MIPMAP_LINEAR with GL_REPEAT and an explicit lod (textureLod):
 //  - (u, v): u to the right, v DOWN (v = 0 is the EXR's first row); period 1 in both;
 //  - level l is max(1, W >> l) x max(1, H >> l); texel (i, j) of a w x h level has its
@@ -101,7 +101,7 @@ NbrdfFootprint nbrdf_latent_footprint(vec2 uv, float lod) {
   return fp;
 }
 
-// The filtered value of logical channel c (src/eval/latent_fetch.c's arithmetic order).
+// The filtered value of logical channel c (src/texture/latent_fetch.c's arithmetic order).
 float nbrdf_latent_channel(NbrdfFootprint fp, uint c) {
   precise float a = fp.weight[0] * uintBitsToFloat(nbrdf_l[fp.texel[0] + c]) +
                     fp.weight[1] * uintBitsToFloat(nbrdf_l[fp.texel[1] + c]) +

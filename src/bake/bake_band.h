@@ -8,16 +8,11 @@
 
 #include <stddef.h>
 
+#include "bake/bake_sources.h"
 #include "bake/bake_tuple.h"
 #include "nbrdf/bake.h"
 #include "texture/latent_layout.h"
 #include "texture/param_source.h"
-
-/* Opens the six sources of `in` as nbrdf_bake reads them (maps of r0 and
- * albedo as colour data); `nbrdf verify` opens them the same way. On failure
- * the caller frees whatever sources were opened. */
-nbrdf_status bake_open_sources(const nbrdf_bake_inputs *in, nbrdf_param_source **src,
-                               nbrdf_error *err);
 
 /* Distinct tuples remembered across bands with their latent, sigma and w
  * (bake_band.c): painted maps repeat the same few tuples in every band. */

@@ -24,7 +24,7 @@
 int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
                       uint64_t seed, int threads, double *f, double *f_se);
 
-/* The lobe image of docs/METRICS.md with src/eval/lobe.h's pixel convention:
+/* The lobe image of docs/METRICS.md with src/lobe/lobe.h's pixel convention:
  * res×res, row 0 at the top, pixel (row, col) centred at
  * x = −1 + (col + ½)·2/res, y = 1 − (row + ½)·2/res, ωo = (x, y, √(1 − x² − y²)),
  * ωi = (sin θi, 0, cos θi); value f(ωi, ωo) cos θo, 0 outside the disk. */

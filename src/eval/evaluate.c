@@ -7,7 +7,7 @@
 
 #include "core/error.h"
 #include "eval/evaluate.h"
-#include "eval/lobe.h"
+#include "lobe/lobe.h"
 #include "model/bundle.h"
 #include "train/table_fit.h"
 

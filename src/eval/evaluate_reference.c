@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "eval/evaluate.h"
-#include "eval/lobe.h"
+#include "lobe/lobe.h"
 #include "nn/safetensors.h"
 
 #define IMG ((size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES)

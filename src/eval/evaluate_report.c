@@ -9,8 +9,8 @@
 #include "core/error.h"
 #include "core/output_file.h"
 #include "eval/evaluate.h"
-#include "eval/lobe.h"
-#include "eval/lobe_png.h"
+#include "lobe/lobe.h"
+#include "lobe/lobe_png.h"
 
 #define PER_BRDF ((size_t)NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
 

@@ -13,7 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "eval/verify_internal.h"
+#include "verify/verify_internal.h"
 #include "nbrdf/bake.h"
 #include "testing.h"
 #include "texture/latent_exr.h"

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "eval/evaluate.h"
-#include "eval/lobe.h"
+#include "lobe/lobe.h"
 #include "model/bundle.h"
 #include "testing.h"
 

@@ -1,4 +1,4 @@
-/* shaders/nbrdf_latent_fetch.glsl against the C reference fetch (src/eval/latent_fetch.c):
+/* shaders/nbrdf_latent_fetch.glsl against the C reference fetch (src/texture/latent_fetch.c):
  * bilinear within a level and trilinear across levels, GL_REPEAT wrapping, an odd-sized
  * mip chain (67 x 45, 7 levels), lods below 0 and past the last level. Then the whole
  * shading kernel (shaders/nbrdf_shade.comp: fetch + decode per colour + proxy pdf) against
@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "eval/latent_fetch.h"
+#include "texture/latent_fetch.h"
 #include "model/bundle.h"
 #include "shader_fixture.h"
 

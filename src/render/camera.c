@@ -1,0 +1,70 @@
+/* Pinhole camera, sphere and plane intersection, pixel-cone footprint. */
+#include "render/camera.h"
+
+#include <math.h>
+
+void eval_camera_setup(eval_camera *cam, nbrdf_render_scene scene, int width, int height,
+                       double plane_repeat) {
+  vec3 at;
+  double fov_deg;
+  if (scene == NBRDF_SCENE_PLANE) {
+    cam->pos = v3(0.0, 1.0, 2.5), at = v3(0.0, 0.0, -2.0), fov_deg = 50.0;
+  } else {
+    cam->pos = v3(0.0, 0.0, 3.2), at = v3(0.0, 0.0, 0.0), fov_deg = 40.0;
+  }
+  cam->forward = v3_normalize(v3_sub(at, cam->pos));
+  cam->right = v3_normalize(v3_cross(cam->forward, v3(0.0, 1.0, 0.0)));
+  cam->up = v3_cross(cam->right, cam->forward);
+  cam->tan_half = tan(0.5 * fov_deg * M_PI / 180.0);
+  cam->width = width, cam->height = height;
+  cam->scene = scene;
+  cam->plane_repeat = plane_repeat > 0.0 ? plane_repeat : 1.0;
+}
+
+vec3 eval_camera_ray(const eval_camera *cam, double px, double py) {
+  double aspect = (double)cam->width / cam->height;
+  double x = (2.0 * px / cam->width - 1.0) * cam->tan_half * aspect;
+  double y = (1.0 - 2.0 * py / cam->height) * cam->tan_half;
+  return v3_normalize(v3_add(cam->forward, v3_add(v3_scale(cam->right, x), v3_scale(cam->up, y))));
+}
+
+int eval_camera_hit(const eval_camera *cam, vec3 dir, int tex_w, int tex_h, eval_hit *h) {
+  double t, du, dv;
+  /* Pixel cone: a pixel subtends about 2·tan_half / height radians; at
+   * distance t its footprint is t times that, stretched by 1/cos on a
+   * slanted surface (capped, so grazing hits pick the coarsest level
+   * rather than an infinite lod). */
+  double spread = 2.0 * cam->tan_half / cam->height;
+  if (cam->scene == NBRDF_SCENE_PLANE) {
+    if (!(dir.y < -1e-9)) return 0;
+    t = -cam->pos.y / dir.y;
+    h->p = v3_add(cam->pos, v3_scale(dir, t));
+    h->n = v3(0.0, 1.0, 0.0);
+    h->t = v3(1.0, 0.0, 0.0), h->b = v3(0.0, 0.0, -1.0); /* t × b = n */
+    h->u = h->p.x / cam->plane_repeat, h->v = h->p.z / cam->plane_repeat;
+    double cosv = fmax(-dir.y, 1e-6);
+    du = dv = t * spread / cosv / cam->plane_repeat;
+  } else {
+    /* |pos + t·dir|² = 1 with |dir| = 1. */
+    double b = v3_dot(cam->pos, dir), c = v3_dot(cam->pos, cam->pos) - 1.0;
+    double disc = b * b - c;
+    if (disc < 0.0) return 0;
+    t = -b - sqrt(disc);
+    if (!(t > 0.0)) return 0;
+    h->p = v3_add(cam->pos, v3_scale(dir, t));
+    h->n = v3_normalize(h->p);
+    double theta = acos(fmin(1.0, fmax(-1.0, h->n.y)));
+    double phi = atan2(h->n.x, h->n.z);
+    h->u = phi / (2.0 * M_PI) + 0.5, h->v = theta / M_PI;
+    double sin_theta = fmax(sin(theta), 1e-4);
+    /* Tangent along increasing u (east), bitangent completes a right-handed frame. */
+    h->t = v3_normalize(v3(cos(phi), 0.0, -sin(phi)));
+    h->b = v3_cross(h->n, h->t);
+    double cosv = fmax(-v3_dot(dir, h->n), 1e-6);
+    double world = t * spread / cosv;
+    du = world / (2.0 * M_PI * sin_theta), dv = world / M_PI;
+  }
+  double texels = fmax(du * tex_w, dv * tex_h);
+  h->lod = texels > 1.0 ? log2(texels) : 0.0;
+  return 1;
+}

@@ -1,0 +1,131 @@
+/* nbrdf_render: checks the options, loads the texture and the environment,
+ * and shades fixed tiles in parallel (render.h). */
+#include <math.h>
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "render/render_tile.h"
+
+static nbrdf_status check_options(const nbrdf_model *model, const nbrdf_render_options *o,
+                                  nbrdf_error *err) {
+  if (o->mode != NBRDF_RENDER_NEURAL && o->mode != NBRDF_RENDER_REFERENCE)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: unknown mode %d", (int)o->mode);
+  if (o->scene != NBRDF_SCENE_SPHERE && o->scene != NBRDF_SCENE_PLANE)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: unknown scene %d", (int)o->scene);
+  if (o->width < 1 || o->height < 1 || o->width > 16384 || o->height > 16384)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: image %d x %d, expected 1..16384 each",
+                      o->width, o->height);
+  if (o->spp < 1 || o->spp > (1 << 20))
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: %d samples per pixel, expected 1..2^20",
+                      o->spp);
+  if (o->threads < 0) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: %d threads", o->threads);
+  if (!(o->light_intensity >= 0.0) || !isfinite(o->light_intensity))
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: light intensity %g is not finite and >= 0",
+                      o->light_intensity);
+  for (int k = 0; k < 3; k++)
+    if (!isfinite(o->light_pos[k]))
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: light position is not finite");
+  if (o->scene == NBRDF_SCENE_PLANE && !(o->plane_repeat > 0.0 && isfinite(o->plane_repeat)))
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: plane repeat %g is not finite and > 0",
+                      o->plane_repeat);
+  if (o->mode == NBRDF_RENDER_NEURAL && !model)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: neural mode needs a model");
+  if (o->mode == NBRDF_RENDER_REFERENCE) {
+    if (!o->reference || (o->reference_channels != 1 && o->reference_channels != 3))
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                        "render: reference mode needs 1 or 3 ground-truth BRDFs, got %d",
+                        o->reference_channels);
+    for (int c = 0; c < o->reference_channels; c++)
+      if (!o->reference[c])
+        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: reference BRDF %d is NULL", c);
+  }
+  return NBRDF_OK;
+}
+
+static nbrdf_status check_texture(const nbrdf_model *model, const eval_latent_image *tex,
+                                  const char *path, const char *checksum, nbrdf_error *err) {
+  if (strcmp(checksum, nbrdf_model_checksum(model)) != 0)
+    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
+                      "%s: baked with model checksum '%s', but the bundle '%s' is '%s'", path,
+                      checksum, nbrdf_model_name(model), nbrdf_model_checksum(model));
+  if (tex->layout.latent_dim != nbrdf_model_latent_dim(model))
+    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dimension %d, the model's is %d", path,
+                      tex->layout.latent_dim, nbrdf_model_latent_dim(model));
+  return NBRDF_OK;
+}
+
+nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
+                          const nbrdf_render_options *options, float *rgb,
+                          nbrdf_render_stats *stats, nbrdf_error *err) {
+  nbrdf_render_options defaults = NBRDF_RENDER_OPTIONS_DEFAULT;
+  const nbrdf_render_options *o = options ? options : &defaults;
+  nbrdf_status st = check_options(model, o, err);
+  if (st != NBRDF_OK) return st;
+  eval_latent_image *tex = NULL;
+  eval_env *env = NULL;
+  char checksum[128];
+  st = eval_latent_image_load(latent_path, &tex, checksum, sizeof checksum, err);
+  if (st == NBRDF_OK && o->mode == NBRDF_RENDER_NEURAL)
+    st = check_texture(model, tex, latent_path, checksum, err);
+  if (st == NBRDF_OK) st = eval_env_create(o, &env, err);
+  if (st != NBRDF_OK) {
+    eval_latent_image_free(tex);
+    return st;
+  }
+  eval_render_ctx ctx;
+  memset(&ctx, 0, sizeof ctx);
+  ctx.opts = o, ctx.model = model, ctx.tex = tex, ctx.env = env;
+  ctx.colours =
+      o->mode == NBRDF_RENDER_NEURAL ? nbrdf_latent_colours(&tex->layout) : o->reference_channels;
+  eval_camera_setup(&ctx.cam, o->scene, o->width, o->height, o->plane_repeat);
+
+  int tx = (o->width + EVAL_RENDER_TILE - 1) / EVAL_RENDER_TILE;
+  int ty = (o->height + EVAL_RENDER_TILE - 1) / EVAL_RENDER_TILE;
+  int tiles = tx * ty, done = 0, stop = 0;
+  int threads =
+      o->threads ? o->threads : (o->mode == NBRDF_RENDER_NEURAL ? 1 : omp_get_max_threads());
+  size_t decoded = 0, evals = 0;
+  nbrdf_error first = {NBRDF_OK, ""};
+  nbrdf_ticker ticker; /* ticked inside the critical section below only */
+  nbrdf_ticker_init(&ticker, o->progress, o->user, o->cancel);
+  if (nbrdf_ticker_tick(&ticker, "render", 0, tiles, 1))
+    nbrdf_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled before the first tile"), stop = 1;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : decoded, evals)
+  for (int t = 0; t < tiles; t++) {
+    int halt;
+#pragma omp atomic read
+    halt = stop;
+    if (halt) continue;
+    int x0 = (t % tx) * EVAL_RENDER_TILE, y0 = (t / tx) * EVAL_RENDER_TILE;
+    int w = o->width - x0 < EVAL_RENDER_TILE ? o->width - x0 : EVAL_RENDER_TILE;
+    int h = o->height - y0 < EVAL_RENDER_TILE ? o->height - y0 : EVAL_RENDER_TILE;
+    nbrdf_error e = {NBRDF_OK, ""};
+    nbrdf_status ts = eval_render_tile(&ctx, t, x0, y0, w, h, rgb, &decoded, &evals, &e);
+#pragma omp critical(nbrdf_render_progress)
+    {
+      if (ts != NBRDF_OK && first.status == NBRDF_OK) first = e, first.status = ts;
+      done++;
+      if (ts != NBRDF_OK || nbrdf_ticker_tick(&ticker, "render", done, tiles, done == tiles)) {
+        if (first.status == NBRDF_OK)
+          nbrdf_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled after %d of %d tiles", done,
+                     tiles);
+#pragma omp atomic write
+        stop = 1;
+      }
+    }
+  }
+  eval_env_free(env);
+  if (stats) {
+    stats->decoded = decoded, stats->brdf_evals = evals;
+    stats->colour_channels = ctx.colours, stats->levels = tex->levels;
+  }
+  eval_latent_image_free(tex);
+  if (first.status != NBRDF_OK) {
+    if (err) *err = first;
+    return first.status;
+  }
+  return NBRDF_OK;
+}

@@ -1,0 +1,157 @@
+/* Lobe images and the metrics of METRICS.md (src/lobe/lobe.c). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "lobe/lobe.h"
+#include "testing.h"
+
+enum { RES = NBRDF_LOBE_RES, NT = NBRDF_LOBE_N_THETA, PIX = RES * RES };
+
+typedef struct counter {
+  int calls;
+  size_t n;
+  int bad_direction;
+} counter;
+
+/* Lambertian f = 1/π; also records how it was called and checks the directions. */
+static nbrdf_status lambert(void *user, size_t n, const nbrdf_query *q, double *f,
+                            nbrdf_error *err) {
+  counter *c = user;
+  c->calls++;
+  c->n = n;
+  for (size_t k = 0; k < n; k++) {
+    double li = q[k].wi[0] * q[k].wi[0] + q[k].wi[1] * q[k].wi[1] + q[k].wi[2] * q[k].wi[2];
+    double lo = q[k].wo[0] * q[k].wo[0] + q[k].wo[1] * q[k].wo[1] + q[k].wo[2] * q[k].wo[2];
+    if (fabs(li - 1) > 1e-12 || fabs(lo - 1) > 1e-12 || q[k].wo[2] <= 0 || q[k].wi[1] != 0)
+      c->bad_direction++;
+    f[k] = 1.0 / M_PI;
+  }
+  return NBRDF_OK;
+}
+
+/* Pixel centres inside the disk, counted here independently of lobe.c. */
+static size_t count_inside(int res) {
+  size_t n = 0;
+  for (int i = 0; i < res; i++)
+    for (int j = 0; j < res; j++) {
+      double x = -1 + (j + 0.5) * 2.0 / res, y = -1 + (i + 0.5) * 2.0 / res;
+      n += x * x + y * y < 1;
+    }
+  return n;
+}
+
+static void test_lambertian_albedo(void) {
+  static double img[NT * PIX];
+  counter c = {0};
+  nbrdf_error err = {0}, *e = &err; /* a pointer: CHECK_OK(x, &err) trips -Waddress */
+  CHECK_OK(nbrdf_lobe_images(lambert, &c, RES, NT, nbrdf_lobe_theta_deg, img, &err), e);
+  const size_t inside = count_inside(RES);
+  CHECK(nbrdf_lobe_pixels_inside(RES) == inside);
+  CHECK_MSG(c.calls == 1 && c.n == NT * inside, "one batched call of %zu queries, got %d of %zu",
+            NT * inside, c.calls, c.n);
+  CHECK(c.bad_direction == 0);
+  /* Midpoint rule: every inside pixel contributes (1/π)·(2/64)². */
+  const double expected = (double)inside * (2.0 / RES) * (2.0 / RES) / M_PI;
+  for (int t = 0; t < NT; t++) {
+    double rho = nbrdf_lobe_albedo(RES, img + t * PIX);
+    CHECK_NEAR(rho, expected, 1e-12);
+    CHECK_NEAR(rho, 1.0, 0.01); /* the pixelised disk has area π within 1 % */
+  }
+  /* Pixel values: f·cos θo inside, 0 outside (the corner). */
+  double wo[3];
+  CHECK(nbrdf_lobe_pixel_wo(RES, 20, 40, wo));
+  CHECK_NEAR(img[PIX + 20 * RES + 40], wo[2] / M_PI, 1e-15);
+  CHECK(!nbrdf_lobe_pixel_wo(RES, 0, 0, wo));
+  CHECK(img[0] == 0.0 && img[3 * PIX + PIX - 1] == 0.0);
+  CHECK(nbrdf_lobe_pixels_inside(1) == 1 && nbrdf_lobe_pixels_inside(2) == 4);
+}
+
+static void test_error_of_identical_and_scaled(void) {
+  static double ref[NT * PIX], approx[NT * PIX];
+  counter c = {0};
+  nbrdf_error err = {0}, *e = &err; /* a pointer: CHECK_OK(x, &err) trips -Waddress */
+  CHECK_OK(nbrdf_lobe_images(lambert, &c, RES, NT, nbrdf_lobe_theta_deg, ref, &err), e);
+  CHECK(nbrdf_lobe_error(NT * PIX, ref, ref) == 0.0);
+  for (int p = 0; p < NT * PIX; p++)
+    approx[p] = 1.1 * ref[p];
+  CHECK_NEAR(nbrdf_lobe_error(NT * PIX, ref, approx), 0.1, 1e-12);
+  double per[NT];
+  double mean = nbrdf_lobe_albedo_error(RES, NT, ref, approx, per);
+  for (int t = 0; t < NT; t++)
+    CHECK_NEAR(per[t], 0.1 * nbrdf_lobe_albedo(RES, ref + t * PIX), 1e-12);
+  CHECK_NEAR(mean, per[0], 1e-12);
+  /* The error pools all images: doubling one of four equal-sum images gives 25 %. */
+  memcpy(approx, ref, sizeof approx);
+  for (int p = 0; p < PIX; p++)
+    approx[2 * PIX + p] *= 2.0;
+  double s[NT] = {0};
+  for (int t = 0; t < NT; t++)
+    for (int p = 0; p < PIX; p++)
+      s[t] += ref[t * PIX + p];
+  CHECK_NEAR(nbrdf_lobe_error(NT * PIX, ref, approx), s[2] / (s[0] + s[1] + s[2] + s[3]), 1e-12);
+  static const double zero[4] = {0}, one[4] = {0, 1, 0, 0};
+  CHECK(nbrdf_lobe_error(4, zero, zero) == 0.0);
+  CHECK(isinf(nbrdf_lobe_error(4, zero, one)));
+}
+
+/* A narrow lobe around the mirror direction of ωi. */
+static nbrdf_status mirror_peak(void *user, size_t n, const nbrdf_query *q, double *f,
+                                nbrdf_error *err) {
+  for (size_t k = 0; k < n; k++) {
+    double dx = q[k].wo[0] + q[k].wi[0], dy = q[k].wo[1] + q[k].wi[1];
+    f[k] = exp(-(dx * dx + dy * dy) / 0.01);
+  }
+  return NBRDF_OK;
+}
+
+static void test_mirror_is_left_of_centre(void) {
+  static double img[PIX];
+  const double theta = 30.0;
+  nbrdf_error err = {0}, *e = &err; /* a pointer: CHECK_OK(x, &err) trips -Waddress */
+  CHECK_OK(nbrdf_lobe_images(mirror_peak, NULL, RES, 1, &theta, img, &err), e);
+  int best = 0;
+  for (int p = 1; p < PIX; p++)
+    if (img[p] > img[best]) best = p;
+  double wo[3];
+  CHECK(nbrdf_lobe_pixel_wo(RES, best / RES, best % RES, wo));
+  CHECK_MSG(fabs(wo[0] + 0.5) < 2.0 / RES && fabs(wo[1]) < 2.0 / RES,
+            "peak at (%g, %g), expected (-sin 30°, 0)", wo[0], wo[1]);
+}
+
+static nbrdf_status failing(void *user, size_t n, const nbrdf_query *q, double *f,
+                            nbrdf_error *err) {
+  return nbrdf_fail(err, NBRDF_ERR_IO, "decoder weights gone");
+}
+
+static nbrdf_status nan_at_7(void *user, size_t n, const nbrdf_query *q, double *f,
+                             nbrdf_error *err) {
+  for (size_t k = 0; k < n; k++)
+    f[k] = k == 7 ? NAN : 1.0;
+  return NBRDF_OK;
+}
+
+static void test_failures(void) {
+  static double img[2 * PIX];
+  nbrdf_error err = {0};
+  const double thetas[2] = {0.0, 90.0}, bad_nan[1] = {NAN};
+  CHECK_FAILS(nbrdf_lobe_images(failing, NULL, RES, 1, thetas, img, &err), NBRDF_ERR_IO, &err,
+              "decoder weights gone");
+  CHECK_FAILS(nbrdf_lobe_images(nan_at_7, NULL, RES, 1, thetas, img, &err), NBRDF_ERR_INTERNAL,
+              &err, "lobe query 7");
+  CHECK_FAILS(nbrdf_lobe_images(nan_at_7, NULL, RES, 2, thetas, img, &err), NBRDF_ERR_ARGUMENT,
+              &err, "90");
+  CHECK_FAILS(nbrdf_lobe_images(nan_at_7, NULL, RES, 1, bad_nan, img, &err), NBRDF_ERR_ARGUMENT,
+              &err, "NaN");
+  CHECK_FAILS(nbrdf_lobe_images(nan_at_7, NULL, 0, 1, thetas, img, &err), NBRDF_ERR_ARGUMENT, &err,
+              "resolution");
+}
+
+int main(void) {
+  RUN(test_lambertian_albedo);
+  RUN(test_error_of_identical_and_scaled);
+  RUN(test_mirror_is_left_of_centre);
+  RUN(test_failures);
+  return nbrdf_test_finish();
+}
