@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Cartesian encoding with and without --brdf-weight 0.5 at the equal-compute budget (1,500 steps).
-cd /work/main
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 export OPENBLAS_NUM_THREADS=1
 n=runs/bw/nbrdf
 data=data/single.nbds:3000,data/layered2.nbds:1700

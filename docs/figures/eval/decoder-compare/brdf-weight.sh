@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Per-BRDF loss weights (--brdf-weight P) at the equal-compute budget of runs/cmp
 # (medium size, 1,500 steps, same data, seed and schedule, --validation 0).
-cd /work/main
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 export OPENBLAS_NUM_THREADS=1
 n=runs/bw/nbrdf
 data=data/single.nbds:3000,data/layered2.nbds:1700

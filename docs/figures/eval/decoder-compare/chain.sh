@@ -3,7 +3,7 @@
 # bundle, evaluation) on this machine's existing data and a finished decoder run.
 #   bash runs/newtab/run.sh WORK DECODER_RUN "TABLE ARGS"
 set -euo pipefail
-cd /work/main
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 export OPENBLAS_NUM_THREADS=1
 work=$1 run=$2 targs=$3
 nbrdf=$work/nbrdf

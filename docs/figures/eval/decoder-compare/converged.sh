@@ -3,7 +3,7 @@
 # at the medium size, and the small size; one OpenBLAS thread each, niced. The cartesian
 # figures come from `c`: the earlier 5,370-step cartesian run (runs/cmp-cartesian, same
 # settings) copied to runs/conv/cart-resume and resumed to 14,342 steps.
-cd /work/main
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 export OPENBLAS_NUM_THREADS=1
 n=runs/conv/nbrdf
 data=data/single.nbds:3000,data/layered2.nbds:1700

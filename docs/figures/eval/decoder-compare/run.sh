@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Decoder comparison at equal compute: steps x MACs per query = 1500 x 27,072 (the medium
 # preset's 1500 steps); same data, seed, schedule; one OpenBLAS thread each, two at a time.
-cd /work/main
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 export OPENBLAS_NUM_THREADS=1
 n=runs/cmp/nbrdf
 data=data/single.nbds:3000,data/layered2.nbds:1700

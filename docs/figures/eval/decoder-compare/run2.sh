@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The size axis of the equal-compute comparison (run.sh's small and large points, resumed).
-cd /work/main
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 export OPENBLAS_NUM_THREADS=1
 n=runs/cmp/nbrdf
 data=data/single.nbds:3000,data/layered2.nbds:1700

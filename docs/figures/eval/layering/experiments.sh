@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The layering comparison of docs/TRAINING.md ("Layering: latent vs decoded loss"), as run on
+# The layering comparison of docs/notes/2026-11-22-training-experiments.md ("Layering: latent vs decoded loss"), as run on
 # 2026-11-22 with models/default's decoder and tables (data from scripts/train-default.sh).
 # Each run then: nbrdf train bundle (those parts + the run's layering) and
 # nbrdf evaluate --sets layer --count 100 --walks 2000 --cache data/evalcache.

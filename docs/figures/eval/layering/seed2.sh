@@ -2,7 +2,7 @@
 # Seed-to-seed spread of the layering network: models/default's decoder and tables, the
 # layering stages of scripts/train-default.sh with --seed 2, evaluated on layer and layer3.
 set -euo pipefail
-cd /work/main
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 export OPENBLAS_NUM_THREADS=1
 w=runs/seed2 n=runs/seed2/nbrdf
 args=(--loss decoded --preset paper --decoder models/default/decoder.safetensors --tables models/default/base_tables.safetensors --seed 2)
