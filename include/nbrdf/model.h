@@ -135,7 +135,9 @@ nbrdf_status nbrdf_model_proxy_params(const nbrdf_model *model, size_t n, const 
                                       float *sigma, float *w, nbrdf_error *err);
 
 /* The proxy pdf p(ωo | ωi) = (1 − w) p_G + w cos θo / π per unit solid angle
- * (see src/model/proxy.h for p_G, a Gaussian over the projected half vector).
+ * where p_G places the half vector h = normalize(ωi + ωo) by an isotropic 2-D Gaussian of
+ * standard deviation sigma over its projection (h.x, h.y) on the unit disk, truncated to the
+ * disk, converted to solid angle by the half-vector Jacobian (docs/SAMPLING_AND_COST.md).
  * 0 when either direction is at or below the horizon. */
 double nbrdf_proxy_pdf(double sigma, double w, const double wi[3], const double wo[3]);
 /* Draws ωo from three uniforms u ∈ [0, 1)³ (u[0] picks the lobe). Returns 1
