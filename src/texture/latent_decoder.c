@@ -29,6 +29,33 @@ nbrdf_status nbrdf_latent_reader_model(const nbrdf_latent_reader *r, const nbrdf
   return NBRDF_ERR_FORMAT;
 }
 
+nbrdf_status nbrdf_latent_reader_check_decoder(const nbrdf_latent_reader *r, char *about,
+                                               size_t about_size, nbrdf_error *err) {
+  if (about && about_size) about[0] = '\0';
+  size_t size = 0;
+  const void *bytes = nbrdf_latent_reader_decoder(r, &size);
+  if (!bytes) return NBRDF_OK;
+  const char *path = nbrdf_latent_reader_path(r);
+  char label[4200];
+  snprintf(label, sizeof label, "%s: embedded decoder (%s)", path, NBRDF_ATTR_DECODER);
+  nbrdf_st_reader *st_r = NULL;
+  model_decoder *dec = NULL;
+  nbrdf_status st = nbrdf_st_open_memory(bytes, size, label, &st_r, err);
+  if (st == NBRDF_OK) st = model_decoder_read(st_r, &dec, err);
+  nbrdf_st_close(st_r);
+  int dim = nbrdf_latent_reader_info(r)->layout.latent_dim;
+  if (st == NBRDF_OK && dec->cfg.latent_dim != dim)
+    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: decodes latents of %d floats, the texture's have %d",
+                    label, dec->cfg.latent_dim, dim);
+  if (st == NBRDF_OK && about && about_size)
+    snprintf(about, about_size, "%s, %s output, %lld multiply-adds per query", dec->cfg.preset,
+             model_output_name(dec->cfg.output), (long long)model_decoder_macs(dec));
+  model_decoder_destroy(dec);
+  if (st == NBRDF_OK || st == NBRDF_ERR_MEMORY) return st;
+  if (err) err->status = NBRDF_ERR_FORMAT;
+  return NBRDF_ERR_FORMAT;
+}
+
 nbrdf_status nbrdf_model_for_texture(const nbrdf_model *bundle, const char *texture_path,
                                      nbrdf_model **out, nbrdf_error *err) {
   if (!bundle || !texture_path || !out)

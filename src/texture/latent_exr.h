@@ -172,6 +172,12 @@ const void *nbrdf_latent_reader_decoder(const nbrdf_latent_reader *r, size_t *si
 nbrdf_status nbrdf_latent_reader_model(const nbrdf_latent_reader *r, const nbrdf_model *bundle,
                                        nbrdf_model **out, nbrdf_error *err);
 
+/* Parses the texture's own decoder, if it has one, and checks that it decodes
+ * latents of the texture's size: what a reader with a bundle would refuse.
+ * `about` (may be NULL) receives a one-line description ("" without one). */
+nbrdf_status nbrdf_latent_reader_check_decoder(const nbrdf_latent_reader *r, char *about,
+                                               size_t about_size, nbrdf_error *err);
+
 /* NBRDF_ERR_MISMATCH unless the texture was baked with this model. */
 nbrdf_status nbrdf_latent_check_model(const nbrdf_latent_info *info, const char *path,
                                       const char *model_name, const char *model_checksum,
