@@ -167,9 +167,45 @@ class NBRDF_PT_shader_editor(bpy.types.Panel):
 classes = (NBRDF_PT_material, NBRDF_PT_output, NBRDF_PT_shader_editor)
 
 
+# Blender draws a region's panels of equal bl_order in registration order, and the built-in
+# ones register before any add-on: ours would come last. Re-registering the material
+# Settings panel and those under it (each after its children were taken off) puts ours above
+# Settings, below Surface and Volume, where the bake's inputs are.
+_BELOW = ("EEVEE_MATERIAL_PT_settings", "CYCLES_MATERIAL_PT_settings", "MATERIAL_PT_lineart",
+          "EEVEE_MATERIAL_PT_viewport_settings", "MATERIAL_PT_viewport")
+
+
+def _move_below_ours():
+    for name in _BELOW:
+        cls = getattr(bpy.types, name, None)
+        if cls is None or not isinstance(cls, type):
+            continue
+        children = [c for c in _registered_panels() if getattr(c, "bl_parent_id", "") == name]
+        try:
+            for c in children:
+                bpy.utils.unregister_class(c)
+            bpy.utils.unregister_class(cls)
+            bpy.utils.register_class(cls)
+            for c in children:
+                bpy.utils.register_class(c)
+        except (RuntimeError, ValueError) as e:  # never fail the add-on over panel order
+            print("nbrdf: could not move panel %s below the bake panel: %s" % (name, e))
+
+
+def _registered_panels():
+    out, todo = [], list(bpy.types.Panel.__subclasses__())
+    while todo:
+        c = todo.pop()
+        todo += c.__subclasses__()
+        if getattr(c, "is_registered", False):
+            out.append(c)
+    return out
+
+
 def register():
     for c in classes:
         bpy.utils.register_class(c)
+    _move_below_ours()
 
 
 def unregister():
