@@ -7,6 +7,9 @@ node; render engine and samples): what the user sees after the bake is what was 
 """
 
 import bpy
+import numpy as np
+
+UNBAKED = -1.0  # never a valid parameter (the bake refuses negative values)
 
 
 class UVBakeError(Exception):
@@ -34,8 +37,9 @@ def _active_output(tree):
     raise UVBakeError("the material has no Material Output node")
 
 
-def bake_socket(context, obj, material, socket, name, width, height):
-    """A new float image (Non-Color, width x height) holding what `socket` receives."""
+def bake_socket(context, obj, material, socket, name, width, height, fill=True):
+    """A new float image (Non-Color, width x height) holding what `socket` receives; texels
+    outside the UV islands hold the mean of the others (fill), or UNBAKED."""
     check_object(obj, material)
     if not socket.is_linked:
         raise UVBakeError("%s is not linked to a node" % socket.name)
@@ -45,6 +49,10 @@ def bake_socket(context, obj, material, socket, name, width, height):
     before = [l.from_socket for l in surface.links]
     image = bpy.data.images.new(name, width, height, alpha=False, float_buffer=True)
     image.colorspace_settings.name = "Non-Color"
+    # Texels outside every UV island (and its margin) are not baked: marked here, filled
+    # after the bake with the mean of the baked ones, so they neither read as 0 (a roughness
+    # the model clamps, with a warning) nor stand out in the texture's mips.
+    image.pixels.foreach_set(np.full(width * height * 4, UNBAKED, np.float32))
     scene = context.scene
     saved = (scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising,
              scene.render.bake.use_selected_to_active, tree.nodes.active,
@@ -67,10 +75,12 @@ def bake_socket(context, obj, material, socket, name, width, height):
         obj.select_set(True)
         try:
             with context.temp_override(object=obj, active_object=obj, selected_objects=[obj]):
-                bpy.ops.object.bake(type="EMIT", margin=2, use_clear=True)
+                bpy.ops.object.bake(type="EMIT", margin=4, use_clear=False)
         except RuntimeError as e:
             raise UVBakeError("Blender's bake of %s over '%s' failed: %s"
                               % (socket.name, obj.name, str(e).strip())) from e
+        if fill:
+            _fill_unbaked(image)
     except BaseException:
         bpy.data.images.remove(image)
         raise
@@ -85,3 +95,15 @@ def bake_socket(context, obj, material, socket, name, width, height):
         context.view_layer.objects.active = active_obj
         obj.select_set(selected)
     return image
+
+
+def _fill_unbaked(image):
+    px = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(px)
+    px = px.reshape(-1, 4)
+    unbaked = (px[:, :3] == UNBAKED).all(axis=1)
+    if unbaked.all():
+        raise UVBakeError("the bake of '%s' covered no texel (is the UV map empty?)" % image.name)
+    if unbaked.any():
+        px[unbaked, :3] = px[~unbaked, :3].mean(axis=0)
+        image.pixels.foreach_set(px.ravel())

@@ -142,17 +142,23 @@ mat.node_tree.links.new(coord.outputs["UV"], sep.inputs["Vector"])
 mat.node_tree.links.new(sep.outputs["X"], bsdf.inputs["Roughness"])
 n_nodes = len(mat.node_tree.nodes)
 start = time.monotonic()
-baked = uv_bake.bake_socket(bpy.context, cube, mat, bsdf.inputs["Roughness"], "uv test", 32, 32)
-print("uv bake of 32x32: %.2f s" % (time.monotonic() - start))
-px = np.empty(32 * 32 * 4, np.float32)
+baked = uv_bake.bake_socket(bpy.context, cube, mat, bsdf.inputs["Roughness"], "uv test", 128, 128,
+                            fill=False)
+print("uv bake of 128x128: %.2f s" % (time.monotonic() - start))
+px = np.empty(128 * 128 * 4, np.float32)
 baked.pixels.foreach_get(px)
-px = px.reshape(32, 32, 4)
-u = (np.arange(32) + 0.5) / 32
-covered = px[..., 0] > 0.0
+px = px.reshape(128, 128, 4)
+u = (np.arange(128) + 0.5) / 128  # margins (4 texels) are a small share at 128
+covered = px[..., 0] != uv_bake.UNBAKED
 err = np.abs(px[..., 0] - u[None, :])[covered]
 t.check("UV bake covers texels (%d)" % covered.sum(), covered.sum() > 200)
 t.check("UV bake holds u: median error %.4f" % (np.median(err) if err.size else -1),
         err.size and np.median(err) < 0.02)
+uv_bake._fill_unbaked(baked)
+baked.pixels.foreach_get(px.ravel())
+t.check("texels outside the islands filled with the mean: [%.3f, %.3f]"
+        % (px[..., :3].min(), px[..., :3].max()), 0.0 <= px[..., :3].min()
+        and np.allclose(px[..., 0][~covered], px[..., 0][covered].mean(), atol=1e-5))
 t.check("node tree restored", len(mat.node_tree.nodes) == n_nodes
         and bsdf.outputs["BSDF"].is_linked)
 t.check("render engine restored", bpy.context.scene.render.engine == "BLENDER_EEVEE")
