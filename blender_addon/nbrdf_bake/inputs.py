@@ -56,6 +56,9 @@ def resolve_sources(context, material, settings):
                 raise SetupError("%s: choose an image or switch it to a value" % p.label)
             specs[p.key] = ("image", image)
         elif src == "MATERIAL":
+            if p.key in ("alpha1", "alpha2") and settings.roughness != "PERCEPTUAL":
+                raise SetupError("%s comes from the material, whose roughness is Blender's "
+                                 "perceptual r: set Roughness to Perceptual (Blender)" % p.label)
             if reading is None:
                 try:
                     reading, general = material_inputs.read(material)

@@ -154,7 +154,8 @@ class Session:
                 v.result.get("texels", 0))
         elif v is not None:
             info = None
-            notes.append("verify not finished: " + (v.message or v.state))
+            notes.append("verify cancelled" if v.state == "cancelled"
+                         else "verify failed: " + (v.message or v.state))
         else:
             info = None
         if self.preview is not None and self.preview.state != "done":

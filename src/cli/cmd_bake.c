@@ -25,7 +25,7 @@ void cmd_bake_usage(FILE *out) {
                "or '0.8,0.5,0.2' for RGB; decimal, no hex/inf/nan) or an existing image file\n"
                "(grey or RGB, either optionally with alpha, which is ignored: colour under\n"
                "alpha 0 is read as stored; a regular file, at most 65536x65536; all maps one\n"
-               "size). Write './0.5' for a file named like a number.\n"
+               "size, or --resample). Write './0.5' for a file named like a number.\n"
                "The texture is mono when every input is grey, else RGB (one BRDF per channel).\n"
                "\n"
                "inputs (shared with 'nbrdf verify'):\n");

@@ -129,6 +129,15 @@ t.check("typed value in the report: %s" % message, message and
         "alpha2 (constant) = 3 (perceptual roughness r; alpha = r^2 = 9) is outside the "
         "model's trained range: r in" in message)
 s.alpha2_source, s.range_policy = "MATERIAL", "CLAMP"
+# The material's roughness is perceptual: the GGX Alpha convention is refused for it.
+s.roughness = "ALPHA"
+try:
+    bpy.ops.nbrdf.bake_latent(material=mat.name)
+    message = None
+except RuntimeError as e:
+    message = str(e)
+t.check("material roughness needs Perceptual: %s" % message, message and "Perceptual" in message)
+s.roughness = "PERCEPTUAL"
 
 # 4. Bake Through UV Map on the default cube: the Roughness input comes from the UV's u
 # coordinate (Separate XYZ of Texture Coordinate UV); the baked image holds u per texel.
