@@ -50,12 +50,7 @@ def resolve_sources(context, material, settings):
     reading = None
     for p in PARAMS:
         src = getattr(settings, p.key + "_source")
-        if src == "IMAGE":
-            image = getattr(settings, p.key + "_image")
-            if image is None:
-                raise SetupError("%s: choose an image or switch it to a value" % p.label)
-            specs[p.key] = ("image", image)
-        elif src == "MATERIAL":
+        if src == "MATERIAL":
             if p.key in ("alpha1", "alpha2") and settings.roughness != "PERCEPTUAL":
                 raise SetupError("%s comes from the material, whose roughness is Blender's "
                                  "perceptual r: set Roughness to Perceptual (Blender)" % p.label)
@@ -69,7 +64,7 @@ def resolve_sources(context, material, settings):
             notes += ["%s: %s" % (p.label, n) for n in r.notes]
             specs[p.key] = (r.kind, r.value if r.kind != "procedural" else r)
         else:
-            specs[p.key] = ("value", _values(getattr(settings, p.key + "_value")))
+            specs[p.key] = _own_spec(settings, p)
     procedural = [(k, v[1]) for k, v in specs.items() if v[0] == "procedural"]
     if procedural and not settings.bake_uv:
         k, r = procedural[0]
