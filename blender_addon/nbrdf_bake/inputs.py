@@ -13,7 +13,7 @@ import re
 import bpy
 import numpy as np
 
-from . import image_files
+from . import image_files, material_inputs, uv_bake
 from .params import PARAMS, constant, number
 
 
@@ -39,29 +39,122 @@ def output_path(settings, material_name):
     return os.path.normpath(path)
 
 
-def build_argv(nbrdf, bundle, settings, material_name, workdir):
-    """Returns (argv, output); writes the images that have no usable file into workdir."""
-    output = output_path(settings, material_name)
-    argv = [nbrdf, "bake", "--progress=json", "--bundle", bundle]
+def resolve_sources(context, material, settings):
+    """{key: ("value", floats) | ("image", Image)} for the six parameters, the notes to
+    report, and the images made here (UV bakes, removed by the caller after the bake).
+
+    Sources: Value, Image, or From Material (the Principled BSDF, principled.py); an input
+    that is neither a constant nor an Image Texture node is baked through the active UV map
+    when Bake Through UV Map is on, else refused naming the socket."""
+    specs, notes, made = {}, [], []
+    reading = None
     for p in PARAMS:
-        image = getattr(settings, p.key + "_image")
-        if getattr(settings, p.key + "_source") == "IMAGE":
-            if image is None:
-                raise SetupError("%s: choose an image or switch it to a value" % p.label)
-            argv += [p.flag, image_file(image, p.key, workdir)]
+        src = getattr(settings, p.key + "_source")
+        if src == "MATERIAL":
+            if p.key in ("alpha1", "alpha2") and settings.roughness != "PERCEPTUAL":
+                raise SetupError("%s comes from the material, whose roughness is Blender's "
+                                 "perceptual r: set Roughness to Perceptual (Blender)" % p.label)
+            if reading is None:
+                try:
+                    reading, general = material_inputs.read(material)
+                except material_inputs.MaterialError as e:
+                    raise SetupError(str(e)) from e
+                notes += general
+            r = reading[p.key]
+            notes += ["%s: %s" % (p.label, n) for n in r.notes]
+            specs[p.key] = (r.kind, r.value if r.kind != "procedural" else r)
+        else:
+            specs[p.key] = _own_spec(settings, p)
+    procedural = [(k, v[1]) for k, v in specs.items() if v[0] == "procedural"]
+    if procedural and not settings.bake_uv:
+        k, r = procedural[0]
+        raise SetupError("%s: the material's '%s' input comes from a '%s' node: turn on Bake "
+                         "Through UV Map, link an Image Texture, or set it by hand"
+                         % (_label(k), r.socket, r.value.links[0].from_node.name))
+    if procedural:
+        w, h = output_size(settings, [v[1] for v in specs.values() if v[0] == "image"])
+        obj = getattr(context, "object", None) or context.view_layer.objects.active
+        try:
+            for k, r in procedural:
+                image = uv_bake.bake_socket(context, obj, material, r.value,
+                                            "nbrdf %s %s" % (material.name, k), w, h)
+                made.append(image)
+                specs[k] = ("image", image)
+        except uv_bake.UVBakeError as e:
+            for im in made:
+                bpy.data.images.remove(im)
+            raise SetupError(str(e)) from e
+    return specs, notes, made
+
+
+def _label(key):
+    return next(p.label for p in PARAMS if p.key == key)
+
+
+def output_size(settings, images):
+    """The texture's size: the chosen size, or (Auto) the largest image among the inputs,
+    and the chosen size when every input is a constant or procedural."""
+    if settings.size_mode == "CUSTOM" or not images:
+        return tuple(settings.size)
+    return (max(im.size[0] for im in images), max(im.size[1] for im in images))
+
+
+def param_argv(settings, specs, workdir):
+    """The inputs' arguments, shared by `nbrdf bake` and `nbrdf verify`, and the map sizes."""
+    argv, sizes = [], []
+    for p in PARAMS:
+        kind, value = specs[p.key]
+        if kind == "image":
+            argv += [p.flag, image_file(value, p.key, workdir)]
+            sizes.append(tuple(value.size))
             if p.colour:
-                space = _colour_space(settings.colour_maps, image, p.label)
+                space = _colour_space(settings.colour_maps, value, p.label)
                 argv += ["--%s-colourspace" % p.key, space]
         else:
-            argv += [p.flag, constant(_values(getattr(settings, p.key + "_value")))]
+            argv += [p.flag, constant(value)]
     argv += ["--eta-range", ",".join(number(v) for v in settings.eta_range),
              "--sigma-t-range", ",".join(number(v) for v in settings.sigma_t_range),
-             "--roughness", ROUGHNESS[settings.roughness],
-             "--range", settings.range_policy.lower(),
+             "--roughness", ROUGHNESS[settings.roughness]]
+    return argv, sizes
+
+
+def size_argv(settings, sizes, images):
+    """--size (and --resample bilinear where a map's size differs, when allowed)."""
+    w, h = output_size(settings, images)
+    argv = []
+    if not sizes or settings.size_mode == "CUSTOM" or any(sz != (w, h) for sz in sizes):
+        argv += ["--size", "%dx%d" % (w, h)]
+    if settings.resample and any(sz != (w, h) for sz in sizes):
+        argv += ["--resample", "bilinear"]
+    return argv
+
+
+def build_argv(nbrdf, bundle, settings, material_name, workdir, specs=None):
+    """Returns (argv, output, inputs argv); writes the images that have no usable file into
+    workdir. `specs` from resolve_sources (default: the panel's values and images)."""
+    output = output_path(settings, material_name)
+    if specs is None:
+        specs = {p.key: _own_spec(settings, p) for p in PARAMS}
+    params, sizes = param_argv(settings, specs, workdir)
+    size = size_argv(settings, sizes, [v for k, v in specs.values() if k == "image"])
+    # verify sizes the maps to the texture itself; it needs only the resampling flag
+    params += [a for a in size if a in ("--resample", "bilinear")]
+    argv = [nbrdf, "bake", "--progress=json", "--bundle", bundle] + params
+    argv += [a for a in size if a not in ("--resample", "bilinear")]
+    argv += ["--range", settings.range_policy.lower(),
              "--half" if settings.storage == "HALF" else "--float",
              "--mip-levels", "full" if settings.mip_levels == "FULL" else "1",
              "--tile", str(settings.tile), "-o", output]
-    return argv, output
+    return argv, output, params
+
+
+def _own_spec(settings, p):
+    if getattr(settings, p.key + "_source") == "IMAGE":
+        image = getattr(settings, p.key + "_image")
+        if image is None:
+            raise SetupError("%s: choose an image or switch it to a value" % p.label)
+        return ("image", image)
+    return ("value", _values(getattr(settings, p.key + "_value")))
 
 
 def _values(v):

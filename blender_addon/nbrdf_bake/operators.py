@@ -3,6 +3,7 @@
 import bpy
 from bpy.props import StringProperty
 
+from . import material_inputs, principled
 from .inputs import SetupError
 from .session import Session
 
@@ -122,6 +123,42 @@ class NBRDF_OT_cancel_bake(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class NBRDF_OT_use_material(bpy.types.Operator):
+    """Read the coat roughness, coat IOR, base roughness and base reflectance from the
+    material's Principled BSDF (each can still be set by hand afterwards)"""
+    bl_idname = "nbrdf.use_material"
+    bl_label = "Use Material"
+    bl_options = {"REGISTER", "UNDO"}
+
+    material: StringProperty(name="Material", options={"SKIP_SAVE"},
+                             description="Material (default: the active one)")
+
+    @classmethod
+    def poll(cls, context):
+        return running_session() is None
+
+    def execute(self, context):
+        mat = _material(context, self.material)
+        if mat is None:
+            self.report({"ERROR"}, "nbrdf: no material")
+            return {"CANCELLED"}
+        try:
+            reading, notes = material_inputs.read(mat)
+        except material_inputs.MaterialError as e:
+            self.report({"ERROR"}, "nbrdf: %s" % e)
+            return {"CANCELLED"}
+        s = mat.nbrdf_bake
+        for key in principled.mapped_keys():
+            setattr(s, key + "_source", "MATERIAL")
+            notes += [n for n in reading[key].notes]
+        if any(r.kind == "procedural" for r in reading.values()) and not s.bake_uv:
+            notes.append("procedural inputs need Bake Through UV Map")
+        self.report({"WARNING"} if notes else {"INFO"},
+                    "nbrdf: %s reads its Principled BSDF%s" % (
+                        mat.name, ("; " + "; ".join(notes)) if notes else ""))
+        return {"FINISHED"}
+
+
 def _redraw(context):
     for window in context.window_manager.windows:
         for area in window.screen.areas:
@@ -129,7 +166,7 @@ def _redraw(context):
                 area.tag_redraw()
 
 
-classes = (NBRDF_OT_bake_latent, NBRDF_OT_cancel_bake)
+classes = (NBRDF_OT_bake_latent, NBRDF_OT_cancel_bake, NBRDF_OT_use_material)
 
 
 def register():

@@ -5,24 +5,55 @@ import textwrap
 
 import bpy
 
-from . import operators, preferences
+from . import material_inputs, operators, preferences
 from .params import PARAMS
 
 
-def draw_parameters(layout, s):
+def draw_parameters(layout, s, material=None):
+    row = layout.row()
+    row.operator("nbrdf.use_material", icon="MATERIAL")
+    reading = _reading(material) if any(
+        getattr(s, p.key + "_source") == "MATERIAL" for p in PARAMS) else None
     for p in PARAMS:
         row = layout.row(align=True)
         row.label(text=p.label)
         row.prop(s, p.key + "_source", expand=True)
-        if getattr(s, p.key + "_source") == "IMAGE":
+        source = getattr(s, p.key + "_source")
+        if source == "IMAGE":
             layout.template_ID(s, p.key + "_image", new="image.new", open="image.open")
+        elif source == "MATERIAL":
+            layout.label(text=_describe(reading, p.key), icon="NODE")
         else:
             layout.prop(s, p.key + "_value", text="")
     layout.separator()
     col = layout.column()
     col.use_property_split = True
-    for name in ("roughness", "colour_maps", "eta_range", "sigma_t_range", "range_policy"):
+    for name in ("roughness", "colour_maps", "eta_range", "sigma_t_range", "range_policy",
+                 "size_mode"):
         col.prop(s, name)
+    sub = col.column()
+    sub.prop(s, "size")
+    col.prop(s, "resample")
+    col.prop(s, "bake_uv")
+    col.prop(s, "verify")
+
+
+def _reading(material):
+    try:
+        return material_inputs.read(material)[0]
+    except (material_inputs.MaterialError, AttributeError) as e:
+        return str(e)
+
+
+def _describe(reading, key):
+    if isinstance(reading, str) or reading is None:
+        return reading or "no material"
+    r = reading[key]
+    if r.kind == "value":
+        return "%s: %s" % (r.socket, ", ".join("%.3g" % v for v in r.value))
+    if r.kind == "image":
+        return "%s: image %s" % (r.socket, r.value.name)
+    return "%s: node %s (Bake Through UV Map)" % (r.socket, r.value.links[0].from_node.name)
 
 
 def draw_output(layout, s):
@@ -43,7 +74,8 @@ def draw_bake(layout, context, s):
         if session.cancelling:
             box.label(text="Cancelling %s …" % session.material_name, icon="CANCEL")
             return
-        doing = "Baking" if session.stage == "bake" else "Rendering a preview of"
+        doing = {"bake": "Baking", "verify": "Verifying",
+                 "preview": "Rendering a preview of"}[session.stage]
         box.label(text="%s %s: %.0f %%" % (doing, session.material_name,
                                            100.0 * session.progress), icon="TIME")
         box.operator("nbrdf.cancel_bake", icon="CANCEL")
@@ -55,10 +87,22 @@ def draw_bake(layout, context, s):
     row.scale_y = 1.4
     row.enabled = problem is None
     row.operator("nbrdf.bake_latent", icon="RENDER_STILL")
-    if s.result is not None:
-        layout.label(text="Result: " + s.result.name, icon="IMAGE_DATA")
-    if s.preview_image is not None:
-        layout.label(text="Preview: " + s.preview_image.name, icon="SHADING_RENDERED")
+    draw_results(layout, s)
+
+
+def draw_results(layout, s):
+    if s.result is None:
+        return
+    box = layout.box()
+    box.label(text="Latent texture: " + s.result.name, icon="IMAGE_DATA")
+    if s.verify_texels:
+        box.label(text="Verify (%d texels): median lobe error %.1f %%, worst %.1f %%"
+                  % (s.verify_texels, s.verify_median, s.verify_worst), icon="CHECKMARK")
+    im = s.preview_image
+    if im is not None:
+        im.preview_ensure()
+        box.label(text="Preview render", icon="SHADING_RENDERED")
+        box.template_icon(icon_value=im.preview.icon_id, scale=6.0)
 
 
 def label_wrapped(layout, context, text, icon):
@@ -84,7 +128,7 @@ class NBRDF_PT_material(bpy.types.Panel):
 
     def draw(self, context):
         s = context.material.nbrdf_bake
-        draw_parameters(self.layout, s)
+        draw_parameters(self.layout, s, context.material)
         draw_bake(self.layout, context, s)
 
 
@@ -114,7 +158,7 @@ class NBRDF_PT_shader_editor(bpy.types.Panel):
 
     def draw(self, context):
         s = context.material.nbrdf_bake
-        draw_parameters(self.layout, s)
+        draw_parameters(self.layout, s, context.material)
         self.layout.separator()
         draw_output(self.layout, s)
         draw_bake(self.layout, context, s)
@@ -123,9 +167,45 @@ class NBRDF_PT_shader_editor(bpy.types.Panel):
 classes = (NBRDF_PT_material, NBRDF_PT_output, NBRDF_PT_shader_editor)
 
 
+# Blender draws a region's panels of equal bl_order in registration order, and the built-in
+# ones register before any add-on: ours would come last. Re-registering the material
+# Settings panel and those under it (each after its children were taken off) puts ours above
+# Settings, below Surface and Volume, where the bake's inputs are.
+_BELOW = ("EEVEE_MATERIAL_PT_settings", "CYCLES_MATERIAL_PT_settings", "MATERIAL_PT_lineart",
+          "EEVEE_MATERIAL_PT_viewport_settings", "MATERIAL_PT_viewport")
+
+
+def _move_below_ours():
+    for name in _BELOW:
+        cls = getattr(bpy.types, name, None)
+        if cls is None or not isinstance(cls, type):
+            continue
+        children = [c for c in _registered_panels() if getattr(c, "bl_parent_id", "") == name]
+        try:
+            for c in children:
+                bpy.utils.unregister_class(c)
+            bpy.utils.unregister_class(cls)
+            bpy.utils.register_class(cls)
+            for c in children:
+                bpy.utils.register_class(c)
+        except (RuntimeError, ValueError) as e:  # never fail the add-on over panel order
+            print("nbrdf: could not move panel %s below the bake panel: %s" % (name, e))
+
+
+def _registered_panels():
+    out, todo = [], list(bpy.types.Panel.__subclasses__())
+    while todo:
+        c = todo.pop()
+        todo += c.__subclasses__()
+        if getattr(c, "is_registered", False):
+            out.append(c)
+    return out
+
+
 def register():
     for c in classes:
         bpy.utils.register_class(c)
+    _move_below_ours()
 
 
 def unregister():

@@ -2,8 +2,10 @@
 
 import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty,
-                       IntProperty, PointerProperty, StringProperty)
+                       IntProperty, IntVectorProperty, PointerProperty,
+                       StringProperty)
 
+from . import principled
 from .params import PARAMS
 
 
@@ -11,10 +13,13 @@ def _param_annotations():
     """For each parameter: <key>_source (value or image), <key>_image, <key>_value."""
     ann = {}
     for p in PARAMS:
-        ann[p.key + "_source"] = EnumProperty(
-            name=p.label + " Source", items=[("VALUE", "Value", "A constant"),
-                                             ("IMAGE", "Image", "An image datablock")],
-            default="VALUE")
+        items = [("VALUE", "Value", "A constant"), ("IMAGE", "Image", "An image datablock")]
+        if p.key in principled.mapped_keys():
+            items.append(("MATERIAL", "Material",
+                          "From the material's Principled BSDF (docs/BLENDER.md, \"From the "
+                          "material\"): its value or the Image Texture linked to it"))
+        ann[p.key + "_source"] = EnumProperty(name=p.label + " Source", items=items,
+                                              default="VALUE")
         ann[p.key + "_image"] = PointerProperty(
             name=p.label + " Image", type=bpy.types.Image,
             description=p.description + ". Any image: on disk, packed or generated")
@@ -55,6 +60,32 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
             name="Out of Range", default="CLAMP",
             items=[("CLAMP", "Clamp", "Clamp to the model's trained range, with a warning"),
                    ("REFUSE", "Refuse", "Stop, naming the image and texel")]),
+        size_mode=EnumProperty(
+            name="Resolution", default="AUTO",
+            items=[("AUTO", "Largest Map", "The largest input image's size; the Size below "
+                                           "when every input is a constant or procedural"),
+                   ("CUSTOM", "Custom", "The Size below")]),
+        size=IntVectorProperty(name="Size", size=2, default=(256, 256), min=1, max=65536,
+                               description="Width and height of the latent texture in texels"),
+        resample=BoolProperty(
+            name="Resample Maps", default=True,
+            description="Maps of another size than the texture are resampled bilinearly "
+                        "(nbrdf bake --resample bilinear); off: such a bake is refused"),
+        bake_uv=BoolProperty(
+            name="Bake Through UV Map", default=False,
+            description="Inputs from the material that come from nodes other than an Image "
+                        "Texture are baked to images over the active object's UV map with "
+                        "Cycles (EMIT) first"),
+        verify=BoolProperty(
+            name="Verify", default=False,
+            description="After the bake, check 16 texels against the physics (nbrdf verify "
+                        "--texels 16 --spp 16: about half a CPU-second per distinct texel) "
+                        "and show the lobe error"),
+        verify_median=FloatProperty(name="Median Lobe Error", default=-1.0,
+                                    description="Median lobe error (%) of the last verify"),
+        verify_worst=FloatProperty(name="Worst Lobe Error", default=-1.0,
+                                   description="Worst lobe error (%) of the last verify"),
+        verify_texels=IntProperty(name="Verified Texels", default=0),
         output=StringProperty(
             name="Output", subtype="FILE_PATH", default="//latent/{material}.exr",
             description="Latent texture to write ({material}: the material's name; // is "

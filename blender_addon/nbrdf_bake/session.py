@@ -17,16 +17,27 @@ from . import inputs, preferences
 from .process import BakeProcess
 
 
+NODE_NAME = "nbrdf latent texture"
+VERIFY_TEXELS = 16
+VERIFY_SPP = 16  # walks per lobe image and run: ~0.5 CPU-s per distinct texel, a rough figure
+
+
 class Session:
-    def __init__(self, material_name, bake, workdir, preview_argv):
+    def __init__(self, material_name, bake, workdir, verify_argv, preview_argv, notes, made):
         self.material_name = material_name
         self.bake = bake
+        self.verify = None
         self.preview = None
         self.process = bake  # the one running now
         self.workdir = workdir
+        self.verify_argv = verify_argv
         self.preview_argv = preview_argv
+        self.notes = notes  # from reading the material
+        self.made = made  # images of the UV bake, removed at the end
         self.image = None
         self.preview_image = None
+        self.node = None
+        self._stopped = False
 
     @classmethod
     def start(cls, context, material):
@@ -35,15 +46,23 @@ class Session:
         if problem:
             raise inputs.SetupError(problem)
         settings = material.nbrdf_bake
+        specs, notes, made = inputs.resolve_sources(context, material, settings)
         workdir = tempfile.mkdtemp(prefix="nbrdf-bake-", dir=bpy.app.tempdir or None)
         try:
-            argv, output = inputs.build_argv(exe, bundle, settings, material.name, workdir)
+            argv, output, params = inputs.build_argv(exe, bundle, settings, material.name,
+                                                     workdir, specs)
             os.makedirs(os.path.dirname(output), exist_ok=True)
         except (inputs.SetupError, OSError) as e:
             shutil.rmtree(workdir, ignore_errors=True)
+            _remove_images(made)
             if isinstance(e, OSError):
                 raise inputs.SetupError("cannot prepare the bake: %s" % e) from e
             raise
+        verify_argv = None
+        if settings.verify:
+            verify_argv = [exe, "verify", output] + params + [
+                "--bundle", bundle, "--texels", str(VERIFY_TEXELS), "--spp", str(VERIFY_SPP),
+                "--json", os.path.join(workdir, "verify.json"), "--progress=json"]
         preview_argv = None
         if settings.preview and has_render(exe):
             size = str(settings.preview_size)
@@ -51,7 +70,7 @@ class Session:
                             "--width", size, "--height", size, "--spp",
                             str(settings.preview_spp), "--progress=json"]
         bake = BakeProcess(argv, output, cwd=workdir)
-        session = cls(material.name, bake, workdir, preview_argv)
+        session = cls(material.name, bake, workdir, verify_argv, preview_argv, notes, made)
         if not bake.start():
             session._cleanup()
             raise inputs.SetupError(bake.message)
@@ -59,7 +78,9 @@ class Session:
 
     @property
     def stage(self):
-        return "preview" if self.process is self.preview else "bake"
+        if self.process is self.preview:
+            return "preview"
+        return "verify" if self.process is self.verify else "bake"
 
     @property
     def progress(self):
@@ -75,13 +96,29 @@ class Session:
             return True
         material = bpy.data.materials.get(self.material_name)
         if self.process is self.bake:
-            self._cleanup()
             if self.bake.state != "done":
+                self._cleanup()
                 return False
             self.image = load_result(self.bake.output)
             if material is not None:
                 material.nbrdf_bake.result = self.image
-            if self.preview_argv:
+                self.node = add_image_node(material, self.image)
+                material.nbrdf_bake.verify_texels = 0
+            if self.verify_argv and not self._stopped:
+                self.verify = BakeProcess(self.verify_argv, self.verify_argv[-2],
+                                          cwd=self.workdir)
+                self.process = self.verify
+                if self.verify.start():
+                    return True
+        elif self.process is self.verify and self.verify.state == "done" and material:
+            r = self.verify.result
+            s = material.nbrdf_bake
+            s.verify_median = float(r.get("median_pct", -1.0))
+            s.verify_worst = float(r.get("worst_pct", -1.0))
+            s.verify_texels = int(r.get("texels", 0))
+        if self.process is not self.preview:
+            self._cleanup()
+            if self.preview_argv and not self._stopped:
                 self.preview = BakeProcess(self.preview_argv, preview_path(self.bake.output))
                 self.process = self.preview
                 return self.preview.start()
@@ -98,6 +135,7 @@ class Session:
         return self.bake.state
 
     def cancel(self):
+        self._stopped = True
         self.process.cancel()
 
     def report(self):
@@ -108,15 +146,55 @@ class Session:
         if b.state != "done":
             return "ERROR", "nbrdf bake failed: " + b.message
         r = b.result
-        notes = list(b.warnings)
+        notes = list(self.notes) + list(b.warnings)
+        v = self.verify
+        if v is not None and v.state == "done" and v.result:
+            info = "verify: median lobe error %.1f %%, worst %.1f %% (%d texels)" % (
+                v.result.get("median_pct", -1), v.result.get("worst_pct", -1),
+                v.result.get("texels", 0))
+        elif v is not None:
+            info = None
+            notes.append("verify cancelled" if v.state == "cancelled"
+                         else "verify failed: " + (v.message or v.state))
+        else:
+            info = None
         if self.preview is not None and self.preview.state != "done":
             notes.append("preview not rendered: " + self.preview.message)
         text = "nbrdf: baked %s (%s x %s, %s)" % (b.output, r.get("width"), r.get("height"),
                                                   "rgb" if r.get("channels") == 3 else "mono")
-        return ("WARNING" if notes else "INFO"), "; ".join([text] + notes)
+        return ("WARNING" if notes else "INFO"), "; ".join([text] + ([info] if info else [])
+                                                           + notes)
 
     def _cleanup(self):
         shutil.rmtree(self.workdir, ignore_errors=True)
+        _remove_images(self.made)
+        self.made = []
+
+
+def _remove_images(images):
+    for im in images:
+        try:
+            bpy.data.images.remove(im)
+        except (ReferenceError, RuntimeError):
+            pass
+
+
+def add_image_node(material, image):
+    """An Image Texture node showing the latent texture, labelled and not connected, so the
+    texture travels with the .blend; reused on the next bake."""
+    if not material.use_nodes or material.node_tree is None:
+        return None
+    nodes = material.node_tree.nodes
+    node = nodes.get(NODE_NAME)
+    if node is None or node.type != "TEX_IMAGE":
+        node = nodes.new("ShaderNodeTexImage")
+        node.name = NODE_NAME
+        xs = [n.location.x for n in nodes if n is not node] or [0.0]
+        ys = [n.location.y for n in nodes if n is not node] or [0.0]
+        node.location = (min(xs) - 320.0, max(ys) + 60.0)
+    node.label = NODE_NAME
+    node.image = image
+    return node
 
 
 def preview_path(output):

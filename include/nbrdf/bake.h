@@ -68,22 +68,32 @@ typedef struct nbrdf_bake_param {
 #define NBRDF_BAKE_PARAM_DEFAULT                                                                   \
   { NULL, {0.0f, 0.0f, 0.0f}, 1, NULL, 0, 0.0f, 1.0f }
 
-/* Maps of different sizes: an error naming both (NONE), or every map
- * enlarged bilinearly to the largest width and the largest height among
- * them (BILINEAR; texel centres aligned, edges clamped). */
+/* Maps of different sizes, or maps whose size is not the asked output size
+ * (nbrdf_bake_inputs.width/height): an error naming both (NONE), or every map
+ * resampled bilinearly (BILINEAR; texel centres aligned, edges clamped) to
+ * the output size, or when none is asked to the largest width and the
+ * largest height among them. Bilinear is not a box filter: reducing a map
+ * by more than 2x skips texels. */
 typedef enum nbrdf_resample { NBRDF_RESAMPLE_NONE = 0, NBRDF_RESAMPLE_BILINEAR = 1 } nbrdf_resample;
 
 typedef struct nbrdf_bake_inputs {
   nbrdf_bake_param param[NBRDF_BAKE_PARAM_COUNT]; /* indexed by nbrdf_bake_param_id */
   const char *ocio_config; /* colour spaces of maps are looked up here; NULL: $OCIO */
   nbrdf_resample resample;
+  /* Output size of level 0 in texels, 1..NBRDF_BAKE_SIZE_MAX each; 0 x 0:
+   * the maps' size (1 x 1 when every input is a constant). With maps of
+   * another size, resample must be BILINEAR (else an error saying so). */
+  int width, height;
 } nbrdf_bake_inputs;
+
+/* The largest width and height of a latent texture. */
+#define NBRDF_BAKE_SIZE_MAX 65536
 
 #define NBRDF_BAKE_INPUTS_DEFAULT                                                                  \
   {                                                                                                \
     {NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT,                 \
      NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT, NBRDF_BAKE_PARAM_DEFAULT},                \
-        NULL, NBRDF_RESAMPLE_NONE                                                                  \
+        NULL, NBRDF_RESAMPLE_NONE, 0, 0                                                            \
   }
 
 /* Sets a grey constant. */
@@ -167,7 +177,7 @@ typedef struct nbrdf_bake_options {
 
 /* What a finished bake did (optional output of nbrdf_bake). */
 typedef struct nbrdf_bake_report {
-  int width, height;   /* level 0 (1 x 1 when every input is a constant) */
+  int width, height;   /* level 0 */
   int colour_channels; /* 1 (mono) or 3 (RGB) */
   size_t brdfs;        /* texels x colour channels */
   size_t evaluated;    /* tuples evaluated by the networks (distinct per band, summed) */
@@ -176,8 +186,9 @@ typedef struct nbrdf_bake_report {
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one
- * size (the error names the two that differ); every input is a constant:
- * a 1 x 1 texture. The texture is mono when every source has one channel,
+ * size (the error names the two that differ) unless resampled; the output
+ * is inputs->width x height when given, else the maps' size, else (every
+ * input a constant) 1 x 1. The texture is mono when every source has one channel,
  * else RGB (each channel its own BRDF; a grey source serves all three).
  * `options` NULL means defaults; `report` may be NULL. */
 nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *inputs,

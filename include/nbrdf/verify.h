@@ -118,8 +118,10 @@ typedef struct nbrdf_verify_report {
 
 /* Verifies `texture` against `inputs` with `model`. `options` NULL means
  * defaults. On success *report is the caller's (free it with
- * nbrdf_verify_report_free). The maps must have the texture's size, and
- * their colour channels its colour mode; constants fit any texture. */
+ * nbrdf_verify_report_free). The maps must have the texture's size, or be
+ * resampled to it as the bake did (inputs->resample BILINEAR; width/height
+ * 0 means the texture's size), and their colour channels its colour mode;
+ * constants fit any texture. */
 nbrdf_status nbrdf_verify(const nbrdf_model *model, const char *texture,
                           const nbrdf_bake_inputs *inputs, const nbrdf_verify_options *options,
                           nbrdf_verify_report **report, nbrdf_error *err);

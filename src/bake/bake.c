@@ -10,15 +10,15 @@
 
 #include "bake/bake_band.h"
 #include "core/error.h"
-#include "core/progress.h"
 #include "core/number.h"
+#include "core/progress.h"
 #include "texture/latent_exr.h"
 
 /* Texels per band: big enough that the networks run on full batches, small
  * enough that band buffers stay far below the writer's tile rows. */
 #define BAND_TEXELS 65536
 /* The largest width and height of a latent texture (latent_exr_write.c). */
-#define TEXTURE_SIZE_MAX 65536
+#define TEXTURE_SIZE_MAX NBRDF_BAKE_SIZE_MAX
 
 static const char *const param_names[NBRDF_BAKE_PARAM_COUNT] = {"alpha1", "eta",    "alpha2",
                                                                 "r0",     "albedo", "sigma_t"};
@@ -126,12 +126,15 @@ static int writer_tick(void *user) {
 #define WRITE_ROWS 8
 
 static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
-                        const nbrdf_bake_options *o, const char *out_path, nbrdf_bake_report *rep,
-                        nbrdf_error *err) {
+                        const nbrdf_bake_inputs *in, const nbrdf_bake_options *o,
+                        const char *out_path, nbrdf_bake_report *rep, nbrdf_error *err) {
   int W, H;
   nbrdf_status st = nbrdf_param_sources_common_size(src, NBRDF_BAKE_PARAM_COUNT, &W, &H, err);
   if (st != NBRDF_OK) return st;
-  if (W == 0) W = H = 1;
+  if (W == 0) { /* every input a constant */
+    W = in->width ? in->width : 1;
+    H = in->height ? in->height : 1;
+  }
   /* The texture's limit (latent_exr_write.c), refused here so that the
    * message names the map that is too large rather than the output. */
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT && (W > TEXTURE_SIZE_MAX || H > TEXTURE_SIZE_MAX);
@@ -271,7 +274,7 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
   if (report) memset(report, 0, sizeof *report);
   nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   nbrdf_status st = bake_open_sources(inputs, src, err);
-  if (st == NBRDF_OK) st = run(model, src, &o, out_path, report, err);
+  if (st == NBRDF_OK) st = run(model, src, inputs, &o, out_path, report, err);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     nbrdf_param_source_free(src[id]);
   return st;

@@ -84,12 +84,13 @@ static void where(const bake_band *b, int id, int x, int y, int c, char *buf, si
  * under the clamp policy, clamps it (bake_tuple.h, shared with eval). */
 static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, int c,
                                 nbrdf_error *err) {
+  const float typed = *v;
   bake_verdict verdict = bake_value_prepare(b->lo, b->hi, id, b->roughness, b->range, v);
   if (verdict == BAKE_VALUE_CLAMPED) b->clamped[id]++;
   if (verdict <= BAKE_VALUE_CLAMPED) return NBRDF_OK;
   char at[600];
   where(b, id, x, y, c, at, sizeof at);
-  return bake_value_fail(verdict, b->lo, b->hi, id, at, *v, err);
+  return bake_value_fail(verdict, b->lo, b->hi, id, b->roughness, at, typed, err);
 }
 
 static uint64_t tuple_hash(const bake_tuple *t) {

@@ -44,15 +44,30 @@ bake_verdict bake_value_prepare_read(const float *lo, const float *hi, int id,
 }
 
 nbrdf_status bake_value_fail(bake_verdict verdict, const float *lo, const float *hi, int id,
-                             const char *at, float value, nbrdf_error *err) {
+                             nbrdf_roughness roughness, const char *at, float typed,
+                             nbrdf_error *err) {
+  if (roughness == NBRDF_ROUGHNESS_PERCEPTUAL &&
+      (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2)) {
+    double a = (double)typed * (double)typed;
+    if (verdict == BAKE_VALUE_INVALID)
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                        "%s = %g (perceptual roughness r; alpha = r^2 = %g) is not a finite "
+                        "value >= 0",
+                        at, (double)typed, a);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "%s = %g (perceptual roughness r; alpha = r^2 = %g) is outside the "
+                      "model's trained range: r in [%g, %g] (alpha in [%g, %g])",
+                      at, (double)typed, a, sqrt((double)lo[id]), sqrt((double)hi[id]),
+                      (double)lo[id], (double)hi[id]);
+  }
   if (verdict == BAKE_VALUE_INVALID)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is not a finite value >= 0", at,
-                      (double)value);
+                      (double)typed);
   if (verdict == BAKE_VALUE_UNPHYSICAL)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is above 1 (not physical)", at,
-                      (double)value);
+                      (double)typed);
   return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                    "%s = %g is outside the model's trained range [%g, %g]", at, (double)value,
+                    "%s = %g is outside the model's trained range [%g, %g]", at, (double)typed,
                     (double)lo[id], (double)hi[id]);
 }
 

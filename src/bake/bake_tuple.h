@@ -45,10 +45,14 @@ bake_verdict bake_value_prepare_read(const float *lo, const float *hi, int id,
                                      nbrdf_roughness roughness, nbrdf_range_policy range, float *v,
                                      float *read);
 
-/* The error of a refused verdict: "<at> = <value> is ...", status
- * NBRDF_ERR_ARGUMENT. `value` is the value after the roughness convention. */
+/* The error of a refused verdict: "<at> = <typed> is ...", status
+ * NBRDF_ERR_ARGUMENT. `typed` is the value as the user wrote it; under the
+ * perceptual convention alpha1 and alpha2 are shown as typed, with alpha =
+ * r^2 and the range in r beside them, so the message never shows a number
+ * the user did not write without saying where it came from. */
 nbrdf_status bake_value_fail(bake_verdict verdict, const float *lo, const float *hi, int id,
-                             const char *at, float value, nbrdf_error *err);
+                             nbrdf_roughness roughness, const char *at, float typed,
+                             nbrdf_error *err);
 
 /* 2^bits levels over the trained range (nbrdf_bake_options.quantise_bits). */
 float bake_value_quantise(const float *lo, const float *hi, int id, int bits, float v);

@@ -33,8 +33,9 @@ void cli_params_usage(FILE *out) {
                "  --eta-range LO,HI     8/16-bit eta maps: [0,1] -> [LO,HI] (default 1,2)\n"
                "  --sigma-t-range LO,HI 8/16-bit sigma_t maps: [0,1] -> [LO,HI] (default 0,5)\n"
                "  --resample none|bilinear\n"
-               "                        maps of different sizes: an error (default), or each\n"
-               "                        enlarged bilinearly to the largest width and height\n");
+               "                        maps of different sizes (or not the output size):\n"
+               "                        an error (default), or each resampled bilinearly to\n"
+               "                        the output size, else the largest width and height\n");
 }
 
 static int parse_range(const char *text, nbrdf_bake_param *p) {

@@ -25,7 +25,7 @@ void cmd_bake_usage(FILE *out) {
                "or '0.8,0.5,0.2' for RGB; decimal, no hex/inf/nan) or an existing image file\n"
                "(grey or RGB, either optionally with alpha, which is ignored: colour under\n"
                "alpha 0 is read as stored; a regular file, at most 65536x65536; all maps one\n"
-               "size). Write './0.5' for a file named like a number.\n"
+               "size, or --resample). Write './0.5' for a file named like a number.\n"
                "The texture is mono when every input is grey, else RGB (one BRDF per channel).\n"
                "\n"
                "inputs (shared with 'nbrdf verify'):\n");
@@ -38,6 +38,9 @@ void cmd_bake_usage(FILE *out) {
       "  --half | --float      latent storage (default half)\n"
       "  --mip-levels full|1   the full mip chain (default) or level 0 only\n"
       "  --tile N              tile edge in texels (default 64)\n"
+      "  --size WxH            output size (1..65536 each; default: the maps' size, or\n"
+      "                        1x1 when every input is a constant); maps of another\n"
+      "                        size need --resample bilinear\n"
       "  --compression zip|piz|rle|none\n"
       "                        lossless EXR compression (default zip: smallest; rle or\n"
       "                        none write faster, see docs/BAKE.md)\n"
@@ -82,6 +85,24 @@ static void on_warning(void *user, const char *message) {
   fprintf(stderr, "nbrdf bake: warning: %s\n", message);
 }
 
+/* "WxH" or "N" (square), each 1..NBRDF_BAKE_SIZE_MAX. */
+static int parse_size(const char *text, int *w, int *h) {
+  char a[64], *x;
+  long lw, lh;
+  if (strlen(text) >= sizeof a) return 0;
+  snprintf(a, sizeof a, "%s", text);
+  x = strchr(a, 'x');
+  if (!x) x = strchr(a, 'X');
+  if (x) *x = '\0';
+  if (!cli_parse_int(a, 1, NBRDF_BAKE_SIZE_MAX, &lw)) return 0;
+  if (!x)
+    lh = lw;
+  else if (!cli_parse_int(x + 1, 1, NBRDF_BAKE_SIZE_MAX, &lh))
+    return 0;
+  *w = (int)lw, *h = (int)lh;
+  return 1;
+}
+
 int cmd_bake(int argc, char **argv) {
   cli_params params;
   cli_params_init(&params);
@@ -114,6 +135,13 @@ int cmd_bake(int argc, char **argv) {
       if (!cli_parse_int(v, 8, 1024, &t))
         return cli_usage_error("bake", "--tile needs an integer in [8, 1024], not '%s'", v);
       opts.tile_size = (int)t, i++;
+    } else if (!strcmp(a, "--size") && v) {
+      if (!parse_size(v, &params.in.width, &params.in.height))
+        return cli_usage_error("bake",
+                               "--size needs WxH (or N for NxN), each an integer in [1, %d], "
+                               "not '%s'",
+                               NBRDF_BAKE_SIZE_MAX, v);
+      i++;
     } else if (!strcmp(a, "--compression") && v) {
       static const char *const names[] = {"zip", "piz", "rle", "none"};
       int k = 0;

@@ -38,7 +38,7 @@ static int prepare_row(const eval_neural_options *o, const float *lo, const floa
       char at[160];
       nbrdf_error err = {0};
       snprintf(at, sizeof at, "line %zu, column '%s'", line, columns[c]);
-      bake_value_fail(verdict, lo, hi, id, at, read, &err);
+      bake_value_fail(verdict, lo, hi, id, o->roughness, at, (float)v[c], &err);
       return cli_fail_error("eval", &err);
     }
     if (verdict == BAKE_VALUE_CLAMPED) {

@@ -121,10 +121,9 @@ nbrdf_status nbrdf_param_source_resample(nbrdf_param_source *s, int width, int h
                                          nbrdf_error *err) {
   if (!s->map) return NBRDF_OK;
   const nbrdf_param_map_info *in = nbrdf_param_map_get_info(s->map);
-  if (width < in->width || height < in->height)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s: %s is %dx%d; bilinear resampling only enlarges (to %dx%d asked)",
-                      s->name, nbrdf_param_map_path(s->map), in->width, in->height, width, height);
+  if (width < 1 || height < 1)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %s: cannot resample to %dx%d", s->name,
+                      nbrdf_param_map_path(s->map), width, height);
   s->tw = width == in->width && height == in->height ? 0 : width;
   s->th = s->tw ? height : 0;
   s->cy0 = s->cy1 = 0;

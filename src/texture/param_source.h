@@ -40,8 +40,9 @@ nbrdf_status nbrdf_param_source_parse(const char *name, const char *arg,
 
 int nbrdf_param_source_is_constant(const nbrdf_param_source *s);
 int nbrdf_param_source_channels(const nbrdf_param_source *s);
-/* Resamples a map bilinearly to width x height (at least its own size;
- * texel centres aligned, edges clamped) as it is read; a constant ignores
+/* Resamples a map bilinearly to width x height (larger or smaller: a
+ * point-sampled bilinear, no box filter; texel centres aligned, edges
+ * clamped) as it is read; a constant ignores
  * it. The source rows are still validated as read, and a band needs only the
  * source rows under it, so memory still grows with the width. */
 nbrdf_status nbrdf_param_source_resample(nbrdf_param_source *s, int width, int height,

@@ -9,9 +9,9 @@
 #include "bake/bake_sources.h"
 #include "core/error.h"
 #include "core/progress.h"
-#include "verify/verify_internal.h"
 #include "texture/latent_exr.h"
 #include "texture/mip_chain.h"
+#include "verify/verify_internal.h"
 
 typedef struct verify_run {
   const nbrdf_model *model;
@@ -69,7 +69,12 @@ static nbrdf_status open_texture(verify_run *v, nbrdf_error *err) {
   return NBRDF_OK;
 }
 
-static nbrdf_status open_inputs(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error *err) {
+static nbrdf_status open_inputs(verify_run *v, const nbrdf_bake_inputs *inputs, nbrdf_error *err) {
+  /* The maps are sized as the bake sized them: to the texture's size (a bake
+   * with an output size resampled them to it, and then so must this). */
+  nbrdf_bake_inputs sized = *inputs;
+  const nbrdf_bake_inputs *in = &sized;
+  if (!sized.width) sized.width = v->info->width, sized.height = v->info->height;
   nbrdf_status st = bake_open_sources(in, v->src, err);
   if (st != NBRDF_OK) return st;
   int w, h;

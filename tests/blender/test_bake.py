@@ -128,9 +128,11 @@ a = oiio.ImageBuf(out).get_pixels(oiio.FLOAT)
 b = oiio.ImageBuf(os.path.join(work, "packed.exr")).get_pixels(oiio.FLOAT)
 t.check("packed: same latents", a is not None and b is not None and np.array_equal(a, b))
 
-# 4. Maps of two sizes: the CLI's error reaches Blender's report; no file, no temporaries.
+# 4. Maps of two sizes with Resample Maps off: the CLI's error (which names the option)
+# reaches Blender's report; no file, no temporaries.
 s.sigma_t_image = generated("small", rgba(np.full((8, 8, 1), 0.5, np.float32)), True)
 s.output = os.path.join(work, "mismatch.exr")
+s.resample = False
 try:
     bpy.ops.nbrdf.bake_latent(material=mat.name)
     message = None
@@ -140,6 +142,15 @@ t.check("mismatch reported as an error: %s" % message,
         message is not None and "nbrdf bake failed" in message and "sigma_t_small.exr" in message)
 t.check("mismatch: no file", not os.path.exists(os.path.join(work, "mismatch.exr")))
 t.check("mismatch: no temporaries", not t.temporaries(work) and t.bake_temp_dirs() == before)
+t.check("mismatch: the message says --resample bilinear", message and "--resample bilinear" in message)
+# With it on (the default), the small map is resampled to the largest map's size.
+s.resample = True
+s.output = os.path.join(work, "resampled.exr")
+t.check("resampled: finished", bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
+spec = oiio.ImageInput.open(s.output).spec()
+t.check("resampled to the largest map: %dx%d" % (spec.width, spec.height),
+        (spec.width, spec.height) == (W, H))
+s.resample = False
 
 # A usage error's whole text reaches the report: its cause, not only the hint to --help.
 small = s.sigma_t_image

@@ -1,0 +1,109 @@
+"""Bakes one node input of a material to an image over the object's active UV map, with
+Blender's own Cycles EMIT bake, so procedural inputs can go to `nbrdf bake`.
+
+The node tree and the scene are changed only for the bake and restored afterwards (a
+temporary Emission shader on the active Material Output, a temporary active Image Texture
+node; render engine and samples): what the user sees after the bake is what was there before.
+"""
+
+import bpy
+import numpy as np
+
+UNBAKED = -1.0  # never a valid parameter (the bake refuses negative values)
+
+
+class UVBakeError(Exception):
+    pass
+
+
+def check_object(obj, material):
+    if obj is None or obj.type != "MESH":
+        raise UVBakeError("Bake Through UV Map needs an active mesh object using material '%s'"
+                          % material.name)
+    if material.name not in [s.material.name for s in obj.material_slots if s.material]:
+        raise UVBakeError("object '%s' does not use material '%s' (Bake Through UV Map bakes "
+                          "over the active object)" % (obj.name, material.name))
+    if not obj.data.uv_layers:
+        raise UVBakeError("object '%s' has no UV map (Bake Through UV Map needs one)" % obj.name)
+
+
+def _active_output(tree):
+    for n in tree.nodes:
+        if n.type == "OUTPUT_MATERIAL" and n.is_active_output:
+            return n
+    for n in tree.nodes:
+        if n.type == "OUTPUT_MATERIAL":
+            return n
+    raise UVBakeError("the material has no Material Output node")
+
+
+def bake_socket(context, obj, material, socket, name, width, height, fill=True):
+    """A new float image (Non-Color, width x height) holding what `socket` receives; texels
+    outside the UV islands hold the mean of the others (fill), or UNBAKED."""
+    check_object(obj, material)
+    if not socket.is_linked:
+        raise UVBakeError("%s is not linked to a node" % socket.name)
+    tree = material.node_tree
+    out = _active_output(tree)
+    surface = out.inputs["Surface"]
+    before = [l.from_socket for l in surface.links]
+    image = bpy.data.images.new(name, width, height, alpha=False, float_buffer=True)
+    image.colorspace_settings.name = "Non-Color"
+    # Texels outside every UV island (and its margin) are not baked: marked here, filled
+    # after the bake with the mean of the baked ones, so they neither read as 0 (a roughness
+    # the model clamps, with a warning) nor stand out in the texture's mips.
+    image.pixels.foreach_set(np.full(width * height * 4, UNBAKED, np.float32))
+    scene = context.scene
+    saved = (scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising,
+             scene.render.bake.use_selected_to_active, tree.nodes.active,
+             context.view_layer.objects.active, obj.select_get())
+    emit = tree.nodes.new("ShaderNodeEmission")
+    tex = tree.nodes.new("ShaderNodeTexImage")
+    try:
+        emit.inputs["Strength"].default_value = 1.0
+        tree.links.new(socket.links[0].from_socket, emit.inputs["Color"])
+        tree.links.new(emit.outputs["Emission"], surface)
+        tex.image = image
+        tree.nodes.active = tex
+        scene.render.engine = "CYCLES"
+        scene.cycles.samples = 1  # emission needs no light paths; one sample per texel
+        # A Blender built without OpenImageDenoiser (Debian's 3.4) bakes black while
+        # denoising is on; a bake of values needs no denoising anyway.
+        scene.cycles.use_denoising = False
+        scene.render.bake.use_selected_to_active = False
+        context.view_layer.objects.active = obj
+        obj.select_set(True)
+        try:
+            with context.temp_override(object=obj, active_object=obj, selected_objects=[obj]):
+                bpy.ops.object.bake(type="EMIT", margin=4, use_clear=False)
+        except RuntimeError as e:
+            raise UVBakeError("Blender's bake of %s over '%s' failed: %s"
+                              % (socket.name, obj.name, str(e).strip())) from e
+        if fill:
+            _fill_unbaked(image)
+    except BaseException:
+        bpy.data.images.remove(image)
+        raise
+    finally:
+        tree.nodes.remove(emit)
+        tree.nodes.remove(tex)
+        for s in before:
+            tree.links.new(s, surface)
+        (scene.render.engine, scene.cycles.samples, scene.cycles.use_denoising,
+         scene.render.bake.use_selected_to_active, active_node, active_obj, selected) = saved
+        tree.nodes.active = active_node
+        context.view_layer.objects.active = active_obj
+        obj.select_set(selected)
+    return image
+
+
+def _fill_unbaked(image):
+    px = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(px)
+    px = px.reshape(-1, 4)
+    unbaked = (px[:, :3] == UNBAKED).all(axis=1)
+    if unbaked.all():
+        raise UVBakeError("the bake of '%s' covered no texel (is the UV map empty?)" % image.name)
+    if unbaked.any():
+        px[unbaked, :3] = px[~unbaked, :3].mean(axis=0)
+        image.pixels.foreach_set(px.ravel())
