@@ -9,16 +9,6 @@
 #include "core/rng.h"
 #include "train/run_log.h"
 
-nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
-                                      float *latents, nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(checkpoint, &r, err);
-  int64_t shape[1] = {(int64_t)(n_brdfs * (size_t)dim)};
-  if (!st) st = nbrdf_st_expect_copy(r, "latents", 1, shape, latents, err);
-  nbrdf_st_close(r);
-  return st;
-}
-
 /* Mean squared error over pairs [lo, lo + m) in the order `idx`; with
  * `backward`, accumulates the gradient into grad. */
 static nbrdf_status batch_loss(model_layering *net, model_runner *run, const layering_pairs *p,

@@ -23,6 +23,7 @@
 #include "model/decoder.h"
 #include "model/layering.h"
 #include "model/loss.h"
+#include "train/checkpoint.h"
 #include "train/layering_pairs.h"
 #include "train/samples.h"
 
@@ -82,10 +83,6 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
                                          model_loss_kind loss, const train_samples *data,
                                          const layering_pairs *pairs, double *mean,
                                          nbrdf_error *err);
-
-/* Loads a decoder run's latents (its checkpoint) for the data it was trained on. */
-nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
-                                      float *latents, nbrdf_error *err);
 
 /* The network's latent for every pair (recursive for three layers), out
  * [p->n × D]: what a bake computes for those parameters. */

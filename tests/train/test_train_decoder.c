@@ -74,11 +74,6 @@ static float *load_params(const char *path, size_t *n) {
   return p;
 }
 
-static int stop_at_40(void *user, const char *stage, double done, double total) {
-  (void)user, (void)stage, (void)total;
-  return done >= 40;
-}
-
 static void test_loss_falls_and_resume_is_exact(void) {
   const char *data[1] = {path_of("c.nbds")};
   make_data(data[0], 3);
@@ -90,14 +85,14 @@ static void test_loss_falls_and_resume_is_exact(void) {
   double first = first_logged_loss(path_of("run_a/log.csv"));
   CHECK_MSG(r.train_loss < 0.5 * first, "loss %g -> %g: did not halve", first, r.train_loss);
 
-  /* The same run, stopped at step 40 by its progress callback, then resumed. */
+  /* The same run, stopped at step 40 (the trainer's stop limit), then resumed. */
   s = tiny(data, path_of("run_b"), 120);
-  s.progress = stop_at_40;
+  s.stop_at_step = 40;
   CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_CANCELLED, &err, "resume");
   CHECK(r.steps_done == 40);
-  s.progress = NULL;
+  s.stop_at_step = 0;
   CHECK_OK(train_decoder_run(&s, &r, &err), &err);
-  CHECK(r.resumed_from == 40 && r.steps_done == 120);
+  CHECK(r.resumed_from == 40 && r.steps_done == 120 && !r.legacy_resume);
   size_t na = 0, nb = 0;
   float *a = load_params(path_of("run_a/decoder.safetensors"), &na);
   float *b = load_params(path_of("run_b/decoder.safetensors"), &nb);
@@ -105,11 +100,15 @@ static void test_loss_falls_and_resume_is_exact(void) {
   if (a && b && na == nb) CHECK_MSG(!memcmp(a, b, na * sizeof *a), "resumed weights differ");
   free(a), free(b);
 
+  /* Another setting is refused, naming it and both values. */
+  s = tiny(data, path_of("run_b"), 130);
+  s.lr_latent *= 2;
+  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_MISMATCH, &err, "lr-latent = 0.02");
   /* A checkpoint made from other data is refused, naming the data. */
   const char *other[1] = {path_of("d.nbds")};
   make_data(other[0], 4);
   s = tiny(other, path_of("run_b"), 130);
-  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_MISMATCH, &err, "data sets");
+  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_MISMATCH, &err, "data = ");
 }
 
 /* --brdf-weight: the weighted run still learns, ends elsewhere than the
