@@ -14,6 +14,13 @@ void train_checkpoint_data_key(const train_samples *data, char *out, size_t size
     at += (size_t)snprintf(out + at, size - at, "%s%016" PRIx64, i ? "," : "", data->checksums[i]);
 }
 
+uint64_t train_hash_floats(uint64_t h, const float *x, size_t n) {
+  const unsigned char *b = (const unsigned char *)x;
+  for (size_t i = 0; i < n * sizeof(float); i++)
+    h = (h ^ b[i]) * UINT64_C(0x100000001b3);
+  return h;
+}
+
 static nbrdf_status add(nbrdf_st_writer *w, const char *name, size_t n, const float *x,
                         nbrdf_error *err) {
   int64_t shape[1] = {(int64_t)n};

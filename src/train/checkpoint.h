@@ -15,6 +15,12 @@
  * order), for checkpoints to refuse other data. */
 void train_checkpoint_data_key(const train_samples *data, char *out, size_t size);
 
+/* FNV-1a of an array's bytes, continuing from h (start: TRAIN_HASH_START):
+ * the inputs a run was made from (decoder weights, tables, target latents)
+ * as an option, so that a resume with other inputs is refused. */
+#define TRAIN_HASH_START UINT64_C(0xcbf29ce484222325)
+uint64_t train_hash_floats(uint64_t h, const float *x, size_t n);
+
 typedef struct train_checkpoint_parts {
   const char *format, *options;
   const trainer_group *groups;

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "train/checkpoint.h"
 #include "train/dataset.h"
 #include "train/projection.h"
 #include "train/samples.h"
@@ -44,16 +45,6 @@ static train_params *table_params(const model_base_table *t) {
   return p;
 }
 
-/* FNV-1a of the decoder's weights: a checkpoint of another decoder is refused. */
-static uint64_t weights_hash(const model_decoder *dec) {
-  const unsigned char *b = (const unsigned char *)nbrdf_nn_params_const(dec->nn);
-  size_t n = nbrdf_nn_param_count(dec->nn) * sizeof(float);
-  uint64_t h = 0xcbf29ce484222325u;
-  for (size_t i = 0; i < n; i++)
-    h = (h ^ b[i]) * 0x100000001b3u;
-  return h;
-}
-
 /* Both tables in one trainer run: each keeps its own fit and Adam group, so
  * the latents equal those of two separate projections. */
 static nbrdf_status fit_tables(model_decoder *dec, const train_table_settings *s,
@@ -78,7 +69,9 @@ static nbrdf_status fit_tables(model_decoder *dec, const train_table_settings *s
                  s->eta_nodes, s->r0_nodes);
   trainer_option(options, sizeof options, "warps", "eta %.9g, r0 %.9g", s->eta_warp, s->r0_warp);
   trainer_option(options, sizeof options, "decoder weights", "%016llx",
-                 (unsigned long long)weights_hash(dec));
+                 (unsigned long long)train_hash_floats(TRAIN_HASH_START,
+                                                       nbrdf_nn_params_const(dec->nn),
+                                                       nbrdf_nn_param_count(dec->nn)));
   trainer_options to = TRAINER_OPTIONS_DEFAULT;
   to.format = "nbrdf-train-tables-checkpoint";
   to.options = options;

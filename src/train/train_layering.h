@@ -89,6 +89,9 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
                                          const layering_pairs *pairs, double *mean,
                                          nbrdf_error *err);
 
+/* A hash of both tables' axes and latents (checkpoint options). */
+uint64_t train_layering_tables_hash(const model_base_table tables[2]);
+
 /* The network's latent for every pair (recursive for three layers), out
  * [p->n × D]: what a bake computes for those parameters. */
 nbrdf_status train_layering_pair_latents(const model_layering *net, const layering_pairs *p,

@@ -24,6 +24,7 @@ typedef struct decoded_run {
   float *grad;
   const layering_pairs *train, *val;
   size_t *idx;
+  uint64_t tables_hash;
   int64_t steps_per_epoch;
   int shuffled; /* the epoch idx holds, -1 none */
   double sum;   /* loss · rows of the epoch so far (since the start of this invocation) */
@@ -82,6 +83,11 @@ static void run_options(const decoded_run *t, char *out, size_t size) {
   trainer_option(out, size, "seed", "%llu", (unsigned long long)s->seed);
   trainer_option(out, size, "loss", "%s", model_loss_name(s->loss));
   trainer_option(out, size, "data", "%s", data);
+  trainer_option(out, size, "decoder weights", "%016llx",
+                 (unsigned long long)train_hash_floats(TRAIN_HASH_START,
+                                                       nbrdf_nn_params_const(t->dec->nn),
+                                                       nbrdf_nn_param_count(t->dec->nn)));
+  trainer_option(out, size, "tables", "%016llx", (unsigned long long)t->tables_hash);
 }
 
 static void shuffle(size_t *idx, size_t n, uint64_t seed, int epoch) {
@@ -168,6 +174,7 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
   decoded_run t = {.data = data, .dec = dec, .s = s, .train = &train, .val = &val, .r = r};
   t.steps_per_epoch = (int64_t)((train.n + B - 1) / B);
   t.shuffled = -1;
+  t.tables_hash = train_layering_tables_hash(tables);
   t.idx = malloc(train.n * sizeof *t.idx);
   char options[4096];
   if (!t.idx) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
