@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/rng.h"
+#include "train/epoch_shuffle.h"
 #include "train/trainer.h"
 
 /* Mean squared error over pairs [lo, lo + m) in the order `idx`; with
@@ -65,9 +66,7 @@ uint64_t train_layering_tables_hash(const model_base_table tables[2]) {
   return h;
 }
 
-/* The latent-loss run: its shuffles come from one generator carried across
- * epochs, so the checkpoint keeps the generator's state before the current
- * epoch's shuffle (words) and a resume inside an epoch shuffles it again. */
+/* The latent-loss run (its shuffles: train/epoch_shuffle.h). */
 typedef struct latent_run {
   model_layering *net;
   model_decoder *dec;
@@ -75,43 +74,22 @@ typedef struct latent_run {
   const train_layering_settings *s;
   const layering_pairs *train, *val;
   model_runner run;
-  size_t *idx, *eval_idx;
+  train_epoch_shuffle shuffle;
+  size_t *eval_idx;
   float *dy, *grad;
   int64_t steps_per_epoch;
-  nbrdf_rng before, after; /* around the shuffle of epoch shuffled − 1 */
-  uint64_t shuffled;       /* epochs shuffled (checkpointed, with `before`) */
-  int valid;               /* idx holds that shuffle (0 after a resume) */
   double sum;
   size_t rows;
   train_layering_result *r;
 } latent_run;
 
-static void shuffle_from(latent_run *t, nbrdf_rng g) {
-  size_t n = t->train->n;
-  for (size_t i = 0; i < n; i++)
-    t->idx[i] = i;
-  for (size_t i = n; i > 1; i--) { /* Fisher–Yates */
-    size_t j = (size_t)(nbrdf_rng_uniform(&g) * (double)i), x = t->idx[i - 1];
-    t->idx[i - 1] = t->idx[j], t->idx[j] = x;
-  }
-  t->after = g;
-  t->valid = 1;
-}
-
 static nbrdf_status latent_gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
   latent_run *t = user;
-  uint64_t epoch = (uint64_t)(step / t->steps_per_epoch);
-  if (!t->valid && t->shuffled > 0) shuffle_from(t, t->before);
-  while (t->shuffled < epoch + 1) {
-    if (t->shuffled > 0) t->before = t->after;
-    shuffle_from(t, t->before);
-    t->shuffled++;
-  }
+  const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
   size_t B = (size_t)t->s->batch, k0 = (size_t)(step % t->steps_per_epoch) * B;
   size_t m = t->train->n - k0 < B ? t->train->n - k0 : B;
   memset(t->grad, 0, nbrdf_nn_param_count(t->net->nn) * sizeof *t->grad);
-  nbrdf_status st =
-      batch_loss(t->net, &t->run, t->train, t->idx + k0, m, t->grad, t->dy, loss, err);
+  nbrdf_status st = batch_loss(t->net, &t->run, t->train, idx + k0, m, t->grad, t->dy, loss, err);
   t->sum += *loss * (double)m, t->rows += m;
   return st;
 }
@@ -173,8 +151,7 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
   latent_run t = {.dec = dec, .data = data, .s = s, .train = &train, .val = &val, .r = r};
   t.steps_per_epoch = (int64_t)((train.n + B - 1) / B);
-  nbrdf_rng_init(&t.before, s->seed, 0x6c61796572u);
-  t.idx = malloc((train.n ? train.n : 1) * sizeof *t.idx);
+  int shuffle_ok = train_epoch_shuffle_init(&t.shuffle, train.n, s->seed, 0x6c61796572u);
   t.eval_idx = malloc((val.n ? val.n : 1) * sizeof *t.eval_idx);
   t.dy = malloc(B * D * sizeof *t.dy);
   char options[4096];
@@ -182,7 +159,7 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   if (!st) st = model_runner_create(t.net->nn, (int)B, NBRDF_NN_TRAIN, &t.run, err);
   if (!st && !(t.grad = malloc(nbrdf_nn_param_count(t.net->nn) * sizeof *t.grad)))
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
-  if (!st && (!t.idx || !t.eval_idx || !t.dy))
+  if (!st && (!shuffle_ok || !t.eval_idx || !t.dy))
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st) {
     latent_options(&t, latents, options, sizeof options);
@@ -195,9 +172,8 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
                        s->lr,
                        s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
                        s->decay_gamma};
-    trainer_word words[3] = {{"shuffle.state", &t.before.state},
-                             {"shuffle.inc", &t.before.inc},
-                             {"shuffled", &t.shuffled}};
+    trainer_word words[3];
+    train_epoch_shuffle_words(&t.shuffle, words);
     trainer_options to = TRAINER_OPTIONS_DEFAULT;
     to.steps = (int64_t)s->epochs * t.steps_per_epoch;
     to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
@@ -219,7 +195,8 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   if (!st && dec && val.n)
     st = train_layering_decoded_loss(NULL, dec, s->loss, data, &val, &r->val_decoded_oracle, err);
   model_runner_destroy(&t.run);
-  free(t.idx), free(t.eval_idx), free(t.dy), free(t.grad);
+  train_epoch_shuffle_free(&t.shuffle);
+  free(t.eval_idx), free(t.dy), free(t.grad);
   layering_pairs_free(&train), layering_pairs_free(&val);
   if (st) {
     model_layering_destroy(t.net);

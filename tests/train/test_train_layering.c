@@ -200,6 +200,19 @@ static void test_layering_chain(void) {
             sr.mean_ce_cosine);
   CHECK_MSG(sr.rms_o < 0.5 * sr1.rms_o, "sampler rms %g -> %g", sr1.rms_o, sr.rms_o);
   model_sampler_destroy(smp1);
+  /* Stopped inside epoch 101 and resumed: the bytes of the run that never stopped. */
+  model_sampler *smp_resumed = NULL;
+  ss.checkpoint = path_of("sampler.ckpt"), ss.stop_at_step = 301;
+  CHECK(train_sampler_fit(dec, d.n_brdfs, lat, &ss, &smp1, &sr1, &err) == NBRDF_ERR_CANCELLED);
+  ss.stop_at_step = 0;
+  CHECK_OK(train_sampler_fit(dec, d.n_brdfs, lat, &ss, &smp_resumed, &sr1, &err), &err);
+  CHECK(sr1.resumed_from == 301);
+  if (smp && smp_resumed)
+    CHECK_MSG(!memcmp(nbrdf_nn_params(smp->nn), nbrdf_nn_params(smp_resumed->nn),
+                      nbrdf_nn_param_count(smp->nn) * sizeof(float)),
+              "a resumed sampler run differs from one that never stopped");
+  model_sampler_destroy(smp_resumed);
+  ss.checkpoint = NULL;
   /* Ctrl-C reaches the network's training inside an epoch, not only at its end. */
   model_sampler *stopped = NULL;
   ss.progress = cancel_inside_epoch_8;
