@@ -132,7 +132,9 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
     if ((o->stop_at_step > 0 && step >= o->stop_at_step) ||
         (o->max_seconds > 0 && now - t.t0 >= o->max_seconds))
       stop = 1;
-    int force = step == o->steps || (o->progress_force > 0 && step % o->progress_force == 0);
+    /* A borrowed ticker's owner reports its own first and last (this run is a part). */
+    int force = !o->ticker && (step == o->steps ||
+                               (o->progress_force > 0 && step % o->progress_force == 0));
     if (nbrdf_ticker_tick(tk, o->stage, o->progress_offset + (double)step / o->progress_unit, total,
                           force))
       stop = 1;
