@@ -42,14 +42,12 @@ typedef struct model_fit_options {
   float lr_latent;   /* learning rate of the latents (for the loop; checked >= 0) */
   float lr_weights;  /* learning rate of the decoder; 0 = decoder frozen (no weight gradient) */
   float latent_l2;   /* prior weight on mean ‖z‖²; 0 = none */
-  int decay_every;   /* for the loop: steps between learning-rate decays (0 = never) */
-  float decay_gamma; /* for the loop: factor per decay */
   uint64_t seed;
   int max_batch; /* rows per GEMM batch */
 } model_fit_options;
 
 #define MODEL_FIT_OPTIONS_DEFAULT                                                                  \
-  { MODEL_LOSS_L1_LOG1P, 256, 1e-2f, 0.0f, 0.0f, 0, 1.0f, 0u, 4096 }
+  { MODEL_LOSS_L1_LOG1P, 256, 1e-2f, 0.0f, 0.0f, 0u, 4096 }
 
 typedef struct model_fit model_fit;
 

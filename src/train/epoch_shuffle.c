@@ -17,14 +17,18 @@ void train_epoch_shuffle_free(train_epoch_shuffle *s) {
   s->idx = NULL;
 }
 
+void train_shuffle_indices(size_t *idx, size_t n, nbrdf_rng *g) {
+  for (size_t i = 0; i < n; i++)
+    idx[i] = i;
+  for (size_t i = n; i > 1; i--) {
+    size_t j = (size_t)(nbrdf_rng_uniform(g) * (double)i), x = idx[i - 1];
+    idx[i - 1] = idx[j], idx[j] = x;
+  }
+}
+
 static void draw(train_epoch_shuffle *s) {
   nbrdf_rng g = s->before;
-  for (size_t i = 0; i < s->n; i++)
-    s->idx[i] = i;
-  for (size_t i = s->n; i > 1; i--) { /* Fisher–Yates */
-    size_t j = (size_t)(nbrdf_rng_uniform(&g) * (double)i), x = s->idx[i - 1];
-    s->idx[i - 1] = s->idx[j], s->idx[j] = x;
-  }
+  train_shuffle_indices(s->idx, s->n, &g);
   s->after = g;
   s->valid = 1;
 }

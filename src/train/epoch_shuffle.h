@@ -20,6 +20,9 @@ typedef struct train_epoch_shuffle {
   int valid;               /* idx holds that shuffle (0 after a resume) */
 } train_epoch_shuffle;
 
+/* idx = a Fisher–Yates shuffle of 0..n−1 drawn from g (advanced). */
+void train_shuffle_indices(size_t *idx, size_t n, nbrdf_rng *g);
+
 /* Allocates idx; the generator starts at (seed, stream). */
 int train_epoch_shuffle_init(train_epoch_shuffle *s, size_t n, uint64_t seed, uint64_t stream);
 void train_epoch_shuffle_free(train_epoch_shuffle *s);

@@ -10,6 +10,7 @@
 #include "core/progress.h"
 #include "core/rng.h"
 #include "train/checkpoint.h"
+#include "train/epoch_shuffle.h"
 #include "train/train_layering.h"
 #include "train/trainer.h"
 
@@ -90,15 +91,11 @@ static void run_options(const decoded_run *t, char *out, size_t size) {
   trainer_option(out, size, "tables", "%016llx", (unsigned long long)t->tables_hash);
 }
 
+/* Each epoch's shuffle from its own stream: a function of the seed and the epoch. */
 static void shuffle(size_t *idx, size_t n, uint64_t seed, int epoch) {
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, seed, 0x6c61796572000000u + (uint64_t)epoch);
-  for (size_t i = 0; i < n; i++)
-    idx[i] = i;
-  for (size_t i = n; i > 1; i--) { /* Fisher–Yates */
-    size_t j = (size_t)(nbrdf_rng_uniform(&rng) * (double)i), x = idx[i - 1];
-    idx[i - 1] = idx[j], idx[j] = x;
-  }
+  train_shuffle_indices(idx, n, &rng);
 }
 
 static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {
