@@ -22,13 +22,10 @@ struct trainer {
 };
 
 void trainer_log(trainer *t, const char *fmt, ...) {
-  if (!t->log.f) return;
   va_list ap;
   va_start(ap, fmt);
-  vfprintf(t->log.f, fmt, ap);
+  run_log_row(&t->log, fmt, ap);
   va_end(ap);
-  fputc('\n', t->log.f);
-  fflush(t->log.f);
 }
 
 double trainer_seconds(const trainer *t) { return nbrdf_monotonic_seconds() - t->t0; }
