@@ -118,7 +118,8 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
   if (!o->ticker) nbrdf_ticker_init(&own, o->progress, o->user, o->cancel);
   double total = o->progress_total > 0 ? o->progress_total : (double)o->steps / o->progress_unit;
   double last_ckpt = t.t0;
-  int stop = 0;
+  /* A stop step the checkpoint already passed stops at once (nothing to save). */
+  int stop = o->stop_at_step > 0 && step >= o->stop_at_step;
   while (!st && step < o->steps && !stop) {
     double loss = 0.0;
     st = fit->gradient(fit->user, step, &loss, err);
@@ -130,8 +131,8 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
         (o->max_seconds > 0 && now - t.t0 >= o->max_seconds))
       stop = 1;
     /* A borrowed ticker's owner reports its own first and last (this run is a part). */
-    int force = !o->ticker && (step == o->steps ||
-                               (o->progress_force > 0 && step % o->progress_force == 0));
+    int force = !o->ticker &&
+                (step == o->steps || (o->progress_force > 0 && step % o->progress_force == 0));
     if (nbrdf_ticker_tick(tk, o->stage, o->progress_offset + (double)step / o->progress_unit, total,
                           force))
       stop = 1;

@@ -80,7 +80,7 @@ typedef struct trainer_options {
   int64_t stop_at_step;        /* stop (checkpointed) once this many are done; 0 = none */
   double max_seconds;          /* stop (checkpointed) after this long; 0 = no limit */
   const char *checkpoint;      /* NULL: in memory only (no checkpoint, no resume) */
-  double checkpoint_seconds;   /* at most this long between checkpoints (<= 0: only at the end) */
+  double checkpoint_seconds;   /* at most this long between checkpoints (<= 0: at every boundary) */
   int64_t checkpoint_boundary; /* time-based checkpoints only after multiples of this (>= 1) */
   const char *format;          /* nbrdf.format of the checkpoint */
   const char *options;         /* nbrdf.options: "key=value\n"... */

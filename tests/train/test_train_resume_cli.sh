@@ -2,7 +2,8 @@
 # Every `nbrdf train` fit runs in one trainer (src/train/trainer.h): stopped
 # with --stop-at-step and resumed by the same command, each ends with the bytes
 # of a run that never stopped; a checkpoint refuses another setting, naming it
-# and both values. (The library-level resume tests: test_train_decoder.c and
+# and both values. This file: decoder and tables; test_train_resume_layering_cli.sh:
+# layering and sampler. (The library-level resume tests: test_train_decoder.c,
 # test_train_layering.c.)
 set -u
 source "$NBRDF_SOURCE_DIR/tests/cli/lib.sh"
@@ -38,32 +39,6 @@ expect_exit 1 "$NBRDF" "${T[@]}" -o "$TMP/t3.safetensors" --checkpoint "$TMP/t.c
   --steps 12
 check "tables: another seed is refused" grep -q "seed 1, this run" "$TMP/err"
 
-# layering, both losses (a stop inside an epoch: 11 pairs in batches of 4 = 3 a epoch)
-C=(train layering --data "$D" --tables "$TMP/t.safetensors" --batch 4 --rows 8 --epochs 4)
-for loss in latent decoded; do
-  extra=(--run "$TMP/a" --loss "$loss")
-  "$NBRDF" "${C[@]}" "${extra[@]}" -o "$TMP/$loss.safetensors" >/dev/null 2>&1
-  expect_exit 1 "$NBRDF" "${C[@]}" "${extra[@]}" -o "$TMP/${loss}2.safetensors" \
-    --checkpoint "$TMP/$loss.ckpt" --stop-at-step 5
-  check "layering $loss: stopped inside epoch 2" grep -q "in epoch 2 after batch 2 of 3" "$TMP/err"
-  "$NBRDF" "${C[@]}" "${extra[@]}" -o "$TMP/${loss}2.safetensors" --checkpoint "$TMP/$loss.ckpt" \
-    >/dev/null 2>&1
-  check "layering $loss: resumed bytes equal" \
-    cmp -s "$TMP/$loss.safetensors" "$TMP/${loss}2.safetensors"
-done
-expect_exit 1 "$NBRDF" "${C[@]}" --run "$TMP/a" --loss decoded -o "$TMP/x.safetensors" \
-  --checkpoint "$TMP/decoded.ckpt" --batch 5
-check "layering: another batch is refused" grep -q "batch = 4, this run has batch = 5" "$TMP/err"
-expect_exit 1 "$NBRDF" "${C[@]}" --run "$TMP/a" --loss latent -o "$TMP/x.safetensors" \
-  --checkpoint "$TMP/decoded.ckpt"
-check "layering: a checkpoint of the other loss is refused" grep -q "format" "$TMP/err"
-
-# sampler
-S=(train sampler --run "$TMP/a" --epochs 3)
-"$NBRDF" "${S[@]}" -o "$TMP/s.safetensors" >/dev/null 2>&1
-expect_exit 1 "$NBRDF" "${S[@]}" -o "$TMP/s2.safetensors" --checkpoint "$TMP/s.ckpt" --stop-at-step 1
-"$NBRDF" "${S[@]}" -o "$TMP/s2.safetensors" --checkpoint "$TMP/s.ckpt" >/dev/null 2>&1
-check "sampler: resumed bytes equal" cmp -s "$TMP/s.safetensors" "$TMP/s2.safetensors"
-expect_exit 2 "$NBRDF" "${S[@]}" -o "$TMP/s3.safetensors" --minutes x
+expect_exit 2 "$NBRDF" "${T[@]}" -o "$TMP/t4.safetensors" --minutes x
 check "a bad --minutes is named" grep -q -- "--minutes 'x'" "$TMP/err"
 finish

@@ -109,6 +109,11 @@ static void test_resume_is_exact(void) {
   toy_init(&b);
   CHECK_FAILS(toy_run(&b, path_of("b.ckpt"), path_of("b.csv"), 300, 37, "k=1\n", &r, &err),
               NBRDF_ERR_CANCELLED, &err, "stopped at step 37 of 300 (checkpointed");
+  /* A stop step the checkpoint has passed stops at once, running nothing. */
+  toy_init(&b);
+  CHECK_FAILS(toy_run(&b, path_of("b.ckpt"), path_of("b.csv"), 300, 10, "k=1\n", &r, &err),
+              NBRDF_ERR_CANCELLED, &err, "stopped at step 37 of 300");
+  CHECK(b.reports == 0 && r.steps_done == 37);
   toy_init(&b); /* a fresh process: everything comes from the checkpoint */
   CHECK_FAILS(toy_run(&b, path_of("b.ckpt"), path_of("b.csv"), 300, 38, "k=1\n", &r, &err),
               NBRDF_ERR_CANCELLED, &err, "step 38");
