@@ -44,8 +44,9 @@ stage "decoder (medium preset; resumable)"
 
 # 3. Base-latent tables by projection with the decoder frozen.
 if [ ! -f "$work/base_tables.safetensors" ]; then
-  stage "base tables"
-  "$nbrdf" train tables --decoder "$run/decoder.safetensors" -o "$work/base_tables.safetensors"
+  stage "base tables (resumable)"
+  "$nbrdf" train tables --decoder "$run/decoder.safetensors" -o "$work/base_tables.safetensors" \
+    --checkpoint "$work/base_tables.ckpt"
 fi
 
 # 4. Layering network, trained through the frozen decoder on every layered BRDF's samples
@@ -71,8 +72,8 @@ fi
 # 5. Sampling network: per-latent proxy fits over the run's latents and those the layering
 #    network gives the layered data (what a bake feeds it), then regression.
 if [ ! -f "$work/sampler.safetensors" ]; then
-  stage "sampling network"
-  "$nbrdf" train sampler --run "$run" -o "$work/sampler.safetensors" \
+  stage "sampling network (resumable)"
+  "$nbrdf" train sampler --run "$run" -o "$work/sampler.safetensors" --checkpoint "$work/sampler.ckpt" \
     --layering "$work/layering.safetensors" --tables "$work/base_tables.safetensors" \
     --data "$work/layered2.nbds,$work/layered2b.nbds,$work/layered3.nbds"
 fi

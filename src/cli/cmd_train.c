@@ -16,14 +16,14 @@ void cmd_train_usage(FILE *out) {
       "usage: nbrdf train decoder --data FILE[,FILE...] --run DIR [options]\n"
       "       nbrdf train tables --decoder FILE -o FILE [--alpha-nodes N] [--eta-nodes N]\n"
       "                          [--r0-nodes N] [--eta-warp P] [--r0-warp P] [--steps N]\n"
-      "                          [--seed S]\n"
+      "                          [--seed S] [trainer flags]\n"
       "       nbrdf train layering --data FILE[,...] --run DIR --tables FILE -o FILE\n"
       "                          [--loss latent|decoded] [--decoder FILE] [--init FILE]\n"
       "                          [--preset small|medium|paper] [--epochs N] [--batch N] [--lr X]\n"
       "                          [--rows N] [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
-      "                          [--checkpoint FILE]\n"
+      "                          [trainer flags]\n"
       "       nbrdf train sampler --run DIR -o FILE [--brdfs N] [--epochs N]\n"
-      "                          [--layering F --tables T --data FILE[,...]]\n"
+      "                          [--layering F --tables T --data FILE[,...]] [trainer flags]\n"
       "       nbrdf train bundle -o DIR --decoder F --tables F --layering F [--sampler F]\n"
       "                          [--name NAME] [--card MODEL_CARD.md] [--note TEXT]\n"
       "\n"
@@ -40,12 +40,17 @@ void cmd_train_usage(FILE *out) {
       "  --steps N           total steps (20000); each step draws --rows-per-brdf samples\n"
       "                      of every BRDF (16)\n"
       "  --minutes M         stop (checkpointed) after M minutes of this invocation\n"
+      "  --stop-at-step N    stop (checkpointed) after N steps of the whole run\n"
       "  --lr-weights X (2e-3)  --lr-latent X (1e-2)  --latent-l2 X (1e-4)\n"
       "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
       "  --brdf-weight P (0)  weigh BRDF b's loss by max(mean log(1+f), 0.01)^-P\n"
       "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
       "  --progress=json     progress lines as JSON on stderr\n"
+      "A checkpoint records the settings a resume must share (nbrdf.options): another\n"
+      "value is refused, naming the setting and both values.\n"
       "\n"
+      "trainer flags (tables, layering, sampler: one trainer runs every fit; a step is\n"
+      "a projection step, a batch of pairs, a batch of latents):\n" TRAIN_LIMITS_HELP "\n"
       "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
       "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
       "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
@@ -56,7 +61,7 @@ void cmd_train_usage(FILE *out) {
       "files as that run). --loss decoded: the decoder (--decoder, or the run's) frozen,\n"
       "the loss is its own on the decoded values against every two-layer BRDF's samples\n"
       "(--rows samples per BRDF per step, 64); --init starts from a trained layering\n"
-      "network; --checkpoint FILE makes the run resumable (Ctrl-C checkpoints).\n"
+      "network. Both losses resume exactly from --checkpoint.\n"
       "sampler: per-latent proxy (sigma, w) by cross-entropy against the decoded BRDF,\n"
       "then the sampling network regressed on them (src/train/train_sampler.h). With\n"
       "--layering, the latents that network gives the data's layered BRDFs join the\n"
@@ -64,21 +69,6 @@ void cmd_train_usage(FILE *out) {
       "bundle: assembles a model bundle; without --sampler the proxy network keeps its\n"
       "initial weights (and the card must say so).\n");
 }
-
-int train_on_progress(void *user, const char *stage, double done, double total) {
-  train_progress *p = user;
-  long t = (long)time(NULL);
-  if (t != p->last || done == total) {
-    p->last = t;
-    if (p->json)
-      fprintf(stderr, "{\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f}\n", stage, done, total);
-    else
-      fprintf(stderr, "\r%s: %.0f/%.0f (%.1f %%)  ", stage, done, total, 100.0 * done / total);
-  }
-  return *cli_cancel_flag();
-}
-
-/* Comma-separated list → argv-like array (the string is modified). */
 
 typedef struct num_option {
   const char *name;
@@ -95,10 +85,11 @@ static int train_decoder(int argc, char **argv) {
   double steps = (double)s.steps, minutes = 0, rows = s.rows_per_brdf, lrw = s.lr_weights,
          lrl = s.lr_latent, l2 = s.latent_l2, decay = s.decay_every, gamma = s.decay_gamma,
          seed = (double)s.seed, ckpt = s.checkpoint_seconds / 60.0, nval = s.validation_brdfs,
-         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight;
+         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight, stop_at = 0;
   num_option nums[] = {
       {"--steps", 1, 1e12, &steps},
       {"--minutes", 0, 1e9, &minutes},
+      {"--stop-at-step", 0, 1e12, &stop_at},
       {"--rows-per-brdf", 1, 65536, &rows},
       {"--lr-weights", 0, 1, &lrw},
       {"--lr-latent", 0, 10, &lrl},
@@ -189,13 +180,15 @@ static int train_decoder(int argc, char **argv) {
   s.lr_weights = (float)lrw, s.lr_latent = (float)lrl, s.latent_l2 = (float)l2;
   s.decay_every = (int)decay, s.decay_gamma = (float)gamma, s.seed = (uint64_t)seed;
   s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval, s.brdf_weight = bweight;
-  s.progress = train_on_progress, s.user = &prog;
+  s.stop_at_step = (int64_t)stop_at;
+  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   cli_cancel_watch();
   train_decoder_result r;
   st = train_decoder_run(&s, &r, &err);
   cli_cancel_unwatch();
-  free(data_list);
   if (!prog.json) fputc('\n', stderr);
+  train_limits_note("checkpoint.safetensors", r.legacy_resume);
+  free(data_list);
   if (st == NBRDF_ERR_CANCELLED) {
     fprintf(stderr, "train: %s\n", err.message);
     return CLI_EXIT_FAILURE;
@@ -218,30 +211,4 @@ int cmd_train(int argc, char **argv) {
   if (!strcmp(argv[1], "sampler")) return cmd_train_sampler(argc, argv);
   return cli_usage_error(
       "train", "unknown training '%s' (decoder, tables, layering, sampler, bundle)", argv[1]);
-}
-
-nbrdf_status train_load_tables(const char *path, model_base_table t[2], nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  memset(t, 0, 2 * sizeof *t);
-  nbrdf_status st = nbrdf_st_open(path, &r, err);
-  if (!st) st = model_base_table_read(r, MODEL_TABLE_DIELECTRIC, 32, &t[0], err);
-  if (!st) st = model_base_table_read(r, MODEL_TABLE_CONDUCTOR, 32, &t[1], err);
-  nbrdf_st_close(r);
-  return st;
-}
-
-int train_split_list(char *list, const char **out, int max) {
-  int n = 0;
-  for (char *tok = strtok(list, ","); tok && n < max; tok = strtok(NULL, ","))
-    out[n++] = tok;
-  return n;
-}
-
-nbrdf_status train_read_net(const char *path, int layering, model_layering **lay,
-                            model_sampler **smp, nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(path, &r, err);
-  if (!st) st = layering ? model_layering_read(r, lay, err) : model_sampler_read(r, smp, err);
-  nbrdf_st_close(r);
-  return st;
 }

@@ -18,11 +18,18 @@ int cmd_train_layering(int argc, char **argv) {
   char *list = NULL;
   int n_data = 0;
   train_progress prog = {0, 0};
+  train_limits lim = TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
     long n;
     double x;
-    if ((v = cli_option_value(argc, argv, &i, "--data"))) {
+    int code;
+    if (train_limits_option(argc, argv, &i, &lim, &code)) {
+      if (code) {
+        free(list);
+        return code;
+      }
+    } else if ((v = cli_option_value(argc, argv, &i, "--data"))) {
       free(list);
       list = strdup(v);
       n_data = list ? train_split_list(list, data, 64) : 0;
@@ -34,8 +41,6 @@ int cmd_train_layering(int argc, char **argv) {
       decoder = v;
     else if ((v = cli_option_value(argc, argv, &i, "--init")))
       init = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--checkpoint")))
-      s.checkpoint = v;
     else if ((v = cli_option_value(argc, argv, &i, "--loss")) &&
              (!strcmp(v, "latent") || !strcmp(v, "decoded")))
       decoded = !strcmp(v, "decoded");
@@ -82,6 +87,8 @@ int cmd_train_layering(int argc, char **argv) {
   cli_inputs_add(&inputs, decoder ? decoder : dec_path);
   cli_inputs_add(&inputs, init);
   if (!decoded) cli_inputs_add(&inputs, ckpt);
+  s.checkpoint = lim.checkpoint, s.checkpoint_seconds = lim.checkpoint_seconds;
+  s.max_seconds = lim.max_seconds, s.stop_at_step = lim.stop_at_step;
   const char *outputs[3] = {out, s.log_path, s.checkpoint};
   if (cli_outputs_check("train", &inputs, outputs, 3) != CLI_EXIT_OK) {
     free(list);
@@ -94,7 +101,7 @@ int cmd_train_layering(int argc, char **argv) {
   float *lat = NULL;
   model_layering *net = NULL, *init_net = NULL;
   model_decoder *dec = NULL;
-  train_layering_result r;
+  train_layering_result r = {0};
   nbrdf_status st = train_samples_load(n_data, data, &d, &err);
   if (!st) st = train_load_tables(tables, t, &err);
   if (!st) st = model_decoder_load(decoder ? decoder : dec_path, &dec, &err);
@@ -102,7 +109,7 @@ int cmd_train_layering(int argc, char **argv) {
   if (!st && !decoded && !(lat = malloc(d.n_brdfs * 32 * sizeof *lat)))
     st = nbrdf_fail(&err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st && !decoded) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
-  s.progress = train_on_progress, s.user = &prog;
+  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   s.init = init_net;
   cli_cancel_watch();
   if (!st)
@@ -111,6 +118,7 @@ int cmd_train_layering(int argc, char **argv) {
   cli_cancel_unwatch();
   if (!st) st = model_layering_save(net, out, NULL, &err);
   if (!prog.json) fputc('\n', stderr);
+  if (s.checkpoint) train_limits_note(s.checkpoint, r.legacy_resume);
   if (!st && !decoded)
     printf("train layering (latent loss): %zu pairs (%zu held out), train MSE %.5g, validation "
            "MSE %.5g (%.2f %% of the mean squared latent); decoded validation loss %.5g (the "

@@ -45,9 +45,16 @@ int cmd_train_sampler(int argc, char **argv) {
   int n_data = 0;
   long brdfs = 0, n;
   train_progress prog = {0, 0};
+  train_limits lim = TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
-    if ((v = cli_option_value(argc, argv, &i, "--run")))
+    int code;
+    if (train_limits_option(argc, argv, &i, &lim, &code)) {
+      if (code) {
+        free(list);
+        return code;
+      }
+    } else if ((v = cli_option_value(argc, argv, &i, "--run")))
       run = v;
     else if ((v = cli_option_value(argc, argv, &i, "-o")))
       out = v;
@@ -87,7 +94,8 @@ int cmd_train_sampler(int argc, char **argv) {
   cli_inputs_add(&inputs, tables);
   for (int k = 0; k < n_data; k++)
     cli_inputs_add(&inputs, data[k]);
-  if (cli_output_check("train", &inputs, out) != CLI_EXIT_OK) {
+  const char *outputs[2] = {out, lim.checkpoint};
+  if (cli_outputs_check("train", &inputs, outputs, 2) != CLI_EXIT_OK) {
     free(list);
     return CLI_EXIT_FAILURE;
   }
@@ -114,7 +122,9 @@ int cmd_train_sampler(int argc, char **argv) {
   size_t from_run = use;
   if (!st && layering) st = add_layered_latents(layering, tables, n_data, data, &lat, &use, &err);
   train_sampler_result res;
-  s.progress = train_on_progress, s.user = &prog;
+  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  s.checkpoint = lim.checkpoint, s.checkpoint_seconds = lim.checkpoint_seconds;
+  s.max_seconds = lim.max_seconds, s.stop_at_step = lim.stop_at_step;
   cli_cancel_watch();
   if (!st) st = train_sampler_fit(dec, use, lat, &s, &net, &res, &err);
   cli_cancel_unwatch();

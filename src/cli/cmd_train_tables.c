@@ -12,10 +12,14 @@ int cmd_train_tables(int argc, char **argv) {
   train_table_settings s = TRAIN_TABLE_SETTINGS_DEFAULT;
   const char *decoder = NULL, *out = NULL;
   train_progress prog = {0, 0};
+  train_limits lim = TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
     long n;
-    if ((v = cli_option_value(argc, argv, &i, "--decoder"))) {
+    int code;
+    if (train_limits_option(argc, argv, &i, &lim, &code)) {
+      if (code) return code;
+    } else if ((v = cli_option_value(argc, argv, &i, "--decoder"))) {
       decoder = v;
     } else if ((v = cli_option_value(argc, argv, &i, "-o"))) {
       out = v;
@@ -55,7 +59,10 @@ int cmd_train_tables(int argc, char **argv) {
   cli_inputs inputs;
   cli_inputs_init(&inputs);
   cli_inputs_add(&inputs, decoder);
-  if (cli_output_check("train", &inputs, out) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
+  const char *outputs[2] = {out, lim.checkpoint};
+  if (cli_outputs_check("train", &inputs, outputs, 2) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
+  s.checkpoint = lim.checkpoint, s.checkpoint_seconds = lim.checkpoint_seconds;
+  s.max_seconds = lim.max_seconds, s.stop_at_step = lim.stop_at_step;
   nbrdf_error err = {0};
   model_decoder *dec = NULL;
   model_base_table tables[2];

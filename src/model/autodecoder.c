@@ -15,8 +15,6 @@ struct model_fit {
   float *dy, *dx, *target, *row_weight;
   size_t *row_brdf;
   float *grad_latent, *grad_weights; /* grad_weights NULL when the decoder is frozen */
-  nbrdf_adam *adam_latent, *adam_weights;
-  int64_t steps;
 };
 
 void model_fit_destroy(model_fit *fit) {
@@ -29,8 +27,6 @@ void model_fit_destroy(model_fit *fit) {
   free(fit->row_brdf);
   free(fit->grad_latent);
   free(fit->grad_weights);
-  nbrdf_adam_destroy(fit->adam_latent);
-  nbrdf_adam_destroy(fit->adam_weights);
   free(fit);
 }
 
@@ -64,33 +60,11 @@ nbrdf_status model_fit_create(model_decoder *dec, size_t n_brdfs, float *latents
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "fit: out of memory for %zu latents", n_brdfs);
     goto fail;
   }
-  nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
-  ao.decay_every = opts->decay_every;
-  ao.decay_gamma = opts->decay_gamma;
-  ao.lr = opts->lr_latent;
-  st = nbrdf_adam_create(n_latent, &ao, &fit->adam_latent, err);
-  if (st == NBRDF_OK && fit->grad_weights) {
-    ao.lr = opts->lr_weights;
-    st = nbrdf_adam_create(nbrdf_nn_param_count(dec->nn), &ao, &fit->adam_weights, err);
-  }
-  if (st != NBRDF_OK) goto fail;
   *out = fit;
   return NBRDF_OK;
 fail:
   model_fit_destroy(fit);
   return st;
-}
-
-int64_t model_fit_steps(const model_fit *fit) { return fit->steps; }
-
-nbrdf_adam *model_fit_adam(model_fit *fit, int weights) {
-  return weights ? fit->adam_weights : fit->adam_latent;
-}
-
-void model_fit_set_steps(model_fit *fit, int64_t steps) {
-  fit->steps = steps;
-  nbrdf_adam_set_steps(fit->adam_latent, steps);
-  if (fit->adam_weights) nbrdf_adam_set_steps(fit->adam_weights, steps);
 }
 
 /* Fills input row r with BRDF b's latent and the encoding of sample `idx`. */
@@ -123,7 +97,7 @@ static nbrdf_status run_batch(model_fit *fit, int m, float scale, double *loss, 
   return NBRDF_OK;
 }
 
-nbrdf_status model_fit_gradient(model_fit *fit, const model_samples *s, double *loss,
+nbrdf_status model_fit_gradient(model_fit *fit, const model_samples *s, int64_t step, double *loss,
                                 nbrdf_error *err) {
   if (s->n_brdfs != fit->n_brdfs)
     return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "fit: samples for %zu BRDFs, the fit has %zu",
@@ -135,7 +109,7 @@ nbrdf_status model_fit_gradient(model_fit *fit, const model_samples *s, double *
   if (fit->grad_weights)
     memset(fit->grad_weights, 0, nbrdf_nn_param_count(fit->dec->nn) * sizeof(float));
   nbrdf_rng rng;
-  nbrdf_rng_init(&rng, fit->opts.seed, (uint64_t)fit->steps);
+  nbrdf_rng_init(&rng, fit->opts.seed, (uint64_t)step);
   double sum = 0.0;
   int m = 0;
   nbrdf_status st = NBRDF_OK;
@@ -165,24 +139,12 @@ nbrdf_status model_fit_gradient(model_fit *fit, const model_samples *s, double *
   return NBRDF_OK;
 }
 
-nbrdf_status model_fit_apply(model_fit *fit, nbrdf_error *err) {
-  nbrdf_status st = NBRDF_OK;
-  if (fit->opts.lr_latent > 0.0f)
-    st = nbrdf_adam_step(fit->adam_latent, fit->latents, fit->grad_latent, err);
-  if (st == NBRDF_OK && fit->adam_weights)
-    st = nbrdf_adam_step(fit->adam_weights, nbrdf_nn_params(fit->dec->nn), fit->grad_weights, err);
-  if (st == NBRDF_OK) fit->steps++;
-  return st;
-}
-
-nbrdf_status model_fit_step(model_fit *fit, const model_samples *s, double *loss,
-                            nbrdf_error *err) {
-  nbrdf_status st = model_fit_gradient(fit, s, loss, err);
-  return st == NBRDF_OK ? model_fit_apply(fit, err) : st;
-}
-
 float *model_fit_grad_latent(model_fit *fit) { return fit->grad_latent; }
 float *model_fit_grad_weights(model_fit *fit) { return fit->grad_weights; }
+float *model_fit_latents(model_fit *fit) { return fit->latents; }
+size_t model_fit_latent_count(const model_fit *fit) {
+  return fit->n_brdfs * (size_t)fit->dec->cfg.latent_dim;
+}
 
 nbrdf_status model_fit_eval_loss(model_fit *fit, const model_samples *s, double *per_brdf,
                                  double *mean, nbrdf_error *err) {

@@ -1,19 +1,19 @@
-/* Fitting latents (and optionally the decoder's weights) to BRDF samples: the
- * auto-decoder step of the paper's representation training (§3.3: decoder
- * weights and one latent per BRDF learned together) and, with the weights
- * frozen, projection (a latent per BRDF for a fixed decoder).
+/* The gradient engine of fitting latents (and optionally the decoder's
+ * weights) to BRDF samples: the auto-decoder loss of the paper's
+ * representation training (§3.3: decoder weights and one latent per BRDF
+ * learned together) and, with the weights frozen, of projection (a latent per
+ * BRDF for a fixed decoder).
  *
- * One step: for every BRDF, draw rows_per_brdf of its samples (with
- * replacement, PCG32 stream = step index, so a run is reproducible and does
- * not depend on the thread count), evaluate the decoder on [latent | encoding]
- * in GEMM batches, take the loss of loss.h averaged over all drawn rows plus
+ * The gradient of step k: for every BRDF, draw rows_per_brdf of its samples
+ * (with replacement, PCG32 stream = k, so a run is reproducible and does not
+ * depend on the thread count), evaluate the decoder on [latent | encoding] in
+ * GEMM batches, take the loss of loss.h averaged over all drawn rows plus
  * latent_l2 · mean_b ‖z_b‖² (a Gaussian prior on latents, as in DeepSDF's
- * auto-decoder; 0 = none), back-propagate into the latent part of the input
- * (and the weights when lr_weights > 0) and take one Adam step on each.
+ * auto-decoder; 0 = none), and back-propagate into the latent part of the
+ * input (and the weights when lr_weights > 0).
  *
- * This is training code that the representation issue reuses; it lives here
- * because projection is a model operation. It knows nothing of datasets or
- * checkpoints (src/train/). */
+ * No optimiser here: the loops (src/train/trainer.h, and the public
+ * projection's few lines in model_api.c) own Adam, its schedule, checkpoints. */
 #ifndef NBRDF_MODEL_AUTODECODER_H
 #define NBRDF_MODEL_AUTODECODER_H
 
@@ -39,17 +39,15 @@ typedef struct model_samples {
 typedef struct model_fit_options {
   model_loss_kind loss;
   int rows_per_brdf; /* samples drawn per BRDF per step */
-  float lr_latent;   /* Adam learning rate of the latents */
-  float lr_weights;  /* Adam learning rate of the decoder; 0 = decoder frozen */
+  float lr_latent;   /* learning rate of the latents (for the loop; checked >= 0) */
+  float lr_weights;  /* learning rate of the decoder; 0 = decoder frozen (no weight gradient) */
   float latent_l2;   /* prior weight on mean ‖z‖²; 0 = none */
-  int decay_every;   /* steps between learning-rate decays (0 = never), both groups */
-  float decay_gamma; /* factor per decay */
   uint64_t seed;
   int max_batch; /* rows per GEMM batch */
 } model_fit_options;
 
 #define MODEL_FIT_OPTIONS_DEFAULT                                                                  \
-  { MODEL_LOSS_L1_LOG1P, 256, 1e-2f, 0.0f, 0.0f, 0, 1.0f, 0u, 4096 }
+  { MODEL_LOSS_L1_LOG1P, 256, 1e-2f, 0.0f, 0.0f, 0u, 4096 }
 
 typedef struct model_fit model_fit;
 
@@ -59,33 +57,22 @@ nbrdf_status model_fit_create(model_decoder *dec, size_t n_brdfs, float *latents
                               const model_fit_options *opts, model_fit **out, nbrdf_error *err);
 void model_fit_destroy(model_fit *fit);
 
-/* One step = model_fit_gradient + model_fit_apply; *loss (may be NULL)
- * receives the step's loss before the update (data term + prior).
+/* The loss of the rows step `step` draws (they depend only on the seed and
+ * the step) and its gradient with respect to the latents and, when the
+ * weights are trained, the weights; nothing is updated.
  * `samples->n_brdfs` must equal the fit's. */
-nbrdf_status model_fit_step(model_fit *fit, const model_samples *samples, double *loss,
-                            nbrdf_error *err);
-
-/* The loss of the rows the NEXT step draws (they depend only on the seed and
- * the step count) and its gradient with respect to the latents and, when the
- * weights are trained, the weights; nothing is updated. For gradient checks,
- * and for callers that combine gradients before applying them. */
-nbrdf_status model_fit_gradient(model_fit *fit, const model_samples *samples, double *loss,
-                                nbrdf_error *err);
-/* Adam on the latents (and weights) with the last gradients; counts a step. */
-nbrdf_status model_fit_apply(model_fit *fit, nbrdf_error *err);
-/* The last gradients: [n_brdfs × D], and [param count] (NULL when frozen). */
+nbrdf_status model_fit_gradient(model_fit *fit, const model_samples *samples, int64_t step,
+                                double *loss, nbrdf_error *err);
+/* The last gradients: [n_brdfs × D], and [param count] (NULL when frozen);
+ * the latents (borrowed at create) and their count. */
 float *model_fit_grad_latent(model_fit *fit);
 float *model_fit_grad_weights(model_fit *fit);
+float *model_fit_latents(model_fit *fit);
+size_t model_fit_latent_count(const model_fit *fit);
 
 /* The data term of the loss over ALL samples (no sampling, no update), per
  * BRDF into per_brdf (may be NULL) and averaged over rows into *mean. */
 nbrdf_status model_fit_eval_loss(model_fit *fit, const model_samples *samples, double *per_brdf,
                                  double *mean, nbrdf_error *err);
-
-int64_t model_fit_steps(const model_fit *fit);
-/* The optimisers (latents; weights, NULL when frozen) and the step counter, for
- * checkpoints: restoring moments and steps resumes a run exactly. */
-nbrdf_adam *model_fit_adam(model_fit *fit, int weights);
-void model_fit_set_steps(model_fit *fit, int64_t steps);
 
 #endif

@@ -172,10 +172,20 @@ nbrdf_status nbrdf_model_project(const nbrdf_model *m, size_t n_brdfs, const siz
   fo.max_batch = batch_for(n_brdfs * (size_t)o->rows_per_brdf, 1);
   model_samples samples = {n_brdfs, offsets, wi, wo, f, NULL};
   model_fit *fit = NULL;
+  nbrdf_adam *adam = NULL;
+  /* The smallest loop over the gradient engine: in memory, no schedule, no
+   * checkpoint (src/train/trainer.h is the loop with all of them; the model
+   * layer cannot call up into train/). */
+  nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
+  ao.lr = o->learning_rate;
   st = model_fit_create(m->decoder, n_brdfs, out, &fo, &fit, err);
-  for (int s = 0; st == NBRDF_OK && s < o->steps; s++)
-    st = model_fit_step(fit, &samples, NULL, err);
+  if (st == NBRDF_OK) st = nbrdf_adam_create(count, &ao, &adam, err);
+  for (int s = 0; st == NBRDF_OK && s < o->steps; s++) {
+    st = model_fit_gradient(fit, &samples, s, NULL, err);
+    if (st == NBRDF_OK) st = nbrdf_adam_step(adam, out, model_fit_grad_latent(fit), err);
+  }
   if (st == NBRDF_OK && final_loss) st = model_fit_eval_loss(fit, &samples, final_loss, NULL, err);
+  nbrdf_adam_destroy(adam);
   model_fit_destroy(fit);
   if (st != NBRDF_OK) nbrdf_error_prefix(err, "project: ");
   return st;

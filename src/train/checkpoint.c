@@ -14,37 +14,88 @@ void train_checkpoint_data_key(const train_samples *data, char *out, size_t size
     at += (size_t)snprintf(out + at, size - at, "%s%016" PRIx64, i ? "," : "", data->checksums[i]);
 }
 
+uint64_t train_hash_floats(uint64_t h, const float *x, size_t n) {
+  const unsigned char *b = (const unsigned char *)x;
+  for (size_t i = 0; i < n * sizeof(float); i++)
+    h = (h ^ b[i]) * UINT64_C(0x100000001b3);
+  return h;
+}
+
 static nbrdf_status add(nbrdf_st_writer *w, const char *name, size_t n, const float *x,
                         nbrdf_error *err) {
   int64_t shape[1] = {(int64_t)n};
   return nbrdf_st_writer_add_borrowed(w, name, 1, shape, x, err);
 }
 
-nbrdf_status train_checkpoint_save(const char *path, const model_decoder *dec, model_fit *fit,
-                                   const float *latents, size_t n_brdfs, const train_samples *data,
+nbrdf_status train_checkpoint_save(const char *path, const train_checkpoint_parts *p, int64_t step,
                                    nbrdf_error *err) {
   nbrdf_st_writer *w = NULL;
-  char *spec = NULL, step[32], key[1024];
+  char text[32], key[256];
   nbrdf_status st = nbrdf_st_writer_create(&w, err);
-  if (!st) st = nbrdf_nn_spec_to_json(&dec->cfg.spec, &spec, err);
-  size_t p = nbrdf_nn_param_count(dec->nn), nl = n_brdfs * (size_t)dec->cfg.latent_dim;
-  nbrdf_adam *al = model_fit_adam(fit, 0), *aw = model_fit_adam(fit, 1);
-  snprintf(step, sizeof step, "%" PRId64, model_fit_steps(fit));
-  train_checkpoint_data_key(data, key, sizeof key);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", TRAIN_CHECKPOINT_FORMAT, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.spec", spec, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.step", step, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.data", key, err);
-  if (!st) st = add(w, "decoder.params", p, nbrdf_nn_params_const(dec->nn), err);
-  if (!st) st = add(w, "latents", nl, latents, err);
-  if (!st) st = add(w, "adam.latents.m", nl, nbrdf_adam_moment(al, 0), err);
-  if (!st) st = add(w, "adam.latents.v", nl, nbrdf_adam_moment(al, 1), err);
-  if (!st && aw) st = add(w, "adam.weights.m", p, nbrdf_adam_moment(aw, 0), err);
-  if (!st && aw) st = add(w, "adam.weights.v", p, nbrdf_adam_moment(aw, 1), err);
+  snprintf(text, sizeof text, "%" PRId64, step);
+  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", p->format, err);
+  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.step", text, err);
+  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.options", p->options, err);
+  for (int i = 0; i < p->n_words && !st; i++) {
+    snprintf(key, sizeof key, "nbrdf.state.%s", p->words[i].name);
+    snprintf(text, sizeof text, "%" PRIu64, *p->words[i].value);
+    st = nbrdf_st_writer_set_metadata(w, key, text, err);
+  }
+  for (int g = 0; g < p->n_groups && !st; g++) {
+    const trainer_group *G = &p->groups[g];
+    st = add(w, G->tensor, G->n, G->params, err);
+    if (!st && p->adams[g]) st = add(w, G->m_tensor, G->n, nbrdf_adam_moment(p->adams[g], 0), err);
+    if (!st && p->adams[g]) st = add(w, G->v_tensor, G->n, nbrdf_adam_moment(p->adams[g], 1), err);
+  }
+  for (int i = 0; i < p->n_tensors && !st; i++)
+    st = add(w, p->tensors[i].name, p->tensors[i].n, p->tensors[i].data, err);
   if (!st) st = nbrdf_st_writer_save(w, path, NULL, err);
-  free(spec);
   nbrdf_st_writer_destroy(w);
   return st;
+}
+
+/* The value of `key` in an options string ("key=value\n"...), copied into
+ * out; 0 when absent. */
+static int option_value(const char *options, const char *key, char *out, size_t size) {
+  size_t kl = strlen(key);
+  for (const char *at = options; at && *at;) {
+    const char *end = strchr(at, '\n');
+    size_t len = end ? (size_t)(end - at) : strlen(at);
+    if (len > kl && !strncmp(at, key, kl) && at[kl] == '=') {
+      size_t vl = len - kl - 1 < size - 1 ? len - kl - 1 : size - 1;
+      memcpy(out, at + kl + 1, vl);
+      out[vl] = '\0';
+      return 1;
+    }
+    at = end ? end + 1 : NULL;
+  }
+  return 0;
+}
+
+/* Every option of the run must have the checkpoint's value, and the
+ * checkpoint no option the run lacks. */
+static nbrdf_status compare_options(const char *label, const char *have, const char *want,
+                                    nbrdf_error *err) {
+  char key[128], a[1024], b[1024];
+  for (int pass = 0; pass < 2; pass++) {
+    const char *list = pass ? have : want;
+    for (const char *at = list; at && *at;) {
+      const char *eq = strchr(at, '='), *end = strchr(at, '\n');
+      if (!eq || (end && eq > end)) break;
+      size_t kl = (size_t)(eq - at) < sizeof key - 1 ? (size_t)(eq - at) : sizeof key - 1;
+      memcpy(key, at, kl);
+      key[kl] = '\0';
+      int in_ckpt = option_value(have, key, a, sizeof a);
+      int in_run = option_value(want, key, b, sizeof b);
+      if (!in_ckpt || !in_run || strcmp(a, b))
+        return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
+                          "%s: the checkpoint was made with %s = %s, this run has %s = %s (give "
+                          "the same value, or start a new run)",
+                          label, key, in_ckpt ? a : "(unset)", key, in_run ? b : "(unset)");
+      at = end ? end + 1 : NULL;
+    }
+  }
+  return NBRDF_OK;
 }
 
 static nbrdf_status take(const nbrdf_st_reader *r, const char *name, size_t n, float *dst,
@@ -53,46 +104,64 @@ static nbrdf_status take(const nbrdf_st_reader *r, const char *name, size_t n, f
   return nbrdf_st_expect_copy(r, name, 1, shape, dst, err);
 }
 
-static nbrdf_status require(const nbrdf_st_reader *r, const char *k, const char *want,
-                            const char *what, nbrdf_error *err) {
-  const char *v = nbrdf_st_metadata_get(r, k);
-  if (v && !strcmp(v, want)) return NBRDF_OK;
-  return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                    "%s: the checkpoint was made with another %s than this run's (start a new "
-                    "run folder, or give the same settings)",
-                    nbrdf_st_label(r), what);
+static nbrdf_status parse_u64(const nbrdf_st_reader *r, const char *key, uint64_t *out,
+                              nbrdf_error *err) {
+  const char *s = nbrdf_st_metadata_get(r, key);
+  char *end = NULL;
+  unsigned long long v = s && *s >= '0' && *s <= '9' ? strtoull(s, &end, 10) : 0;
+  if (!s || !end || *end)
+    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: no valid %s", nbrdf_st_label(r), key);
+  *out = (uint64_t)v;
+  return NBRDF_OK;
 }
 
-nbrdf_status train_checkpoint_load(const char *path, model_decoder *dec, model_fit *fit,
-                                   float *latents, size_t n_brdfs, const train_samples *data,
-                                   int64_t *step, nbrdf_error *err) {
+nbrdf_status train_checkpoint_load(const char *path, const train_checkpoint_parts *p,
+                                   const trainer_fit *fit, int64_t *step, int *legacy_used,
+                                   nbrdf_error *err) {
   nbrdf_st_reader *r = NULL;
-  char *spec = NULL, key[1024];
   nbrdf_status st = nbrdf_st_open(path, &r, err);
   if (st) return st;
-  size_t p = nbrdf_nn_param_count(dec->nn), nl = n_brdfs * (size_t)dec->cfg.latent_dim;
-  nbrdf_adam *al = model_fit_adam(fit, 0), *aw = model_fit_adam(fit, 1);
-  train_checkpoint_data_key(data, key, sizeof key);
-  st = require(r, "nbrdf.format", TRAIN_CHECKPOINT_FORMAT, "file format", err);
-  if (!st) st = nbrdf_nn_spec_to_json(&dec->cfg.spec, &spec, err);
-  if (!st) st = require(r, "nbrdf.spec", spec, "decoder architecture", err);
-  if (!st) st = require(r, "nbrdf.data", key, "data sets", err);
-  const char *s = nbrdf_st_metadata_get(r, "nbrdf.step");
-  char *end = NULL;
-  long long k = s ? strtoll(s, &end, 10) : -1;
-  if (!st && (!s || *end || k < 0))
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: no valid nbrdf.step", path);
-  if (!st) st = take(r, "decoder.params", p, nbrdf_nn_params(dec->nn), err);
-  if (!st) st = take(r, "latents", nl, latents, err);
-  if (!st) st = take(r, "adam.latents.m", nl, nbrdf_adam_moment(al, 0), err);
-  if (!st) st = take(r, "adam.latents.v", nl, nbrdf_adam_moment(al, 1), err);
-  if (!st && aw) st = take(r, "adam.weights.m", p, nbrdf_adam_moment(aw, 0), err);
-  if (!st && aw) st = take(r, "adam.weights.v", p, nbrdf_adam_moment(aw, 1), err);
-  if (!st) {
-    model_fit_set_steps(fit, (int64_t)k);
+  *legacy_used = 0;
+  const char *fmt = nbrdf_st_metadata_get(r, "nbrdf.format");
+  const char *options = nbrdf_st_metadata_get(r, "nbrdf.options");
+  if (!fmt || strcmp(fmt, p->format))
+    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
+                    "%s: a checkpoint of format '%s', this run writes '%s' (another kind of "
+                    "training; give another checkpoint path)",
+                    path, fmt ? fmt : "(none)", p->format);
+  if (!st && options) {
+    st = compare_options(path, options, p->options, err);
+    uint64_t k = 0;
+    if (!st) st = parse_u64(r, "nbrdf.step", &k, err);
     *step = (int64_t)k;
+  } else if (!st && fit->legacy) {
+    st = fit->legacy(fit->user, r, step, err);
+    *legacy_used = 1;
+  } else if (!st) {
+    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: the checkpoint records no nbrdf.options", path);
   }
-  free(spec);
+  char key[256];
+  for (int i = 0; i < p->n_words && !st; i++) {
+    snprintf(key, sizeof key, "nbrdf.state.%s", p->words[i].name);
+    st = parse_u64(r, key, p->words[i].value, err);
+  }
+  for (int g = 0; g < p->n_groups && !st; g++) {
+    const trainer_group *G = &p->groups[g];
+    st = take(r, G->tensor, G->n, G->params, err);
+    if (!st && p->adams[g]) st = take(r, G->m_tensor, G->n, nbrdf_adam_moment(p->adams[g], 0), err);
+    if (!st && p->adams[g]) st = take(r, G->v_tensor, G->n, nbrdf_adam_moment(p->adams[g], 1), err);
+  }
+  for (int i = 0; i < p->n_tensors && !st; i++)
+    st = take(r, p->tensors[i].name, p->tensors[i].n, p->tensors[i].data, err);
+  nbrdf_st_close(r);
+  return st;
+}
+
+nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
+                                      float *latents, nbrdf_error *err) {
+  nbrdf_st_reader *r = NULL;
+  nbrdf_status st = nbrdf_st_open(checkpoint, &r, err);
+  if (!st) st = take(r, "latents", n_brdfs * (size_t)dim, latents, err);
   nbrdf_st_close(r);
   return st;
 }

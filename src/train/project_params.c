@@ -3,10 +3,20 @@
 
 #include "core/error.h"
 #include "core/progress.h"
-#include "model/autodecoder.h"
 #include "train/dataset.h"
+#include "train/projection.h"
 #include "train/samples.h"
 #include "train/table_fit.h"
+
+void train_project_defaults(int steps, uint64_t seed, train_projection *p) {
+  p->loss = MODEL_LOSS_L1_LOG1P;
+  p->rows_per_brdf = 256;
+  p->lr = 2e-2f;
+  p->decay_every = steps / 4 > 0 ? steps / 4 : 1;
+  p->decay_gamma = 0.5f;
+  p->seed = seed;
+  p->steps = steps;
+}
 
 nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_params *params,
                                   uint64_t family, int steps, uint64_t seed, float *out,
@@ -15,24 +25,15 @@ nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_para
   memset(&data, 0, sizeof data);
   nbrdf_status st = train_samples_generate_all(&data, n, params, family, err);
   memset(out, 0, n * (size_t)dec->cfg.latent_dim * sizeof(float));
-  model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
-  o.rows_per_brdf = 256;
-  o.lr_latent = 2e-2f;
-  o.decay_every = steps / 4 > 0 ? steps / 4 : 1;
-  o.decay_gamma = 0.5f;
-  o.seed = seed;
-  model_fit *fit = NULL;
+  train_projection p;
+  train_project_defaults(steps, seed, &p);
   model_samples view = train_samples_view(&data);
-  if (!st) st = model_fit_create(dec, n, out, &o, &fit, err);
-  for (int i = 0; i < steps && !st; i++) {
-    if (progress &&
-        nbrdf_ticker_tick(progress->tk, progress->stage, progress->done0 + i, progress->total, 0))
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "%s: cancelled at step %d of %d", progress->stage,
-                      i, steps);
-    else
-      st = model_fit_step(fit, &view, NULL, err);
+  trainer_options to = TRAINER_OPTIONS_DEFAULT;
+  if (progress) {
+    to.stage = progress->stage, to.ticker = progress->tk;
+    to.progress_offset = progress->done0, to.progress_total = progress->total;
   }
-  model_fit_destroy(fit);
+  if (!st) st = train_project_sets(dec, 1, &view, &out, &p, &to, NULL, err);
   train_samples_free(&data);
   return st;
 }

@@ -68,12 +68,9 @@ nbrdf_status run_log_open(run_log *log, const char *path, const char *header, in
   return NBRDF_OK;
 }
 
-void run_log_row(run_log *log, const char *fmt, ...) {
+void run_log_row(run_log *log, const char *fmt, va_list ap) {
   if (!log->f) return;
-  va_list ap;
-  va_start(ap, fmt);
   vfprintf(log->f, fmt, ap);
-  va_end(ap);
   fputc('\n', log->f);
   fflush(log->f);
 }

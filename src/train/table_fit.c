@@ -5,9 +5,9 @@
 #include <string.h>
 
 #include "core/error.h"
-#include "core/progress.h"
-#include "model/autodecoder.h"
+#include "train/checkpoint.h"
 #include "train/dataset.h"
+#include "train/projection.h"
 #include "train/samples.h"
 
 /* Node streams for the sample generator: any fixed family apart from the
@@ -28,12 +28,11 @@ static void warped_space(float *x, int n, double lo, double hi, double warp) {
     x[i] = (float)(lo + (hi - lo) * pow((double)i / (n - 1), warp));
 }
 
-static nbrdf_status fit_table(model_decoder *dec, const train_table_settings *s,
-                              model_base_table *t, const train_project_progress *progress,
-                              nbrdf_error *err) {
+/* The grid nodes of table t as BRDF parameters. */
+static train_params *table_params(const model_base_table *t) {
   size_t n = (size_t)t->n[0] * (size_t)t->n[1];
   train_params *p = calloc(n, sizeof *p);
-  if (!p) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
+  if (!p) return NULL;
   for (int a = 0; a < t->n[0]; a++)
     for (int b = 0; b < t->n[1]; b++) {
       train_params *q = &p[(size_t)a * t->n[1] + b];
@@ -43,9 +42,46 @@ static nbrdf_status fit_table(model_decoder *dec, const train_table_settings *s,
       else
         q->kind = TRAIN_CONDUCTOR, q->base_r0 = t->axis[1][b];
     }
-  nbrdf_status st =
-      train_project_params(dec, n, p, TABLE_FAMILY, s->steps, s->seed, t->latents, progress, err);
-  free(p);
+  return p;
+}
+
+/* Both tables in one trainer run: each keeps its own fit and Adam group, so
+ * the latents equal those of two separate projections. */
+static nbrdf_status fit_tables(model_decoder *dec, const train_table_settings *s,
+                               model_base_table t[2], nbrdf_error *err) {
+  train_samples data[2];
+  memset(data, 0, sizeof data);
+  nbrdf_status st = NBRDF_OK;
+  for (int k = 0; k < 2 && !st; k++) {
+    size_t n = (size_t)t[k].n[0] * (size_t)t[k].n[1];
+    train_params *p = table_params(&t[k]);
+    st = p ? train_samples_generate_all(&data[k], n, p, TABLE_FAMILY, err)
+           : nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
+    free(p);
+    if (!st) memset(t[k].latents, 0, n * (size_t)t[k].dim * sizeof(float));
+  }
+  model_samples sets[2] = {train_samples_view(&data[0]), train_samples_view(&data[1])};
+  float *const latents[2] = {t[0].latents, t[1].latents};
+  train_projection p;
+  train_project_defaults(s->steps, s->seed, &p);
+  char options[1024] = "";
+  trainer_option(options, sizeof options, "nodes", "alpha %d, eta %d, r0 %d", s->alpha_nodes,
+                 s->eta_nodes, s->r0_nodes);
+  trainer_option(options, sizeof options, "warps", "eta %.9g, r0 %.9g", s->eta_warp, s->r0_warp);
+  trainer_option(options, sizeof options, "decoder weights", "%016llx",
+                 (unsigned long long)train_hash_floats(TRAIN_HASH_START,
+                                                       nbrdf_nn_params_const(dec->nn),
+                                                       nbrdf_nn_param_count(dec->nn)));
+  trainer_options to = TRAINER_OPTIONS_DEFAULT;
+  to.format = "nbrdf-train-tables-checkpoint";
+  to.options = options;
+  to.stage = "tables";
+  to.progress = s->progress, to.user = s->user;
+  to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
+  to.max_seconds = s->max_seconds, to.stop_at_step = s->stop_at_step;
+  if (!st) st = train_project_sets(dec, 2, sets, latents, &p, &to, NULL, err);
+  train_samples_free(&data[0]);
+  train_samples_free(&data[1]);
   return st;
 }
 
@@ -72,18 +108,7 @@ nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
   if (!st)
     st = model_base_table_init(&tables[1], MODEL_TABLE_CONDUCTOR, D, na, alpha, s->r0_nodes, r0,
                                err);
-  /* progress per step of the two fits (a table of 16 x 9 nodes takes ~0.1 s a step) */
-  nbrdf_ticker tk;
-  nbrdf_ticker_init(&tk, s->progress, s->user, NULL);
-  for (int k = 0; k < 2 && !st; k++) {
-    train_project_progress pp = {&tk, "tables", (double)k * s->steps, 2.0 * s->steps};
-    if (nbrdf_ticker_tick(&tk, "tables", pp.done0, pp.total, k == 0))
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "tables: cancelled");
-    else
-      st = fit_table(dec, s, &tables[k], &pp, err);
-  }
-  if (!st && nbrdf_ticker_tick(&tk, "tables", 2.0 * s->steps, 2.0 * s->steps, 1))
-    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "tables: cancelled");
+  if (!st) st = fit_tables(dec, s, tables, err);
   free(alpha), free(eta), free(r0);
   if (st) {
     model_base_table_free(&tables[0]);

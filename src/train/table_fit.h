@@ -24,13 +24,19 @@ typedef struct train_table_settings {
   uint64_t seed;
   nbrdf_progress_fn progress; /* stage "tables", done/total in steps */
   void *user;
+  /* Both tables are projected in one trainer run (train/projection.h): */
+  const char *checkpoint;    /* resumable state, written atomically (NULL: none) */
+  double checkpoint_seconds; /* at most this long between checkpoints */
+  double max_seconds;        /* stop (checkpointed) after this long; 0 = no limit */
+  int64_t stop_at_step;      /* stop (checkpointed) after this step; 0 = none */
 } train_table_settings;
 
 #define TRAIN_TABLE_SETTINGS_DEFAULT                                                               \
-  { 16, 8, 9, 1.0, 1.0, 800, 1u, NULL, NULL }
+  { 16, 8, 9, 1.0, 1.0, 800, 1u, NULL, NULL, NULL, 300.0, 0.0, 0 }
 
 /* Fills tables[MODEL_TABLE_DIELECTRIC] and tables[MODEL_TABLE_CONDUCTOR]
- * (initialised here; free with model_base_table_free). */
+ * (initialised here; free with model_base_table_free). NBRDF_ERR_CANCELLED
+ * when stopped (checkpointed when s->checkpoint is set: the same call resumes). */
 nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
                               model_base_table tables[2], nbrdf_error *err);
 
@@ -47,6 +53,9 @@ typedef struct train_project_progress {
   const char *stage;
   double done0, total;
 } train_project_progress;
+/* The projection settings every projection of BRDF parameters uses. */
+typedef struct train_projection train_projection;
+void train_project_defaults(int steps, uint64_t seed, train_projection *p);
 nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_params *params,
                                   uint64_t family, int steps, uint64_t seed, float *out,
                                   const train_project_progress *progress, nbrdf_error *err);

@@ -6,21 +6,15 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "core/error.h"
 #include "core/rng.h"
 #include "model/autodecoder.h"
 #include "train/checkpoint.h"
 #include "train/dataset.h"
-#include "train/run_log.h"
+#include "train/projection.h"
 #include "train/samples.h"
-
-static double now_s(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
+#include "train/trainer.h"
 
 /* Held-out `rep` BRDFs (indices from TRAIN_VALIDATION_FIRST). */
 static nbrdf_status make_validation(int n, train_samples *out, nbrdf_error *err) {
@@ -45,18 +39,13 @@ static nbrdf_status validate(model_decoder *dec, const train_decoder_settings *s
   size_t nl = val->n_brdfs * (size_t)dec->cfg.latent_dim;
   float *lat = calloc(nl, sizeof *lat);
   if (!lat) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "validation: out of memory");
+  train_projection p = {s->loss, 256, 2e-2f, 100, 0.5f, s->seed, 300};
+  model_samples view = train_samples_view(val);
+  nbrdf_status st = train_project_sets(dec, 1, &view, &lat, &p, NULL, NULL, err);
   model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
   o.loss = s->loss;
-  o.rows_per_brdf = 256;
-  o.lr_latent = 2e-2f;
-  o.decay_every = 100;
-  o.decay_gamma = 0.5f;
-  o.seed = s->seed;
   model_fit *fit = NULL;
-  model_samples view = train_samples_view(val);
-  nbrdf_status st = model_fit_create(dec, val->n_brdfs, lat, &o, &fit, err);
-  for (int i = 0; i < 300 && !st; i++)
-    st = model_fit_step(fit, &view, NULL, err);
+  if (!st) st = model_fit_create(dec, val->n_brdfs, lat, &o, &fit, err);
   if (!st) st = model_fit_eval_loss(fit, &view, NULL, loss, err);
   model_fit_destroy(fit);
   free(lat);
@@ -114,6 +103,99 @@ static float *brdf_weights(const train_samples *d, double power) {
   return w;
 }
 
+/* The run's state the trainer's hooks work on. */
+typedef struct decoder_run {
+  const train_decoder_settings *s;
+  model_decoder *dec;
+  model_fit *fit;
+  model_samples view;
+  const train_samples *data, *val;
+  const char *dec_path;
+  double sum, train_loss, val_loss;
+  int count;
+} decoder_run;
+
+static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+  decoder_run *d = user;
+  return model_fit_gradient(d->fit, &d->view, step, loss, err);
+}
+
+/* Log rows every log_every steps and at the end; validation at checkpoints. */
+static nbrdf_status report(void *user, trainer *t, int64_t done, double loss, int flags,
+                           nbrdf_error *err) {
+  decoder_run *d = user;
+  d->sum += loss, d->count++;
+  if (done % d->s->log_every != 0 && !(flags & TRAINER_LAST)) return NBRDF_OK;
+  d->train_loss = d->sum / d->count;
+  double vloss = NAN, seconds = trainer_seconds(t);
+  nbrdf_status st = NBRDF_OK;
+  if (flags & TRAINER_SAVING) {
+    st = validate(d->dec, d->s, d->val, &vloss, err);
+    d->val_loss = vloss;
+  }
+  trainer_log(t, "%lld,%.1f,%.6g,%.6g,%.4g", (long long)done, seconds, d->train_loss, vloss,
+              trainer_lr(t, 1));
+  d->sum = 0.0, d->count = 0;
+  return st;
+}
+
+static nbrdf_status save(void *user, nbrdf_error *err) {
+  decoder_run *d = user;
+  return model_decoder_save(d->dec, d->dec_path, NULL, err);
+}
+
+/* The options a resume must share: what shapes the steps, not their count. */
+static nbrdf_status run_options(const decoder_run *d, char *out, size_t size, nbrdf_error *err) {
+  const train_decoder_settings *s = d->s;
+  char *spec = NULL, key[1024], num[32];
+  nbrdf_status st = nbrdf_nn_spec_to_json(&d->dec->cfg.spec, &spec, err);
+  if (st) return st;
+  train_checkpoint_data_key(d->data, key, sizeof key);
+  out[0] = '\0';
+  trainer_option(out, size, "architecture", "%s", spec);
+  trainer_option(out, size, "data", "%s", key);
+  trainer_option(out, size, "rows-per-brdf", "%d", s->rows_per_brdf);
+  trainer_option(out, size, "lr-weights", "%s", trainer_float_text(s->lr_weights, num));
+  trainer_option(out, size, "lr-latent", "%s", trainer_float_text(s->lr_latent, num));
+  trainer_option(out, size, "latent-l2", "%s", trainer_float_text(s->latent_l2, num));
+  trainer_option(out, size, "decay-every", "%d", s->decay_every);
+  trainer_option(out, size, "decay-gamma", "%s", trainer_float_text(s->decay_gamma, num));
+  trainer_option(out, size, "loss", "%s", model_loss_name(s->loss));
+  trainer_option(out, size, "brdf-weight", "%.17g", s->brdf_weight);
+  trainer_option(out, size, "seed", "%llu", (unsigned long long)s->seed);
+  free(spec);
+  return NBRDF_OK;
+}
+
+static nbrdf_status require(const nbrdf_st_reader *r, const char *k, const char *want,
+                            const char *what, nbrdf_error *err) {
+  const char *v = nbrdf_st_metadata_get(r, k);
+  if (v && !strcmp(v, want)) return NBRDF_OK;
+  return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
+                    "%s: the checkpoint was made with another %s than this run's (start a new "
+                    "run folder, or give the same settings)",
+                    nbrdf_st_label(r), what);
+}
+
+/* Checkpoints from before nbrdf.options: architecture and data as they were
+ * checked then (the other settings were not recorded). */
+static nbrdf_status legacy(void *user, const nbrdf_st_reader *r, int64_t *step, nbrdf_error *err) {
+  decoder_run *d = user;
+  char *spec = NULL, key[1024];
+  train_checkpoint_data_key(d->data, key, sizeof key);
+  nbrdf_status st = nbrdf_nn_spec_to_json(&d->dec->cfg.spec, &spec, err);
+  if (!st) st = require(r, "nbrdf.spec", spec, "decoder architecture", err);
+  if (!st) st = require(r, "nbrdf.data", key, "data sets", err);
+  free(spec);
+  const char *s = nbrdf_st_metadata_get(r, "nbrdf.step");
+  char *end = NULL;
+  long long k = s ? strtoll(s, &end, 10) : -1;
+  if (!st && (!s || *end || k < 0))
+    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: no valid nbrdf.step", nbrdf_st_label(r));
+  if (!st) *step = (int64_t)k;
+  return st;
+}
+
 nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_result *r,
                                nbrdf_error *err) {
   memset(r, 0, sizeof *r);
@@ -134,16 +216,19 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
 
   train_samples data, val;
   memset(&val, 0, sizeof val);
-  model_decoder *dec = NULL;
-  model_fit *fit = NULL;
-  float *lat = NULL;
-  run_log log = {0};
+  decoder_run d = {.s = s, .data = &data, .val = &val, .dec_path = dec_path};
+  d.train_loss = d.val_loss = NAN;
+  float *lat = NULL, *weight = NULL;
+  char *options = malloc(16384);
   st = train_samples_load(s->n_data, s->data, &data, err);
-  if (st) return st;
+  if (st) {
+    free(options);
+    return st;
+  }
   st = make_validation(s->validation_brdfs, &val, err);
   size_t nl = data.n_brdfs * (size_t)s->arch.latent_dim;
-  if (!st) st = model_decoder_create(&s->arch, s->seed, &dec, err);
-  if (!st && !(lat = malloc(nl * sizeof *lat)))
+  if (!st) st = model_decoder_create(&s->arch, s->seed, &d.dec, err);
+  if (!st && (!(lat = malloc(nl * sizeof *lat)) || !options))
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for latents");
   if (!st) {
     init_latents(lat, nl, s->seed);
@@ -153,67 +238,42 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
     o.lr_latent = s->lr_latent;
     o.lr_weights = s->lr_weights;
     o.latent_l2 = s->latent_l2;
-    o.decay_every = s->decay_every;
-    o.decay_gamma = s->decay_gamma;
     o.seed = s->seed;
-    st = model_fit_create(dec, data.n_brdfs, lat, &o, &fit, err);
+    st = model_fit_create(d.dec, data.n_brdfs, lat, &o, &d.fit, err);
   }
-  int64_t step = 0;
-  struct stat sb;
-  if (!st && stat(ckpt, &sb) == 0) {
-    st = train_checkpoint_load(ckpt, dec, fit, lat, data.n_brdfs, &data, &step, err);
-    r->resumed_from = step;
-  }
-  if (!st) st = run_log_open(&log, log_path, "step,seconds,train_loss,val_loss,lr", step, err);
-  model_samples view = train_samples_view(&data);
-  float *weight = st ? NULL : brdf_weights(&data, s->brdf_weight);
-  if (!st && s->brdf_weight != 0.0 && !weight)
+  if (!st && s->brdf_weight != 0.0 && !(weight = brdf_weights(&data, s->brdf_weight)))
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for BRDF weights");
-  view.weight = weight;
-  double t0 = now_s(), last_ckpt = t0, sum = 0.0;
-  int count = 0, stop = 0;
-  r->train_loss = NAN;
-  while (!st && step < s->steps && !stop) {
-    double loss;
-    st = model_fit_step(fit, &view, &loss, err);
-    if (st) break;
-    step++;
-    sum += loss, count++;
-    double t = now_s();
-    if (s->max_seconds > 0 && t - t0 >= s->max_seconds) stop = 1;
-    if (s->progress && s->progress(s->user, "train decoder", (double)step, (double)s->steps))
-      stop = 1;
-    int last = stop || step == s->steps;
-    if (step % s->log_every == 0 || last) {
-      r->train_loss = sum / count;
-      double vloss = NAN;
-      int save = last || t - last_ckpt >= s->checkpoint_seconds;
-      if (save) {
-        st = validate(dec, s, &val, &vloss, err);
-        r->val_loss = vloss;
-      }
-      run_log_row(&log, "%lld,%.1f,%.6g,%.6g,%.4g", (long long)step, t - t0, r->train_loss, vloss,
-                  (double)nbrdf_adam_lr(model_fit_adam(fit, 1), 0));
-      sum = 0.0, count = 0;
-      if (save) {
-        st = train_checkpoint_save(ckpt, dec, fit, lat, data.n_brdfs, &data, err);
-        if (!st) st = model_decoder_save(dec, dec_path, NULL, err);
-        last_ckpt = now_s();
-      }
-    }
+  if (!st) st = run_options(&d, options, 16384, err);
+  if (!st) {
+    d.view = train_samples_view(&data);
+    d.view.weight = weight;
+    /* Latents first, then weights: the order Adam stepped them in before the trainer. */
+    trainer_group groups[2] = {
+        {"latents", "adam.latents.m", "adam.latents.v", lat, model_fit_grad_latent(d.fit), nl,
+         s->lr_latent, s->decay_every, s->decay_gamma},
+        {"decoder.params", "adam.weights.m", "adam.weights.v", nbrdf_nn_params(d.dec->nn),
+         model_fit_grad_weights(d.fit), nbrdf_nn_param_count(d.dec->nn), s->lr_weights,
+         s->decay_every, s->decay_gamma}};
+    trainer_options to = TRAINER_OPTIONS_DEFAULT;
+    to.steps = s->steps, to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
+    to.checkpoint = ckpt, to.checkpoint_seconds = s->checkpoint_seconds;
+    to.checkpoint_boundary = s->log_every;
+    to.format = TRAIN_DECODER_CHECKPOINT_FORMAT, to.options = options;
+    to.log_path = log_path, to.log_header = "step,seconds,train_loss,val_loss,lr";
+    to.stage = "train decoder", to.progress = s->progress, to.user = s->user;
+    to.cancel = s->cancel;
+    trainer_fit fit = {&d, gradient, report, save, legacy};
+    trainer_result tr;
+    st = trainer_run(&to, &fit, groups, 2, NULL, 0, NULL, 0, &tr, err);
+    r->steps_done = tr.steps_done, r->resumed_from = tr.resumed_from;
+    r->finished = tr.finished, r->legacy_resume = tr.legacy_resume;
   }
-  r->steps_done = step;
-  r->finished = !st && step >= s->steps;
-  if (!st && !r->finished)
-    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
-                    "train decoder: stopped at step %lld of %lld "
-                    "(checkpointed; run the same command to resume)",
-                    (long long)step, (long long)s->steps);
-  run_log_close(&log);
-  model_fit_destroy(fit);
-  model_decoder_destroy(dec);
+  r->train_loss = d.train_loss, r->val_loss = d.val_loss;
+  model_fit_destroy(d.fit);
+  model_decoder_destroy(d.dec);
   free(lat);
   free(weight);
+  free(options);
   train_samples_free(&val);
   train_samples_free(&data);
   return st;

@@ -18,6 +18,7 @@
 #ifndef NBRDF_TRAIN_DECODER_H
 #define NBRDF_TRAIN_DECODER_H
 
+#include <signal.h>
 #include <stdint.h>
 
 #include "model/decoder.h"
@@ -33,6 +34,7 @@ typedef struct train_decoder_settings {
   model_decoder_config arch; /* from a preset or model_decoder_config_make */
   int64_t steps;             /* total steps of the run */
   double max_seconds;        /* stop (checkpointed, resumable) after this long; 0 = no limit */
+  int64_t stop_at_step;      /* stop (checkpointed, resumable) after this step; 0 = none */
   int rows_per_brdf;         /* samples per BRDF per step */
   float lr_weights, lr_latent, latent_l2;
   int decay_every;
@@ -50,7 +52,10 @@ typedef struct train_decoder_settings {
   int validation_brdfs;       /* held-out BRDFs projected at checkpoints (0 = none) */
   nbrdf_progress_fn progress; /* stage "train decoder", done/total in steps */
   void *user;
+  volatile sig_atomic_t *cancel; /* may be NULL */
 } train_decoder_settings;
+
+#define TRAIN_DECODER_CHECKPOINT_FORMAT "nbrdf-train-decoder-checkpoint"
 
 /* The defaults (arch: the "medium" preset). */
 void train_decoder_settings_default(train_decoder_settings *s);
@@ -59,10 +64,13 @@ typedef struct train_decoder_result {
   int64_t steps_done, resumed_from;
   double train_loss, val_loss; /* last measured (val: NaN when not measured) */
   int finished;                /* all steps done */
+  int legacy_resume;           /* resumed from a checkpoint made before nbrdf.options */
 } train_decoder_result;
 
-/* Runs (or resumes) the training in settings->run_dir. Returns
- * NBRDF_ERR_CANCELLED when stopped by the progress callback or max_seconds,
+/* Runs (or resumes) the training in settings->run_dir (train/trainer.h: the
+ * checkpoint records the settings a resume must share, nbrdf.options). Returns
+ * NBRDF_ERR_CANCELLED when stopped by the progress callback, the cancel flag,
+ * stop_at_step or max_seconds,
  * after writing a checkpoint (the same call resumes). */
 nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_result *r,
                                nbrdf_error *err);

@@ -5,19 +5,9 @@
 #include <string.h>
 
 #include "core/error.h"
-#include "core/progress.h"
 #include "core/rng.h"
-#include "train/run_log.h"
-
-nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
-                                      float *latents, nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(checkpoint, &r, err);
-  int64_t shape[1] = {(int64_t)(n_brdfs * (size_t)dim)};
-  if (!st) st = nbrdf_st_expect_copy(r, "latents", 1, shape, latents, err);
-  nbrdf_st_close(r);
-  return st;
-}
+#include "train/epoch_shuffle.h"
+#include "train/trainer.h"
 
 /* Mean squared error over pairs [lo, lo + m) in the order `idx`; with
  * `backward`, accumulates the gradient into grad. */
@@ -65,6 +55,88 @@ static nbrdf_status eval_all(model_layering *net, model_runner *run, const layer
   return st;
 }
 
+uint64_t train_layering_tables_hash(const model_base_table tables[2]) {
+  uint64_t h = TRAIN_HASH_START;
+  for (int k = 0; k < 2; k++) {
+    const model_base_table *t = &tables[k];
+    h = train_hash_floats(h, t->axis[0], (size_t)t->n[0]);
+    h = train_hash_floats(h, t->axis[1], (size_t)t->n[1]);
+    h = train_hash_floats(h, t->latents, (size_t)t->n[0] * (size_t)t->n[1] * (size_t)t->dim);
+  }
+  return h;
+}
+
+/* The latent-loss run (its shuffles: train/epoch_shuffle.h). */
+typedef struct latent_run {
+  model_layering *net;
+  model_decoder *dec;
+  const train_samples *data;
+  const train_layering_settings *s;
+  const layering_pairs *train, *val;
+  model_runner run;
+  train_epoch_shuffle shuffle;
+  size_t *eval_idx;
+  float *dy, *grad;
+  int64_t steps_per_epoch;
+  double sum;
+  size_t rows;
+  train_layering_result *r;
+} latent_run;
+
+static nbrdf_status latent_gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+  latent_run *t = user;
+  const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
+  size_t B = (size_t)t->s->batch, k0 = (size_t)(step % t->steps_per_epoch) * B;
+  size_t m = t->train->n - k0 < B ? t->train->n - k0 : B;
+  memset(t->grad, 0, nbrdf_nn_param_count(t->net->nn) * sizeof *t->grad);
+  nbrdf_status st = batch_loss(t->net, &t->run, t->train, idx + k0, m, t->grad, t->dy, loss, err);
+  t->sum += *loss * (double)m, t->rows += m;
+  return st;
+}
+
+/* At an epoch's end: the train loss; every 10 epochs and at the last, the
+ * validation losses and a log row. */
+static nbrdf_status latent_report(void *user, trainer *tr, int64_t done, double loss, int flags,
+                                  nbrdf_error *err) {
+  (void)loss, (void)flags;
+  latent_run *t = user;
+  if (done % t->steps_per_epoch != 0) return NBRDF_OK;
+  int epoch = (int)(done / t->steps_per_epoch);
+  train_layering_result *r = t->r;
+  r->train_loss = t->sum / (double)(t->rows ? t->rows : 1);
+  t->sum = 0.0, t->rows = 0;
+  if (epoch % 10 != 0 && epoch != t->s->epochs) return NBRDF_OK;
+  nbrdf_status st = t->val->n ? eval_all(t->net, &t->run, t->val, t->eval_idx, &r->val_loss,
+                                         &r->target_mean_square, err)
+                              : NBRDF_OK;
+  if (!st && t->dec && t->val->n)
+    st = train_layering_decoded_loss(t->net, t->dec, t->s->loss, t->data, t->val, &r->val_decoded,
+                                     err);
+  trainer_log(tr, "%d,%.6g,%.6g,%.6g,%.4g", epoch, r->train_loss, r->val_loss, r->val_decoded,
+              trainer_lr(tr, 0));
+  return st;
+}
+
+static void latent_options(const latent_run *t, const float *latents, char *out, size_t size) {
+  const train_layering_settings *s = t->s;
+  char data[1024], num[32];
+  train_checkpoint_data_key(t->data, data, sizeof data);
+  size_t D = (size_t)t->net->latent_dim;
+  out[0] = '\0';
+  trainer_option(out, size, "preset", "%s", s->preset);
+  trainer_option(out, size, "latent-dim", "%zu", D);
+  trainer_option(out, size, "batch", "%d", s->batch);
+  trainer_option(out, size, "lr", "%s", trainer_float_text(s->lr, num));
+  trainer_option(out, size, "decay-every", "%d", s->decay_every);
+  trainer_option(out, size, "decay-gamma", "%s", trainer_float_text(s->decay_gamma, num));
+  trainer_option(out, size, "validation-every", "%d", s->validation_every);
+  trainer_option(out, size, "seed", "%llu", (unsigned long long)s->seed);
+  trainer_option(out, size, "data", "%s", data);
+  trainer_option(
+      out, size, "latents", "%016llx",
+      (unsigned long long)train_hash_floats(TRAIN_HASH_START, latents, t->data->n_brdfs * D));
+}
+
 nbrdf_status train_layering_fit(const train_samples *data, const float *latents, model_decoder *dec,
                                 const model_base_table tables[2], const train_layering_settings *s,
                                 model_layering **out, train_layering_result *r, nbrdf_error *err) {
@@ -76,77 +148,60 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
       layering_pairs_make(data, latents, tables, 1, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
-  model_layering *net = NULL;
-  model_runner run = {0};
-  nbrdf_adam *adam = NULL;
   size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
-  size_t *idx = malloc((train.n > val.n ? train.n : val.n) * sizeof *idx);
-  float *dy = malloc(B * D * sizeof *dy), *grad = NULL;
-  run_log log = {0};
-  st = model_layering_create(s->preset, (int)D, s->seed, &net, err);
-  if (!st) st = model_runner_create(net->nn, (int)B, NBRDF_NN_TRAIN, &run, err);
-  if (!st && !(grad = malloc(nbrdf_nn_param_count(net->nn) * sizeof *grad)))
+  latent_run t = {.dec = dec, .data = data, .s = s, .train = &train, .val = &val, .r = r};
+  t.steps_per_epoch = (int64_t)((train.n + B - 1) / B);
+  int shuffle_ok = train_epoch_shuffle_init(&t.shuffle, train.n, s->seed, 0x6c61796572u);
+  t.eval_idx = malloc((val.n ? val.n : 1) * sizeof *t.eval_idx);
+  t.dy = malloc(B * D * sizeof *t.dy);
+  char options[4096];
+  st = model_layering_create(s->preset, (int)D, s->seed, &t.net, err);
+  if (!st) st = model_runner_create(t.net->nn, (int)B, NBRDF_NN_TRAIN, &t.run, err);
+  if (!st && !(t.grad = malloc(nbrdf_nn_param_count(t.net->nn) * sizeof *t.grad)))
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
-  if (!st && (!idx || !dy)) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!st && (!shuffle_ok || !t.eval_idx || !t.dy))
+    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st) {
-    nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
-    ao.lr = s->lr;
-    ao.decay_every = s->decay_every * (int)((train.n + B - 1) / B); /* epochs → steps */
-    ao.decay_gamma = s->decay_gamma;
-    st = nbrdf_adam_create(nbrdf_nn_param_count(net->nn), &ao, &adam, err);
-  }
-  if (!st && s->log_path)
-    st = run_log_open(&log, s->log_path, "epoch,train_loss,val_loss,val_decoded,lr", 0, err);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, s->seed, 0x6c61796572u);
-  nbrdf_ticker tk;
-  nbrdf_ticker_init(&tk, s->progress, s->user, NULL);
-  for (int e = 0; e < s->epochs && !st; e++) {
-    for (size_t i = 0; i < train.n; i++)
-      idx[i] = i;
-    for (size_t i = train.n; i > 1; i--) { /* Fisher–Yates */
-      size_t j = (size_t)(nbrdf_rng_uniform(&rng) * (double)i), t = idx[i - 1];
-      idx[i - 1] = idx[j], idx[j] = t;
-    }
-    double sum = 0.0;
-    for (size_t k0 = 0; k0 < train.n && !st; k0 += B) {
-      /* an epoch of many rows takes seconds: cancel and progress between batches */
-      if (nbrdf_ticker_tick(&tk, "train layering", e + (double)k0 / (double)train.n, s->epochs,
-                            0)) {
-        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train layering: cancelled in epoch %d", e + 1);
-        break;
-      }
-      size_t m = train.n - k0 < B ? train.n - k0 : B;
-      double l = 0.0;
-      memset(grad, 0, nbrdf_nn_param_count(net->nn) * sizeof *grad);
-      st = batch_loss(net, &run, &train, idx + k0, m, grad, dy, &l, err);
-      sum += l * (double)m;
-      if (!st) st = nbrdf_adam_step(adam, nbrdf_nn_params(net->nn), grad, err);
-    }
-    r->train_loss = sum / (double)train.n;
-    if (!st && (e % 10 == 9 || e == s->epochs - 1)) {
-      st = val.n ? eval_all(net, &run, &val, idx, &r->val_loss, &r->target_mean_square, err)
-                 : NBRDF_OK;
-      if (!st && dec && val.n)
-        st = train_layering_decoded_loss(net, dec, s->loss, data, &val, &r->val_decoded, err);
-      run_log_row(&log, "%d,%.6g,%.6g,%.6g,%.4g", e + 1, r->train_loss, r->val_loss, r->val_decoded,
-                  (double)nbrdf_adam_lr(adam, 0));
-    }
-    if (!st && nbrdf_ticker_tick(&tk, "train layering", e + 1, s->epochs, e + 1 == s->epochs))
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train layering: cancelled");
+    latent_options(&t, latents, options, sizeof options);
+    trainer_group g = {"layering.params",
+                       "adam.m",
+                       "adam.v",
+                       nbrdf_nn_params(t.net->nn),
+                       t.grad,
+                       nbrdf_nn_param_count(t.net->nn),
+                       s->lr,
+                       s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
+                       s->decay_gamma};
+    trainer_word words[3];
+    train_epoch_shuffle_words(&t.shuffle, words);
+    trainer_options to = TRAINER_OPTIONS_DEFAULT;
+    to.steps = (int64_t)s->epochs * t.steps_per_epoch;
+    to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
+    to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
+    to.checkpoint_boundary = t.steps_per_epoch;
+    to.format = "nbrdf-train-layering-latent-checkpoint", to.options = options;
+    to.log_path = s->log_path, to.log_header = "epoch,train_loss,val_loss,val_decoded,lr";
+    to.log_unit = t.steps_per_epoch;
+    /* an epoch of many rows takes seconds: cancel and progress between batches */
+    to.stage = "train layering", to.progress = s->progress, to.user = s->user;
+    to.cancel = s->cancel;
+    to.progress_unit = (double)t.steps_per_epoch, to.progress_force = t.steps_per_epoch;
+    trainer_fit fit = {.user = &t, .gradient = latent_gradient, .report = latent_report};
+    trainer_result tr;
+    st = trainer_run(&to, &fit, &g, 1, NULL, 0, words, 3, &tr, err);
+    r->resumed_from = (int)(tr.resumed_from / t.steps_per_epoch);
+    r->epochs_done = (int)(tr.steps_done / t.steps_per_epoch);
   }
   if (!st && dec && val.n)
     st = train_layering_decoded_loss(NULL, dec, s->loss, data, &val, &r->val_decoded_oracle, err);
-  r->epochs_done = s->epochs;
-  run_log_close(&log);
-  nbrdf_adam_destroy(adam);
-  model_runner_destroy(&run);
-  free(idx), free(dy), free(grad);
+  model_runner_destroy(&t.run);
+  train_epoch_shuffle_free(&t.shuffle);
+  free(t.eval_idx), free(t.dy), free(t.grad);
   layering_pairs_free(&train), layering_pairs_free(&val);
   if (st) {
-    model_layering_destroy(net);
+    model_layering_destroy(t.net);
     return st;
   }
-  *out = net;
+  *out = t.net;
   return NBRDF_OK;
 }

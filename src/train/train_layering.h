@@ -23,6 +23,7 @@
 #include "model/decoder.h"
 #include "model/layering.h"
 #include "model/loss.h"
+#include "train/checkpoint.h"
 #include "train/layering_pairs.h"
 #include "train/samples.h"
 
@@ -40,15 +41,19 @@ typedef struct train_layering_settings {
   /* Decoded loss only: */
   int rows_per_pair;          /* samples drawn per pair per step */
   model_loss_kind loss;       /* the decoder's training loss */
-  const char *checkpoint;     /* resumable state, written atomically (may be NULL) */
-  double checkpoint_seconds;  /* at most this long between checkpoints */
   const model_layering *init; /* start from these weights (same preset), else random */
+  /* Both losses (train/trainer.h): */
+  const char *checkpoint;        /* resumable state, written atomically (may be NULL) */
+  double checkpoint_seconds;     /* at most this long between checkpoints */
+  double max_seconds;            /* stop (checkpointed) after this long; 0 = no limit */
+  int64_t stop_at_step;          /* stop (checkpointed) after this many batches; 0 = none */
+  volatile sig_atomic_t *cancel; /* may be NULL */
 } train_layering_settings;
 
 #define TRAIN_LAYERING_SETTINGS_DEFAULT                                                            \
   {                                                                                                \
     "small", 400, 128, 1e-3f, 150, 0.5f, 10, 1u, NULL, NULL, NULL, 64, MODEL_LOSS_L1_LOG1P, NULL,  \
-        300.0, NULL                                                                                \
+        NULL, 300.0, 0.0, 0, NULL                                                                  \
   }
 
 typedef struct train_layering_result {
@@ -57,6 +62,7 @@ typedef struct train_layering_result {
   double val_decoded;        /* decoded loss of the held-out pairs (NaN without a decoder) */
   double val_decoded_oracle; /* same with the run's own latents (latent loss only; else NaN) */
   int epochs_done, resumed_from;
+  int legacy_resume; /* resumed from a checkpoint made before nbrdf.options */
 } train_layering_result;
 
 /* `data` and `latents` [data->n_brdfs × D] are the decoder run's BRDFs and
@@ -83,9 +89,8 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
                                          const layering_pairs *pairs, double *mean,
                                          nbrdf_error *err);
 
-/* Loads a decoder run's latents (its checkpoint) for the data it was trained on. */
-nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
-                                      float *latents, nbrdf_error *err);
+/* A hash of both tables' axes and latents (checkpoint options). */
+uint64_t train_layering_tables_hash(const model_base_table tables[2]);
 
 /* The network's latent for every pair (recursive for three layers), out
  * [p->n × D]: what a bake computes for those parameters. */

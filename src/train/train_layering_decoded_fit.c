@@ -1,47 +1,41 @@
-/* The loop of the decoded-loss layering training (train_layering.h):
- * epochs of shuffled batches, Adam, validation, checkpoints. */
-#include <errno.h>
+/* The decoded-loss layering training (train_layering.h) as a fit of the
+ * trainer (train/trainer.h): epochs of shuffled batches, validation, the log. */
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <time.h>
 
 #include "core/error.h"
-#include "core/rng.h"
 #include "core/progress.h"
+#include "core/rng.h"
 #include "train/checkpoint.h"
-#include "train/run_log.h"
+#include "train/epoch_shuffle.h"
 #include "train/train_layering.h"
+#include "train/trainer.h"
 
 #define CHECKPOINT_FORMAT "nbrdf-train-layering-checkpoint"
 
-static double now_s(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-typedef struct trainer {
+typedef struct decoded_run {
   const train_samples *data;
   model_decoder *dec;
   model_layering *net;
   const train_layering_settings *s;
   train_layering_decoded *engine;
   float *grad;
-  nbrdf_adam *adam;
-} trainer;
+  const layering_pairs *train, *val;
+  size_t *idx;
+  uint64_t tables_hash;
+  int64_t steps_per_epoch;
+  int shuffled; /* the epoch idx holds, -1 none */
+  double sum;   /* loss · rows of the epoch so far (since the start of this invocation) */
+  size_t rows;
+  train_layering_result *r;
+} decoded_run;
 
-static nbrdf_status add(nbrdf_st_writer *w, const char *name, size_t n, const float *x,
-                        nbrdf_error *err) {
-  int64_t shape[1] = {(int64_t)n};
-  return nbrdf_st_writer_add_borrowed(w, name, 1, shape, x, err);
-}
-
-/* The settings a checkpoint must share with the run that resumes it. */
-static void run_key(const trainer *t, char *out, size_t size) {
+/* The settings a checkpoint written before nbrdf.options had to share with the
+ * run that resumes it (one string). */
+static void run_key(const decoded_run *t, char *out, size_t size) {
   char data[1024];
   train_checkpoint_data_key(t->data, data, sizeof data);
   const train_layering_settings *s = t->s;
@@ -51,84 +45,60 @@ static void run_key(const trainer *t, char *out, size_t size) {
            (double)s->decay_gamma, s->validation_every, s->seed, model_loss_name(s->loss), data);
 }
 
-/* `epoch` epochs done, and `batch` batches of the next one (a run cancelled
- * inside an epoch resumes at the next batch, exactly: the epoch's shuffle and
- * each step's draws are functions of the seed, the epoch and the step). */
-static nbrdf_status save_checkpoint(const trainer *t, int epoch, int64_t batch, nbrdf_error *err) {
-  nbrdf_st_writer *w = NULL;
-  char key[2048], ep[32], bt[32];
-  size_t n = nbrdf_nn_param_count(t->net->nn);
-  run_key(t, key, sizeof key);
-  snprintf(ep, sizeof ep, "%d", epoch);
-  snprintf(bt, sizeof bt, "%" PRId64, batch);
-  nbrdf_status st = nbrdf_st_writer_create(&w, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", CHECKPOINT_FORMAT, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.run", key, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.epoch", ep, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.batch", bt, err);
-  if (!st) st = add(w, "layering.params", n, nbrdf_nn_params_const(t->net->nn), err);
-  if (!st) st = add(w, "adam.m", n, nbrdf_adam_moment(t->adam, 0), err);
-  if (!st) st = add(w, "adam.v", n, nbrdf_adam_moment(t->adam, 1), err);
-  if (!st) st = nbrdf_st_writer_save(w, t->s->checkpoint, NULL, err);
-  nbrdf_st_writer_destroy(w);
-  return st;
-}
-
-/* Restores a checkpoint if there is one; *epoch = epochs done and *batch =
- * batches done of the next epoch (0 and 0 without; checkpoints written before
- * nbrdf.batch existed are at an epoch's end). */
-static nbrdf_status load_checkpoint(trainer *t, int64_t steps_per_epoch, int *epoch,
-                                    int64_t *batch, nbrdf_error *err) {
-  *epoch = 0, *batch = 0;
-  /* No checkpoint yet: start afresh (anything else, a FIFO included, is for
-   * nbrdf_st_open to refuse: opening it here could block). */
-  struct stat sb;
-  if (stat(t->s->checkpoint, &sb) != 0 && errno == ENOENT) return NBRDF_OK;
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(t->s->checkpoint, &r, err);
-  if (st) return st;
+/* A checkpoint from before nbrdf.options: the run key as it was checked
+ * then; the step from its epoch and batch. */
+static nbrdf_status legacy(void *user, const nbrdf_st_reader *r, int64_t *step, nbrdf_error *err) {
+  decoded_run *t = user;
   char key[2048];
   run_key(t, key, sizeof key);
-  const char *fmt = nbrdf_st_metadata_get(r, "nbrdf.format"),
-             *k = nbrdf_st_metadata_get(r, "nbrdf.run");
+  const char *k = nbrdf_st_metadata_get(r, "nbrdf.run");
   const char *e = nbrdf_st_metadata_get(r, "nbrdf.epoch");
   const char *b = nbrdf_st_metadata_get(r, "nbrdf.batch");
   char *end = NULL, *bend = NULL;
   long ep = e ? strtol(e, &end, 10) : -1;
-  long long bt = b ? strtoll(b, &bend, 10) : 0;
-  if (b && (*bend || bt < 0 || bt >= steps_per_epoch)) bt = -1;
-  if (!fmt || strcmp(fmt, CHECKPOINT_FORMAT) || !k || strcmp(k, key) || !e || *end || ep < 0 ||
-      bt < 0)
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                    "%s: a checkpoint of another layering run (data, preset or settings differ); "
-                    "remove it or give the same settings",
-                    t->s->checkpoint);
-  size_t n = nbrdf_nn_param_count(t->net->nn);
-  int64_t shape[1] = {(int64_t)n};
-  if (!st)
-    st = nbrdf_st_expect_copy(r, "layering.params", 1, shape, nbrdf_nn_params(t->net->nn), err);
-  if (!st) st = nbrdf_st_expect_copy(r, "adam.m", 1, shape, nbrdf_adam_moment(t->adam, 0), err);
-  if (!st) st = nbrdf_st_expect_copy(r, "adam.v", 1, shape, nbrdf_adam_moment(t->adam, 1), err);
-  nbrdf_st_close(r);
-  if (!st) {
-    nbrdf_adam_set_steps(t->adam, (int64_t)ep * steps_per_epoch + bt);
-    *epoch = (int)ep, *batch = bt;
-  }
-  return st;
+  long long bt = b ? strtoll(b, &bend, 10) : 0; /* older still: at an epoch's end */
+  if (b && (*bend || bt < 0 || bt >= t->steps_per_epoch)) bt = -1;
+  if (!k || strcmp(k, key) || !e || *end || ep < 0 || bt < 0)
+    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
+                      "%s: a checkpoint of another layering run (data, preset or settings "
+                      "differ); remove it or give the same settings",
+                      nbrdf_st_label(r));
+  *step = (int64_t)ep * t->steps_per_epoch + bt;
+  return NBRDF_OK;
 }
 
+/* The options a resume must share (not the epoch count: more epochs extend a run). */
+static void run_options(const decoded_run *t, char *out, size_t size) {
+  const train_layering_settings *s = t->s;
+  char data[1024], num[32];
+  train_checkpoint_data_key(t->data, data, sizeof data);
+  out[0] = '\0';
+  trainer_option(out, size, "preset", "%s", s->preset);
+  trainer_option(out, size, "latent-dim", "%d", t->net->latent_dim);
+  trainer_option(out, size, "batch", "%d", s->batch);
+  trainer_option(out, size, "rows", "%d", s->rows_per_pair);
+  trainer_option(out, size, "lr", "%s", trainer_float_text(s->lr, num));
+  trainer_option(out, size, "decay-every", "%d", s->decay_every);
+  trainer_option(out, size, "decay-gamma", "%s", trainer_float_text(s->decay_gamma, num));
+  trainer_option(out, size, "validation-every", "%d", s->validation_every);
+  trainer_option(out, size, "seed", "%llu", (unsigned long long)s->seed);
+  trainer_option(out, size, "loss", "%s", model_loss_name(s->loss));
+  trainer_option(out, size, "data", "%s", data);
+  trainer_option(out, size, "decoder weights", "%016llx",
+                 (unsigned long long)train_hash_floats(TRAIN_HASH_START,
+                                                       nbrdf_nn_params_const(t->dec->nn),
+                                                       nbrdf_nn_param_count(t->dec->nn)));
+  trainer_option(out, size, "tables", "%016llx", (unsigned long long)t->tables_hash);
+}
+
+/* Each epoch's shuffle from its own stream: a function of the seed and the epoch. */
 static void shuffle(size_t *idx, size_t n, uint64_t seed, int epoch) {
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, seed, 0x6c61796572000000u + (uint64_t)epoch);
-  for (size_t i = 0; i < n; i++)
-    idx[i] = i;
-  for (size_t i = n; i > 1; i--) { /* Fisher–Yates */
-    size_t j = (size_t)(nbrdf_rng_uniform(&rng) * (double)i), x = idx[i - 1];
-    idx[i - 1] = idx[j], idx[j] = x;
-  }
+  train_shuffle_indices(idx, n, &rng);
 }
 
-static nbrdf_status setup(trainer *t, size_t D, nbrdf_error *err) {
+static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {
   const train_layering_settings *s = t->s;
   nbrdf_status st = model_layering_create(s->preset, (int)D, s->seed, &t->net, err);
   if (!st && s->init) {
@@ -149,6 +119,42 @@ static nbrdf_status setup(trainer *t, size_t D, nbrdf_error *err) {
   return NBRDF_OK;
 }
 
+/* The loss of step `step`: batch step % steps_per_epoch of its epoch's
+ * shuffle (a function of the seed and the epoch), rows from stream `step`. */
+static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+  decoded_run *t = user;
+  int epoch = (int)(step / t->steps_per_epoch);
+  size_t B = (size_t)t->s->batch, k0 = (size_t)(step % t->steps_per_epoch) * B;
+  if (t->shuffled != epoch) shuffle(t->idx, t->train->n, t->s->seed, epoch);
+  t->shuffled = epoch;
+  int m = (int)(t->train->n - k0 < B ? t->train->n - k0 : B);
+  memset(t->grad, 0, nbrdf_nn_param_count(t->net->nn) * sizeof *t->grad);
+  nbrdf_status st = train_layering_decoded_gradient(t->engine, t->train, t->idx + k0, m, step,
+                                                    t->grad, loss, err);
+  t->sum += *loss * m, t->rows += (size_t)m;
+  return st;
+}
+
+/* At an epoch's end: the train loss, validation every 5 epochs and at the
+ * last, a log row. */
+static nbrdf_status report(void *user, trainer *tr, int64_t done, double loss, int flags,
+                           nbrdf_error *err) {
+  (void)loss, (void)flags;
+  decoded_run *t = user;
+  if (done % t->steps_per_epoch != 0) return NBRDF_OK;
+  int epoch = (int)(done / t->steps_per_epoch);
+  t->r->train_loss = t->sum / (double)(t->rows ? t->rows : 1);
+  t->sum = 0.0, t->rows = 0;
+  nbrdf_status st = NBRDF_OK;
+  if (t->val->n && (epoch % 5 == 0 || epoch == t->s->epochs))
+    st = train_layering_decoded_loss(t->net, t->dec, t->s->loss, t->data, t->val,
+                                     &t->r->val_decoded, err);
+  if (!st)
+    trainer_log(tr, "%d,%.1f,%.6g,%.6g,%.4g", epoch, trainer_seconds(tr), t->r->train_loss,
+                t->r->val_decoded, trainer_lr(tr, 0));
+  return st;
+}
+
 nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder *dec,
                                         const model_base_table tables[2],
                                         const train_layering_settings *s, model_layering **out,
@@ -161,81 +167,50 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
       layering_pairs_make(data, NULL, tables, 2, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
-  trainer t = {.data = data, .dec = dec, .s = s};
   size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
-  size_t *idx = malloc(train.n * sizeof *idx);
-  int64_t steps_per_epoch = (int64_t)((train.n + B - 1) / B);
-  run_log log = {0};
-  if (!idx) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  decoded_run t = {.data = data, .dec = dec, .s = s, .train = &train, .val = &val, .r = r};
+  t.steps_per_epoch = (int64_t)((train.n + B - 1) / B);
+  t.shuffled = -1;
+  t.tables_hash = train_layering_tables_hash(tables);
+  t.idx = malloc(train.n * sizeof *t.idx);
+  char options[4096];
+  if (!t.idx) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st) st = setup(&t, D, err);
   if (!st) {
-    nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
-    ao.lr = s->lr;
-    ao.decay_every = s->decay_every * (int)steps_per_epoch; /* epochs → steps */
-    ao.decay_gamma = s->decay_gamma;
-    st = nbrdf_adam_create(nbrdf_nn_param_count(t.net->nn), &ao, &t.adam, err);
+    run_options(&t, options, sizeof options);
+    trainer_group g = {"layering.params",
+                       "adam.m",
+                       "adam.v",
+                       nbrdf_nn_params(t.net->nn),
+                       t.grad,
+                       nbrdf_nn_param_count(t.net->nn),
+                       s->lr,
+                       s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
+                       s->decay_gamma};
+    trainer_options to = TRAINER_OPTIONS_DEFAULT;
+    to.steps = (int64_t)s->epochs * t.steps_per_epoch;
+    to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
+    to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
+    to.checkpoint_boundary = t.steps_per_epoch;
+    to.format = CHECKPOINT_FORMAT, to.options = options;
+    to.log_path = s->log_path, to.log_header = "epoch,seconds,train_loss,val_decoded,lr";
+    to.log_unit = t.steps_per_epoch;
+    /* Ctrl-C (the callback's answer) is heard after every batch, not only at
+     * an epoch's end: an epoch of the shipped recipe takes minutes. */
+    to.stage = "train layering", to.progress = s->progress, to.user = s->user;
+    to.cancel = s->cancel;
+    to.progress_unit = (double)t.steps_per_epoch, to.progress_force = t.steps_per_epoch;
+    trainer_fit fit = {.user = &t, .gradient = gradient, .report = report, .legacy = legacy};
+    trainer_result tr;
+    st = trainer_run(&to, &fit, &g, 1, NULL, 0, NULL, 0, &tr, err);
+    r->resumed_from = (int)(tr.resumed_from / t.steps_per_epoch);
+    r->epochs_done = (int)(tr.steps_done / t.steps_per_epoch);
+    r->legacy_resume = tr.legacy_resume;
   }
-  int epoch = 0;
-  int64_t first_batch = 0; /* of the first epoch run here: > 0 when resuming inside it */
-  if (!st && s->checkpoint) st = load_checkpoint(&t, steps_per_epoch, &epoch, &first_batch, err);
-  r->resumed_from = epoch;
-  /* Ctrl-C (the callback's answer) is heard after every batch, not only at an
-   * epoch's end: an epoch of the shipped recipe takes minutes. */
-  nbrdf_ticker ticker;
-  nbrdf_ticker_init(&ticker, s->progress, s->user, NULL);
-  if (!st && s->log_path)
-    st = run_log_open(&log, s->log_path, "epoch,seconds,train_loss,val_decoded,lr", epoch, err);
-  double t0 = now_s(), last_ckpt = t0;
-  for (; epoch < s->epochs && !st; epoch++) {
-    shuffle(idx, train.n, s->seed, epoch);
-    double sum = 0.0;
-    size_t rows = 0;
-    int stop = 0;
-    for (size_t k0 = (size_t)first_batch * B; k0 < train.n && !st && !stop; k0 += B) {
-      int m = (int)(train.n - k0 < B ? train.n - k0 : B);
-      int64_t step = (int64_t)epoch * steps_per_epoch + (int64_t)(k0 / B);
-      double l = 0.0;
-      memset(t.grad, 0, nbrdf_nn_param_count(t.net->nn) * sizeof *t.grad);
-      st = train_layering_decoded_gradient(t.engine, &train, idx + k0, m, step, t.grad, &l, err);
-      sum += l * m, rows += (size_t)m;
-      if (!st) st = nbrdf_adam_step(t.adam, nbrdf_nn_params(t.net->nn), t.grad, err);
-      if (!st && k0 + (size_t)m < train.n &&
-          nbrdf_ticker_tick(&ticker, "train layering", epoch + (double)(k0 + m) / (double)train.n,
-                            s->epochs, 0)) {
-        stop = 1;
-        if (s->checkpoint) st = save_checkpoint(&t, epoch, (int64_t)(k0 / B) + 1, err);
-        if (!st)
-          st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
-                          "train layering: cancelled in epoch %d after batch %d of %d%s", epoch + 1,
-                          (int)(k0 / B) + 1, (int)steps_per_epoch,
-                          s->checkpoint ? " (resumable)" : "");
-      }
-    }
-    first_batch = 0;
-    if (st) break;
-    r->train_loss = sum / (double)(rows ? rows : 1);
-    int last = epoch + 1 == s->epochs;
-    if (val.n && (epoch % 5 == 4 || last))
-      st = train_layering_decoded_loss(t.net, dec, s->loss, data, &val, &r->val_decoded, err);
-    if (!st)
-      run_log_row(&log, "%d,%.1f,%.6g,%.6g,%.4g", epoch + 1, now_s() - t0, r->train_loss,
-                  r->val_decoded, (double)nbrdf_adam_lr(t.adam, 0));
-    int cancel = !st && nbrdf_ticker_tick(&ticker, "train layering", epoch + 1, s->epochs, 1);
-    if (!st && s->checkpoint && (last || cancel || now_s() - last_ckpt >= s->checkpoint_seconds)) {
-      st = save_checkpoint(&t, epoch + 1, 0, err);
-      last_ckpt = now_s();
-    }
-    if (!st && cancel)
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
-                      "train layering: cancelled after epoch %d (resumable)", epoch + 1);
-  }
-  r->epochs_done = epoch;
   if (!st && val.n && isnan(r->val_decoded))
     st = train_layering_decoded_loss(t.net, dec, s->loss, data, &val, &r->val_decoded, err);
-  run_log_close(&log);
-  nbrdf_adam_destroy(t.adam);
   train_layering_decoded_destroy(t.engine);
-  free(idx), free(t.grad);
+  free(t.idx), free(t.grad);
   layering_pairs_free(&train), layering_pairs_free(&val);
   if (st) {
     model_layering_destroy(t.net);

@@ -8,6 +8,8 @@
 #include "core/progress.h"
 #include "core/rng.h"
 #include "model/proxy.h"
+#include "train/checkpoint.h"
+#include "train/epoch_shuffle.h"
 
 /* The fixed wide proposal the expectations are estimated with. */
 #define Q0_SIGMA 0.25
@@ -150,6 +152,56 @@ static void raw_outputs(float sigma, float w, float o[2]) {
   o[1] = (float)log(ww / (1.0 - ww));
 }
 
+/* The network's regression as a fit of the trainer (train/trainer.h): one
+ * batch of latents per step, shuffled per epoch (train/epoch_shuffle.h). */
+typedef struct sampler_run {
+  model_sampler *net;
+  const float *latents, *target;
+  size_t n, D, B;
+  int64_t steps_per_epoch;
+  train_epoch_shuffle shuffle;
+  model_runner run;
+  float *dy, *grad;
+} sampler_run;
+
+static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+  sampler_run *t = user;
+  const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
+  size_t D = t->D, k0 = (size_t)(step % t->steps_per_epoch) * t->B;
+  size_t m = t->n - k0 < t->B ? t->n - k0 : t->B;
+  for (size_t r0 = 0; r0 < m; r0++)
+    memcpy(t->run.x + r0 * D, t->latents + idx[k0 + r0] * D, D * sizeof(float));
+  nbrdf_status st = nbrdf_nn_forward(t->net->nn, t->run.ws, t->run.x, (int)m, t->run.y, err);
+  double sq = 0.0;
+  for (size_t r0 = 0; r0 < 2 * m && !st; r0++) {
+    t->dy[r0] = (t->run.y[r0] - t->target[2 * idx[k0 + r0 / 2] + r0 % 2]) / (float)m;
+    sq += (double)t->dy[r0] * t->dy[r0];
+  }
+  *loss = 0.5 * sq * (double)m; /* ½ Σ e² / m, the regression's loss */
+  if (!st) memset(t->grad, 0, nbrdf_nn_param_count(t->net->nn) * sizeof *t->grad);
+  if (!st) st = nbrdf_nn_backward(t->net->nn, t->run.ws, t->dy, NULL, t->grad, err);
+  return st;
+}
+
+static void run_options(const sampler_run *t, model_decoder *dec, const train_sampler_settings *s,
+                        char *out, size_t size) {
+  char num[32];
+  out[0] = '\0';
+  trainer_option(out, size, "latent-dim", "%zu", t->D);
+  trainer_option(out, size, "incident", "%d", s->incident);
+  trainer_option(out, size, "outgoing", "%d", s->outgoing);
+  trainer_option(out, size, "epochs", "%d", s->epochs); /* the schedule depends on it */
+  trainer_option(out, size, "batch", "%d", s->batch);
+  trainer_option(out, size, "lr", "%s", trainer_float_text(s->lr, num));
+  trainer_option(out, size, "seed", "%llu", (unsigned long long)s->seed);
+  trainer_option(out, size, "latents", "%zu, %016llx", t->n,
+                 (unsigned long long)train_hash_floats(TRAIN_HASH_START, t->latents, t->n * t->D));
+  trainer_option(out, size, "decoder weights", "%016llx",
+                 (unsigned long long)train_hash_floats(TRAIN_HASH_START,
+                                                       nbrdf_nn_params_const(dec->nn),
+                                                       nbrdf_nn_param_count(dec->nn)));
+}
+
 nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latents,
                                const train_sampler_settings *s, model_sampler **out,
                                train_sampler_result *r, nbrdf_error *err) {
@@ -157,76 +209,73 @@ nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latent
   *out = NULL;
   size_t D = (size_t)dec->cfg.latent_dim, B = (size_t)s->batch;
   float *sigma = malloc(n * sizeof *sigma), *w = malloc(n * sizeof *w);
-  float *target = malloc(2 * n * sizeof *target), *dy = malloc(2 * B * sizeof *dy), *grad = NULL;
-  size_t *idx = malloc(n * sizeof *idx);
-  model_sampler *net = NULL;
-  model_runner run = {0};
-  nbrdf_adam *adam = NULL;
-  nbrdf_status st = sigma && w && target && dy && idx
+  float *target = malloc(2 * n * sizeof *target);
+  sampler_run t = {.latents = latents, .target = target, .n = n, .D = D, .B = B};
+  t.steps_per_epoch = (int64_t)((n + B - 1) / B);
+  t.dy = malloc(2 * B * sizeof *t.dy);
+  int shuffle_ok = train_epoch_shuffle_init(&t.shuffle, n, s->seed, 0x73616d70u);
+  nbrdf_status st = sigma && w && target && t.dy && shuffle_ok
                         ? NBRDF_OK
                         : nbrdf_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
+  /* The targets are a function of the decoder and the latents: a resumed run
+   * computes them again (seconds) rather than checkpointing them. */
   if (!st)
     st = train_sampler_targets(dec, n, latents, s, sigma, w, &r->mean_ce_fit, &r->mean_ce_cosine,
                                err);
   for (size_t b = 0; b < n && !st; b++)
     raw_outputs(sigma[b], w[b], target + 2 * b);
-  if (!st) st = model_sampler_create("default", (int)D, s->seed, &net, err);
-  if (!st) st = model_runner_create(net->nn, (int)B, NBRDF_NN_TRAIN, &run, err);
-  if (!st && !(grad = malloc(nbrdf_nn_param_count(net->nn) * sizeof *grad)))
+  if (!st) st = model_sampler_create("default", (int)D, s->seed, &t.net, err);
+  if (!st) st = model_runner_create(t.net->nn, (int)B, NBRDF_NN_TRAIN, &t.run, err);
+  if (!st && !(t.grad = malloc(nbrdf_nn_param_count(t.net->nn) * sizeof *t.grad)))
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
   if (!st) {
-    nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
-    ao.lr = s->lr;
-    ao.decay_every = (int)((n + B - 1) / B) * (s->epochs / 3 > 0 ? s->epochs / 3 : 1);
-    ao.decay_gamma = 0.3f;
-    st = nbrdf_adam_create(nbrdf_nn_param_count(net->nn), &ao, &adam, err);
-  }
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, s->seed, 0x73616d70u);
-  /* Asked after every batch, so Ctrl-C (the callback's answer) is heard within
-   * one batch, not one epoch. */
-  nbrdf_ticker ticker;
-  nbrdf_ticker_init(&ticker, s->progress, s->user, NULL);
-  for (int e = 0; e < s->epochs && !st; e++) {
-    for (size_t i = 0; i < n; i++)
-      idx[i] = i;
-    for (size_t i = n; i > 1; i--) {
-      size_t j = (size_t)(nbrdf_rng_uniform(&rng) * (double)i), t = idx[i - 1];
-      idx[i - 1] = idx[j], idx[j] = t;
-    }
-    for (size_t k0 = 0; k0 < n && !st; k0 += B) {
-      size_t m = n - k0 < B ? n - k0 : B;
-      for (size_t r0 = 0; r0 < m; r0++)
-        memcpy(run.x + r0 * D, latents + idx[k0 + r0] * D, D * sizeof(float));
-      st = nbrdf_nn_forward(net->nn, run.ws, run.x, (int)m, run.y, err);
-      for (size_t r0 = 0; r0 < 2 * m && !st; r0++)
-        dy[r0] = (run.y[r0] - target[2 * idx[k0 + r0 / 2] + r0 % 2]) / (float)m;
-      if (!st) memset(grad, 0, nbrdf_nn_param_count(net->nn) * sizeof *grad);
-      if (!st) st = nbrdf_nn_backward(net->nn, run.ws, dy, NULL, grad, err);
-      if (!st) st = nbrdf_adam_step(adam, nbrdf_nn_params(net->nn), grad, err);
-      if (!st && nbrdf_ticker_tick(&ticker, "sampler: network", e + (double)(k0 + m) / (double)n,
-                                   s->epochs, k0 + m == n))
-        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train sampler: cancelled");
-    }
+    char options[2048];
+    run_options(&t, dec, s, options, sizeof options);
+    trainer_group g = {"sampler.params",
+                       "adam.m",
+                       "adam.v",
+                       nbrdf_nn_params(t.net->nn),
+                       t.grad,
+                       nbrdf_nn_param_count(t.net->nn),
+                       s->lr,
+                       (int)t.steps_per_epoch * (s->epochs / 3 > 0 ? s->epochs / 3 : 1),
+                       0.3f};
+    trainer_word words[3];
+    train_epoch_shuffle_words(&t.shuffle, words);
+    trainer_options to = TRAINER_OPTIONS_DEFAULT;
+    to.steps = (int64_t)s->epochs * t.steps_per_epoch;
+    to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
+    to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
+    to.checkpoint_boundary = t.steps_per_epoch;
+    to.format = "nbrdf-train-sampler-checkpoint", to.options = options;
+    /* Asked after every batch, so Ctrl-C (the callback's answer) is heard
+     * within one batch, not one epoch. */
+    to.stage = "sampler: network", to.progress = s->progress, to.user = s->user;
+    to.cancel = s->cancel;
+    to.progress_unit = (double)t.steps_per_epoch, to.progress_force = t.steps_per_epoch;
+    trainer_fit fit = {.user = &t, .gradient = gradient};
+    trainer_result tr;
+    st = trainer_run(&to, &fit, &g, 1, NULL, 0, words, 3, &tr, err);
+    r->resumed_from = tr.resumed_from;
   }
   /* RMS error of the raw outputs over all latents. */
   double sq = 0.0;
   for (size_t k0 = 0; k0 < n && !st; k0 += B) {
     size_t m = n - k0 < B ? n - k0 : B;
-    st = nbrdf_nn_forward(net->nn, run.ws, latents + k0 * D, (int)m, run.y, err);
+    st = nbrdf_nn_forward(t.net->nn, t.run.ws, latents + k0 * D, (int)m, t.run.y, err);
     for (size_t r0 = 0; r0 < 2 * m && !st; r0++) {
-      double e = run.y[r0] - target[2 * k0 + r0];
+      double e = t.run.y[r0] - target[2 * k0 + r0];
       sq += e * e;
     }
   }
   r->rms_o = sqrt(sq / (2.0 * (double)n));
-  nbrdf_adam_destroy(adam);
-  model_runner_destroy(&run);
-  free(sigma), free(w), free(target), free(dy), free(grad), free(idx);
+  model_runner_destroy(&t.run);
+  train_epoch_shuffle_free(&t.shuffle);
+  free(sigma), free(w), free(target), free(t.dy), free(t.grad);
   if (st) {
-    model_sampler_destroy(net);
+    model_sampler_destroy(t.net);
     return st;
   }
-  *out = net;
+  *out = t.net;
   return NBRDF_OK;
 }

@@ -15,6 +15,9 @@
 #ifndef NBRDF_TRAIN_SAMPLER_H
 #define NBRDF_TRAIN_SAMPLER_H
 
+#include <signal.h>
+#include <stdint.h>
+
 #include "model/decoder.h"
 #include "model/sampler.h"
 
@@ -25,14 +28,21 @@ typedef struct train_sampler_settings {
   uint64_t seed;
   nbrdf_progress_fn progress; /* stages "sampler: targets", "sampler: network" */
   void *user;
+  /* The network's training (train/trainer.h): */
+  const char *checkpoint;        /* resumable state, written atomically (may be NULL) */
+  double checkpoint_seconds;     /* at most this long between checkpoints */
+  double max_seconds;            /* stop (checkpointed) after this long; 0 = no limit */
+  int64_t stop_at_step;          /* stop (checkpointed) after this many batches; 0 = none */
+  volatile sig_atomic_t *cancel; /* may be NULL */
 } train_sampler_settings;
 
 #define TRAIN_SAMPLER_SETTINGS_DEFAULT                                                             \
-  { 6, 256, 300, 128, 1e-3f, 1u, NULL, NULL }
+  { 6, 256, 300, 128, 1e-3f, 1u, NULL, NULL, NULL, 300.0, 0.0, 0, NULL }
 
 typedef struct train_sampler_result {
   double mean_ce_fit, mean_ce_cosine; /* cross-entropy of the fitted proxy vs w = 1 (cosine) */
   double rms_o;                       /* network's RMS error on the raw outputs (all latents) */
+  int64_t resumed_from;               /* batches done before this call (0: a fresh run) */
 } train_sampler_result;
 
 /* Per-latent optimal (σ, w) of n latents [n × D] under decoder `dec`. */
@@ -40,7 +50,9 @@ nbrdf_status train_sampler_targets(model_decoder *dec, size_t n, const float *la
                                    const train_sampler_settings *s, float *sigma, float *w,
                                    double *mean_ce_fit, double *mean_ce_cosine, nbrdf_error *err);
 
-/* Both steps; *out is created here. */
+/* Both steps; *out is created here. With s->checkpoint the network's
+ * training resumes from it (same settings, latents and decoder) and writes it
+ * every s->checkpoint_seconds, on a stop and at the end. */
 nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latents,
                                const train_sampler_settings *s, model_sampler **out,
                                train_sampler_result *r, nbrdf_error *err);

@@ -83,6 +83,29 @@ static double lobe_error(const model_decoder *dec, const float *latent, double a
   return diff / ref;
 }
 
+/* `steps` steps of Adam on the engine's gradients (the loop src/train/trainer.h
+ * runs, without its checkpoints); weights NULL when frozen. */
+static nbrdf_status run_steps(model_fit *fit, const model_samples *s, const model_fit_options *o,
+                              int decay_every, float *latents, size_t nl, float *weights, size_t nw,
+                              int steps, nbrdf_error *err) {
+  if (!fit) return NBRDF_OK;
+  nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
+  ao.decay_every = decay_every, ao.decay_gamma = 0.5f;
+  nbrdf_adam *al = NULL, *aw = NULL;
+  ao.lr = o->lr_latent;
+  nbrdf_status st = nbrdf_adam_create(nl, &ao, &al, err);
+  ao.lr = o->lr_weights;
+  if (!st && weights) st = nbrdf_adam_create(nw, &ao, &aw, err);
+  for (int k = 0; k < steps && !st; k++) {
+    st = model_fit_gradient(fit, s, k, NULL, err);
+    if (!st) st = nbrdf_adam_step(al, latents, model_fit_grad_latent(fit), err);
+    if (!st && aw) st = nbrdf_adam_step(aw, weights, model_fit_grad_weights(fit), err);
+  }
+  nbrdf_adam_destroy(al);
+  nbrdf_adam_destroy(aw);
+  return st;
+}
+
 static void test_train_then_project(void) {
   nbrdf_error err_ = {0}, *err = &err_;
   enum { NB = 16 };
@@ -110,16 +133,15 @@ static void test_train_then_project(void) {
   o.lr_weights = 1e-2f;
   o.lr_latent = 1e-2f;
   o.latent_l2 = 1e-4f;
-  o.decay_every = 333;
-  o.decay_gamma = 0.5f;
   o.seed = 7;
   model_fit *fit = NULL;
   CHECK_OK(model_fit_create(dec, NB, latents, &o, &fit, err), err);
   model_samples s = {NB, offsets, wi, wo, f, NULL};
   double first = 0.0, last = 0.0;
   CHECK_OK(model_fit_eval_loss(fit, &s, NULL, &first, err), err);
-  for (int step = 0; step < 1000 && fit; step++)
-    CHECK_OK(model_fit_step(fit, &s, NULL, err), err);
+  CHECK_OK(run_steps(fit, &s, &o, 333, latents, NB * D, nbrdf_nn_params(dec->nn),
+                     nbrdf_nn_param_count(dec->nn), 1000, err),
+           err);
   CHECK_OK(model_fit_eval_loss(fit, &s, NULL, &last, err), err);
   printf("  auto-decoder: L1-log1p loss %.4f -> %.4f after 1000 steps\n", first, last);
   CHECK_MSG(last < first / 20.0, "loss fell only from %.4f to %.4f", first, last);
@@ -143,8 +165,7 @@ static void test_train_then_project(void) {
   float before[64];
   size_t np = nbrdf_nn_param_count(dec->nn);
   memcpy(before, nbrdf_nn_params(dec->nn), sizeof before);
-  for (int step = 0; step < 300 && proj; step++)
-    CHECK_OK(model_fit_step(proj, &hs, NULL, err), err);
+  CHECK_OK(run_steps(proj, &hs, &po, 0, z, D, NULL, 0, 300, err), err);
   model_fit_destroy(proj);
   CHECK(np > 64 && !memcmp(before, nbrdf_nn_params(dec->nn), sizeof before)); /* frozen */
   double e_proj = lobe_error(dec, z, alpha, r0), e_mean = lobe_error(dec, mean, alpha, r0);

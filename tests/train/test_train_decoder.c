@@ -9,8 +9,11 @@
 #include <string.h>
 
 #include "model/bundle.h"
+#include "nn/safetensors.h"
 #include "testing.h"
+#include "train/checkpoint.h"
 #include "train/dataset.h"
+#include "train/samples.h"
 #include "train/table_fit.h"
 #include "train/train_decoder.h"
 
@@ -74,11 +77,6 @@ static float *load_params(const char *path, size_t *n) {
   return p;
 }
 
-static int stop_at_40(void *user, const char *stage, double done, double total) {
-  (void)user, (void)stage, (void)total;
-  return done >= 40;
-}
-
 static void test_loss_falls_and_resume_is_exact(void) {
   const char *data[1] = {path_of("c.nbds")};
   make_data(data[0], 3);
@@ -90,14 +88,14 @@ static void test_loss_falls_and_resume_is_exact(void) {
   double first = first_logged_loss(path_of("run_a/log.csv"));
   CHECK_MSG(r.train_loss < 0.5 * first, "loss %g -> %g: did not halve", first, r.train_loss);
 
-  /* The same run, stopped at step 40 by its progress callback, then resumed. */
+  /* The same run, stopped at step 40 (the trainer's stop limit), then resumed. */
   s = tiny(data, path_of("run_b"), 120);
-  s.progress = stop_at_40;
+  s.stop_at_step = 40;
   CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_CANCELLED, &err, "resume");
   CHECK(r.steps_done == 40);
-  s.progress = NULL;
+  s.stop_at_step = 0;
   CHECK_OK(train_decoder_run(&s, &r, &err), &err);
-  CHECK(r.resumed_from == 40 && r.steps_done == 120);
+  CHECK(r.resumed_from == 40 && r.steps_done == 120 && !r.legacy_resume);
   size_t na = 0, nb = 0;
   float *a = load_params(path_of("run_a/decoder.safetensors"), &na);
   float *b = load_params(path_of("run_b/decoder.safetensors"), &nb);
@@ -105,15 +103,79 @@ static void test_loss_falls_and_resume_is_exact(void) {
   if (a && b && na == nb) CHECK_MSG(!memcmp(a, b, na * sizeof *a), "resumed weights differ");
   free(a), free(b);
 
+  /* Another setting is refused, naming it and both values. */
+  s = tiny(data, path_of("run_b"), 130);
+  s.lr_latent *= 2;
+  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_MISMATCH, &err, "lr-latent = 0.02");
   /* A checkpoint made from other data is refused, naming the data. */
   const char *other[1] = {path_of("d.nbds")};
   make_data(other[0], 4);
   s = tiny(other, path_of("run_b"), 130);
-  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_MISMATCH, &err, "data sets");
+  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_MISMATCH, &err, "data = ");
 }
 
 /* --brdf-weight: the weighted run still learns, ends elsewhere than the
  * unweighted one (the weights reach the gradient), and a bad power is refused. */
+/* Rewrites a checkpoint the way runs wrote them before nbrdf.options existed
+ * (nbrdf.spec and nbrdf.data metadata, the same tensors). */
+static void make_legacy(const char *path, const char *const *data,
+                        const model_decoder_config *arch) {
+  nbrdf_error err;
+  nbrdf_st_reader *r = NULL;
+  nbrdf_st_writer *w = NULL;
+  train_samples d;
+  char key[1024], *spec = NULL;
+  CHECK_OK(train_samples_load(1, data, &d, &err), &err);
+  train_checkpoint_data_key(&d, key, sizeof key);
+  train_samples_free(&d);
+  CHECK_OK(nbrdf_nn_spec_to_json(&arch->spec, &spec, &err), &err);
+  CHECK_OK(nbrdf_st_open(path, &r, &err), &err);
+  CHECK_OK(nbrdf_st_writer_create(&w, &err), &err);
+  if (!r || !w || !spec) return;
+  static const char *const names[] = {"decoder.params", "latents",        "adam.latents.m",
+                                      "adam.latents.v", "adam.weights.m", "adam.weights.v"};
+  for (size_t k = 0; k < 6; k++) {
+    const nbrdf_st_tensor *t = nbrdf_st_find(r, names[k]);
+    CHECK(t != NULL);
+    if (t) CHECK_OK(nbrdf_st_writer_add(w, names[k], 1, t->shape, t->data, &err), &err);
+  }
+  nbrdf_st_writer_set_metadata(w, "nbrdf.format", TRAIN_DECODER_CHECKPOINT_FORMAT, &err);
+  nbrdf_st_writer_set_metadata(w, "nbrdf.step", nbrdf_st_metadata_get(r, "nbrdf.step"), &err);
+  nbrdf_st_writer_set_metadata(w, "nbrdf.spec", spec, &err);
+  nbrdf_st_writer_set_metadata(w, "nbrdf.data", key, &err);
+  CHECK(nbrdf_st_metadata_get(r, "nbrdf.options") != NULL);
+  nbrdf_st_close(r);
+  CHECK_OK(nbrdf_st_writer_save(w, path, NULL, &err), &err);
+  nbrdf_st_writer_destroy(w);
+  free(spec);
+}
+
+/* A checkpoint written before nbrdf.options resumes (checked the old way, and
+ * said so) to the bytes of a run that never stopped; one of another
+ * architecture is still refused. */
+static void test_legacy_checkpoint(void) {
+  const char *data[1] = {path_of("c.nbds")};
+  nbrdf_error err;
+  train_decoder_result r;
+  train_decoder_settings s = tiny(data, path_of("run_legacy"), 120);
+  s.stop_at_step = 40;
+  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_CANCELLED, &err, "step 40");
+  make_legacy(path_of("run_legacy/checkpoint.safetensors"), data, &s.arch);
+  train_decoder_settings other = tiny(data, path_of("run_legacy"), 120);
+  CHECK_OK(model_decoder_preset("medium", 32, &other.arch, &err), &err);
+  CHECK_FAILS(train_decoder_run(&other, &r, &err), NBRDF_ERR_MISMATCH, &err,
+              "decoder architecture");
+  s.stop_at_step = 0;
+  CHECK_OK(train_decoder_run(&s, &r, &err), &err);
+  CHECK(r.legacy_resume && r.resumed_from == 40 && r.steps_done == 120);
+  size_t na = 0, nb = 0;
+  float *a = load_params(path_of("run_a/decoder.safetensors"), &na);
+  float *b = load_params(path_of("run_legacy/decoder.safetensors"), &nb);
+  if (a && b && na == nb)
+    CHECK_MSG(!memcmp(a, b, na * sizeof *a), "a run resumed from a legacy checkpoint differs");
+  free(a), free(b);
+}
+
 static void test_brdf_weight(void) {
   const char *data[1] = {path_of("c.nbds")};
   nbrdf_error err;
@@ -171,6 +233,7 @@ static void test_tables_from_trained_decoder(void) {
 
 int main(void) {
   RUN(test_loss_falls_and_resume_is_exact);
+  RUN(test_legacy_checkpoint);
   RUN(test_brdf_weight);
   RUN(test_tables_from_trained_decoder);
   return nbrdf_test_finish();
