@@ -67,10 +67,11 @@ extern "C" {
 #define NBRDF_GPU_L_MAX_LEVELS 32
 #define NBRDF_GPU_L_DATA (NBRDF_GPU_L_HEADER_WORDS + 4 * NBRDF_GPU_L_MAX_LEVELS)
 
-/* Packs the model's decoder. With words == NULL only *n_words is set (the size to
- * allocate); otherwise `capacity` words must suffice. Fails (NBRDF_ERR_UNSUPPORTED) for
- * a network the shader cannot run: a skip connection from anything but the network
- * input. */
+/* Packs the model's decoder. For a latent texture, pass nbrdf_model_for_texture's model:
+ * a texture of format version 2 is decoded with its own decoder. With words == NULL only
+ * *n_words is set (the size to allocate); otherwise `capacity` words must suffice. Fails
+ * (NBRDF_ERR_UNSUPPORTED) for a network the shader cannot run: a skip connection from
+ * anything but the network input. */
 nbrdf_status nbrdf_gpu_pack_decoder(const nbrdf_model *model, uint32_t *words, size_t capacity,
                                     size_t *n_words, nbrdf_error *err);
 

@@ -180,8 +180,8 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
    * texture that carries it: version 2; else exactly version 1. */
   nbrdf_decoder_info own;
   nbrdf_model_own_decoder(model, &own);
-  nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
-                            settings, own.bytes, own.size};
+  nbrdf_latent_meta meta = {
+      nbrdf_model_name(model), nbrdf_model_checksum(model), sources, settings, own.bytes, own.size};
   mip_ctx mctx = {model, &layout};
   nbrdf_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;

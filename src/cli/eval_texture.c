@@ -80,9 +80,8 @@ static int parse_row(const csv_table *t, size_t r, const size_t index[N_COLS], d
       return cli_fail("eval", "line %zu, column '%s': '%s' %s", t->line[r], s->name,
                       printable(buf, shown, sizeof shown), nbrdf_number_problem(nr));
     if (x < s->lo || x > s->hi || (s->hi_open && x == s->hi))
-      return cli_fail("eval", "line %zu, column '%s': %s is outside [%g, %g%c", t->line[r],
-                      s->name, printable(buf, shown, sizeof shown), s->lo, s->hi,
-                      s->hi_open ? ')' : ']');
+      return cli_fail("eval", "line %zu, column '%s': %s is outside [%g, %g%c", t->line[r], s->name,
+                      printable(buf, shown, sizeof shown), s->lo, s->hi, s->hi_open ? ')' : ']');
     v[c] = x;
   }
   return CLI_EXIT_OK;
@@ -107,8 +106,7 @@ typedef struct buffers {
 
 /* Parses, fetches and decodes rows [r0, r0 + n) (records r0 + 1 ...) into f. */
 static int decode_chunk(const csv_table *t, const size_t index[N_COLS], const nbrdf_model *model,
-                        const eval_latent_image *img, int level, size_t r0, size_t n,
-                        buffers *b) {
+                        const eval_latent_image *img, int level, size_t r0, size_t n, buffers *b) {
   const nbrdf_latent_layout *lay = &img->layout;
   int colours = nbrdf_latent_colours(lay), D = lay->latent_dim;
   for (size_t k = 0; k < n; k++) {
@@ -124,8 +122,7 @@ static int decode_chunk(const csv_table *t, const size_t index[N_COLS], const nb
   }
   nbrdf_error err = {0};
   if (nbrdf_model_decode(model, n, colours, b->lat, b->wi, b->wo, b->f, &err) != NBRDF_OK)
-    return cli_fail("eval", "lines %zu to %zu: %s", t->line[r0 + 1], t->line[r0 + n],
-                    err.message);
+    return cli_fail("eval", "lines %zu to %zu: %s", t->line[r0 + 1], t->line[r0 + n], err.message);
   return CLI_EXIT_OK;
 }
 

@@ -16,8 +16,9 @@
 static nbrdf_status read_decoder(const nbrdf_model *root, const void *bytes, size_t size,
                                  const char *label, model_decoder **out, nbrdf_error *err) {
   if (size > NBRDF_DECODER_BYTES_MAX)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %zu bytes, more than the %zu MiB a decoder "
-                      "may have", label, size, NBRDF_DECODER_BYTES_MAX >> 20);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "%s: %zu bytes, more than the %zu MiB a decoder may have", label, size,
+                      NBRDF_DECODER_BYTES_MAX >> 20);
   nbrdf_st_reader *r = NULL;
   nbrdf_status st = nbrdf_st_open_memory(bytes, size, label, &r, err);
   if (st == NBRDF_OK) st = model_decoder_read(r, out, err);
@@ -28,8 +29,8 @@ static nbrdf_status read_decoder(const nbrdf_model *root, const void *bytes, siz
     model_decoder_destroy(*out);
     *out = NULL;
     return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "%s: the decoder has latent dimension %d, the bundle '%s' has %d", label,
-                      dim, root->name, root->latent_dim);
+                      "%s: the decoder has latent dimension %d, the bundle '%s' has %d", label, dim,
+                      root->name, root->latent_dim);
   }
   return NBRDF_OK;
 }

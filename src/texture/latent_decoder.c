@@ -45,8 +45,9 @@ nbrdf_status nbrdf_latent_reader_check_decoder(const nbrdf_latent_reader *r, cha
   nbrdf_st_close(st_r);
   int dim = nbrdf_latent_reader_info(r)->layout.latent_dim;
   if (st == NBRDF_OK && dec->cfg.latent_dim != dim)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: decodes latents of %d floats, the texture's have %d",
-                    label, dec->cfg.latent_dim, dim);
+    st =
+        nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: decodes latents of %d floats, the texture's have %d",
+                   label, dec->cfg.latent_dim, dim);
   if (st == NBRDF_OK && about && about_size)
     snprintf(about, about_size, "%s, %s output, %lld multiply-adds per query", dec->cfg.preset,
              model_output_name(dec->cfg.output), (long long)model_decoder_macs(dec));

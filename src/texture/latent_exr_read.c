@@ -189,8 +189,8 @@ static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
   }
   in->channels = nbrdf_latent_channel_count(&in->layout);
   static const char *const names[S_DECODER_SUM] = {NBRDF_ATTR_MODEL_NAME, NBRDF_ATTR_MODEL_CHECKSUM,
-                                             NBRDF_ATTR_SOURCES,    NBRDF_ATTR_SETTINGS,
-                                             NBRDF_ATTR_MIP_FILTER, NBRDF_ATTR_WRITER};
+                                                   NBRDF_ATTR_SOURCES,    NBRDF_ATTR_SETTINGS,
+                                                   NBRDF_ATTR_MIP_FILTER, NBRDF_ATTR_WRITER};
   for (int i = 0; st == NBRDF_OK && i < S_DECODER_SUM; i++)
     st = get_string(r, names[i], i == S_MODEL || i == S_CHECKSUM, &r->strings[i], err);
   if (st != NBRDF_OK) return st;

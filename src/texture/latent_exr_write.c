@@ -177,7 +177,8 @@ static nbrdf_status on_row(void *user, int level, int y, float *row, nbrdf_error
 static nbrdf_status check_args(int width, int height, const nbrdf_latent_layout *layout,
                                const nbrdf_latent_exr_options *o, const nbrdf_latent_meta *meta,
                                const char *path, nbrdf_error *err) {
-  if (meta && meta->decoder && (meta->decoder_size < 1 || meta->decoder_size > NBRDF_DECODER_BYTES_MAX))
+  if (meta && meta->decoder &&
+      (meta->decoder_size < 1 || meta->decoder_size > NBRDF_DECODER_BYTES_MAX))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "%s: an embedded decoder of %zu bytes; it must have 1 byte to %zu MiB", path,
                       meta->decoder_size, NBRDF_DECODER_BYTES_MAX >> 20);

@@ -52,7 +52,8 @@ static nbrdf_status load_levels(nbrdf_latent_reader *r, const char *path, eval_l
     return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: %d mip levels", path, info->levels);
   }
   eval_latent_image *img = NULL;
-  nbrdf_status st = eval_latent_image_create(&info->layout, info->width, info->height, info->levels, &img, err);
+  nbrdf_status st =
+      eval_latent_image_create(&info->layout, info->width, info->height, info->levels, &img, err);
   for (int l = 0; st == NBRDF_OK && l < img->levels; l++) {
     int w, h;
     st = nbrdf_latent_reader_level_size(r, l, &w, &h, err);

@@ -88,8 +88,8 @@ static int run_eval(const char *tex, int level, const query *q, int n, double *f
 }
 
 /* The library's decode of the bilinear fetch at each query, with `m`. */
-static void reference(const nbrdf_model *m, const eval_latent_image *img, int level,
-                      const query *q, int n, float *f) {
+static void reference(const nbrdf_model *m, const eval_latent_image *img, int level, const query *q,
+                      int n, float *f) {
   nbrdf_error err = {0};
   float texel[3 * 34];
   CHECK(img->channels == 3 * 34);
@@ -161,8 +161,8 @@ static void test_own_decoder(void) {
                 level, k / 3, k % 3, f[k], (double)want[k]);
       differ += !close_to(f[k], bundle_f[k]);
     }
-    CHECK_MSG(differ > 3 * n / 2, "level %d: only %d of %d values differ from the bundle's",
-              level, differ, 3 * n);
+    CHECK_MSG(differ > 3 * n / 2, "level %d: only %d of %d values differ from the bundle's", level,
+              differ, 3 * n);
   }
   /* At a texel centre the fetch is the texel itself: the texel as read by
    * the reader, decoded, is eval's value too. */
@@ -220,8 +220,8 @@ static void test_v1(void) {
   CHECK(run_eval(file, 0, q, N_DIRS, f) == N_DIRS);
   reference(bundle, img, 0, q, N_DIRS, want);
   for (int k = 0; k < 3 * N_DIRS; k++)
-    CHECK_MSG(close_to(f[k], want[k]), "query %d channel %d: eval %.9g, library %.9g", k / 3,
-              k % 3, f[k], (double)want[k]);
+    CHECK_MSG(close_to(f[k], want[k]), "query %d channel %d: eval %.9g, library %.9g", k / 3, k % 3,
+              f[k], (double)want[k]);
   nbrdf_model_destroy(m);
   eval_latent_image_free(img);
 }

@@ -14,6 +14,8 @@
 #include "model/bundle.h"
 #include "model/encoding.h"
 #include "model/gpu_pack.h"
+#include "nbrdf/bake.h"
+#include "nbrdf/gpu_pack.h"
 #include "nbrdf/model.h"
 #include "shader_fixture.h"
 
@@ -204,6 +206,66 @@ static void test_bundle(void) {
   nbrdf_model_destroy(model);
 }
 
+/* A texture that carries its own decoder (format version 2): the buffer packed from
+ * nbrdf_model_for_texture's model runs the embedded decoder on the GPU, not the bundle's. */
+static void test_texture_own_decoder(void) {
+  char dir[1024], tex[1100];
+  snprintf(dir, sizeof dir, "%s/bundle-own", nbrdf_test_tmpdir());
+  snprintf(tex, sizeof tex, "%s/own.exr", nbrdf_test_tmpdir());
+  nbrdf_error err = {0};
+  CHECK_OK(model_bundle_init_random(dir, "shader-own", 7, "medium", &err), &err);
+  nbrdf_model *bundle = NULL, *own = NULL, *for_tex = NULL;
+  CHECK_OK(nbrdf_model_load(dir, &bundle, &err), &err);
+  if (!bundle) return;
+  /* The bundle's decoder with every 5th weight scaled: decodes differently. */
+  char file[1100];
+  snprintf(file, sizeof file, "%s/decoder.safetensors", dir);
+  model_decoder *dec = NULL;
+  CHECK_OK(model_decoder_load(file, &dec, &err), &err);
+  size_t n_params = dec ? nbrdf_nn_param_count(dec->nn) : 0;
+  float *params = dec ? nbrdf_nn_params(dec->nn) : NULL;
+  for (size_t k = 0; k < n_params; k += 5)
+    params[k] *= 0.7f;
+  if (dec) CHECK_OK(model_with_decoder_net(bundle, dec, &own, &err), &err);
+  nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
+  const float p[NBRDF_BAKE_PARAM_COUNT] = {0.2f, 1.5f, 0.3f, 0.8f, 0.5f, 1.0f};
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+    nbrdf_bake_param_constant(&in.param[id], p[id]);
+  if (own) CHECK_OK(nbrdf_bake(own, &in, NULL, tex, NULL, &err), &err);
+  CHECK_OK(nbrdf_model_for_texture(bundle, tex, &for_tex, &err), &err);
+  if (!for_tex) {
+    model_decoder_destroy(dec), nbrdf_model_destroy(own), nbrdf_model_destroy(bundle);
+    return;
+  }
+  size_t words_n = 0;
+  CHECK_OK(nbrdf_gpu_pack_decoder(for_tex, NULL, 0, &words_n, &err), &err);
+  uint32_t *words = malloc(words_n * 4);
+  CHECK_OK(nbrdf_gpu_pack_decoder(for_tex, words, words_n, NULL, &err), &err);
+  /* The embedded weights, exactly. */
+  CHECK(words[NBRDF_GPU_W_PARAM_COUNT] == n_params &&
+        words[NBRDF_GPU_W_PARAMS] + n_params == words_n &&
+        !memcmp(words + words[NBRDF_GPU_W_PARAMS], params, n_params * 4));
+  model_decoder_destroy(dec);
+  queries s;
+  size_t n = 2000;
+  queries_make(&s, n, nbrdf_model_latent_dim(bundle), 23);
+  float *f = malloc(sizeof(float) * n), *fb = malloc(sizeof(float) * n);
+  float *gpu = malloc(sizeof(float) * 2 * n);
+  CHECK_OK(nbrdf_model_decode(own, n, 1, s.latents, s.wi, s.wo, f, &err), &err);
+  CHECK_OK(nbrdf_model_decode(bundle, n, 1, s.latents, s.wi, s.wo, fb, &err), &err);
+  int rc = fixture_run_decoder(vk, words, words_n, s.q, n, gpu, NULL);
+  CHECK_MSG(rc == 0, "own decoder: %s", vkh_error(vk));
+  if (rc == 0) compare("texture's own decoder", &s, gpu, f, NULL);
+  size_t differ = 0;
+  for (size_t k = 0; k < n; k++)
+    differ += fabs(gpu[2 * k] - fb[k]) > 1e-3 * (1.0 + fabs(fb[k]));
+  CHECK_MSG(differ > n / 2, "only %zu of %zu GPU values differ from the bundle's decoder", differ,
+            n);
+  free(f), free(fb), free(gpu), free(words);
+  queries_free(&s);
+  nbrdf_model_destroy(for_tex), nbrdf_model_destroy(own), nbrdf_model_destroy(bundle);
+}
+
 /* The encoding kernel alone against model_encode, so that a mismatch is located. */
 static void test_encoding_kernel(void) {
   const size_t n = 4096;
@@ -267,6 +329,7 @@ int main(void) {
   RUN(test_encodings_and_outputs);
   RUN(test_skips);
   RUN(test_bundle);
+  RUN(test_texture_own_decoder);
   vkh_close(vk);
   return nbrdf_test_finish();
 }

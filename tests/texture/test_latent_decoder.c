@@ -214,8 +214,8 @@ static void test_v1_bytes_unchanged(void) {
   nbrdf_latent_meta meta = {in->model_name, in->model_checksum, in->sources, in->settings, NULL, 0};
   nbrdf_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   nbrdf_latent_writer *w = NULL;
-  CHECK_OK(nbrdf_latent_writer_create(&w, path("rewritten.exr"), 1, 1, &in->layout, &meta, &o,
-                                      NULL, 0, err),
+  CHECK_OK(nbrdf_latent_writer_create(&w, path("rewritten.exr"), 1, 1, &in->layout, &meta, &o, NULL,
+                                      0, err),
            err);
   if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, texel, 1, err), err);
   if (w) CHECK_OK(nbrdf_latent_writer_finish(w, err), err);
@@ -240,8 +240,8 @@ static void test_v1_bytes_unchanged(void) {
 static void write_with_decoder(const char *p, const void *bytes, size_t size) {
   nbrdf_error e, *err = &e;
   nbrdf_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
-  nbrdf_latent_meta meta = {nbrdf_model_name(bundle), nbrdf_model_checksum(bundle), "", "",
-                            bytes, size};
+  nbrdf_latent_meta meta = {
+      nbrdf_model_name(bundle), nbrdf_model_checksum(bundle), "", "", bytes, size};
   float texel[34] = {0};
   texel[32] = 0.5f;
   nbrdf_latent_writer *w = NULL;
@@ -316,13 +316,28 @@ static void test_damaged_decoders(void) {
   nbrdf_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
   nbrdf_latent_meta big = {"m", "c", "", "", bytes, NBRDF_DECODER_BYTES_MAX + 1};
   nbrdf_latent_writer *w = NULL;
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, path("big.exr"), 1, 1, &layout, &big, NULL, NULL, 0,
-                                         err),
-              NBRDF_ERR_ARGUMENT, err, "it must have 1 byte to 64 MiB");
+  CHECK_FAILS(
+      nbrdf_latent_writer_create(&w, path("big.exr"), 1, 1, &layout, &big, NULL, NULL, 0, err),
+      NBRDF_ERR_ARGUMENT, err, "it must have 1 byte to 64 MiB");
   struct stat sb;
   CHECK(w == NULL && stat(path("big.exr"), &sb) != 0);
   CHECK_FAILS(nbrdf_model_with_decoder(bundle, bytes, NBRDF_DECODER_BYTES_MAX + 1, "big", &m, err),
               NBRDF_ERR_ARGUMENT, err, "big: 67108865 bytes, more than the 64 MiB");
+  /* Exactly 64 MiB is written and read back (OpenEXR holds attributes that large). */
+  unsigned char *huge = calloc(NBRDF_DECODER_BYTES_MAX, 1);
+  if (huge) {
+    huge[12345] = 7;
+    write_with_decoder(path("huge.exr"), huge, NBRDF_DECODER_BYTES_MAX);
+    nbrdf_latent_reader *r = NULL;
+    CHECK_OK(nbrdf_latent_reader_open(&r, path("huge.exr"), err), err);
+    size_t hn = 0;
+    const unsigned char *hb = r ? nbrdf_latent_reader_decoder(r, &hn) : NULL;
+    CHECK(hb && hn == NBRDF_DECODER_BYTES_MAX && hb[12345] == 7 && hb[12346] == 0);
+    nbrdf_latent_reader_close(r);
+    expect_refused(path("huge.exr"), "embedded decoder");
+    remove(path("huge.exr"));
+    free(huge);
+  }
   free(bytes);
 }
 
