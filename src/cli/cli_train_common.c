@@ -6,6 +6,7 @@
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
+#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "nn/safetensors.h"
 
@@ -15,7 +16,7 @@ int train_on_progress(void *user, const char *stage, double done, double total) 
   if (t != p->last || done == total) {
     p->last = t;
     if (p->json)
-      fprintf(stderr, "{\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f}\n", stage, done, total);
+      cli_progress_json(stage, done, total, -1.0, 0.0);
     else
       fprintf(stderr, "\r%s: %.0f/%.0f (%.1f %%)  ", stage, done, total, 100.0 * done / total);
   }

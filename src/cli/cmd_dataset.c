@@ -10,6 +10,7 @@
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
+#include "cli/cli_progress.h"
 #include "cli/cli_outputs.h"
 #include "train/dataset.h"
 
@@ -34,7 +35,7 @@ void cmd_dataset_usage(FILE *out) {
           "  --sampled S      of which importance-sampled from the BRDF (default M/2)\n"
           "  --spp N          layered: whole-lobe random walks per incident direction (2048)\n"
           "  --threads T      0 = all cores (default)\n"
-          "  --progress=json  progress on stderr as JSON lines instead of text\n"
+          "  --progress=json  progress as JSON lines on stdout instead of text on stderr\n"
           "  --check FILE     validate FILE (checksums, parameters, samples); print a summary\n");
 }
 
@@ -60,10 +61,7 @@ static int on_progress(void *user, const char *stage, double done, double total)
   if (done < total && t - p->last_print < 1.0 && p->last_print >= 0) return *cli_cancel_flag();
   p->last_print = t;
   if (p->json)
-    fprintf(stderr,
-            "{\"stage\":\"%s\",\"done\":%.0f,\"total\":%.0f,\"seconds\":%.2f,"
-            "\"brdfs_per_s\":%.4g,\"eta_s\":%.0f}\n",
-            stage, done, total, t, rate, eta);
+    cli_progress_json(stage, done, total, t, rate);
   else
     fprintf(stderr, "%s: %.0f/%.0f BRDFs (%.1f %%), %.3g BRDFs/s, ETA %.0f s\n", stage, done, total,
             100.0 * done / total, rate, eta);

@@ -45,7 +45,7 @@ void cmd_train_usage(FILE *out) {
       "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
       "  --brdf-weight P (0)  weigh BRDF b's loss by max(mean log(1+f), 0.01)^-P\n"
       "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
-      "  --progress=json     progress lines as JSON on stderr\n"
+      "  --progress=json     progress as JSON lines on stdout (text on stderr without it)\n"
       "A checkpoint records the settings a resume must share (nbrdf.options): another\n"
       "value is refused, naming the setting and both values.\n"
       "\n"

@@ -30,7 +30,9 @@ check "decoder: another setting is refused, naming it" \
 # tables
 T=(train tables --decoder "$TMP/a/decoder.safetensors" --alpha-nodes 3 --eta-nodes 3 \
   --r0-nodes 3 --steps 9)
-"$NBRDF" "${T[@]}" -o "$TMP/t.safetensors" >/dev/null 2>&1
+"$NBRDF" "${T[@]}" -o "$TMP/t.safetensors" --progress=json >"$TMP/tables.out" 2>/dev/null
+check "tables: JSON progress on stdout in the format every command uses" \
+  grep -Eq '^\{"event":"progress","stage":"[a-z ]+","done":[0-9]+,"total":[0-9]+\}$' "$TMP/tables.out"
 expect_exit 1 "$NBRDF" "${T[@]}" -o "$TMP/t2.safetensors" --checkpoint "$TMP/t.ckpt" --stop-at-step 4
 check "tables: no output while stopped" [ ! -e "$TMP/t2.safetensors" ]
 "$NBRDF" "${T[@]}" -o "$TMP/t2.safetensors" --checkpoint "$TMP/t.ckpt" >/dev/null 2>&1
