@@ -119,6 +119,19 @@ int cmd_evaluate(int argc, char **argv) {
            "max albedo %.4f  reference noise %.2f %%\n",
            tok, 100 * r->median, 100 * r->p90, 100 * r->worst, r->worst_index,
            r->median_albedo_error, r->max_albedo, 100 * r->ref_noise);
+    printf("        point-wise median %6.2f %% (by theta_i", 100 * r->median_pointwise_all);
+    for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+      printf(" %g: %.1f", eval_theta_all_deg[t], 100 * r->median_pointwise[t]);
+    printf(" %%)\n        mirror error median by theta_i:");
+    for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+      printf(" %g: %.1f", eval_theta_all_deg[t], 100 * r->median_mirror[t]);
+    printf(" %%\n        max decoded albedo by theta_i:");
+    for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+      printf(" %g: %.3f", eval_theta_all_deg[t], r->max_decoded_albedo[t]);
+    printf("\n        max decoded - reference albedo:");
+    for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+      printf(" %g: %+.3f", eval_theta_all_deg[t], r->max_albedo_excess[t]);
+    printf("\n");
     fflush(stdout);
   }
   cli_cancel_unwatch();
