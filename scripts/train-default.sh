@@ -39,8 +39,10 @@ data="$work/single.nbds,$work/layered2.nbds:1700"
 
 # 2. Decoder: auto-decoder training, checkpointed every 5 minutes.
 stage "decoder (medium preset; resumable)"
+#    --energy: the hinge penalty on decoded directional albedo above the ground truth's,
+#    θi up to 89° (issue 18; docs/TRAINING.md, "Energy penalty").
 "$nbrdf" train decoder --data "$data" --run "$run" --preset medium --steps "${DECODER_STEPS:-14342}" \
-  --decay-every 5000 --seed 1
+  --decay-every 5000 --seed 1 --energy "${ENERGY:-1}"
 
 # 3. Base-latent tables by projection with the decoder frozen.
 if [ ! -f "$work/base_tables.safetensors" ]; then
@@ -53,7 +55,7 @@ fi
 #    the two-layer data, then fine-tuned with the three-layer data mixed in (the recursive
 #    application, as in the paper). Checkpointed and resumable.
 layer_args=(--loss decoded --preset paper --decoder "$run/decoder.safetensors"
-  --tables "$work/base_tables.safetensors")
+  --tables "$work/base_tables.safetensors" --energy "${ENERGY:-1}")
 if [ ! -f "$work/layering-2layer.safetensors" ]; then
   stage "layering network, two layers (decoded loss; resumable)"
   "$nbrdf" train layering "${layer_args[@]}" --data "$work/layered2.nbds" --epochs 300 \

@@ -21,7 +21,8 @@ void cmd_train_usage(FILE *out) {
       "                          [--loss latent|decoded] [--decoder FILE] [--init FILE]\n"
       "                          [--preset small|medium|paper] [--epochs N] [--batch N] [--lr X]\n"
       "                          [--rows N] [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
-      "                          [--checkpoint FILE]\n"
+      "                          [--checkpoint FILE] [--energy LAMBDA [--energy-angles LIST]\n"
+      "                          [--energy-brdfs K (8 pairs per batch)]] (decoded loss)\n"
       "       nbrdf train sampler --run DIR -o FILE [--brdfs N] [--epochs N]\n"
       "                          [--layering F --tables T --data FILE[,...]]\n"
       "       nbrdf train bundle -o DIR --decoder F --tables F --layering F [--sampler F]\n"
@@ -44,6 +45,9 @@ void cmd_train_usage(FILE *out) {
       "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
       "  --brdf-weight P (0)  weigh BRDF b's loss by max(mean log(1+f), 0.01)^-P\n"
       "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
+      "  --energy LAMBDA (0: off)  penalise decoded directional albedo above the ground\n"
+      "                      truth's (+ 2 standard errors + 0.01, at most 1) with weight LAMBDA\n"
+      "  --energy-angles LIST (0,40,60,75,85,89 degrees)  --energy-brdfs K (32 per step)\n"
       "  --progress=json     progress lines as JSON on stderr\n"
       "\n"
       "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
@@ -95,7 +99,8 @@ static int train_decoder(int argc, char **argv) {
   double steps = (double)s.steps, minutes = 0, rows = s.rows_per_brdf, lrw = s.lr_weights,
          lrl = s.lr_latent, l2 = s.latent_l2, decay = s.decay_every, gamma = s.decay_gamma,
          seed = (double)s.seed, ckpt = s.checkpoint_seconds / 60.0, nval = s.validation_brdfs,
-         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight;
+         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight,
+         energy = s.energy.lambda, energy_brdfs = s.energy_brdfs;
   num_option nums[] = {
       {"--steps", 1, 1e12, &steps},
       {"--minutes", 0, 1e9, &minutes},
@@ -112,6 +117,8 @@ static int train_decoder(int argc, char **argv) {
       {"--blocks", 1, 64, &blocks},
       {"--octaves", 0, MODEL_ENCODING_MAX_OCTAVES, &octaves},
       {"--brdf-weight", 0, 2, &bweight},
+      {"--energy", 0, 1e6, &energy},
+      {"--energy-brdfs", 1, 4096, &energy_brdfs},
   };
   train_progress prog = {0, 0};
   for (int i = 2; i < argc; i++) {
@@ -134,6 +141,12 @@ static int train_decoder(int argc, char **argv) {
       s.run_dir = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--preset"))) {
       preset = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--energy-angles"))) {
+      nbrdf_error e2 = {0};
+      if (model_energy_parse_angles(v, "--energy-angles", &s.energy, &e2)) {
+        free(data_list);
+        return cli_usage_error("train", "%s", e2.message);
+      }
     } else if ((v = cli_option_value(argc, argv, &i, "--encoding"))) {
       encoding = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--output"))) {
@@ -189,6 +202,7 @@ static int train_decoder(int argc, char **argv) {
   s.lr_weights = (float)lrw, s.lr_latent = (float)lrl, s.latent_l2 = (float)l2;
   s.decay_every = (int)decay, s.decay_gamma = (float)gamma, s.seed = (uint64_t)seed;
   s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval, s.brdf_weight = bweight;
+  s.energy.lambda = (float)energy, s.energy_brdfs = (int)energy_brdfs;
   s.progress = train_on_progress, s.user = &prog;
   cli_cancel_watch();
   train_decoder_result r;

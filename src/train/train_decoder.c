@@ -13,6 +13,7 @@
 #include "model/autodecoder.h"
 #include "train/checkpoint.h"
 #include "train/dataset.h"
+#include "train/energy_reference.h"
 #include "train/run_log.h"
 #include "train/samples.h"
 
@@ -93,6 +94,8 @@ void train_decoder_settings_default(train_decoder_settings *s) {
   s->checkpoint_seconds = 300.0;
   s->log_every = 50;
   s->validation_brdfs = 24;
+  s->energy = (model_energy_options)MODEL_ENERGY_OPTIONS_DEFAULT;
+  s->energy_brdfs = 32;
 }
 
 /* The per-BRDF loss weights of settings->brdf_weight, or NULL for uniform. */
@@ -136,6 +139,7 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
   memset(&val, 0, sizeof val);
   model_decoder *dec = NULL;
   model_fit *fit = NULL;
+  train_energy *energy = NULL;
   float *lat = NULL;
   run_log log = {0};
   st = train_samples_load(s->n_data, s->data, &data, err);
@@ -158,6 +162,7 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
     o.seed = s->seed;
     st = model_fit_create(dec, data.n_brdfs, lat, &o, &fit, err);
   }
+  if (!st) st = train_energy_create(dec, &data, &s->energy, s->energy_brdfs, &energy, err);
   int64_t step = 0;
   struct stat sb;
   if (!st && stat(ckpt, &sb) == 0) {
@@ -175,7 +180,7 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
   r->train_loss = NAN;
   while (!st && step < s->steps && !stop) {
     double loss;
-    st = model_fit_step(fit, &view, &loss, err);
+    st = train_energy_fit_step(energy, fit, &view, lat, step, &loss, NULL, err);
     if (st) break;
     step++;
     sum += loss, count++;
@@ -210,6 +215,7 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
                     "(checkpointed; run the same command to resume)",
                     (long long)step, (long long)s->steps);
   run_log_close(&log);
+  train_energy_destroy(energy);
   model_fit_destroy(fit);
   model_decoder_destroy(dec);
   free(lat);

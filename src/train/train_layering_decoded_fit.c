@@ -49,6 +49,12 @@ static void run_key(const trainer *t, char *out, size_t size) {
            "%s;D=%d;batch=%d;rows=%d;lr=%g;decay=%d/%g;val=%d;seed=%" PRIu64 ";loss=%s;%s",
            s->preset, t->net->latent_dim, s->batch, s->rows_per_pair, (double)s->lr, s->decay_every,
            (double)s->decay_gamma, s->validation_every, s->seed, model_loss_name(s->loss), data);
+  /* Only when on, so that checkpoints of runs without the penalty still resume. */
+  if (s->energy.lambda > 0.0f) {
+    size_t len = strlen(out);
+    snprintf(out + len, size > len ? size - len : 0, ";energy=%g/%d/%d", (double)s->energy.lambda,
+             s->energy.n_theta, s->energy_brdfs);
+  }
 }
 
 /* `epoch` epochs done, and `batch` batches of the next one (a run cancelled
@@ -143,6 +149,7 @@ static nbrdf_status setup(trainer *t, size_t D, nbrdf_error *err) {
   if (!st)
     st = train_layering_decoded_create(t->net, t->dec, t->data, s->batch, s->rows_per_pair, s->loss,
                                        s->seed, &t->engine, err);
+  if (!st) st = train_layering_decoded_set_energy(t->engine, &s->energy, s->energy_brdfs, err);
   if (st) return st;
   if (!(t->grad = malloc(nbrdf_nn_param_count(t->net->nn) * sizeof(float))))
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
