@@ -94,9 +94,15 @@ static void warn_clamped(const bake_band *b, const nbrdf_bake_options *o) {
   if (!o->warning) return;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
     if (!b->clamped[id]) continue;
-    char msg[256], what[64];
+    char msg[512], what[64];
     snprintf(what, sizeof what, "%zu texel channel(s)", b->clamped[id]);
     bake_clamp_warning(msg, sizeof msg, param_names[id], b->lo, b->hi, id, what, 1);
+    /* η = 1 (no coat) is the usual value below the range: say how to get it. */
+    size_t len = strlen(msg);
+    if (id == NBRDF_BAKE_ETA && b->lo[id] > 1.0f && len < sizeof msg)
+      snprintf(msg + len, sizeof msg - len,
+               " (a bundle whose base tables start at eta = 1, `nbrdf train tables --eta-min 1`, "
+               "takes eta = 1, no coat, unclamped)");
     o->warning(o->user, msg);
   }
 }

@@ -203,6 +203,25 @@ static void test_tables_from_trained_decoder(void) {
   CHECK(norm > 0 && isfinite(norm));
   model_base_table_free(&t[0]);
   model_base_table_free(&t[1]);
+  /* --eta-min 1: the dielectric grid starts at η = 1 (no coat), so a look-up
+   * there is not clamped; without it, η = 1 is clamped to 1.05 and flagged. */
+  ts.eta_min = 1.0, ts.steps = 5;
+  CHECK_OK(train_tables_fit(dec, &ts, t, &err), &err);
+  CHECK(t[0].axis[1][0] == 1.0f && t[0].axis[1][2] == 2.0f);
+  double a1 = 0.1, eta1 = 1.0;
+  unsigned char clamped = 9;
+  CHECK_OK(model_base_table_lookup(&t[0], 1, &a1, &eta1, 0, got, &clamped, &err), &err);
+  CHECK(clamped == 0);
+  model_base_table_free(&t[0]);
+  model_base_table_free(&t[1]);
+  ts.eta_min = 1.05;
+  CHECK_OK(train_tables_fit(dec, &ts, t, &err), &err);
+  CHECK_OK(model_base_table_lookup(&t[0], 1, &a1, &eta1, 0, got, &clamped, &err), &err);
+  CHECK(clamped == 2);
+  model_base_table_free(&t[0]);
+  model_base_table_free(&t[1]);
+  ts.eta_min = 0.9;
+  CHECK_FAILS(train_tables_fit(dec, &ts, t, &err), NBRDF_ERR_ARGUMENT, &err, "first eta node");
   model_decoder_destroy(dec);
 }
 
