@@ -158,13 +158,13 @@ typedef struct nbrdf_bake_options {
   /* Energy audit (docs/BAKE.md, "Energy audit"): the maximum over θi of the
    * decoded directional albedo of each distinct latent the bake evaluates,
    * for the first `energy_audit` of them (NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,
-   * 65,536; about 0.1-0.3 ms each); the worst goes into the header as
+   * 16,384; about 0.23 CPU-ms each, ~7x a tuple's networks); the worst goes into the header as
    * nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and
    * parameters. 0 turns it off. The texels are the same either way. */
   size_t energy_audit;
 } nbrdf_bake_options;
 
-#define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 65536
+#define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
 
 #define NBRDF_BAKE_TUPLE_CACHE_DEFAULT 65536
 

@@ -49,7 +49,7 @@ void cmd_bake_usage(FILE *out) {
       "                        range (2..16; default off): fewer distinct tuples for\n"
       "                        smooth float maps, at a measured cost (docs/BAKE.md)\n"
       "  --energy-audit N      decoded directional albedo of the first N distinct latents\n"
-      "                        (65536; 0: off): the worst goes into the header as\n"
+      "                        (16384; 0: off): the worst goes into the header as\n"
       "                        nbrdf:maxAlbedo, a warning names it above 1.01\n"
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
