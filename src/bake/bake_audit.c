@@ -24,6 +24,18 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
   if (!st)
     st = model_albedo_decoded(model->decoder, &runner, n, latents, sigma, BAKE_AUDIT_N_THETA,
                               bake_audit_theta_deg, BAKE_AUDIT_SAMPLES, AUDIT_SEED, rho, NULL, err);
+  /* The cheap estimate's maximum over θi is noisy and biased upwards (the
+   * largest of six noisy values): latents that come near the limit are
+   * measured again with BAKE_AUDIT_REFINE_SAMPLES directions. */
+  for (size_t k = 0; k < n && !st; k++) {
+    double mx = 0.0;
+    for (int t = 0; t < BAKE_AUDIT_N_THETA; t++) mx = fmax(mx, rho[k * BAKE_AUDIT_N_THETA + t]);
+    if (mx > BAKE_AUDIT_REFINE_ABOVE)
+      st = model_albedo_decoded(model->decoder, &runner, 1, latents + k * model->latent_dim,
+                                sigma ? sigma + k : NULL, BAKE_AUDIT_N_THETA, bake_audit_theta_deg,
+                                BAKE_AUDIT_REFINE_SAMPLES, AUDIT_SEED, rho + k * BAKE_AUDIT_N_THETA,
+                                NULL, err);
+  }
   model_runner_destroy(&runner);
   for (size_t k = 0; k < n && !st; k++) {
     int best = 0;
