@@ -158,7 +158,7 @@ typedef struct nbrdf_bake_options {
   /* Energy audit (docs/BAKE.md, "Energy audit"): the maximum over θi of the
    * decoded directional albedo of each distinct latent the bake evaluates,
    * for the first `energy_audit` of them (NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,
-   * 16,384; about 0.23 CPU-ms each, ~7x a tuple's networks); the worst goes into the header as
+   * 16,384; measured 0.35 CPU-ms each, several times a tuple's networks); the worst goes into the header as
    * nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and
    * parameters. 0 turns it off. The texels are the same either way. */
   size_t energy_audit;
