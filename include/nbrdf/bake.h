@@ -158,9 +158,9 @@ typedef struct nbrdf_bake_options {
   /* Energy audit (docs/BAKE.md, "Energy audit"): the maximum over θi of the
    * decoded directional albedo of each distinct latent the bake evaluates,
    * for the first `energy_audit` of them (NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,
-   * 16,384; measured 0.35 CPU-ms each, several times a tuple's networks); the worst goes into the header as
-   * nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and
-   * parameters. 0 turns it off. The texels are the same either way. */
+   * 16,384; measured 0.35 CPU-ms each, several times a tuple's networks); the worst goes into the
+   * header as nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and parameters. 0 turns it
+   * off. The texels are the same either way. */
   size_t energy_audit;
 } nbrdf_bake_options;
 
@@ -171,7 +171,7 @@ typedef struct nbrdf_bake_options {
 #define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
-        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT          \
+        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT         \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */

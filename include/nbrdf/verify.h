@@ -115,7 +115,7 @@ typedef struct nbrdf_verify_report {
   size_t nonfinite;
   int nonfinite_level, nonfinite_x, nonfinite_y;
   double reference_seconds, decode_seconds; /* wall clock */
-  double max_albedo; /* the largest max_albedo of the compared texels */
+  double max_albedo;                        /* the largest max_albedo of the compared texels */
 } nbrdf_verify_report;
 
 /* Verifies `texture` against `inputs` with `model`. `options` NULL means

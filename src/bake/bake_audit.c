@@ -29,7 +29,8 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
    * measured again with BAKE_AUDIT_REFINE_SAMPLES directions. */
   for (size_t k = 0; k < n && !st; k++) {
     double mx = 0.0;
-    for (int t = 0; t < BAKE_AUDIT_N_THETA; t++) mx = fmax(mx, rho[k * BAKE_AUDIT_N_THETA + t]);
+    for (int t = 0; t < BAKE_AUDIT_N_THETA; t++)
+      mx = fmax(mx, rho[k * BAKE_AUDIT_N_THETA + t]);
     if (mx > BAKE_AUDIT_REFINE_ABOVE)
       st = model_albedo_decoded(model->decoder, &runner, 1, latents + k * model->latent_dim,
                                 sigma ? sigma + k : NULL, BAKE_AUDIT_N_THETA, bake_audit_theta_deg,
@@ -62,8 +63,7 @@ void bake_audit_free(bake_audit *a) {
 }
 
 nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const float *out,
-                               const size_t *idx, size_t n, size_t *band_worst,
-                               nbrdf_error *err) {
+                               const size_t *idx, size_t n, size_t *band_worst, nbrdf_error *err) {
   *band_worst = (size_t)-1;
   size_t room = a->cap > a->audited ? a->cap - a->audited : 0;
   if (n > room) a->skipped += n - room, n = room;
@@ -123,7 +123,8 @@ void bake_audit_message(const bake_audit *a, int rgb, char *buf, size_t cap) {
     len = n > 0 && (size_t)n < cap ? (size_t)n : len;
   }
   if (a->skipped && len < cap)
-    snprintf(buf + len, cap - len, "%senergy audit: %zu distinct latents past the first %zu were "
+    snprintf(buf + len, cap - len,
+             "%senergy audit: %zu distinct latents past the first %zu were "
              "not audited (nbrdf:maxAlbedo covers those audited)",
              len ? "; " : "", a->skipped, a->audited);
 }

@@ -55,8 +55,7 @@ void bake_audit_free(bake_audit *a);
  * *band_value receive the worst of them when it beats the bake's so far; the
  * caller then names its texel (bake_audit_found). */
 nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const float *out,
-                               const size_t *idx, size_t n, size_t *band_worst,
-                               nbrdf_error *err);
+                               const size_t *idx, size_t n, size_t *band_worst, nbrdf_error *err);
 /* Records the texel (x, y, colour c) and parameters of the new worst. */
 void bake_audit_found(bake_audit *a, const bake_tuple *t, int x, int y, int c);
 

@@ -249,11 +249,12 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
      * that cancel is still seen well under a second apart. */
     for (size_t j = 0; st == NBRDF_OK && j < m && b->audit.cap; j += AUDIT_CHUNK) {
       size_t q = m - j < AUDIT_CHUNK ? m - j : AUDIT_CHUNK;
-      if (j) st = tick(b, GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0,
-                       rows, err);
+      if (j)
+        st = tick(b, GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0, rows,
+                  err);
       if (st == NBRDF_OK)
-        st = bake_audit_tuples(&b->audit, b->model, b->uniq_out, b->missing + k + j, q, &worst,
-                               err);
+        st =
+            bake_audit_tuples(&b->audit, b->model, b->uniq_out, b->missing + k + j, q, &worst, err);
       if (st == NBRDF_OK && worst != (size_t)-1) band_worst = worst;
     }
     if (st != NBRDF_OK) return st;

@@ -101,8 +101,8 @@ static int train_decoder(int argc, char **argv) {
   double steps = (double)s.steps, minutes = 0, rows = s.rows_per_brdf, lrw = s.lr_weights,
          lrl = s.lr_latent, l2 = s.latent_l2, decay = s.decay_every, gamma = s.decay_gamma,
          seed = (double)s.seed, ckpt = s.checkpoint_seconds / 60.0, nval = s.validation_brdfs,
-         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight,
-         energy = s.energy.lambda, energy_brdfs = s.energy_brdfs;
+         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight, energy = s.energy.lambda,
+         energy_brdfs = s.energy_brdfs;
   num_option nums[] = {
       {"--steps", 1, 1e12, &steps},
       {"--minutes", 0, 1e9, &minutes},

@@ -71,8 +71,7 @@ int cmd_train_layering(int argc, char **argv) {
         free(list);
         return cli_usage_error("train", "layering: %s", e2.message);
       }
-    }
-    else if (!strcmp(argv[i], "--progress=json"))
+    } else if (!strcmp(argv[i], "--progress=json"))
       prog.json = 1;
     else {
       free(list);

@@ -42,8 +42,8 @@ void eval_extra_ref_free(eval_extra_ref *x) {
 }
 
 static void cache_path(char *out, size_t size, eval_set set, const eval_settings *s) {
-  snprintf(out, size, "%s/ref-%s-n%d-w%d-grazing.safetensors", s->cache_dir,
-           eval_set_name(set), s->count, s->walks);
+  snprintf(out, size, "%s/ref-%s-n%d-w%d-grazing.safetensors", s->cache_dir, eval_set_name(set),
+           s->count, s->walks);
 }
 
 static int load_cache(const char *path, const eval_settings *s, eval_extra_ref *x) {
@@ -57,7 +57,8 @@ static int load_cache(const char *path, const eval_settings *s, eval_extra_ref *
            nbrdf_st_expect(r, "albedo", 2, per, &c, NULL) == NBRDF_OK &&
            nbrdf_st_expect(r, "albedo_se", 2, per, &d, NULL) == NBRDF_OK;
   if (ok) {
-    for (size_t k = 0; k < (size_t)s->count * PER_GRAZING; k++) x->images[k] = a[k];
+    for (size_t k = 0; k < (size_t)s->count * PER_GRAZING; k++)
+      x->images[k] = a[k];
     for (size_t k = 0; k < (size_t)s->count * NT; k++)
       x->mirror[k] = b[k], x->albedo[k] = c[k], x->albedo_se[k] = d[k];
   }
@@ -70,7 +71,8 @@ static void save_cache(const char *path, const eval_settings *s, const eval_extr
   float *buf = malloc((ni + 3 * np) * sizeof *buf);
   nbrdf_st_writer *w = NULL;
   if (buf && nbrdf_st_writer_create(&w, NULL) == NBRDF_OK) {
-    for (size_t k = 0; k < ni; k++) buf[k] = (float)x->images[k];
+    for (size_t k = 0; k < ni; k++)
+      buf[k] = (float)x->images[k];
     for (size_t k = 0; k < np; k++) {
       buf[ni + k] = (float)x->mirror[k];
       buf[ni + np + k] = (float)x->albedo[k];
@@ -162,15 +164,16 @@ static nbrdf_status decode_one(model_decoder *dec, model_runner *runner, const f
   int D = dec->cfg.latent_dim;
   float *lat = calloc(n * (size_t)D, sizeof *lat), *dirs = calloc(6 * n, sizeof *dirs);
   float *out = calloc(n, sizeof *out);
-  nbrdf_status st = lat && dirs && out ? NBRDF_OK
-                                       : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  nbrdf_status st =
+      lat && dirs && out ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   for (size_t k = 0; k < n && !st; k++) {
     memcpy(lat + k * (size_t)D, latent, (size_t)D * sizeof *lat);
     for (int a = 0; a < 3; a++)
       dirs[3 * k + a] = (float)wi[3 * k + a], dirs[3 * n + 3 * k + a] = (float)wo[3 * k + a];
   }
   if (!st) st = model_decoder_eval(dec, runner, n, 1, lat, dirs, dirs + 3 * n, out, err);
-  for (size_t k = 0; k < n && !st; k++) f[k] = out[k];
+  for (size_t k = 0; k < n && !st; k++)
+    f[k] = out[k];
   free(lat), free(dirs), free(out);
   return st;
 }
@@ -188,7 +191,8 @@ static nbrdf_status grazing_fn(void *user, size_t n, const nbrdf_query *q, doubl
   double *dirs = malloc(6 * n * sizeof *dirs);
   if (!dirs) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   for (size_t k = 0; k < n; k++)
-    for (int a = 0; a < 3; a++) dirs[3 * k + a] = q[k].wi[a], dirs[3 * n + 3 * k + a] = q[k].wo[a];
+    for (int a = 0; a < 3; a++)
+      dirs[3 * k + a] = q[k].wi[a], dirs[3 * n + 3 * k + a] = q[k].wo[a];
   nbrdf_status st = decode_one(g->dec, g->runner, g->latent, n, dirs, dirs + 3 * n, f, err);
   free(dirs);
   return st;
@@ -204,7 +208,8 @@ nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size
   double *img = malloc((PER_BRDF + PER_GRAZING) * sizeof *img);
   double *all_ref = malloc((PER_BRDF + PER_GRAZING) * sizeof *all_ref);
   double *rho = malloc(n * NT * sizeof *rho);
-  float *sigma = model ? malloc(n * sizeof *sigma) : NULL, *w = model ? malloc(n * sizeof *w) : NULL;
+  float *sigma = model ? malloc(n * sizeof *sigma) : NULL,
+        *w = model ? malloc(n * sizeof *w) : NULL;
   if (!img || !all_ref || !rho || (model && (!sigma || !w)))
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
   /* Decoded albedo with the proxy lobe of each latent as one more technique. */
@@ -218,8 +223,8 @@ nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size
     const float *latent = lat + i * D;
     g.latent = latent;
     /* Decoded images at all six angles, the references beside them. */
-    st = nbrdf_lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
-                           nbrdf_lobe_theta_deg, img, err);
+    st = nbrdf_lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg,
+                           img, err);
     if (!st)
       st = nbrdf_lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, EVAL_N_GRAZING, grazing_deg,
                              img + PER_BRDF, err);
@@ -227,8 +232,8 @@ nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size
     memcpy(all_ref, ref + i * PER_BRDF, PER_BRDF * sizeof *all_ref);
     memcpy(all_ref + PER_BRDF, x->images + i * PER_GRAZING, PER_GRAZING * sizeof *all_ref);
     for (int t = 0; t < NT; t++)
-      c->pointwise[t] =
-          nbrdf_lobe_pointwise_error(NBRDF_LOBE_RES, all_ref + t * IMG, img + t * IMG, POINTWISE_FLOOR);
+      c->pointwise[t] = nbrdf_lobe_pointwise_error(NBRDF_LOBE_RES, all_ref + t * IMG, img + t * IMG,
+                                                   POINTWISE_FLOOR);
     /* Over all six images: each image's pixels against its own peak. */
     double *e = malloc(NT * IMG * sizeof *e);
     size_t m = 0;
@@ -275,9 +280,11 @@ void eval_summarise_extra(eval_result *r) {
   if (!v) return;
   double best = -1.0;
   for (int t = 0; t < NT; t++) {
-    for (int i = 0; i < r->n; i++) v[i] = r->cases[i].pointwise[t];
+    for (int i = 0; i < r->n; i++)
+      v[i] = r->cases[i].pointwise[t];
     r->median_pointwise[t] = nbrdf_median_finite((size_t)r->n, v);
-    for (int i = 0; i < r->n; i++) v[i] = r->cases[i].mirror_error[t];
+    for (int i = 0; i < r->n; i++)
+      v[i] = r->cases[i].mirror_error[t];
     r->median_mirror[t] = nbrdf_median_finite((size_t)r->n, v);
     r->max_decoded_albedo[t] = 0.0, r->max_albedo_excess[t] = -INFINITY;
     for (int i = 0; i < r->n; i++) {
@@ -288,7 +295,8 @@ void eval_summarise_extra(eval_result *r) {
         best = c->albedo[t], r->max_decoded_albedo_index = i, r->max_decoded_albedo_theta = t;
     }
   }
-  for (int i = 0; i < r->n; i++) v[i] = r->cases[i].pointwise_all;
+  for (int i = 0; i < r->n; i++)
+    v[i] = r->cases[i].pointwise_all;
   r->median_pointwise_all = nbrdf_median_finite((size_t)r->n, v);
   free(v);
 }

@@ -40,9 +40,12 @@ typedef struct technique {
 
 static double tech_pdf(const technique *t, vec3 wi, vec3 wo) {
   switch (t->kind) {
-  case 0: return wo.z > 0.0 ? wo.z / M_PI : 0.0;
-  case 1: return ggx_reflect_pdf(t->param, wi, wo);
-  default: return model_proxy_gaussian_pdf(t->param, wi, wo);
+  case 0:
+    return wo.z > 0.0 ? wo.z / M_PI : 0.0;
+  case 1:
+    return ggx_reflect_pdf(t->param, wi, wo);
+  default:
+    return model_proxy_gaussian_pdf(t->param, wi, wo);
   }
 }
 
@@ -65,8 +68,8 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
                                     double proxy_sigma, nbrdf_error *err) {
   memset(q, 0, sizeof *q);
   if (!(theta_i >= 0.0 && theta_i < 0.5 * M_PI))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: theta_i = %g rad, expected [0, pi/2)",
-                      theta_i);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "albedo quadrature: theta_i = %g rad, expected [0, pi/2)", theta_i);
   if (n < 16)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: %d samples, expected >= 16", n);
   if (!(proxy_sigma >= 0.0) || !isfinite(proxy_sigma))
@@ -84,7 +87,8 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
     share[nt++] = 0.8 / lobes;
   }
   if (proxy_sigma > 0.0) {
-    tech[nt] = (technique){2, proxy_sigma < MODEL_PROXY_SIGMA_MIN ? MODEL_PROXY_SIGMA_MIN : proxy_sigma};
+    tech[nt] =
+        (technique){2, proxy_sigma < MODEL_PROXY_SIGMA_MIN ? MODEL_PROXY_SIGMA_MIN : proxy_sigma};
     share[nt++] = 0.8 / lobes;
   }
   q->wo = malloc((size_t)n * 3 * sizeof *q->wo);
@@ -100,7 +104,8 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
   q->wi[0] = wi.x, q->wi[1] = wi.y, q->wi[2] = wi.z;
   /* Counts: floor of the shares, the remainder to the cosine technique. */
   int counts[MODEL_ALBEDO_QUAD_MAX_TECH], used = 0;
-  for (int j = 1; j < nt; j++) used += counts[j] = (int)floor(share[j] * n);
+  for (int j = 1; j < nt; j++)
+    used += counts[j] = (int)floor(share[j] * n);
   counts[0] = n - used;
   double c[MODEL_ALBEDO_QUAD_MAX_TECH];
   for (int j = 0, end = 0; j < nt; j++) {
@@ -121,7 +126,8 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
       if (tech_sample(&tech[j], wi, u1, u2, &wo) && wo.z > MIN_COS) {
         wo = v3_normalize(wo);
         double p = 0.0;
-        for (int i = 0; i < nt; i++) p += c[i] * tech_pdf(&tech[i], wi, wo);
+        for (int i = 0; i < nt; i++)
+          p += c[i] * tech_pdf(&tech[i], wi, wo);
         if (p > 0.0) w = wo.z / (n * p);
       }
       if (!(w > 0.0) || !isfinite(w)) {
@@ -194,7 +200,8 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
       /* Without proxies every latent shares one set of directions. */
       for (size_t l = 0; st == NBRDF_OK && l < m; l++)
         if (sigma || l == 0)
-          st = model_albedo_quad_init(&quads[l], th, samples, seed, sigma ? sigma[l0 + l] : 0.0, err);
+          st = model_albedo_quad_init(&quads[l], th, samples, seed, sigma ? sigma[l0 + l] : 0.0,
+                                      err);
       for (size_t l = 0; st == NBRDF_OK && l < m; l++) {
         const model_albedo_quad *q = &quads[sigma ? l : 0];
         for (int k = 0; k < samples; k++) {
@@ -210,15 +217,18 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
         st = model_decoder_eval(dec, runner, m * (size_t)samples, 1, lat, wi, wo, f, err);
       for (size_t l = 0; st == NBRDF_OK && l < m; l++) {
         const model_albedo_quad *q = &quads[sigma ? l : 0];
-        for (int k = 0; k < samples; k++) fd[k] = f[l * (size_t)samples + (size_t)k];
+        for (int k = 0; k < samples; k++)
+          fd[k] = f[l * (size_t)samples + (size_t)k];
         size_t o = (l0 + l) * (size_t)n_theta + (size_t)t;
         rho[o] = model_albedo_quad_sum(q, fd, se ? &se[o] : NULL);
       }
-      for (size_t l = 0; l < per; l++) model_albedo_quad_free(&quads[l]);
+      for (size_t l = 0; l < per; l++)
+        model_albedo_quad_free(&quads[l]);
     }
   }
   if (quads)
-    for (size_t l = 0; l < per; l++) model_albedo_quad_free(&quads[l]);
+    for (size_t l = 0; l < per; l++)
+      model_albedo_quad_free(&quads[l]);
   free(quads);
   free(fd);
   free(f);

@@ -33,13 +33,13 @@
 #define MODEL_ALBEDO_QUAD_MAX_TECH 8
 
 typedef struct model_albedo_quad {
-  int n;                                     /* directions */
-  int n_tech;                                /* techniques used */
-  int tech_end[MODEL_ALBEDO_QUAD_MAX_TECH];  /* samples of technique j: [end_{j-1}, end_j) */
-  double theta_i;                            /* radians */
-  double wi[3];                              /* (sin θi, 0, cos θi) */
-  double *wo;                                /* [n × 3] */
-  double *weight;                            /* [n]: cos θo / (N p(ωo)); 0 for a lost sample */
+  int n;                                    /* directions */
+  int n_tech;                               /* techniques used */
+  int tech_end[MODEL_ALBEDO_QUAD_MAX_TECH]; /* samples of technique j: [end_{j-1}, end_j) */
+  double theta_i;                           /* radians */
+  double wi[3];                             /* (sin θi, 0, cos θi) */
+  double *wo;                               /* [n × 3] */
+  double *weight;                           /* [n]: cos θo / (N p(ωo)); 0 for a lost sample */
 } model_albedo_quad;
 
 /* Builds the directions for θi (radians, [0, π/2)) with n >= 16 samples from

@@ -36,8 +36,8 @@ nbrdf_status model_energy_parse_angles(const char *text, const char *option,
     char *end = NULL;
     double v = strtod(tok, &end);
     if (end == tok || *end != '\0' || !(v >= 0.0 && v < 90.0))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "%s: '%s' is not an angle in degrees in [0, 90)", option, tok);
+      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: '%s' is not an angle in degrees in [0, 90)",
+                        option, tok);
     if (n == MODEL_ENERGY_MAX_THETA)
       return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: at most %d angles", option,
                         MODEL_ENERGY_MAX_THETA);
@@ -61,8 +61,7 @@ nbrdf_status model_energy_create(const model_decoder *dec, const model_energy_op
   if (!(o->lambda >= 0.0f) || !isfinite(o->lambda))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: lambda = %g, expected >= 0",
                       (double)o->lambda);
-  if (o->n_theta < 1 || o->n_theta > MODEL_ENERGY_MAX_THETA || o->samples < 16 ||
-      o->samples > 4096)
+  if (o->n_theta < 1 || o->n_theta > MODEL_ENERGY_MAX_THETA || o->samples < 16 || o->samples > 4096)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "energy penalty: %d angles (1..%d) and %d samples (16..4096)", o->n_theta,
                       MODEL_ENERGY_MAX_THETA, o->samples);
@@ -105,7 +104,8 @@ static nbrdf_status make_directions(model_energy *e, int64_t step, nbrdf_error *
     if (st) return st;
     for (int k = 0; k < S; k++) {
       size_t r = (size_t)t * S + (size_t)k;
-      for (int a = 0; a < 3; a++) e->wi[3 * r + a] = (float)q.wi[a], e->wo[3 * r + a] = (float)q.wo[3 * k + a];
+      for (int a = 0; a < 3; a++)
+        e->wi[3 * r + a] = (float)q.wi[a], e->wo[3 * r + a] = (float)q.wo[3 * k + a];
       e->weight[r] = q.weight[k];
     }
     model_albedo_quad_free(&q);
@@ -119,10 +119,9 @@ static double df_do(model_output output, float o) {
   return o > 0.0f ? 1.0 : 0.0;
 }
 
-nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents,
-                              const float *ceiling, int64_t step, float *grad_latent,
-                              float *grad_weights, double *penalty, double *albedo,
-                              nbrdf_error *err) {
+nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, const float *ceiling,
+                              int64_t step, float *grad_latent, float *grad_weights,
+                              double *penalty, double *albedo, nbrdf_error *err) {
   if (penalty) *penalty = 0.0;
   if (n == 0) return NBRDF_OK;
   nbrdf_status st = make_directions(e, step, err);
@@ -138,7 +137,8 @@ nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents,
     size_t m = n - l0 < LATENTS_PER_PASS ? n - l0 : LATENTS_PER_PASS;
     for (size_t l = 0; l < m; l++) {
       float *x = e->runner.x + l * R * in;
-      for (size_t r = 0; r < R; r++) memcpy(x + r * in, latents + (l0 + l) * D, D * sizeof *x);
+      for (size_t r = 0; r < R; r++)
+        memcpy(x + r * in, latents + (l0 + l) * D, D * sizeof *x);
       model_encode(&dec->cfg.encoding, R, e->wi, e->wo, x + D, in);
     }
     st = nbrdf_nn_forward(dec->nn, e->runner.ws, e->runner.x, (int)(m * R), e->runner.y, err);
@@ -170,7 +170,8 @@ nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents,
       float *g = grad_latent + (l0 + l) * D;
       for (size_t r = 0; r < R; r++) {
         const float *d = e->dx + (l * R + r) * in;
-        for (size_t j = 0; j < D; j++) g[j] += d[j];
+        for (size_t j = 0; j < D; j++)
+          g[j] += d[j];
       }
     }
   }

@@ -27,10 +27,10 @@
 #define MODEL_ENERGY_MAX_THETA 8
 
 typedef struct model_energy_options {
-  float lambda;                               /* penalty weight; 0 = off */
-  int n_theta;                                /* 1 .. MODEL_ENERGY_MAX_THETA */
-  double theta_deg[MODEL_ENERGY_MAX_THETA];   /* degrees, [0, 90) */
-  int samples;                                /* quadrature directions per θi (>= 16) */
+  float lambda;                             /* penalty weight; 0 = off */
+  int n_theta;                              /* 1 .. MODEL_ENERGY_MAX_THETA */
+  double theta_deg[MODEL_ENERGY_MAX_THETA]; /* degrees, [0, 90) */
+  int samples;                              /* quadrature directions per θi (>= 16) */
   uint64_t seed;
 } model_energy_options;
 
@@ -54,9 +54,8 @@ void model_energy_destroy(model_energy *e);
  * grad_latent [n × D] and ∂P/∂weights into grad_weights (each may be NULL:
  * nothing is back-propagated when both are). albedo [n × n_theta] (may be
  * NULL) receives ρ̂. */
-nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents,
-                              const float *ceiling, int64_t step, float *grad_latent,
-                              float *grad_weights, double *penalty, double *albedo,
-                              nbrdf_error *err);
+nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, const float *ceiling,
+                              int64_t step, float *grad_latent, float *grad_weights,
+                              double *penalty, double *albedo, nbrdf_error *err);
 
 #endif

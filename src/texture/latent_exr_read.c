@@ -3,8 +3,8 @@
  * index, so that damaged files fail with a message instead of a crash. */
 #include <errno.h>
 #include <fcntl.h>
-#include <stdio.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>

@@ -1,10 +1,10 @@
 /* Streaming writer of latent textures (docs/LATENT-TEXTURE.md). */
+#include <fcntl.h>
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <fcntl.h>
 #include <unistd.h>
 
 #include "core/error.h"

@@ -18,9 +18,9 @@ struct train_energy {
   model_energy_options o;
   int per_step;
   int D;
-  float *ceiling;   /* [n_brdfs × n_theta], NaN until computed */
+  float *ceiling;           /* [n_brdfs × n_theta], NaN until computed */
   float *lat, *grad, *ceil; /* [per_step × D], [per_step × D], [per_step × n_theta] */
-  size_t *pick;     /* [per_step] */
+  size_t *pick;             /* [per_step] */
 };
 
 void train_energy_destroy(train_energy *e) {
@@ -36,8 +36,8 @@ nbrdf_status train_energy_create(const model_decoder *dec, const train_samples *
   *out = NULL;
   if (o->lambda == 0.0f) return NBRDF_OK;
   if (brdfs_per_step < 1 || brdfs_per_step > 4096)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: %d BRDFs per step, expected 1..4096",
-                      brdfs_per_step);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "energy penalty: %d BRDFs per step, expected 1..4096", brdfs_per_step);
   train_energy *e = calloc(1, sizeof *e);
   if (!e) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
   e->data = data, e->o = *o, e->per_step = brdfs_per_step, e->D = dec->cfg.latent_dim;
@@ -56,7 +56,8 @@ nbrdf_status train_energy_create(const model_decoder *dec, const train_samples *
     train_energy_destroy(e);
     return st;
   }
-  for (size_t k = 0; k < data->n_brdfs * T; k++) e->ceiling[k] = NAN;
+  for (size_t k = 0; k < data->n_brdfs * T; k++)
+    e->ceiling[k] = NAN;
   *out = e;
   return NBRDF_OK;
 }
@@ -66,7 +67,8 @@ static void compute(train_energy *e, size_t b) {
   float *c = e->ceiling + b * (size_t)e->o.n_theta;
   nbrdf_brdf *brdf = NULL;
   if (!e->data->params || train_params_create(&e->data->params[b], &brdf, NULL) != NBRDF_OK) {
-    for (int t = 0; t < e->o.n_theta; t++) c[t] = 1.0f; /* no reference: energy conservation */
+    for (int t = 0; t < e->o.n_theta; t++)
+      c[t] = 1.0f; /* no reference: energy conservation */
     return;
   }
   for (int t = 0; t < e->o.n_theta; t++) {
@@ -114,7 +116,8 @@ nbrdf_status train_energy_fit_step(train_energy *e, model_fit *fit, const model_
     do {
       b = (size_t)(nbrdf_rng_uniform(&rng) * (double)n);
       again = 0;
-      for (size_t j = 0; j < k; j++) again |= e->pick[j] == b;
+      for (size_t j = 0; j < k; j++)
+        again |= e->pick[j] == b;
     } while (again);
     e->pick[k] = b;
     memcpy(e->lat + k * D, latents + b * D, D * sizeof *e->lat);
@@ -127,20 +130,22 @@ nbrdf_status train_energy_fit_step(train_energy *e, model_fit *fit, const model_
   if (st) return st;
   float *g = model_fit_grad_latent(fit);
   for (size_t k = 0; k < K; k++)
-    for (size_t j = 0; j < D; j++) g[e->pick[k] * D + j] += e->grad[k * D + j];
+    for (size_t j = 0; j < D; j++)
+      g[e->pick[k] * D + j] += e->grad[k * D + j];
   st = model_fit_apply(fit, err);
   if (loss) *loss = data_loss + pen;
   if (penalty) *penalty = pen;
   return st;
 }
 
-nbrdf_status train_energy_pairs(train_energy *e, size_t m, const size_t *idx,
-                                const size_t *brdf_of, const float *z, int64_t step, float *dz,
-                                double *penalty, nbrdf_error *err) {
+nbrdf_status train_energy_pairs(train_energy *e, size_t m, const size_t *idx, const size_t *brdf_of,
+                                const float *z, int64_t step, float *dz, double *penalty,
+                                nbrdf_error *err) {
   if (penalty) *penalty = 0.0;
   if (!e || m == 0) return NBRDF_OK;
   size_t K = (size_t)e->per_step < m ? (size_t)e->per_step : m;
-  for (size_t k = 0; k < K; k++) e->pick[k] = brdf_of[idx[k]];
+  for (size_t k = 0; k < K; k++)
+    e->pick[k] = brdf_of[idx[k]];
   nbrdf_status st = train_energy_ceilings(e, K, e->pick, e->ceil, err);
   /* z rows 0..K-1 are those pairs' latents, contiguous: no copy needed. */
   if (!st) st = model_energy_add(e->pen, K, z, e->ceil, step, dz, NULL, penalty, NULL, err);

@@ -49,8 +49,8 @@ nbrdf_status train_energy_fit_step(train_energy *e, model_fit *fit, const model_
 /* Layering training: the penalty of the first min(m, brdfs_per_step) of m
  * pair latents z [m × D], pair r being BRDF brdf_of[idx[r]]; ∂P/∂z ADDED into
  * dz [m × D] (the decoder frozen). */
-nbrdf_status train_energy_pairs(train_energy *e, size_t m, const size_t *idx,
-                                const size_t *brdf_of, const float *z, int64_t step, float *dz,
-                                double *penalty, nbrdf_error *err);
+nbrdf_status train_energy_pairs(train_energy *e, size_t m, const size_t *idx, const size_t *brdf_of,
+                                const float *z, int64_t step, float *dz, double *penalty,
+                                nbrdf_error *err);
 
 #endif

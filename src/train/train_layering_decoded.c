@@ -218,7 +218,8 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
     }
   }
   double penalty = 0.0;
-  st = train_energy_pairs(t->energy, (size_t)m, idx, p->brdf, t->lrun.y, step, t->dz, &penalty, err);
+  st =
+      train_energy_pairs(t->energy, (size_t)m, idx, p->brdf, t->lrun.y, step, t->dz, &penalty, err);
   if (st) return st;
   *loss += penalty;
   st = nbrdf_nn_backward(t->net->nn, t->lrun.ws, t->dz, m2 ? t->dxl : NULL, grad, err);

@@ -387,12 +387,14 @@ static void test_energy_audit(void) {
   for (size_t i = 0; i < n; i++)
     for (int c = 0; c < C; c++) {
       for (int k = 0; k < D; k++)
-        lat[(i * C + c) * D + k] = tex[i * info->channels + nbrdf_latent_index_latent(&info->layout, c, k)];
+        lat[(i * C + c) * D + k] =
+            tex[i * info->channels + nbrdf_latent_index_latent(&info->layout, c, k)];
       sig[i * C + c] = tex[i * info->channels + nbrdf_latent_index_sigma(&info->layout, c)];
     }
   CHECK_OK(bake_albedo_max(model, n * C, lat, sig, mx, NULL, err), err);
   double worst = 0.0;
-  for (size_t k = 0; k < n * C; k++) worst = fmax(worst, mx[k]);
+  for (size_t k = 0; k < n * C; k++)
+    worst = fmax(worst, mx[k]);
   CHECK_NEAR(worst, rep.max_albedo, 1e-9);
   free(tex), free(lat), free(sig), free(mx);
   nbrdf_latent_reader_close(r);

@@ -61,7 +61,8 @@ static void test_single_set(void) {
     fclose(f);
   }
   CHECK(strstr(buf, "\"single\"") && strstr(buf, "\"median_lobe_error\""));
-  CHECK(strstr(buf, "\"median_pointwise_error\"") && strstr(buf, "\"max_decoded_albedo_per_theta\""));
+  CHECK(strstr(buf, "\"median_pointwise_error\"") &&
+        strstr(buf, "\"max_decoded_albedo_per_theta\""));
 
   /* The figures of issue 18: point-wise errors of the four standard images
    * are those of the stored images; the single set's reference albedo and

@@ -160,7 +160,8 @@ static void test_pointwise(void) {
       }
   nbrdf_lobe_pixel_wo(RES, 5, 32, wo);
   ref[5 * RES + 32] = 1e3 * wo[2]; /* one pixel peak: all others below 1 % */
-  for (int k = 0; k < PIX; k++) a[k] = 1.1 * ref[k];
+  for (int k = 0; k < PIX; k++)
+    a[k] = 1.1 * ref[k];
   CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 0.01), 0.1, 1e-9); /* only the peak */
   CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 1e-4), 0.1, 1e-9); /* all of them */
   for (int k = 0; k < PIX; k++)

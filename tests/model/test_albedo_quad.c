@@ -13,7 +13,8 @@ static double quad_albedo(const nbrdf_brdf *brdf, const model_albedo_quad *q, do
   nbrdf_query *qs = malloc((size_t)q->n * sizeof *qs);
   double *f = malloc((size_t)q->n * sizeof *f);
   for (int k = 0; k < q->n; k++)
-    for (int a = 0; a < 3; a++) qs[k].wi[a] = q->wi[a], qs[k].wo[a] = q->wo[3 * k + a];
+    for (int a = 0; a < 3; a++)
+      qs[k].wi[a] = q->wi[a], qs[k].wo[a] = q->wo[3 * k + a];
   nbrdf_error err = {0};
   CHECK_OK(nbrdf_brdf_eval(brdf, (size_t)q->n, qs, NULL, f, NULL, &err), &err);
   double rho = model_albedo_quad_sum(q, f, se);
@@ -68,12 +69,14 @@ static void test_lambert_and_determinism(void) {
       CHECK_OK(model_albedo_quad_init(&q, t * M_PI / 180.0, 2048, 3u, s ? 0.05 : 0.0, &err), &err);
       CHECK_OK(model_albedo_quad_init(&q2, t * M_PI / 180.0, 2048, 3u, s ? 0.05 : 0.0, &err), &err);
       double *f = malloc(2048 * sizeof *f);
-      for (int k = 0; k < 2048; k++) f[k] = 1.0 / M_PI;
+      for (int k = 0; k < 2048; k++)
+        f[k] = 1.0 / M_PI;
       double se, rho = model_albedo_quad_sum(&q, f, &se);
       CHECK_NEAR(rho, 1.0, 4.0 * se + 1e-6);
       CHECK(se < 0.02);
       int same = 1;
-      for (int k = 0; k < 3 * 2048; k++) same &= q.wo[k] == q2.wo[k];
+      for (int k = 0; k < 3 * 2048; k++)
+        same &= q.wo[k] == q2.wo[k];
       CHECK(same);
       free(f);
       model_albedo_quad_free(&q);
@@ -94,7 +97,8 @@ static void test_decoded(void) {
   model_runner runner;
   CHECK_OK(model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &runner, &err), &err);
   float lat[3 * 8];
-  for (int k = 0; k < 3 * 8; k++) lat[k] = (float)sin(1.7 * k);
+  for (int k = 0; k < 3 * 8; k++)
+    lat[k] = (float)sin(1.7 * k);
   const double th[2] = {30.0, 85.0};
   float sigma[3] = {0.1f, 0.02f, 0.5f};
   double rho[6], se[6];
@@ -106,11 +110,14 @@ static void test_decoded(void) {
       float wi[256 * 3], wo[256 * 3], f[256], x[256 * 8];
       double fd[256];
       for (int k = 0; k < 256; k++) {
-        for (int a = 0; a < 3; a++) wi[3 * k + a] = (float)q.wi[a], wo[3 * k + a] = (float)q.wo[3 * k + a];
-        for (int a = 0; a < 8; a++) x[8 * k + a] = lat[8 * l + a];
+        for (int a = 0; a < 3; a++)
+          wi[3 * k + a] = (float)q.wi[a], wo[3 * k + a] = (float)q.wo[3 * k + a];
+        for (int a = 0; a < 8; a++)
+          x[8 * k + a] = lat[8 * l + a];
       }
       CHECK_OK(model_decoder_eval(dec, &runner, 256, 1, x, wi, wo, f, &err), &err);
-      for (int k = 0; k < 256; k++) fd[k] = f[k];
+      for (int k = 0; k < 256; k++)
+        fd[k] = f[k];
       double s, r = model_albedo_quad_sum(&q, fd, &s);
       CHECK_REL(rho[2 * l + t], r, 1e-5, 1e-7);
       CHECK_REL(se[2 * l + t], s, 1e-5, 1e-7);

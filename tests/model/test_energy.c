@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "model/albedo_quad.h"
 #include "core/rng.h"
+#include "model/albedo_quad.h"
 #include "model/energy.h"
 #include "testing.h"
 
@@ -32,12 +32,14 @@ static void test_gradients(void) {
   CHECK_OK(model_energy_create(dec, &o, &e, &err), &err);
   if (!e) return;
   float lat[N * D];
-  for (int k = 0; k < N * D; k++) lat[k] = (float)(1.5 * sin(2.3 * k + 0.4));
+  for (int k = 0; k < N * D; k++)
+    lat[k] = (float)(1.5 * sin(2.3 * k + 0.4));
   /* Ceilings: half of ρ̂ at even angles (active), twice ρ̂ at odd ones. */
   const int T = o.n_theta;
   double rho[N * MODEL_ENERGY_MAX_THETA];
   float ceil[N * MODEL_ENERGY_MAX_THETA];
-  for (int k = 0; k < N * T; k++) ceil[k] = 1e9f;
+  for (int k = 0; k < N * T; k++)
+    ceil[k] = 1e9f;
   double p0;
   CHECK_OK(model_energy_add(e, N, lat, ceil, 5, NULL, NULL, &p0, rho, &err), &err);
   CHECK(p0 == 0.0);
@@ -54,17 +56,20 @@ static void test_gradients(void) {
   {
     model_albedo_quad q;
     CHECK_OK(model_albedo_quad_init(&q, o.theta_deg[4] * M_PI / 180.0, o.samples,
-                                    nbrdf_hash64(o.seed, 5), 0.0, &err), &err);
+                                    nbrdf_hash64(o.seed, 5), 0.0, &err),
+             &err);
     model_runner run;
     CHECK_OK(model_runner_create(dec->nn, 64, NBRDF_NN_INFER, &run, &err), &err);
     float wi[64 * 3], wo[64 * 3], x[64 * D], f[64];
     double fd[64];
     for (int k = 0; k < 64; k++) {
-      for (int a = 0; a < 3; a++) wi[3 * k + a] = (float)q.wi[a], wo[3 * k + a] = (float)q.wo[3 * k + a];
+      for (int a = 0; a < 3; a++)
+        wi[3 * k + a] = (float)q.wi[a], wo[3 * k + a] = (float)q.wo[3 * k + a];
       memcpy(x + k * D, lat + 2 * D, D * sizeof *x);
     }
     CHECK_OK(model_decoder_eval(dec, &run, 64, 1, x, wi, wo, f, &err), &err);
-    for (int k = 0; k < 64; k++) fd[k] = f[k];
+    for (int k = 0; k < 64; k++)
+      fd[k] = f[k];
     CHECK_REL(model_albedo_quad_sum(&q, fd, NULL), rho[2 * T + 4], 1e-5, 1e-9);
     model_runner_destroy(&run);
     model_albedo_quad_free(&q);
@@ -83,7 +88,8 @@ static void test_gradients(void) {
   const float h = 1e-2f;
   int bad = 0;
   double gmax = 0.0;
-  for (int k = 0; k < N * D; k++) gmax = fmax(gmax, fabs(gl[k]));
+  for (int k = 0; k < N * D; k++)
+    gmax = fmax(gmax, fabs(gl[k]));
   CHECK(gmax > 0.0);
   for (int k = 0; k < N * D; k++) {
     float keep = lat[k];
@@ -102,7 +108,8 @@ static void test_gradients(void) {
   /* Weights: every 97th parameter. */
   float *w = nbrdf_nn_params(dec->nn);
   double wmax = 0.0;
-  for (size_t k = 0; k < np; k++) wmax = fmax(wmax, fabs(gw[k]));
+  for (size_t k = 0; k < np; k++)
+    wmax = fmax(wmax, fabs(gw[k]));
   CHECK(wmax > 0.0);
   bad = 0;
   for (size_t k = 0; k < np; k += 97) {
@@ -131,8 +138,8 @@ static void test_options(void) {
   CHECK(o.n_theta == 3 && o.theta_deg[2] == 89.0);
   CHECK_FAILS(model_energy_parse_angles("0,90", "--energy-angles", &o, &err), NBRDF_ERR_ARGUMENT,
               &err, "--energy-angles");
-  CHECK_FAILS(model_energy_parse_angles("x", "--energy-angles", &o, &err), NBRDF_ERR_ARGUMENT,
-              &err, "not an angle");
+  CHECK_FAILS(model_energy_parse_angles("x", "--energy-angles", &o, &err), NBRDF_ERR_ARGUMENT, &err,
+              "not an angle");
 }
 
 int main(void) {

@@ -238,7 +238,8 @@ static void test_coverage_file(void) {
   free(b);
   train_dataset_settings t = s;
   t.draws = TRAIN_DRAWS_TABLE2;
-  CHECK_FAILS(train_dataset_write(path, &t, NULL, &err), NBRDF_ERR_MISMATCH, &err, "draws coverage");
+  CHECK_FAILS(train_dataset_write(path, &t, NULL, &err), NBRDF_ERR_MISMATCH, &err,
+              "draws coverage");
   const char *p1 = path_of("table2.nbds");
   CHECK_OK(train_dataset_write(p1, &t, NULL, &err), &err);
   b = slurp(p1, &n);

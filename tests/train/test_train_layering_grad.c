@@ -88,7 +88,8 @@ static void test_decoded_gradient(void) {
     CHECK_OK(model_decoder_create(&cfg, 9, &dec, err), err);
     CHECK_OK(model_layering_create("small", D, 4, &net, err), err);
     if (dec && net)
-      CHECK_OK(train_layering_decoded_create(net, dec, &data, NB, ROWS, loss, 7, &engine, err), err);
+      CHECK_OK(train_layering_decoded_create(net, dec, &data, NB, ROWS, loss, 7, &engine, err),
+               err);
     double l_plain = NAN;
     if (engine && kind == 2) {
       size_t np0 = nbrdf_nn_param_count(net->nn);
