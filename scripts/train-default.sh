@@ -28,25 +28,31 @@ stage() { echo "== $(date -u +%H:%M:%S) $*"; }
 #    file is the N-record file).
 L2B=${L2B_COUNT:-200}
 L3=${L3_COUNT:-300}
-stage "data: 3000 single BRDFs"
-"$nbrdf" dataset --out "$work/single.nbds" --kind single --count 3000 --seed 1
+# Parameter draws (issue 18): "coverage" adds low-IOR coats (eta = 1 5 %, [1, 1.2] 20 %) and
+# sharp coats (alpha <= 0.03 15 %) to Table 2 (docs/DATASET.md); the files carry the name.
+D=${DRAWS:-coverage}
+stage "data: 3000 single BRDFs ($D draws)"
+"$nbrdf" dataset --out "$work/single-$D.nbds" --kind single --count 3000 --seed 1 --draws "$D"
 stage "data: 3000 two-layer BRDFs (~16 min on 2 quiet cores)"
-"$nbrdf" dataset --out "$work/layered2.nbds" --kind layered2 --count 3000 --seed 1
+"$nbrdf" dataset --out "$work/layered2-$D.nbds" --kind layered2 --count 3000 --seed 1 --draws "$D"
 stage "data: $L2B more two-layer BRDFs (seed 2), $L3 three-layer BRDFs (seed 3) (~15 min on 2 quiet cores)"
-"$nbrdf" dataset --out "$work/layered2b.nbds" --kind layered2 --count "$L2B" --seed 2
-"$nbrdf" dataset --out "$work/layered3.nbds" --kind layered3 --count "$L3" --seed 3
-data="$work/single.nbds,$work/layered2.nbds:1700"
+"$nbrdf" dataset --out "$work/layered2b-$D.nbds" --kind layered2 --count "$L2B" --seed 2 --draws "$D"
+"$nbrdf" dataset --out "$work/layered3-$D.nbds" --kind layered3 --count "$L3" --seed 3 --draws "$D"
+data="$work/single-$D.nbds,$work/layered2-$D.nbds:1700"
 
 # 2. Decoder: auto-decoder training, checkpointed every 5 minutes.
 stage "decoder (medium preset; resumable)"
+#    --energy: the hinge penalty on decoded directional albedo above the ground truth's,
+#    θi up to 89° (issue 18; docs/TRAINING.md, "Energy penalty").
 "$nbrdf" train decoder --data "$data" --run "$run" --preset medium --steps "${DECODER_STEPS:-14342}" \
-  --decay-every 5000 --seed 1
+  --decay-every 5000 --seed 1 --energy "${ENERGY:-1}"
 
 # 3. Base-latent tables by projection with the decoder frozen.
 if [ ! -f "$work/base_tables.safetensors" ]; then
   stage "base tables (resumable)"
+  #    --eta-min 1: the eta grid starts at 1 (no coat), so a bake takes eta = 1 unclamped.
   "$nbrdf" train tables --decoder "$run/decoder.safetensors" -o "$work/base_tables.safetensors" \
-    --checkpoint "$work/base_tables.ckpt"
+    --checkpoint "$work/base_tables.ckpt" --eta-min 1
 fi
 
 # 4. Layering network, trained through the frozen decoder on every layered BRDF's samples
@@ -54,17 +60,17 @@ fi
 #    the two-layer data, then fine-tuned with the three-layer data mixed in (the recursive
 #    application, as in the paper). Checkpointed and resumable.
 layer_args=(--loss decoded --preset paper --decoder "$run/decoder.safetensors"
-  --tables "$work/base_tables.safetensors")
+  --tables "$work/base_tables.safetensors" --energy "${ENERGY:-1}")
 if [ ! -f "$work/layering-2layer.safetensors" ]; then
   stage "layering network, two layers (decoded loss; resumable)"
-  "$nbrdf" train layering "${layer_args[@]}" --data "$work/layered2.nbds" --epochs 300 \
+  "$nbrdf" train layering "${layer_args[@]}" --data "$work/layered2-$D.nbds" --epochs 300 \
     --decay-every 100 --checkpoint "$work/layering-2layer.ckpt" \
     -o "$work/layering-2layer.safetensors" --log "$work/layering-2layer.csv"
 fi
 if [ ! -f "$work/layering.safetensors" ]; then
   stage "layering network, fine-tuned with three layers (resumable)"
   "$nbrdf" train layering "${layer_args[@]}" --init "$work/layering-2layer.safetensors" \
-    --data "$work/layered2.nbds,$work/layered2b.nbds,$work/layered3.nbds" \
+    --data "$work/layered2-$D.nbds,$work/layered2b-$D.nbds,$work/layered3-$D.nbds" \
     --epochs 150 --lr 5e-4 --decay-every 50 --checkpoint "$work/layering.ckpt" \
     -o "$work/layering.safetensors" --log "$work/layering.csv"
 fi
@@ -75,7 +81,7 @@ if [ ! -f "$work/sampler.safetensors" ]; then
   stage "sampling network (resumable)"
   "$nbrdf" train sampler --run "$run" -o "$work/sampler.safetensors" --checkpoint "$work/sampler.ckpt" \
     --layering "$work/layering.safetensors" --tables "$work/base_tables.safetensors" \
-    --data "$work/layered2.nbds,$work/layered2b.nbds,$work/layered3.nbds"
+    --data "$work/layered2-$D.nbds,$work/layered2b-$D.nbds,$work/layered3-$D.nbds"
 fi
 
 # 6. The bundle; its card is docs/MODEL_CARD_DEFAULT.md (the shipped model's figures).

@@ -165,14 +165,23 @@ typedef struct nbrdf_bake_options {
    * docs/BAKE.md, "Quantisation", measures the trade. */
   int quantise_bits;
   nbrdf_bake_compression compression; /* ZIP (default) */
+  /* Energy audit (docs/BAKE.md, "Energy audit"): the maximum over θi of the
+   * decoded directional albedo of each distinct latent the bake evaluates,
+   * for the first `energy_audit` of them (NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,
+   * 16,384; measured 0.35 CPU-ms each, several times a tuple's networks); the worst goes into the
+   * header as nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and parameters. 0 turns it
+   * off. The texels are the same either way. */
+  size_t energy_audit;
 } nbrdf_bake_options;
+
+#define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
 
 #define NBRDF_BAKE_TUPLE_CACHE_DEFAULT 65536
 
 #define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
-        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP                                          \
+        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT         \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
@@ -183,6 +192,8 @@ typedef struct nbrdf_bake_report {
   size_t evaluated;    /* tuples evaluated by the networks (distinct per band, summed) */
   size_t reused;       /* distinct tuples of a band taken from the cross-band cache */
   size_t clamped;      /* texel channels with a clamped parameter */
+  size_t audited;      /* distinct latents of the energy audit */
+  double max_albedo;   /* their largest decoded directional albedo (NaN: none audited) */
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

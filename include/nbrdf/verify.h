@@ -82,6 +82,10 @@ typedef struct nbrdf_verify_texel {
   double lobe_error;      /* METRICS.md lobe error over every channel's images, a fraction */
   double albedo_error;    /* mean |ρ̂ − ρ| over the channels and the four θi */
   double reference_noise; /* lobe error between the reference's two runs, a fraction */
+  /* Energy: the largest decoded directional albedo over θi ∈ {0, 30, 60, 80,
+   * 85, 89}° of its colour channels' latents (the bake's energy audit; above
+   * 1.01 the model creates energy); NaN for a damaged latent. */
+  double max_albedo;
 } nbrdf_verify_texel;
 
 /* Statistics of the lobe error over a set of texels (fractions). */
@@ -114,6 +118,7 @@ typedef struct nbrdf_verify_report {
   /* The decoder the texture was decoded with: its own (format version 2,
    * nbrdf_model_for_texture) or the bundle's. */
   nbrdf_decoder_info decoder; /* .bytes is NULL */
+  double max_albedo;                        /* the largest max_albedo of the compared texels */
 } nbrdf_verify_report;
 
 /* Verifies `texture` against `inputs` with `model`. `options` NULL means

@@ -3,6 +3,7 @@
 #include "nbrdf/bake.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -94,9 +95,15 @@ static void warn_clamped(const bake_band *b, const nbrdf_bake_options *o) {
   if (!o->warning) return;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
     if (!b->clamped[id]) continue;
-    char msg[256], what[64];
+    char msg[512], what[64];
     snprintf(what, sizeof what, "%zu texel channel(s)", b->clamped[id]);
     bake_clamp_warning(msg, sizeof msg, param_names[id], b->lo, b->hi, id, what, 1);
+    /* η = 1 (no coat) is the usual value below the range: say how to get it. */
+    size_t len = strlen(msg);
+    if (id == NBRDF_BAKE_ETA && b->lo[id] > 1.0f && len < sizeof msg)
+      snprintf(msg + len, sizeof msg - len,
+               " (a bundle whose base tables start at eta = 1, `nbrdf train tables --eta-min 1`, "
+               "takes eta = 1, no coat, unclamped)");
     o->warning(o->user, msg);
   }
 }
@@ -194,6 +201,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
   wo.tick = writer_tick;
   wo.tick_user = &prog;
+  wo.max_albedo_attr = o->energy_audit > 0;
 
   int band_rows = BAND_TEXELS / W;
   if (band_rows < 1) band_rows = 1;
@@ -212,6 +220,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
                  o->quantise_bits);
   band.tick = band_tick;
   band.tick_user = &prog;
+  bake_audit_init(&band.audit, o->energy_audit);
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
     int rows = H - y < band_rows ? H - y : band_rows;
     prog.y = y, prog.rows = rows, prog.fraction = 0.0;
@@ -233,18 +242,24 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   if (st == NBRDF_OK && nbrdf_ticker_tick(&prog.ticker, "bake", H, H, 1))
     st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the file was complete");
   if (st == NBRDF_OK) {
+    if (band.audit.audited) nbrdf_latent_writer_set_max_albedo(writer, (float)band.audit.worst);
     st = nbrdf_latent_writer_finish(writer, err);
     writer = NULL;
   }
   nbrdf_latent_writer_abort(writer);
   if (st == NBRDF_OK) {
     warn_clamped(&band, o);
+    char audit_msg[768];
+    bake_audit_message(&band.audit, rgb, audit_msg, sizeof audit_msg);
+    if (audit_msg[0] && o->warning) o->warning(o->user, audit_msg);
     if (rep) {
       rep->width = W, rep->height = H;
       rep->colour_channels = rgb ? 3 : 1;
       rep->brdfs = (size_t)W * H * (rgb ? 3 : 1);
       rep->evaluated = band.evaluated;
       rep->reused = band.reused;
+      rep->audited = band.audit.audited;
+      rep->max_albedo = band.audit.audited ? band.audit.worst : NAN;
       rep->clamped = 0;
       for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
         rep->clamped += band.clamped[id];

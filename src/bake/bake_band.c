@@ -15,6 +15,8 @@
  * CPU-second as chunks of 16,384 (docs/RELIABILITY.md, "Cancel and
  * progress"). */
 #define EVAL_CHUNK 2048
+/* Tuples per energy-audit call (bake_audit.h): ~25 ms each on one core. */
+#define AUDIT_CHUNK 128
 
 /* Share of a band's time spent gathering and interning its tuples (for the
  * fraction passed to tick; only smoothness of progress depends on it). */
@@ -51,6 +53,7 @@ void bake_band_free(bake_band *b) {
   free(b->cache.keys);
   free(b->cache.vals);
   free(b->cache.table);
+  bake_audit_free(&b->audit);
   memset(b, 0, sizeof *b);
 }
 
@@ -237,11 +240,24 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
     for (size_t u = 0; u < n_uniq; u++)
       b->missing[u] = u;
   const double eval_share = BAKE_BAND_FRACTION - GATHER_FRACTION;
+  size_t band_worst = (size_t)-1; /* the audit's new worst tuple, if in this band */
   for (size_t k = 0; k < n_missing; k += EVAL_CHUNK) {
     nbrdf_status st =
         tick(b, GATHER_FRACTION + eval_share * (double)k / (double)n_missing, y0, rows, err);
-    size_t m = n_missing - k < EVAL_CHUNK ? n_missing - k : EVAL_CHUNK;
+    size_t m = n_missing - k < EVAL_CHUNK ? n_missing - k : EVAL_CHUNK, worst;
     if (st == NBRDF_OK) st = evaluate(b, b->missing + k, m, err);
+    /* The audit costs more per tuple than the networks: smaller chunks, so
+     * that cancel is still seen well under a second apart. */
+    for (size_t j = 0; st == NBRDF_OK && j < m && b->audit.cap; j += AUDIT_CHUNK) {
+      size_t q = m - j < AUDIT_CHUNK ? m - j : AUDIT_CHUNK;
+      if (j)
+        st = tick(b, GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0, rows,
+                  err);
+      if (st == NBRDF_OK)
+        st =
+            bake_audit_tuples(&b->audit, b->model, b->uniq_out, b->missing + k + j, q, &worst, err);
+      if (st == NBRDF_OK && worst != (size_t)-1) band_worst = worst;
+    }
     if (st != NBRDF_OK) return st;
   }
   if (b->cache.max) cache_store(b, n_missing);
@@ -261,6 +277,14 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
       }
     }
   }
+  /* The first texel of the audit's new worst tuple, for the warning. */
+  for (size_t i = 0; band_worst != (size_t)-1 && i < (size_t)rows * b->width * C; i++)
+    if (b->slot[i] == band_worst) {
+      size_t texel = i / (size_t)C;
+      bake_audit_found(&b->audit, &b->uniq[band_worst], (int)(texel % (size_t)b->width),
+                       y0 + (int)(texel / (size_t)b->width), (int)(i % (size_t)C));
+      break;
+    }
   return NBRDF_OK;
 }
 

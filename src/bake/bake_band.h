@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 
+#include "bake/bake_audit.h"
 #include "bake/bake_sources.h"
 #include "bake/bake_tuple.h"
 #include "nbrdf/bake.h"
@@ -50,6 +51,9 @@ typedef struct bake_band {
   void *tick_user;
   /* totals over bands */
   size_t evaluated, reused, clamped[NBRDF_BAKE_PARAM_COUNT];
+  /* energy audit of the evaluated tuples (bake_audit.h); set up by the
+   * caller after bake_band_init, freed by bake_band_free */
+  bake_audit audit;
 } bake_band;
 
 /* Sets up `b` (the scratch starts empty); the trained ranges come from the

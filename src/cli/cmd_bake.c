@@ -55,6 +55,9 @@ void cmd_bake_usage(FILE *out) {
       "  --quantise BITS       round every parameter to 2^BITS levels over its trained\n"
       "                        range (2..16; default off): fewer distinct tuples for\n"
       "                        smooth float maps, at a measured cost (docs/BAKE.md)\n"
+      "  --energy-audit N      decoded directional albedo of the first N distinct latents\n"
+      "                        (16384; 0: off): the worst goes into the header as\n"
+      "                        nbrdf:maxAlbedo, a warning names it above 1.01\n"
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
@@ -167,6 +170,11 @@ int cmd_bake(int argc, char **argv) {
       if (!cli_parse_int(v, 2, 16, &q))
         return cli_usage_error("bake", "--quantise needs an integer in [2, 16], not '%s'", v);
       opts.quantise_bits = (int)q, i++;
+    } else if (!strcmp(a, "--energy-audit") && v) {
+      uint64_t n;
+      if (!cli_parse_u64(v, &n) || n > ((uint64_t)1 << 40))
+        return cli_usage_error("bake", "--energy-audit needs a count >= 0, not '%s'", v);
+      opts.energy_audit = (size_t)n, i++;
     } else if (!strcmp(a, "--progress=json")) {
       ps.json = 1;
     } else {
@@ -234,6 +242,9 @@ int cmd_bake(int argc, char **argv) {
     printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n", out,
            rep.width, rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs,
            rep.evaluated, rep.reused);
+    if (rep.audited)
+      printf("energy audit: max decoded directional albedo %.4f over %zu distinct latents\n",
+             rep.max_albedo, rep.audited);
   }
   return CLI_EXIT_OK;
 }

@@ -23,6 +23,10 @@ void cmd_evaluate_usage(FILE *out) {
           "single. References: exact for single BRDFs, the whole-lobe estimator with --walks\n"
           "walks per image (16000) for layered ones; its own seed-to-seed error on the first\n"
           "--noise-brdfs BRDFs (10) is reported. --cache DIR keeps references between runs.\n"
+          "Also per set: the point-wise error (median |f/f_ref - 1| where f_ref > 1 %% of the\n"
+          "lobe's peak) and the error at the mirror direction at theta_i 0, 30, 60, 80, 85,\n"
+          "89 deg, and the decoded directional albedo there (importance-sampled) against the\n"
+          "ground truth's: the largest, and the largest excess.\n"
           "Defaults: --sets rep,single (plus layer,layer3,table with a bundle), --count 100,\n"
           "--steps 1000 projection steps.\n");
 }
@@ -119,6 +123,19 @@ int cmd_evaluate(int argc, char **argv) {
            "max albedo %.4f  reference noise %.2f %%\n",
            tok, 100 * r->median, 100 * r->p90, 100 * r->worst, r->worst_index,
            r->median_albedo_error, r->max_albedo, 100 * r->ref_noise);
+    printf("        point-wise median %6.2f %% (by theta_i", 100 * r->median_pointwise_all);
+    for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+      printf(" %g: %.1f", eval_theta_all_deg[t], 100 * r->median_pointwise[t]);
+    printf(" %%)\n        mirror error median by theta_i:");
+    for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+      printf(" %g: %.1f", eval_theta_all_deg[t], 100 * r->median_mirror[t]);
+    printf(" %%\n        max decoded albedo by theta_i:");
+    for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+      printf(" %g: %.3f", eval_theta_all_deg[t], r->max_decoded_albedo[t]);
+    printf("\n        max decoded - reference albedo:");
+    for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+      printf(" %g: %+.3f", eval_theta_all_deg[t], r->max_albedo_excess[t]);
+    printf("\n");
     fflush(stdout);
   }
   cli_cancel_unwatch();

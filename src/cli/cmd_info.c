@@ -1,4 +1,5 @@
 /* nbrdf info: what a user needs to know about a latent texture. */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -72,6 +73,11 @@ int cmd_info(int argc, char **argv) {
     printf("decoder:       own (%zu bytes, checksum %s)\n", in->decoder_size, in->decoder_checksum);
   else
     printf("decoder:       bundle\n");
+  if (isnan(in->max_albedo))
+    printf("max albedo:    not recorded (baked without the energy audit)\n");
+  else
+    printf("max albedo:    %.4f (largest decoded directional albedo of the audited latents%s)\n",
+           in->max_albedo, in->max_albedo > 1.01 ? ": above 1.01, the model creates energy" : "");
   int rc = CLI_EXIT_OK;
   char about[160];
   fflush(stdout); /* what the header says comes out before the check's verdict */

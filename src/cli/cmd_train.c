@@ -15,12 +15,14 @@ void cmd_train_usage(FILE *out) {
       out,
       "usage: nbrdf train decoder --data FILE[,FILE...] --run DIR [options]\n"
       "       nbrdf train tables --decoder FILE -o FILE [--alpha-nodes N] [--eta-nodes N]\n"
-      "                          [--r0-nodes N] [--eta-warp P] [--r0-warp P] [--steps N]\n"
-      "                          [--seed S] [trainer flags]\n"
+      "                          [--r0-nodes N] [--eta-warp P] [--r0-warp P] [--eta-min E]\n"
+      "                          [--steps N] [--seed S] [trainer flags]\n"
       "       nbrdf train layering --data FILE[,...] --run DIR --tables FILE -o FILE\n"
       "                          [--loss latent|decoded] [--decoder FILE] [--init FILE]\n"
       "                          [--preset small|medium|paper] [--epochs N] [--batch N] [--lr X]\n"
       "                          [--rows N] [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
+      "                          [--energy LAMBDA [--energy-angles LIST]\n"
+      "                          [--energy-brdfs K (8 pairs per batch)]] (decoded loss)\n"
       "                          [trainer flags]\n"
       "       nbrdf train sampler --run DIR -o FILE [--brdfs N] [--epochs N]\n"
       "                          [--layering F --tables T --data FILE[,...]] [trainer flags]\n"
@@ -45,6 +47,9 @@ void cmd_train_usage(FILE *out) {
       "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
       "  --brdf-weight P (0)  weigh BRDF b's loss by max(mean log(1+f), 0.01)^-P\n"
       "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
+      "  --energy LAMBDA (0: off)  penalise decoded directional albedo above the ground\n"
+      "                      truth's (+ 2 standard errors + 0.01, at most 1) with weight LAMBDA\n"
+      "  --energy-angles LIST (0,40,60,75,85,89 degrees)  --energy-brdfs K (32 per step)\n"
       "  --progress=json     progress as JSON lines on stdout (text on stderr without it)\n"
       "A checkpoint records the settings a resume must share (nbrdf.options): another\n"
       "value is refused, naming the setting and both values.\n"
@@ -54,7 +59,8 @@ void cmd_train_usage(FILE *out) {
       "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
       "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
       "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
-      "eta nodes 1.05 + 0.95 u^P, r0 nodes u^P (u uniform; P = 1 default, 2 is denser at the\n"
+      "eta nodes E + (2 - E) u^P (E = --eta-min, 1.05; 1 lets a bake take eta = 1, no coat,\n"
+      "without clamping), r0 nodes u^P (u uniform; P = 1 default, 2 is denser at the\n"
       "dim end and measured better: docs/TRAINING.md, 'Base tables').\n"
       "layering: inputs from the tables as a bake looks them up. --loss latent (default):\n"
       "fits the latents a decoder run learned for its two-layer BRDFs (--data: the same\n"
@@ -85,7 +91,8 @@ static int train_decoder(int argc, char **argv) {
   double steps = (double)s.steps, minutes = 0, rows = s.rows_per_brdf, lrw = s.lr_weights,
          lrl = s.lr_latent, l2 = s.latent_l2, decay = s.decay_every, gamma = s.decay_gamma,
          seed = (double)s.seed, ckpt = s.checkpoint_seconds / 60.0, nval = s.validation_brdfs,
-         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight, stop_at = 0;
+         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight, stop_at = 0,
+         energy = s.energy.lambda, energy_brdfs = s.energy_brdfs;
   num_option nums[] = {
       {"--steps", 1, 1e12, &steps},
       {"--minutes", 0, 1e9, &minutes},
@@ -103,6 +110,8 @@ static int train_decoder(int argc, char **argv) {
       {"--blocks", 1, 64, &blocks},
       {"--octaves", 0, MODEL_ENCODING_MAX_OCTAVES, &octaves},
       {"--brdf-weight", 0, 2, &bweight},
+      {"--energy", 0, 1e6, &energy},
+      {"--energy-brdfs", 1, 4096, &energy_brdfs},
   };
   train_progress prog = {0, 0};
   for (int i = 2; i < argc; i++) {
@@ -125,6 +134,12 @@ static int train_decoder(int argc, char **argv) {
       s.run_dir = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--preset"))) {
       preset = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--energy-angles"))) {
+      nbrdf_error e2 = {0};
+      if (model_energy_parse_angles(v, "--energy-angles", &s.energy, &e2)) {
+        free(data_list);
+        return cli_usage_error("train", "%s", e2.message);
+      }
     } else if ((v = cli_option_value(argc, argv, &i, "--encoding"))) {
       encoding = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--output"))) {
@@ -181,6 +196,7 @@ static int train_decoder(int argc, char **argv) {
   s.decay_every = (int)decay, s.decay_gamma = (float)gamma, s.seed = (uint64_t)seed;
   s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval, s.brdf_weight = bweight;
   s.stop_at_step = (int64_t)stop_at;
+  s.energy.lambda = (float)energy, s.energy_brdfs = (int)energy_brdfs;
   s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   cli_cancel_watch();
   train_decoder_result r;

@@ -64,7 +64,19 @@ int cmd_train_layering(int argc, char **argv) {
       s.seed = (uint64_t)n;
     else if ((v = cli_option_value(argc, argv, &i, "--lr")) && cli_parse_double(v, &x) && x > 0)
       s.lr = (float)x;
-    else if (!strcmp(argv[i], "--progress=json"))
+    else if ((v = cli_option_value(argc, argv, &i, "--energy")) && cli_parse_double(v, &x) &&
+             x >= 0 && x <= 1e6)
+      s.energy.lambda = (float)x;
+    else if ((v = cli_option_value(argc, argv, &i, "--energy-brdfs")) &&
+             cli_parse_int(v, 1, 4096, &n))
+      s.energy_brdfs = (int)n;
+    else if ((v = cli_option_value(argc, argv, &i, "--energy-angles"))) {
+      nbrdf_error e2 = {0};
+      if (model_energy_parse_angles(v, "--energy-angles", &s.energy, &e2)) {
+        free(list);
+        return cli_usage_error("train", "layering: %s", e2.message);
+      }
+    } else if (!strcmp(argv[i], "--progress=json"))
       prog.json = 1;
     else {
       free(list);
@@ -75,6 +87,11 @@ int cmd_train_layering(int argc, char **argv) {
     free(list);
     return cli_usage_error("train", "layering: --data, --tables, -o and --run (or, with --loss "
                                     "decoded, --decoder) are required");
+  }
+  if (s.energy.lambda > 0.0f && !decoded) {
+    free(list);
+    return cli_usage_error("train", "layering: --energy needs --loss decoded (the penalty is on "
+                                    "decoded albedo)");
   }
   char ckpt[4096], dec_path[4096];
   snprintf(ckpt, sizeof ckpt, "%s/checkpoint.safetensors", run ? run : ".");

@@ -38,6 +38,9 @@ int cmd_train_tables(int argc, char **argv) {
     } else if ((v = cli_option_value(argc, argv, &i, "--eta-warp"))) {
       if (!cli_parse_double(v, &s.eta_warp) || !(s.eta_warp >= 0.25 && s.eta_warp <= 4))
         return cli_usage_error("train", "--eta-warp '%s': expected 0.25..4", v);
+    } else if ((v = cli_option_value(argc, argv, &i, "--eta-min"))) {
+      if (!cli_parse_double(v, &s.eta_min) || !(s.eta_min >= 1.0 && s.eta_min <= 1.9))
+        return cli_usage_error("train", "--eta-min '%s': expected 1..1.9", v);
     } else if ((v = cli_option_value(argc, argv, &i, "--r0-warp"))) {
       if (!cli_parse_double(v, &s.r0_warp) || !(s.r0_warp >= 0.25 && s.r0_warp <= 4))
         return cli_usage_error("train", "--r0-warp '%s': expected 0.25..4", v);

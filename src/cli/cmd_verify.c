@@ -173,14 +173,16 @@ static void print_report(const verify_args *a, const nbrdf_verify_report *r) {
     printf("worst texels:\n");
     for (size_t i = 0; i < n; i++) {
       const nbrdf_verify_texel *t = order[i];
-      printf("  level %d (%d, %d): lobe %.2f %%, albedo %.4f;", t->level, t->x, t->y,
-             100 * t->lobe_error, t->albedo_error);
+      printf("  level %d (%d, %d): lobe %.2f %%, albedo %.4f, max albedo %.4f;", t->level, t->x,
+             t->y, 100 * t->lobe_error, t->albedo_error, t->max_albedo);
       print_params(t, r->colours);
       if (t->footprint > 1) printf(" (mean of a %d-texel footprint)", t->footprint);
       printf("\n");
     }
   }
   free(order);
+  printf("energy: max decoded directional albedo of the compared texels %.4f%s\n", r->max_albedo,
+         r->max_albedo > 1.01 ? " (above 1.01: the model creates energy there)" : "");
   printf("cost: %.2f s ground truth, %.2f s decoding (%zu distinct latents, %zu decoder "
          "queries)\n",
          r->reference_seconds, r->decode_seconds, r->decoded, r->decoder_queries);

@@ -155,13 +155,17 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
     r->cases[i].params = params[i];
   }
   double t0 = now_s();
+  eval_extra_ref extra = {0};
   nbrdf_status st = eval_reference(set, s, r->ref, &r->ref_noise, err);
+  if (!st) st = eval_reference_extra(set, s, &extra, err);
   double t1 = now_s();
   if (!st && (set == EVAL_REP || set == EVAL_SINGLE))
     st = train_project_params(dec, n, params, family, s->project_steps, 1, lat, NULL, err);
   for (size_t i = 0; i < n && !st && set != EVAL_REP && set != EVAL_SINGLE; i++)
     st = bundle_latent(model, &params[i], lat + i * D, err);
   if (!st) st = eval_score_latents(dec, n, lat, r->ref, r->approx, r->cases, err);
+  if (!st) st = eval_score_extra(model, dec, n, lat, r->ref, &extra, r->cases, err);
+  eval_extra_ref_free(&extra);
   r->seconds_reference = t1 - t0;
   r->seconds_model = now_s() - t1;
   free(lat), free(params);
@@ -170,6 +174,7 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
     return st;
   }
   summarise(r);
+  eval_summarise_extra(r);
   return NBRDF_OK;
 }
 

@@ -47,12 +47,32 @@ typedef struct eval_settings {
 #define EVAL_SETTINGS_DEFAULT                                                                      \
   { 100, 16000, 10, 1000, NULL, NULL, NULL }
 
+/* Angles of the point-wise and albedo figures (issue 18): the four of the lobe
+ * error and the grazing 85° and 89° (images of their own, EVAL_N_GRAZING). */
+#define EVAL_N_THETA_ALL 6
+#define EVAL_N_GRAZING 2
+extern const double eval_theta_all_deg[EVAL_N_THETA_ALL];
+
 typedef struct eval_case {
   train_params params;
   double lobe_error;   /* fraction */
   double albedo_error; /* mean over the four θi */
   double max_albedo;   /* of the neural lobe images */
+  /* At eval_theta_all_deg (evaluate_grazing.c); NaN where undefined: */
+  double pointwise[EVAL_N_THETA_ALL];    /* median |f̂/f − 1| where f > 1 % of the peak */
+  double pointwise_all;                  /* the same over the pixels of all six images */
+  double mirror_error[EVAL_N_THETA_ALL]; /* |f̂/f − 1| at the mirror direction */
+  double albedo[EVAL_N_THETA_ALL];       /* decoded directional albedo (albedo_quad.h) */
+  double albedo_ref[EVAL_N_THETA_ALL], albedo_ref_se[EVAL_N_THETA_ALL]; /* nbrdf_brdf_albedo */
 } eval_case;
+
+/* The ground truth beyond the four lobe images, per set (cached). */
+typedef struct eval_extra_ref {
+  double *images;    /* n × EVAL_N_GRAZING × res² lobe images at 85°, 89° */
+  double *mirror;    /* n × EVAL_N_THETA_ALL: f at the mirror direction */
+  double *albedo;    /* n × EVAL_N_THETA_ALL: directional albedo */
+  double *albedo_se; /* its standard error */
+} eval_extra_ref;
 
 typedef struct eval_result {
   eval_set set;
@@ -61,6 +81,12 @@ typedef struct eval_result {
   double median, p90, worst, median_albedo_error, max_albedo, ref_noise;
   int worst_index, median_index, max_albedo_index;
   double *ref, *approx; /* n × 4 × 64 × 64 lobe images, for plots */
+  /* Per θi of eval_theta_all_deg: median point-wise and mirror errors over the
+   * set, and the largest decoded albedo and excess ρ̂ − ρ over its BRDFs. */
+  double median_pointwise[EVAL_N_THETA_ALL], median_mirror[EVAL_N_THETA_ALL];
+  double median_pointwise_all;
+  double max_decoded_albedo[EVAL_N_THETA_ALL], max_albedo_excess[EVAL_N_THETA_ALL];
+  int max_decoded_albedo_index, max_decoded_albedo_theta; /* the largest ρ̂ of all */
   double seconds_reference, seconds_model;
 } eval_result;
 
@@ -79,6 +105,28 @@ void eval_result_free(eval_result *r);
  * go to approx (same shape) unless it is NULL. */
 nbrdf_status eval_score_latents(model_decoder *dec, size_t n, const float *lat, const double *ref,
                                 double *approx, eval_case *cases, nbrdf_error *err);
+
+/* Lobe images of one BRDF at n_theta angles (degrees), with `walks` walks per
+ * image when it is layered; hook (may be NULL) ticks between chunks. */
+struct layered_lobe_hook;
+nbrdf_status eval_images_of(const train_params *p, uint64_t seed, int walks,
+                            const struct layered_lobe_hook *hook, int n_theta,
+                            const double *theta_deg, double *out, nbrdf_error *err);
+
+/* The extra references of one set (evaluate_grazing.c; cached beside the
+ * images); allocated here, freed by eval_extra_ref_free. */
+nbrdf_status eval_reference_extra(eval_set set, const eval_settings *s, eval_extra_ref *out,
+                                  nbrdf_error *err);
+void eval_extra_ref_free(eval_extra_ref *x);
+
+/* Point-wise errors, mirror errors and decoded albedo of n latents (into
+ * cases[k]) against ref [n × 4 × res²] and the extra references. `model` (may
+ * be NULL) adds each latent's proxy lobe to the albedo quadrature. */
+nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size_t n,
+                              const float *lat, const double *ref, const eval_extra_ref *x,
+                              eval_case *cases, nbrdf_error *err);
+/* The set's summary of those figures (into r). */
+void eval_summarise_extra(eval_result *r);
 
 /* Ground-truth lobe images of one set (cached); images [count × 4 × res²]. */
 nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images, double *noise,

@@ -51,16 +51,16 @@ static int ref_tick_fn(void *user) {
   return nbrdf_ticker_tick(t->ticker, t->stage, t->done, t->total, 0);
 }
 
-/* The images of one BRDF with the given seed. */
-static nbrdf_status images_of(const train_params *p, uint64_t seed, int walks,
-                              const layered_lobe_hook *hook, double *out, nbrdf_error *err) {
+nbrdf_status eval_images_of(const train_params *p, uint64_t seed, int walks,
+                            const layered_lobe_hook *hook, int n_theta, const double *theta_deg,
+                            double *out, nbrdf_error *err) {
   nbrdf_brdf *b = NULL;
   nbrdf_status st = train_params_create(p, &b, err);
   if (st) return st;
   if (nbrdf_brdf_is_stochastic(b)) {
-    for (int t = 0; t < NBRDF_LOBE_N_THETA && !st; t++) {
+    for (int t = 0; t < n_theta && !st; t++) {
       int ok = layered_lobe_image_hooked(&nbrdf_brdf_bsdf(b)->layered,
-                                         nbrdf_lobe_theta_deg[t] * (M_PI / 180.0), NBRDF_LOBE_RES,
+                                         theta_deg[t] * (M_PI / 180.0), NBRDF_LOBE_RES,
                                          walks, nbrdf_hash64(seed, (uint64_t)t), 0, hook,
                                          out + t * IMG, NULL);
       if (ok < 0)
@@ -70,8 +70,7 @@ static nbrdf_status images_of(const train_params *p, uint64_t seed, int walks,
     }
   } else {
     nbrdf_lobe_brdf lb = {b, {seed, 1, 1}};
-    st = nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
-                           nbrdf_lobe_theta_deg, out, err);
+    st = nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, NBRDF_LOBE_RES, n_theta, theta_deg, out, err);
   }
   nbrdf_brdf_destroy(b);
   return st;
@@ -146,9 +145,11 @@ nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images
     train_params_draw(family, kind, (uint64_t)i, &p);
     uint64_t seed = nbrdf_hash64(nbrdf_hash64(family, REF_TAG), (uint64_t)i);
     rt.done = i;
-    st = images_of(&p, seed, s->walks, &hook, images + (size_t)i * PER_BRDF, err);
+    st = eval_images_of(&p, seed, s->walks, &hook, NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg,
+                        images + (size_t)i * PER_BRDF, err);
     if (!st && i < nn && p.n_coats > 0) {
-      st = images_of(&p, seed ^ UINT64_C(0x9e3779b97f4a7c15), s->walks, &hook, second, err);
+      st = eval_images_of(&p, seed ^ UINT64_C(0x9e3779b97f4a7c15), s->walks, &hook,
+                          NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg, second, err);
       if (!st) errs[n_noise++] = nbrdf_lobe_error(PER_BRDF, images + (size_t)i * PER_BRDF, second);
     }
     if (!st && nbrdf_ticker_tick(&ticker, stage, i + 1, s->count, 1))

@@ -1,5 +1,6 @@
 /* `nbrdf evaluate` output: the JSON summary and lobe plots. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +28,70 @@ static void params_json(FILE *f, const train_params *p) {
     fprintf(f, ", \"alpha\": %.5g, \"r0\": %.5g}", p->base_alpha, p->base_r0);
 }
 
+/* A JSON number, or null for NaN/Inf (JSON has neither). */
+static void num(FILE *f, double v) {
+  if (isfinite(v))
+    fprintf(f, "%.6g", v);
+  else
+    fputs("null", f);
+}
+
+static void array(FILE *f, const char *key, const double *v, int n) {
+  fprintf(f, "      \"%s\": [", key);
+  for (int t = 0; t < n; t++) {
+    if (t) fputs(", ", f);
+    num(f, v[t]);
+  }
+  fputs("],\n", f);
+}
+
+/* The point-wise, mirror and decoded-albedo figures (evaluate_grazing.c). */
+static void extra_json(FILE *f, const eval_result *x) {
+  array(f, "theta_deg", eval_theta_all_deg, EVAL_N_THETA_ALL);
+  fputs("      \"median_pointwise_error\": ", f);
+  num(f, x->median_pointwise_all);
+  fputs(",\n", f);
+  array(f, "median_pointwise_error_per_theta", x->median_pointwise, EVAL_N_THETA_ALL);
+  array(f, "median_mirror_error_per_theta", x->median_mirror, EVAL_N_THETA_ALL);
+  array(f, "max_decoded_albedo_per_theta", x->max_decoded_albedo, EVAL_N_THETA_ALL);
+  array(f, "max_decoded_albedo_excess_per_theta", x->max_albedo_excess, EVAL_N_THETA_ALL);
+  const eval_case *c = &x->cases[x->max_decoded_albedo_index];
+  int t = x->max_decoded_albedo_theta;
+  fprintf(f, "      \"max_decoded_albedo_brdf\": {\"index\": %d, \"theta_deg\": %g, \"decoded\": ",
+          x->max_decoded_albedo_index, eval_theta_all_deg[t]);
+  num(f, c->albedo[t]);
+  fputs(", \"reference\": ", f);
+  num(f, c->albedo_ref[t]);
+  fputs(", \"reference_se\": ", f);
+  num(f, c->albedo_ref_se[t]);
+  fputs(", \"params\": ", f);
+  params_json(f, &c->params);
+  fputs("},\n      \"pointwise_errors\": [", f);
+  for (int i = 0; i < x->n; i++) {
+    if (i) fputs(", ", f);
+    num(f, x->cases[i].pointwise_all);
+  }
+  fputs("],\n      \"decoded_albedo\": [", f);
+  for (int i = 0; i < x->n; i++) {
+    fputs(i ? ", [" : "[", f);
+    for (int k = 0; k < EVAL_N_THETA_ALL; k++) {
+      if (k) fputs(", ", f);
+      num(f, x->cases[i].albedo[k]);
+    }
+    fputs("]", f);
+  }
+  fputs("],\n      \"reference_albedo\": [", f);
+  for (int i = 0; i < x->n; i++) {
+    fputs(i ? ", [" : "[", f);
+    for (int k = 0; k < EVAL_N_THETA_ALL; k++) {
+      if (k) fputs(", ", f);
+      num(f, x->cases[i].albedo_ref[k]);
+    }
+    fputs("]", f);
+  }
+  fputs("],\n", f);
+}
+
 nbrdf_status eval_write_json(const char *path, const char *model_label, const eval_settings *s,
                              const eval_result *r, int n_results, nbrdf_error *err) {
   char *text = NULL;
@@ -52,7 +117,9 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
     params_json(f, &x->cases[x->worst_index].params);
     fprintf(f, "},\n      \"max_albedo_brdf\": {\"index\": %d, \"params\": ", x->max_albedo_index);
     params_json(f, &x->cases[x->max_albedo_index].params);
-    fprintf(f, "},\n      \"lobe_errors\": [");
+    fprintf(f, "},\n");
+    extra_json(f, x);
+    fprintf(f, "      \"lobe_errors\": [");
     for (int i = 0; i < x->n; i++)
       fprintf(f, "%s%.5g", i ? ", " : "", x->cases[i].lobe_error);
     fprintf(f, "]\n    }");

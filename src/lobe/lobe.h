@@ -58,6 +58,18 @@ double nbrdf_lobe_albedo(int res, const double *image);
 double nbrdf_lobe_albedo_error(int res, int n_images, const double *ref, const double *approx,
                                double *per_image);
 
+/* Point-wise error of one lobe image (issue 18): the median over the pixels
+ * where the reference f is above `floor_fraction` (0.01) of the image's peak f
+ * of |f̂/f − 1| (images hold f·cos θo; the ratio is f's). Unlike the lobe
+ * error, which sums over the image so that a wrong peak hides behind a right
+ * background, it weighs every visible direction alike. NaN when no pixel
+ * qualifies (an all-zero reference). lobe_pointwise.c */
+double nbrdf_lobe_pointwise_error(int res, const double *ref, const double *approx,
+                                  double floor_fraction);
+
+/* Median of the finite values among n (NaN when none); sorts a copy. */
+double nbrdf_median_finite(size_t n, const double *x);
+
 /* Adapter for the ground truth: `user` points to an nbrdf_lobe_brdf, and the
  * lobe is evaluated with nbrdf_brdf_eval() and those options (lobe_brdf.c). */
 typedef struct nbrdf_lobe_brdf {

@@ -56,6 +56,9 @@ typedef struct nbrdf_latent_exr_options {
    * NBRDF_ERR_CANCELLED and removes the temporary file. */
   int (*tick)(void *user);
   void *tick_user;
+  /* Non-zero: the header gets NBRDF_ATTR_MAX_ALBEDO (latent_layout.h), set by
+   * nbrdf_latent_writer_set_max_albedo before finishing. */
+  int max_albedo_attr;
 } nbrdf_latent_exr_options;
 
 /* Readers refuse bigger tiles, so that a damaged header cannot ask for
@@ -63,7 +66,7 @@ typedef struct nbrdf_latent_exr_options {
 #define NBRDF_LATENT_MAX_TILE_BYTES (256u << 20)
 
 #define NBRDF_LATENT_EXR_OPTIONS_DEFAULT                                                           \
-  { NBRDF_LATENT_HALF, NBRDF_LATENT_ZIP, 64, 0, NULL, NULL, NULL, NULL }
+  { NBRDF_LATENT_HALF, NBRDF_LATENT_ZIP, 64, 0, NULL, NULL, NULL, NULL, 0 }
 
 /* Provenance stored in the header. Strings may be NULL (stored empty). */
 typedef struct nbrdf_latent_meta {
@@ -107,6 +110,10 @@ nbrdf_status nbrdf_latent_writer_write_rows(nbrdf_latent_writer *w, const float 
 /* Completes the file and renames it into place; fails if rows are missing.
  * Releases `w` whatever the outcome. */
 nbrdf_status nbrdf_latent_writer_finish(nbrdf_latent_writer *w, nbrdf_error *err);
+/* The value of NBRDF_ATTR_MAX_ALBEDO (options.max_albedo_attr): the header is
+ * written first, so the attribute holds a placeholder (-1) that finish
+ * overwrites in place, before the file appears. Ignored without the option. */
+void nbrdf_latent_writer_set_max_albedo(nbrdf_latent_writer *w, float value);
 /* Cancels: removes the temporary file and releases `w` (NULL is fine). */
 void nbrdf_latent_writer_abort(nbrdf_latent_writer *w);
 
@@ -122,6 +129,7 @@ typedef struct nbrdf_latent_info {
   nbrdf_latent_compression compression;
   const char *model_name, *model_checksum; /* never NULL ("" when absent) */
   const char *sources, *settings, *mip_filter, *writer;
+  double max_albedo; /* NBRDF_ATTR_MAX_ALBEDO; NaN when absent or not measured */
   int64_t file_size; /* bytes */
   /* Version 2: the size and checksum (16 hex digits, checked at open) of the
    * texture's own decoder (nbrdf_latent_reader_decoder); 0 and "" otherwise. */

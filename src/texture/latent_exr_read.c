@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <inttypes.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -200,6 +201,12 @@ static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
   in->settings = r->strings[S_SETTINGS];
   in->mip_filter = r->strings[S_FILTER];
   in->writer = r->strings[S_WRITER];
+  /* Optional (bakes since issue 18); a negative value: the audit did not run. */
+  float a = -1.0f;
+  in->max_albedo = exr_attr_get_float(r->exr, 0, NBRDF_ATTR_MAX_ALBEDO, &a) == EXR_ERR_SUCCESS &&
+                           isfinite(a) && a >= 0.0f
+                       ? (double)a
+                       : NAN;
   if (in->format_version < NBRDF_LATENT_FORMAT_OWN_DECODER) {
     /* Version 1 has no decoder of its own (attributes of that name are not its). */
     r->strings[S_DECODER_SUM] = strdup("");

@@ -1,10 +1,12 @@
 /* Streaming writer of latent textures (docs/LATENT-TEXTURE.md). */
 #include <inttypes.h>
+#include <fcntl.h>
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "core/error.h"
 #include "nbrdf/nbrdf.h"
@@ -41,6 +43,7 @@ struct nbrdf_latent_writer {
   int pipes;
   int64_t chunks_written;
   int failed;
+  float max_albedo; /* NBRDF_ATTR_MAX_ALBEDO, patched in at finish */
 };
 
 static void destroy_pipes(nbrdf_latent_writer *w) {
@@ -262,6 +265,7 @@ static exr_result_t define_header(nbrdf_latent_writer *w, const nbrdf_latent_met
                            (int32_t)meta->decoder_size, meta->decoder);
     if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_DECODER_CHECKSUM, sum);
   }
+  if (!rv && w->opts.max_albedo_attr) rv = exr_attr_set_float(c, p, NBRDF_ATTR_MAX_ALBEDO, -1.0f);
 #undef STR
   if (!rv) rv = exr_write_header(c);
   return rv;
@@ -316,6 +320,7 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
   w->levels = opts->mip_levels == 1 ? 1 : nbrdf_mip_level_count(width, height);
   w->stream.fd = -1;
   w->stream.out = &w->out;
+  w->max_albedo = -1.0f;
   w->pipes = omp_get_max_threads();
   if (w->pipes > MAX_PIPES) w->pipes = MAX_PIPES;
   if (w->pipes < 1) w->pipes = 1;
@@ -390,6 +395,37 @@ nbrdf_status nbrdf_latent_writer_write_rows(nbrdf_latent_writer *w, const float 
   return st;
 }
 
+void nbrdf_latent_writer_set_max_albedo(nbrdf_latent_writer *w, float value) {
+  if (w && isfinite(value)) w->max_albedo = value;
+}
+
+/* Overwrites the placeholder value of NBRDF_ATTR_MAX_ALBEDO in the header
+ * already on disk: the attribute is "name\0float\0", a 4-byte size and the
+ * little-endian float (OpenEXR's header layout), found in the header bytes. */
+static nbrdf_status patch_max_albedo(nbrdf_latent_writer *w, nbrdf_error *err) {
+  static const char key[] = NBRDF_ATTR_MAX_ALBEDO "\0float\0\4\0\0\0";
+  const size_t klen = sizeof key - 1, cap = (size_t)1 << 20;
+  unsigned char *buf = malloc(cap);
+  if (!buf) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", w->out.path);
+  /* The temporary file's descriptor is write-only: read it through its name. */
+  int rfd = open(nbrdf_output_file_name(&w->out), O_RDONLY | O_CLOEXEC);
+  ssize_t got = rfd >= 0 ? pread(rfd, buf, cap, 0) : -1;
+  if (rfd >= 0) close(rfd);
+  nbrdf_status st = nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: %s not found in the header",
+                               w->out.path, NBRDF_ATTR_MAX_ALBEDO);
+  for (ssize_t i = 0; got > 0 && i + (ssize_t)klen + 4 <= got; i++) {
+    if (memcmp(buf + i, key, klen) != 0) continue;
+    uint32_t bits;
+    memcpy(&bits, &w->max_albedo, 4);
+    unsigned char le[4] = {(unsigned char)bits, (unsigned char)(bits >> 8),
+                           (unsigned char)(bits >> 16), (unsigned char)(bits >> 24)};
+    st = nbrdf_output_file_pwrite(&w->out, le, 4, (long long)(i + (ssize_t)klen), err);
+    break;
+  }
+  free(buf);
+  return st;
+}
+
 nbrdf_status nbrdf_latent_writer_finish(nbrdf_latent_writer *w, nbrdf_error *err) {
   nbrdf_status st = NBRDF_OK;
   if (w->failed)
@@ -410,6 +446,7 @@ nbrdf_status nbrdf_latent_writer_finish(nbrdf_latent_writer *w, nbrdf_error *err
     if (rv != EXR_ERR_SUCCESS)
       st = nbrdf_exr_fail(err, NBRDF_ERR_IO, &w->stream, rv, w->out.path, "finishing");
   }
+  if (st == NBRDF_OK && w->opts.max_albedo_attr) st = patch_max_albedo(w, err);
   if (st == NBRDF_OK)
     st = nbrdf_output_file_commit(&w->out, err);
   else if (!w->failed)

@@ -83,7 +83,7 @@ nbrdf_status train_dataset_generate_one(const train_dataset_settings *s, uint64_
   nbrdf_status st = train_dataset_check_settings(s, err);
   if (st) return st;
   uint64_t family = train_family_seed(s->seed);
-  train_params_draw(family, s->kind, index, params);
+  train_params_draw_from(family, s->kind, s->draws, index, params);
   return samples_generate(s, family, index, params, hook, samples, err);
 }
 

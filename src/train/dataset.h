@@ -23,7 +23,11 @@
 #include "nbrdf/status.h"
 #include "train/params.h"
 
+/* Version 1: Table 2 draws; version 2 adds the draw distribution (params.h),
+ * written only for non-Table 2 sets, so Table 2 files stay version 1 byte for
+ * byte. Both are read. */
 #define TRAIN_DATASET_VERSION 1u
+#define TRAIN_DATASET_VERSION_DRAWS 2u
 #define TRAIN_DATASET_PARAMS 11 /* doubles per parameter record */
 #define TRAIN_DATASET_FLOATS 8  /* floats per sample: wi[3], wo[3], f, f_stderr */
 
@@ -42,10 +46,11 @@ typedef struct train_dataset_settings {
    * May be NULL. */
   nbrdf_progress_fn progress;
   void *user;
+  train_draws draws; /* parameter distribution (params.h); TABLE2 by default */
 } train_dataset_settings;
 
 #define TRAIN_DATASET_SETTINGS_DEFAULT                                                             \
-  { TRAIN_LAYERED2, 0, 0, 8, 128, 64, 2048, 0, NULL, NULL }
+  { TRAIN_LAYERED2, 0, 0, 8, 128, 64, 2048, 0, NULL, NULL, TRAIN_DRAWS_TABLE2 }
 
 /* One BRDF's record as stored. samples: incident·outgoing × 8 floats. */
 typedef struct train_dataset_record {

@@ -55,8 +55,10 @@ size_t ds_record_bytes(const train_dataset_settings *s) {
 void ds_encode_header(const train_dataset_settings *s, unsigned char out[DS_HEADER_BYTES]) {
   memset(out, 0, DS_HEADER_BYTES);
   memcpy(out, DS_MAGIC, 8);
-  ds_put_u32(out + 8, TRAIN_DATASET_VERSION);
-  ds_put_u32(out + 12, (uint32_t)s->kind);
+  /* Version 2 keeps the draws in the upper half of the kind word. */
+  int v2 = s->draws != TRAIN_DRAWS_TABLE2;
+  ds_put_u32(out + 8, v2 ? TRAIN_DATASET_VERSION_DRAWS : TRAIN_DATASET_VERSION);
+  ds_put_u32(out + 12, (uint32_t)s->kind | (v2 ? (uint32_t)s->draws << 16 : 0u));
   ds_put_u64(out + 16, s->count);
   ds_put_u64(out + 24, s->seed);
   ds_put_u32(out + 32, (uint32_t)s->incident);
@@ -73,16 +75,23 @@ int ds_decode_header(const unsigned char in[DS_HEADER_BYTES], train_dataset_sett
   if (memcmp(in, DS_MAGIC, 8) != 0) return *why = "not an nbrdf data set (bad magic)", 0;
   if (ds_get_u64(in + 56) != nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, in, 56))
     return *why = "header checksum mismatch", 0;
-  if (ds_get_u32(in + 8) != TRAIN_DATASET_VERSION) return *why = "unsupported version", 0;
+  uint32_t version = ds_get_u32(in + 8);
+  if (version != TRAIN_DATASET_VERSION && version != TRAIN_DATASET_VERSION_DRAWS)
+    return *why = "unsupported version", 0;
   if (ds_get_u32(in + 48) != TRAIN_DATASET_PARAMS || ds_get_u32(in + 52) != TRAIN_DATASET_FLOATS)
     return *why = "unexpected record layout", 0;
-  uint32_t kind = ds_get_u32(in + 12), k = ds_get_u32(in + 32), m = ds_get_u32(in + 36),
+  uint32_t kind = ds_get_u32(in + 12), draws = 0, k = ds_get_u32(in + 32), m = ds_get_u32(in + 36),
            sampled = ds_get_u32(in + 40), spp = ds_get_u32(in + 44);
+  if (version == TRAIN_DATASET_VERSION_DRAWS) {
+    draws = kind >> 16, kind &= 0xffffu;
+    if (draws != TRAIN_DRAWS_COVERAGE) return *why = "unknown parameter distribution", 0;
+  }
   if (kind > TRAIN_SINGLE || k < 1 || k > 4096 || m < 1 || m > 65536 || sampled > m || spp < 2 ||
       spp > (1u << 30))
     return *why = "header settings out of range", 0;
   memset(s, 0, sizeof *s);
   s->kind = (train_kind)kind;
+  s->draws = (train_draws)draws;
   s->count = ds_get_u64(in + 16);
   s->seed = ds_get_u64(in + 24);
   s->incident = (int)k;

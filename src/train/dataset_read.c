@@ -35,7 +35,7 @@ static const char *check_record(const train_dataset_settings *s, uint64_t family
   if (ds_get_u64(rec) != i) return "wrong index";
   decode_params(rec, p);
   train_params want;
-  train_params_draw(family, s->kind, i, &want);
+  train_params_draw_from(family, s->kind, s->draws, i, &want);
   if (memcmp(p, &want, sizeof want) != 0)
     return "parameters differ from those the header's seed draws";
   size_t n = (size_t)s->incident * (size_t)s->outgoing;

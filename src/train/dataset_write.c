@@ -13,7 +13,7 @@
 #include "train/dataset_format.h"
 
 static int same_settings(const train_dataset_settings *a, const train_dataset_settings *b) {
-  return a->kind == b->kind && a->count == b->count && a->seed == b->seed &&
+  return a->kind == b->kind && a->draws == b->draws && a->count == b->count && a->seed == b->seed &&
          a->incident == b->incident && a->outgoing == b->outgoing && a->sampled == b->sampled &&
          a->spp == b->spp;
 }
@@ -35,13 +35,13 @@ static nbrdf_status open_output(const char *path, const train_dataset_settings *
       return st;
     }
     if (!same_settings(&info.settings, s))
-      return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                        "%s: exists with other settings (kind %s, count %llu, seed %llu, "
-                        "incident %d, outgoing %d, sampled %d, spp %d); delete it or use them",
-                        path, train_kind_name(info.settings.kind),
-                        (unsigned long long)info.settings.count,
-                        (unsigned long long)info.settings.seed, info.settings.incident,
-                        info.settings.outgoing, info.settings.sampled, info.settings.spp);
+      return nbrdf_fail(
+          err, NBRDF_ERR_MISMATCH,
+          "%s: exists with other settings (kind %s, draws %s, count %llu, seed %llu, "
+          "incident %d, outgoing %d, sampled %d, spp %d); delete it or use them",
+          path, train_kind_name(info.settings.kind), train_draws_name(info.settings.draws),
+          (unsigned long long)info.settings.count, (unsigned long long)info.settings.seed,
+          info.settings.incident, info.settings.outgoing, info.settings.sampled, info.settings.spp);
     *done = info.records, *sum = info.prefix_checksum, *complete = info.complete;
     if (info.complete) return NBRDF_OK;
     /* Drop a partial or corrupt tail record before appending. */

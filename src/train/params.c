@@ -1,5 +1,6 @@
 #include "train/params.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "core/rng.h"
@@ -51,14 +52,51 @@ double train_draw_sigma_t(double u) {
   return SIGMA_T[i < 0 ? 0 : i > 3 ? 3 : i];
 }
 
-static void draw_coat(nbrdf_rng *rng, train_coat *c) {
-  c->alpha = train_draw_alpha(nbrdf_rng_uniform(rng));
-  c->eta = train_draw_eta(nbrdf_rng_uniform(rng));
+const char *train_draws_name(train_draws draws) {
+  return draws == TRAIN_DRAWS_COVERAGE ? "coverage" : draws == TRAIN_DRAWS_TABLE2 ? "table2" : "?";
+}
+
+int train_draws_parse(const char *name) {
+  if (name && !strcmp(name, "table2")) return TRAIN_DRAWS_TABLE2;
+  if (name && !strcmp(name, "coverage")) return TRAIN_DRAWS_COVERAGE;
+  return -1;
+}
+
+/* 15 %: log-uniform on [0.01, 0.03]; 85 %: Table 2's cube law restricted to
+ * (0.03, 1] (its own share there is 88 %, so the rest keeps its shape). */
+double train_draw_alpha_coverage(double u) {
+  if (u < 0.15) return 0.01 * pow(3.0, u / 0.15);
+  double lo = cbrt(0.03), t = lo + (1.0 - lo) * (u - 0.15) / 0.85;
+  return t * t * t;
+}
+
+/* 5 %: η = 1 (no coat); 15 %: U(1, 1.2); 80 %: U(1.2, 2). */
+double train_draw_eta_coverage(double u) {
+  if (u < 0.05) return 1.0;
+  if (u < 0.20) return 1.0 + 0.2 * (u - 0.05) / 0.15;
+  return 1.2 + 0.8 * (u - 0.20) / 0.80;
+}
+
+static double draw_alpha(train_draws d, double u) {
+  return d == TRAIN_DRAWS_COVERAGE ? train_draw_alpha_coverage(u) : train_draw_alpha(u);
+}
+static double draw_eta(train_draws d, double u) {
+  return d == TRAIN_DRAWS_COVERAGE ? train_draw_eta_coverage(u) : train_draw_eta(u);
+}
+
+static void draw_coat(nbrdf_rng *rng, train_draws d, train_coat *c) {
+  c->alpha = draw_alpha(d, nbrdf_rng_uniform(rng));
+  c->eta = draw_eta(d, nbrdf_rng_uniform(rng));
   c->albedo = train_draw_albedo(nbrdf_rng_uniform(rng));
   c->sigma_t = train_draw_sigma_t(nbrdf_rng_uniform(rng));
 }
 
 void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_params *p) {
+  train_params_draw_from(family, kind, TRAIN_DRAWS_TABLE2, index, p);
+}
+
+void train_params_draw_from(uint64_t family, train_kind kind, train_draws draws, uint64_t index,
+                            train_params *p) {
   /* The kind enters the generator seed, so that layered2 and layered3 sets
    * drawn with the same seed do not share their outer coats. */
   nbrdf_rng rng;
@@ -69,10 +107,12 @@ void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_p
   p->kind = kind;
   p->n_coats = kind == TRAIN_LAYERED2 ? 1 : kind == TRAIN_LAYERED3 ? 2 : 0;
   for (int c = 0; c < p->n_coats; c++)
-    draw_coat(&rng, &p->coat[c]);
-  p->base_alpha = train_draw_alpha(nbrdf_rng_uniform(&rng));
+    draw_coat(&rng, draws, &p->coat[c]);
+  /* The conductor base keeps Table 2's α; a dielectric is a coat on its own. */
+  double u = nbrdf_rng_uniform(&rng);
+  p->base_alpha = kind == TRAIN_DIELECTRIC ? draw_alpha(draws, u) : train_draw_alpha(u);
   if (kind == TRAIN_DIELECTRIC)
-    p->base_eta = train_draw_eta(nbrdf_rng_uniform(&rng));
+    p->base_eta = draw_eta(draws, nbrdf_rng_uniform(&rng));
   else
     p->base_r0 = nbrdf_rng_uniform(&rng);
 }

@@ -44,6 +44,20 @@ typedef struct train_params {
   double base_alpha, base_r0, base_eta;
 } train_params;
 
+/* Parameter distributions of a training set (issue 18). Held-out sets always
+ * draw TABLE2, so figures stay comparable across models.
+ * - TABLE2: the paper's Table 2 (above).
+ * - COVERAGE: Table 2 with more of what the shipped model got worst: coat
+ *   (and dielectric) η = 1 exactly (no coat) 5 %, η ∈ U(1, 1.2) 15 % (so 20 %
+ *   in [1, 1.2]), U(1.2, 2) 80 %; coat (and dielectric) α ≤ 0.03 15 %
+ *   (log-uniform on [0.01, 0.03]), otherwise Table 2's cube law above 0.03.
+ *   The conductor base, A and σT are Table 2's. One uniform per parameter in
+ *   the same order, so the two differ only in the warps. */
+typedef enum train_draws { TRAIN_DRAWS_TABLE2 = 0, TRAIN_DRAWS_COVERAGE = 1 } train_draws;
+const char *train_draws_name(train_draws draws);
+/* "table2" / "coverage"; -1 if neither. */
+int train_draws_parse(const char *name);
+
 /* The held-out sets of docs/METRICS.md. */
 typedef enum train_heldout {
   TRAIN_HELDOUT_REP = 1,    /* two-layer BRDFs (projected) */
@@ -66,6 +80,9 @@ train_kind train_heldout_kind(train_heldout set);
 /* BRDF `index` of the family: p is a pure function of (family, kind, index);
  * it uses stream `index` of the seed nbrdf_hash64(family, kind). */
 void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_params *p);
+/* The same from the distribution `draws` (TABLE2: train_params_draw). */
+void train_params_draw_from(uint64_t family, train_kind kind, train_draws draws, uint64_t index,
+                            train_params *p);
 
 /* The ground-truth BRDF of p. */
 nbrdf_status train_params_create(const train_params *p, nbrdf_brdf **out, nbrdf_error *err);
@@ -75,5 +92,8 @@ double train_draw_alpha(double u);
 double train_draw_eta(double u);
 double train_draw_albedo(double u);
 double train_draw_sigma_t(double u);
+/* COVERAGE's warps of α (coats, dielectrics) and η. */
+double train_draw_alpha_coverage(double u);
+double train_draw_eta_coverage(double u);
 
 #endif

@@ -68,6 +68,8 @@ static nbrdf_status fit_tables(model_decoder *dec, const train_table_settings *s
   trainer_option(options, sizeof options, "nodes", "alpha %d, eta %d, r0 %d", s->alpha_nodes,
                  s->eta_nodes, s->r0_nodes);
   trainer_option(options, sizeof options, "warps", "eta %.9g, r0 %.9g", s->eta_warp, s->r0_warp);
+  if (s->eta_min != 1.05) /* absent at the default: checkpoints from before it still match */
+    trainer_option(options, sizeof options, "eta-min", "%.9g", s->eta_min);
   trainer_option(options, sizeof options, "decoder weights", "%016llx",
                  (unsigned long long)train_hash_floats(TRAIN_HASH_START,
                                                        nbrdf_nn_params_const(dec->nn),
@@ -88,9 +90,11 @@ static nbrdf_status fit_tables(model_decoder *dec, const train_table_settings *s
 nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
                               model_base_table tables[2], nbrdf_error *err) {
   if (s->alpha_nodes < 2 || s->eta_nodes < 2 || s->r0_nodes < 2 || s->steps < 1 ||
-      !(s->eta_warp >= 0.25 && s->eta_warp <= 4) || !(s->r0_warp >= 0.25 && s->r0_warp <= 4))
+      !(s->eta_warp >= 0.25 && s->eta_warp <= 4) || !(s->r0_warp >= 0.25 && s->r0_warp <= 4) ||
+      !(s->eta_min >= 1.0 && s->eta_min <= 1.9))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "tables: >= 2 nodes per axis, >= 1 step and warps in [0.25, 4]");
+                      "tables: >= 2 nodes per axis, >= 1 step, warps in [0.25, 4] and the first "
+                      "eta node in [1, 1.9]");
   int na = s->alpha_nodes, D = dec->cfg.latent_dim;
   float *alpha = malloc((size_t)na * sizeof *alpha);
   float *eta = malloc((size_t)s->eta_nodes * sizeof *eta);
@@ -100,7 +104,7 @@ nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
   memset(tables, 0, 2 * sizeof *tables);
   if (!st) {
     alpha_axis(alpha, na);
-    warped_space(eta, s->eta_nodes, 1.05, 2.0, s->eta_warp);
+    warped_space(eta, s->eta_nodes, s->eta_min, 2.0, s->eta_warp);
     warped_space(r0, s->r0_nodes, 0.0, 1.0, s->r0_warp);
     st = model_base_table_init(&tables[0], MODEL_TABLE_DIELECTRIC, D, na, alpha, s->eta_nodes, eta,
                                err);

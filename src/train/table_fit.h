@@ -15,7 +15,7 @@
 
 typedef struct train_table_settings {
   int alpha_nodes; /* α = u³, u uniform in [0.216, 1] (Table 2's α), ends 0.01 and 1 */
-  int eta_nodes;   /* η = 1.05 + 0.95·u^eta_warp, u uniform in [0, 1] */
+  int eta_nodes;   /* η = eta_min + (2 − eta_min)·u^eta_warp, u uniform in [0, 1] */
   int r0_nodes;    /* R0 = u^r0_warp, u uniform in [0, 1] */
   /* 1: uniform; > 1: denser at the dim end (η near 1.05, R0 near 0), where a
    * latent changes fastest relative to the BRDF's own size. */
@@ -29,10 +29,14 @@ typedef struct train_table_settings {
   double checkpoint_seconds; /* at most this long between checkpoints */
   double max_seconds;        /* stop (checkpointed) after this long; 0 = no limit */
   int64_t stop_at_step;      /* stop (checkpointed) after this step; 0 = none */
+  /* First η node: 1.05 (Table 2's lower end) by default; 1 makes the bundle
+   * accept η = 1 (no coat: an index-matched interface) without clamping,
+   * since a bake's η range is the table's grid (bake_tuple.c). [1, 1.9]. */
+  double eta_min;
 } train_table_settings;
 
 #define TRAIN_TABLE_SETTINGS_DEFAULT                                                               \
-  { 16, 8, 9, 1.0, 1.0, 800, 1u, NULL, NULL, NULL, 300.0, 0.0, 0 }
+  { 16, 8, 9, 1.0, 1.0, 800, 1u, NULL, NULL, NULL, 300.0, 0.0, 0, 1.05 }
 
 /* Fills tables[MODEL_TABLE_DIELECTRIC] and tables[MODEL_TABLE_CONDUCTOR]
  * (initialised here; free with model_base_table_free). NBRDF_ERR_CANCELLED

@@ -12,6 +12,7 @@
 #include "model/autodecoder.h"
 #include "train/checkpoint.h"
 #include "train/dataset.h"
+#include "train/energy_reference.h"
 #include "train/projection.h"
 #include "train/samples.h"
 #include "train/trainer.h"
@@ -82,6 +83,8 @@ void train_decoder_settings_default(train_decoder_settings *s) {
   s->checkpoint_seconds = 300.0;
   s->log_every = 50;
   s->validation_brdfs = 24;
+  s->energy = (model_energy_options)MODEL_ENERGY_OPTIONS_DEFAULT;
+  s->energy_brdfs = 32;
 }
 
 /* The per-BRDF loss weights of settings->brdf_weight, or NULL for uniform. */
@@ -111,13 +114,19 @@ typedef struct decoder_run {
   model_samples view;
   const train_samples *data, *val;
   const char *dec_path;
+  train_energy *energy; /* NULL: no energy penalty */
+  const float *lat;
   double sum, train_loss, val_loss;
   int count;
 } decoder_run;
 
 static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
   decoder_run *d = user;
-  return model_fit_gradient(d->fit, &d->view, step, loss, err);
+  nbrdf_status st = model_fit_gradient(d->fit, &d->view, step, loss, err);
+  double penalty = 0.0;
+  if (!st) st = train_energy_add_fit(d->energy, d->fit, d->lat, step, &penalty, err);
+  *loss += penalty;
+  return st;
 }
 
 /* Log rows every log_every steps and at the end; validation at checkpoints. */
@@ -163,6 +172,15 @@ static nbrdf_status run_options(const decoder_run *d, char *out, size_t size, nb
   trainer_option(out, size, "loss", "%s", model_loss_name(s->loss));
   trainer_option(out, size, "brdf-weight", "%.17g", s->brdf_weight);
   trainer_option(out, size, "seed", "%llu", (unsigned long long)s->seed);
+  if (s->energy.lambda > 0) { /* absent when off: runs from before the penalty still match */
+    trainer_option(out, size, "energy", "%s", trainer_float_text(s->energy.lambda, num));
+    char angles[256] = "";
+    for (int k = 0; k < s->energy.n_theta; k++)
+      snprintf(angles + strlen(angles), sizeof angles - strlen(angles), "%s%g", k ? "," : "",
+               s->energy.theta_deg[k]);
+    trainer_option(out, size, "energy-angles", "%s", angles);
+    trainer_option(out, size, "energy-brdfs", "%d", s->energy_brdfs);
+  }
   free(spec);
   return NBRDF_OK;
 }
@@ -243,10 +261,12 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
   }
   if (!st && s->brdf_weight != 0.0 && !(weight = brdf_weights(&data, s->brdf_weight)))
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for BRDF weights");
+  if (!st) st = train_energy_create(d.dec, &data, &s->energy, s->energy_brdfs, &d.energy, err);
   if (!st) st = run_options(&d, options, 16384, err);
   if (!st) {
     d.view = train_samples_view(&data);
     d.view.weight = weight;
+    d.lat = lat;
     /* Latents first, then weights: the order Adam stepped them in before the trainer. */
     trainer_group groups[2] = {
         {"latents", "adam.latents.m", "adam.latents.v", lat, model_fit_grad_latent(d.fit), nl,
@@ -269,6 +289,7 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
     r->finished = tr.finished, r->legacy_resume = tr.legacy_resume;
   }
   r->train_loss = d.train_loss, r->val_loss = d.val_loss;
+  train_energy_destroy(d.energy);
   model_fit_destroy(d.fit);
   model_decoder_destroy(d.dec);
   free(lat);

@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "model/decoder.h"
+#include "model/energy.h"
 #include "model/loss.h"
 #include "nbrdf/status.h"
 
@@ -47,6 +48,10 @@ typedef struct train_decoder_settings {
    * count for little). */
   double brdf_weight;
   uint64_t seed;
+  /* Energy penalty (model/energy.h, train/energy_reference.h): λ = 0 is off;
+   * energy_brdfs latents are penalised per step. */
+  model_energy_options energy;
+  int energy_brdfs;
   double checkpoint_seconds;  /* at most this long between checkpoints */
   int log_every;              /* steps between log lines */
   int validation_brdfs;       /* held-out BRDFs projected at checkpoints (0 = none) */

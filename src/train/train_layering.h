@@ -21,6 +21,7 @@
 
 #include "model/base_table.h"
 #include "model/decoder.h"
+#include "model/energy.h"
 #include "model/layering.h"
 #include "model/loss.h"
 #include "train/checkpoint.h"
@@ -48,12 +49,16 @@ typedef struct train_layering_settings {
   double max_seconds;            /* stop (checkpointed) after this long; 0 = no limit */
   int64_t stop_at_step;          /* stop (checkpointed) after this many batches; 0 = none */
   volatile sig_atomic_t *cancel; /* may be NULL */
+  /* Energy penalty on the decoded albedo of the first energy_brdfs pairs of
+   * each batch (train/energy_reference.h); λ = 0 is off. */
+  model_energy_options energy;
+  int energy_brdfs;
 } train_layering_settings;
 
 #define TRAIN_LAYERING_SETTINGS_DEFAULT                                                            \
   {                                                                                                \
     "small", 400, 128, 1e-3f, 150, 0.5f, 10, 1u, NULL, NULL, NULL, 64, MODEL_LOSS_L1_LOG1P, NULL,  \
-        NULL, 300.0, 0.0, 0, NULL                                                                  \
+        NULL, 300.0, 0.0, 0, NULL, MODEL_ENERGY_OPTIONS_DEFAULT, 8                                \
   }
 
 typedef struct train_layering_result {
@@ -105,6 +110,10 @@ nbrdf_status train_layering_decoded_create(model_layering *net, model_decoder *d
                                            model_loss_kind loss, uint64_t seed,
                                            train_layering_decoded **out, nbrdf_error *err);
 void train_layering_decoded_destroy(train_layering_decoded *t);
+/* Adds the energy penalty to every later gradient (λ = 0: none). */
+nbrdf_status train_layering_decoded_set_energy(train_layering_decoded *t,
+                                               const model_energy_options *o, int brdfs_per_batch,
+                                               nbrdf_error *err);
 /* Loss of m <= batch pairs idx[] of p, `rows` samples each drawn from PCG32
  * stream `step` (a step does not depend on what ran before it), and its
  * gradient with respect to the layering weights ADDED into grad. */

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "model/encoding.h"
+#include "train/energy_reference.h"
 #include "train/train_layering.h"
 
 /* Decoder input row r: the latent z and the encoding of sample `idx`. */
@@ -98,10 +99,12 @@ struct train_layering_decoded {
   float *dz, *f, *dy, *dx;
   float *dxl, *dzi; /* outer layering input gradient [batch × (2D+2)], inner's output [batch × D] */
   int *inner_row;   /* batch row of each inner application */
+  train_energy *energy; /* NULL: no energy penalty */
 };
 
 void train_layering_decoded_destroy(train_layering_decoded *t) {
   if (!t) return;
+  train_energy_destroy(t->energy);
   model_runner_destroy(&t->lrun);
   model_runner_destroy(&t->lrun2);
   model_runner_destroy(&t->drun);
@@ -147,6 +150,14 @@ nbrdf_status train_layering_decoded_create(model_layering *net, model_decoder *d
   }
   *out = t;
   return NBRDF_OK;
+}
+
+nbrdf_status train_layering_decoded_set_energy(train_layering_decoded *t,
+                                               const model_energy_options *o, int brdfs_per_batch,
+                                               nbrdf_error *err) {
+  train_energy_destroy(t->energy);
+  t->energy = NULL;
+  return train_energy_create(t->dec, t->data, o, brdfs_per_batch, &t->energy, err);
 }
 
 nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const layering_pairs *p,
@@ -206,6 +217,11 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
         g[q] += d[q];
     }
   }
+  double penalty = 0.0;
+  st =
+      train_energy_pairs(t->energy, (size_t)m, idx, p->brdf, t->lrun.y, step, t->dz, &penalty, err);
+  if (st) return st;
+  *loss += penalty;
   st = nbrdf_nn_backward(t->net->nn, t->lrun.ws, t->dz, m2 ? t->dxl : NULL, grad, err);
   if (st || !m2) return st;
   /* The inner application's output entered the outer one as its bottom. */

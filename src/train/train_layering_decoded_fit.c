@@ -43,6 +43,12 @@ static void run_key(const decoded_run *t, char *out, size_t size) {
            "%s;D=%d;batch=%d;rows=%d;lr=%g;decay=%d/%g;val=%d;seed=%" PRIu64 ";loss=%s;%s",
            s->preset, t->net->latent_dim, s->batch, s->rows_per_pair, (double)s->lr, s->decay_every,
            (double)s->decay_gamma, s->validation_every, s->seed, model_loss_name(s->loss), data);
+  /* Only when on, so that checkpoints of runs without the penalty still resume. */
+  if (s->energy.lambda > 0.0f) {
+    size_t len = strlen(out);
+    snprintf(out + len, size > len ? size - len : 0, ";energy=%g/%d/%d", (double)s->energy.lambda,
+             s->energy.n_theta, s->energy_brdfs);
+  }
 }
 
 /* A checkpoint from before nbrdf.options: the run key as it was checked
@@ -89,6 +95,9 @@ static void run_options(const decoded_run *t, char *out, size_t size) {
                                                        nbrdf_nn_params_const(t->dec->nn),
                                                        nbrdf_nn_param_count(t->dec->nn)));
   trainer_option(out, size, "tables", "%016llx", (unsigned long long)t->tables_hash);
+  if (s->energy.lambda > 0.0f) /* only when on: runs without the penalty still resume */
+    trainer_option(out, size, "energy", "%g/%d/%d", (double)s->energy.lambda, s->energy.n_theta,
+                   s->energy_brdfs);
 }
 
 /* Each epoch's shuffle from its own stream: a function of the seed and the epoch. */
@@ -113,6 +122,7 @@ static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {
   if (!st)
     st = train_layering_decoded_create(t->net, t->dec, t->data, s->batch, s->rows_per_pair, s->loss,
                                        s->seed, &t->engine, err);
+  if (!st) st = train_layering_decoded_set_energy(t->engine, &s->energy, s->energy_brdfs, err);
   if (st) return st;
   if (!(t->grad = malloc(nbrdf_nn_param_count(t->net->nn) * sizeof(float))))
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");

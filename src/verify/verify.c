@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "bake/bake_sources.h"
+#include "bake/bake_audit.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "texture/latent_exr.h"
@@ -163,10 +164,24 @@ static nbrdf_status compare_texel(verify_run *v, nbrdf_verify_texel *out, nbrdf_
   v->rep->decode_seconds += now() - t1;
   const size_t S = VERIFY_SET * (size_t)v->colours;
   out->reference_noise = nbrdf_lobe_error(S, v->run_a, v->run_b);
+  out->max_albedo = NAN;
   if (!finite) { /* a damaged latent: the worst possible texel, not a crash */
     out->lobe_error = out->albedo_error = INFINITY;
     return NBRDF_OK;
   }
+  /* Energy: each channel's latent with its stored proxy lobe. */
+  for (int c = 0; c < v->colours && st == NBRDF_OK; c++) {
+    for (int k = 0; k < L->latent_dim; k++)
+      latent[k] = v->texel[nbrdf_latent_index_latent(L, c, k)];
+    float sigma = L->proxy ? v->texel[nbrdf_latent_index_sigma(L, c)] : 0.0f;
+    double m = NAN;
+    st = bake_albedo_max(v->model, 1, latent, L->proxy && sigma > 0.0f ? &sigma : NULL, &m, NULL,
+                         err);
+    if (st == NBRDF_OK && (isnan(out->max_albedo) || m > out->max_albedo)) out->max_albedo = m;
+  }
+  if (st != NBRDF_OK) return st;
+  if (isnan(v->rep->max_albedo) || out->max_albedo > v->rep->max_albedo)
+    v->rep->max_albedo = out->max_albedo;
   out->lobe_error = nbrdf_lobe_error(S, v->ref, v->approx);
   out->albedo_error = nbrdf_lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA * v->colours,
                                               v->ref, v->approx, NULL);
@@ -223,6 +238,7 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   rep->walks = v->o.walks, rep->seed = v->o.seed;
   nbrdf_model_own_decoder(v->decoding, &rep->decoder);
   rep->decoder.bytes = NULL; /* the model's, gone with it */
+  rep->max_albedo = NAN;
   verify_damage damage;
   st = verify_scan(v->reader, &damage, err);
   rep->nonfinite = damage.texels;

@@ -38,6 +38,7 @@ static cJSON *texel(const nbrdf_verify_texel *t, int colours) {
   number(o, "lobe_error_pct", 100 * t->lobe_error);
   number(o, "albedo_error", t->albedo_error);
   number(o, "reference_noise_pct", 100 * t->reference_noise);
+  number(o, "max_albedo", t->max_albedo);
   cJSON *p = cJSON_AddObjectToObject(o, "params");
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
     const char *name = nbrdf_bake_param_name((nbrdf_bake_param_id)id);
@@ -87,6 +88,7 @@ static cJSON *build(const nbrdf_verify_report *r, const char *texture, size_t wo
   cJSON_AddNumberToObject(root, "clamped_parameters", (double)r->clamped);
   cJSON_AddNumberToObject(root, "reference_seconds", r->reference_seconds);
   cJSON_AddNumberToObject(root, "decode_seconds", r->decode_seconds);
+  number(root, "max_albedo", r->max_albedo);
   const nbrdf_verify_texel **order = malloc(sizeof *order * (r->n_texels ? r->n_texels : 1));
   if (!order) {
     cJSON_Delete(root);

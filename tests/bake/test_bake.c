@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bake/bake_audit.h"
 #include "model/bundle.h"
 #include "nbrdf/bake.h"
 #include "testing.h"
@@ -359,6 +360,83 @@ static void warn_count(void *user, const char *message) {
   (*(int *)user)++;
 }
 
+static void collect(void *user, const char *message) {
+  char *buf = user;
+  size_t len = strlen(buf);
+  snprintf(buf + len, 2048 - len, "%s\n", message);
+}
+
+/* The energy audit: every evaluated latent audited, the header's
+ * nbrdf:maxAlbedo equal to the largest decoded albedo of the texels read
+ * back, a capped audit says so, no audit leaves the attribute unset, and the
+ * warning names a texel and its parameters. */
+static void test_energy_audit(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = constants();
+  char a1[640], r0[640]; /* path() reuses its buffers */
+  snprintf(a1, sizeof a1, "%s", path("alpha1.exr"));
+  snprintf(r0, sizeof r0, "%s", path("r0.exr"));
+  in.param[NBRDF_BAKE_ALPHA1].path = a1;
+  in.param[NBRDF_BAKE_R0].path = r0;
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  o.mip_levels = 1;
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("audit.exr"), &rep, err), err);
+  CHECK(rep.audited == rep.evaluated && rep.audited > 1 && rep.max_albedo > 0.0);
+  nbrdf_latent_reader *r = NULL;
+  CHECK_OK(nbrdf_latent_reader_open(&r, path("audit.exr"), err), err);
+  if (!r) return;
+  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  CHECK_NEAR(info->max_albedo, (float)rep.max_albedo, 0.0);
+  int C = nbrdf_latent_colours(&info->layout), D = info->layout.latent_dim;
+  size_t n = (size_t)info->width * info->height;
+  float *tex = malloc(n * info->channels * sizeof *tex);
+  float *lat = malloc(n * C * D * sizeof *lat), *sig = malloc(n * C * sizeof *sig);
+  double *mx = malloc(n * C * sizeof *mx);
+  CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, info->width, info->height, tex, err), err);
+  for (size_t i = 0; i < n; i++)
+    for (int c = 0; c < C; c++) {
+      for (int k = 0; k < D; k++)
+        lat[(i * C + c) * D + k] =
+            tex[i * info->channels + nbrdf_latent_index_latent(&info->layout, c, k)];
+      sig[i * C + c] = tex[i * info->channels + nbrdf_latent_index_sigma(&info->layout, c)];
+    }
+  CHECK_OK(bake_albedo_max(model, n * C, lat, sig, mx, NULL, err), err);
+  double worst = 0.0;
+  for (size_t k = 0; k < n * C; k++)
+    worst = fmax(worst, mx[k]);
+  CHECK_NEAR(worst, rep.max_albedo, 1e-9);
+  free(tex), free(lat), free(sig), free(mx);
+  nbrdf_latent_reader_close(r);
+
+  char msgs[2048] = "";
+  o.warning = collect, o.user = msgs, o.energy_audit = 2;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("audit2.exr"), &rep, err), err);
+  CHECK(rep.audited == 2 && strstr(msgs, "not audited"));
+  o.energy_audit = 0;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("audit0.exr"), &rep, err), err);
+  CHECK(rep.audited == 0 && isnan(rep.max_albedo));
+  CHECK_OK(nbrdf_latent_reader_open(&r, path("audit0.exr"), err), err);
+  if (r) CHECK(isnan(nbrdf_latent_reader_info(r)->max_albedo));
+  nbrdf_latent_reader_close(r);
+
+  bake_audit a;
+  bake_audit_init(&a, 10);
+  a.audited = 4, a.over = 1, a.worst = 1.2, a.worst_theta = 4;
+  bake_tuple t = {{0.01f, 1.1f, 0.3f, 0.9f, 0.8f, 0.0f}};
+  bake_audit_found(&a, &t, 3, 4, 1);
+  char m[512];
+  bake_audit_message(&a, 1, m, sizeof m);
+  CHECK_MSG(strstr(m, "1 of 4") && strstr(m, "1.200 at theta_i = 85") &&
+                strstr(m, "texel (3, 4) channel G") && strstr(m, "alpha1=0.01 eta=1.1"),
+            "%s", m);
+  a.worst = 1.005;
+  bake_audit_message(&a, 0, m, sizeof m);
+  CHECK(m[0] == '\0');
+  bake_audit_free(&a);
+}
+
 static void test_extremes(void) {
   nbrdf_error e, *err = &e;
   float lo[2], hi[2];
@@ -653,6 +731,7 @@ int main(void) {
   write_maps();
   RUN(test_constants);
   RUN(test_maps);
+  RUN(test_energy_audit);
   RUN(test_bad_inputs);
   RUN(test_cancel);
   RUN(test_perceptual);

@@ -21,10 +21,17 @@ check "v1: format version 1" grep -Eq '^format: +version 1,' "$TMP/out"
 check "v1: decoder bundle" grep -Eq '^decoder: +bundle$' "$TMP/out"
 
 expect_exit 0 "$NBRDF" bake "${P[@]}" --decoder rnd/decoder.safetensors -o v2.exr
-expect_exit 0 "$NBRDF" bake "${P[@]}" -o v1.exr
+# The energy audit (on by default) adds the optional nbrdf:maxAlbedo attribute,
+# which version-1 readers ignore; without it the bytes are exactly version 1's.
+expect_exit 0 "$NBRDF" bake "${P[@]}" --energy-audit 0 -o v1.exr
 # The networks' kernels give the same bits on every CPU path (src/nn), so a
 # difference here means the version-1 bytes changed.
-check "a bake without --decoder is the committed v1 file byte for byte" cmp -s v1.exr "$V1"
+check "a bake without --decoder or audit is the committed v1 file byte for byte" cmp -s v1.exr "$V1"
+expect_exit 0 "$NBRDF" bake "${P[@]}" -o v1audit.exr
+expect_exit 0 "$NBRDF" info v1audit.exr
+check "an audited bake without --decoder is still format version 1" \
+  grep -Eq '^format: +version 1,' "$TMP/out"
+check "an audited bake records its max albedo" grep -Eq '^max albedo: +[0-9.]+ ' "$TMP/out"
 expect_exit 0 "$NBRDF" info v2.exr
 check "v2: format version 2" grep -Eq '^format: +version 2,' "$TMP/out"
 size=$(stat -c %s rnd/decoder.safetensors)

@@ -24,7 +24,9 @@ cp "$TMP/out" summary.txt
 check "summary header: $(head -1 summary.txt)" grep -Eq '^verify tex.exr: 16 x 16 mono, 5 level\(s\)$' summary.txt
 check "level 0 row" grep -Eq '^  0 +256 +[0-9.]+ % ' summary.txt
 check "worst texel with coordinates and parameters" \
-  grep -Eq '^  level 0 \([0-9]+, [0-9]+\): lobe [0-9.]+ %, albedo [0-9.]+; alpha1=0.3 eta=1.5 alpha2=0.2 r0=0.7 albedo=0.8 sigma_t=1$' summary.txt
+  grep -Eq '^  level 0 \([0-9]+, [0-9]+\): lobe [0-9.]+ %, albedo [0-9.]+, max albedo [0-9.]+; alpha1=0.3 eta=1.5 alpha2=0.2 r0=0.7 albedo=0.8 sigma_t=1$' summary.txt
+check "energy line" grep -Eq '^energy: max decoded directional albedo of the compared texels [0-9.]+' summary.txt
+check "max albedo in the JSON" grep -q '"max_albedo"' v.json
 check "one ground-truth BRDF for a constant texture" grep -Fq 'ground truth: 1 distinct BRDF(s), 2 runs x 16 walks' summary.txt
 check "heat-map written" test -s h.png
 check "texture untouched" cmp -s tex.exr keep.exr

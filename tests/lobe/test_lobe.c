@@ -148,7 +148,36 @@ static void test_failures(void) {
               "resolution");
 }
 
+/* The point-wise error: a uniform 10 % excess reads 0.1; anything below 1 %
+ * of the peak is ignored however wrong; a wrong peak pixel is one of many. */
+static void test_pointwise(void) {
+  double *ref = calloc(PIX, sizeof *ref), *a = calloc(PIX, sizeof *a), wo[3];
+  for (int row = 0; row < RES; row++)
+    for (int col = 0; col < RES; col++)
+      if (nbrdf_lobe_pixel_wo(RES, row, col, wo)) {
+        double f = 1.0 + 0.5 * wo[0]; /* f >= 0.5 everywhere: every pixel counts */
+        ref[row * RES + col] = f * wo[2];
+      }
+  nbrdf_lobe_pixel_wo(RES, 5, 32, wo);
+  ref[5 * RES + 32] = 1e3 * wo[2]; /* one pixel peak: all others below 1 % */
+  for (int k = 0; k < PIX; k++)
+    a[k] = 1.1 * ref[k];
+  CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 0.01), 0.1, 1e-9); /* only the peak */
+  CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 1e-4), 0.1, 1e-9); /* all of them */
+  for (int k = 0; k < PIX; k++)
+    if (k != 5 * RES + 32) a[k] = 10.0 * ref[k];
+  CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 0.01), 0.1, 1e-9);
+  CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 1e-4), 9.0, 1e-9);
+  double z[PIX] = {0};
+  CHECK(isnan(nbrdf_lobe_pointwise_error(RES, z, a, 0.01)));
+  double v[5] = {3, NAN, 1, 2, INFINITY};
+  CHECK(nbrdf_median_finite(5, v) == 2.0);
+  CHECK(isnan(nbrdf_median_finite(1, v + 1)));
+  free(ref), free(a);
+}
+
 int main(void) {
+  RUN(test_pointwise);
   RUN(test_lambertian_albedo);
   RUN(test_error_of_identical_and_scaled);
   RUN(test_mirror_is_left_of_centre);

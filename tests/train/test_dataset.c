@@ -218,6 +218,35 @@ static void test_values_agree_with_eval(void) {
   }
 }
 
+/* --draws coverage: a version-2 file that reads back with its draws, whose
+ * records are the coverage parameters, and that refuses a Table 2 resume;
+ * Table 2 files stay version 1. */
+static void test_coverage_file(void) {
+  train_dataset_settings s = tiny(TRAIN_LAYERED2);
+  s.kind = TRAIN_DIELECTRIC;
+  s.draws = TRAIN_DRAWS_COVERAGE;
+  s.count = 40;
+  nbrdf_error err = {0};
+  const char *path = path_of("coverage.nbds");
+  CHECK_OK(train_dataset_write(path, &s, NULL, &err), &err);
+  train_dataset_info info;
+  CHECK_OK(train_dataset_read(path, 1, &info, NULL, NULL, &err), &err);
+  CHECK(info.complete && info.settings.draws == TRAIN_DRAWS_COVERAGE);
+  long n = 0;
+  unsigned char *b = slurp(path, &n);
+  CHECK(b && n > 12 && b[8] == 2);
+  free(b);
+  train_dataset_settings t = s;
+  t.draws = TRAIN_DRAWS_TABLE2;
+  CHECK_FAILS(train_dataset_write(path, &t, NULL, &err), NBRDF_ERR_MISMATCH, &err,
+              "draws coverage");
+  const char *p1 = path_of("table2.nbds");
+  CHECK_OK(train_dataset_write(p1, &t, NULL, &err), &err);
+  b = slurp(p1, &n);
+  CHECK(b && n > 12 && b[8] == 1);
+  free(b);
+}
+
 static void test_bad_settings(void) {
   train_dataset_settings s = tiny(TRAIN_LAYERED2);
   nbrdf_error err;
@@ -236,6 +265,7 @@ int main(void) {
   RUN(test_cancel_then_resume);
   RUN(test_corruption_refused);
   RUN(test_values_agree_with_eval);
+  RUN(test_coverage_file);
   RUN(test_bad_settings);
   return nbrdf_test_finish();
 }

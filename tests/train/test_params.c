@@ -95,7 +95,52 @@ static void test_single_mixes_and_creates(void) {
   CHECK(train_kind_parse("layered3") == TRAIN_LAYERED3 && train_kind_parse("x") == -1);
 }
 
+/* The coverage distribution: its shares of η = 1, η ∈ [1, 1.2] and α ≤ 0.03
+ * on coats (within 3σ of a binomial over 20,000 draws), Table 2 below, and
+ * every value inside the ground truth's ranges. */
+static void test_coverage_draws(void) {
+  const int n = 20000;
+  int eta1 = 0, eta_low = 0, sharp = 0, base_sharp = 0;
+  uint64_t fam = train_family_seed(5);
+  for (int i = 0; i < n; i++) {
+    train_params p;
+    train_params_draw_from(fam, TRAIN_LAYERED2, TRAIN_DRAWS_COVERAGE, (uint64_t)i, &p);
+    const train_coat *c = &p.coat[0];
+    CHECK(c->eta >= 1.0 && c->eta <= 2.0 && c->alpha >= 0.01 && c->alpha <= 1.0);
+    eta1 += c->eta == 1.0;
+    eta_low += c->eta <= 1.2;
+    sharp += c->alpha <= 0.03;
+    base_sharp += p.base_alpha <= 0.03;
+  }
+  double sd = sqrt(0.25 / n) * 3.0;
+  CHECK_NEAR((double)eta1 / n, 0.05, sd);
+  CHECK_NEAR((double)eta_low / n, 0.20, sd);
+  CHECK_NEAR((double)sharp / n, 0.15, sd);
+  /* Table 2's cube law gives α ≤ 0.03 (cbrt(0.03) − 0.216) / 0.784 ≈ 12.1 %. */
+  CHECK_NEAR((double)base_sharp / n, (cbrt(0.03) - 0.216) / 0.784, sd);
+  CHECK_NEAR(train_draw_alpha_coverage(0.0), 0.01, 1e-12);
+  CHECK_NEAR(train_draw_alpha_coverage(0.15), 0.03, 1e-9);
+  CHECK_NEAR(train_draw_alpha_coverage(0.999999), 1.0, 1e-5);
+  CHECK(train_draw_eta_coverage(0.01) == 1.0);
+  CHECK_NEAR(train_draw_eta_coverage(0.2), 1.2, 1e-12);
+  /* Table 2 draws are unchanged by the new entry point. */
+  train_params a, b;
+  train_params_draw(fam, TRAIN_LAYERED3, 7, &a);
+  train_params_draw_from(fam, TRAIN_LAYERED3, TRAIN_DRAWS_TABLE2, 7, &b);
+  CHECK(!memcmp(&a, &b, sizeof a));
+  nbrdf_brdf *brdf = NULL;
+  nbrdf_error err = {0};
+  for (int i = 0; i < 200; i++) {
+    train_params p;
+    train_params_draw_from(fam, TRAIN_SINGLE, TRAIN_DRAWS_COVERAGE, (uint64_t)i, &p);
+    CHECK_OK(train_params_create(&p, &brdf, &err), &err);
+    nbrdf_brdf_destroy(brdf);
+  }
+  CHECK(train_draws_parse("coverage") == TRAIN_DRAWS_COVERAGE && train_draws_parse("x") == -1);
+}
+
 int main(void) {
+  RUN(test_coverage_draws);
   RUN(test_table2_moments);
   RUN(test_draw_functions);
   RUN(test_determinism_and_families);

@@ -198,6 +198,38 @@ static void test_brdf_weight(void) {
   CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_ARGUMENT, &err, "weight power");
 }
 
+/* --energy: the penalty reaches the weights (the run ends elsewhere than
+ * without it) and a run stopped and resumed equals one that never stopped
+ * (the penalised BRDFs and directions are functions of the step). */
+static void test_energy_penalty(void) {
+  const char *data[1] = {path_of("c.nbds")};
+  nbrdf_error err;
+  train_decoder_result r;
+  train_decoder_settings s = tiny(data, path_of("run_e0"), 40);
+  CHECK_OK(train_decoder_run(&s, &r, &err), &err);
+  s = tiny(data, path_of("run_e1"), 40);
+  /* A large λ: the conductors' albedo ceilings must bind on a young decoder. */
+  s.energy.lambda = 50.0f, s.energy.samples = 32, s.energy_brdfs = 4;
+  CHECK_OK(train_decoder_run(&s, &r, &err), &err);
+  s = tiny(data, path_of("run_e2"), 40);
+  s.energy.lambda = 50.0f, s.energy.samples = 32, s.energy_brdfs = 4;
+  s.stop_at_step = 20;
+  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_CANCELLED, &err, "resume");
+  s.stop_at_step = 0;
+  CHECK_OK(train_decoder_run(&s, &r, &err), &err);
+  CHECK(r.resumed_from == 20 && r.steps_done == 40);
+  size_t n0 = 0, n1 = 0, n2 = 0;
+  float *a = load_params(path_of("run_e0/decoder.safetensors"), &n0);
+  float *b = load_params(path_of("run_e1/decoder.safetensors"), &n1);
+  float *c = load_params(path_of("run_e2/decoder.safetensors"), &n2);
+  CHECK(a && b && c && n0 == n1 && n1 == n2 && n0 > 0);
+  if (a && b && c && n0 == n1 && n1 == n2) {
+    CHECK_MSG(memcmp(a, b, n0 * sizeof *a), "the energy penalty had no effect");
+    CHECK_MSG(!memcmp(b, c, n0 * sizeof *b), "resumed weights differ with the energy penalty");
+  }
+  free(a), free(b), free(c);
+}
+
 static void test_tables_from_trained_decoder(void) {
   model_decoder *dec = NULL;
   nbrdf_error err;
@@ -228,6 +260,25 @@ static void test_tables_from_trained_decoder(void) {
   CHECK(norm > 0 && isfinite(norm));
   model_base_table_free(&t[0]);
   model_base_table_free(&t[1]);
+  /* --eta-min 1: the dielectric grid starts at η = 1 (no coat), so a look-up
+   * there is not clamped; without it, η = 1 is clamped to 1.05 and flagged. */
+  ts.eta_min = 1.0, ts.steps = 5;
+  CHECK_OK(train_tables_fit(dec, &ts, t, &err), &err);
+  CHECK(t[0].axis[1][0] == 1.0f && t[0].axis[1][2] == 2.0f);
+  double a1 = 0.1, eta1 = 1.0;
+  unsigned char clamped = 9;
+  CHECK_OK(model_base_table_lookup(&t[0], 1, &a1, &eta1, 0, got, &clamped, &err), &err);
+  CHECK(clamped == 0);
+  model_base_table_free(&t[0]);
+  model_base_table_free(&t[1]);
+  ts.eta_min = 1.05;
+  CHECK_OK(train_tables_fit(dec, &ts, t, &err), &err);
+  CHECK_OK(model_base_table_lookup(&t[0], 1, &a1, &eta1, 0, got, &clamped, &err), &err);
+  CHECK(clamped == 2);
+  model_base_table_free(&t[0]);
+  model_base_table_free(&t[1]);
+  ts.eta_min = 0.9;
+  CHECK_FAILS(train_tables_fit(dec, &ts, t, &err), NBRDF_ERR_ARGUMENT, &err, "first eta node");
   model_decoder_destroy(dec);
 }
 
@@ -235,6 +286,7 @@ int main(void) {
   RUN(test_loss_falls_and_resume_is_exact);
   RUN(test_legacy_checkpoint);
   RUN(test_brdf_weight);
+  RUN(test_energy_penalty);
   RUN(test_tables_from_trained_decoder);
   return nbrdf_test_finish();
 }

@@ -37,6 +37,23 @@ check "decoded run: 3 epochs from scratch" grep -q 'epochs 3 (resumed at 0)' "$T
 check "the same command with more epochs resumes" grep -q 'epochs 5 (resumed at 3)' "$TMP/b.out"
 check "the log holds epochs 1..5 once each" [ "$(cut -d, -f1 "$TMP/dec.csv" | tr '\n' ' ')" = "epoch 1 2 3 4 5 " ]
 
+# The energy penalty (issue 18): on in both trainings, refused with the latent loss, and a bad
+# angle list is named.
+"$NBRDF" train decoder --data "$D" --run "$TMP/run_e" --preset small --steps 4 --validation 0 \
+  --energy 1 --energy-brdfs 4 --energy-angles 60,85,89 >/dev/null 2>&1
+check "decoder run with --energy" [ -f "$TMP/run_e/decoder.safetensors" ]
+expect_exit 2 "$NBRDF" train decoder --data "$D" --run "$TMP/run_e2" --energy 1 --energy-angles 0,95
+check "a bad energy angle is named" grep -q -- "--energy-angles: '95' is not an angle" "$TMP/err"
+"$NBRDF" train layering "${common[@]}" --loss decoded --decoder "$TMP/run/decoder.safetensors" \
+  --epochs 1 --energy 1 --energy-brdfs 2 -o "$TMP/dec_e.safetensors" >/dev/null 2>&1
+check "decoded layering run with --energy" [ -f "$TMP/dec_e.safetensors" ]
+expect_exit 2 "$NBRDF" train layering "${common[@]}" --run "$TMP/run" --epochs 1 --energy 1 \
+  -o "$TMP/x.safetensors"
+check "--energy needs the decoded loss" grep -q -- "--energy needs --loss decoded" "$TMP/err"
+"$NBRDF" train tables --decoder "$TMP/run/decoder.safetensors" -o "$TMP/t1.safetensors" \
+  --alpha-nodes 2 --eta-nodes 2 --r0-nodes 2 --steps 2 --eta-min 1 >/dev/null 2>&1
+check "tables from eta = 1" [ -f "$TMP/t1.safetensors" ]
+
 # The sampler also learns the latents the layering network gives the data (what a bake feeds it).
 "$NBRDF" train sampler --run "$TMP/run" -o "$TMP/s.safetensors" --epochs 2 \
   --layering "$TMP/dec.safetensors" --tables "$TMP/t.safetensors" --data "$D" >"$TMP/s.out" 2>/dev/null

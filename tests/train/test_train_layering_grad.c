@@ -45,8 +45,19 @@ static void test_decoded_gradient(void) {
     f[k] = (float)(30.0 + 20.0 * nbrdf_rng_uniform(&rng));
   }
   size_t offsets[NB + 1] = {0, PER, 2 * PER, 3 * PER}, brdf[NB] = {2, 0, 1};
-  train_samples data = {
-      .n_brdfs = NB, .n_rows = NB * PER, .offsets = offsets, .wi = wi, .wo = wo, .f = f};
+  /* Dim rough conductors (R0 = 0): energy ceilings of a few percent, far
+   * below what a fresh decoder reflects, so the energy penalty (kind 2) is on. */
+  train_params params[NB];
+  memset(params, 0, sizeof params);
+  for (int b = 0; b < NB; b++)
+    params[b].kind = TRAIN_CONDUCTOR, params[b].base_alpha = 0.6, params[b].base_r0 = 0.0;
+  train_samples data = {.n_brdfs = NB,
+                        .n_rows = NB * PER,
+                        .offsets = offsets,
+                        .wi = wi,
+                        .wo = wo,
+                        .f = f,
+                        .params = params};
   float top[NB * D], bottom[NB * D], mid[NB * D], albedo[NB] = {0.2f, 0.7f, 1.0f};
   float sig[NB] = {0, 1.5f, 5}, albedo2[NB] = {0, 0.9f, 0}, sig2[NB] = {0, 2.0f, 0};
   unsigned char coats[NB] = {1, 2, 1};
@@ -65,7 +76,9 @@ static void test_decoded_gradient(void) {
                           .albedo2 = albedo2,
                           .sigma_t2 = sig2,
                           .brdf = brdf};
-  for (int kind = 0; kind < 2; kind++) {
+  /* kind 0, 1: the two losses; 2: l1-log1p with the energy penalty. */
+  for (int kind = 0; kind < 3; kind++) {
+    model_loss_kind loss = kind == 1 ? MODEL_LOSS_L1 : MODEL_LOSS_L1_LOG1P;
     model_decoder_config cfg;
     model_encoding enc = {MODEL_ENCODING_HALFDIFF, 1};
     CHECK_OK(model_decoder_config_make(D, enc, MODEL_OUTPUT_LOG1P, 12, 1, 1, &cfg, err), err);
@@ -75,9 +88,19 @@ static void test_decoded_gradient(void) {
     CHECK_OK(model_decoder_create(&cfg, 9, &dec, err), err);
     CHECK_OK(model_layering_create("small", D, 4, &net, err), err);
     if (dec && net)
-      CHECK_OK(train_layering_decoded_create(net, dec, &data, NB, ROWS, (model_loss_kind)kind, 7,
-                                             &engine, err),
+      CHECK_OK(train_layering_decoded_create(net, dec, &data, NB, ROWS, loss, 7, &engine, err),
                err);
+    double l_plain = NAN;
+    if (engine && kind == 2) {
+      size_t np0 = nbrdf_nn_param_count(net->nn);
+      float *g0 = calloc(np0, sizeof *g0);
+      size_t i3[NB] = {0, 1, 2};
+      CHECK_OK(train_layering_decoded_gradient(engine, &pairs, i3, NB, 0, g0, &l_plain, err), err);
+      free(g0);
+      model_energy_options eo = MODEL_ENERGY_OPTIONS_DEFAULT;
+      eo.lambda = 20.0f, eo.samples = 32;
+      CHECK_OK(train_layering_decoded_set_energy(engine, &eo, 2, err), err);
+    }
     if (!engine) {
       model_decoder_destroy(dec), model_layering_destroy(net);
       continue;
@@ -88,15 +111,16 @@ static void test_decoded_gradient(void) {
     double l0;
     CHECK_OK(train_layering_decoded_gradient(engine, &pairs, c.idx, NB, 0, grad, &l0, err), err);
     CHECK(isfinite(l0) && l0 > 1.0);
+    if (kind == 2) CHECK_MSG(l0 > l_plain + 1e-3, "energy penalty inactive: %g vs %g", l0, l_plain);
     double gs = 1e-12;
     for (size_t i = 0; i < np; i++)
       gs = fmax(gs, fabs(grad[i]));
     CHECK(gs > 1e-6); /* the gradient reaches the layering weights */
-    float *params = nbrdf_nn_params(net->nn);
+    float *weights = nbrdf_nn_params(net->nn);
     for (int t = 0; t < 60; t++) {
       int i = (int)(nbrdf_rng_uniform(&rng) * (double)np);
-      fd_check(model_loss_name((model_loss_kind)kind), i, params + i, grad[i], decoded_loss, &c,
-               1e-3, gs);
+      fd_check(kind == 2 ? "energy" : model_loss_name(loss), i, weights + i, grad[i], decoded_loss,
+               &c, 1e-3, gs);
     }
     /* More pairs than the batch: refused. */
     nbrdf_error e2 = {0};

@@ -1,0 +1,239 @@
+/* Importance-sampled directional albedo with a mixture of techniques
+ * (albedo_quad.h). */
+#include "model/albedo_quad.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "brdf/ggx.h"
+#include "core/error.h"
+#include "core/rng.h"
+#include "core/warp.h"
+#include "model/proxy.h"
+
+/* The roughness ladder of the GGX techniques: neighbours a factor 4 apart, from
+ * below the sharpest trained coat (α = 0.01) to a near-diffuse lobe. */
+static const double ladder[] = {0.003, 0.012, 0.05, 0.2, 0.6};
+#define N_LADDER ((int)(sizeof ladder / sizeof ladder[0]))
+
+/* A sample below this cosine is counted as lost: its weight would be
+ * cos θo / p with p → 0 only through round-off. */
+#define MIN_COS 1e-7
+
+/* Density of GGX visible-normal reflection about ωi, per solid angle of ωo:
+ * D_ωi(h) / (4 |ωi·h|) = G1(ωi) D(h) / (4 cos θi) (Heitz 2018, eq. 17). */
+static double ggx_reflect_pdf(double alpha, vec3 wi, vec3 wo) {
+  vec3 h = v3_add(wi, wo);
+  double len = v3_length(h);
+  if (!(len > 0.0)) return 0.0;
+  h = v3_scale(h, 1.0 / len);
+  double wh = v3_dot(wi, h);
+  if (wh <= 0.0 || h.z <= 0.0) return 0.0;
+  return ggx_vndf_pdf(alpha, wi, h) / (4.0 * wh);
+}
+
+typedef struct technique {
+  int kind; /* 0 cosine, 1 GGX, 2 proxy */
+  double param;
+} technique;
+
+static double tech_pdf(const technique *t, vec3 wi, vec3 wo) {
+  switch (t->kind) {
+  case 0:
+    return wo.z > 0.0 ? wo.z / M_PI : 0.0;
+  case 1:
+    return ggx_reflect_pdf(t->param, wi, wo);
+  default:
+    return model_proxy_gaussian_pdf(t->param, wi, wo);
+  }
+}
+
+static int tech_sample(const technique *t, vec3 wi, double u1, double u2, vec3 *wo) {
+  if (t->kind == 0) {
+    *wo = nbrdf_warp_cosine_hemisphere(u1, u2);
+    return 1;
+  }
+  if (t->kind == 1) {
+    vec3 h;
+    if (!ggx_sample_vndf(t->param, wi, u1, u2, &h)) return 0;
+    *wo = v3_sub(v3_scale(h, 2.0 * v3_dot(wi, h)), wi);
+    return 1;
+  }
+  double pdf;
+  return model_proxy_sample(t->param, 0.0, wi, 0.5, u1, u2, wo, &pdf);
+}
+
+nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n, uint64_t seed,
+                                    double proxy_sigma, nbrdf_error *err) {
+  memset(q, 0, sizeof *q);
+  if (!(theta_i >= 0.0 && theta_i < 0.5 * M_PI))
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "albedo quadrature: theta_i = %g rad, expected [0, pi/2)", theta_i);
+  if (n < 16)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: %d samples, expected >= 16", n);
+  if (!(proxy_sigma >= 0.0) || !isfinite(proxy_sigma))
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: proxy sigma = %g", proxy_sigma);
+  technique tech[MODEL_ALBEDO_QUAD_MAX_TECH];
+  double share[MODEL_ALBEDO_QUAD_MAX_TECH];
+  int nt = 0;
+  /* Shares: a fifth cosine (it alone covers the whole hemisphere), the rest
+   * spread over the lobe techniques. */
+  int lobes = N_LADDER + (proxy_sigma > 0.0);
+  tech[nt] = (technique){0, 0.0};
+  share[nt++] = 0.2;
+  for (int j = 0; j < N_LADDER; j++) {
+    tech[nt] = (technique){1, ladder[j]};
+    share[nt++] = 0.8 / lobes;
+  }
+  if (proxy_sigma > 0.0) {
+    tech[nt] =
+        (technique){2, proxy_sigma < MODEL_PROXY_SIGMA_MIN ? MODEL_PROXY_SIGMA_MIN : proxy_sigma};
+    share[nt++] = 0.8 / lobes;
+  }
+  q->wo = malloc((size_t)n * 3 * sizeof *q->wo);
+  q->weight = malloc((size_t)n * sizeof *q->weight);
+  if (!q->wo || !q->weight) {
+    model_albedo_quad_free(q);
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "albedo quadrature: out of memory (%d samples)", n);
+  }
+  q->n = n;
+  q->n_tech = nt;
+  q->theta_i = theta_i;
+  vec3 wi = v3(sin(theta_i), 0.0, cos(theta_i));
+  q->wi[0] = wi.x, q->wi[1] = wi.y, q->wi[2] = wi.z;
+  /* Counts: floor of the shares, the remainder to the cosine technique. */
+  int counts[MODEL_ALBEDO_QUAD_MAX_TECH], used = 0;
+  for (int j = 1; j < nt; j++)
+    used += counts[j] = (int)floor(share[j] * n);
+  counts[0] = n - used;
+  double c[MODEL_ALBEDO_QUAD_MAX_TECH];
+  for (int j = 0, end = 0; j < nt; j++) {
+    end += counts[j];
+    q->tech_end[j] = end;
+    c[j] = (double)counts[j] / n;
+  }
+  int k = 0;
+  for (int j = 0; j < nt; j++) {
+    nbrdf_rng rng;
+    nbrdf_rng_init(&rng, nbrdf_hash64(seed, (uint64_t)llround(theta_i * 1e9)), (uint64_t)j);
+    for (int s = 0; s < counts[j]; s++, k++) {
+      /* Stratified in u1 (one stratum per sample), jittered in u2. */
+      double u1 = (s + nbrdf_rng_uniform(&rng)) / counts[j];
+      double u2 = nbrdf_rng_uniform(&rng);
+      vec3 wo;
+      double w = 0.0;
+      if (tech_sample(&tech[j], wi, u1, u2, &wo) && wo.z > MIN_COS) {
+        wo = v3_normalize(wo);
+        double p = 0.0;
+        for (int i = 0; i < nt; i++)
+          p += c[i] * tech_pdf(&tech[i], wi, wo);
+        if (p > 0.0) w = wo.z / (n * p);
+      }
+      if (!(w > 0.0) || !isfinite(w)) {
+        w = 0.0;
+        wo = v3(0.0, 0.0, 1.0);
+      }
+      q->wo[3 * k] = wo.x, q->wo[3 * k + 1] = wo.y, q->wo[3 * k + 2] = wo.z;
+      q->weight[k] = w;
+    }
+  }
+  return NBRDF_OK;
+}
+
+void model_albedo_quad_free(model_albedo_quad *q) {
+  free(q->wo);
+  free(q->weight);
+  memset(q, 0, sizeof *q);
+}
+
+double model_albedo_quad_sum(const model_albedo_quad *q, const double *f, double *se) {
+  double rho = 0.0, var = 0.0;
+  for (int j = 0, begin = 0; j < q->n_tech; begin = q->tech_end[j++]) {
+    int nj = q->tech_end[j] - begin;
+    double s = 0.0, s2 = 0.0;
+    for (int k = begin; k < q->tech_end[j]; k++) {
+      double g = q->weight[k] * f[k];
+      s += g;
+      s2 += g * g;
+    }
+    rho += s;
+    /* The n_j samples of a technique are i.i.d.: Var(Σ g) = n_j Var(g). */
+    if (nj > 1) {
+      double mean = s / nj;
+      double v = (s2 - nj * mean * mean) / (nj - 1);
+      var += nj * (v > 0.0 ? v : 0.0);
+    }
+  }
+  if (se) *se = sqrt(var);
+  return rho;
+}
+
+/* Rows per decoder pass: bounded so that a bake's audit never allocates much. */
+#define MAX_ROWS 65536
+
+nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner, size_t n_latents,
+                                  const float *latents, const float *sigma, int n_theta,
+                                  const double *theta_deg, int samples, uint64_t seed, double *rho,
+                                  double *se, nbrdf_error *err) {
+  if (n_latents == 0 || n_theta <= 0) return NBRDF_OK;
+  if (samples < 16 || samples > MAX_ROWS)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "decoded albedo: %d samples, expected 16..%d",
+                      samples, MAX_ROWS);
+  const int D = dec->cfg.latent_dim;
+  size_t per = (size_t)(MAX_ROWS / samples);
+  if (per > n_latents) per = n_latents;
+  size_t rows = per * (size_t)samples;
+  float *lat = malloc(rows * (size_t)D * sizeof *lat);
+  float *wi = malloc(rows * 3 * sizeof *wi);
+  float *wo = malloc(rows * 3 * sizeof *wo);
+  float *f = malloc(rows * sizeof *f);
+  double *fd = malloc((size_t)samples * sizeof *fd);
+  model_albedo_quad *quads = calloc(per, sizeof *quads);
+  nbrdf_status st = NBRDF_OK;
+  if (!lat || !wi || !wo || !f || !fd || !quads)
+    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "decoded albedo: out of memory (%zu rows)", rows);
+  for (int t = 0; st == NBRDF_OK && t < n_theta; t++) {
+    double th = theta_deg[t] * M_PI / 180.0;
+    for (size_t l0 = 0; st == NBRDF_OK && l0 < n_latents; l0 += per) {
+      size_t m = n_latents - l0 < per ? n_latents - l0 : per;
+      /* Without proxies every latent shares one set of directions. */
+      for (size_t l = 0; st == NBRDF_OK && l < m; l++)
+        if (sigma || l == 0)
+          st = model_albedo_quad_init(&quads[l], th, samples, seed, sigma ? sigma[l0 + l] : 0.0,
+                                      err);
+      for (size_t l = 0; st == NBRDF_OK && l < m; l++) {
+        const model_albedo_quad *q = &quads[sigma ? l : 0];
+        for (int k = 0; k < samples; k++) {
+          size_t r = l * (size_t)samples + (size_t)k;
+          memcpy(lat + r * D, latents + (l0 + l) * D, (size_t)D * sizeof *lat);
+          for (int a = 0; a < 3; a++) {
+            wi[3 * r + a] = (float)q->wi[a];
+            wo[3 * r + a] = (float)q->wo[3 * k + a];
+          }
+        }
+      }
+      if (st == NBRDF_OK)
+        st = model_decoder_eval(dec, runner, m * (size_t)samples, 1, lat, wi, wo, f, err);
+      for (size_t l = 0; st == NBRDF_OK && l < m; l++) {
+        const model_albedo_quad *q = &quads[sigma ? l : 0];
+        for (int k = 0; k < samples; k++)
+          fd[k] = f[l * (size_t)samples + (size_t)k];
+        size_t o = (l0 + l) * (size_t)n_theta + (size_t)t;
+        rho[o] = model_albedo_quad_sum(q, fd, se ? &se[o] : NULL);
+      }
+      for (size_t l = 0; l < per; l++)
+        model_albedo_quad_free(&quads[l]);
+    }
+  }
+  if (quads)
+    for (size_t l = 0; l < per; l++)
+      model_albedo_quad_free(&quads[l]);
+  free(quads);
+  free(fd);
+  free(f);
+  free(wo);
+  free(wi);
+  free(lat);
+  return st;
+}

@@ -1,0 +1,149 @@
+/* The energy penalty (src/model/energy.c): its gradient with respect to the
+ * latents and the decoder weights against central finite differences, zero
+ * below the ceilings, and ρ̂ equal to the albedo quadrature's. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/rng.h"
+#include "model/albedo_quad.h"
+#include "model/energy.h"
+#include "testing.h"
+
+enum { N = 3, D = 8 };
+
+static double penalty_at(model_energy *e, const float *lat, const float *ceil) {
+  double p = NAN;
+  nbrdf_error err = {0};
+  CHECK_OK(model_energy_add(e, N, lat, ceil, 5, NULL, NULL, &p, NULL, &err), &err);
+  return p;
+}
+
+static void test_gradients(void) {
+  nbrdf_error err = {0};
+  model_decoder_config cfg;
+  CHECK_OK(model_decoder_preset("small", D, &cfg, &err), &err);
+  model_decoder *dec = NULL;
+  CHECK_OK(model_decoder_create(&cfg, 11u, &dec, &err), &err);
+  if (!dec) return;
+  model_energy_options o = MODEL_ENERGY_OPTIONS_DEFAULT;
+  o.lambda = 2.0f, o.samples = 64;
+  model_energy *e = NULL;
+  CHECK_OK(model_energy_create(dec, &o, &e, &err), &err);
+  if (!e) return;
+  float lat[N * D];
+  for (int k = 0; k < N * D; k++)
+    lat[k] = (float)(1.5 * sin(2.3 * k + 0.4));
+  /* Ceilings: half of ρ̂ at even angles (active), twice ρ̂ at odd ones. */
+  const int T = o.n_theta;
+  double rho[N * MODEL_ENERGY_MAX_THETA];
+  float ceil[N * MODEL_ENERGY_MAX_THETA];
+  for (int k = 0; k < N * T; k++)
+    ceil[k] = 1e9f;
+  double p0;
+  CHECK_OK(model_energy_add(e, N, lat, ceil, 5, NULL, NULL, &p0, rho, &err), &err);
+  CHECK(p0 == 0.0);
+  /* (An untrained decoder may output f = 0 everywhere for a latent: those
+   * pairs stay inactive.) */
+  int n_active = 0;
+  for (int k = 0; k < N * T; k++) {
+    CHECK(rho[k] >= 0.0 && isfinite(rho[k]));
+    ceil[k] = (float)(k % 2 || rho[k] == 0.0 ? 2.0 * rho[k] + 1.0 : 0.5 * rho[k]);
+    n_active += rho[k] > ceil[k];
+  }
+  CHECK(n_active >= 3);
+  /* ρ̂ is the quadrature's sum of the decoded values. */
+  {
+    model_albedo_quad q;
+    CHECK_OK(model_albedo_quad_init(&q, o.theta_deg[4] * M_PI / 180.0, o.samples,
+                                    nbrdf_hash64(o.seed, 5), 0.0, &err),
+             &err);
+    model_runner run;
+    CHECK_OK(model_runner_create(dec->nn, 64, NBRDF_NN_INFER, &run, &err), &err);
+    float wi[64 * 3], wo[64 * 3], x[64 * D], f[64];
+    double fd[64];
+    for (int k = 0; k < 64; k++) {
+      for (int a = 0; a < 3; a++)
+        wi[3 * k + a] = (float)q.wi[a], wo[3 * k + a] = (float)q.wo[3 * k + a];
+      memcpy(x + k * D, lat + 2 * D, D * sizeof *x);
+    }
+    CHECK_OK(model_decoder_eval(dec, &run, 64, 1, x, wi, wo, f, &err), &err);
+    for (int k = 0; k < 64; k++)
+      fd[k] = f[k];
+    CHECK_REL(model_albedo_quad_sum(&q, fd, NULL), rho[2 * T + 4], 1e-5, 1e-9);
+    model_runner_destroy(&run);
+    model_albedo_quad_free(&q);
+  }
+  size_t np = nbrdf_nn_param_count(dec->nn);
+  float *gl = calloc(N * D, sizeof *gl), *gw = calloc(np, sizeof *gw);
+  double p;
+  CHECK_OK(model_energy_add(e, N, lat, ceil, 5, gl, gw, &p, NULL, &err), &err);
+  double expect = 0.0;
+  for (int k = 0; k < N * T; k++)
+    if (rho[k] > ceil[k]) expect += o.lambda * (rho[k] - ceil[k]) / (N * T);
+  CHECK_REL(p, expect, 1e-6, 1e-12);
+  CHECK(p > 0.0);
+  /* Central differences in float: h = 1e-2 on O(1) inputs keeps the
+   * round-off of the decoder (~1e-7 relative) far below the curvature term. */
+  const float h = 1e-2f;
+  int bad = 0;
+  double gmax = 0.0;
+  for (int k = 0; k < N * D; k++)
+    gmax = fmax(gmax, fabs(gl[k]));
+  CHECK(gmax > 0.0);
+  for (int k = 0; k < N * D; k++) {
+    float keep = lat[k];
+    lat[k] = keep + h;
+    double up = penalty_at(e, lat, ceil);
+    lat[k] = keep - h;
+    double down = penalty_at(e, lat, ceil);
+    lat[k] = keep;
+    double num = (up - down) / (2.0 * h);
+    if (fabs(num - gl[k]) > 0.03 * fabs(num) + 0.01 * gmax) {
+      bad++;
+      printf("latent %d: analytic %g numeric %g\n", k, gl[k], num);
+    }
+  }
+  CHECK(bad == 0);
+  /* Weights: every 97th parameter. */
+  float *w = nbrdf_nn_params(dec->nn);
+  double wmax = 0.0;
+  for (size_t k = 0; k < np; k++)
+    wmax = fmax(wmax, fabs(gw[k]));
+  CHECK(wmax > 0.0);
+  bad = 0;
+  for (size_t k = 0; k < np; k += 97) {
+    float keep = w[k];
+    w[k] = keep + h;
+    double up = penalty_at(e, lat, ceil);
+    w[k] = keep - h;
+    double down = penalty_at(e, lat, ceil);
+    w[k] = keep;
+    double num = (up - down) / (2.0 * h);
+    if (fabs(num - gw[k]) > 0.03 * fabs(num) + 0.01 * wmax) {
+      bad++;
+      printf("weight %zu: analytic %g numeric %g\n", k, gw[k], num);
+    }
+  }
+  CHECK(bad == 0);
+  free(gl), free(gw);
+  model_energy_destroy(e);
+  model_decoder_destroy(dec);
+}
+
+static void test_options(void) {
+  nbrdf_error err = {0};
+  model_energy_options o = MODEL_ENERGY_OPTIONS_DEFAULT;
+  CHECK_OK(model_energy_parse_angles("0,60,89", "--energy-angles", &o, &err), &err);
+  CHECK(o.n_theta == 3 && o.theta_deg[2] == 89.0);
+  CHECK_FAILS(model_energy_parse_angles("0,90", "--energy-angles", &o, &err), NBRDF_ERR_ARGUMENT,
+              &err, "--energy-angles");
+  CHECK_FAILS(model_energy_parse_angles("x", "--energy-angles", &o, &err), NBRDF_ERR_ARGUMENT, &err,
+              "not an angle");
+}
+
+int main(void) {
+  RUN(test_gradients);
+  RUN(test_options);
+  return nbrdf_test_finish();
+}
