@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "texture/latent_exr.h"
+#include "texture/latent_settings.h"
 #include "texture/mip_chain.h"
 #include "verify/verify_internal.h"
 
@@ -62,10 +63,12 @@ static nbrdf_status open_texture(verify_run *v, nbrdf_error *err) {
   st = nbrdf_latent_reader_model(v->reader, v->model, &v->decoding, err);
   if (st != NBRDF_OK) return st;
   v->colours = nbrdf_latent_colours(&v->info->layout);
-  if (v->o.roughness == NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE)
-    v->roughness = strstr(v->info->settings, "roughness=perceptual") ? NBRDF_ROUGHNESS_PERCEPTUAL
-                                                                     : NBRDF_ROUGHNESS_ALPHA;
-  else
+  if (v->o.roughness == NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE) {
+    char value[32];
+    latent_setting(v->info->settings, "roughness", value, sizeof value);
+    v->roughness =
+        !strcmp(value, "perceptual") ? NBRDF_ROUGHNESS_PERCEPTUAL : NBRDF_ROUGHNESS_ALPHA;
+  } else
     v->roughness = (nbrdf_roughness)v->o.roughness;
   return NBRDF_OK;
 }
