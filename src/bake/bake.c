@@ -3,11 +3,13 @@
 #include "nbrdf/bake.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bake/bake_accuracy.h"
 #include "bake/bake_band.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -17,11 +19,26 @@
 /* Texels per band: big enough that the networks run on full batches, small
  * enough that band buffers stay far below the writer's tile rows. */
 #define BAND_TEXELS 65536
+/* Until the texture format that carries a decoder (v2) is in, a specialised
+ * fit (bake_fit.c) cannot be written: the bake refuses the level up front. */
+#define BAKE_SPECIALISED_WRITABLE 0
 /* The largest width and height of a latent texture (latent_exr_write.c). */
 #define TEXTURE_SIZE_MAX 65536
 
 static const char *const param_names[NBRDF_BAKE_PARAM_COUNT] = {"alpha1", "eta",    "alpha2",
                                                                 "r0",     "albedo", "sigma_t"};
+
+static const char *const accuracy_names[3] = {"fast", "fitted", "specialised"};
+
+const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a) {
+  return (unsigned)a < 3 ? accuracy_names[a] : "unknown";
+}
+
+int nbrdf_bake_accuracy_parse(const char *name) {
+  for (int k = 0; name && k < 3; k++)
+    if (!strcmp(name, accuracy_names[k])) return k;
+  return -1;
+}
 
 const char *nbrdf_bake_param_name(nbrdf_bake_param_id id) {
   return (unsigned)id < NBRDF_BAKE_PARAM_COUNT ? param_names[id] : "parameter";
@@ -174,7 +191,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
            o->roughness == NBRDF_ROUGHNESS_PERCEPTUAL ? "perceptual" : "alpha",
            o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp", quant);
   nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
-                            settings};
+                            settings, NULL};
   mip_ctx mctx = {model, &layout};
   nbrdf_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
@@ -185,6 +202,14 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   wo.mip_row_user = &mctx;
   bake_progress prog = {.height = H};
   nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
+  /* Above the fast level: ground truth and fit first, before any file exists. */
+  bake_accuracy_result acc = {0};
+  if (o->accuracy != NBRDF_BAKE_FAST) {
+    bake_scene scene = {src, W, H, rgb ? 3 : 1};
+    st = bake_accuracy_prepare(model, &scene, o, &prog.ticker, &acc, err);
+    if (st != NBRDF_OK) return st;
+    meta.accuracy = acc.attribute;
+  }
   wo.tick = writer_tick;
   wo.tick_user = &prog;
 
@@ -193,7 +218,10 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   if (band_rows > H) band_rows = H;
   size_t texel_floats = (size_t)nbrdf_latent_channel_count(&layout);
   float *texels = malloc(sizeof(float) * texel_floats * (size_t)band_rows * W);
-  if (!texels) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
+  if (!texels) {
+    bake_accuracy_free(&acc);
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
+  }
 
   nbrdf_latent_writer *writer = NULL;
   st = nbrdf_latent_writer_create(&writer, out_path, W, H, &layout, &meta, &wo, inputs, n_inputs,
@@ -205,6 +233,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
                  o->quantise_bits);
   band.tick = band_tick;
   band.tick_user = &prog;
+  if (o->accuracy != NBRDF_BAKE_FAST) band.correct = &acc.correction;
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
     int rows = H - y < band_rows ? H - y : band_rows;
     prog.y = y, prog.rows = rows, prog.fraction = 0.0;
@@ -241,8 +270,18 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
       rep->clamped = 0;
       for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
         rep->clamped += band.clamped[id];
+      if (o->accuracy != NBRDF_BAKE_FAST) {
+        rep->accuracy = o->accuracy;
+        rep->budget = acc.budget;
+        rep->distinct = acc.distinct;
+        rep->fitted_tuples = acc.fitted;
+        rep->heldout_tuples = acc.heldout;
+        rep->heldout_error = acc.heldout_error;
+        rep->heldout_error_fast = acc.heldout_error_fast;
+      }
     }
   }
+  bake_accuracy_free(&acc);
   bake_band_free(&band);
   free(texels);
   return st;
@@ -264,6 +303,18 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
   if (o.quantise_bits != 0 && (o.quantise_bits < 2 || o.quantise_bits > 16))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: quantise_bits is 0 (off) or 2..16, not %d",
                       o.quantise_bits);
+  if ((unsigned)o.accuracy > NBRDF_BAKE_SPECIALISED)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "bake: accuracy is fast, fitted or specialised (0, 1, 2), not %d",
+                      (int)o.accuracy);
+  if (!isfinite(o.budget) || o.budget < 0.0)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "bake: budget is a number of seconds > 0 (0: the level's default), not %g",
+                      o.budget);
+  if (o.accuracy == NBRDF_BAKE_SPECIALISED && !BAKE_SPECIALISED_WRITABLE)
+    return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
+                      "bake: 'specialised' needs latent texture format 2 (a texture that carries "
+                      "its own decoder), which this build cannot write yet; use 'fitted'");
   if (report) memset(report, 0, sizeof *report);
   nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   nbrdf_status st = bake_open_sources(inputs, src, err);

@@ -48,6 +48,18 @@ void cmd_bake_usage(FILE *out) {
       "  --quantise BITS       round every parameter to 2^BITS levels over its trained\n"
       "                        range (2..16; default off): fewer distinct tuples for\n"
       "                        smooth float maps, at a measured cost (docs/BAKE.md)\n"
+      "  --accuracy fast|fitted|specialised\n"
+      "                        fast (default): the universal networks; fitted: latents\n"
+      "                        fitted to the layered ground truth of the scene's own\n"
+      "                        BRDFs (representative tuples; any reader decodes it);\n"
+      "                        specialised: also a decoder fine-tuned to the scene\n"
+      "                        (needs latent texture format 2). docs/BAKE.md measures\n"
+      "                        the trade\n"
+      "  --budget SECONDS      fitted/specialised: the cost-model seconds the ground\n"
+      "                        truth and fit may take (defaults 120 / 300; about the\n"
+      "                        wall time on one free core; the result does not depend\n"
+      "                        on the machine or its load)\n"
+      "  --seed S              fitted/specialised: random walks and tuple selection (1)\n"
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
@@ -84,6 +96,7 @@ int cmd_bake(int argc, char **argv) {
   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
   const char *out = NULL, *bundle = NULL;
   cli_progress_state ps = {0, 0};
+  int budget_given = 0;
   nbrdf_error err = {0};
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -133,6 +146,21 @@ int cmd_bake(int argc, char **argv) {
       if (!cli_parse_int(v, 2, 16, &q))
         return cli_usage_error("bake", "--quantise needs an integer in [2, 16], not '%s'", v);
       opts.quantise_bits = (int)q, i++;
+    } else if (!strcmp(a, "--accuracy") && v) {
+      int level = nbrdf_bake_accuracy_parse(v);
+      if (level < 0)
+        return cli_usage_error("bake", "--accuracy is fast, fitted or specialised, not '%s'", v);
+      opts.accuracy = (nbrdf_bake_accuracy)level, i++;
+    } else if (!strcmp(a, "--budget") && v) {
+      double b;
+      if (!cli_parse_double(v, &b) || !(b > 0.0) || b > 1e7)
+        return cli_usage_error("bake", "--budget needs a number of seconds in (0, 1e7], not '%s'",
+                               v);
+      opts.budget = b, budget_given = 1, i++;
+    } else if (!strcmp(a, "--seed") && v) {
+      if (!cli_parse_u64(v, &opts.seed))
+        return cli_usage_error("bake", "--seed needs an unsigned integer, not '%s'", v);
+      i++;
     } else if (!strcmp(a, "--progress=json")) {
       ps.json = 1;
     } else {
@@ -142,6 +170,8 @@ int cmd_bake(int argc, char **argv) {
   int missing = cli_params_require("bake", &params);
   if (missing != CLI_EXIT_OK) return missing;
   opts.roughness = params.roughness;
+  if (budget_given && opts.accuracy == NBRDF_BAKE_FAST)
+    return cli_usage_error("bake", "--budget applies to --accuracy fitted or specialised, not fast");
   if (!out) return cli_usage_error("bake", "-o OUT.exr is required");
   nbrdf_model *model = NULL;
   char used[PATH_MAX];
@@ -182,12 +212,23 @@ int cmd_bake(int argc, char **argv) {
   if (ps.json) {
     printf("{\"event\":\"done\",\"output\":");
     json_string(out);
-    printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu}\n", rep.width,
+    printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu", rep.width,
            rep.height, rep.colour_channels, rep.evaluated);
+    if (rep.accuracy != NBRDF_BAKE_FAST)
+      printf(",\"accuracy\":\"%s\",\"budget\":%g,\"distinct\":%zu,\"fitted_tuples\":%zu,"
+             "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",
+             nbrdf_bake_accuracy_name(rep.accuracy), rep.budget, rep.distinct, rep.fitted_tuples,
+             rep.heldout_tuples, rep.heldout_error, rep.heldout_error_fast);
+    printf("}\n");
   } else {
     printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n", out,
            rep.width, rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs,
            rep.evaluated, rep.reused);
+    if (rep.accuracy != NBRDF_BAKE_FAST)
+      printf("accuracy %s (budget %g s): %zu of %zu distinct tuples fitted; lobe error on %zu "
+             "held-out tuples: median %.2f %% (fast: %.2f %%)\n",
+             nbrdf_bake_accuracy_name(rep.accuracy), rep.budget, rep.fitted_tuples, rep.distinct,
+             rep.heldout_tuples, 100.0 * rep.heldout_error, 100.0 * rep.heldout_error_fast);
   }
   return CLI_EXIT_OK;
 }

@@ -64,6 +64,7 @@ int cmd_info(int argc, char **argv) {
   printf("model:         %s (checksum %s)\n", in->model_name, in->model_checksum);
   printf("sources:       %s\n", in->sources);
   printf("bake settings: %s\n", in->settings);
+  if (in->accuracy[0]) printf("accuracy: %s\n", in->accuracy);
   printf("writer:        %s\n", in->writer);
   int rc = CLI_EXIT_OK;
   fflush(stdout); /* what the header says comes out before the check's verdict */

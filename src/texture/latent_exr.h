@@ -69,6 +69,7 @@ typedef struct nbrdf_latent_meta {
   const char *model_checksum; /* the bundle's checksum; readers refuse another */
   const char *sources;        /* the six parameter sources, "alpha1=a.png; eta=1.5; ..." */
   const char *settings;       /* bake settings, "key=value; ..." */
+  const char *accuracy;       /* NBRDF_ATTR_ACCURACY; NULL: not written */
 } nbrdf_latent_meta;
 
 const char *nbrdf_latent_compression_name(nbrdf_latent_compression c);
@@ -115,7 +116,8 @@ typedef struct nbrdf_latent_info {
   nbrdf_latent_compression compression;
   const char *model_name, *model_checksum; /* never NULL ("" when absent) */
   const char *sources, *settings, *mip_filter, *writer;
-  int64_t file_size; /* bytes */
+  const char *accuracy; /* NBRDF_ATTR_ACCURACY, "" when absent (a fast bake) */
+  int64_t file_size;    /* bytes */
 } nbrdf_latent_info;
 
 typedef struct nbrdf_latent_reader nbrdf_latent_reader;

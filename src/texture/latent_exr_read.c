@@ -15,7 +15,7 @@
 #include "texture/latent_exr.h"
 #include "texture/mip_chain.h"
 
-enum { S_MODEL, S_CHECKSUM, S_SOURCES, S_SETTINGS, S_FILTER, S_WRITER, S_COUNT };
+enum { S_MODEL, S_CHECKSUM, S_SOURCES, S_SETTINGS, S_FILTER, S_WRITER, S_ACCURACY, S_COUNT };
 
 struct nbrdf_latent_reader {
   char *path;
@@ -146,7 +146,8 @@ static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
   in->channels = nbrdf_latent_channel_count(&in->layout);
   static const char *const names[S_COUNT] = {NBRDF_ATTR_MODEL_NAME, NBRDF_ATTR_MODEL_CHECKSUM,
                                              NBRDF_ATTR_SOURCES,    NBRDF_ATTR_SETTINGS,
-                                             NBRDF_ATTR_MIP_FILTER, NBRDF_ATTR_WRITER};
+                                             NBRDF_ATTR_MIP_FILTER, NBRDF_ATTR_WRITER,
+                                             NBRDF_ATTR_ACCURACY};
   for (int i = 0; st == NBRDF_OK && i < S_COUNT; i++)
     st = get_string(r, names[i], i == S_MODEL || i == S_CHECKSUM, &r->strings[i], err);
   if (st != NBRDF_OK) return st;
@@ -156,6 +157,7 @@ static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
   in->settings = r->strings[S_SETTINGS];
   in->mip_filter = r->strings[S_FILTER];
   in->writer = r->strings[S_WRITER];
+  in->accuracy = r->strings[S_ACCURACY];
   return NBRDF_OK;
 }
 

@@ -243,6 +243,7 @@ static exr_result_t define_header(nbrdf_latent_writer *w, const nbrdf_latent_met
   if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_SETTINGS, STR(meta->settings));
   if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_MIP_FILTER, NBRDF_MIP_FILTER_BOX);
   if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_WRITER, writer);
+  if (!rv && meta->accuracy) rv = exr_attr_set_string(c, p, NBRDF_ATTR_ACCURACY, meta->accuracy);
 #undef STR
   if (!rv) rv = exr_write_header(c);
   return rv;

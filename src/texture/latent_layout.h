@@ -29,6 +29,9 @@
 #define NBRDF_ATTR_SETTINGS "nbrdf:bakeSettings"        /* string */
 #define NBRDF_ATTR_MIP_FILTER "nbrdf:mipFilter"         /* string */
 #define NBRDF_ATTR_WRITER "nbrdf:writer"                /* string: "nbrdf X.Y.Z" */
+/* Optional; only bakes above the fast level write it (docs/LATENT-TEXTURE.md):
+ * "level=fitted; budget=120; distinct=N; fitted=N; heldout=N; heldoutError=F; fastError=F" */
+#define NBRDF_ATTR_ACCURACY "nbrdf:accuracy" /* string */
 
 /* The one mip filter this version writes: the unweighted mean of the
  * level-0 latents in a texel's footprint (see mip_chain.h). */
