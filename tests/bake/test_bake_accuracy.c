@@ -47,7 +47,7 @@ static void test_plan(void) {
   CHECK_FAILS(bake_plan_make(NBRDF_BAKE_FITTED, 0.5, 10, macs, &a, err), NBRDF_ERR_ARGUMENT, err,
               "too small for 'fitted'");
   CHECK(strstr(e.message, "or use 'fast'") != NULL);
-  CHECK_FAILS(bake_plan_make(NBRDF_BAKE_SPECIALISED, 3.0, 10, macs, &a, err), NBRDF_ERR_ARGUMENT,
+  CHECK_FAILS(bake_plan_make(NBRDF_BAKE_SPECIALISED, 0.9, 10, macs, &a, err), NBRDF_ERR_ARGUMENT,
               err, "'fitted' fits");
 }
 
