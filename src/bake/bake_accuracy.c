@@ -20,7 +20,8 @@
 #define PROJECT_PASSES 2.5  /* forward + backward to the inputs */
 #define JOINT_PASSES 3.5    /* ... and to the weights */
 #define MIN_STEPS 100
-#define MAX_STEPS 1000 /* projection; a joint fit takes up to 3x as many */
+#define MAX_STEPS 1000 /* projection steps */
+#define MAX_JOINT 8000 /* joint steps */
 #define TRUTH_SHARE 0.7  /* of the budget after the held-out set: the carry needs tuples */
 #define MIN_INCIDENT 8
 #define MAX_INCIDENT 32
@@ -87,7 +88,13 @@ nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t dis
       p->n_fit = n_fit;
       p->rows_per_brdf = rows;
       p->project_steps = (int)steps;
-      p->joint_steps = joint ? 3 * (int)steps : 0;
+      if (joint) {
+        /* What the projection leaves goes to the joint fit, up to MAX_JOINT
+         * steps (a scene of few tuples affords many: the fit keeps improving). */
+        double js = (left - steps * step_cost(n_fit, rows, macs, PROJECT_PASSES)) /
+                    step_cost(n_fit, rows, macs, JOINT_PASSES);
+        p->joint_steps = js > MAX_JOINT ? MAX_JOINT : js < 3 * MIN_STEPS ? 3 * MIN_STEPS : (int)js;
+      }
       p->cost = p->n_held * COST_LOBE + n_fit * p->incident * COST_INCIDENT +
                 p->project_steps * step_cost(n_fit, rows, macs, PROJECT_PASSES) +
                 p->joint_steps * step_cost(n_fit, rows, macs, JOINT_PASSES);
