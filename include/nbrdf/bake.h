@@ -127,8 +127,8 @@ typedef enum nbrdf_bake_compression {
  *   decoder, starting from the network's latents; the correction is carried
  *   to every texel over parameter space. Every reader decodes the result.
  * - SPECIALISED: as FITTED, then a copy of the decoder is fine-tuned on the
- *   scene's ground truth together with the latents (the texture carries that
- *   decoder: latent texture format 2). */
+ *   scene's ground truth together with the latents; the texture carries that
+ *   decoder (latent texture format 2; nbrdf_model_for_texture decodes it). */
 typedef enum nbrdf_bake_accuracy {
   NBRDF_BAKE_FAST = 0,
   NBRDF_BAKE_FITTED = 1,

@@ -76,6 +76,63 @@ int64_t nbrdf_model_layering_macs(const nbrdf_model *model);
  * their count; the strings live as long as the model. */
 int nbrdf_model_files(const nbrdf_model *model, const char *const **paths);
 
+/* ----------------------------------------------------------- own decoders */
+
+/* A latent texture may carry its own decoder (latent texture format version 2,
+ * docs/LATENT-TEXTURE.md), e.g. one fine-tuned on the scene's BRDFs; it then
+ * must be decoded with that decoder and the bundle's other parts. A model
+ * "with its own decoder" is such a pair: the bundle's layering and sampling
+ * networks, tables, name and checksum (nbrdf_model_checksum is the bundle's),
+ * and a decoder read from safetensors bytes. nbrdf_bake with such a model
+ * embeds the decoder's bytes in the texture; nbrdf_verify, nbrdf_render and
+ * nbrdf_render_lobes decode a texture with its own decoder when it has one;
+ * a GPU integration packs the decoder of nbrdf_model_for_texture's model
+ * (nbrdf_gpu_pack_decoder).
+ *
+ * The derived model keeps what it shares with `base` alive: `base` may be
+ * destroyed first. Every model returned below is released with
+ * nbrdf_model_destroy and is as immutable and thread-safe as a loaded one. */
+
+/* The largest decoder a texture may carry, in bytes (64 MiB; the default
+ * decoder is about 120 KB). */
+#define NBRDF_DECODER_BYTES_MAX ((size_t)64 << 20)
+
+/* `base` with its decoder replaced by the one in `bytes` (`size` bytes of a
+ * decoder.safetensors file, docs/MODEL_BUNDLE.md; copied). The decoder must be
+ * a valid nbrdf decoder file with the bundle's latent dimension. `label`
+ * (e.g. a file name; NULL: "decoder") starts every message. */
+nbrdf_status nbrdf_model_with_decoder(const nbrdf_model *base, const void *bytes, size_t size,
+                                      const char *label, nbrdf_model **out, nbrdf_error *err);
+/* The same with the bytes of the file at `path`. */
+nbrdf_status nbrdf_model_with_decoder_file(const nbrdf_model *base, const char *path,
+                                           nbrdf_model **out, nbrdf_error *err);
+
+/* The model that decodes the latent texture at `texture_path`: `bundle` with
+ * the texture's own decoder when it carries one, else a new reference to
+ * `bundle` itself (destroy it either way). The texture must have been baked
+ * with this bundle (checksum and latent dimension, NBRDF_ERR_MISMATCH). A
+ * damaged embedded decoder (checksum, safetensors or shapes wrong) or a
+ * version-2 texture whose decoder was dropped by a tool that copies only the
+ * attributes it knows fails with NBRDF_ERR_FORMAT naming the file. */
+nbrdf_status nbrdf_model_for_texture(const nbrdf_model *bundle, const char *texture_path,
+                                     nbrdf_model **out, nbrdf_error *err);
+
+typedef struct nbrdf_decoder_info {
+  int own;           /* 1: a decoder of its own; 0: the bundle's */
+  size_t size;       /* own: bytes of its safetensors; else 0 */
+  char checksum[17]; /* own: FNV-1a 64 of those bytes, 16 hex digits; else "" */
+  const void *bytes; /* nbrdf_model_own_decoder, own: the bytes (the model's); else NULL */
+} nbrdf_decoder_info;
+
+/* Whether `model` has a decoder of its own (nbrdf_model_with_decoder, or
+ * nbrdf_model_for_texture of a texture that carries one). */
+void nbrdf_model_own_decoder(const nbrdf_model *model, nbrdf_decoder_info *info);
+/* Whether the latent texture at `texture_path` carries its own decoder (its
+ * header only is read; the checksum of the bytes is checked). `info->bytes`
+ * is NULL. */
+nbrdf_status nbrdf_texture_own_decoder(const char *texture_path, nbrdf_decoder_info *info,
+                                       nbrdf_error *err);
+
 /* ------------------------------------------------------------------ decoding */
 
 /* f(ωi, ωo) WITHOUT the cosine factor for n direction pairs × `channels`
@@ -135,7 +192,9 @@ nbrdf_status nbrdf_model_proxy_params(const nbrdf_model *model, size_t n, const 
                                       float *sigma, float *w, nbrdf_error *err);
 
 /* The proxy pdf p(ωo | ωi) = (1 − w) p_G + w cos θo / π per unit solid angle
- * (see src/model/proxy.h for p_G, a Gaussian over the projected half vector).
+ * where p_G places the half vector h = normalize(ωi + ωo) by an isotropic 2-D Gaussian of
+ * standard deviation sigma over its projection (h.x, h.y) on the unit disk, truncated to the
+ * disk, converted to solid angle by the half-vector Jacobian (docs/SAMPLING_AND_COST.md).
  * 0 when either direction is at or below the horizon. */
 double nbrdf_proxy_pdf(double sigma, double w, const double wi[3], const double wo[3]);
 /* Draws ωo from three uniforms u ∈ [0, 1)³ (u[0] picks the lobe). Returns 1

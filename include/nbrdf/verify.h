@@ -111,6 +111,9 @@ typedef struct nbrdf_verify_report {
   size_t nonfinite;
   int nonfinite_level, nonfinite_x, nonfinite_y;
   double reference_seconds, decode_seconds; /* wall clock */
+  /* The decoder the texture was decoded with: its own (format version 2,
+   * nbrdf_model_for_texture) or the bundle's. */
+  nbrdf_decoder_info decoder; /* .bytes is NULL */
 } nbrdf_verify_report;
 
 /* Verifies `texture` against `inputs` with `model`. `options` NULL means

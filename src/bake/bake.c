@@ -12,6 +12,7 @@
 #include "bake/bake_accuracy.h"
 #include "bake/bake_band.h"
 #include "core/error.h"
+#include "model/bundle.h"
 #include "core/progress.h"
 #include "core/number.h"
 #include "texture/latent_exr.h"
@@ -19,9 +20,6 @@
 /* Texels per band: big enough that the networks run on full batches, small
  * enough that band buffers stay far below the writer's tile rows. */
 #define BAND_TEXELS 65536
-/* Until the texture format that carries a decoder (v2) is in, a specialised
- * fit (bake_fit.c) cannot be written: the bake refuses the level up front. */
-#define BAKE_SPECIALISED_WRITABLE 0
 /* The largest width and height of a latent texture (latent_exr_write.c). */
 #define TEXTURE_SIZE_MAX 65536
 
@@ -190,8 +188,31 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
            o->tile_size, o->mip_levels == 1 ? "1" : "full",
            o->roughness == NBRDF_ROUGHNESS_PERCEPTUAL ? "perceptual" : "alpha",
            o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp", quant);
+  bake_progress prog = {.height = H};
+  nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
+  /* Above the fast level: ground truth and fit first, before any file exists. */
+  bake_accuracy_result acc = {0};
+  nbrdf_model *specialised = NULL;
+  if (o->accuracy != NBRDF_BAKE_FAST) {
+    bake_scene scene = {src, W, H, rgb ? 3 : 1};
+    st = bake_accuracy_prepare(model, &scene, o, &prog.ticker, &acc, err);
+    /* SPECIALISED: the fine-tuned decoder copy becomes the model's own
+     * decoder, whose bytes the texture then carries (format version 2). */
+    if (st == NBRDF_OK && acc.correction.decoder)
+      st = model_with_decoder_net(model, acc.correction.decoder, &specialised, err);
+    if (st != NBRDF_OK) {
+      bake_accuracy_free(&acc);
+      return st;
+    }
+    if (specialised) model = specialised;
+  }
+  /* A model with a decoder of its own (nbrdf_model_with_decoder) makes a
+   * texture that carries it: version 2; else exactly version 1. */
+  nbrdf_decoder_info own;
+  nbrdf_model_own_decoder(model, &own);
   nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
-                            settings, NULL};
+                            settings, own.bytes, own.size, NULL};
+  if (o->accuracy != NBRDF_BAKE_FAST) meta.accuracy = acc.attribute;
   mip_ctx mctx = {model, &layout};
   nbrdf_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
@@ -200,16 +221,6 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   wo.mip_levels = o->mip_levels;
   wo.mip_row = mip_row;
   wo.mip_row_user = &mctx;
-  bake_progress prog = {.height = H};
-  nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
-  /* Above the fast level: ground truth and fit first, before any file exists. */
-  bake_accuracy_result acc = {0};
-  if (o->accuracy != NBRDF_BAKE_FAST) {
-    bake_scene scene = {src, W, H, rgb ? 3 : 1};
-    st = bake_accuracy_prepare(model, &scene, o, &prog.ticker, &acc, err);
-    if (st != NBRDF_OK) return st;
-    meta.accuracy = acc.attribute;
-  }
   wo.tick = writer_tick;
   wo.tick_user = &prog;
 
@@ -220,6 +231,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   float *texels = malloc(sizeof(float) * texel_floats * (size_t)band_rows * W);
   if (!texels) {
     bake_accuracy_free(&acc);
+    nbrdf_model_destroy(specialised);
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
   }
 
@@ -283,6 +295,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   }
   bake_accuracy_free(&acc);
   bake_band_free(&band);
+  nbrdf_model_destroy(specialised);
   free(texels);
   return st;
 }
@@ -311,10 +324,6 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "bake: budget is a number of seconds > 0 (0: the level's default), not %g",
                       o.budget);
-  if (o.accuracy == NBRDF_BAKE_SPECIALISED && !BAKE_SPECIALISED_WRITABLE)
-    return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                      "bake: 'specialised' needs latent texture format 2 (a texture that carries "
-                      "its own decoder), which this build cannot write yet; use 'fitted'");
   if (report) memset(report, 0, sizeof *report);
   nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   nbrdf_status st = bake_open_sources(inputs, src, err);

@@ -43,6 +43,10 @@ void cmd_bake_usage(FILE *out) {
       "                        none write faster, see docs/BAKE.md)\n"
       "  --bundle DIR          model bundle (default: $NBRDF_BUNDLE, else the installed\n"
       "                        one: see 'nbrdf --version')\n"
+      "  --decoder FILE        a decoder.safetensors of the bundle's latent size (a fine-\n"
+      "                        tuned copy, say) that the texture carries and is decoded\n"
+      "                        with (format version 2, docs/LATENT-TEXTURE.md); default:\n"
+      "                        none, the bundle's decoder (a version-1 texture)\n"
       "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
       "                        warning (default) or stop naming the file and texel\n"
       "  --quantise BITS       round every parameter to 2^BITS levels over its trained\n"
@@ -52,9 +56,9 @@ void cmd_bake_usage(FILE *out) {
       "                        fast (default): the universal networks; fitted: latents\n"
       "                        fitted to the layered ground truth of the scene's own\n"
       "                        BRDFs (representative tuples; any reader decodes it);\n"
-      "                        specialised: also a decoder fine-tuned to the scene\n"
-      "                        (needs latent texture format 2). docs/BAKE.md measures\n"
-      "                        the trade\n"
+      "                        specialised: also a decoder fine-tuned to the scene,\n"
+      "                        carried in the texture (format 2). docs/BAKE.md\n"
+      "                        measures the trade\n"
       "  --budget SECONDS      fitted/specialised: the cost-model seconds the ground\n"
       "                        truth and fit may take (defaults 120 / 300; about the\n"
       "                        wall time on one free core; the result does not depend\n"
@@ -94,7 +98,7 @@ int cmd_bake(int argc, char **argv) {
   cli_params params;
   cli_params_init(&params);
   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
-  const char *out = NULL, *bundle = NULL;
+  const char *out = NULL, *bundle = NULL, *decoder = NULL;
   cli_progress_state ps = {0, 0};
   int budget_given = 0;
   nbrdf_error err = {0};
@@ -133,6 +137,8 @@ int cmd_bake(int argc, char **argv) {
       opts.compression = (nbrdf_bake_compression)k, i++;
     } else if (!strcmp(a, "--bundle") && v) {
       bundle = v, i++;
+    } else if (!strcmp(a, "--decoder") && v) {
+      decoder = v, i++;
     } else if (!strcmp(a, "--range") && v) {
       if (!strcmp(v, "clamp"))
         opts.range = NBRDF_RANGE_CLAMP;
@@ -181,6 +187,18 @@ int cmd_bake(int argc, char **argv) {
   cli_inputs_init(&inputs);
   cli_inputs_add_params(&inputs, &params);
   cli_inputs_add_model(&inputs, model);
+  if (decoder) {
+    /* The texture carries this decoder (format version 2). */
+    nbrdf_model *with = NULL;
+    if (nbrdf_model_with_decoder_file(model, decoder, &with, &err) != NBRDF_OK) {
+      nbrdf_model_destroy(model);
+      cli_inputs_free(&inputs);
+      return cli_fail_error("bake", &err);
+    }
+    nbrdf_model_destroy(model);
+    model = with;
+    cli_inputs_add(&inputs, decoder);
+  }
   if (cli_output_check("bake", &inputs, out) != CLI_EXIT_OK) {
     nbrdf_model_destroy(model);
     return CLI_EXIT_FAILURE;

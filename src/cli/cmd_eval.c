@@ -12,7 +12,9 @@
 
 #include "cli/cli.h"
 #include "cli/eval_neural.h"
+#include "cli/eval_texture.h"
 #include "core/csv.h"
+#include "core/input_file.h"
 #include "core/number.h"
 #include "core/vec3.h"
 #include "nbrdf/brdf.h"
@@ -64,10 +66,12 @@ void cmd_eval_usage(FILE *out) {
           "       nbrdf eval --model neural|neural-conductor|neural-dielectric "
           "[--bundle DIR]\n"
           "                  [--roughness alpha|perceptual] [--range clamp|refuse]\n"
+          "       nbrdf eval --texture FILE.exr [--level K] [--bundle DIR]\n"
           "\n"
-          "Evaluates ground-truth or neural BRDF values at point queries: reads CSV on\n"
-          "stdin, writes CSV on stdout. A line holds at most 65536 bytes; values are\n"
-          "decimal numbers (white space around them allowed; no hex, inf or nan).\n"
+          "Evaluates ground-truth or neural BRDF values, or a baked latent texture, at point\n"
+          "queries: reads CSV on stdin (or --in FILE), writes CSV on stdout. A line holds at\n"
+          "most 65536 bytes; values are decimal numbers (white space around them allowed;\n"
+          "no hex, inf or nan).\n"
           "\n"
           "options:\n"
           "  --model M    layered, conductor, dielectric (ground truth) or neural,\n"
@@ -81,6 +85,12 @@ void cmd_eval_usage(FILE *out) {
           "               neural models only: the bundle and the options of 'nbrdf bake'\n"
           "               (defaults: the default bundle (see 'nbrdf --version'), alpha,\n"
           "               clamp)\n"
+          "  --texture FILE  a latent texture baked with the bundle (--bundle DIR, as for\n"
+          "               the neural models): decoded as a renderer decodes it, with the\n"
+          "               texture's own decoder when it carries one (format version 2,\n"
+          "               docs/LATENT-TEXTURE.md), else the bundle's\n"
+          "  --level K    --texture: the mip level to fetch from (default 0)\n"
+          "  --in FILE    read the CSV from FILE instead of stdin\n"
           "\n"
           "input: a header row naming the columns, then one query per row. Columns "
           "may come in\n"
@@ -113,6 +123,11 @@ void cmd_eval_usage(FILE *out) {
           "              refused with --range refuse; negative values and r0 or albedo "
           "above 1 are\n"
           "              refused.\n"
+          "  --texture:  u,v + angles; u, v in [0, 1] texture coordinates (u to the right,\n"
+          "              v DOWN from the first row of the image, as the renderer and the\n"
+          "              shaders fetch), the latents fetched bilinearly in level K between\n"
+          "              the four nearest texel centres (the texture repeats: u = 0 and\n"
+          "              u = 1 are the same place), every colour channel decoded\n"
           "  angles:     theta_i,phi_i,theta_o,phi_o in DEGREES; theta from the "
           "surface normal,\n"
           "              phi the azimuth from the x axis; both directions point "
@@ -137,6 +152,8 @@ void cmd_eval_usage(FILE *out) {
           "factor\n"
           "  f_stderr   (layered only) the standard error of f, a Monte Carlo mean "
           "over N walks\n"
+          "  --texture: f for a mono texture, f_r,f_g,f_b for an RGB one, printed with\n"
+          "             %%.9g (the decoder's float exactly)\n"
           "Numbers are printed with %%.17g, which round-trips a double exactly. "
           "Output lines end\n"
           "in LF. Row k always uses random stream k of the seed, so the output "
@@ -148,7 +165,8 @@ void cmd_eval_usage(FILE *out) {
           "(RFC 4180); spaces around numbers are ignored; a header without rows "
           "gives a header\n"
           "without rows. The input must not already have a column 'f' or "
-          "'f_stderr'.\n"
+          "'f_stderr'\n"
+          "(--texture: one of its output columns).\n"
           "\n"
           "exit status: 0 success; 1 bad input (the message names the line and "
           "column, e.g.\n"
@@ -156,7 +174,9 @@ void cmd_eval_usage(FILE *out) {
           "\n"
           "example:\n"
           "  printf 'alpha,r0,theta_i,phi_i,theta_o,phi_o\\n0.5,1,0,0,0,0\\n' |\n"
-          "    nbrdf eval --model conductor\n",
+          "    nbrdf eval --model conductor\n"
+          "  printf 'u,v,theta_i,phi_i,theta_o,phi_o\\n0.5,0.5,30,0,30,180\\n' |\n"
+          "    nbrdf eval --texture out.exr\n",
           NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX,
           NBRDF_GT_SIGMA_T_MAX);
 }
@@ -166,6 +186,9 @@ typedef struct eval_args {
   nbrdf_eval_options options;
   eval_neural_options neural;
   int neural_option; /* an option of the neural models was given */
+  eval_texture_options texture; /* texture.texture != NULL: --texture mode */
+  int level_given, model_option;
+  const char *in; /* --in FILE, else stdin */
 } eval_args;
 
 static int parse_args(int argc, char **argv, eval_args *a) {
@@ -173,6 +196,9 @@ static int parse_args(int argc, char **argv, eval_args *a) {
   a->neural = (eval_neural_options){NULL, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP};
   a->neural_option = 0;
   a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
+  a->texture = (eval_texture_options){NULL, NULL, 0};
+  a->level_given = a->model_option = 0;
+  a->in = NULL;
   for (int i = 1; i < argc; i++) {
     const char *v;
     long n;
@@ -184,28 +210,41 @@ static int parse_args(int argc, char **argv, eval_args *a) {
                                "unknown model '%s' (expected layered, conductor, "
                                "dielectric, neural, neural-conductor or neural-dielectric)",
                                v);
+    } else if ((v = cli_option_value(argc, argv, &i, "--texture"))) {
+      if (!*v) return cli_usage_error("eval", "--texture needs a file");
+      a->texture.texture = v;
+    } else if ((v = cli_option_value(argc, argv, &i, "--level"))) {
+      if (!cli_parse_int(v, 0, 31, &n))
+        return cli_usage_error("eval", "--level '%s' is not an integer in [0, 31]", v);
+      a->texture.level = (int)n;
+      a->level_given = 1;
+    } else if ((v = cli_option_value(argc, argv, &i, "--in"))) {
+      if (!*v) return cli_usage_error("eval", "--in needs a file");
+      a->in = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--bundle"))) {
-      a->neural.bundle = v;
+      a->neural.bundle = a->texture.bundle = v;
       a->neural_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--roughness"))) {
       if (strcmp(v, "alpha") && strcmp(v, "perceptual"))
         return cli_usage_error("eval", "--roughness is 'alpha' or 'perceptual', not '%s'", v);
       a->neural.roughness =
           !strcmp(v, "alpha") ? NBRDF_ROUGHNESS_ALPHA : NBRDF_ROUGHNESS_PERCEPTUAL;
-      a->neural_option = 1;
+      a->neural_option = a->model_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--range"))) {
       if (strcmp(v, "clamp") && strcmp(v, "refuse"))
         return cli_usage_error("eval", "--range is 'clamp' or 'refuse', not '%s'", v);
       a->neural.range = !strcmp(v, "clamp") ? NBRDF_RANGE_CLAMP : NBRDF_RANGE_REFUSE;
-      a->neural_option = 1;
+      a->neural_option = a->model_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
       if (!cli_parse_int(v, 1, 1000000000L, &n))
         return cli_usage_error("eval", "--spp '%s' is not an integer in [1, 1e9]", v);
       a->options.spp = (int)n;
+      a->model_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--threads"))) {
       if (!cli_parse_int(v, 0, 4096, &n))
         return cli_usage_error("eval", "--threads '%s' is not an integer in [0, 4096]", v);
       a->options.threads = (int)n;
+      a->model_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
       char *end;
       errno = 0;
@@ -213,6 +252,7 @@ static int parse_args(int argc, char **argv, eval_args *a) {
       if (!isdigit((unsigned char)v[0]) || *end || errno == ERANGE)
         return cli_usage_error("eval", "--seed '%s' is not an unsigned 64-bit integer", v);
       a->options.seed = (uint64_t)s;
+      a->model_option = 1;
     } else if (cli_is_help(argv[i])) {
       cmd_eval_usage(stdout);
       return -1;
@@ -220,7 +260,15 @@ static int parse_args(int argc, char **argv, eval_args *a) {
       return cli_usage_error("eval", "unexpected argument '%s'", argv[i]);
     }
   }
-  if (!a->model) return cli_usage_error("eval", "--model is required");
+  if (a->texture.texture) {
+    if (a->model || a->model_option)
+      return cli_usage_error("eval",
+                             "--texture decodes the texture: --model, --roughness, --range, "
+                             "--spp, --threads and --seed do not apply");
+    return CLI_EXIT_OK;
+  }
+  if (a->level_given) return cli_usage_error("eval", "--level applies to --texture only");
+  if (!a->model) return cli_usage_error("eval", "--model or --texture is required");
   if (a->neural_option && !a->model->neural)
     return cli_usage_error("eval",
                            "--bundle, --roughness and --range apply to the neural models only");
@@ -381,20 +429,47 @@ static void write_row(FILE *out, const csv_table *t, size_t r) {
   }
 }
 
+/* The CSV of --in FILE (a regular file), else of stdin. */
+static int read_input(const char *path, csv_table *t) {
+  nbrdf_error err = {0};
+  FILE *in = stdin;
+  if (path) {
+    int fd = -1;
+    if (nbrdf_input_open(path, NBRDF_INPUT_ANY_SIZE, &fd, NULL, &err) != NBRDF_OK)
+      return cli_fail_error("eval", &err);
+    in = fdopen(fd, "rb");
+    if (!in) {
+      close(fd);
+      return cli_fail("eval", "%s: cannot read", path);
+    }
+  } else if (isatty(STDIN_FILENO)) {
+    fprintf(stderr, "nbrdf eval: reading CSV from the terminal (end with Ctrl-D; see --help)\n");
+  }
+  nbrdf_status st = csv_read(in, path ? path : "stdin", t, &err);
+  if (in != stdin) fclose(in);
+  if (st != NBRDF_OK) return cli_fail_error("eval", &err);
+  if (t->n_records == 0) {
+    csv_free(t);
+    return cli_fail("eval", "%s: no header row (see 'nbrdf eval --help')", path ? path : "stdin");
+  }
+  return CLI_EXIT_OK;
+}
+
 int cmd_eval(int argc, char **argv) {
   eval_args a;
   int rc = parse_args(argc, argv, &a);
   if (rc != CLI_EXIT_OK) return rc < 0 ? CLI_EXIT_OK : rc;
 
-  if (isatty(STDIN_FILENO))
-    fprintf(stderr, "nbrdf eval: reading CSV from the terminal (end with "
-                    "Ctrl-D; see --help)\n");
   csv_table t;
   nbrdf_error err = {0};
-  if (csv_read(stdin, "stdin", &t, &err) != NBRDF_OK) return cli_fail_error("eval", &err);
-  if (t.n_records == 0) {
+  rc = read_input(a.in, &t);
+  if (rc != CLI_EXIT_OK) return rc;
+  if (a.texture.texture) {
+    static char tbuf[1 << 16];
+    setvbuf(stdout, tbuf, _IOFBF, sizeof tbuf);
+    rc = eval_texture(&a.texture, &t, stdout);
     csv_free(&t);
-    return cli_fail("eval", "stdin: no header row (see 'nbrdf eval --help')");
+    return rc;
   }
   layout lay;
   batch b = {0};

@@ -11,8 +11,11 @@ void cmd_info_usage(FILE *out) {
           "\n"
           "Prints a latent texture's size, mip levels, channels, colour mode, storage,\n"
           "compression, the model that baked it (name and checksum), its parameter\n"
-          "sources and bake settings (docs/LATENT-TEXTURE.md), then checks the whole file:\n"
-          "every tile of every level is read and decoded and every value must be finite\n"
+          "sources and bake settings, and its decoder: 'own' when the texture carries\n"
+          "one (format version 2, with its size and checksum), else 'bundle'\n"
+          "(docs/LATENT-TEXTURE.md). Then checks the whole file: an own decoder must\n"
+          "parse and fit the latents, and every tile of every level is read and\n"
+          "decoded and every value must be finite\n"
           "(about 0.4 s of CPU for a 1024 x 1024 half texture; docs/LATENT-TEXTURE.md).\n"
           "\n"
           "  --header-only   read the header only (instant; a truncated or damaged tile\n"
@@ -66,15 +69,22 @@ int cmd_info(int argc, char **argv) {
   printf("bake settings: %s\n", in->settings);
   if (in->accuracy[0]) printf("accuracy: %s\n", in->accuracy);
   printf("writer:        %s\n", in->writer);
+  if (in->decoder_size)
+    printf("decoder:       own (%zu bytes, checksum %s)\n", in->decoder_size, in->decoder_checksum);
+  else
+    printf("decoder:       bundle\n");
   int rc = CLI_EXIT_OK;
+  char about[160];
   fflush(stdout); /* what the header says comes out before the check's verdict */
   if (header_only) {
     printf("check:         header only (--header-only)\n");
-  } else if (nbrdf_latent_reader_check(r, &err) != NBRDF_OK) {
+  } else if (nbrdf_latent_reader_check_decoder(r, about, sizeof about, &err) != NBRDF_OK ||
+             nbrdf_latent_reader_check(r, &err) != NBRDF_OK) {
     printf("check:         FAILED\n");
     rc = cli_fail_error("info", &err);
   } else {
-    printf("check:         every tile of %d level(s) read, all values finite\n", in->levels);
+    printf("check:         every tile of %d level(s) read, all values finite%s%s\n", in->levels,
+           about[0] ? "; own decoder: " : "", about);
   }
   nbrdf_latent_reader_close(r);
   return rc;

@@ -150,6 +150,10 @@ static void print_summary_row(const char *label, const nbrdf_verify_summary *s) 
 static void print_report(const verify_args *a, const nbrdf_verify_report *r) {
   printf("verify %s: %d x %d %s, %d level(s)\n", a->texture, r->width, r->height,
          r->colours == 3 ? "rgb" : "mono", r->levels);
+  if (r->decoder.own)
+    printf("decoder: own (%zu bytes, checksum %s)\n", r->decoder.size, r->decoder.checksum);
+  else
+    printf("decoder: bundle\n");
   printf("ground truth: %zu distinct BRDF(s), 2 runs x %d walks per lobe image; "
          "reference noise = lobe error between its two runs\n",
          r->references, r->walks);

@@ -24,6 +24,16 @@ static nbrdf_status join(char *buf, const char *dir, const char *file, nbrdf_err
 
 void nbrdf_model_destroy(nbrdf_model *m) {
   if (!m) return;
+  /* A bundle some derived model still holds lives on until the last one goes. */
+  if (atomic_fetch_sub(&m->extra_refs, 1) > 0) return;
+  if (m->parent) {
+    if (m->own_decoder) model_decoder_destroy(m->decoder);
+    free(m->decoder_bytes);
+    nbrdf_model *parent = m->parent;
+    free(m);
+    nbrdf_model_destroy(parent);
+    return;
+  }
   model_decoder_destroy(m->decoder);
   model_layering_destroy(m->layering);
   model_sampler_destroy(m->sampler);

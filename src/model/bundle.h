@@ -18,6 +18,7 @@
 #ifndef NBRDF_MODEL_BUNDLE_H
 #define NBRDF_MODEL_BUNDLE_H
 
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -45,7 +46,30 @@ struct nbrdf_model {
   model_base_table tables[2]; /* indexed by nbrdf_base_kind */
   const char *files[5];       /* nbrdf_model_files: model.json and model_bundle_files */
   char *files_text;           /* owns the strings of files[] */
+  /* A derived model (model_derive.c) shares everything above but its
+   * decoder with `parent`, a loaded bundle it holds a reference to; it owns
+   * `decoder` only when own_decoder is set. */
+  nbrdf_model *parent;
+  atomic_int extra_refs; /* derived models holding this one (0 when none) */
+  int own_decoder;
+  unsigned char *decoder_bytes; /* own decoder: its safetensors bytes (a bake embeds them) */
+  size_t decoder_size;
+  char decoder_checksum_hex[17]; /* FNV-1a 64 of decoder_bytes */
 };
+
+/* A derived model of `base` (or of base's parent): with `bytes` (size
+ * bytes of a decoder.safetensors, copied, at most NBRDF_DECODER_BYTES_MAX)
+ * as its own decoder, or a plain new reference to the bundle's parts when
+ * bytes is NULL. `label` starts messages. */
+nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t size,
+                          const char *label, nbrdf_model **out, nbrdf_error *err);
+
+/* `base` with a decoder built in memory (a fine-tuned copy, say): `dec` is
+ * serialised to safetensors bytes, which the returned model decodes with and
+ * a bake embeds (so the texture holds exactly what was used). `dec` stays
+ * the caller's. */
+nbrdf_status model_with_decoder_net(const nbrdf_model *base, const model_decoder *dec,
+                                    nbrdf_model **out, nbrdf_error *err);
 
 /* What a bundle is made of, for saving (all borrowed). */
 typedef struct model_bundle_parts {

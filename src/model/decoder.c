@@ -148,8 +148,9 @@ nbrdf_status model_decoder_eval(const model_decoder *dec, model_runner *runner, 
   return NBRDF_OK;
 }
 
-nbrdf_status model_decoder_save(const model_decoder *dec, const char *path, uint64_t *checksum,
-                                nbrdf_error *err) {
+/* The writer of a decoder file: its tensors and metadata (borrowed from dec). */
+static nbrdf_status decoder_writer(const model_decoder *dec, nbrdf_st_writer **out,
+                                   nbrdf_error *err) {
   nbrdf_st_writer *w = NULL;
   nbrdf_status st = model_net_writer(dec->nn, "decoder", dec->cfg.latent_dim, &w, err);
   char oct[16];
@@ -161,7 +162,28 @@ nbrdf_status model_decoder_save(const model_decoder *dec, const char *path, uint
   if (st == NBRDF_OK)
     st = nbrdf_st_writer_set_metadata(w, "nbrdf.output", model_output_name(dec->cfg.output), err);
   if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.preset", dec->cfg.preset, err);
+  if (st != NBRDF_OK) {
+    nbrdf_st_writer_destroy(w);
+    return st;
+  }
+  *out = w;
+  return NBRDF_OK;
+}
+
+nbrdf_status model_decoder_save(const model_decoder *dec, const char *path, uint64_t *checksum,
+                                nbrdf_error *err) {
+  nbrdf_st_writer *w = NULL;
+  nbrdf_status st = decoder_writer(dec, &w, err);
   if (st == NBRDF_OK) st = nbrdf_st_writer_save(w, path, checksum, err);
+  nbrdf_st_writer_destroy(w);
+  return st;
+}
+
+nbrdf_status model_decoder_serialize(const model_decoder *dec, void **bytes, size_t *size,
+                                     nbrdf_error *err) {
+  nbrdf_st_writer *w = NULL;
+  nbrdf_status st = decoder_writer(dec, &w, err);
+  if (st == NBRDF_OK) st = nbrdf_st_writer_serialize(w, bytes, size, err);
   nbrdf_st_writer_destroy(w);
   return st;
 }

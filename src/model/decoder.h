@@ -80,6 +80,9 @@ nbrdf_status model_decoder_eval(const model_decoder *dec, model_runner *runner, 
  * inputs equal latent_dim + encoding width and that it has 1 output. */
 nbrdf_status model_decoder_save(const model_decoder *dec, const char *path, uint64_t *checksum,
                                 nbrdf_error *err);
+/* The bytes model_decoder_save would write, in a malloc'ed buffer. */
+nbrdf_status model_decoder_serialize(const model_decoder *dec, void **bytes, size_t *size,
+                                     nbrdf_error *err);
 nbrdf_status model_decoder_read(const nbrdf_st_reader *reader, model_decoder **out,
                                 nbrdf_error *err);
 nbrdf_status model_decoder_load(const char *path, model_decoder **out, nbrdf_error *err);

@@ -45,18 +45,6 @@ static nbrdf_status check_options(const nbrdf_model *model, const nbrdf_render_o
   return NBRDF_OK;
 }
 
-static nbrdf_status check_texture(const nbrdf_model *model, const eval_latent_image *tex,
-                                  const char *path, const char *checksum, nbrdf_error *err) {
-  if (strcmp(checksum, nbrdf_model_checksum(model)) != 0)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "%s: baked with model checksum '%s', but the bundle '%s' is '%s'", path,
-                      checksum, nbrdf_model_name(model), nbrdf_model_checksum(model));
-  if (tex->layout.latent_dim != nbrdf_model_latent_dim(model))
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dimension %d, the model's is %d", path,
-                      tex->layout.latent_dim, nbrdf_model_latent_dim(model));
-  return NBRDF_OK;
-}
-
 nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
                           const nbrdf_render_options *options, float *rgb,
                           nbrdf_render_stats *stats, nbrdf_error *err) {
@@ -66,18 +54,21 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   if (st != NBRDF_OK) return st;
   eval_latent_image *tex = NULL;
   eval_env *env = NULL;
-  char checksum[128];
-  st = eval_latent_image_load(latent_path, &tex, checksum, sizeof checksum, err);
-  if (st == NBRDF_OK && o->mode == NBRDF_RENDER_NEURAL)
-    st = check_texture(model, tex, latent_path, checksum, err);
+  /* Neural: the texture decoded as it asks, with its own decoder if it has one. */
+  nbrdf_model *decoding = NULL;
+  if (o->mode == NBRDF_RENDER_NEURAL)
+    st = eval_latent_image_load_model(latent_path, model, &tex, &decoding, err);
+  else
+    st = eval_latent_image_load(latent_path, &tex, NULL, 0, err);
   if (st == NBRDF_OK) st = eval_env_create(o, &env, err);
   if (st != NBRDF_OK) {
     eval_latent_image_free(tex);
+    nbrdf_model_destroy(decoding);
     return st;
   }
   eval_render_ctx ctx;
   memset(&ctx, 0, sizeof ctx);
-  ctx.opts = o, ctx.model = model, ctx.tex = tex, ctx.env = env;
+  ctx.opts = o, ctx.model = decoding, ctx.tex = tex, ctx.env = env;
   ctx.colours =
       o->mode == NBRDF_RENDER_NEURAL ? nbrdf_latent_colours(&tex->layout) : o->reference_channels;
   eval_camera_setup(&ctx.cam, o->scene, o->width, o->height, o->plane_repeat);
@@ -123,6 +114,7 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
     stats->colour_channels = ctx.colours, stats->levels = tex->levels;
   }
   eval_latent_image_free(tex);
+  nbrdf_model_destroy(decoding);
   if (first.status != NBRDF_OK) {
     if (err) *err = first;
     return first.status;

@@ -41,16 +41,11 @@ nbrdf_status nbrdf_render_lobes(const nbrdf_model *model, const char *latent_pat
                                 const char *png_path, double *lobe_error, nbrdf_error *err) {
   if (lobe_error) *lobe_error = NAN;
   eval_latent_image *tex = NULL;
-  char checksum[128];
-  nbrdf_status st = eval_latent_image_load(latent_path, &tex, checksum, sizeof checksum, err);
+  nbrdf_model *decoding = NULL; /* with the texture's own decoder, if it has one */
+  nbrdf_status st = eval_latent_image_load_model(latent_path, model, &tex, &decoding, err);
   if (st != NBRDF_OK) return st;
   int colours = nbrdf_latent_colours(&tex->layout);
-  if (strcmp(checksum, nbrdf_model_checksum(model)) != 0 ||
-      tex->layout.latent_dim != nbrdf_model_latent_dim(model))
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                    "%s: baked with another model (checksum '%s', not '%s')", latent_path, checksum,
-                    nbrdf_model_checksum(model));
-  else if (level < 0 || level >= tex->levels)
+  if (level < 0 || level >= tex->levels)
     st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d (the texture has %d)",
                     latent_path, level, tex->levels);
   else if (x < 0 || y < 0 || x >= tex->width[level] || y >= tex->height[level])
@@ -72,7 +67,7 @@ nbrdf_status nbrdf_render_lobes(const nbrdf_model *model, const char *latent_pat
                                                                (size_t)tex->channels
                                       : NULL;
   for (int c = 0; st == NBRDF_OK && c < colours; c++) {
-    decode_fn_user u = {model, texel + (size_t)c * nbrdf_latent_block(&tex->layout)};
+    decode_fn_user u = {decoding, texel + (size_t)c * nbrdf_latent_block(&tex->layout)};
     st = nbrdf_lobe_images(decode_fn, &u, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg,
                            dec + c * per, err);
     if (st == NBRDF_OK && reference) {
@@ -89,5 +84,6 @@ nbrdf_status nbrdf_render_lobes(const nbrdf_model *model, const char *latent_pat
     *lobe_error = nbrdf_lobe_error(per * colours, ref, dec);
   free(dec), free(ref);
   eval_latent_image_free(tex);
+  nbrdf_model_destroy(decoding);
   return st;
 }

@@ -9,8 +9,10 @@
 #ifndef NBRDF_TEXTURE_LATENT_EXR_H
 #define NBRDF_TEXTURE_LATENT_EXR_H
 
+#include <stddef.h>
 #include <stdint.h>
 
+#include "nbrdf/model.h"
 #include "nbrdf/status.h"
 #include "texture/latent_layout.h"
 
@@ -69,7 +71,12 @@ typedef struct nbrdf_latent_meta {
   const char *model_checksum; /* the bundle's checksum; readers refuse another */
   const char *sources;        /* the six parameter sources, "alpha1=a.png; eta=1.5; ..." */
   const char *settings;       /* bake settings, "key=value; ..." */
-  const char *accuracy;       /* NBRDF_ATTR_ACCURACY; NULL: not written */
+  /* Optional: the texture's own decoder, decoder_size bytes of a
+   * decoder.safetensors file (at most NBRDF_DECODER_BYTES_MAX); the file is
+   * then format version 2. NULL: version 1, no decoder attributes. */
+  const void *decoder;
+  size_t decoder_size;
+  const char *accuracy; /* NBRDF_ATTR_ACCURACY; NULL: not written */
 } nbrdf_latent_meta;
 
 const char *nbrdf_latent_compression_name(nbrdf_latent_compression c);
@@ -117,7 +124,11 @@ typedef struct nbrdf_latent_info {
   const char *model_name, *model_checksum; /* never NULL ("" when absent) */
   const char *sources, *settings, *mip_filter, *writer;
   const char *accuracy; /* NBRDF_ATTR_ACCURACY, "" when absent (a fast bake) */
-  int64_t file_size;    /* bytes */
+  int64_t file_size; /* bytes */
+  /* Version 2: the size and checksum (16 hex digits, checked at open) of the
+   * texture's own decoder (nbrdf_latent_reader_decoder); 0 and "" otherwise. */
+  size_t decoder_size;
+  const char *decoder_checksum;
 } nbrdf_latent_info;
 
 typedef struct nbrdf_latent_reader nbrdf_latent_reader;
@@ -152,6 +163,22 @@ void nbrdf_latent_reader_close(nbrdf_latent_reader *r);
  * texel and channel of a non-finite value). Costs a full read: about as much
  * as decompressing the file (docs/LATENT-TEXTURE.md, "Checking a file"). */
 nbrdf_status nbrdf_latent_reader_check(nbrdf_latent_reader *r, nbrdf_error *err);
+
+/* The bytes of the texture's own decoder (version 2; checksum checked at
+ * open), owned by the reader; NULL and *size = 0 when it has none. */
+const void *nbrdf_latent_reader_decoder(const nbrdf_latent_reader *r, size_t *size);
+
+/* The model that decodes the open texture: `bundle` with the texture's own
+ * decoder, or a new reference to `bundle` (nbrdf_model_for_texture). Checks
+ * the model checksum and latent dimension first. */
+nbrdf_status nbrdf_latent_reader_model(const nbrdf_latent_reader *r, const nbrdf_model *bundle,
+                                       nbrdf_model **out, nbrdf_error *err);
+
+/* Parses the texture's own decoder, if it has one, and checks that it decodes
+ * latents of the texture's size: what a reader with a bundle would refuse.
+ * `about` (may be NULL) receives a one-line description ("" without one). */
+nbrdf_status nbrdf_latent_reader_check_decoder(const nbrdf_latent_reader *r, char *about,
+                                               size_t about_size, nbrdf_error *err);
 
 /* NBRDF_ERR_MISMATCH unless the texture was baked with this model. */
 nbrdf_status nbrdf_latent_check_model(const nbrdf_latent_info *info, const char *path,

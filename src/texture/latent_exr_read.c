@@ -3,6 +3,7 @@
  * index, so that damaged files fail with a message instead of a crash. */
 #include <errno.h>
 #include <fcntl.h>
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,11 +12,22 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "nn/safetensors.h"
 #include "texture/exr_io.h"
 #include "texture/latent_exr.h"
 #include "texture/mip_chain.h"
 
-enum { S_MODEL, S_CHECKSUM, S_SOURCES, S_SETTINGS, S_FILTER, S_WRITER, S_ACCURACY, S_COUNT };
+enum {
+  S_MODEL,
+  S_CHECKSUM,
+  S_SOURCES,
+  S_SETTINGS,
+  S_FILTER,
+  S_WRITER,
+  S_ACCURACY,
+  S_DECODER_SUM,
+  S_COUNT
+};
 
 struct nbrdf_latent_reader {
   char *path;
@@ -26,6 +38,7 @@ struct nbrdf_latent_reader {
   int lw[NBRDF_MIP_MAX_LEVELS], lh[NBRDF_MIP_MAX_LEVELS];
   const exr_attr_chlist_t *chlist;
   const char **logical_names; /* EXR name of each logical channel */
+  const void *decoder;        /* version 2: the own decoder's bytes (the EXR context's) */
   float *scratch;
   size_t scratch_floats;
 };
@@ -117,6 +130,47 @@ static nbrdf_status check_structure(nbrdf_latent_reader *r, nbrdf_error *err) {
   return NBRDF_OK;
 }
 
+/* Version 2: the own decoder's bytes, present, of the right type and size,
+ * and matching their checksum (the safetensors inside are parsed when a
+ * model is made of them, latent_decoder.c). */
+static nbrdf_status read_decoder(nbrdf_latent_reader *r, nbrdf_error *err) {
+  nbrdf_latent_info *in = &r->info;
+  const char *type = NULL;
+  int32_t size = 0;
+  const void *bytes = NULL;
+  exr_result_t rv = exr_attr_get_user(r->exr, 0, NBRDF_ATTR_DECODER, &type, &size, &bytes);
+  if (rv == EXR_ERR_NO_ATTR_BY_NAME)
+    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                      "%s: format version %d says the texture carries its own decoder, but the "
+                      "%s attribute is missing: a tool that copies only the attributes it knows "
+                      "(oiiotool, for one) dropped it. Re-bake the texture, or copy the file "
+                      "byte for byte (cp) instead of through an image tool",
+                      r->path, in->format_version, NBRDF_ATTR_DECODER);
+  if (rv != EXR_ERR_SUCCESS)
+    return nbrdf_exr_fail(err, NBRDF_ERR_FORMAT, &r->stream, rv, r->path, NBRDF_ATTR_DECODER);
+  if (!type || strcmp(type, NBRDF_DECODER_ATTR_TYPE) != 0)
+    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: attribute %s has type '%s', expected '%s'",
+                      r->path, NBRDF_ATTR_DECODER, type ? type : "?", NBRDF_DECODER_ATTR_TYPE);
+  if (size < 1 || (size_t)size > NBRDF_DECODER_BYTES_MAX || !bytes)
+    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                      "%s: the embedded decoder has %d bytes; expected 1 byte to %zu MiB", r->path,
+                      (int)size, NBRDF_DECODER_BYTES_MAX >> 20);
+  nbrdf_status st = get_string(r, NBRDF_ATTR_DECODER_CHECKSUM, 1, &r->strings[S_DECODER_SUM], err);
+  if (st != NBRDF_OK) return st;
+  char sum[17];
+  snprintf(sum, sizeof sum, "%016" PRIx64,
+           nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, bytes, (size_t)size));
+  if (strcmp(sum, r->strings[S_DECODER_SUM]) != 0)
+    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
+                      "%s: the embedded decoder is damaged: its %d bytes have checksum %s, the "
+                      "header records %.20s",
+                      r->path, (int)size, sum, r->strings[S_DECODER_SUM]);
+  r->decoder = bytes;
+  in->decoder_size = (size_t)size;
+  in->decoder_checksum = r->strings[S_DECODER_SUM];
+  return NBRDF_OK;
+}
+
 static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
   nbrdf_latent_info *in = &r->info;
   nbrdf_status st = get_int(r, NBRDF_ATTR_FORMAT_VERSION, &in->format_version, err);
@@ -144,11 +198,11 @@ static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
     return NBRDF_ERR_FORMAT;
   }
   in->channels = nbrdf_latent_channel_count(&in->layout);
-  static const char *const names[S_COUNT] = {NBRDF_ATTR_MODEL_NAME, NBRDF_ATTR_MODEL_CHECKSUM,
+  static const char *const names[S_DECODER_SUM] = {NBRDF_ATTR_MODEL_NAME, NBRDF_ATTR_MODEL_CHECKSUM,
                                              NBRDF_ATTR_SOURCES,    NBRDF_ATTR_SETTINGS,
                                              NBRDF_ATTR_MIP_FILTER, NBRDF_ATTR_WRITER,
                                              NBRDF_ATTR_ACCURACY};
-  for (int i = 0; st == NBRDF_OK && i < S_COUNT; i++)
+  for (int i = 0; st == NBRDF_OK && i < S_DECODER_SUM; i++)
     st = get_string(r, names[i], i == S_MODEL || i == S_CHECKSUM, &r->strings[i], err);
   if (st != NBRDF_OK) return st;
   in->model_name = r->strings[S_MODEL];
@@ -158,7 +212,14 @@ static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
   in->mip_filter = r->strings[S_FILTER];
   in->writer = r->strings[S_WRITER];
   in->accuracy = r->strings[S_ACCURACY];
-  return NBRDF_OK;
+  if (in->format_version < NBRDF_LATENT_FORMAT_OWN_DECODER) {
+    /* Version 1 has no decoder of its own (attributes of that name are not its). */
+    r->strings[S_DECODER_SUM] = strdup("");
+    in->decoder_checksum = r->strings[S_DECODER_SUM];
+    return in->decoder_checksum ? NBRDF_OK
+                                : nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", r->path);
+  }
+  return read_decoder(r, err);
 }
 
 /* Every logical channel must be present, full resolution, half or float. */
@@ -230,6 +291,10 @@ nbrdf_status nbrdf_latent_reader_open(nbrdf_latent_reader **out, const char *pat
 
 const nbrdf_latent_info *nbrdf_latent_reader_info(const nbrdf_latent_reader *r) { return &r->info; }
 const char *nbrdf_latent_reader_path(const nbrdf_latent_reader *r) { return r->path; }
+const void *nbrdf_latent_reader_decoder(const nbrdf_latent_reader *r, size_t *size) {
+  *size = r->decoder ? r->info.decoder_size : 0;
+  return r->decoder;
+}
 
 nbrdf_status nbrdf_latent_reader_level_size(const nbrdf_latent_reader *r, int level, int *width,
                                             int *height, nbrdf_error *err) {

@@ -1,4 +1,5 @@
 /* Streaming writer of latent textures (docs/LATENT-TEXTURE.md). */
+#include <inttypes.h>
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -7,6 +8,7 @@
 
 #include "core/error.h"
 #include "nbrdf/nbrdf.h"
+#include "nn/safetensors.h"
 #include "texture/exr_io.h"
 #include "texture/latent_exr.h"
 #include "texture/mip_chain.h"
@@ -173,8 +175,12 @@ static nbrdf_status on_row(void *user, int level, int y, float *row, nbrdf_error
 }
 
 static nbrdf_status check_args(int width, int height, const nbrdf_latent_layout *layout,
-                               const nbrdf_latent_exr_options *o, const char *path,
-                               nbrdf_error *err) {
+                               const nbrdf_latent_exr_options *o, const nbrdf_latent_meta *meta,
+                               const char *path, nbrdf_error *err) {
+  if (meta && meta->decoder && (meta->decoder_size < 1 || meta->decoder_size > NBRDF_DECODER_BYTES_MAX))
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "%s: an embedded decoder of %zu bytes; it must have 1 byte to %zu MiB", path,
+                      meta->decoder_size, NBRDF_DECODER_BYTES_MAX >> 20);
   if (width < 1 || height < 1 || width > 65536 || height > 65536)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: size %dx%d is outside 1..65536", path, width,
                       height);
@@ -231,7 +237,9 @@ static exr_result_t define_header(nbrdf_latent_writer *w, const nbrdf_latent_met
   const nbrdf_latent_meta none = {0};
   if (!meta) meta = &none;
 #define STR(s) ((s) ? (s) : "")
-  if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_VERSION);
+  /* Without a decoder of its own the file is exactly a version-1 file. */
+  int version = meta->decoder ? NBRDF_LATENT_FORMAT_OWN_DECODER : NBRDF_LATENT_FORMAT_V1;
+  if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_FORMAT_VERSION, version);
   if (!rv) rv = exr_attr_set_int(c, p, NBRDF_ATTR_LATENT_DIM, w->layout.latent_dim);
   if (!rv)
     rv =
@@ -243,6 +251,16 @@ static exr_result_t define_header(nbrdf_latent_writer *w, const nbrdf_latent_met
   if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_SETTINGS, STR(meta->settings));
   if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_MIP_FILTER, NBRDF_MIP_FILTER_BOX);
   if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_WRITER, writer);
+  if (!rv && meta->decoder) {
+    /* An opaque attribute: readers that do not know the type keep (or drop)
+     * the bytes without interpreting them. check_args bounded the size. */
+    char sum[17];
+    snprintf(sum, sizeof sum, "%016" PRIx64,
+             nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, meta->decoder, meta->decoder_size));
+    rv = exr_attr_set_user(c, p, NBRDF_ATTR_DECODER, NBRDF_DECODER_ATTR_TYPE,
+                           (int32_t)meta->decoder_size, meta->decoder);
+    if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_DECODER_CHECKSUM, sum);
+  }
   if (!rv && meta->accuracy) rv = exr_attr_set_string(c, p, NBRDF_ATTR_ACCURACY, meta->accuracy);
 #undef STR
   if (!rv) rv = exr_write_header(c);
@@ -284,7 +302,7 @@ nbrdf_status nbrdf_latent_writer_create(nbrdf_latent_writer **out, const char *p
   const nbrdf_latent_exr_options defaults = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   if (!opts) opts = &defaults;
   if (!path) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "output path is NULL");
-  nbrdf_status st = check_args(width, height, layout, opts, path, err);
+  nbrdf_status st = check_args(width, height, layout, opts, meta, path, err);
   if (st != NBRDF_OK) return st;
   nbrdf_latent_writer *w = calloc(1, sizeof *w);
   if (!w) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);

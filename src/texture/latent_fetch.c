@@ -43,21 +43,16 @@ nbrdf_status eval_latent_image_create(const nbrdf_latent_layout *layout, int wid
   return NBRDF_OK;
 }
 
-nbrdf_status eval_latent_image_load(const char *path, eval_latent_image **out, char *model_checksum,
-                                    size_t checksum_size, nbrdf_error *err) {
-  *out = NULL;
-  nbrdf_latent_reader *r = NULL;
-  nbrdf_status st = nbrdf_latent_reader_open(&r, path, err);
-  if (st != NBRDF_OK) return st;
+/* Every level of the open texture (closes it). */
+static nbrdf_status load_levels(nbrdf_latent_reader *r, const char *path, eval_latent_image **out,
+                                nbrdf_error *err) {
   const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
-  if (model_checksum && checksum_size)
-    snprintf(model_checksum, checksum_size, "%s", info->model_checksum);
   if (info->levels > EVAL_LATENT_MAX_LEVELS) {
     nbrdf_latent_reader_close(r);
     return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: %d mip levels", path, info->levels);
   }
   eval_latent_image *img = NULL;
-  st = eval_latent_image_create(&info->layout, info->width, info->height, info->levels, &img, err);
+  nbrdf_status st = eval_latent_image_create(&info->layout, info->width, info->height, info->levels, &img, err);
   for (int l = 0; st == NBRDF_OK && l < img->levels; l++) {
     int w, h;
     st = nbrdf_latent_reader_level_size(r, l, &w, &h, err);
@@ -73,6 +68,38 @@ nbrdf_status eval_latent_image_load(const char *path, eval_latent_image **out, c
   }
   *out = img;
   return NBRDF_OK;
+}
+
+nbrdf_status eval_latent_image_load(const char *path, eval_latent_image **out, char *model_checksum,
+                                    size_t checksum_size, nbrdf_error *err) {
+  *out = NULL;
+  nbrdf_latent_reader *r = NULL;
+  nbrdf_status st = nbrdf_latent_reader_open(&r, path, err);
+  if (st != NBRDF_OK) return st;
+  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  if (model_checksum && checksum_size)
+    snprintf(model_checksum, checksum_size, "%s", info->model_checksum);
+  return load_levels(r, path, out, err);
+}
+
+nbrdf_status eval_latent_image_load_model(const char *path, const nbrdf_model *bundle,
+                                          eval_latent_image **out, nbrdf_model **model,
+                                          nbrdf_error *err) {
+  *out = NULL;
+  *model = NULL;
+  nbrdf_latent_reader *r = NULL;
+  nbrdf_status st = nbrdf_latent_reader_open(&r, path, err);
+  if (st == NBRDF_OK) st = nbrdf_latent_reader_model(r, bundle, model, err);
+  if (st != NBRDF_OK) {
+    nbrdf_latent_reader_close(r);
+    return st;
+  }
+  st = load_levels(r, path, out, err);
+  if (st != NBRDF_OK) {
+    nbrdf_model_destroy(*model);
+    *model = NULL;
+  }
+  return st;
 }
 
 /* Positive modulo: repeat wrapping for negative coordinates as well. */

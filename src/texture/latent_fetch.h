@@ -24,6 +24,7 @@
 #ifndef NBRDF_EVAL_LATENT_FETCH_H
 #define NBRDF_EVAL_LATENT_FETCH_H
 
+#include "nbrdf/model.h"
 #include "nbrdf/status.h"
 #include "texture/latent_layout.h"
 
@@ -46,6 +47,12 @@ nbrdf_status eval_latent_image_create(const nbrdf_latent_layout *layout, int wid
  * can refuse a texture baked with another model. */
 nbrdf_status eval_latent_image_load(const char *path, eval_latent_image **out, char *model_checksum,
                                     size_t checksum_size, nbrdf_error *err);
+/* Reads every level of a texture baked with `bundle` (checksum and latent
+ * dimension checked) and gives the model that decodes it: `bundle` with the
+ * texture's own decoder, if it has one (nbrdf_model_for_texture). */
+nbrdf_status eval_latent_image_load_model(const char *path, const nbrdf_model *bundle,
+                                          eval_latent_image **out, nbrdf_model **model,
+                                          nbrdf_error *err);
 void eval_latent_image_free(eval_latent_image *img);
 
 /* The filtered texel at (u, v, lod) into out[channels] (see above). */

@@ -14,8 +14,13 @@
 
 #include "nbrdf/status.h"
 
-/* Bumped when a reader of the previous version would misread a new file. */
-#define NBRDF_LATENT_FORMAT_VERSION 1
+/* Bumped when a reader of the previous version would misread a new file.
+ * Version 2 textures carry their own decoder (NBRDF_ATTR_DECODER); a texture
+ * without one is written as version 1, byte for byte as before version 2
+ * existed, so that every reader of version 1 still reads it. */
+#define NBRDF_LATENT_FORMAT_VERSION 2
+#define NBRDF_LATENT_FORMAT_V1 1
+#define NBRDF_LATENT_FORMAT_OWN_DECODER 2
 #define NBRDF_LATENT_MAX_DIM 999
 
 /* Header attributes (OpenEXR attribute names, "nbrdf:" namespace). */
@@ -32,6 +37,11 @@
 /* Optional; only bakes above the fast level write it (docs/LATENT-TEXTURE.md):
  * "level=fitted; budget=120; distinct=N; fitted=N; heldout=N; heldoutError=F; fastError=F" */
 #define NBRDF_ATTR_ACCURACY "nbrdf:accuracy" /* string */
+/* Version 2 only: the texture's own decoder, the bytes of a decoder.safetensors
+ * file in an opaque attribute of this type, and their FNV-1a 64 checksum. */
+#define NBRDF_ATTR_DECODER "nbrdf:decoder"                  /* NBRDF_DECODER_ATTR_TYPE */
+#define NBRDF_ATTR_DECODER_CHECKSUM "nbrdf:decoderChecksum" /* string: 16 hex digits */
+#define NBRDF_DECODER_ATTR_TYPE "nbrdfSafetensors"
 
 /* The one mip filter this version writes: the unweighted mean of the
  * level-0 latents in a texel's footprint (see mip_chain.h). */

@@ -15,6 +15,7 @@
 
 typedef struct verify_run {
   const nbrdf_model *model;
+  nbrdf_model *decoding; /* model, with the texture's own decoder when it has one */
   const char *path;
   nbrdf_verify_options o;
   nbrdf_roughness roughness;
@@ -55,16 +56,10 @@ static nbrdf_status open_texture(verify_run *v, nbrdf_error *err) {
   nbrdf_status st = nbrdf_latent_reader_open(&v->reader, v->path, err);
   if (st != NBRDF_OK) return st;
   v->info = nbrdf_latent_reader_info(v->reader);
-  if (v->info->format_version != NBRDF_LATENT_FORMAT_VERSION)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "%s: latent texture format version %d; this build verifies version %d",
-                      v->path, v->info->format_version, NBRDF_LATENT_FORMAT_VERSION);
-  st = nbrdf_latent_check_model(v->info, v->path, nbrdf_model_name(v->model),
-                                nbrdf_model_checksum(v->model), err);
+  /* The reader refuses versions newer than this build's; every older one is
+   * decoded as a renderer would: with the texture's own decoder, if any. */
+  st = nbrdf_latent_reader_model(v->reader, v->model, &v->decoding, err);
   if (st != NBRDF_OK) return st;
-  if (v->info->layout.latent_dim != nbrdf_model_latent_dim(v->model))
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dim %d, the model's is %d", v->path,
-                      v->info->layout.latent_dim, nbrdf_model_latent_dim(v->model));
   v->colours = nbrdf_latent_colours(&v->info->layout);
   if (v->o.roughness == NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE)
     v->roughness = strstr(v->info->settings, "roughness=perceptual") ? NBRDF_ROUGHNESS_PERCEPTUAL
@@ -210,7 +205,7 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   int last = v->o.level == NBRDF_VERIFY_ALL_LEVELS ? levels - 1 : v->o.level;
   const size_t S = VERIFY_SET * (size_t)v->colours;
   v->refs = verify_refs_create(v->o.walks, v->o.seed, v->o.threads);
-  v->dec = verify_decoder_create(v->model);
+  v->dec = verify_decoder_create(v->decoding);
   v->texel = malloc(sizeof(float) * (size_t)v->info->channels);
   v->ref = malloc(4 * S * sizeof(double));
   v->rep = calloc(1, sizeof *v->rep);
@@ -221,6 +216,8 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   rep->width = v->info->width, rep->height = v->info->height;
   rep->levels = levels, rep->colours = v->colours;
   rep->walks = v->o.walks, rep->seed = v->o.seed;
+  nbrdf_model_own_decoder(v->decoding, &rep->decoder);
+  rep->decoder.bytes = NULL; /* the model's, gone with it */
   verify_damage damage;
   st = verify_scan(v->reader, &damage, err);
   rep->nonfinite = damage.texels;
@@ -286,6 +283,7 @@ nbrdf_status nbrdf_verify(const nbrdf_model *model, const char *texture,
     nbrdf_param_source_free(v.src[id]);
   verify_refs_free(v.refs);
   verify_decoder_free(v.dec);
+  nbrdf_model_destroy(v.decoding);
   free(v.texel);
   free(v.ref);
   return st;

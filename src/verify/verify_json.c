@@ -79,6 +79,11 @@ static cJSON *build(const nbrdf_verify_report *r, const char *texture, size_t wo
   cJSON_AddNumberToObject(root, "references", (double)r->references);
   cJSON_AddNumberToObject(root, "decoded_latents", (double)r->decoded);
   cJSON_AddNumberToObject(root, "decoder_queries", (double)r->decoder_queries);
+  cJSON_AddStringToObject(root, "decoder", r->decoder.own ? "own" : "bundle");
+  if (r->decoder.own) {
+    cJSON_AddNumberToObject(root, "decoder_bytes", (double)r->decoder.size);
+    cJSON_AddStringToObject(root, "decoder_checksum", r->decoder.checksum);
+  }
   cJSON_AddNumberToObject(root, "clamped_parameters", (double)r->clamped);
   cJSON_AddNumberToObject(root, "reference_seconds", r->reference_seconds);
   cJSON_AddNumberToObject(root, "decode_seconds", r->decode_seconds);

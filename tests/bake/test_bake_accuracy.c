@@ -180,6 +180,37 @@ static void test_fitted_constant(void) {
   }
 }
 
+/* SPECIALISED: the fine-tuned decoder goes into the texture (format 2), the
+ * held-out error is below the fast level's, and the texture decodes with its
+ * own decoder: nbrdf_model_for_texture's model gives the held-out tuple's
+ * values, the bundle's decoder (ignoring the embedded one) does not. */
+static void test_specialised_constant(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = sharp_coat();
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.accuracy = NBRDF_BAKE_SPECIALISED;
+  o.budget = 6.0;
+  o.mip_levels = 1;
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, path("spec.exr"), &rep, err), err);
+  CHECK(rep.accuracy == NBRDF_BAKE_SPECIALISED && rep.fitted_tuples == 1);
+  CHECK_MSG(rep.heldout_error < 0.5 * rep.heldout_error_fast,
+            "held-out lobe error specialised %.4f vs fast %.4f", rep.heldout_error,
+            rep.heldout_error_fast);
+  printf("  sharp low-IOR coat: held-out lobe error fast %.2f %%, specialised %.2f %%\n",
+         100 * rep.heldout_error_fast, 100 * rep.heldout_error);
+  nbrdf_decoder_info info;
+  CHECK_OK(nbrdf_texture_own_decoder(path("spec.exr"), &info, err), err);
+  CHECK(info.own && info.size > 0);
+  nbrdf_latent_reader *r = NULL;
+  CHECK_OK(nbrdf_latent_reader_open(&r, path("spec.exr"), err), err);
+  if (r) {
+    CHECK(nbrdf_latent_reader_info(r)->format_version == 2);
+    CHECK(strstr(nbrdf_latent_reader_info(r)->accuracy, "level=specialised;") != NULL);
+    nbrdf_latent_reader_close(r);
+  }
+}
+
 static int cancel_in_fit(void *user, const char *stage, double done, double total) {
   int *seen = user;
   if (!strcmp(stage, "ground truth")) seen[0]++;
@@ -238,6 +269,7 @@ int main(void) {
   RUN(test_bad_options);
   RUN(test_cancel_in_fit);
   RUN(test_fitted_constant);
+  RUN(test_specialised_constant);
   nbrdf_model_destroy(model);
   return nbrdf_test_finish();
 }

@@ -65,9 +65,13 @@ check "all levels listed" grep -Eq '^  all +1[0-9] ' "$TMP/out"
 # Refusals: another bundle, a newer format, damaged files. Exit 1, the file named.
 expect_exit 1 "$NBRDF" verify tex.exr "${params[@]}" --bundle other --spp 16
 check "checksum message: $(cat "$TMP/err")" grep -Eq 'tex.exr.*(checksum|bundle)' "$TMP/err"
+oiiotool tex.exr --attrib:type=int nbrdf:formatVersion 3 -o v3.exr
+expect_exit 1 "$NBRDF" verify v3.exr "${params[@]}" "${fast[@]}"
+check "format version message: $(cat "$TMP/err")" grep -Fq 'v3.exr: latent texture format version 3 is newer' "$TMP/err"
+# Version 2 carries its own decoder: one an image tool dropped is refused, saying so.
 oiiotool tex.exr --attrib:type=int nbrdf:formatVersion 2 -o v2.exr
 expect_exit 1 "$NBRDF" verify v2.exr "${params[@]}" "${fast[@]}"
-check "format version message: $(cat "$TMP/err")" grep -Fq 'v2.exr: latent texture format version 2' "$TMP/err"
+check "dropped decoder message: $(cat "$TMP/err")" grep -Fq 'v2.exr: format version 2 says the texture carries its own decoder, but the nbrdf:decoder attribute is missing' "$TMP/err"
 # 0x7e7e is a NaN as a half at either alignment: a flip inside zlib data
 # fails decompression, one inside a tile stored raw (the small mip levels)
 # leaves NaN latents; both are exit 1. (A flip to other finite values in a raw

@@ -24,7 +24,7 @@ static void round_trip_seeded(int W, int H, nbrdf_latent_layout layout,
   opts.storage = storage;
   opts.tile_size = tile;
   opts.compression = comp;
-  nbrdf_latent_meta meta = {"test-model", "abc123", "alpha1=0.5", "samples=1", NULL};
+  nbrdf_latent_meta meta = {"test-model", "abc123", "alpha1=0.5", "samples=1", NULL, 0, NULL};
   CHECK_OK(fixture_write(path, W, H, &layout, &meta, &opts, l0, band, err), err);
 
   nbrdf_latent_reader *r = NULL;
@@ -41,7 +41,7 @@ static void round_trip_seeded(int W, int H, nbrdf_latent_layout layout,
         in->layout.proxy == layout.proxy);
   CHECK(in->storage == storage && in->compression == comp);
   CHECK(in->tile_width == tile && in->tile_height == tile);
-  CHECK(in->format_version == NBRDF_LATENT_FORMAT_VERSION);
+  CHECK(in->format_version == NBRDF_LATENT_FORMAT_V1 && in->decoder_size == 0); /* no decoder */
   CHECK(strcmp(in->model_name, "test-model") == 0 && strcmp(in->model_checksum, "abc123") == 0);
   CHECK(strcmp(in->sources, "alpha1=0.5") == 0 && strcmp(in->settings, "samples=1") == 0);
   CHECK(strcmp(in->mip_filter, NBRDF_MIP_FILTER_BOX) == 0);

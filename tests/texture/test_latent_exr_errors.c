@@ -220,7 +220,7 @@ static void test_reader_refusals(void) {
 
   snprintf(path, sizeof path, "%s/t.exr", dir);
   float *l0 = fixture_texels(20, 20, &mono2, 4);
-  nbrdf_latent_meta meta = {"model-a", "1111", NULL, NULL, NULL};
+  nbrdf_latent_meta meta = {"model-a", "1111", NULL, NULL, NULL, 0, NULL};
   CHECK_OK(fixture_write(path, 20, 20, &mono2, &meta, NULL, l0, 20, err), err);
   CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
   if (r) {
@@ -236,7 +236,14 @@ static void test_reader_refusals(void) {
   CHECK(set_int_attr(path, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_VERSION + 1));
   CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
               "is newer than this nbrdf reads");
-  CHECK(set_int_attr(path, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_VERSION));
+  /* Version 2 promises a decoder of its own: without the attribute (what an
+   * image tool's copy leaves) the file is refused, saying why. */
+  CHECK(set_int_attr(path, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_OWN_DECODER));
+  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
+              "the nbrdf:decoder attribute is missing: a tool that copies only the attributes "
+              "it knows (oiiotool");
+  CHECK(strstr(err->message, path) == err->message);
+  CHECK(set_int_attr(path, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_V1));
   CHECK(set_int_attr(path, NBRDF_ATTR_LATENT_DIM, 3));
   CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
               "missing channel latent.L02.Y");

@@ -1,0 +1,185 @@
+/* nbrdf eval --texture: CSV point queries of a latent texture (eval_texture.h). */
+#include "cli/eval_texture.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "core/number.h"
+#include "core/vec3.h"
+#include "texture/latent_fetch.h"
+
+enum { COL_U, COL_V, COL_THETA_I, COL_PHI_I, COL_THETA_O, COL_PHI_O, N_COLS };
+/* Rows decoded per call: bounds memory for any number of rows. */
+#define CHUNK 4096
+
+typedef struct column {
+  const char *name;
+  double lo, hi;
+  int hi_open; /* θ = 90° is excluded: the direction would lie in the surface */
+} column;
+
+static const column COLUMNS[N_COLS] = {{"u", 0, 1, 0},        {"v", 0, 1, 0},
+                                       {"theta_i", 0, 90, 1}, {"phi_i", -360, 360, 0},
+                                       {"theta_o", 0, 90, 1}, {"phi_o", -360, 360, 0}};
+static const char *const OUT_MONO[] = {"f"};
+static const char *const OUT_RGB[] = {"f_r", "f_g", "f_b"};
+
+/* A field's text made safe and short for an error message. */
+static const char *printable(const char *s, char *buf, size_t cap) {
+  size_t n = 0;
+  for (; *s && n + 4 < cap; s++)
+    buf[n++] = (*s >= 32 && *s < 127) ? *s : '?';
+  if (*s) buf[n++] = '.', buf[n++] = '.', buf[n++] = '.';
+  buf[n] = '\0';
+  return buf;
+}
+
+static int find_columns(const csv_table *t, int colours, size_t index[N_COLS]) {
+  size_t width = csv_record_width(t, 0);
+  const char *const *outs = colours == 3 ? OUT_RGB : OUT_MONO;
+  char name[64];
+  for (int c = 0; c < N_COLS; c++)
+    index[c] = width;
+  for (size_t k = 0; k < width; k++) {
+    csv_value(t, 0, k, name, sizeof name);
+    for (int o = 0; o < colours; o++)
+      if (!strcmp(name, outs[o]))
+        return cli_fail("eval", "line %zu: the input already has a column '%s'", t->line[0], name);
+    for (int c = 0; c < N_COLS; c++) {
+      if (strcmp(name, COLUMNS[c].name)) continue;
+      if (index[c] != width)
+        return cli_fail("eval", "line %zu: column '%s' appears twice", t->line[0], name);
+      index[c] = k;
+    }
+  }
+  for (int c = 0; c < N_COLS; c++)
+    if (index[c] == width)
+      return cli_fail("eval",
+                      "missing column '%s' (--texture needs u,v,theta_i,phi_i,theta_o,phi_o)",
+                      COLUMNS[c].name);
+  return CLI_EXIT_OK;
+}
+
+static int parse_row(const csv_table *t, size_t r, const size_t index[N_COLS], double v[N_COLS]) {
+  size_t width = csv_record_width(t, r), want = csv_record_width(t, 0);
+  if (width != want)
+    return cli_fail("eval", "line %zu: %zu fields, but the header has %zu columns", t->line[r],
+                    width, want);
+  char buf[128], shown[64];
+  for (int c = 0; c < N_COLS; c++) {
+    const column *s = &COLUMNS[c];
+    size_t len = csv_value(t, r, index[c], buf, sizeof buf);
+    if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
+    double x = 0;
+    nbrdf_number_result nr = len < sizeof buf && strlen(buf) == len
+                                 ? nbrdf_parse_number(buf, len, &x)
+                                 : NBRDF_NUMBER_SYNTAX;
+    if (nr != NBRDF_NUMBER_OK)
+      return cli_fail("eval", "line %zu, column '%s': '%s' %s", t->line[r], s->name,
+                      printable(buf, shown, sizeof shown), nbrdf_number_problem(nr));
+    if (x < s->lo || x > s->hi || (s->hi_open && x == s->hi))
+      return cli_fail("eval", "line %zu, column '%s': %s is outside [%g, %g%c", t->line[r],
+                      s->name, printable(buf, shown, sizeof shown), s->lo, s->hi,
+                      s->hi_open ? ')' : ']');
+    v[c] = x;
+  }
+  return CLI_EXIT_OK;
+}
+
+static void direction(double theta_deg, double phi_deg, float *w) {
+  vec3 d = v3_from_spherical(theta_deg * (M_PI / 180.0), phi_deg * (M_PI / 180.0));
+  w[0] = (float)d.x, w[1] = (float)d.y, w[2] = (float)d.z;
+}
+
+static void write_row(FILE *out, const csv_table *t, size_t r) {
+  size_t width = csv_record_width(t, r);
+  for (size_t c = 0; c < width; c++) {
+    if (c) fputc(',', out);
+    csv_write_raw(out, t, r, c);
+  }
+}
+
+typedef struct buffers {
+  float *texel, *lat, *wi, *wo, *f;
+} buffers;
+
+/* Parses, fetches and decodes rows [r0, r0 + n) (records r0 + 1 ...) into f. */
+static int decode_chunk(const csv_table *t, const size_t index[N_COLS], const nbrdf_model *model,
+                        const eval_latent_image *img, int level, size_t r0, size_t n,
+                        buffers *b) {
+  const nbrdf_latent_layout *lay = &img->layout;
+  int colours = nbrdf_latent_colours(lay), D = lay->latent_dim;
+  for (size_t k = 0; k < n; k++) {
+    double v[N_COLS];
+    int rc = parse_row(t, r0 + k + 1, index, v);
+    if (rc != CLI_EXIT_OK) return rc;
+    eval_latent_fetch_level(img, level, (float)v[COL_U], (float)v[COL_V], b->texel);
+    for (int c = 0; c < colours; c++)
+      memcpy(b->lat + (k * colours + c) * D, b->texel + nbrdf_latent_index_latent(lay, c, 0),
+             sizeof(float) * (size_t)D);
+    direction(v[COL_THETA_I], v[COL_PHI_I], b->wi + 3 * k);
+    direction(v[COL_THETA_O], v[COL_PHI_O], b->wo + 3 * k);
+  }
+  nbrdf_error err = {0};
+  if (nbrdf_model_decode(model, n, colours, b->lat, b->wi, b->wo, b->f, &err) != NBRDF_OK)
+    return cli_fail("eval", "lines %zu to %zu: %s", t->line[r0 + 1], t->line[r0 + n],
+                    err.message);
+  return CLI_EXIT_OK;
+}
+
+int eval_texture(const eval_texture_options *o, const csv_table *t, FILE *out) {
+  nbrdf_model *bundle = NULL, *model = NULL;
+  int rc = cli_model_load("eval", o->bundle, &bundle, NULL, 0);
+  if (rc != CLI_EXIT_OK) return rc;
+  nbrdf_error err = {0};
+  eval_latent_image *img = NULL;
+  /* The texture's own decoder when it carries one: as a renderer decodes it. */
+  nbrdf_status st = eval_latent_image_load_model(o->texture, bundle, &img, &model, &err);
+  nbrdf_model_destroy(bundle);
+  if (st != NBRDF_OK) return cli_fail_error("eval", &err);
+  int colours = nbrdf_latent_colours(&img->layout);
+  size_t index[N_COLS];
+  buffers b = {0};
+  if (o->level >= img->levels)
+    rc = cli_fail("eval", "%s has %d mip level(s); there is no level %d", o->texture, img->levels,
+                  o->level);
+  if (rc == CLI_EXIT_OK) rc = find_columns(t, colours, index);
+  size_t n = t->n_records - 1, chunk = n < CHUNK ? n : CHUNK;
+  float *f = NULL;
+  if (rc == CLI_EXIT_OK && n > 0) {
+    size_t lat = chunk * (size_t)colours * (size_t)img->layout.latent_dim;
+    b.texel = malloc(sizeof(float) * (size_t)img->channels);
+    b.lat = malloc(sizeof(float) * lat);
+    b.wi = malloc(sizeof(float) * 3 * chunk);
+    b.wo = malloc(sizeof(float) * 3 * chunk);
+    f = malloc(sizeof(float) * n * (size_t)colours);
+    if (!b.texel || !b.lat || !b.wi || !b.wo || !f)
+      rc = cli_fail("eval", "out of memory for %zu rows", n);
+  }
+  /* Every row is parsed and decoded before anything is written: a bad row
+   * leaves stdout empty, as for the other models. */
+  for (size_t r0 = 0; rc == CLI_EXIT_OK && r0 < n; r0 += chunk) {
+    b.f = f + r0 * (size_t)colours;
+    rc = decode_chunk(t, index, model, img, o->level, r0, n - r0 < chunk ? n - r0 : chunk, &b);
+  }
+  if (rc == CLI_EXIT_OK) {
+    const char *const *outs = colours == 3 ? OUT_RGB : OUT_MONO;
+    write_row(out, t, 0);
+    for (int c = 0; c < colours; c++)
+      fprintf(out, ",%s", outs[c]);
+    fputc('\n', out);
+    for (size_t k = 0; k < n; k++) {
+      write_row(out, t, k + 1);
+      for (int c = 0; c < colours; c++)
+        fprintf(out, ",%.9g", (double)f[k * colours + c]);
+      fputc('\n', out);
+    }
+    if (fflush(out) != 0 || ferror(out)) rc = cli_fail("eval", "writing stdout failed");
+  }
+  free(b.texel), free(b.lat), free(b.wi), free(b.wo), free(f);
+  eval_latent_image_free(img);
+  nbrdf_model_destroy(model);
+  return rc;
+}

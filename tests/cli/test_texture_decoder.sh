@@ -1,0 +1,123 @@
+#!/usr/bin/env bash
+# Textures that carry their own decoder (format version 2, issue 17), from the
+# command line: bake --decoder embeds it; info, verify, render and eval
+# --texture use it; the committed version-1 texture is still read; a copy
+# through oiiotool (which drops the decoder), a damaged decoder and bad
+# --texture queries are refused with messages naming the file, line or column.
+set -u
+source "$NBRDF_SOURCE_DIR/tests/cli/lib.sh"
+cd "$TMP"
+differ() { ! cmp -s "$1" "$2"; }
+V1="$NBRDF_SOURCE_DIR/tests/cli/data/v1_constant_rgb.exr"
+BUNDLE="$NBRDF_SOURCE_DIR/models/default"
+# A decoder of random weights with the default bundle's latent size.
+"$NBRDF" bundle init rnd --decoder medium --seed 3 >/dev/null || { echo "bundle init failed" >&2; exit 1; }
+P=(--bundle "$BUNDLE" --alpha1 0.3 --eta 1.5 --alpha2 0.2 --r0 0.9,0.6,0.3 --albedo 0.5 --sigma-t 1)
+
+# The committed version-1 file: small, read, decoded with the bundle's decoder.
+check "the v1 fixture is small" test "$(stat -c %s "$V1")" -lt 100000
+expect_exit 0 "$NBRDF" info "$V1"
+check "v1: format version 1" grep -Eq '^format: +version 1,' "$TMP/out"
+check "v1: decoder bundle" grep -Eq '^decoder: +bundle$' "$TMP/out"
+
+expect_exit 0 "$NBRDF" bake "${P[@]}" --decoder rnd/decoder.safetensors -o v2.exr
+expect_exit 0 "$NBRDF" bake "${P[@]}" -o v1.exr
+# The networks' kernels give the same bits on every CPU path (src/nn), so a
+# difference here means the version-1 bytes changed.
+check "a bake without --decoder is the committed v1 file byte for byte" cmp -s v1.exr "$V1"
+expect_exit 0 "$NBRDF" info v2.exr
+check "v2: format version 2" grep -Eq '^format: +version 2,' "$TMP/out"
+size=$(stat -c %s rnd/decoder.safetensors)
+sum=$(python3 -c '
+import sys
+h = 0xcbf29ce484222325
+for b in open(sys.argv[1], "rb").read():
+    h = ((h ^ b) * 0x100000001b3) & 0xffffffffffffffff
+print("%016x" % h)' rnd/decoder.safetensors)
+check "v2: decoder own ($size bytes, $sum)" grep -Fq "decoder:       own ($size bytes, checksum $sum)" "$TMP/out"
+check "v2: the full check parses the decoder" grep -Fq 'own decoder: medium, log1p output' "$TMP/out"
+
+# verify, render and eval --texture decode with the embedded decoder.
+fast=(--texels 1 --spp 16)
+expect_exit 0 "$NBRDF" verify v2.exr "${P[@]}" "${fast[@]}"
+check "verify says own" grep -Fq "decoder: own ($size bytes, checksum $sum)" "$TMP/out"
+expect_exit 0 "$NBRDF" verify v1.exr "${P[@]}" "${fast[@]}" --json v1.json
+check "verify of v1 says bundle" grep -Fq 'decoder: bundle' "$TMP/out"
+check "verify JSON says bundle" grep -Eq '"decoder":\s*"bundle"' v1.json
+for t in v1 v2; do
+  expect_exit 0 "$NBRDF" render $t.exr --bundle "$BUNDLE" -o r_$t.exr --width 16 --height 16 --spp 2 \
+    --lobe 0,0
+done
+check "renders differ (the texture's own decoder was used)" differ r_v1.exr r_v2.exr
+check "lobe images differ" differ r_v1-lobe-0-0-0.png r_v2-lobe-0-0-0.png
+printf 'id,u,v,theta_i,phi_i,theta_o,phi_o\nq,0.5,0.5,30,0,30,180\n' >q.csv
+expect_exit 0 "$NBRDF" eval --texture v1.exr --bundle "$BUNDLE" --in q.csv
+cp "$TMP/out" e1.csv
+check "eval --texture header" grep -Fxq 'id,u,v,theta_i,phi_i,theta_o,phi_o,f_r,f_g,f_b' e1.csv
+expect_exit 0 "$NBRDF" eval --texture v2.exr --bundle "$BUNDLE" --in q.csv
+check "eval --texture decodes with the own decoder" differ e1.csv "$TMP/out"
+
+# oiiotool keeps formatVersion 2 but drops the decoder: refused, saying why.
+oiiotool v2.exr -o copied.exr
+for cmd in "info copied.exr" "eval --texture copied.exr --in q.csv" \
+  "render copied.exr -o r.exr --width 8 --height 8"; do
+  expect_exit 1 "$NBRDF" $cmd
+  check "$cmd: names the file and the cause" grep -Fq 'copied.exr: format version 2 says the texture carries its own decoder, but the nbrdf:decoder attribute is missing: a tool that copies only the attributes it knows (oiiotool' "$TMP/err"
+done
+check "no render output" test ! -e r.exr
+
+# A byte flipped inside the embedded decoder: the checksum catches it.
+python3 - <<'PY'
+data = bytearray(open("v2.exr", "rb").read())
+dec = open("rnd/decoder.safetensors", "rb").read()
+at = data.find(dec[4096:4160])
+assert at > 0
+data[at + 7] ^= 0x20
+open("damaged.exr", "wb").write(data)
+PY
+expect_exit 1 "$NBRDF" info --header-only damaged.exr
+check "damaged: named" grep -Fq 'damaged.exr: the embedded decoder is damaged' "$TMP/err"
+expect_exit 1 "$NBRDF" verify damaged.exr "${P[@]}" "${fast[@]}"
+check "verify damaged: named" grep -Fq 'damaged.exr: the embedded decoder is damaged' "$TMP/err"
+
+# bake --decoder refusals name the file.
+expect_exit 1 "$NBRDF" bake "${P[@]}" --decoder missing.safetensors -o x.exr
+check "missing decoder named" grep -Fq 'missing.safetensors' "$TMP/err"
+expect_exit 1 "$NBRDF" bake "${P[@]}" --decoder rnd/sampler.safetensors -o x.exr
+check "a sampler as decoder named" grep -Fq 'rnd/sampler.safetensors' "$TMP/err"
+check "no output" test ! -e x.exr
+
+# eval --texture: bad CSV names the line and column; usage errors exit 2.
+E=(eval --texture v2.exr --bundle "$BUNDLE")
+printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,30,0,30,180\n0.5,x,30,0,30,180\n' >bad.csv
+expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
+check "bad number: line 3, column v" grep -Fq "line 3, column 'v': 'x' is not a number" "$TMP/err"
+check "nothing written on error" test ! -s "$TMP/out"
+printf 'u,v,theta_i,phi_i,theta_o,phi_o\n1.5,0.5,30,0,30,180\n' >bad.csv
+expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
+check "u out of range" grep -Fq "line 2, column 'u': 1.5 is outside [0, 1]" "$TMP/err"
+printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,90,0,30,180\n' >bad.csv
+expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
+check "theta 90 refused" grep -Fq "line 2, column 'theta_i': 90 is outside [0, 90)" "$TMP/err"
+printf 'u,v,theta_i,phi_i,theta_o\n0.5,0.5,30,0,30\n' >bad.csv
+expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
+check "missing column" grep -Fq "missing column 'phi_o'" "$TMP/err"
+printf 'u,v,theta_i,phi_i,theta_o,phi_o,f_g\n0.5,0.5,30,0,30,180,1\n' >bad.csv
+expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
+check "output column present" grep -Fq "the input already has a column 'f_g'" "$TMP/err"
+printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,30,0\n' >bad.csv
+expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
+check "short row" grep -Fq "line 2: 4 fields, but the header has 6 columns" "$TMP/err"
+expect_exit 1 "$NBRDF" "${E[@]}" --level 1 --in q.csv
+check "no such level" grep -Fq 'v2.exr has 1 mip level(s); there is no level 1' "$TMP/err"
+expect_exit 1 "$NBRDF" "${E[@]}" --in nothere.csv
+check "missing --in named" grep -Fq 'nothere.csv' "$TMP/err"
+expect_exit 2 "$NBRDF" "${E[@]}" --model neural --in q.csv
+expect_exit 2 "$NBRDF" "${E[@]}" --spp 4 --in q.csv
+expect_exit 2 "$NBRDF" eval --model conductor --level 1 --in q.csv
+expect_exit 2 "$NBRDF" "${E[@]}" --level -1 --in q.csv
+# A mono texture writes f.
+expect_exit 0 "$NBRDF" bake "${P[@]}" --r0 0.9 -o mono.exr
+expect_exit 0 "$NBRDF" eval --texture mono.exr --bundle "$BUNDLE" --in q.csv
+check "mono: f" grep -Fxq 'id,u,v,theta_i,phi_i,theta_o,phi_o,f' "$TMP/out"
+finish
