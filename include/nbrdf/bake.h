@@ -27,6 +27,7 @@
 
 #include <signal.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "nbrdf/model.h"
 #include "nbrdf/status.h"
@@ -129,6 +130,30 @@ typedef enum nbrdf_bake_compression {
 /* Trained range of sigma_t (paper: {0, 1, 2, 5}); the range policy applies above it. */
 #define NBRDF_BAKE_SIGMA_T_MAX 5.0f
 
+/* Accuracy levels (docs/BAKE.md, "Accuracy levels"):
+ * - FAST: the universal networks only (today's bake; bytes unchanged).
+ * - FITTED: the scene's representative tuples get their layered ground truth
+ *   (random walk) and are projected into latents with the frozen universal
+ *   decoder, starting from the network's latents; the correction is carried
+ *   to every texel over parameter space. Every reader decodes the result.
+ * - SPECIALISED: as FITTED, then a copy of the decoder is fine-tuned on the
+ *   scene's ground truth together with the latents; the texture carries that
+ *   decoder (latent texture format 2; nbrdf_model_for_texture decodes it). */
+typedef enum nbrdf_bake_accuracy {
+  NBRDF_BAKE_FAST = 0,
+  NBRDF_BAKE_FITTED = 1,
+  NBRDF_BAKE_SPECIALISED = 2
+} nbrdf_bake_accuracy;
+
+/* Default budgets in seconds of the deterministic cost model (not wall
+ * clock: the same inputs and budget give the same bake on any machine). */
+#define NBRDF_BAKE_BUDGET_FITTED 120.0
+#define NBRDF_BAKE_BUDGET_SPECIALISED 300.0
+
+/* "fast", "fitted", "specialised"; parse returns -1 for anything else. */
+const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a);
+int nbrdf_bake_accuracy_parse(const char *name);
+
 typedef struct nbrdf_bake_options {
   nbrdf_bake_storage storage; /* half (default) or float latents */
   int mip_levels;             /* 0: the full mip chain; 1: level 0 only */
@@ -172,6 +197,14 @@ typedef struct nbrdf_bake_options {
    * header as nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and parameters. 0 turns it
    * off. The texels are the same either way. */
   size_t energy_audit;
+  nbrdf_bake_accuracy accuracy;       /* FAST (default) */
+  /* FITTED and SPECIALISED: seconds of the deterministic cost model the
+   * ground truth and the fit may take (<= 0: the level's default,
+   * NBRDF_BAKE_BUDGET_*). A budget too small for the level fails with
+   * NBRDF_ERR_ARGUMENT saying what it could do. Progress then also reports
+   * stages "ground truth" and "fit" before "bake". */
+  double budget;
+  uint64_t seed; /* random walks and tuple selection of FITTED/SPECIALISED */
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
@@ -181,7 +214,8 @@ typedef struct nbrdf_bake_options {
 #define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
-        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT         \
+        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,         \
+        NBRDF_BAKE_FAST, 0.0, 1u                                                                    \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
@@ -194,6 +228,14 @@ typedef struct nbrdf_bake_report {
   size_t clamped;      /* texel channels with a clamped parameter */
   size_t audited;      /* distinct latents of the energy audit */
   double max_albedo;   /* their largest decoded directional albedo (NaN: none audited) */
+  /* FITTED / SPECIALISED (0 for FAST): */
+  nbrdf_bake_accuracy accuracy;
+  double budget;          /* the budget used, cost-model seconds */
+  size_t distinct;        /* distinct tuples of the maps (the selection's candidates) */
+  size_t fitted_tuples;   /* tuples whose ground truth the fit used */
+  size_t heldout_tuples;  /* tuples held out of the fit for the error estimate */
+  double heldout_error;   /* median lobe error (fraction) on the held-out tuples */
+  double heldout_error_fast; /* the same tuples with the universal networks alone */
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

@@ -9,8 +9,11 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bake/bake_accuracy.h"
 #include "bake/bake_band.h"
 #include "core/error.h"
+#include "model/bundle.h"
+#include "core/progress.h"
 #include "core/number.h"
 #include "core/progress.h"
 #include "texture/latent_exr.h"
@@ -23,6 +26,18 @@
 
 static const char *const param_names[NBRDF_BAKE_PARAM_COUNT] = {"alpha1", "eta",    "alpha2",
                                                                 "r0",     "albedo", "sigma_t"};
+
+static const char *const accuracy_names[3] = {"fast", "fitted", "specialised"};
+
+const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a) {
+  return (unsigned)a < 3 ? accuracy_names[a] : "unknown";
+}
+
+int nbrdf_bake_accuracy_parse(const char *name) {
+  for (int k = 0; name && k < 3; k++)
+    if (!strcmp(name, accuracy_names[k])) return k;
+  return -1;
+}
 
 const char *nbrdf_bake_param_name(nbrdf_bake_param_id id) {
   return (unsigned)id < NBRDF_BAKE_PARAM_COUNT ? param_names[id] : "parameter";
@@ -183,12 +198,31 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
            o->tile_size, o->mip_levels == 1 ? "1" : "full",
            o->roughness == NBRDF_ROUGHNESS_PERCEPTUAL ? "perceptual" : "alpha",
            o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp", quant);
+  bake_progress prog = {.height = H};
+  nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
+  /* Above the fast level: ground truth and fit first, before any file exists. */
+  bake_accuracy_result acc = {0};
+  nbrdf_model *specialised = NULL;
+  if (o->accuracy != NBRDF_BAKE_FAST) {
+    bake_scene scene = {src, W, H, rgb ? 3 : 1};
+    st = bake_accuracy_prepare(model, &scene, o, &prog.ticker, &acc, err);
+    /* SPECIALISED: the fine-tuned decoder copy becomes the model's own
+     * decoder, whose bytes the texture then carries (format version 2). */
+    if (st == NBRDF_OK && acc.correction.decoder)
+      st = model_with_decoder_net(model, acc.correction.decoder, &specialised, err);
+    if (st != NBRDF_OK) {
+      bake_accuracy_free(&acc);
+      return st;
+    }
+    if (specialised) model = specialised;
+  }
   /* A model with a decoder of its own (nbrdf_model_with_decoder) makes a
    * texture that carries it: version 2; else exactly version 1. */
   nbrdf_decoder_info own;
   nbrdf_model_own_decoder(model, &own);
-  nbrdf_latent_meta meta = {
-      nbrdf_model_name(model), nbrdf_model_checksum(model), sources, settings, own.bytes, own.size};
+  nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
+                            settings, own.bytes, own.size, NULL};
+  if (o->accuracy != NBRDF_BAKE_FAST) meta.accuracy = acc.attribute;
   mip_ctx mctx = {model, &layout};
   nbrdf_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
@@ -197,8 +231,6 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   wo.mip_levels = o->mip_levels;
   wo.mip_row = mip_row;
   wo.mip_row_user = &mctx;
-  bake_progress prog = {.height = H};
-  nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
   wo.tick = writer_tick;
   wo.tick_user = &prog;
   wo.max_albedo_attr = o->energy_audit > 0;
@@ -208,7 +240,11 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   if (band_rows > H) band_rows = H;
   size_t texel_floats = (size_t)nbrdf_latent_channel_count(&layout);
   float *texels = malloc(sizeof(float) * texel_floats * (size_t)band_rows * W);
-  if (!texels) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
+  if (!texels) {
+    bake_accuracy_free(&acc);
+    nbrdf_model_destroy(specialised);
+    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
+  }
 
   nbrdf_latent_writer *writer = NULL;
   st = nbrdf_latent_writer_create(&writer, out_path, W, H, &layout, &meta, &wo, inputs, n_inputs,
@@ -221,6 +257,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   band.tick = band_tick;
   band.tick_user = &prog;
   bake_audit_init(&band.audit, o->energy_audit);
+  if (o->accuracy != NBRDF_BAKE_FAST) band.correct = &acc.correction;
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
     int rows = H - y < band_rows ? H - y : band_rows;
     prog.y = y, prog.rows = rows, prog.fraction = 0.0;
@@ -263,9 +300,20 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
       rep->clamped = 0;
       for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
         rep->clamped += band.clamped[id];
+      if (o->accuracy != NBRDF_BAKE_FAST) {
+        rep->accuracy = o->accuracy;
+        rep->budget = acc.budget;
+        rep->distinct = acc.distinct;
+        rep->fitted_tuples = acc.fitted;
+        rep->heldout_tuples = acc.heldout;
+        rep->heldout_error = acc.heldout_error;
+        rep->heldout_error_fast = acc.heldout_error_fast;
+      }
     }
   }
+  bake_accuracy_free(&acc);
   bake_band_free(&band);
+  nbrdf_model_destroy(specialised);
   free(texels);
   return st;
 }
@@ -286,6 +334,14 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
   if (o.quantise_bits != 0 && (o.quantise_bits < 2 || o.quantise_bits > 16))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: quantise_bits is 0 (off) or 2..16, not %d",
                       o.quantise_bits);
+  if ((unsigned)o.accuracy > NBRDF_BAKE_SPECIALISED)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "bake: accuracy is fast, fitted or specialised (0, 1, 2), not %d",
+                      (int)o.accuracy);
+  if (!isfinite(o.budget) || o.budget < 0.0)
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "bake: budget is a number of seconds > 0 (0: the level's default), not %g",
+                      o.budget);
   if (report) memset(report, 0, sizeof *report);
   nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   nbrdf_status st = bake_open_sources(inputs, src, err);

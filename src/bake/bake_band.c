@@ -189,7 +189,22 @@ static void cache_store(bake_band *b, size_t n_missing) {
 
 /* Latent, sigma, w of the distinct tuples idx[0 .. n). */
 static nbrdf_status evaluate(bake_band *b, const size_t *idx, size_t n, nbrdf_error *err) {
-  return bake_tuples_evaluate(b->model, b->uniq, idx, n, b->uniq_out, err);
+  nbrdf_status st = bake_tuples_evaluate(b->model, b->uniq, idx, n, b->uniq_out, err);
+  if (st != NBRDF_OK || !b->correct) return st;
+  const size_t D = (size_t)b->layout.latent_dim;
+  bake_correct_latents(b->correct, b->uniq, idx, n, b->uniq_out, D + 2);
+  float *lat = malloc(sizeof(float) * n * (D + 2));
+  if (!lat) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples", n);
+  float *sigma = lat + n * D, *w = sigma + n;
+  for (size_t k = 0; k < n; k++)
+    memcpy(lat + k * D, b->uniq_out + idx[k] * (D + 2), sizeof(float) * D);
+  st = nbrdf_model_proxy_params(b->model, n, lat, sigma, w, err);
+  for (size_t k = 0; st == NBRDF_OK && k < n; k++) {
+    b->uniq_out[idx[k] * (D + 2) + D] = sigma[k];
+    b->uniq_out[idx[k] * (D + 2) + D + 1] = w[k];
+  }
+  free(lat);
+  return st;
 }
 
 nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err) {

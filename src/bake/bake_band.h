@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "bake/bake_audit.h"
+#include "bake/bake_fit.h"
 #include "bake/bake_sources.h"
 #include "bake/bake_tuple.h"
 #include "nbrdf/bake.h"
@@ -49,6 +50,10 @@ typedef struct bake_band {
    * with NBRDF_ERR_CANCELLED. */
   int (*tick)(void *user, double fraction);
   void *tick_user;
+  /* Optional (accuracy levels): the correction added to every distinct
+   * tuple's latent after the layering network; the proxy is then predicted
+   * from the corrected latent. NULL: the networks' latents as they are. */
+  const bake_correction *correct;
   /* totals over bands */
   size_t evaluated, reused, clamped[NBRDF_BAKE_PARAM_COUNT];
   /* energy audit of the evaluated tuples (bake_audit.h); set up by the

@@ -88,6 +88,11 @@ static float unwarp(int id, float u) {
   return u;
 }
 
+float bake_value_normalise(const float *lo_, const float *hi_, int id, float v) {
+  float lo = warp(id, lo_[id]), hi = warp(id, hi_[id]);
+  return hi > lo ? (warp(id, v) - lo) / (hi - lo) : 0.0f;
+}
+
 float bake_value_quantise(const float *lo_, const float *hi_, int id, int bits, float v) {
   float lo = warp(id, lo_[id]), hi = warp(id, hi_[id]);
   if (!(hi > lo)) return v;

@@ -54,6 +54,11 @@ nbrdf_status bake_value_fail(bake_verdict verdict, const float *lo, const float 
                              nbrdf_roughness roughness, const char *at, float typed,
                              nbrdf_error *err);
 
+/* v mapped onto [0, 1] over the trained range, in the warped scale of the
+ * quantisation (sqrt for alpha, log1p for sigma_t): the space in which the
+ * accuracy levels measure distances between tuples. */
+float bake_value_normalise(const float *lo, const float *hi, int id, float v);
+
 /* 2^bits levels over the trained range (nbrdf_bake_options.quantise_bits). */
 float bake_value_quantise(const float *lo, const float *hi, int id, int bits, float v);
 

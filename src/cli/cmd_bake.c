@@ -58,6 +58,18 @@ void cmd_bake_usage(FILE *out) {
       "  --energy-audit N      decoded directional albedo of the first N distinct latents\n"
       "                        (16384; 0: off): the worst goes into the header as\n"
       "                        nbrdf:maxAlbedo, a warning names it above 1.01\n"
+      "  --accuracy fast|fitted|specialised\n"
+      "                        fast (default): the universal networks; fitted: latents\n"
+      "                        fitted to the layered ground truth of the scene's own\n"
+      "                        BRDFs (representative tuples; any reader decodes it);\n"
+      "                        specialised: also a decoder fine-tuned to the scene,\n"
+      "                        carried in the texture (format 2). docs/BAKE.md\n"
+      "                        measures the trade\n"
+      "  --budget SECONDS      fitted/specialised: the cost-model seconds the ground\n"
+      "                        truth and fit may take (defaults 120 / 300; about the\n"
+      "                        wall time on one free core; the result does not depend\n"
+      "                        on the machine or its load)\n"
+      "  --seed S              fitted/specialised: random walks and tuple selection (1)\n"
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
@@ -112,6 +124,7 @@ int cmd_bake(int argc, char **argv) {
   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
   const char *out = NULL, *bundle = NULL, *decoder = NULL;
   cli_progress_state ps = {0, 0};
+  int budget_given = 0;
   nbrdf_error err = {0};
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -175,6 +188,21 @@ int cmd_bake(int argc, char **argv) {
       if (!cli_parse_u64(v, &n) || n > ((uint64_t)1 << 40))
         return cli_usage_error("bake", "--energy-audit needs a count >= 0, not '%s'", v);
       opts.energy_audit = (size_t)n, i++;
+    } else if (!strcmp(a, "--accuracy") && v) {
+      int level = nbrdf_bake_accuracy_parse(v);
+      if (level < 0)
+        return cli_usage_error("bake", "--accuracy is fast, fitted or specialised, not '%s'", v);
+      opts.accuracy = (nbrdf_bake_accuracy)level, i++;
+    } else if (!strcmp(a, "--budget") && v) {
+      double b;
+      if (!cli_parse_double(v, &b) || !(b > 0.0) || b > 1e7)
+        return cli_usage_error("bake", "--budget needs a number of seconds in (0, 1e7], not '%s'",
+                               v);
+      opts.budget = b, budget_given = 1, i++;
+    } else if (!strcmp(a, "--seed") && v) {
+      if (!cli_parse_u64(v, &opts.seed))
+        return cli_usage_error("bake", "--seed needs an unsigned integer, not '%s'", v);
+      i++;
     } else if (!strcmp(a, "--progress=json")) {
       ps.json = 1;
     } else {
@@ -184,6 +212,8 @@ int cmd_bake(int argc, char **argv) {
   int missing = cli_params_require("bake", &params);
   if (missing != CLI_EXIT_OK) return missing;
   opts.roughness = params.roughness;
+  if (budget_given && opts.accuracy == NBRDF_BAKE_FAST)
+    return cli_usage_error("bake", "--budget applies to --accuracy fitted or specialised, not fast");
   if (!out) return cli_usage_error("bake", "-o OUT.exr is required");
   nbrdf_model *model = NULL;
   char used[PATH_MAX];
@@ -236,8 +266,14 @@ int cmd_bake(int argc, char **argv) {
   if (ps.json) {
     printf("{\"event\":\"done\",\"output\":");
     json_string(out);
-    printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu}\n", rep.width,
+    printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu", rep.width,
            rep.height, rep.colour_channels, rep.evaluated);
+    if (rep.accuracy != NBRDF_BAKE_FAST)
+      printf(",\"accuracy\":\"%s\",\"budget\":%g,\"distinct\":%zu,\"fitted_tuples\":%zu,"
+             "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",
+             nbrdf_bake_accuracy_name(rep.accuracy), rep.budget, rep.distinct, rep.fitted_tuples,
+             rep.heldout_tuples, rep.heldout_error, rep.heldout_error_fast);
+    printf("}\n");
   } else {
     printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n", out,
            rep.width, rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs,
@@ -245,6 +281,11 @@ int cmd_bake(int argc, char **argv) {
     if (rep.audited)
       printf("energy audit: max decoded directional albedo %.4f over %zu distinct latents\n",
              rep.max_albedo, rep.audited);
+    if (rep.accuracy != NBRDF_BAKE_FAST)
+      printf("accuracy %s (budget %g s): %zu of %zu distinct tuples fitted; lobe error on %zu "
+             "held-out tuples: median %.2f %% (fast: %.2f %%)\n",
+             nbrdf_bake_accuracy_name(rep.accuracy), rep.budget, rep.fitted_tuples, rep.distinct,
+             rep.heldout_tuples, 100.0 * rep.heldout_error, 100.0 * rep.heldout_error_fast);
   }
   return CLI_EXIT_OK;
 }

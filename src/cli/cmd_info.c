@@ -68,6 +68,7 @@ int cmd_info(int argc, char **argv) {
   printf("model:         %s (checksum %s)\n", in->model_name, in->model_checksum);
   printf("sources:       %s\n", in->sources);
   printf("bake settings: %s\n", in->settings);
+  if (in->accuracy[0]) printf("accuracy: %s\n", in->accuracy);
   printf("writer:        %s\n", in->writer);
   if (in->decoder_size)
     printf("decoder:       own (%zu bytes, checksum %s)\n", in->decoder_size, in->decoder_checksum);

@@ -79,6 +79,7 @@ typedef struct nbrdf_latent_meta {
    * then format version 2. NULL: version 1, no decoder attributes. */
   const void *decoder;
   size_t decoder_size;
+  const char *accuracy; /* NBRDF_ATTR_ACCURACY; NULL: not written */
 } nbrdf_latent_meta;
 
 const char *nbrdf_latent_compression_name(nbrdf_latent_compression c);
@@ -130,6 +131,7 @@ typedef struct nbrdf_latent_info {
   const char *model_name, *model_checksum; /* never NULL ("" when absent) */
   const char *sources, *settings, *mip_filter, *writer;
   double max_albedo; /* NBRDF_ATTR_MAX_ALBEDO; NaN when absent or not measured */
+  const char *accuracy; /* NBRDF_ATTR_ACCURACY, "" when absent (a fast bake) */
   int64_t file_size; /* bytes */
   /* Version 2: the size and checksum (16 hex digits, checked at open) of the
    * texture's own decoder (nbrdf_latent_reader_decoder); 0 and "" otherwise. */

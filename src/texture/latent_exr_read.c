@@ -18,7 +18,17 @@
 #include "texture/latent_exr.h"
 #include "texture/mip_chain.h"
 
-enum { S_MODEL, S_CHECKSUM, S_SOURCES, S_SETTINGS, S_FILTER, S_WRITER, S_DECODER_SUM, S_COUNT };
+enum {
+  S_MODEL,
+  S_CHECKSUM,
+  S_SOURCES,
+  S_SETTINGS,
+  S_FILTER,
+  S_WRITER,
+  S_ACCURACY,
+  S_DECODER_SUM,
+  S_COUNT
+};
 
 struct nbrdf_latent_reader {
   char *path;
@@ -190,8 +200,9 @@ static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
   }
   in->channels = nbrdf_latent_channel_count(&in->layout);
   static const char *const names[S_DECODER_SUM] = {NBRDF_ATTR_MODEL_NAME, NBRDF_ATTR_MODEL_CHECKSUM,
-                                                   NBRDF_ATTR_SOURCES,    NBRDF_ATTR_SETTINGS,
-                                                   NBRDF_ATTR_MIP_FILTER, NBRDF_ATTR_WRITER};
+                                             NBRDF_ATTR_SOURCES,    NBRDF_ATTR_SETTINGS,
+                                             NBRDF_ATTR_MIP_FILTER, NBRDF_ATTR_WRITER,
+                                             NBRDF_ATTR_ACCURACY};
   for (int i = 0; st == NBRDF_OK && i < S_DECODER_SUM; i++)
     st = get_string(r, names[i], i == S_MODEL || i == S_CHECKSUM, &r->strings[i], err);
   if (st != NBRDF_OK) return st;
@@ -207,6 +218,7 @@ static nbrdf_status read_attributes(nbrdf_latent_reader *r, nbrdf_error *err) {
                            isfinite(a) && a >= 0.0f
                        ? (double)a
                        : NAN;
+  in->accuracy = r->strings[S_ACCURACY];
   if (in->format_version < NBRDF_LATENT_FORMAT_OWN_DECODER) {
     /* Version 1 has no decoder of its own (attributes of that name are not its). */
     r->strings[S_DECODER_SUM] = strdup("");

@@ -266,6 +266,7 @@ static exr_result_t define_header(nbrdf_latent_writer *w, const nbrdf_latent_met
     if (!rv) rv = exr_attr_set_string(c, p, NBRDF_ATTR_DECODER_CHECKSUM, sum);
   }
   if (!rv && w->opts.max_albedo_attr) rv = exr_attr_set_float(c, p, NBRDF_ATTR_MAX_ALBEDO, -1.0f);
+  if (!rv && meta->accuracy) rv = exr_attr_set_string(c, p, NBRDF_ATTR_ACCURACY, meta->accuracy);
 #undef STR
   if (!rv) rv = exr_write_header(c);
   return rv;

@@ -34,6 +34,9 @@
 #define NBRDF_ATTR_SETTINGS "nbrdf:bakeSettings"        /* string */
 #define NBRDF_ATTR_MIP_FILTER "nbrdf:mipFilter"         /* string */
 #define NBRDF_ATTR_WRITER "nbrdf:writer"                /* string: "nbrdf X.Y.Z" */
+/* Optional; only bakes above the fast level write it (docs/LATENT-TEXTURE.md):
+ * "level=fitted; budget=120; distinct=N; fitted=N; heldout=N; heldoutError=F; fastError=F" */
+#define NBRDF_ATTR_ACCURACY "nbrdf:accuracy" /* string */
 /* Version 2 only: the texture's own decoder, the bytes of a decoder.safetensors
  * file in an opaque attribute of this type, and their FNV-1a 64 checksum. */
 #define NBRDF_ATTR_DECODER "nbrdf:decoder"                  /* NBRDF_DECODER_ATTR_TYPE */

@@ -93,6 +93,13 @@ nbrdf_status train_samples_generate(const train_dataset_settings *s, uint64_t fa
   return samples_generate(s, family, index, params, NULL, samples, err);
 }
 
+nbrdf_status train_samples_generate_hooked(const train_dataset_settings *s, uint64_t family,
+                                           uint64_t index, const train_params *params,
+                                           const layered_lobe_hook *hook, float *samples,
+                                           nbrdf_error *err) {
+  return samples_generate(s, family, index, params, hook, samples, err);
+}
+
 static nbrdf_status samples_generate(const train_dataset_settings *s, uint64_t family,
                                      uint64_t index, const train_params *params,
                                      const layered_lobe_hook *hook, float *samples,

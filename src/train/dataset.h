@@ -78,6 +78,13 @@ nbrdf_status train_samples_generate(const train_dataset_settings *s, uint64_t fa
                                     uint64_t index, const train_params *params, float *samples,
                                     nbrdf_error *err);
 
+/* As train_samples_generate, under a hook (may be NULL): NBRDF_ERR_CANCELLED
+ * when the walks are stopped (the samples then undefined). */
+nbrdf_status train_samples_generate_hooked(const train_dataset_settings *s, uint64_t family,
+                                           uint64_t index, const train_params *params,
+                                           const layered_lobe_hook *hook, float *samples,
+                                           nbrdf_error *err);
+
 /* Writes (or resumes) the data set at `path`. If the file exists, its header
  * must match the settings (else NBRDF_ERR_MISMATCH); its valid records are
  * kept, a trailing partial or corrupt record is dropped, and generation goes

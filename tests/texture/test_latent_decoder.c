@@ -211,7 +211,7 @@ static void test_v1_bytes_unchanged(void) {
   CHECK(in->width == 1 && in->height == 1 && in->levels == 1);
   float *texel = malloc(sizeof(float) * (size_t)in->channels);
   CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
-  nbrdf_latent_meta meta = {in->model_name, in->model_checksum, in->sources, in->settings, NULL, 0};
+  nbrdf_latent_meta meta = {in->model_name, in->model_checksum, in->sources, in->settings, NULL, 0, NULL};
   nbrdf_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   nbrdf_latent_writer *w = NULL;
   CHECK_OK(nbrdf_latent_writer_create(&w, path("rewritten.exr"), 1, 1, &in->layout, &meta, &o, NULL,
@@ -240,8 +240,8 @@ static void test_v1_bytes_unchanged(void) {
 static void write_with_decoder(const char *p, const void *bytes, size_t size) {
   nbrdf_error e, *err = &e;
   nbrdf_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
-  nbrdf_latent_meta meta = {
-      nbrdf_model_name(bundle), nbrdf_model_checksum(bundle), "", "", bytes, size};
+  nbrdf_latent_meta meta = {nbrdf_model_name(bundle), nbrdf_model_checksum(bundle), "", "",
+                            bytes, size, NULL};
   float texel[34] = {0};
   texel[32] = 0.5f;
   nbrdf_latent_writer *w = NULL;
@@ -314,7 +314,7 @@ static void test_damaged_decoders(void) {
 
   /* More than 64 MiB is refused before anything is written or read. */
   nbrdf_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
-  nbrdf_latent_meta big = {"m", "c", "", "", bytes, NBRDF_DECODER_BYTES_MAX + 1};
+  nbrdf_latent_meta big = {"m", "c", "", "", bytes, NBRDF_DECODER_BYTES_MAX + 1, NULL};
   nbrdf_latent_writer *w = NULL;
   CHECK_FAILS(
       nbrdf_latent_writer_create(&w, path("big.exr"), 1, 1, &layout, &big, NULL, NULL, 0, err),

@@ -39,8 +39,7 @@ static void write_texture(const char *path, int W, int H, nbrdf_latent_layout la
   nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.storage = storage;
   opts.tile_size = tile;
-  nbrdf_latent_meta meta = {"nbrdf-test", "0123abcd", "alpha1=a.png; eta=1.5",
-                            "half; zip",  NULL,       0};
+  nbrdf_latent_meta meta = {"nbrdf-test", "0123abcd", "alpha1=a.png; eta=1.5", "half; zip", NULL, 0, NULL};
   CHECK_OK(fixture_write(path, W, H, &layout, &meta, &opts, l0, 13, err), err);
   *l0_out = l0;
 }

@@ -93,7 +93,7 @@ static void test_load(void) {
   float *texels = fixture_texels(W, H, &lay, 5);
   char path[512];
   snprintf(path, sizeof path, "%s/fetch.exr", nbrdf_test_tmpdir());
-  nbrdf_latent_meta meta = {"m", "0123456789abcdef", "", "", NULL, 0};
+  nbrdf_latent_meta meta = {"m", "0123456789abcdef", "", "", NULL, 0, NULL};
   nbrdf_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   o.storage = NBRDF_LATENT_FLOAT, o.tile_size = 8;
   CHECK_OK(fixture_write(path, W, H, &lay, &meta, &o, texels, 4, &err), &err);

@@ -1,0 +1,174 @@
+#include "bake/bake_accuracy.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/bake_select.h"
+#include "core/error.h"
+
+/* ---- the cost model (cost-model seconds; docs/BAKE.md, "Accuracy levels") ----
+ * Calibrated in CPU-seconds on the 2-core build machine (2026-11-25, release
+ * build, OPENBLAS_NUM_THREADS=1): 39 tuples x 8 incident directions of fit
+ * samples took 16.4 CPU-s, 12 held-out tuples' lobe images 3.5 CPU-s, and
+ * 130 projection steps of 39 tuples x 128 rows 1.3 CPU-s (2.0 us a row with
+ * the default 27 k-MAC decoder). */
+#define COST_INCIDENT 0.055 /* s per incident direction of one tuple's fit samples */
+#define COST_LOBE 0.3       /* s per held-out tuple's lobe images */
+#define MAC_RATE 3.4e10     /* decoder multiply-add passes per second in a fit */
+#define PROJECT_PASSES 2.5  /* forward + backward to the inputs */
+#define JOINT_PASSES 3.5    /* ... and to the weights */
+#define MIN_STEPS 100
+#define MAX_STEPS 1000 /* projection steps */
+#define MAX_JOINT 8000 /* joint steps */
+#define TRUTH_SHARE 0.7  /* of the budget after the held-out set: the carry needs tuples */
+#define MIN_INCIDENT 8
+#define MAX_INCIDENT 32
+#define MAX_FIT 1024
+#define MAX_HELD 16
+
+#define OUTGOING 128
+#define SAMPLED 64
+#define SPP 2048
+#define LOBE_RES 32
+#define LOBE_WALKS 512
+
+static double step_cost(size_t n_fit, int rows, int64_t macs, double passes) {
+  return (double)n_fit * rows * (double)macs * passes / MAC_RATE;
+}
+
+static int rows_for(size_t n_fit) { return n_fit <= 32 ? 256 : 128; }
+
+nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t distinct,
+                            int64_t macs, bake_plan *p, nbrdf_error *err) {
+  memset(p, 0, sizeof *p);
+  const int joint = level == NBRDF_BAKE_SPECIALISED;
+  const double per_step = step_cost(1, 256, macs, PROJECT_PASSES) +
+                          (joint ? 3.0 * step_cost(1, 256, macs, JOINT_PASSES) : 0.0);
+  const double min_cost = COST_LOBE + MIN_INCIDENT * COST_INCIDENT + MIN_STEPS * per_step;
+  if (!(budget >= min_cost)) {
+    char also[128] = "";
+    double fitted_min = COST_LOBE + MIN_INCIDENT * COST_INCIDENT +
+                        MIN_STEPS * step_cost(1, 256, macs, PROJECT_PASSES);
+    if (joint && budget >= fitted_min)
+      snprintf(also, sizeof also, "; within %g s 'fitted' fits", budget);
+    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+                      "bake: a budget of %g s is too small for '%s': its smallest plan (1 tuple "
+                      "fitted, 1 held out, %d fit steps) costs %.1f s; give a budget of %.0f s "
+                      "or more, or use 'fast'%s",
+                      budget, nbrdf_bake_accuracy_name(level), MIN_STEPS, min_cost,
+                      ceil(min_cost), also);
+  }
+  if (distinct == 0) distinct = 1;
+  p->n_held = (size_t)(0.12 * budget / COST_LOBE);
+  if (p->n_held < 1) p->n_held = 1;
+  if (p->n_held > MAX_HELD) p->n_held = MAX_HELD;
+  double rest = budget - p->n_held * COST_LOBE;
+  /* Most of the rest to the ground truth (measured: the fit converges in a
+   * few hundred steps, while the error between fitted tuples falls only with
+   * more of them); few tuples get more incident directions (a constant bake
+   * fits its one BRDF from 32), many get 8. */
+  double truth = TRUTH_SHARE * rest;
+  double k = truth / ((double)distinct * COST_INCIDENT);
+  p->incident = k >= MAX_INCIDENT ? MAX_INCIDENT : k <= MIN_INCIDENT ? MIN_INCIDENT : (int)k;
+  size_t n_fit = (size_t)(truth / (p->incident * COST_INCIDENT));
+  if (n_fit > distinct) n_fit = distinct;
+  if (n_fit > MAX_FIT) n_fit = MAX_FIT;
+  if (n_fit < 1) n_fit = 1;
+  for (;; n_fit = n_fit * 3 / 4 > 0 ? n_fit * 3 / 4 : 1) {
+    int rows = rows_for(n_fit);
+    double left = rest - n_fit * p->incident * COST_INCIDENT;
+    double one = step_cost(n_fit, rows, macs, PROJECT_PASSES) +
+                 (joint ? 3.0 * step_cost(n_fit, rows, macs, JOINT_PASSES) : 0.0);
+    double steps = left / one; /* projection steps; joint: three times as many joint steps */
+    if (steps >= MIN_STEPS || n_fit == 1) {
+      if (steps > MAX_STEPS) steps = MAX_STEPS;
+      if (steps < MIN_STEPS) steps = MIN_STEPS;
+      p->n_fit = n_fit;
+      p->rows_per_brdf = rows;
+      p->project_steps = (int)steps;
+      if (joint) {
+        /* What the projection leaves goes to the joint fit, up to MAX_JOINT
+         * steps (a scene of few tuples affords many: the fit keeps improving). */
+        double js = (left - steps * step_cost(n_fit, rows, macs, PROJECT_PASSES)) /
+                    step_cost(n_fit, rows, macs, JOINT_PASSES);
+        p->joint_steps = js > MAX_JOINT ? MAX_JOINT : js < 3 * MIN_STEPS ? 3 * MIN_STEPS : (int)js;
+      }
+      p->cost = p->n_held * COST_LOBE + n_fit * p->incident * COST_INCIDENT +
+                p->project_steps * step_cost(n_fit, rows, macs, PROJECT_PASSES) +
+                p->joint_steps * step_cost(n_fit, rows, macs, JOINT_PASSES);
+      return NBRDF_OK;
+    }
+  }
+}
+
+void bake_accuracy_free(bake_accuracy_result *r) {
+  bake_correction_free(&r->correction);
+  memset(r, 0, sizeof *r);
+}
+
+nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *scene,
+                                   const nbrdf_bake_options *o, nbrdf_ticker *ticker,
+                                   bake_accuracy_result *r, nbrdf_error *err) {
+  memset(r, 0, sizeof *r);
+  float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_ranges_init(model, lo, hi);
+  r->budget = o->budget > 0.0 ? o->budget
+              : o->accuracy == NBRDF_BAKE_SPECIALISED ? NBRDF_BAKE_BUDGET_SPECIALISED
+                                                      : NBRDF_BAKE_BUDGET_FITTED;
+  bake_gather_settings gs = {scene->width, scene->height, scene->colours, lo, hi,
+                             o->roughness,  o->range,     o->quantise_bits, o->cancel};
+  bake_tuple *cand = NULL;
+  size_t n_cand = 0;
+  nbrdf_status st = bake_gather_tuples(scene->src, &gs, &cand, &n_cand, &r->distinct, err);
+  bake_plan plan;
+  if (st == NBRDF_OK)
+    st = bake_plan_make(o->accuracy, r->budget, r->distinct, nbrdf_model_decoder_macs(model),
+                        &plan, err);
+  bake_selection sel = {0};
+  if (st == NBRDF_OK)
+    st = bake_select(cand, n_cand, lo, hi, plan.n_fit, plan.n_held, o->seed, &sel, err);
+  free(cand);
+  train_samples samples = {0};
+  double *images = NULL;
+  bake_truth_settings ts = {plan.incident, OUTGOING,  SAMPLED, SPP, LOBE_RES, LOBE_WALKS,
+                            o->seed,       ticker,    0.0,     0.0, o->cancel};
+  if (st == NBRDF_OK) {
+    ts.total = (double)(sel.n_fit + sel.n_held);
+    if (ticker && nbrdf_ticker_tick(ticker, "ground truth", 0, ts.total, 1))
+      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the ground truth");
+  }
+  if (st == NBRDF_OK) st = bake_truth_samples(sel.fit, sel.n_fit, &ts, &samples, err);
+  if (st == NBRDF_OK) {
+    images = malloc(sizeof(double) * sel.n_held * BAKE_LOBE_N_THETA * LOBE_RES * LOBE_RES + 1);
+    if (!images) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for lobe images");
+    ts.done0 = (double)sel.n_fit;
+  }
+  if (st == NBRDF_OK) st = bake_truth_lobes(sel.held, sel.n_held, &ts, images, err);
+  if (st == NBRDF_OK && ticker &&
+      nbrdf_ticker_tick(ticker, "ground truth", ts.total, ts.total, 1))
+    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled after the ground truth");
+  bake_fit_settings fs = {plan.project_steps, plan.joint_steps, plan.rows_per_brdf, o->seed,
+                          ticker, o->cancel};
+  if (st == NBRDF_OK)
+    st = bake_fit_run(model, sel.fit, sel.n_fit, &samples, &fs, &r->correction, err);
+  if (st == NBRDF_OK)
+    st = bake_heldout_error(model, &r->correction, sel.held, sel.n_held, images, LOBE_RES,
+                            &r->heldout_error, &r->heldout_error_fast, NULL, err);
+  if (st == NBRDF_OK) {
+    r->fitted = sel.n_fit;
+    r->heldout = sel.n_held;
+    snprintf(r->attribute, sizeof r->attribute,
+             "level=%s; budget=%g; cost=%.1f; distinct=%zu; fitted=%zu; heldout=%zu%s; "
+             "heldoutError=%.4f; fastError=%.4f; seed=%llu",
+             nbrdf_bake_accuracy_name(o->accuracy), r->budget, plan.cost, r->distinct, r->fitted,
+             r->heldout, sel.held_are_fitted ? " (fitted tuples, independent truth)" : "",
+             r->heldout_error, r->heldout_error_fast, (unsigned long long)o->seed);
+  }
+  free(images);
+  train_samples_free(&samples);
+  bake_selection_free(&sel);
+  if (st != NBRDF_OK) bake_accuracy_free(r);
+  return st;
+}

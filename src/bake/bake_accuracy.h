@@ -1,0 +1,52 @@
+/* The accuracy levels of a bake (nbrdf_bake_options.accuracy) before the
+ * texels are computed: the plan that fits the budget (a deterministic cost
+ * model), the scene's representative tuples (bake_select.h), their ground
+ * truth (bake_truth.h), the fit (bake_fit.h) and its error on held-out
+ * tuples. The bake then applies the correction to every tuple (bake_band.c's
+ * `correct` hook).
+ *
+ * The budget is in seconds of the cost model, calibrated on one core of the
+ * 2-core build machine unloaded (docs/BAKE.md, "Accuracy levels"): the same
+ * inputs, options and seed give the same texture on any machine and at any
+ * load; the wall time is about the budget over the cores free. */
+#ifndef NBRDF_BAKE_BAKE_ACCURACY_H
+#define NBRDF_BAKE_BAKE_ACCURACY_H
+
+#include "bake/bake_fit.h"
+#include "bake/bake_truth.h"
+#include "nbrdf/bake.h"
+#include "texture/param_source.h"
+
+typedef struct bake_plan {
+  size_t n_fit, n_held;
+  int incident;      /* fit samples' incident directions per tuple */
+  int project_steps, joint_steps, rows_per_brdf;
+  double cost;       /* cost-model seconds of the plan */
+} bake_plan;
+
+/* The plan of `level` within `budget` seconds for `distinct` candidate
+ * tuples; NBRDF_ERR_ARGUMENT saying what fits when the budget is too small. */
+nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t distinct,
+                            int64_t decoder_macs, bake_plan *plan, nbrdf_error *err);
+
+typedef struct bake_accuracy_result {
+  bake_correction correction;
+  size_t distinct, fitted, heldout;
+  double heldout_error, heldout_error_fast;
+  double budget;
+  char attribute[256]; /* NBRDF_ATTR_ACCURACY */
+} bake_accuracy_result;
+
+typedef struct bake_scene {
+  nbrdf_param_source **src;
+  int width, height, colours;
+} bake_scene;
+
+/* Runs everything before the texels for level o->accuracy (not FAST):
+ * progress stages "ground truth" and "fit" through `ticker`. */
+nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *scene,
+                                   const nbrdf_bake_options *o, nbrdf_ticker *ticker,
+                                   bake_accuracy_result *r, nbrdf_error *err);
+void bake_accuracy_free(bake_accuracy_result *r);
+
+#endif

@@ -1,0 +1,268 @@
+#include "bake/bake_fit.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/bake_select.h"
+#include "bake/bake_truth.h"
+#include "core/error.h"
+#include "model/autodecoder.h"
+#include "model/bundle.h"
+#include "train/trainer.h"
+
+void bake_correction_free(bake_correction *c) {
+  free(c->tuples);
+  free(c->delta);
+  model_decoder_destroy(c->decoder);
+  memset(c, 0, sizeof *c);
+}
+
+const model_decoder *bake_correction_decoder(const bake_correction *c, const nbrdf_model *model) {
+  return c && c->decoder ? c->decoder : model->decoder;
+}
+
+static nbrdf_status clone_decoder(const model_decoder *src, model_decoder **out, nbrdf_error *err) {
+  nbrdf_status st = model_decoder_create(&src->cfg, 0, out, err);
+  if (st != NBRDF_OK) return st;
+  memcpy(nbrdf_nn_params((*out)->nn), nbrdf_nn_params_const(src->nn),
+         sizeof(float) * nbrdf_nn_param_count(src->nn));
+  return NBRDF_OK;
+}
+
+typedef struct fit_run {
+  model_fit *fit;
+  const model_samples *ms;
+} fit_run;
+
+static nbrdf_status fit_gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+  fit_run *f = user;
+  return model_fit_gradient(f->fit, f->ms, step, loss, err);
+}
+
+/* `steps` steps of one fit in the shared trainer (in memory: a bake's fit is short and
+ * restarts with the bake), ticking stage "fit" from `done0` of `total`. Learning rates
+ * halve every third of the run. */
+static nbrdf_status fit_steps(model_decoder *dec, size_t n, float *z, const model_fit_options *o,
+                              int steps, const model_samples *ms, const bake_fit_settings *s,
+                              int done0, int total, nbrdf_error *err) {
+  fit_run f = {NULL, ms};
+  nbrdf_status st = model_fit_create(dec, n, z, o, &f.fit, err);
+  if (st != NBRDF_OK) return st;
+  int decay = steps / 3 > 0 ? steps / 3 : 0;
+  trainer_group groups[2] = {
+      {"latents", "adam.latents.m", "adam.latents.v", z, model_fit_grad_latent(f.fit),
+       model_fit_latent_count(f.fit), o->lr_latent, decay, 0.5f},
+      {"decoder.params", "adam.weights.m", "adam.weights.v", nbrdf_nn_params(dec->nn),
+       model_fit_grad_weights(f.fit), nbrdf_nn_param_count(dec->nn), o->lr_weights, decay, 0.5f}};
+  trainer_options to = TRAINER_OPTIONS_DEFAULT;
+  to.steps = steps;
+  to.stage = "fit";
+  to.cancel = s->cancel;
+  to.ticker = s->ticker;
+  to.progress_offset = done0, to.progress_total = total;
+  trainer_fit fit = {.user = &f, .gradient = fit_gradient};
+  trainer_result r;
+  /* Frozen decoder (lr_weights 0): one group, the fit never writes its weights. */
+  st = trainer_run(&to, &fit, groups, o->lr_weights > 0.0f ? 2 : 1, NULL, 0, NULL, 0, &r, err);
+  if (st == NBRDF_ERR_CANCELLED)
+    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled during the fit (step %d of %d)",
+                    done0 + (int)r.steps_done, total);
+  model_fit_destroy(f.fit);
+  return st;
+}
+
+/* The fade radius: twice the largest nearest-neighbour distance among the
+ * fitted tuples (so the corrections cover the region they were picked to
+ * cover, and fade beyond it); 0 (no fade) for a single tuple. */
+static float fade_radius(const bake_correction *c) {
+  float worst = 0.0f;
+  for (size_t i = 0; i < c->n; i++) {
+    float best = 1e30f;
+    for (size_t j = 0; j < c->n; j++)
+      if (j != i) {
+        float d = bake_tuple_distance2(&c->tuples[i], &c->tuples[j], c->lo, c->hi);
+        if (d < best) best = d;
+      }
+    if (best < 1e30f && best > worst) worst = best;
+  }
+  return worst > 0.0f ? 2.0f * sqrtf(worst) : 0.0f;
+}
+
+nbrdf_status bake_fit_run(const nbrdf_model *model, const bake_tuple *t, size_t n,
+                          const train_samples *samples, const bake_fit_settings *s,
+                          bake_correction *c, nbrdf_error *err) {
+  memset(c, 0, sizeof *c);
+  const int D = nbrdf_model_latent_dim(model);
+  c->latent_dim = D;
+  c->n = n;
+  bake_ranges_init(model, c->lo, c->hi);
+  c->tuples = malloc(sizeof *c->tuples * (n ? n : 1));
+  c->delta = malloc(sizeof(float) * n * D + 1);
+  float *net = malloc(sizeof(float) * n * (D + 2) + 1), *z = malloc(sizeof(float) * n * D + 1);
+  nbrdf_status st = NBRDF_OK;
+  if (!c->tuples || !c->delta || !net || !z)
+    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the fit");
+  if (st == NBRDF_OK) {
+    memcpy(c->tuples, t, sizeof *t * n);
+    st = bake_tuples_evaluate(model, t, NULL, n, net, err);
+  }
+  for (size_t k = 0; st == NBRDF_OK && k < n; k++)
+    memcpy(z + k * D, net + k * (D + 2), sizeof(float) * D);
+  model_samples ms = train_samples_view(samples);
+  int total = s->project_steps + s->joint_steps;
+  model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
+  o.rows_per_brdf = s->rows_per_brdf;
+  o.seed = s->seed;
+  o.lr_latent = 1e-2f;
+  /* Frozen decoder: the fit never writes its weights (as nbrdf_model_project). */
+  if (st == NBRDF_OK && s->project_steps > 0)
+    st = fit_steps(model->decoder, n, z, &o, s->project_steps, &ms, s, 0, total, err);
+  if (st == NBRDF_OK && s->joint_steps > 0) {
+    st = clone_decoder(model->decoder, &c->decoder, err);
+    o.lr_latent = 5e-3f;
+    o.lr_weights = 5e-4f;
+    o.seed = s->seed + 1;
+    if (st == NBRDF_OK)
+      st = fit_steps(c->decoder, n, z, &o, s->joint_steps, &ms, s, s->project_steps, total, err);
+  }
+  if (st == NBRDF_OK && s->ticker && nbrdf_ticker_tick(s->ticker, "fit", total, total, 1))
+    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled after the fit");
+  for (size_t k = 0; st == NBRDF_OK && k < n; k++)
+    for (int d = 0; d < D; d++)
+      c->delta[k * D + d] = z[k * D + d] - net[k * (D + 2) + d];
+  if (st == NBRDF_OK) c->radius = fade_radius(c);
+  free(net), free(z);
+  if (st != NBRDF_OK) bake_correction_free(c);
+  return st;
+}
+
+void bake_correct_latents(const bake_correction *c, const bake_tuple *t, const size_t *idx,
+                          size_t n, float *out, size_t stride) {
+  if (!c || c->n == 0) return;
+  const int D = c->latent_dim;
+  enum { K = BAKE_FIT_NEIGHBOURS };
+  for (size_t k = 0; k < n; k++) {
+    size_t i = idx ? idx[k] : k;
+    const bake_tuple *q = &t[i];
+    float *z = out + i * stride;
+    size_t near[K] = {0};
+    float d2[K] = {0};
+    int m = 0;
+    for (size_t j = 0; j < c->n; j++) {
+      float d = bake_tuple_distance2(q, &c->tuples[j], c->lo, c->hi);
+      if (m < K || d < d2[m - 1]) {
+        int p = m < K ? m++ : K - 1;
+        while (p > 0 && d2[p - 1] > d) {
+          d2[p] = d2[p - 1], near[p] = near[p - 1];
+          p--;
+        }
+        d2[p] = d, near[p] = j;
+      }
+    }
+    if (d2[0] == 0.0f) { /* a fitted tuple itself: its own fitted latent */
+      for (int d = 0; d < D; d++)
+        z[d] += c->delta[near[0] * D + d];
+      continue;
+    }
+    double wsum = 0.0, w[K];
+    for (int a = 0; a < m; a++)
+      wsum += w[a] = 1.0 / d2[a];
+    double fade = c->radius > 0.0f ? exp(-d2[0] / ((double)c->radius * c->radius)) : 1.0;
+    for (int d = 0; d < D; d++) {
+      double v = 0.0;
+      for (int a = 0; a < m; a++)
+        v += w[a] * c->delta[near[a] * D + d];
+      z[d] += (float)(fade * v / wsum);
+    }
+  }
+}
+
+static double lobe_error(size_t n, const double *ref, const double *approx) {
+  double num = 0.0, den = 0.0;
+  for (size_t i = 0; i < n; i++)
+    num += fabs(approx[i] - ref[i]), den += fabs(ref[i]);
+  return den > 0.0 ? num / den : (num > 0.0 ? INFINITY : 0.0);
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static double median(double *v, size_t n) {
+  if (n == 0) return 0.0;
+  qsort(v, n, sizeof *v, cmp_double);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Decodes the lobe images of `latent` with `dec` into img (f cos θo). */
+static nbrdf_status decode_lobes(const model_decoder *dec, model_runner *run, const float *latent,
+                                 int res, float *lat, float *wi, float *wo, float *f, double *img,
+                                 nbrdf_error *err) {
+  const int D = dec->cfg.latent_dim;
+  size_t px = (size_t)res * res, q = 0;
+  for (int i = 0; i < BAKE_LOBE_N_THETA; i++) {
+    double th = bake_lobe_theta_deg[i] * (M_PI / 180.0);
+    for (int r = 0; r < res; r++)
+      for (int col = 0; col < res; col++) {
+        if (!bake_lobe_pixel_wo(res, r, col, wo + 3 * q)) continue;
+        wi[3 * q] = (float)sin(th), wi[3 * q + 1] = 0.0f, wi[3 * q + 2] = (float)cos(th);
+        memcpy(lat + q * D, latent, sizeof(float) * D);
+        q++;
+      }
+  }
+  nbrdf_status st = model_decoder_eval(dec, run, q, 1, lat, wi, wo, f, err);
+  if (st != NBRDF_OK) return st;
+  q = 0;
+  for (int i = 0; i < BAKE_LOBE_N_THETA; i++)
+    for (int r = 0; r < res; r++)
+      for (int col = 0; col < res; col++) {
+        float w[3];
+        double *p = img + i * px + (size_t)r * res + col;
+        *p = 0.0;
+        if (!bake_lobe_pixel_wo(res, r, col, w)) continue;
+        *p = (double)f[q++] * w[2];
+      }
+  return NBRDF_OK;
+}
+
+nbrdf_status bake_heldout_error(const nbrdf_model *model, const bake_correction *c,
+                                const bake_tuple *t, size_t n, const double *images, int res,
+                                double *fitted, double *fast, double *per_tuple,
+                                nbrdf_error *err) {
+  const int D = nbrdf_model_latent_dim(model);
+  size_t px = (size_t)res * res, all = BAKE_LOBE_N_THETA * px;
+  float *net = malloc(sizeof(float) * n * (D + 2) + 1);
+  float *lat = malloc(sizeof(float) * all * D), *dirs = malloc(sizeof(float) * all * 7);
+  double *img = malloc(sizeof(double) * all), *errs = malloc(sizeof(double) * 2 * n + 1);
+  model_runner run_u = {0}, run_s = {0};
+  nbrdf_status st = NBRDF_OK;
+  if (!net || !lat || !dirs || !img || !errs)
+    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the held-out error");
+  if (st == NBRDF_OK) st = bake_tuples_evaluate(model, t, NULL, n, net, err);
+  const model_decoder *spec = bake_correction_decoder(c, model);
+  if (st == NBRDF_OK) st = model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &run_u, err);
+  if (st == NBRDF_OK) st = model_runner_create(spec->nn, 4096, NBRDF_NN_INFER, &run_s, err);
+  float *wi = dirs, *wo = dirs + 3 * all, *f = dirs + 6 * all;
+  for (size_t k = 0; st == NBRDF_OK && k < n; k++) {
+    const double *ref = images + k * all;
+    float *z = net + k * (D + 2);
+    st = decode_lobes(model->decoder, &run_u, z, res, lat, wi, wo, f, img, err);
+    if (st == NBRDF_OK) errs[n + k] = errs[k] = lobe_error(all, ref, img);
+    if (st == NBRDF_OK && c) {
+      bake_correct_latents(c, t, &k, 1, net, (size_t)(D + 2));
+      st = decode_lobes(spec, &run_s, z, res, lat, wi, wo, f, img, err);
+      if (st == NBRDF_OK) errs[k] = lobe_error(all, ref, img);
+    }
+  }
+  if (st == NBRDF_OK) {
+    if (per_tuple) memcpy(per_tuple, errs, sizeof(double) * 2 * n);
+    if (c && fitted) *fitted = median(errs, n);
+    if (fast) *fast = median(errs + n, n);
+  }
+  model_runner_destroy(&run_u);
+  model_runner_destroy(&run_s);
+  free(net), free(lat), free(dirs), free(img), free(errs);
+  return st;
+}
