@@ -144,8 +144,20 @@ def build_argv(nbrdf, bundle, settings, material_name, workdir, specs=None):
     argv += ["--range", settings.range_policy.lower(),
              "--half" if settings.storage == "HALF" else "--float",
              "--mip-levels", "full" if settings.mip_levels == "FULL" else "1",
-             "--tile", str(settings.tile), "-o", output]
+             "--tile", str(settings.tile)]
+    argv += accuracy_argv(settings)
+    argv += ["-o", output]
     return argv, output, params
+
+
+def accuracy_argv(settings):
+    """--accuracy and --budget; nothing for the fast level, so its bytes stay the CLI's."""
+    if settings.accuracy == "FAST":
+        return []
+    argv = ["--accuracy", settings.accuracy.lower()]
+    if settings.budget > 0:
+        argv += ["--budget", number(settings.budget)]
+    return argv
 
 
 def _own_spec(settings, p):

@@ -34,6 +34,10 @@ def draw_parameters(layout, s, material=None):
     sub = col.column()
     sub.prop(s, "size")
     col.prop(s, "resample")
+    col.prop(s, "accuracy")
+    sub = col.column()
+    sub.active = s.accuracy != "FAST"
+    sub.prop(s, "budget")
     col.prop(s, "bake_uv")
     col.prop(s, "verify")
 
@@ -76,8 +80,10 @@ def draw_bake(layout, context, s):
             return
         doing = {"bake": "Baking", "verify": "Verifying",
                  "preview": "Rendering a preview of"}[session.stage]
-        box.label(text="%s %s: %.0f %%" % (doing, session.material_name,
-                                           100.0 * session.progress), icon="TIME")
+        step = session.step_name
+        step = " (%s)" % step if step and step != session.stage else ""
+        box.label(text="%s %s%s: %.0f %%" % (doing, session.material_name, step,
+                                             100.0 * session.progress), icon="TIME")
         box.operator("nbrdf.cancel_bake", icon="CANCEL")
         return
     exe, bundle, problem = preferences.resolve(preferences.get(context))

@@ -32,6 +32,7 @@ class BakeProcess:
         self.state = "new"
         self.progress = 0.0  # fraction of rows done, 0..1
         self.progress_events = 0
+        self.step_name = ""  # the CLI's stage: "ground truth", "fit", "bake", ...
         self.message = ""
         self.warnings = []
         self.result = None
@@ -120,6 +121,7 @@ class BakeProcess:
         kind = ev.get("event")
         if kind == "progress" and ev.get("total"):
             self.progress_events += 1
+            self.step_name = str(ev.get("stage", ""))
             self.progress = min(1.0, float(ev.get("done", 0)) / float(ev["total"]))
         elif kind == "warning":
             self.warnings.append(str(ev.get("message", "")))

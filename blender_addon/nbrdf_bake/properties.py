@@ -71,6 +71,21 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
             name="Resample Maps", default=True,
             description="Maps of another size than the texture are resampled bilinearly "
                         "(nbrdf bake --resample bilinear); off: such a bake is refused"),
+        accuracy=EnumProperty(
+            name="Accuracy", default="FAST",
+            description="How closely the texture follows the physics of this material's own "
+                        "BRDFs (nbrdf bake --accuracy; docs/BAKE.md measures the trade)",
+            items=[("FAST", "Fast", "The universal networks: seconds"),
+                   ("FITTED", "Fitted", "Latents fitted to the layered ground truth of the "
+                                        "material's own BRDFs; any renderer decodes them"),
+                   ("SPECIALISED", "Specialised",
+                    "Also a decoder fine-tuned to the material, carried in the texture "
+                    "(format version 2)")]),
+        budget=FloatProperty(
+            name="Budget", default=0.0, min=0.0, max=1e7, unit="TIME_ABSOLUTE",
+            description="Fitted and Specialised: seconds of ground truth and fitting "
+                        "(about the time on one free core; 0: the level's default, 120 s / "
+                        "300 s). The result does not depend on the machine's load"),
         bake_uv=BoolProperty(
             name="Bake Through UV Map", default=False,
             description="Inputs from the material that come from nodes other than an Image "

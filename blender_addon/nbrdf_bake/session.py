@@ -87,6 +87,11 @@ class Session:
         return self.process.progress
 
     @property
+    def step_name(self):
+        """The CLI's own stage within this one (a fitted bake: ground truth, fit, bake)."""
+        return self.process.step_name
+
+    @property
     def cancelling(self):
         return self.process.cancelling
 

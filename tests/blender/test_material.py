@@ -109,6 +109,15 @@ t.check("image node added", node is not None and node.type == "TEX_IMAGE"
         and node.label == NODE_NAME and node.image == s.result)
 t.check("image node not connected", node is not None and not any(
     o.is_linked for o in node.outputs))
+# The accuracy level and budget reach the CLI: a fitted bake equals the CLI's (the fit is
+# deterministic for its budget and seed, whatever the load).
+s.accuracy, s.budget = "FITTED", 2.0
+t.check("fitted bake from the material", bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
+run = subprocess.run(argv + ["--accuracy", "fitted", "--budget", "2"], capture_output=True,
+                     text=True)
+t.check("CLI fitted bake: %s" % run.stderr, run.returncode == 0)
+t.check("fitted bytes equal to the CLI's", os.path.isfile(out) and filecmp.cmp(out, cli, shallow=False))
+s.accuracy, s.budget = "FAST", 0.0
 n_nodes = len(mat.node_tree.nodes)
 s.verify = True  # the small verify after the bake: its figure goes to the panel
 t.check("second bake, verified", bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
