@@ -15,8 +15,11 @@
  * CPU-second as chunks of 16,384 (docs/RELIABILITY.md, "Cancel and
  * progress"). */
 #define EVAL_CHUNK 2048
-/* Tuples per energy-audit call (bake_audit.h): ~25 ms each on one core. */
-#define AUDIT_CHUNK 128
+/* Tuples per energy-audit call (bake_audit.h): 6 x 32 decoder queries each, and 6 x 1,024
+ * more for those the cheap pass finds above 0.9. A chunk whose every tuple is refined (an
+ * untrained or energy-creating model) is ~100 k queries, ~0.1 s on one core: cancel stays
+ * within a second even then (128 tuples took 3-4 s with an untrained bundle). */
+#define AUDIT_CHUNK 16
 
 /* Share of a band's time spent gathering and interning its tuples (for the
  * fraction passed to tick; only smoothness of progress depends on it). */
