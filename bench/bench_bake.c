@@ -417,7 +417,7 @@ static int layering_table(const bench_cfg *cfg) {
   const size_t n = 16384; /* the bake's evaluation chunk */
   float *top = malloc(sizeof(float) * n * D * 3), *bottom = top + n * D, *out = bottom + n * D;
   float *albedo = malloc(sizeof(float) * n * 2), *sigma_t = albedo + n;
-  double *a = malloc(sizeof(double) * n * 2), *b = a + n;
+  float *a = malloc(sizeof(float) * n * 2), *b = a + n;
   for (size_t k = 0; k < n; k++) {
     a[k] = uniform(k, 1, 1, 0.05f, 0.9f), b[k] = uniform(k, 2, 2, 1.1f, 1.9f);
     albedo[k] = uniform(k, 3, 3, 0.2f, 0.95f), sigma_t[k] = uniform(k, 4, 4, 0.0f, 5.0f);

@@ -172,7 +172,7 @@ static nbrdf_status neural_fn(void *user, size_t n, const nbrdf_query *q, double
 }
 
 typedef struct layer_inputs {
-  double *a1, *eta, *a2, *r0;
+  float *a1, *eta, *a2, *r0;
   float *albedo, *sigma_t, *top, *bottom;
 } layer_inputs;
 
@@ -248,7 +248,7 @@ int main(int argc, char **argv) {
 
   train_params *p = malloc(n * sizeof *p);
   layer_inputs in = {
-      malloc(4 * n * sizeof(double)),    NULL, NULL, NULL, malloc(2 * n * sizeof(float)), NULL,
+      malloc(4 * n * sizeof(float)),     NULL, NULL, NULL, malloc(2 * n * sizeof(float)), NULL,
       malloc(2 * n * D * sizeof(float)), NULL};
   float *lat = malloc(n * D * sizeof *lat);
   double *ref = malloc(PER_BRDF * sizeof *ref), *x = malloc(PER_BRDF * sizeof *x);
@@ -261,8 +261,8 @@ int main(int argc, char **argv) {
   const uint64_t family = train_heldout_seed(TRAIN_HELDOUT_LAYER);
   for (size_t i = 0; i < n; i++) {
     train_params_draw(family, train_heldout_kind(TRAIN_HELDOUT_LAYER), i, &p[i]);
-    in.a1[i] = p[i].coat[0].alpha, in.eta[i] = p[i].coat[0].eta;
-    in.a2[i] = p[i].base_alpha, in.r0[i] = p[i].base_r0;
+    in.a1[i] = (float)p[i].coat[0].alpha, in.eta[i] = (float)p[i].coat[0].eta;
+    in.a2[i] = (float)p[i].base_alpha, in.r0[i] = (float)p[i].base_r0;
     in.albedo[i] = (float)p[i].coat[0].albedo, in.sigma_t[i] = (float)p[i].coat[0].sigma_t;
   }
 

@@ -205,7 +205,7 @@ int main(int argc, char **argv) {
 
   /* The held-out `layer` BRDFs, as nbrdf evaluate and a bake obtain them. */
   train_params *p = malloc(n * sizeof *p);
-  double *a1 = malloc(4 * n * sizeof *a1), *eta = a1 + n, *a2 = a1 + 2 * n, *r0 = a1 + 3 * n;
+  float *a1 = malloc(4 * n * sizeof *a1), *eta = a1 + n, *a2 = a1 + 2 * n, *r0 = a1 + 3 * n;
   float *top = malloc(3 * n * D * sizeof *top), *bottom = top + n * D, *lat = top + 2 * n * D;
   float *albedo = malloc(4 * n * sizeof *albedo), *sigma_t = albedo + n, *sigma = albedo + 2 * n,
         *w = albedo + 3 * n;
@@ -213,8 +213,8 @@ int main(int argc, char **argv) {
   const uint64_t family = train_heldout_seed(TRAIN_HELDOUT_LAYER);
   for (size_t i = 0; i < n; i++) {
     train_params_draw(family, train_heldout_kind(TRAIN_HELDOUT_LAYER), i, &p[i]);
-    a1[i] = p[i].coat[0].alpha, eta[i] = p[i].coat[0].eta;
-    a2[i] = p[i].base_alpha, r0[i] = p[i].base_r0;
+    a1[i] = (float)p[i].coat[0].alpha, eta[i] = (float)p[i].coat[0].eta;
+    a2[i] = (float)p[i].base_alpha, r0[i] = (float)p[i].base_r0;
     albedo[i] = (float)p[i].coat[0].albedo, sigma_t[i] = (float)p[i].coat[0].sigma_t;
   }
   if (nbrdf_model_base_latents(m, NBRDF_BASE_DIELECTRIC, n, a1, eta, NBRDF_RANGE_CLAMP, top, NULL,

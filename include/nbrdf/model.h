@@ -168,7 +168,7 @@ typedef enum nbrdf_range_policy {
  * incidence. out [n × D]; clamped (may be NULL) receives the flags above.
  * NaN/Inf parameters always fail. */
 nbrdf_status nbrdf_model_base_latents(const nbrdf_model *model, nbrdf_base_kind kind, size_t n,
-                                      const double *p0, const double *p1, nbrdf_range_policy policy,
+                                      const float *p0, const float *p1, nbrdf_range_policy policy,
                                       float *out, unsigned char *clamped, nbrdf_error *err);
 
 /* The table grid: node counts and axis values (owned by the model). */

@@ -112,14 +112,14 @@ void bake_clamp_warning(char *buf, size_t cap, const char *name, const float *lo
 nbrdf_status bake_tuples_evaluate(const nbrdf_model *model, const bake_tuple *t, const size_t *idx,
                                   size_t n, float *out, nbrdf_error *err) {
   const size_t D = (size_t)nbrdf_model_latent_dim(model);
-  double *p0 = malloc(sizeof(double) * n * 4);
+  float *p0 = malloc(sizeof(float) * n * 4);
   float *lat = malloc(sizeof(float) * n * (D * 3 + 4));
   if (!p0 || !lat) {
     free(p0);
     free(lat);
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples", n);
   }
-  double *p1 = p0 + n, *q0 = p0 + 2 * n, *q1 = p0 + 3 * n;
+  float *p1 = p0 + n, *q0 = p0 + 2 * n, *q1 = p0 + 3 * n;
   float *top = lat, *bottom = top + n * D, *layered = bottom + n * D;
   float *albedo = layered + n * D, *sigma_t = albedo + n, *sigma = sigma_t + n, *w = sigma + n;
   for (size_t k = 0; k < n; k++) {

@@ -49,7 +49,8 @@ static nbrdf_status decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, 
 
 static nbrdf_status base(const nbrdf_model *m, nbrdf_base_kind kind, double p0, double p1,
                          float *out, nbrdf_error *err) {
-  return nbrdf_model_base_latents(m, kind, 1, &p0, &p1, NBRDF_RANGE_CLAMP, out, NULL, err);
+  float f0 = (float)p0, f1 = (float)p1;
+  return nbrdf_model_base_latents(m, kind, 1, &f0, &f1, NBRDF_RANGE_CLAMP, out, NULL, err);
 }
 
 /* Latent of a BRDF from the bundle as a bake obtains it: the base from its

@@ -64,12 +64,25 @@ nbrdf_status nbrdf_model_decode(const nbrdf_model *m, size_t n, int channels, co
 }
 
 nbrdf_status nbrdf_model_base_latents(const nbrdf_model *m, nbrdf_base_kind kind, size_t n,
-                                      const double *p0, const double *p1, nbrdf_range_policy policy,
+                                      const float *p0, const float *p1, nbrdf_range_policy policy,
                                       float *out, unsigned char *clamped, nbrdf_error *err) {
   if (kind != NBRDF_BASE_DIELECTRIC && kind != NBRDF_BASE_CONDUCTOR)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "base latents: unknown base kind %d", (int)kind);
-  return model_base_table_lookup(&m->tables[kind], n, p0, p1, policy == NBRDF_RANGE_REFUSE, out,
-                                 clamped, err);
+  /* Parameters are floats everywhere in the public API (as nbrdf_model_layer's); the table
+   * look-up interpolates in double, as training's does. In chunks: no allocation. */
+  enum { CHUNK = 256 };
+  double q0[CHUNK], q1[CHUNK];
+  const size_t D = (size_t)m->latent_dim;
+  for (size_t k0 = 0; k0 < n; k0 += CHUNK) {
+    size_t c = n - k0 < CHUNK ? n - k0 : CHUNK;
+    for (size_t k = 0; k < c; k++)
+      q0[k] = p0[k0 + k], q1[k] = p1[k0 + k];
+    nbrdf_status st =
+        model_base_table_lookup(&m->tables[kind], c, q0, q1, policy == NBRDF_RANGE_REFUSE,
+                                out + k0 * D, clamped ? clamped + k0 : NULL, err);
+    if (st != NBRDF_OK) return st;
+  }
+  return NBRDF_OK;
 }
 
 nbrdf_status nbrdf_model_layer(const nbrdf_model *m, size_t n, const float *top,

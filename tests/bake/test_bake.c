@@ -72,7 +72,7 @@ static void direct(const float t[6], float *latent, float *sigma, float *w) {
   nbrdf_error e, *err = &e;
   int D = nbrdf_model_latent_dim(model);
   float *top = malloc(sizeof(float) * D * 2), *bottom = top + D;
-  double a = t[0], b = t[1], c = t[2], d = t[3];
+  float a = t[0], b = t[1], c = t[2], d = t[3];
   CHECK_OK(nbrdf_model_base_latents(model, NBRDF_BASE_DIELECTRIC, 1, &a, &b, NBRDF_RANGE_REFUSE,
                                     top, NULL, err),
            err);

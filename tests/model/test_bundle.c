@@ -143,14 +143,14 @@ static void check_same_outputs(const nbrdf_model *m1, const nbrdf_model *m2) {
   static float lat[N * 3 * 32], wi[N * 3], wo[N * 3], f1[N * 3], f2[N * 3];
   static float top[N * 32], bottom[N * 32], o1[N * 32], o2[N * 32];
   float a[N], s[N], sg1[N], w1[N], sg2[N], w2[N];
-  double alpha[N], eta[N], r0[N];
+  float alpha[N], eta[N], r0[N];
   for (int i = 0; i < N * 3 * 32; i++)
     lat[i] = (float)nbrdf_rng_normal(&rng);
   random_queries(&rng, N, wi, wo);
   for (int k = 0; k < N; k++) {
-    alpha[k] = 0.01 + 0.99 * nbrdf_rng_uniform(&rng);
-    eta[k] = 1.05 + 0.95 * nbrdf_rng_uniform(&rng);
-    r0[k] = nbrdf_rng_uniform(&rng);
+    alpha[k] = (float)(0.01 + 0.99 * nbrdf_rng_uniform(&rng));
+    eta[k] = (float)(1.05 + 0.95 * nbrdf_rng_uniform(&rng));
+    r0[k] = (float)nbrdf_rng_uniform(&rng);
     a[k] = (float)nbrdf_rng_uniform(&rng), s[k] = (float)(5.0 * nbrdf_rng_uniform(&rng));
   }
   CHECK_OK(nbrdf_model_decode(m1, N, 3, lat, wi, wo, f1, err), err);
@@ -316,7 +316,7 @@ static void test_public_calls(void) {
   const float *ax0, *ax1;
   nbrdf_model_base_grid(m, NBRDF_BASE_CONDUCTOR, &n0, &ax0, &n1, &ax1);
   CHECK(n0 >= 2 && n1 >= 2 && ax0[0] == 0.01f && ax1[n1 - 1] == 1.0f);
-  double p0 = ax0[2], p1 = ax1[1], far = 7.0;
+  float p0 = ax0[2], p1 = ax1[1], far = 7.0f;
   unsigned char flag = 0;
   CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, 1, &p0, &p1, NBRDF_RANGE_REFUSE, out,
                                     &flag, err),
@@ -338,7 +338,7 @@ static void test_public_calls(void) {
   nbrdf_rng rng;
   nbrdf_rng_init(&rng, 4, 0);
   random_queries(&rng, NB * PER, swi, swo);
-  double pa[NB] = {0.05, 0.5}, pr[NB] = {0.9, 0.3};
+  float pa[NB] = {0.05f, 0.5f}, pr[NB] = {0.9f, 0.3f};
   float z[NB * 32], zero_loss_lat[NB * 32] = {0};
   CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_CONDUCTOR, NB, pa, pr, NBRDF_RANGE_REFUSE, z,
                                     NULL, err),

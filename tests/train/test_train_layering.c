@@ -233,7 +233,7 @@ static void test_layering_chain(void) {
   CHECK_OK(nbrdf_model_load(path_of("bundle"), &m, &err), &err);
   if (m) {
     float top[32], bottom[32], out[32], a = 0.5f, sig = 2.0f;
-    double a1 = 0.1, eta = 1.5, a2 = 0.3, r0 = 0.9;
+    float a1 = 0.1f, eta = 1.5f, a2 = 0.3f, r0 = 0.9f;
     CHECK_OK(nbrdf_model_base_latents(m, NBRDF_BASE_DIELECTRIC, 1, &a1, &eta, NBRDF_RANGE_REFUSE,
                                       top, NULL, &err),
              &err);
