@@ -71,7 +71,7 @@ int cmd_train_tables(int argc, char **argv) {
   model_base_table tables[2];
   memset(tables, 0, sizeof tables);
   nbrdf_status st = model_decoder_load(decoder, &dec, &err);
-  s.progress = train_on_progress, s.user = &prog;
+  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   cli_cancel_watch();
   if (!st) st = train_tables_fit(dec, &s, tables, &err);
   cli_cancel_unwatch();

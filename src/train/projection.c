@@ -1,5 +1,6 @@
 #include "train/projection.h"
 
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -9,12 +10,20 @@ typedef struct projection {
   int n;
   model_fit *fit[TRAIN_PROJECTION_MAX_SETS];
   const model_samples *sets;
+  volatile sig_atomic_t *cancel;
 } projection;
 
 static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
   projection *p = user;
   double sum = 0.0;
   for (int i = 0; i < p->n; i++) {
+    /* A step of both tables is seconds on a loaded machine: Ctrl-C is also seen between
+     * the sets, as it was when each table was a run of its own. */
+    if (i > 0 && p->cancel && *p->cancel)
+      return nbrdf_fail(err, NBRDF_ERR_CANCELLED,
+                        "projection: cancelled in step %lld (the last checkpoint, if any, "
+                        "resumes it)",
+                        (long long)step + 1);
     double l = 0.0;
     nbrdf_status st = model_fit_gradient(p->fit[i], &p->sets[i], step, &l, err);
     if (st) return st;
@@ -57,6 +66,7 @@ nbrdf_status train_project_sets(model_decoder *dec, int n_sets, const model_samp
   }
   trainer_options to = TRAINER_OPTIONS_DEFAULT;
   if (base) to = *base;
+  pr.cancel = to.cancel;
   char options[2048];
   snprintf(options, sizeof options, "%s", to.options ? to.options : "");
   trainer_option(options, sizeof options, "projection",

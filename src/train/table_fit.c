@@ -78,7 +78,7 @@ static nbrdf_status fit_tables(model_decoder *dec, const train_table_settings *s
   to.format = "nbrdf-train-tables-checkpoint";
   to.options = options;
   to.stage = "tables";
-  to.progress = s->progress, to.user = s->user;
+  to.progress = s->progress, to.user = s->user, to.cancel = s->cancel;
   to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
   to.max_seconds = s->max_seconds, to.stop_at_step = s->stop_at_step;
   if (!st) st = train_project_sets(dec, 2, sets, latents, &p, &to, NULL, err);

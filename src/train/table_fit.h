@@ -8,6 +8,8 @@
 #ifndef NBRDF_TRAIN_TABLE_FIT_H
 #define NBRDF_TRAIN_TABLE_FIT_H
 
+#include <signal.h>
+
 #include "model/base_table.h"
 #include "model/decoder.h"
 #include "nbrdf/status.h"
@@ -33,10 +35,11 @@ typedef struct train_table_settings {
    * accept η = 1 (no coat: an index-matched interface) without clamping,
    * since a bake's η range is the table's grid (bake_tuple.c). [1, 1.9]. */
   double eta_min;
+  volatile sig_atomic_t *cancel; /* may be NULL; also seen between the two tables of a step */
 } train_table_settings;
 
 #define TRAIN_TABLE_SETTINGS_DEFAULT                                                               \
-  { 16, 8, 9, 1.0, 1.0, 800, 1u, NULL, NULL, NULL, 300.0, 0.0, 0, 1.05 }
+  { 16, 8, 9, 1.0, 1.0, 800, 1u, NULL, NULL, NULL, 300.0, 0.0, 0, 1.05, NULL }
 
 /* Fills tables[MODEL_TABLE_DIELECTRIC] and tables[MODEL_TABLE_CONDUCTOR]
  * (initialised here; free with model_base_table_free). NBRDF_ERR_CANCELLED
