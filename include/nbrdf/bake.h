@@ -138,19 +138,27 @@ typedef enum nbrdf_bake_compression {
  *   to every texel over parameter space. Every reader decodes the result.
  * - SPECIALISED: as FITTED, then a copy of the decoder is fine-tuned on the
  *   scene's ground truth together with the latents; the texture carries that
- *   decoder (latent texture format 2; nbrdf_model_for_texture decodes it). */
+ *   decoder (latent texture format 2; nbrdf_model_for_texture decodes it).
+ * - COMPACT: as SPECIALISED, then the scene's latents are stored in
+ *   compact_dim principal coordinates per colour channel (<= 8, against the
+ *   bundle's 32) and a small decoder (compact_width wide, about 1,500
+ *   multiply-adds per query at 8 x 32) is distilled for the scene from the
+ *   specialised one and the ground truth; the texture carries it. A texture
+ *   a renderer decodes fast, at about a third of the channels. */
 typedef enum nbrdf_bake_accuracy {
   NBRDF_BAKE_FAST = 0,
   NBRDF_BAKE_FITTED = 1,
-  NBRDF_BAKE_SPECIALISED = 2
+  NBRDF_BAKE_SPECIALISED = 2,
+  NBRDF_BAKE_COMPACT = 3
 } nbrdf_bake_accuracy;
 
 /* Default budgets in seconds of the deterministic cost model (not wall
  * clock: the same inputs and budget give the same bake on any machine). */
 #define NBRDF_BAKE_BUDGET_FITTED 120.0
 #define NBRDF_BAKE_BUDGET_SPECIALISED 300.0
+#define NBRDF_BAKE_BUDGET_COMPACT 400.0
 
-/* "fast", "fitted", "specialised"; parse returns -1 for anything else. */
+/* "fast", "fitted", "specialised", "compact"; parse returns -1 for anything else. */
 const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a);
 int nbrdf_bake_accuracy_parse(const char *name);
 
@@ -204,7 +212,10 @@ typedef struct nbrdf_bake_options {
    * NBRDF_ERR_ARGUMENT saying what it could do. Progress then also reports
    * stages "ground truth" and "fit" before "bake". */
   double budget;
-  uint64_t seed; /* random walks and tuple selection of FITTED/SPECIALISED */
+  uint64_t seed; /* random walks and tuple selection of FITTED/SPECIALISED/COMPACT */
+  /* COMPACT: latent channels per colour channel (1..8; 0: 8) and the small
+   * decoder's width (4..256; 0: 32). */
+  int compact_dim, compact_width;
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
@@ -215,7 +226,7 @@ typedef struct nbrdf_bake_options {
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,         \
-        NBRDF_BAKE_FAST, 0.0, 1u                                                                    \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0                                                              \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
@@ -236,6 +247,11 @@ typedef struct nbrdf_bake_report {
   size_t heldout_tuples;  /* tuples held out of the fit for the error estimate */
   double heldout_error;   /* median lobe error (fraction) on the held-out tuples */
   double heldout_error_fast; /* the same tuples with the universal networks alone */
+  /* COMPACT (0 otherwise): latent channels per colour channel, the decoder's
+   * multiply-adds per query, and the variance of the scene's latents they keep. */
+  int compact_dim;
+  long long decoder_macs;
+  double compact_kept;
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

@@ -27,14 +27,14 @@
 static const char *const param_names[NBRDF_BAKE_PARAM_COUNT] = {"alpha1", "eta",    "alpha2",
                                                                 "r0",     "albedo", "sigma_t"};
 
-static const char *const accuracy_names[3] = {"fast", "fitted", "specialised"};
+static const char *const accuracy_names[4] = {"fast", "fitted", "specialised", "compact"};
 
 const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a) {
-  return (unsigned)a < 3 ? accuracy_names[a] : "unknown";
+  return (unsigned)a < 4 ? accuracy_names[a] : "unknown";
 }
 
 int nbrdf_bake_accuracy_parse(const char *name) {
-  for (int k = 0; name && k < 3; k++)
+  for (int k = 0; name && k < 4; k++)
     if (!strcmp(name, accuracy_names[k])) return k;
   return -1;
 }
@@ -91,14 +91,39 @@ nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bak
 typedef struct mip_ctx {
   const nbrdf_model *model;
   const nbrdf_latent_layout *layout;
+  /* COMPACT: the basis, the bundle-latent layout and a row of it */
+  const bake_compact *compact;
+  const nbrdf_latent_layout *work;
+  float *work_row;
 } mip_ctx;
 
 /* The proxy of a mip texel is predicted from its averaged latents rather
- * than averaged itself (docs/LATENT-TEXTURE.md, "Mip levels"). */
+ * than averaged itself (docs/LATENT-TEXTURE.md, "Mip levels"); a compact
+ * texel's from the latent its averaged coordinates stand for. */
 static nbrdf_status mip_row(void *user, int level, int y, float *row, int width, nbrdf_error *err) {
   (void)level, (void)y;
   const mip_ctx *m = user;
-  return bake_proxy_from_latents(m->model, m->layout, row, (size_t)width, err);
+  if (!m->compact) return bake_proxy_from_latents(m->model, m->layout, row, (size_t)width, err);
+  const int C = nbrdf_latent_colours(m->layout);
+  const int fin = nbrdf_latent_channel_count(m->layout), fw = nbrdf_latent_channel_count(m->work);
+  float coords[BAKE_COMPACT_MAX_DIM], z[NBRDF_LATENT_MAX_DIM];
+  for (int x = 0; x < width; x++)
+    for (int c = 0; c < C; c++) {
+      for (int j = 0; j < m->compact->dim; j++)
+        coords[j] = row[x * fin + nbrdf_latent_index_latent(m->layout, c, j)];
+      bake_compact_expand(m->compact, coords, z);
+      for (int d = 0; d < m->work->latent_dim; d++)
+        m->work_row[x * fw + nbrdf_latent_index_latent(m->work, c, d)] = z[d];
+    }
+  nbrdf_status st = bake_proxy_from_latents(m->model, m->work, m->work_row, (size_t)width, err);
+  for (int x = 0; st == NBRDF_OK && x < width; x++)
+    for (int c = 0; c < C; c++) {
+      row[x * fin + nbrdf_latent_index_sigma(m->layout, c)] =
+          m->work_row[x * fw + nbrdf_latent_index_sigma(m->work, c)];
+      row[x * fin + nbrdf_latent_index_w(m->layout, c)] =
+          m->work_row[x * fw + nbrdf_latent_index_w(m->work, c)];
+    }
+  return st;
 }
 
 static void append(char *buf, size_t cap, const char *text) {
@@ -202,7 +227,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
   /* Above the fast level: ground truth and fit first, before any file exists. */
   bake_accuracy_result acc = {0};
-  nbrdf_model *specialised = NULL;
+  nbrdf_model *specialised = NULL, *compact = NULL;
   if (o->accuracy != NBRDF_BAKE_FAST) {
     bake_scene scene = {src, W, H, rgb ? 3 : 1};
     st = bake_accuracy_prepare(model, &scene, o, &prog.ticker, &acc, err);
@@ -210,20 +235,27 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
      * decoder, whose bytes the texture then carries (format version 2). */
     if (st == NBRDF_OK && acc.correction.decoder)
       st = model_with_decoder_net(model, acc.correction.decoder, &specialised, err);
+    /* COMPACT: the texels are computed as SPECIALISED's, then stored in the
+     * basis's coordinates; the texture carries the student. */
+    if (st == NBRDF_OK && acc.compact.student)
+      st = model_with_decoder_net(model, acc.compact.student, &compact, err);
     if (st != NBRDF_OK) {
       bake_accuracy_free(&acc);
+      nbrdf_model_destroy(specialised);
       return st;
     }
     if (specialised) model = specialised;
   }
+  const nbrdf_latent_layout work = layout;
+  if (compact) layout.latent_dim = acc.compact.dim;
   /* A model with a decoder of its own (nbrdf_model_with_decoder) makes a
    * texture that carries it: version 2; else exactly version 1. */
   nbrdf_decoder_info own;
-  nbrdf_model_own_decoder(model, &own);
+  nbrdf_model_own_decoder(compact ? compact : model, &own);
   nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
                             settings, own.bytes, own.size, NULL};
   if (o->accuracy != NBRDF_BAKE_FAST) meta.accuracy = acc.attribute;
-  mip_ctx mctx = {model, &layout};
+  mip_ctx mctx = {model, &layout, compact ? &acc.compact : NULL, &work, NULL};
   nbrdf_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
   wo.tile_size = o->tile_size;
@@ -239,10 +271,18 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   if (band_rows < 1) band_rows = 1;
   if (band_rows > H) band_rows = H;
   size_t texel_floats = (size_t)nbrdf_latent_channel_count(&layout);
-  float *texels = malloc(sizeof(float) * texel_floats * (size_t)band_rows * W);
-  if (!texels) {
+  size_t work_floats = (size_t)nbrdf_latent_channel_count(&work);
+  float *texels = malloc(sizeof(float) * work_floats * (size_t)band_rows * W);
+  /* COMPACT: the band's texels (bundle latents) are reduced into `out` */
+  float *out = compact ? malloc(sizeof(float) * texel_floats * (size_t)band_rows * W) : texels;
+  if (compact) mctx.work_row = malloc(sizeof(float) * work_floats * (size_t)W);
+  if (!texels || !out || (compact && !mctx.work_row)) {
     bake_accuracy_free(&acc);
     nbrdf_model_destroy(specialised);
+    nbrdf_model_destroy(compact);
+    if (out != texels) free(out);
+    free(texels);
+    free(mctx.work_row);
     return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
   }
 
@@ -252,11 +292,12 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   bake_band band;
   /* One band: nothing to carry over, so no cache memory. */
   size_t cache_max = band_rows < H ? o->tuple_cache : 0;
-  bake_band_init(&band, model, src, &layout, W, o->roughness, o->range, cache_max,
+  bake_band_init(&band, model, src, &work, W, o->roughness, o->range, cache_max,
                  o->quantise_bits);
   band.tick = band_tick;
   band.tick_user = &prog;
   bake_audit_init(&band.audit, o->energy_audit);
+  if (compact) band.audit_model = compact, band.audit.compact = &acc.compact;
   if (o->accuracy != NBRDF_BAKE_FAST) band.correct = &acc.correction;
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
     int rows = H - y < band_rows ? H - y : band_rows;
@@ -266,6 +307,8 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
       break;
     }
     st = bake_band_run(&band, y, rows, texels, err);
+    if (st == NBRDF_OK && compact)
+      bake_compact_texels(&acc.compact, &work, texels, &layout, out, (size_t)rows * W);
     for (int j = 0; st == NBRDF_OK && j < rows; j += WRITE_ROWS) {
       int n = rows - j < WRITE_ROWS ? rows - j : WRITE_ROWS;
       prog.fraction = BAKE_BAND_FRACTION + (1.0 - BAKE_BAND_FRACTION) * j / rows;
@@ -273,7 +316,7 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
         st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y + j, H);
         break;
       }
-      st = nbrdf_latent_writer_write_rows(writer, texels + (size_t)j * W * texel_floats, n, err);
+      st = nbrdf_latent_writer_write_rows(writer, out + (size_t)j * W * texel_floats, n, err);
     }
   }
   if (st == NBRDF_OK && nbrdf_ticker_tick(&prog.ticker, "bake", H, H, 1))
@@ -309,12 +352,20 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
         rep->heldout_error = acc.heldout_error;
         rep->heldout_error_fast = acc.heldout_error_fast;
       }
+      if (compact) {
+        rep->compact_dim = acc.compact.dim;
+        rep->decoder_macs = (long long)nbrdf_model_decoder_macs(compact);
+        rep->compact_kept = acc.compact.kept;
+      }
     }
   }
   bake_accuracy_free(&acc);
   bake_band_free(&band);
   nbrdf_model_destroy(specialised);
+  nbrdf_model_destroy(compact);
+  if (out != texels) free(out);
   free(texels);
+  free(mctx.work_row);
   return st;
 }
 
@@ -334,9 +385,9 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
   if (o.quantise_bits != 0 && (o.quantise_bits < 2 || o.quantise_bits > 16))
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: quantise_bits is 0 (off) or 2..16, not %d",
                       o.quantise_bits);
-  if ((unsigned)o.accuracy > NBRDF_BAKE_SPECIALISED)
+  if ((unsigned)o.accuracy > NBRDF_BAKE_COMPACT)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "bake: accuracy is fast, fitted or specialised (0, 1, 2), not %d",
+                      "bake: accuracy is fast, fitted, specialised or compact (0 to 3), not %d",
                       (int)o.accuracy);
   if (!isfinite(o.budget) || o.budget < 0.0)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,

@@ -28,6 +28,17 @@
 #define MAX_FIT 1024
 #define MAX_HELD 16
 
+/* COMPACT: the share of the budget the student's distillation gets, and
+ * its cost per row drawn (a small network is bound by per-row work, not
+ * multiply-adds). */
+#define DISTIL_SHARE 0.3
+#define DISTIL_ROWS 64
+#define DISTIL_BATCH 16384
+#define DISTIL_ROW_COST 2.0e-7
+#define SMALL_MAC_RATE 1.0e10
+#define MIN_DISTIL 300
+#define MAX_DISTIL 30000 /* 6,000 steps: 11.8 %, 30,000: 6.0 % at lr 2e-3 on a constant */
+
 #define OUTGOING 128
 #define SAMPLED 64
 #define SPP 2048
@@ -40,10 +51,12 @@ static double step_cost(size_t n_fit, int rows, int64_t macs, double passes) {
 
 static int rows_for(size_t n_fit) { return n_fit <= 32 ? 256 : 128; }
 
-nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t distinct,
-                            int64_t macs, bake_plan *p, nbrdf_error *err) {
+/* The fit's plan within `budget`; `share` is the part of the user's budget
+ * it is (the messages speak of the user's). */
+static nbrdf_status plan_fit(nbrdf_bake_accuracy level, double share, double budget,
+                             size_t distinct, int64_t macs, bake_plan *p, nbrdf_error *err) {
   memset(p, 0, sizeof *p);
-  const int joint = level == NBRDF_BAKE_SPECIALISED;
+  const int joint = level >= NBRDF_BAKE_SPECIALISED;
   const double per_step = step_cost(1, 256, macs, PROJECT_PASSES) +
                           (joint ? 3.0 * step_cost(1, 256, macs, JOINT_PASSES) : 0.0);
   const double min_cost = COST_LOBE + MIN_INCIDENT * COST_INCIDENT + MIN_STEPS * per_step;
@@ -52,13 +65,13 @@ nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t dis
     double fitted_min = COST_LOBE + MIN_INCIDENT * COST_INCIDENT +
                         MIN_STEPS * step_cost(1, 256, macs, PROJECT_PASSES);
     if (joint && budget >= fitted_min)
-      snprintf(also, sizeof also, "; within %g s 'fitted' fits", budget);
+      snprintf(also, sizeof also, "; within %g s 'fitted' fits", budget / share);
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
                       "bake: a budget of %g s is too small for '%s': its smallest plan (1 tuple "
                       "fitted, 1 held out, %d fit steps) costs %.1f s; give a budget of %.0f s "
                       "or more, or use 'fast'%s",
-                      budget, nbrdf_bake_accuracy_name(level), MIN_STEPS, min_cost,
-                      ceil(min_cost), also);
+                      budget / share, nbrdf_bake_accuracy_name(level), MIN_STEPS,
+                      min_cost / share, ceil(min_cost / share), also);
   }
   if (distinct == 0) distinct = 1;
   p->n_held = (size_t)(0.12 * budget / COST_LOBE);
@@ -103,8 +116,28 @@ nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t dis
   }
 }
 
+nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t distinct,
+                            int64_t macs, int64_t student_macs, bake_plan *p, nbrdf_error *err) {
+  if (level != NBRDF_BAKE_COMPACT) return plan_fit(level, 1.0, budget, distinct, macs, p, err);
+  nbrdf_status st =
+      plan_fit(level, 1.0 - DISTIL_SHARE, budget * (1.0 - DISTIL_SHARE), distinct, macs, p, err);
+  if (st != NBRDF_OK) return st;
+  /* The student sees the fitted tuples and up to BAKE_COMPACT_TEACHER more. */
+  size_t n = p->n_fit + (distinct < BAKE_COMPACT_TEACHER ? distinct : BAKE_COMPACT_TEACHER);
+  /* Small scenes draw more rows of each BRDF per step (one constant: 1,024). */
+  size_t rows = DISTIL_BATCH / n;
+  p->distil_rows = rows < DISTIL_ROWS ? DISTIL_ROWS : rows > 1024 ? 1024 : (int)rows;
+  double per = (double)n * p->distil_rows *
+               (DISTIL_ROW_COST + (double)student_macs * JOINT_PASSES / SMALL_MAC_RATE);
+  double steps = budget * DISTIL_SHARE / per;
+  p->distil_steps = steps > MAX_DISTIL ? MAX_DISTIL : steps < MIN_DISTIL ? MIN_DISTIL : (int)steps;
+  p->cost += p->distil_steps * per;
+  return NBRDF_OK;
+}
+
 void bake_accuracy_free(bake_accuracy_result *r) {
   bake_correction_free(&r->correction);
+  bake_compact_free(&r->compact);
   memset(r, 0, sizeof *r);
 }
 
@@ -114,9 +147,20 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
   memset(r, 0, sizeof *r);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
   bake_ranges_init(model, lo, hi);
-  r->budget = o->budget > 0.0 ? o->budget
+  r->budget = o->budget > 0.0                         ? o->budget
+              : o->accuracy == NBRDF_BAKE_COMPACT     ? NBRDF_BAKE_BUDGET_COMPACT
               : o->accuracy == NBRDF_BAKE_SPECIALISED ? NBRDF_BAKE_BUDGET_SPECIALISED
                                                       : NBRDF_BAKE_BUDGET_FITTED;
+  const int compact = o->accuracy == NBRDF_BAKE_COMPACT;
+  const int K = o->compact_dim > 0 ? o->compact_dim : BAKE_COMPACT_DEFAULT_DIM;
+  const int width = o->compact_width > 0 ? o->compact_width : BAKE_COMPACT_DEFAULT_WIDTH;
+  int64_t student_macs = 0;
+  if (compact) {
+    model_decoder_config cfg;
+    nbrdf_status cs = bake_compact_config(K, width, &cfg, err);
+    if (cs != NBRDF_OK) return cs;
+    student_macs = nbrdf_nn_spec_macs(&cfg.spec);
+  }
   bake_gather_settings gs = {scene->width, scene->height, scene->colours, lo, hi,
                              o->roughness,  o->range,     o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;
@@ -125,10 +169,13 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
   bake_plan plan;
   if (st == NBRDF_OK)
     st = bake_plan_make(o->accuracy, r->budget, r->distinct, nbrdf_model_decoder_macs(model),
-                        &plan, err);
-  bake_selection sel = {0};
+                        student_macs, &plan, err);
+  bake_selection sel = {0}, teach = {0};
   if (st == NBRDF_OK)
     st = bake_select(cand, n_cand, lo, hi, plan.n_fit, plan.n_held, o->seed, &sel, err);
+  /* COMPACT: the tuples the teacher speaks for, spread over the scene the same way. */
+  if (st == NBRDF_OK && compact)
+    st = bake_select(cand, n_cand, lo, hi, BAKE_COMPACT_TEACHER, 0, o->seed + 7, &teach, err);
   free(cand);
   train_samples samples = {0};
   double *images = NULL;
@@ -153,9 +200,15 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
                           ticker, o->cancel};
   if (st == NBRDF_OK)
     st = bake_fit_run(model, sel.fit, sel.n_fit, &samples, &fs, &r->correction, err);
+  bake_compact_settings cs = {width, plan.distil_steps, plan.distil_rows, o->seed + 3, ticker,
+                              o->cancel};
+  if (st == NBRDF_OK && compact)
+    st = bake_compact_build(model, &r->correction, sel.fit, sel.n_fit, &samples, teach.fit,
+                            teach.n_fit, K, &cs, &r->compact, err);
   if (st == NBRDF_OK)
-    st = bake_heldout_error(model, &r->correction, sel.held, sel.n_held, images, LOBE_RES,
-                            &r->heldout_error, &r->heldout_error_fast, NULL, err);
+    st = bake_heldout_error(model, &r->correction, compact ? &r->compact : NULL, sel.held,
+                            sel.n_held, images, LOBE_RES, &r->heldout_error,
+                            &r->heldout_error_fast, NULL, err);
   if (st == NBRDF_OK) {
     r->fitted = sel.n_fit;
     r->heldout = sel.n_held;
@@ -165,10 +218,19 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
              nbrdf_bake_accuracy_name(o->accuracy), r->budget, plan.cost, r->distinct, r->fitted,
              r->heldout, sel.held_are_fitted ? " (fitted tuples, independent truth)" : "",
              r->heldout_error, r->heldout_error_fast, (unsigned long long)o->seed);
+    if (compact) {
+      size_t len = strlen(r->attribute);
+      snprintf(r->attribute + len, sizeof r->attribute - len,
+               "; compact=%d; compactWidth=%d; decoderMacs=%lld; varianceKept=%.4f; "
+               "distilSteps=%d; distilLossTruth=%.4f; distilLossTeacher=%.4f",
+               K, width, (long long)student_macs, r->compact.kept, plan.distil_steps,
+               r->compact.loss_truth, r->compact.loss_teacher);
+    }
   }
   free(images);
   train_samples_free(&samples);
   bake_selection_free(&sel);
+  bake_selection_free(&teach);
   if (st != NBRDF_OK) bake_accuracy_free(r);
   return st;
 }

@@ -12,6 +12,7 @@
 #ifndef NBRDF_BAKE_BAKE_ACCURACY_H
 #define NBRDF_BAKE_BAKE_ACCURACY_H
 
+#include "bake/bake_compact.h"
 #include "bake/bake_fit.h"
 #include "bake/bake_truth.h"
 #include "nbrdf/bake.h"
@@ -21,20 +22,24 @@ typedef struct bake_plan {
   size_t n_fit, n_held;
   int incident;      /* fit samples' incident directions per tuple */
   int project_steps, joint_steps, rows_per_brdf;
+  int distil_steps, distil_rows; /* COMPACT: the student's steps, rows per BRDF per step */
   double cost;       /* cost-model seconds of the plan */
 } bake_plan;
 
 /* The plan of `level` within `budget` seconds for `distinct` candidate
- * tuples; NBRDF_ERR_ARGUMENT saying what fits when the budget is too small. */
+ * tuples; NBRDF_ERR_ARGUMENT saying what fits when the budget is too small.
+ * COMPACT: student_macs is the small decoder's (else ignored). */
 nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t distinct,
-                            int64_t decoder_macs, bake_plan *plan, nbrdf_error *err);
+                            int64_t decoder_macs, int64_t student_macs, bake_plan *plan,
+                            nbrdf_error *err);
 
 typedef struct bake_accuracy_result {
   bake_correction correction;
+  bake_compact compact; /* COMPACT: the basis and the student (else zero) */
   size_t distinct, fitted, heldout;
   double heldout_error, heldout_error_fast;
   double budget;
-  char attribute[256]; /* NBRDF_ATTR_ACCURACY */
+  char attribute[512]; /* NBRDF_ATTR_ACCURACY */
 } bake_accuracy_result;
 
 typedef struct bake_scene {

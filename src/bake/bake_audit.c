@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_compact.h"
 #include "core/error.h"
 #include "model/albedo_quad.h"
 #include "model/bundle.h"
@@ -69,6 +70,7 @@ nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const fl
   if (n > room) a->skipped += n - room, n = room;
   if (n == 0) return NBRDF_OK;
   const size_t D = (size_t)nbrdf_model_latent_dim(model);
+  const size_t stored = a->compact ? (size_t)a->compact->work_dim : D;
   if (n > a->scratch_cap) {
     free(a->lat), free(a->sigma), free(a->maxv), free(a->theta);
     a->lat = malloc(n * D * sizeof *a->lat);
@@ -82,9 +84,12 @@ nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const fl
     }
   }
   for (size_t k = 0; k < n; k++) {
-    const float *o = out + idx[k] * (D + 2);
-    memcpy(a->lat + k * D, o, D * sizeof *a->lat);
-    a->sigma[k] = o[D];
+    const float *o = out + idx[k] * (stored + 2);
+    if (a->compact)
+      bake_compact_reduce(a->compact, o, a->lat + k * D);
+    else
+      memcpy(a->lat + k * D, o, D * sizeof *a->lat);
+    a->sigma[k] = o[stored];
   }
   nbrdf_status st = bake_albedo_max(model, n, a->lat, a->sigma, a->maxv, a->theta, err);
   if (st) return st;

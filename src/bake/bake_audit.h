@@ -40,6 +40,9 @@ typedef struct bake_audit {
   int worst_theta; /* index into bake_audit_theta_deg */
   int x, y, c;     /* a texel (and colour channel) of the worst */
   bake_tuple tuple;
+  /* COMPACT (issue 19): the evaluated latents are the bundle's; the audit
+   * decodes their compact coordinates with the model it is given. */
+  const struct bake_compact *compact;
   /* scratch */
   float *lat, *sigma;
   double *maxv;

@@ -273,7 +273,8 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
                   err);
       if (st == NBRDF_OK)
         st =
-            bake_audit_tuples(&b->audit, b->model, b->uniq_out, b->missing + k + j, q, &worst, err);
+            bake_audit_tuples(&b->audit, b->audit_model ? b->audit_model : b->model,
+                              b->uniq_out, b->missing + k + j, q, &worst, err);
       if (st == NBRDF_OK && worst != (size_t)-1) band_worst = worst;
     }
     if (st != NBRDF_OK) return st;

@@ -54,6 +54,9 @@ typedef struct bake_band {
    * tuple's latent after the layering network; the proxy is then predicted
    * from the corrected latent. NULL: the networks' latents as they are. */
   const bake_correction *correct;
+  /* Optional: the model the energy audit decodes with (COMPACT: the
+   * student, with audit.compact set); NULL: `model`. */
+  const nbrdf_model *audit_model;
   /* totals over bands */
   size_t evaluated, reused, clamped[NBRDF_BAKE_PARAM_COUNT];
   /* energy audit of the evaluated tuples (bake_audit.h); set up by the

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_compact.h"
 #include "bake/bake_select.h"
 #include "bake/bake_truth.h"
 #include "core/error.h"
@@ -228,7 +229,8 @@ static nbrdf_status decode_lobes(const model_decoder *dec, model_runner *run, co
 }
 
 nbrdf_status bake_heldout_error(const nbrdf_model *model, const bake_correction *c,
-                                const bake_tuple *t, size_t n, const double *images, int res,
+                                const bake_compact *compact, const bake_tuple *t, size_t n,
+                                const double *images, int res,
                                 double *fitted, double *fast, double *per_tuple,
                                 nbrdf_error *err) {
   const int D = nbrdf_model_latent_dim(model);
@@ -241,7 +243,8 @@ nbrdf_status bake_heldout_error(const nbrdf_model *model, const bake_correction 
   if (!net || !lat || !dirs || !img || !errs)
     st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the held-out error");
   if (st == NBRDF_OK) st = bake_tuples_evaluate(model, t, NULL, n, net, err);
-  const model_decoder *spec = bake_correction_decoder(c, model);
+  const model_decoder *spec = compact ? compact->student : bake_correction_decoder(c, model);
+  float coords[BAKE_COMPACT_MAX_DIM];
   if (st == NBRDF_OK) st = model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &run_u, err);
   if (st == NBRDF_OK) st = model_runner_create(spec->nn, 4096, NBRDF_NN_INFER, &run_s, err);
   float *wi = dirs, *wo = dirs + 3 * all, *f = dirs + 6 * all;
@@ -252,7 +255,8 @@ nbrdf_status bake_heldout_error(const nbrdf_model *model, const bake_correction 
     if (st == NBRDF_OK) errs[n + k] = errs[k] = lobe_error(all, ref, img);
     if (st == NBRDF_OK && c) {
       bake_correct_latents(c, t, &k, 1, net, (size_t)(D + 2));
-      st = decode_lobes(spec, &run_s, z, res, lat, wi, wo, f, img, err);
+      if (compact) bake_compact_reduce(compact, z, coords);
+      st = decode_lobes(spec, &run_s, compact ? coords : z, res, lat, wi, wo, f, img, err);
       if (st == NBRDF_OK) errs[k] = lobe_error(all, ref, img);
     }
   }

@@ -58,18 +58,24 @@ void cmd_bake_usage(FILE *out) {
       "  --energy-audit N      decoded directional albedo of the first N distinct latents\n"
       "                        (16384; 0: off): the worst goes into the header as\n"
       "                        nbrdf:maxAlbedo, a warning names it above 1.01\n"
-      "  --accuracy fast|fitted|specialised\n"
+      "  --accuracy fast|fitted|specialised|compact\n"
       "                        fast (default): the universal networks; fitted: latents\n"
       "                        fitted to the layered ground truth of the scene's own\n"
       "                        BRDFs (representative tuples; any reader decodes it);\n"
       "                        specialised: also a decoder fine-tuned to the scene,\n"
-      "                        carried in the texture (format 2). docs/BAKE.md\n"
+      "                        carried in the texture (format 2); compact: as\n"
+      "                        specialised, then 8 latent channels per colour channel\n"
+      "                        and a small decoder distilled for the scene (fast to\n"
+      "                        decode, a third of the channels). docs/BAKE.md\n"
       "                        measures the trade\n"
-      "  --budget SECONDS      fitted/specialised: the cost-model seconds the ground\n"
-      "                        truth and fit may take (defaults 120 / 300; about the\n"
-      "                        wall time on one free core; the result does not depend\n"
-      "                        on the machine or its load)\n"
-      "  --seed S              fitted/specialised: random walks and tuple selection (1)\n"
+      "  --compact K[,WIDTH]   compact's latent channels per colour channel (1..8,\n"
+      "                        default 8) and decoder width (4..256, default 32);\n"
+      "                        implies --accuracy compact\n"
+      "  --budget SECONDS      fitted/specialised/compact: the cost-model seconds the\n"
+      "                        ground truth and fit may take (defaults 120 / 300 / 400;\n"
+      "                        about the wall time on one free core; the result does\n"
+      "                        not depend on the machine or its load)\n"
+      "  --seed S              above fast: random walks and tuple selection (1)\n"
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
@@ -124,7 +130,7 @@ int cmd_bake(int argc, char **argv) {
   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
   const char *out = NULL, *bundle = NULL, *decoder = NULL;
   cli_progress_state ps = {0, 0};
-  int budget_given = 0;
+  int budget_given = 0, compact_given = 0;
   nbrdf_error err = {0};
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
@@ -191,8 +197,30 @@ int cmd_bake(int argc, char **argv) {
     } else if (!strcmp(a, "--accuracy") && v) {
       int level = nbrdf_bake_accuracy_parse(v);
       if (level < 0)
-        return cli_usage_error("bake", "--accuracy is fast, fitted or specialised, not '%s'", v);
+        return cli_usage_error(
+            "bake", "--accuracy is fast, fitted, specialised or compact, not '%s'", v);
+      if (compact_given && level != NBRDF_BAKE_COMPACT)
+        return cli_usage_error("bake", "--compact goes with --accuracy compact, not '%s'", v);
       opts.accuracy = (nbrdf_bake_accuracy)level, i++;
+    } else if (!strcmp(a, "--compact") && v) {
+      char *end = NULL;
+      long k = strtol(v, &end, 10), w = 0;
+      int ok = end != v && k >= 1 && k <= 8;
+      if (ok && *end == ',') {
+        const char *ws = end + 1;
+        w = strtol(ws, &end, 10);
+        ok = end != ws && w >= 4 && w <= 256;
+      }
+      if (!ok || *end)
+        return cli_usage_error("bake",
+                               "--compact needs K[,WIDTH]: K latent channels 1..8, WIDTH 4..256 "
+                               "(e.g. 8 or 8,32), not '%s'",
+                               v);
+      if (opts.accuracy != NBRDF_BAKE_FAST && opts.accuracy != NBRDF_BAKE_COMPACT)
+        return cli_usage_error("bake", "--compact goes with --accuracy compact, not '%s'",
+                               nbrdf_bake_accuracy_name(opts.accuracy));
+      opts.accuracy = NBRDF_BAKE_COMPACT, compact_given = 1;
+      opts.compact_dim = (int)k, opts.compact_width = (int)w, i++;
     } else if (!strcmp(a, "--budget") && v) {
       double b;
       if (!cli_parse_double(v, &b) || !(b > 0.0) || b > 1e7)
@@ -213,7 +241,8 @@ int cmd_bake(int argc, char **argv) {
   if (missing != CLI_EXIT_OK) return missing;
   opts.roughness = params.roughness;
   if (budget_given && opts.accuracy == NBRDF_BAKE_FAST)
-    return cli_usage_error("bake", "--budget applies to --accuracy fitted or specialised, not fast");
+    return cli_usage_error("bake",
+                           "--budget applies to --accuracy fitted, specialised or compact, not fast");
   if (!out) return cli_usage_error("bake", "-o OUT.exr is required");
   nbrdf_model *model = NULL;
   char used[PATH_MAX];
@@ -273,6 +302,9 @@ int cmd_bake(int argc, char **argv) {
              "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",
              nbrdf_bake_accuracy_name(rep.accuracy), rep.budget, rep.distinct, rep.fitted_tuples,
              rep.heldout_tuples, rep.heldout_error, rep.heldout_error_fast);
+    if (rep.compact_dim)
+      printf(",\"compact\":%d,\"decoder_macs\":%lld,\"variance_kept\":%.5f", rep.compact_dim,
+             rep.decoder_macs, rep.compact_kept);
     printf("}\n");
   } else {
     printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n", out,
@@ -286,6 +318,10 @@ int cmd_bake(int argc, char **argv) {
              "held-out tuples: median %.2f %% (fast: %.2f %%)\n",
              nbrdf_bake_accuracy_name(rep.accuracy), rep.budget, rep.fitted_tuples, rep.distinct,
              rep.heldout_tuples, 100.0 * rep.heldout_error, 100.0 * rep.heldout_error_fast);
+    if (rep.compact_dim)
+      printf("compact: %d latent channels per colour channel (%.2f %% of the scene's latent "
+             "variance), decoder %lld multiply-adds per query\n",
+             rep.compact_dim, 100.0 * rep.compact_kept, rep.decoder_macs);
   }
   return CLI_EXIT_OK;
 }

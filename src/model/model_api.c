@@ -11,6 +11,16 @@
 
 #define API_BATCH 4096
 
+/* A model decoding a compact texture (issue 19) reads fewer latents than the
+ * bundle's tables, layering and sampling networks write. */
+static nbrdf_status check_full_latents(const nbrdf_model *m, const char *what, nbrdf_error *err) {
+  if (!m->parent || m->latent_dim == m->parent->latent_dim) return NBRDF_OK;
+  return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
+                    "%s: this model decodes a compact texture's %d latent channels; %s works on "
+                    "the bundle's %d-float latents (use the bundle itself)",
+                    what, m->latent_dim, what, m->parent->latent_dim);
+}
+
 static nbrdf_status check_direction(const float *w, const char *name, size_t k, nbrdf_error *err) {
   double x = w[0], y = w[1], z = w[2];
   if (!isfinite(x) || !isfinite(y) || !isfinite(z))
@@ -68,6 +78,8 @@ nbrdf_status nbrdf_model_base_latents(const nbrdf_model *m, nbrdf_base_kind kind
                                       float *out, unsigned char *clamped, nbrdf_error *err) {
   if (kind != NBRDF_BASE_DIELECTRIC && kind != NBRDF_BASE_CONDUCTOR)
     return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "base latents: unknown base kind %d", (int)kind);
+  nbrdf_status full = check_full_latents(m, "base latents", err);
+  if (full != NBRDF_OK) return full;
   /* Parameters are floats everywhere in the public API (as nbrdf_model_layer's); the table
    * look-up interpolates in double, as training's does. In chunks: no allocation. */
   enum { CHUNK = 256 };
@@ -88,6 +100,8 @@ nbrdf_status nbrdf_model_base_latents(const nbrdf_model *m, nbrdf_base_kind kind
 nbrdf_status nbrdf_model_layer(const nbrdf_model *m, size_t n, const float *top,
                                const float *bottom, const float *albedo, const float *sigma_t,
                                float *out, nbrdf_error *err) {
+  nbrdf_status full = check_full_latents(m, "layer", err);
+  if (full != NBRDF_OK) return full;
   if (n == 0) return NBRDF_OK;
   for (size_t k = 0; k < n; k++) {
     if (!(albedo[k] >= 0.0f && albedo[k] <= 1.0f))
@@ -111,8 +125,9 @@ nbrdf_status nbrdf_model_layer(const nbrdf_model *m, size_t n, const float *top,
 
 nbrdf_status nbrdf_model_proxy_params(const nbrdf_model *m, size_t n, const float *latents,
                                       float *sigma, float *w, nbrdf_error *err) {
-  if (n == 0) return NBRDF_OK;
-  nbrdf_status st = check_finite(latents, n * (size_t)m->latent_dim, "proxy: latents", err);
+  nbrdf_status st = check_full_latents(m, "proxy", err);
+  if (st != NBRDF_OK || n == 0) return st;
+  st = check_finite(latents, n * (size_t)m->latent_dim, "proxy: latents", err);
   if (st != NBRDF_OK) return st;
   model_runner runner;
   st = model_runner_create(m->sampler->nn, batch_for(n, 1), NBRDF_NN_INFER, &runner, err);

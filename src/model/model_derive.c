@@ -24,13 +24,15 @@ static nbrdf_status read_decoder(const nbrdf_model *root, const void *bytes, siz
   if (st == NBRDF_OK) st = model_decoder_read(r, out, err);
   nbrdf_st_close(r);
   if (st != NBRDF_OK) return st;
-  if ((*out)->cfg.latent_dim != root->latent_dim) {
+  /* A compact texture's decoder (issue 19) reads fewer latents than the
+   * bundle's networks write; never more. */
+  if ((*out)->cfg.latent_dim > root->latent_dim) {
     int dim = (*out)->cfg.latent_dim;
     model_decoder_destroy(*out);
     *out = NULL;
     return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "%s: the decoder has latent dimension %d, the bundle '%s' has %d", label, dim,
-                      root->name, root->latent_dim);
+                      "%s: the decoder has latent dimension %d, more than the bundle '%s''s %d",
+                      label, dim, root->name, root->latent_dim);
   }
   return NBRDF_OK;
 }
@@ -62,7 +64,7 @@ nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t siz
   }
   memcpy(m->name, root->name, sizeof m->name);
   m->trained = root->trained;
-  m->latent_dim = root->latent_dim;
+  m->latent_dim = dec ? dec->cfg.latent_dim : root->latent_dim;
   m->checksum = root->checksum;
   memcpy(m->checksum_hex, root->checksum_hex, sizeof m->checksum_hex);
   m->layering = root->layering;

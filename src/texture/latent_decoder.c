@@ -14,16 +14,24 @@ nbrdf_status nbrdf_latent_reader_model(const nbrdf_latent_reader *r, const nbrdf
   nbrdf_status st = nbrdf_latent_check_model(info, path, nbrdf_model_name(bundle),
                                              nbrdf_model_checksum(bundle), err);
   if (st != NBRDF_OK) return st;
-  if (info->layout.latent_dim != nbrdf_model_latent_dim(bundle))
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dimension %d, the model's is %d", path,
-                      info->layout.latent_dim, nbrdf_model_latent_dim(bundle));
   size_t size = 0;
   const void *bytes = nbrdf_latent_reader_decoder(r, &size);
+  /* A texture with its own decoder may be compact (fewer latents than the
+   * bundle's; issue 19): its decoder, not the bundle, says how many. */
+  if (!bytes && info->layout.latent_dim != nbrdf_model_latent_dim(bundle))
+    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dimension %d, the model's is %d", path,
+                      info->layout.latent_dim, nbrdf_model_latent_dim(bundle));
   if (!bytes) return model_derive(bundle, NULL, 0, path, out, err);
   /* Every message about the bytes names the texture they came from. */
   char label[4200];
   snprintf(label, sizeof label, "%s: embedded decoder (%s)", path, NBRDF_ATTR_DECODER);
   st = model_derive(bundle, bytes, size, label, out, err);
+  if (st == NBRDF_OK && nbrdf_model_latent_dim(*out) != info->layout.latent_dim) {
+    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: decodes latents of %d floats, the texture's have %d",
+                    label, nbrdf_model_latent_dim(*out), info->layout.latent_dim);
+    nbrdf_model_destroy(*out);
+    *out = NULL;
+  }
   if (st == NBRDF_OK || st == NBRDF_ERR_MEMORY) return st;
   if (err) err->status = NBRDF_ERR_FORMAT;
   return NBRDF_ERR_FORMAT;

@@ -35,21 +35,21 @@ static void test_plan(void) {
   nbrdf_error e, *err = &e;
   int64_t macs = nbrdf_model_decoder_macs(model);
   bake_plan a, b, big;
-  CHECK_OK(bake_plan_make(NBRDF_BAKE_FITTED, 120.0, 5000, macs, &a, err), err);
-  CHECK_OK(bake_plan_make(NBRDF_BAKE_FITTED, 120.0, 5000, macs, &b, err), err);
+  CHECK_OK(bake_plan_make(NBRDF_BAKE_FITTED, 120.0, 5000, macs, 0, &a, err), err);
+  CHECK_OK(bake_plan_make(NBRDF_BAKE_FITTED, 120.0, 5000, macs, 0, &b, err), err);
   CHECK(!memcmp(&a, &b, sizeof a)); /* a pure function of its inputs */
   CHECK(a.n_fit >= 1 && a.n_held >= 1 && a.project_steps >= 100 && a.joint_steps == 0);
   CHECK_MSG(a.cost <= 120.0 * 1.01, "plan costs %g s for a budget of 120", a.cost);
-  CHECK_OK(bake_plan_make(NBRDF_BAKE_FITTED, 600.0, 5000, macs, &big, err), err);
+  CHECK_OK(bake_plan_make(NBRDF_BAKE_FITTED, 600.0, 5000, macs, 0, &big, err), err);
   CHECK(big.n_fit > a.n_fit);
   /* A constant (one tuple): everything on it, more incident directions. */
-  CHECK_OK(bake_plan_make(NBRDF_BAKE_SPECIALISED, 60.0, 1, macs, &a, err), err);
+  CHECK_OK(bake_plan_make(NBRDF_BAKE_SPECIALISED, 60.0, 1, macs, 0, &a, err), err);
   CHECK(a.n_fit == 1 && a.incident == 32 && a.joint_steps > 0);
   /* Too small: refused, saying what it needs and what would fit. */
-  CHECK_FAILS(bake_plan_make(NBRDF_BAKE_FITTED, 0.5, 10, macs, &a, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(bake_plan_make(NBRDF_BAKE_FITTED, 0.5, 10, macs, 0, &a, err), NBRDF_ERR_ARGUMENT, err,
               "too small for 'fitted'");
   CHECK(strstr(e.message, "or use 'fast'") != NULL);
-  CHECK_FAILS(bake_plan_make(NBRDF_BAKE_SPECIALISED, 0.9, 10, macs, &a, err), NBRDF_ERR_ARGUMENT,
+  CHECK_FAILS(bake_plan_make(NBRDF_BAKE_SPECIALISED, 0.9, 10, macs, 0, &a, err), NBRDF_ERR_ARGUMENT,
               err, "'fitted' fits");
 }
 
@@ -242,7 +242,7 @@ static void test_bad_options(void) {
   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
   o.accuracy = (nbrdf_bake_accuracy)7;
   CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
-              "fast, fitted or specialised");
+              "fast, fitted, specialised or compact");
   o.accuracy = NBRDF_BAKE_FITTED;
   o.budget = NAN;
   CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,

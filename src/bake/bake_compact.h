@@ -1,0 +1,84 @@
+/* The compact accuracy level (issue 19): a scene's texels span a small family
+ * of BRDFs, so its latents are stored in K whitened principal coordinates of
+ * the scene's specialised latents (c = P (z - mean), K <= 8 per colour
+ * channel) and decoded by a small decoder distilled for the scene.
+ *
+ * Why principal coordinates rather than a learned encoder: the map z -> c is
+ * linear, so a mip texel (the mean of level-0 texels) is exactly the
+ * coordinates of the mean latent, and mip levels stay valid; the proxy of a
+ * mip texel is predicted from the reconstructed latent mean + B c. Why
+ * whitened: the small decoder then sees inputs of unit scale.
+ *
+ * The student is trained on two kinds of rows, both through model/autodecoder.h
+ * with the coordinates frozen: the fitted tuples' layered ground truth (so it
+ * is not only a copy of the teacher's error), and the specialised teacher's
+ * values on up to BAKE_COMPACT_TEACHER tuples chosen across the scene, at the
+ * directions of the nearest fitted tuple's ground truth (where its lobe is). */
+#ifndef NBRDF_BAKE_BAKE_COMPACT_H
+#define NBRDF_BAKE_BAKE_COMPACT_H
+
+#include <signal.h>
+#include <stddef.h>
+
+#include "bake/bake_fit.h"
+#include "core/progress.h"
+#include "model/decoder.h"
+#include "texture/latent_layout.h"
+#include "train/samples.h"
+
+#define BAKE_COMPACT_MAX_DIM 8
+#define BAKE_COMPACT_DEFAULT_DIM 8
+#define BAKE_COMPACT_DEFAULT_WIDTH 32
+#define BAKE_COMPACT_TEACHER 512
+
+typedef struct bake_compact {
+  int dim;        /* K */
+  int work_dim;   /* D, the bundle's latent dimension */
+  float *mean;    /* [D] */
+  float *basis;   /* [D x K]: z = mean + basis c (columns scaled by the sqrt eigenvalues) */
+  float *project; /* [K x D]: c = project (z - mean) */
+  double kept;    /* fraction of the scene latents' variance the K coordinates keep */
+  model_decoder *student;
+  double loss_truth, loss_teacher; /* final distillation losses (L1 of log1p) */
+} bake_compact;
+
+/* The K principal coordinates of n latents [n x D]. */
+nbrdf_status bake_compact_basis(const float *z, size_t n, int D, int K, bake_compact *c,
+                                nbrdf_error *err);
+void bake_compact_free(bake_compact *c);
+
+/* c[K] of one latent z[D]; z[D] from c[K]. */
+void bake_compact_reduce(const bake_compact *c, const float *z, float *coords);
+void bake_compact_expand(const bake_compact *c, const float *coords, float *z);
+
+typedef struct bake_compact_settings {
+  int width;     /* student hidden width */
+  int steps;     /* distillation steps */
+  int rows;      /* rows drawn per BRDF per step */
+  uint64_t seed;
+  nbrdf_ticker *ticker; /* stage "distil", done/total in steps; may be NULL */
+  volatile sig_atomic_t *cancel;
+} bake_compact_settings;
+
+/* The student's configuration: halfdiff, log1p output, PLAIN(width), one
+ * residual block, linear output: (K + 6) w + w^2 + w multiply-adds. */
+nbrdf_status bake_compact_config(int dim, int width, model_decoder_config *cfg, nbrdf_error *err);
+
+/* Everything after the specialised fit: basis of the scene's latents, then
+ * the student. `model` decodes with the specialised teacher (latent D);
+ * fit/n_fit, their truth samples and their fitted latents zfit [n_fit x D];
+ * `scene`/n_scene the tuples the teacher speaks for (with the carried
+ * correction `corr`). */
+nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction *corr,
+                                const bake_tuple *fit, size_t n_fit, const train_samples *truth,
+                                const bake_tuple *scene, size_t n_scene, int dim,
+                                const bake_compact_settings *s, bake_compact *c,
+                                nbrdf_error *err);
+
+/* n texels from the work layout (latent D + proxy) to the compact layout
+ * (K + proxy), both in logical order. */
+void bake_compact_texels(const bake_compact *c, const nbrdf_latent_layout *work,
+                         const float *in, const nbrdf_latent_layout *out_layout, float *out,
+                         size_t n);
+
+#endif
