@@ -151,10 +151,13 @@ def build_argv(nbrdf, bundle, settings, material_name, workdir, specs=None):
 
 
 def accuracy_argv(settings):
-    """--accuracy and --budget; nothing for the fast level, so its bytes stay the CLI's."""
+    """--accuracy, --compact and --budget; nothing for the fast level, so its bytes stay the
+    CLI's."""
     if settings.accuracy == "FAST":
         return []
     argv = ["--accuracy", settings.accuracy.lower()]
+    if settings.accuracy == "COMPACT":
+        argv += ["--compact", str(settings.compact_channels)]
     if settings.budget > 0:
         argv += ["--budget", number(settings.budget)]
     return argv

@@ -38,6 +38,8 @@ def draw_parameters(layout, s, material=None):
     sub = col.column()
     sub.active = s.accuracy != "FAST"
     sub.prop(s, "budget")
+    if s.accuracy == "COMPACT":
+        col.prop(s, "compact_channels")
     col.prop(s, "bake_uv")
     col.prop(s, "verify")
 

@@ -80,12 +80,20 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
                                         "material's own BRDFs; any renderer decodes them"),
                    ("SPECIALISED", "Specialised",
                     "Also a decoder fine-tuned to the material, carried in the texture "
-                    "(format version 2)")]),
+                    "(format version 2)"),
+                   ("COMPACT", "Compact",
+                    "As Specialised, then a few latent channels per colour channel and a "
+                    "small decoder distilled for the material: fast to decode, a third of "
+                    "the channels")]),
+        compact_channels=IntProperty(
+            name="Latent Channels", default=8, min=1, max=8,
+            description="Compact: latent channels per colour channel (nbrdf bake --compact)"),
         budget=FloatProperty(
             name="Budget", default=0.0, min=0.0, max=1e7, unit="TIME_ABSOLUTE",
-            description="Fitted and Specialised: seconds of ground truth and fitting "
-                        "(about the time on one free core; 0: the level's default, 120 s / "
-                        "300 s). The result does not depend on the machine's load"),
+            description="Fitted, Specialised and Compact: seconds of ground truth and "
+                        "fitting (about the time on one free core; 0: the level's default, "
+                        "120 s / 300 s / 400 s). The result does not depend on the machine's "
+                        "load"),
         bake_uv=BoolProperty(
             name="Bake Through UV Map", default=False,
             description="Inputs from the material that come from nodes other than an Image "

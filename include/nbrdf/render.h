@@ -101,6 +101,9 @@ typedef struct nbrdf_render_stats {
   size_t brdf_evals; /* ground-truth evaluations and samples (REFERENCE) */
   int colour_channels;
   int levels; /* mip levels of the texture */
+  /* NEURAL: seconds spent in the decoder (summed over threads), so that
+   * decoded / decode_seconds is the decoder's rate inside the renderer. */
+  double decode_seconds;
 } nbrdf_render_stats;
 
 /* Renders the texture at `latent_path` into `rgb` (width × height × 3 linear

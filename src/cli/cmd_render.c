@@ -284,14 +284,17 @@ int cmd_render(int argc, char **argv) {
                : cli_fail_error("render", &err);
     } else if (ps.json) {
       printf("{\"event\":\"done\",\"width\":%d,\"height\":%d,\"spp\":%d,\"decoded\":%zu,"
-             "\"brdf_evals\":%zu}\n",
-             o.width, o.height, o.spp, stats.decoded, stats.brdf_evals);
+             "\"decode_seconds\":%.4f,\"brdf_evals\":%zu}\n",
+             o.width, o.height, o.spp, stats.decoded, stats.decode_seconds, stats.brdf_evals);
     } else {
       printf("wrote %s%s%s: %d x %d, %d spp, %s mode, %d mip levels, %zu decoder queries, %zu "
              "ground-truth evaluations\n",
              out, png ? " and " : "", png ? png : "", o.width, o.height, o.spp,
              o.mode == NBRDF_RENDER_NEURAL ? "neural" : "reference", stats.levels, stats.decoded,
              stats.brdf_evals);
+      if (stats.decoded && stats.decode_seconds > 0.0)
+        printf("decoder: %.3g queries/s inside the renderer (%.2f s decoding, all threads)\n",
+               stats.decoded / stats.decode_seconds, stats.decode_seconds);
     }
   }
   free(rgb);

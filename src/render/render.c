@@ -79,12 +79,13 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   int threads =
       o->threads ? o->threads : (o->mode == NBRDF_RENDER_NEURAL ? 1 : omp_get_max_threads());
   size_t decoded = 0, evals = 0;
+  double decode_s = 0.0;
   nbrdf_error first = {NBRDF_OK, ""};
   nbrdf_ticker ticker; /* ticked inside the critical section below only */
   nbrdf_ticker_init(&ticker, o->progress, o->user, o->cancel);
   if (nbrdf_ticker_tick(&ticker, "render", 0, tiles, 1))
     nbrdf_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled before the first tile"), stop = 1;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : decoded, evals)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : decoded, evals, decode_s)
   for (int t = 0; t < tiles; t++) {
     int halt;
 #pragma omp atomic read
@@ -94,7 +95,7 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
     int w = o->width - x0 < EVAL_RENDER_TILE ? o->width - x0 : EVAL_RENDER_TILE;
     int h = o->height - y0 < EVAL_RENDER_TILE ? o->height - y0 : EVAL_RENDER_TILE;
     nbrdf_error e = {NBRDF_OK, ""};
-    nbrdf_status ts = eval_render_tile(&ctx, t, x0, y0, w, h, rgb, &decoded, &evals, &e);
+    nbrdf_status ts = eval_render_tile(&ctx, t, x0, y0, w, h, rgb, &decoded, &decode_s, &evals, &e);
 #pragma omp critical(nbrdf_render_progress)
     {
       if (ts != NBRDF_OK && first.status == NBRDF_OK) first = e, first.status = ts;
@@ -111,6 +112,7 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   eval_env_free(env);
   if (stats) {
     stats->decoded = decoded, stats->brdf_evals = evals;
+    stats->decode_seconds = decode_s;
     stats->colour_channels = ctx.colours, stats->levels = tex->levels;
   }
   eval_latent_image_free(tex);

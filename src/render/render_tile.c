@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/rng.h"
 #include "render/render_sampling.h"
 
@@ -68,7 +69,7 @@ static void set3f(float *d, vec3 v) { d[0] = (float)v.x, d[1] = (float)v.y, d[2]
 /* Evaluates every query and adds f · factor to the pixels. */
 static nbrdf_status eval_queries(const eval_render_ctx *ctx, tile_buf *b, int nq,
                                  const float *tex_buf, uint64_t seed, size_t *decoded,
-                                 size_t *brdf_evals, nbrdf_error *err) {
+                                 double *decode_seconds, size_t *brdf_evals, nbrdf_error *err) {
   if (nq == 0) return NBRDF_OK;
   const eval_latent_image *tex = ctx->tex;
   int K = ctx->colours;
@@ -81,9 +82,11 @@ static nbrdf_status eval_queries(const eval_render_ctx *ctx, tile_buf *b, int nq
       memcpy(b->wi + 3 * k, b->q[k].wi, sizeof(float) * 3);
       memcpy(b->wo + 3 * k, b->q[k].wo, sizeof(float) * 3);
     }
+    double t0 = nbrdf_monotonic_seconds();
     nbrdf_status st =
         nbrdf_model_decode(ctx->model, (size_t)nq, K, b->latent, b->wi, b->wo, b->f, err);
     if (st != NBRDF_OK) return st;
+    *decode_seconds += nbrdf_monotonic_seconds() - t0;
     *decoded += (size_t)nq * K;
     for (int k = 0; k < nq; k++)
       for (int o = 0; o < 3; o++)
@@ -141,7 +144,8 @@ static int push(tile_buf *b, int *nq, int pix, int slot, vec3 wi, vec3 wo) {
 }
 
 nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int y0, int w, int h,
-                              float *rgb, size_t *decoded, size_t *brdf_evals, nbrdf_error *err) {
+                              float *rgb, size_t *decoded, double *decode_seconds,
+                              size_t *brdf_evals, nbrdf_error *err) {
   const nbrdf_render_options *o = ctx->opts;
   const eval_latent_image *tex = ctx->tex;
   int npix = w * h, spp = o->spp, C = tex->channels;
@@ -255,7 +259,7 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
     if (st == NBRDF_OK)
       st = eval_queries(ctx, &b, nq, b.texel,
                         nbrdf_hash64(nbrdf_hash64(o->seed, (uint64_t)tile), (uint64_t)s0), decoded,
-                        brdf_evals, err);
+                        decode_seconds, brdf_evals, err);
   }
   for (int p = 0; st == NBRDF_OK && p < npix; p++) {
     size_t at = 3 * ((size_t)(y0 + p / w) * o->width + (size_t)(x0 + p % w));

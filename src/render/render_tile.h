@@ -27,6 +27,7 @@ typedef struct eval_render_ctx {
 /* Renders pixels [x0, x0 + w) × [y0, y0 + h) into rgb (the whole image's
  * buffer, width × height × 3); `tile` numbers the tile for random seeds. */
 nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int y0, int w, int h,
-                              float *rgb, size_t *decoded, size_t *brdf_evals, nbrdf_error *err);
+                              float *rgb, size_t *decoded, double *decode_seconds,
+                              size_t *brdf_evals, nbrdf_error *err);
 
 #endif

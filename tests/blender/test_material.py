@@ -117,6 +117,15 @@ run = subprocess.run(argv + ["--accuracy", "fitted", "--budget", "2"], capture_o
                      text=True)
 t.check("CLI fitted bake: %s" % run.stderr, run.returncode == 0)
 t.check("fitted bytes equal to the CLI's", os.path.isfile(out) and filecmp.cmp(out, cli, shallow=False))
+# Compact (issue 19): the level and its channel count reach the CLI the same way.
+s.accuracy, s.budget, s.compact_channels = "COMPACT", 4.0, 4
+t.check("compact bake from the material",
+        bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
+run = subprocess.run(argv + ["--accuracy", "compact", "--compact", "4", "--budget", "4"],
+                     capture_output=True, text=True)
+t.check("CLI compact bake: %s" % run.stderr, run.returncode == 0)
+t.check("compact bytes equal to the CLI's",
+        os.path.isfile(out) and filecmp.cmp(out, cli, shallow=False))
 s.accuracy, s.budget = "FAST", 0.0
 n_nodes = len(mat.node_tree.nodes)
 s.verify = True  # the small verify after the bake: its figure goes to the panel

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_compact.h"
 #include "model/bundle.h"
 #include "model/encoding.h"
 #include "model/gpu_pack.h"
@@ -266,6 +267,48 @@ static void test_texture_own_decoder(void) {
   nbrdf_model_destroy(for_tex), nbrdf_model_destroy(own), nbrdf_model_destroy(bundle);
 }
 
+/* A compact texture's decoder (issue 19): 8 latents, one frequency octave,
+ * one residual block; packed from a model derived for it (nbrdf_model's
+ * latent dimension 8, the bundle's 32) and run on the GPU as the C decoder
+ * runs it. */
+static void test_compact_decoder(void) {
+  char dir[1024];
+  snprintf(dir, sizeof dir, "%s/bundle-compact", nbrdf_test_tmpdir());
+  nbrdf_error err = {0};
+  CHECK_OK(model_bundle_init_random(dir, "shader-compact", 9, "medium", &err), &err);
+  nbrdf_model *bundle = NULL, *compact = NULL;
+  CHECK_OK(nbrdf_model_load(dir, &bundle, &err), &err);
+  if (!bundle) return;
+  model_decoder_config cfg;
+  model_decoder *dec = NULL;
+  CHECK_OK(bake_compact_config(BAKE_COMPACT_DEFAULT_DIM, BAKE_COMPACT_DEFAULT_WIDTH, &cfg, &err),
+           &err);
+  CHECK_OK(model_decoder_create(&cfg, 5, &dec, &err), &err);
+  if (dec) CHECK_OK(model_with_decoder_net(bundle, dec, &compact, &err), &err);
+  model_decoder_destroy(dec);
+  if (!compact) {
+    nbrdf_model_destroy(bundle);
+    return;
+  }
+  CHECK(nbrdf_model_latent_dim(compact) == BAKE_COMPACT_DEFAULT_DIM);
+  size_t words_n = 0;
+  CHECK_OK(nbrdf_gpu_pack_decoder(compact, NULL, 0, &words_n, &err), &err);
+  uint32_t *words = malloc(words_n * 4);
+  CHECK_OK(nbrdf_gpu_pack_decoder(compact, words, words_n, NULL, &err), &err);
+  CHECK(words[NBRDF_GPU_W_LATENT_DIM] == BAKE_COMPACT_DEFAULT_DIM);
+  queries s;
+  size_t n = 4096;
+  queries_make(&s, n, BAKE_COMPACT_DEFAULT_DIM, 29);
+  float *f = malloc(sizeof(float) * n), *gpu = malloc(sizeof(float) * 2 * n);
+  CHECK_OK(nbrdf_model_decode(compact, n, 1, s.latents, s.wi, s.wo, f, &err), &err);
+  int rc = fixture_run_decoder(vk, words, words_n, s.q, n, gpu, NULL);
+  CHECK_MSG(rc == 0, "compact decoder: %s", vkh_error(vk));
+  if (rc == 0) compare("compact decoder", &s, gpu, f, NULL);
+  free(f), free(gpu), free(words);
+  queries_free(&s);
+  nbrdf_model_destroy(compact), nbrdf_model_destroy(bundle);
+}
+
 /* The encoding kernel alone against model_encode, so that a mismatch is located. */
 static void test_encoding_kernel(void) {
   const size_t n = 4096;
@@ -330,6 +373,7 @@ int main(void) {
   RUN(test_skips);
   RUN(test_bundle);
   RUN(test_texture_own_decoder);
+  RUN(test_compact_decoder);
   vkh_close(vk);
   return nbrdf_test_finish();
 }
