@@ -121,8 +121,8 @@ static int write_maps(const char *dir, int n, int painted, int rgb, nbrdf_error 
               painted ? painted_value(id, x, y, c, n) : distinct_value(id, x, y, c, n);
     char file[64];
     snprintf(file, sizeof file, "%s.%s", names[id], painted ? "png" : "exr");
-    nbrdf_status st = nbrdf_image_write(join(dir, file), n, n, ch, px,
-                                        painted ? NBRDF_PIXEL_U8 : NBRDF_PIXEL_FLOAT, err);
+    nbrdf_status st = texture_image_write(join(dir, file), n, n, ch, px,
+                                          painted ? NBRDF_PIXEL_U8 : NBRDF_PIXEL_FLOAT, err);
     free(px);
     if (st != NBRDF_OK) return 0;
   }
@@ -278,8 +278,8 @@ static void remove_maps(const char *dir) {
 
 typedef struct write_arg {
   const char *src, *dir;
-  nbrdf_latent_compression compression;
-  nbrdf_latent_storage storage;
+  texture_latent_compression compression;
+  texture_latent_storage storage;
 } write_arg;
 
 /* Reads level 0 of a baked texture and writes it again (level 0 only, so
@@ -287,46 +287,46 @@ typedef struct write_arg {
 static void write_child(const void *arg, case_result *out) {
   const write_arg *a = arg;
   nbrdf_error err = {0};
-  nbrdf_latent_reader *r = NULL;
-  if (nbrdf_latent_reader_open(&r, a->src, &err) != NBRDF_OK) {
+  texture_latent_reader *r = NULL;
+  if (texture_latent_reader_open(&r, a->src, &err) != NBRDF_OK) {
     snprintf(out->message, sizeof out->message, "%s", err.message);
     return;
   }
-  nbrdf_latent_info info = *nbrdf_latent_reader_info(r);
+  texture_latent_info info = *texture_latent_reader_info(r);
   int W = info.width, H = info.height, C = info.channels;
   float *texels = malloc(sizeof(float) * (size_t)W * H * C);
-  if (!texels || nbrdf_latent_reader_read(r, 0, 0, 0, W, H, texels, &err) != NBRDF_OK) {
+  if (!texels || texture_latent_reader_read(r, 0, 0, 0, W, H, texels, &err) != NBRDF_OK) {
     snprintf(out->message, sizeof out->message, "%s", texels ? err.message : "out of memory");
-    nbrdf_latent_reader_close(r);
+    texture_latent_reader_close(r);
     free(texels);
     return;
   }
-  nbrdf_latent_layout layout = info.layout;
-  nbrdf_latent_reader_close(r);
-  nbrdf_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_layout layout = info.layout;
+  texture_latent_reader_close(r);
+  texture_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   o.storage = a->storage, o.compression = a->compression, o.mip_levels = 1;
   const char *path = join(a->dir, "rewrite.exr");
-  nbrdf_latent_writer *w = NULL;
+  texture_latent_writer *w = NULL;
   double w0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
-  nbrdf_status st = nbrdf_latent_writer_create(&w, path, W, H, &layout, NULL, &o, NULL, 0, &err);
+  nbrdf_status st = texture_latent_writer_create(&w, path, W, H, &layout, NULL, &o, NULL, 0, &err);
   for (int y = 0; st == NBRDF_OK && y < H; y += 64) {
     int rows = H - y < 64 ? H - y : 64;
-    st = nbrdf_latent_writer_write_rows(w, texels + (size_t)y * W * C, rows, &err);
+    st = texture_latent_writer_write_rows(w, texels + (size_t)y * W * C, rows, &err);
   }
   if (st == NBRDF_OK) {
-    st = nbrdf_latent_writer_finish(w, &err);
+    st = texture_latent_writer_finish(w, &err);
     w = NULL;
   }
-  nbrdf_latent_writer_abort(w);
+  texture_latent_writer_abort(w);
   out->wall = bench_wall_seconds() - w0, out->cpu = bench_cpu_seconds() - c0;
   if (st == NBRDF_OK) {
     struct stat sb;
     out->file_bytes = stat(path, &sb) == 0 ? (long long)sb.st_size : -1;
     /* Read time of the whole level, for the half-vs-float choice. */
     double r0 = bench_wall_seconds();
-    if (nbrdf_latent_reader_open(&r, path, &err) == NBRDF_OK) {
-      st = nbrdf_latent_reader_read(r, 0, 0, 0, W, H, texels, &err);
-      nbrdf_latent_reader_close(r);
+    if (texture_latent_reader_open(&r, path, &err) == NBRDF_OK) {
+      st = texture_latent_reader_read(r, 0, 0, 0, W, H, texels, &err);
+      texture_latent_reader_close(r);
     }
     out->brdfs = (size_t)(1e6 * (bench_wall_seconds() - r0)); /* read microseconds */
     out->ok = st == NBRDF_OK;
@@ -341,8 +341,8 @@ static void compression_table(const bench_cfg *cfg, const char *src) {
          "per compression and storage:\n\n");
   printf("| storage | compression | MiB | write wall s | write CPU s | read wall s | load |\n");
   printf("|---|---|---:|---:|---:|---:|---|\n");
-  static const nbrdf_latent_compression comps[] = {NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ,
-                                                   NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
+  static const texture_latent_compression comps[] = {NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ,
+                                                     NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
   for (int s = 0; s < 2; s++)
     for (size_t c = 0; c < sizeof comps / sizeof *comps; c++) {
       write_arg a = {src, cfg->dir, comps[c], s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF};
@@ -351,13 +351,13 @@ static void compression_table(const bench_cfg *cfg, const char *src) {
       long rss = run_child(write_child, &a, &r);
       bench_load_line(load, sizeof load);
       if (rss < 0 || !r.ok) {
-        printf("| %s | %s | failed: %s |\n", nbrdf_latent_storage_name(a.storage),
-               nbrdf_latent_compression_name(a.compression), r.message);
+        printf("| %s | %s | failed: %s |\n", texture_latent_storage_name(a.storage),
+               texture_latent_compression_name(a.compression), r.message);
         continue;
       }
-      printf("| %s | %s | %.1f | %.2f | %.2f | %.2f | %s |\n", nbrdf_latent_storage_name(a.storage),
-             nbrdf_latent_compression_name(a.compression), r.file_bytes / 1048576.0, r.wall, r.cpu,
-             r.brdfs * 1e-6, load);
+      printf("| %s | %s | %.1f | %.2f | %.2f | %.2f | %s |\n",
+             texture_latent_storage_name(a.storage), texture_latent_compression_name(a.compression),
+             r.file_bytes / 1048576.0, r.wall, r.cpu, r.brdfs * 1e-6, load);
     }
 }
 
@@ -365,11 +365,11 @@ static void compression_table(const bench_cfg *cfg, const char *src) {
 
 /* Seconds (CPU) per call of the GEMMs the network `spec` makes for `batch`
  * rows, timed with cblas_sgemm on the same shapes (y = x W^T). */
-static double sgemm_seconds(const nbrdf_nn_spec *spec, int batch, double *flops) {
+static double sgemm_seconds(const nn_spec *spec, int batch, double *flops) {
   int shapes[3 * NBRDF_NN_MAX_LAYERS][2], n = 0;
   for (int i = 0; i < spec->n_layers; i++) {
-    const nbrdf_nn_layer_spec *l = &spec->layers[i];
-    int in = nbrdf_nn_spec_width(spec, i), out = nbrdf_nn_spec_width(spec, i + 1);
+    const nn_layer_spec *l = &spec->layers[i];
+    int in = nn_spec_width(spec, i), out = nn_spec_width(spec, i + 1);
     if (l->kind == NBRDF_NN_LINEAR || l->kind == NBRDF_NN_PLAIN) {
       shapes[n][0] = in, shapes[n++][1] = out;
     } else if (l->kind == NBRDF_NN_RESIDUAL) {
@@ -377,8 +377,8 @@ static double sgemm_seconds(const nbrdf_nn_spec *spec, int batch, double *flops)
       shapes[n][0] = in, shapes[n++][1] = h;
       shapes[n][0] = h, shapes[n++][1] = in;
     }
-    if (l->has_skip && nbrdf_nn_spec_width(spec, l->skip_from) != out)
-      shapes[n][0] = nbrdf_nn_spec_width(spec, l->skip_from), shapes[n++][1] = out;
+    if (l->has_skip && nn_spec_width(spec, l->skip_from) != out)
+      shapes[n][0] = nn_spec_width(spec, l->skip_from), shapes[n++][1] = out;
   }
   int maxw = 1;
   *flops = 0;
@@ -440,14 +440,14 @@ static int layering_table(const bench_cfg *cfg) {
     fprintf(stderr, "bench_bake: %s\n", err.message);
     return 1;
   }
-  const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(model->layering->nn);
+  const nn_spec *spec = nn_get_spec(model->layering->nn);
   double flops, sg = sgemm_seconds(spec, 4096, &flops); /* nbrdf_model_layer's batch */
   double lflops = 2.0 * (double)nbrdf_model_layering_macs(model) * n;
   double big_flops, big = 0;
   {
-    nbrdf_nn_spec sq;
-    nbrdf_nn_spec_init(&sq, 1024);
-    nbrdf_nn_spec_add(&sq, NBRDF_NN_LINEAR, 1024);
+    nn_spec sq;
+    nn_spec_init(&sq, 1024);
+    nn_spec_add(&sq, NBRDF_NN_LINEAR, 1024);
     big = sgemm_seconds(&sq, 4096, &big_flops);
   }
   char load[128];

@@ -38,22 +38,22 @@ static void inputs(const char *maps, char paths[6][1024], nbrdf_bake_inputs *in)
 
 /* Seconds to read every level of `path` whole. */
 static double read_all(const char *path, nbrdf_error *err) {
-  nbrdf_latent_reader *r = NULL;
+  texture_latent_reader *r = NULL;
   double t0 = bench_wall_seconds();
-  if (nbrdf_latent_reader_open(&r, path, err) != NBRDF_OK) return -1;
-  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  if (texture_latent_reader_open(&r, path, err) != NBRDF_OK) return -1;
+  const texture_latent_info *info = texture_latent_reader_info(r);
   float *buf = malloc(sizeof(float) * (size_t)info->width * info->height * info->channels);
   for (int l = 0; l < info->levels; l++) {
     int w, h;
-    if (nbrdf_latent_reader_level_size(r, l, &w, &h, err) != NBRDF_OK ||
-        nbrdf_latent_reader_read(r, l, 0, 0, w, h, buf, err) != NBRDF_OK) {
+    if (texture_latent_reader_level_size(r, l, &w, &h, err) != NBRDF_OK ||
+        texture_latent_reader_read(r, l, 0, 0, w, h, buf, err) != NBRDF_OK) {
       free(buf);
-      nbrdf_latent_reader_close(r);
+      texture_latent_reader_close(r);
       return -1;
     }
   }
   free(buf);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   return bench_wall_seconds() - t0;
 }
 
@@ -103,16 +103,16 @@ int main(int argc, char **argv) {
   }
 
   /* Decode the same texels of both files. */
-  nbrdf_latent_reader *r[2] = {NULL, NULL};
+  texture_latent_reader *r[2] = {NULL, NULL};
   for (int s = 0; s < 2; s++)
-    if (nbrdf_latent_reader_open(&r[s], out[s], &err) != NBRDF_OK) {
+    if (texture_latent_reader_open(&r[s], out[s], &err) != NBRDF_OK) {
       fprintf(stderr, "bench_bake_half: %s\n", err.message);
       return 1;
     }
-  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r[0]);
-  const nbrdf_latent_layout *L = &info->layout;
-  int w, h, C = nbrdf_latent_colours(L), D = L->latent_dim;
-  if (nbrdf_latent_reader_level_size(r[0], level, &w, &h, &err) != NBRDF_OK) {
+  const texture_latent_info *info = texture_latent_reader_info(r[0]);
+  const texture_latent_layout *L = &info->layout;
+  int w, h, C = texture_latent_colours(L), D = L->latent_dim;
+  if (texture_latent_reader_level_size(r[0], level, &w, &h, &err) != NBRDF_OK) {
     fprintf(stderr, "bench_bake_half: %s\n", err.message);
     return 1;
   }
@@ -128,14 +128,14 @@ int main(int argc, char **argv) {
   double d0 = bench_wall_seconds();
   for (size_t i = 0; i < n; i++) {
     for (int s = 0; s < 2; s++) {
-      if (nbrdf_latent_reader_read(r[s], level, pts[i].x, pts[i].y, 1, 1, texel[s], &err) !=
+      if (texture_latent_reader_read(r[s], level, pts[i].x, pts[i].y, 1, 1, texel[s], &err) !=
           NBRDF_OK) {
         fprintf(stderr, "bench_bake_half: %s\n", err.message);
         return 1;
       }
       for (int c = 0; c < C; c++) {
         for (int k = 0; k < D; k++)
-          lat[k] = texel[s][nbrdf_latent_index_latent(L, c, k)];
+          lat[k] = texel[s][texture_latent_index_latent(L, c, k)];
         int finite;
         if (verify_decode(dec, lat, img[s] + VERIFY_SET * c, &finite, &err) != NBRDF_OK ||
             !finite) {
@@ -150,7 +150,7 @@ int main(int argc, char **argv) {
       rel = rel < 0 ? -rel : rel;
       if (rel > max_rel_latent) max_rel_latent = rel;
     }
-    errs[i] = nbrdf_lobe_error(VERIFY_SET * C, img[1], img[0]);
+    errs[i] = lobe_l1_error(VERIFY_SET * C, img[1], img[0]);
   }
   double dsec = bench_wall_seconds() - d0;
   qsort(errs, n, sizeof *errs, bench_cmp_double);
@@ -173,7 +173,7 @@ int main(int argc, char **argv) {
   printf("\n(decoding: %.1f s wall for %zu distinct latents)\n", dsec,
          verify_decoder_distinct(dec));
   for (int s = 0; s < 2; s++) {
-    nbrdf_latent_reader_close(r[s]);
+    texture_latent_reader_close(r[s]);
     unlink(out[s]);
     free(texel[s]), free(img[s]);
   }

@@ -55,7 +55,7 @@ static int write_maps(const char *dir, int n, char paths[6][1024], nbrdf_error *
           px[((size_t)y * n + x) * ch + c] = (float)val;
         }
     snprintf(paths[id], 1024, "%s/%s.exr", dir, names[id]);
-    nbrdf_status st = nbrdf_image_write(paths[id], n, n, ch, px, NBRDF_PIXEL_FLOAT, err);
+    nbrdf_status st = texture_image_write(paths[id], n, n, ch, px, NBRDF_PIXEL_FLOAT, err);
     free(px);
     if (st != NBRDF_OK) return 0;
   }
@@ -63,13 +63,13 @@ static int write_maps(const char *dir, int n, char paths[6][1024], nbrdf_error *
 }
 
 /* Decoded lobe images of texel p of `r`, all colour channels (C sets). */
-static int decode_texel(nbrdf_latent_reader *r, verify_decoder *dec, verify_point p, float *texel,
+static int decode_texel(texture_latent_reader *r, verify_decoder *dec, verify_point p, float *texel,
                         float *lat, double *img, nbrdf_error *err) {
-  const nbrdf_latent_layout *L = &nbrdf_latent_reader_info(r)->layout;
-  if (nbrdf_latent_reader_read(r, 0, p.x, p.y, 1, 1, texel, err) != NBRDF_OK) return 0;
-  for (int c = 0; c < nbrdf_latent_colours(L); c++) {
+  const texture_latent_layout *L = &texture_latent_reader_info(r)->layout;
+  if (texture_latent_reader_read(r, 0, p.x, p.y, 1, 1, texel, err) != NBRDF_OK) return 0;
+  for (int c = 0; c < texture_latent_colours(L); c++) {
     for (int k = 0; k < L->latent_dim; k++)
-      lat[k] = texel[nbrdf_latent_index_latent(L, c, k)];
+      lat[k] = texel[texture_latent_index_latent(L, c, k)];
     int finite;
     if (verify_decode(dec, lat, img + VERIFY_SET * c, &finite, err) != NBRDF_OK || !finite)
       return 0;
@@ -128,18 +128,18 @@ int main(int argc, char **argv) {
       return 1;
     }
     double bw = bench_wall_seconds() - w0, bc = bench_cpu_seconds() - c0;
-    nbrdf_latent_reader *r = NULL;
-    if (nbrdf_latent_reader_open(&r, out[b], &err) != NBRDF_OK) return 1;
-    int C = nbrdf_latent_colours(&nbrdf_latent_reader_info(r)->layout);
+    texture_latent_reader *r = NULL;
+    if (texture_latent_reader_open(&r, out[b], &err) != NBRDF_OK) return 1;
+    int C = texture_latent_colours(&texture_latent_reader_info(r)->layout);
     for (size_t i = 0; i < np; i++) {
       double *dst = b == 0 ? ref + VERIFY_SET * 3 * i : img;
       if (!decode_texel(r, dec, pts[i], texel, lat, dst, &err)) {
         fprintf(stderr, "bench_bake_quantise: decode: %s\n", err.message);
         return 1;
       }
-      errs[i] = b == 0 ? 0 : nbrdf_lobe_error(VERIFY_SET * C, ref + VERIFY_SET * 3 * i, img);
+      errs[i] = b == 0 ? 0 : lobe_l1_error(VERIFY_SET * C, ref + VERIFY_SET * 3 * i, img);
     }
-    nbrdf_latent_reader_close(r);
+    texture_latent_reader_close(r);
     qsort(errs, np, sizeof *errs, bench_cmp_double);
     char load[128];
     bench_load_line(load, sizeof load);

@@ -43,10 +43,10 @@ static double queries_per_cpu_second(model_decoder *dec) {
   size_t D = (size_t)dec->cfg.latent_dim;
   float *lat = malloc(BATCH * D * sizeof *lat), *wi = malloc(3 * BATCH * sizeof *wi);
   float *wo = malloc(3 * BATCH * sizeof *wo), *f = malloc(BATCH * sizeof *f);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 7, 0);
+  core_rng rng;
+  core_rng_init(&rng, 7, 0);
   for (size_t k = 0; k < BATCH * D; k++)
-    lat[k] = (float)(0.3 * nbrdf_rng_normal(&rng));
+    lat[k] = (float)(0.3 * core_rng_normal(&rng));
   for (size_t k = 0; k < BATCH; k++) {
     wi[3 * k] = 0.3f, wi[3 * k + 1] = 0.1f, wi[3 * k + 2] = 0.95f;
     wo[3 * k] = -0.2f, wo[3 * k + 1] = 0.4f, wo[3 * k + 2] = 0.89f;
@@ -115,7 +115,7 @@ int main(int argc, char **argv) {
     nbrdf_error err;
     model_decoder *dec = NULL;
     if (model_decoder_load(paths[k], &dec, &err)) die(paths[k], &err);
-    macs[k] = (double)nbrdf_nn_spec_macs(&dec->cfg.spec);
+    macs[k] = (double)nn_spec_macs(&dec->cfg.spec);
     double qps = queries_per_cpu_second(dec);
     us[k] = 1e6 / qps;
     eval_settings s = EVAL_SETTINGS_DEFAULT;
@@ -125,8 +125,8 @@ int main(int argc, char **argv) {
     med[k] = 100 * r.median;
     fprintf(md, "| %s | %s | %s | %d | %.0f | %.3g | %.2f %% | %.1f %% | %.1f %% | %.4f |\n",
             names[k], model_encoding_kind_name(dec->cfg.encoding.kind),
-            model_output_name(dec->cfg.output), nbrdf_nn_spec_width(&dec->cfg.spec, 1), macs[k],
-            qps, med[k], 100 * r.p90, 100 * r.worst, r.median_albedo_error);
+            model_output_name(dec->cfg.output), nn_spec_width(&dec->cfg.spec, 1), macs[k], qps,
+            med[k], 100 * r.p90, 100 * r.worst, r.median_albedo_error);
     fflush(md);
     eval_result_free(&r);
     model_decoder_destroy(dec);
@@ -137,16 +137,16 @@ int main(int argc, char **argv) {
           cache, walks, bench_wall_seconds() - w0, load0, bench_load_average());
   fclose(md);
   if (plot) {
-    nbrdf_plot_series series[MAX_DECODERS];
+    bench_plot_series series[MAX_DECODERS];
     for (int k = 0; k < n; k++)
-      series[k] = (nbrdf_plot_series){names[k], 1, &us[k], &med[k], 0, 0};
-    nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
+      series[k] = (bench_plot_series){names[k], 1, &us[k], &med[k], 0, 0};
+    bench_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
     o.title = "decoders: rep median lobe error vs cost";
     o.x_label = "microseconds per query (1 thread)";
     o.y_label = "rep median lobe error (%)";
     o.log_x = 1;
     nbrdf_error err;
-    if (nbrdf_plot_write_png(plot, &o, n, series, &err)) die(plot, &err);
+    if (bench_plot_write_png(plot, &o, n, series, &err)) die(plot, &err);
   }
   printf("bench_decoder_compare: wrote %s%s%s\n", out, plot ? " and " : "", plot ? plot : "");
   return 0;

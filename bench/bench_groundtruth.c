@@ -130,11 +130,10 @@ static timing add(timing a, timing b) { return (timing){a.wall + b.wall, a.cpu +
 /* Lobe images of `b` by per-pixel evaluation, `spp` walks per pixel. */
 static timing lobe_set(const nbrdf_brdf *b, int res, int spp, uint64_t seed, int threads,
                        double *images) {
-  nbrdf_lobe_brdf lb = {b, {seed, spp, threads}};
+  lobe_brdf lb = {b, {seed, spp, threads}};
   nbrdf_error err = {0};
   const double t0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
-  if (nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, res, N_THETA, nbrdf_lobe_theta_deg, images,
-                        &err) != NBRDF_OK) {
+  if (lobe_images(lobe_brdf_fn, &lb, res, N_THETA, lobe_theta_deg, images, &err) != NBRDF_OK) {
     fprintf(stderr, "bench_groundtruth: %s\n", err.message);
     exit(1);
   }
@@ -145,10 +144,10 @@ static timing lobe_set(const nbrdf_brdf *b, int res, int spp, uint64_t seed, int
  * `walks` walks from ωi contributes to every pixel of its image. */
 static timing lobe_set_whole(const nbrdf_brdf *b, int res, int walks, uint64_t seed, int threads,
                              double *images) {
-  const bsdf_layered *l = &nbrdf_brdf_bsdf(b)->layered;
+  const bsdf_layered *l = &brdf_bsdf(b)->layered;
   const double t0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
   for (int t = 0; t < N_THETA; t++)
-    if (!layered_lobe_image(l, nbrdf_lobe_theta_deg[t] * (M_PI / 180.0), res, walks,
+    if (!layered_lobe_image(l, lobe_theta_deg[t] * (M_PI / 180.0), res, walks,
                             seed * N_THETA + (uint64_t)t, threads,
                             images + (size_t)t * (size_t)res * (size_t)res, NULL)) {
       fprintf(stderr, "bench_groundtruth: out of memory in the whole-lobe estimator\n");
@@ -188,7 +187,7 @@ static void run_preset(const preset *p, const config *c, result *r) {
   }
   nbrdf_brdf_destroy(bottom);
   const size_t per_image = (size_t)c->res * (size_t)c->res, n_pix = N_THETA * per_image;
-  const double walks_per_spp = (double)N_THETA * (double)nbrdf_lobe_pixels_inside(c->res);
+  const double walks_per_spp = (double)N_THETA * (double)lobe_pixels_inside(c->res);
   double *ref = malloc(n_pix * sizeof *ref), *x = malloc(n_pix * sizeof *x);
   double *y = malloc(n_pix * sizeof *y);
   if (!ref || !x || !y) exit(1);
@@ -208,18 +207,18 @@ static void run_preset(const preset *p, const config *c, result *r) {
   }
   r->ref_wall = dt.wall;
   r->ref_cpu = dt.cpu;
-  r->ref_noise = nbrdf_lobe_error(n_pix, ref, y);
+  r->ref_noise = lobe_l1_error(n_pix, ref, y);
   for (size_t k = 0; k < n_pix; k++)
     ref[k] = 0.5 * (ref[k] + y[k]);
   for (int t = 0; t < N_THETA; t++)
-    r->ref_albedo[t] = nbrdf_lobe_albedo(c->res, ref + (size_t)t * per_image);
+    r->ref_albedo[t] = lobe_albedo(c->res, ref + (size_t)t * per_image);
   fprintf(stderr, "  reference: seed-to-seed %.2f %% (%.0f s, %.0f CPU-s)\n", 100 * r->ref_noise,
           dt.wall, dt.cpu);
   /* The same albedo from the sampler's mean weight: a check that evaluation and
    * sampling agree, and a measure of the lobe images' pixelisation. */
   for (int t = 0; t < N_THETA; t++)
-    if (nbrdf_brdf_albedo(b, nbrdf_lobe_theta_deg[t] * (M_PI / 180.0), ALBEDO_SAMPLES, 5,
-                          &r->rho[t], &r->rho_se[t], &err) != NBRDF_OK) {
+    if (nbrdf_brdf_albedo(b, lobe_theta_deg[t] * (M_PI / 180.0), ALBEDO_SAMPLES, 5, &r->rho[t],
+                          &r->rho_se[t], &err) != NBRDF_OK) {
       fprintf(stderr, "bench_groundtruth: %s: %s\n", p->name, err.message);
       exit(1);
     }
@@ -229,15 +228,15 @@ static void run_preset(const preset *p, const config *c, result *r) {
     dt = add(dt, lobe_set(b, c->res, c->spp[k], 8 + 2 * (uint64_t)k, c->threads, y));
     r->rate[k] = 2 * walks_per_spp * c->spp[k] / dt.wall;
     r->cpu_rate[k] = 2 * walks_per_spp * c->spp[k] / dt.cpu;
-    r->err[k] = nbrdf_lobe_error(n_pix, ref, x);
+    r->err[k] = lobe_l1_error(n_pix, ref, x);
     r->paired[k] = paired_error(n_pix, ref, x, y);
-    r->albedo_err[k] = nbrdf_lobe_albedo_error(c->res, N_THETA, ref, x, NULL);
+    r->albedo_err[k] = lobe_albedo_error(c->res, N_THETA, ref, x, NULL);
     fprintf(stderr, "  spp %d: lobe error %.2f %%, paired %.2f %% (%.1f s)\n", c->spp[k],
             100 * r->err[k], 100 * r->paired[k], dt.wall);
     if (c->lobes && k == 0) {
       char path[1024];
       snprintf(path, sizeof path, "%s/groundtruth_%s_spp%d.png", c->lobes, p->name, c->spp[k]);
-      if (nbrdf_lobe_write_png(path, c->res, N_THETA, ref, x, 3, &err) != NBRDF_OK)
+      if (lobe_write_png(path, c->res, N_THETA, ref, x, 3, &err) != NBRDF_OK)
         fprintf(stderr, "bench_groundtruth: %s\n", err.message);
     }
   }
@@ -300,7 +299,7 @@ static void print_table(FILE *f, const char *head, const config *c, int threads_
 
 static void plot(const config *c, const int *ran, const result *res) {
   double xs[MAX_SPP], ys[N_BRDF][MAX_SPP], floor_y[N_BRDF][MAX_SPP];
-  nbrdf_plot_series s[2 * N_BRDF];
+  bench_plot_series s[2 * N_BRDF];
   int n = 0;
   for (int k = 0; k < c->n_spp; k++)
     xs[k] = c->spp[k];
@@ -310,17 +309,17 @@ static void plot(const config *c, const int *ran, const result *res) {
       ys[i][k] = 100 * res[i].err[k];
       floor_y[i][k] = 100 * res[i].ref_noise;
     }
-    s[n++] = (nbrdf_plot_series){PRESETS[i].label, c->n_spp, xs, ys[i], 0, i + 1};
-    s[n++] = (nbrdf_plot_series){NULL, c->n_spp, xs, floor_y[i], 1, i + 1};
+    s[n++] = (bench_plot_series){PRESETS[i].label, c->n_spp, xs, ys[i], 0, i + 1};
+    s[n++] = (bench_plot_series){NULL, c->n_spp, xs, floor_y[i], 1, i + 1};
   }
-  nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
+  bench_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
   o.title = "Layered ground truth: lobe error vs walks per query";
   o.x_label = "walks per query (spp)";
   o.y_label = "lobe error vs reference (%), dashed: reference seed-to-seed";
   o.log_x = o.log_y = 1;
   o.width = 900;
   nbrdf_error err = {0};
-  if (nbrdf_plot_write_png(c->plot, &o, n, s, &err) != NBRDF_OK)
+  if (bench_plot_write_png(c->plot, &o, n, s, &err) != NBRDF_OK)
     fprintf(stderr, "bench_groundtruth: %s\n", err.message);
 }
 
@@ -342,7 +341,7 @@ int main(int argc, char **argv) {
            "%.2f at start.\nLobe images: %dx%d at theta_i = 0, 30, 60, 80 deg (%zu queries per "
            "set); reference = mean of %s (seeds 1001, 1002).\n",
            cpu, omp_get_max_threads(), threads_used, bench_load_average(), c.res, c.res,
-           (size_t)N_THETA * nbrdf_lobe_pixels_inside(c.res), ref);
+           (size_t)N_THETA * lobe_pixels_inside(c.res), ref);
   fprintf(stderr, "%s", head);
 
   result res[N_BRDF];

@@ -39,14 +39,14 @@ int main(int argc, char **argv) {
   o.accuracy = (nbrdf_bake_accuracy)nbrdf_bake_accuracy_parse(argv[1]);
   o.budget = atof(argv[2]);
   o.seed = strtoull(argv[3], NULL, 10);
-  nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
+  texture_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   bake_accuracy_result r;
   nbrdf_status st = bake_open_sources(&in, src, &err);
   int W = 0, H = 0, rgb = 0;
   if (st == NBRDF_OK)
-    st = nbrdf_param_sources_common_size(src, NBRDF_BAKE_PARAM_COUNT, &W, &H, &err);
+    st = texture_param_sources_common_size(src, NBRDF_BAKE_PARAM_COUNT, &W, &H, &err);
   for (int id = 0; st == NBRDF_OK && id < NBRDF_BAKE_PARAM_COUNT; id++)
-    rgb |= nbrdf_param_source_channels(src[id]) == 3;
+    rgb |= texture_param_source_channels(src[id]) == 3;
   if (W == 0) W = H = 1;
   bake_scene scene = {src, W, H, rgb ? 3 : 1};
   clock_t c0 = clock();
@@ -61,7 +61,7 @@ int main(int argc, char **argv) {
          (double)(clock() - c0) / CLOCKS_PER_SEC);
   bake_accuracy_free(&r);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
-    nbrdf_param_source_free(src[id]);
+    texture_param_source_free(src[id]);
   nbrdf_model_destroy(model);
   return 0;
 }

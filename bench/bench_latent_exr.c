@@ -66,13 +66,13 @@ int main(int argc, char **argv) {
   generator *g = calloc(1, sizeof *g);
   g->size = size;
   g->dim = dim;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 2022, 0);
-  nbrdf_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 0};
-  int C = nbrdf_latent_channel_count(&layout);
+  core_rng rng;
+  core_rng_init(&rng, 2022, 0);
+  texture_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 0};
+  int C = texture_latent_channel_count(&layout);
   for (int c = 0; c < C; c++)
     for (int k = 0; k < 7; k++)
-      g->A[c][k] = (float)(2.0 * nbrdf_rng_uniform(&rng) - 1.0);
+      g->A[c][k] = (float)(2.0 * core_rng_uniform(&rng) - 1.0);
   const int rows = 64;
   float *buf = malloc(sizeof(float) * (size_t)rows * size * C);
   char path[1024];
@@ -82,20 +82,20 @@ int main(int argc, char **argv) {
          size, size, dim, C, omp_get_max_threads());
   printf("%-9s %-5s %-5s %10s %9s %8s %8s %8s %8s\n", "content", "store", "comp", "size MiB",
          "bits/val", "write s", "cpu s", "read s", "cpu s");
-  static const nbrdf_latent_compression comps[] = {
+  static const texture_latent_compression comps[] = {
       NBRDF_LATENT_NONE, NBRDF_LATENT_RLE, NBRDF_LATENT_ZIPS, NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ};
   for (int painted = 1; painted >= 0; painted--) {
     g->painted = painted;
     for (int s = 0; s < 2; s++)
       for (int ci = 0; ci < 5; ci++) {
         nbrdf_error err;
-        nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+        texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
         opts.storage = s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
         opts.compression = comps[ci];
-        nbrdf_latent_writer *w = NULL;
+        texture_latent_writer *w = NULL;
         double t0 = bench_wall_seconds(), spent = 0, spent_cpu = 0, c0 = bench_cpu_seconds();
-        if (nbrdf_latent_writer_create(&w, path, size, size, &layout, NULL, &opts, NULL, 0, &err) !=
-            NBRDF_OK) {
+        if (texture_latent_writer_create(&w, path, size, size, &layout, NULL, &opts, NULL, 0,
+                                         &err) != NBRDF_OK) {
           fprintf(stderr, "%s\n", err.message);
           return 1;
         }
@@ -105,7 +105,7 @@ int main(int argc, char **argv) {
           int n = size - y < rows ? size - y : rows;
           band(g, y, n, C, buf); /* not timed */
           double t1 = bench_wall_seconds(), c1 = bench_cpu_seconds();
-          if (nbrdf_latent_writer_write_rows(w, buf, n, &err) != NBRDF_OK) {
+          if (texture_latent_writer_write_rows(w, buf, n, &err) != NBRDF_OK) {
             fprintf(stderr, "%s\n", err.message);
             return 1;
           }
@@ -113,7 +113,7 @@ int main(int argc, char **argv) {
           spent_cpu += bench_cpu_seconds() - c1;
         }
         double t2 = bench_wall_seconds(), c2 = bench_cpu_seconds();
-        if (nbrdf_latent_writer_finish(w, &err) != NBRDF_OK) {
+        if (texture_latent_writer_finish(w, &err) != NBRDF_OK) {
           fprintf(stderr, "%s\n", err.message);
           return 1;
         }
@@ -121,26 +121,26 @@ int main(int argc, char **argv) {
         spent_cpu += bench_cpu_seconds() - c2;
         /* Read every level back whole. */
         double t3 = bench_wall_seconds(), c3 = bench_cpu_seconds();
-        nbrdf_latent_reader *r = NULL;
+        texture_latent_reader *r = NULL;
         long long bytes = 0;
-        if (nbrdf_latent_reader_open(&r, path, &err) == NBRDF_OK) {
-          const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+        if (texture_latent_reader_open(&r, path, &err) == NBRDF_OK) {
+          const texture_latent_info *in = texture_latent_reader_info(r);
           bytes = in->file_size;
           float *all = malloc(sizeof(float) * (size_t)size * 64 * C);
           for (int l = 0; l < in->levels; l++) {
             int lw, lh;
-            nbrdf_latent_reader_level_size(r, l, &lw, &lh, &err);
+            texture_latent_reader_level_size(r, l, &lw, &lh, &err);
             for (int y = 0; y < lh; y += 64)
-              nbrdf_latent_reader_read(r, l, 0, y, lw, lh - y < 64 ? lh - y : 64, all, &err);
+              texture_latent_reader_read(r, l, 0, y, lw, lh - y < 64 ? lh - y : 64, all, &err);
           }
           free(all);
-          nbrdf_latent_reader_close(r);
+          texture_latent_reader_close(r);
         }
         double read_s = bench_wall_seconds() - t3, read_cpu = bench_cpu_seconds() - c3;
         double values = (double)C * size * size * 4.0 / 3.0;
         printf("%-9s %-5s %-5s %10.1f %9.2f %8.2f %8.2f %8.2f %8.2f\n",
-               painted ? "painted" : "distinct", nbrdf_latent_storage_name(opts.storage),
-               nbrdf_latent_compression_name(comps[ci]), bytes / 1048576.0, bytes * 8.0 / values,
+               painted ? "painted" : "distinct", texture_latent_storage_name(opts.storage),
+               texture_latent_compression_name(comps[ci]), bytes / 1048576.0, bytes * 8.0 / values,
                spent, spent_cpu, read_s, read_cpu);
         fflush(stdout);
         unlink(path);

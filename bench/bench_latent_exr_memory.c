@@ -20,16 +20,17 @@ int main(int argc, char **argv) {
   }
   int W = atoi(argv[1]), H = atoi(argv[2]), dim = argc > 3 ? atoi(argv[3]) : 32;
   const char *dir = argc > 4 ? argv[4] : "/tmp";
-  nbrdf_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 1};
-  int C = nbrdf_latent_channel_count(&layout), rows = 16;
+  texture_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 1};
+  int C = texture_latent_channel_count(&layout), rows = 16;
   char path[1024];
   snprintf(path, sizeof path, "%s/bench_latent_mem_%d.exr", dir, (int)getpid());
   float *band = malloc(sizeof(float) * (size_t)rows * W * C);
   struct timespec t0, t1;
   clock_gettime(CLOCK_MONOTONIC, &t0);
   nbrdf_error err;
-  nbrdf_latent_writer *w = NULL;
-  if (nbrdf_latent_writer_create(&w, path, W, H, &layout, NULL, NULL, NULL, 0, &err) != NBRDF_OK) {
+  texture_latent_writer *w = NULL;
+  if (texture_latent_writer_create(&w, path, W, H, &layout, NULL, NULL, NULL, 0, &err) !=
+      NBRDF_OK) {
     fprintf(stderr, "%s\n", err.message);
     return 1;
   }
@@ -40,12 +41,12 @@ int main(int argc, char **argv) {
         for (int c = 0; c < C; c++)
           band[((size_t)j * W + x) * C + c] =
               (float)(0.5 + 0.25 * sin(0.001 * x * (c + 1) + 0.002 * (y + j)));
-    if (nbrdf_latent_writer_write_rows(w, band, n, &err) != NBRDF_OK) {
+    if (texture_latent_writer_write_rows(w, band, n, &err) != NBRDF_OK) {
       fprintf(stderr, "%s\n", err.message);
       return 1;
     }
   }
-  if (nbrdf_latent_writer_finish(w, &err) != NBRDF_OK) {
+  if (texture_latent_writer_finish(w, &err) != NBRDF_OK) {
     fprintf(stderr, "%s\n", err.message);
     return 1;
   }

@@ -45,7 +45,7 @@ static void decode_bare(job *j) {
   size_t rows = j->n * (size_t)j->channels, in = (size_t)model_decoder_inputs(j->m->decoder);
   for (size_t r0 = 0; r0 < rows; r0 += (size_t)j->runner->max_batch) {
     size_t m = rows - r0 < (size_t)j->runner->max_batch ? rows - r0 : (size_t)j->runner->max_batch;
-    die(nbrdf_nn_forward(j->m->decoder->nn, j->runner->ws, j->x + r0 * in, (int)m, j->f + r0, &err),
+    die(nn_forward(j->m->decoder->nn, j->runner->ws, j->x + r0 * in, (int)m, j->f + r0, &err),
         &err);
   }
 }
@@ -77,7 +77,7 @@ static void bench_decoders(const char *tmp, int quick) {
         &err);
     nbrdf_model *m = NULL;
     die(nbrdf_model_load(dir, &m, &err), &err);
-    const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(m->decoder->nn);
+    const nn_spec *spec = nn_get_spec(m->decoder->nn);
     int width = spec->layers[0].width;
     double peak = bench_sgemm_gflops(4096, width, width, 0.5, 0);
     int64_t macs = nbrdf_model_decoder_macs(m);
@@ -87,13 +87,13 @@ static void bench_decoders(const char *tmp, int quick) {
       j.lat = malloc(n * 32 * sizeof(float));
       j.wi = malloc(n * 3 * sizeof(float)), j.wo = malloc(n * 3 * sizeof(float));
       j.f = malloc(n * sizeof(float)), j.x = malloc(n * in * sizeof(float));
-      nbrdf_rng rng;
-      nbrdf_rng_init(&rng, 1, 0);
+      core_rng rng;
+      core_rng_init(&rng, 1, 0);
       for (size_t i = 0; i < n * 32; i++)
-        j.lat[i] = (float)nbrdf_rng_normal(&rng);
+        j.lat[i] = (float)core_rng_normal(&rng);
       for (size_t k = 0; k < 2 * n; k++) {
-        double z = 0.1 + 0.9 * nbrdf_rng_uniform(&rng), r = sqrt(1 - z * z),
-               phi = 6.283 * nbrdf_rng_uniform(&rng);
+        double z = 0.1 + 0.9 * core_rng_uniform(&rng), r = sqrt(1 - z * z),
+               phi = 6.283 * core_rng_uniform(&rng);
         float *w = k < n ? j.wi + 3 * k : j.wo + 3 * (k - n);
         w[0] = (float)(r * cos(phi)), w[1] = (float)(r * sin(phi)), w[2] = (float)z;
       }
@@ -122,10 +122,10 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
   die(nbrdf_model_load(dir, &m, &err), &err);
   enum { N = 4096 };
   static float top[N * 32], bottom[N * 32], out[N * 32], a[N], s[N], sg[N], w[N];
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 2, 0);
+  core_rng rng;
+  core_rng_init(&rng, 2, 0);
   for (int i = 0; i < N * 32; i++)
-    top[i] = (float)nbrdf_rng_normal(&rng), bottom[i] = (float)nbrdf_rng_normal(&rng);
+    top[i] = (float)core_rng_normal(&rng), bottom[i] = (float)core_rng_normal(&rng);
   for (int k = 0; k < N; k++)
     a[k] = 0.5f, s[k] = 2.0f;
   die(nbrdf_model_layer(m, N, top, bottom, a, s, out, &err), &err);
@@ -150,8 +150,8 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
   printf("| layering | %lld | %.3g | %.1f | %.1f |\n", (long long)lmacs, N / tl,
          2.0 * lmacs * N / tl * 1e-9, bench_sgemm_gflops(4096, 512, 512, 0.5, 0));
   printf("| sampler | %lld | %.3g | %.1f | |\n\n",
-         (long long)nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->sampler->nn)), N / ts,
-         2.0 * nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->sampler->nn)) * N / ts * 1e-9);
+         (long long)nn_spec_macs(nn_get_spec(m->sampler->nn)), N / ts,
+         2.0 * nn_spec_macs(nn_get_spec(m->sampler->nn)) * N / ts * 1e-9);
 
   /* Projection: 64 BRDFs x 1024 samples, decoder "medium". */
   enum { NB = 64, PER = 1024 };
@@ -161,13 +161,13 @@ static void bench_layering_sampler_projection(const char *tmp, int quick) {
   for (int b = 0; b <= NB; b++)
     offsets[b] = (size_t)b * PER;
   for (size_t k = 0; k < 2 * (size_t)NB * PER; k++) {
-    double zz = 0.1 + 0.9 * nbrdf_rng_uniform(&rng), r = sqrt(1 - zz * zz),
-           phi = 6.283 * nbrdf_rng_uniform(&rng);
+    double zz = 0.1 + 0.9 * core_rng_uniform(&rng), r = sqrt(1 - zz * zz),
+           phi = 6.283 * core_rng_uniform(&rng);
     float *v = k < (size_t)NB * PER ? wi + 3 * k : wo + 3 * (k - (size_t)NB * PER);
     v[0] = (float)(r * cos(phi)), v[1] = (float)(r * sin(phi)), v[2] = (float)zz;
   }
   for (size_t k = 0; k < (size_t)NB * PER; k++)
-    f[k] = (float)(0.5 + nbrdf_rng_uniform(&rng));
+    f[k] = (float)(0.5 + core_rng_uniform(&rng));
   nbrdf_project_options po = NBRDF_PROJECT_OPTIONS_DEFAULT;
   po.steps = quick ? 100 : 500;
   t0 = bench_wall_seconds();

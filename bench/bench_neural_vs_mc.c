@@ -125,18 +125,18 @@ static float *load_references(const config *c, double *noise) {
             path, c->bundle, c->ref_count, c->ref_walks, c->cache);
     exit(1);
   }
-  nbrdf_st_reader *r = NULL;
+  nn_st_reader *r = NULL;
   nbrdf_error err = {0};
   int64_t shape[4] = {c->ref_count, NBRDF_LOBE_N_THETA, NBRDF_LOBE_RES, NBRDF_LOBE_RES}, one = 1;
   const float *x = NULL, *nz = NULL;
-  if (nbrdf_st_open(path, &r, &err) || nbrdf_st_expect(r, "images", 4, shape, &x, &err) ||
-      nbrdf_st_expect(r, "noise", 1, &one, &nz, &err))
+  if (nn_st_open(path, &r, &err) || nn_st_expect(r, "images", 4, shape, &x, &err) ||
+      nn_st_expect(r, "noise", 1, &one, &nz, &err))
     die(path, &err);
   float *out = malloc((size_t)c->ref_count * PER_BRDF * sizeof *out);
   if (!out) exit(1);
   memcpy(out, x, (size_t)c->ref_count * PER_BRDF * sizeof *out);
   *noise = nz[0];
-  nbrdf_st_close(r);
+  nn_st_close(r);
   return out;
 }
 
@@ -155,7 +155,7 @@ static nbrdf_status neural_fn(void *user, size_t n, const nbrdf_query *q, double
   size_t D = (size_t)nbrdf_model_latent_dim(b->m);
   float *lat = malloc(n * D * sizeof *lat), *dirs = malloc(6 * n * sizeof *dirs);
   float *out = malloc(n * sizeof *out);
-  nbrdf_status st = lat && dirs && out ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "no memory");
+  nbrdf_status st = lat && dirs && out ? NBRDF_OK : core_fail(err, NBRDF_ERR_MEMORY, "no memory");
   for (size_t k = 0; k < n && !st; k++) {
     memcpy(lat + k * D, b->latent, D * sizeof *lat);
     for (int j = 0; j < 3; j++)
@@ -274,12 +274,11 @@ int main(int argc, char **argv) {
   double neural_cpu0 = bench_cpu_seconds();
   for (size_t i = 0; i < n; i++) {
     nl.latent = lat + i * D;
-    if (nbrdf_lobe_images(neural_fn, &nl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg,
-                          x, &err))
+    if (lobe_images(neural_fn, &nl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg, x, &err))
       die("neural lobes", &err);
     for (size_t k = 0; k < PER_BRDF; k++)
       ref[k] = refs[i * PER_BRDF + k];
-    neural_err[i] = nbrdf_lobe_error(PER_BRDF, ref, x);
+    neural_err[i] = lobe_l1_error(PER_BRDF, ref, x);
   }
   const double neural_query = nl.decode_cpu / (double)nl.queries;
   const double neural_query_all = (bench_cpu_seconds() - neural_cpu0) / (double)nl.queries;
@@ -287,7 +286,7 @@ int main(int argc, char **argv) {
           100 * quantile(neural_err, (int)n, 0.5), n, 1e6 * neural_query);
 
   /* (b) Monte Carlo per query, two independent runs per spp. */
-  const size_t queries = NBRDF_LOBE_N_THETA * nbrdf_lobe_pixels_inside(NBRDF_LOBE_RES);
+  const size_t queries = NBRDF_LOBE_N_THETA * lobe_pixels_inside(NBRDF_LOBE_RES);
   for (int i = 0; i < c.mc_count; i++) {
     nbrdf_brdf *b = NULL;
     if (train_params_create(&p[i], &b, &err)) die("ground truth", &err);
@@ -297,13 +296,13 @@ int main(int argc, char **argv) {
       mc_point *pt = &mc[(size_t)i * MAX_SPP + s];
       double c0 = bench_cpu_seconds();
       for (int run = 0; run < 2; run++) {
-        nbrdf_lobe_brdf lb = {b, {nbrdf_hash64((uint64_t)i, (uint64_t)(2 * s + run)), c.spp[s], 1}};
-        if (nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
-                              nbrdf_lobe_theta_deg, run ? y : x, &err))
+        lobe_brdf lb = {b, {core_hash64((uint64_t)i, (uint64_t)(2 * s + run)), c.spp[s], 1}};
+        if (lobe_images(lobe_brdf_fn, &lb, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg,
+                        run ? y : x, &err))
           die("Monte Carlo lobes", &err);
       }
       pt->cpu = (bench_cpu_seconds() - c0) / 2;
-      pt->err = 0.5 * (nbrdf_lobe_error(PER_BRDF, ref, x) + nbrdf_lobe_error(PER_BRDF, ref, y));
+      pt->err = 0.5 * (lobe_l1_error(PER_BRDF, ref, x) + lobe_l1_error(PER_BRDF, ref, y));
       double num = 0, den = 0;
       for (size_t k = 0; k < PER_BRDF; k++)
         num += fabs(x[k] - y[k]), den += fabs(ref[k]);
@@ -428,19 +427,19 @@ int main(int argc, char **argv) {
   for (int s = 0; s < c.n_spp; s++)
     e_pct[s] = 100 * med_err[s], p_pct[s] = 100 * med_paired[s];
   double floor_x[2] = {nx, us_query[c.n_spp - 1]}, floor_y[2] = {100 * ref_noise, 100 * ref_noise};
-  nbrdf_plot_series ser[4] = {
+  bench_plot_series ser[4] = {
       {"monte carlo vs reference", c.n_spp, us_query, e_pct, 0, 0},
       {"monte carlo paired (no ref. noise)", c.n_spp, us_query, p_pct, 1, 1},
       {"neural (decoder per query)", 1, &nx, &ny, 0, 0},
       {"reference seed-to-seed", 2, floor_x, floor_y, 1, 0}};
-  nbrdf_plot_options po = {"Layer set: median lobe error vs CPU cost per query",
+  bench_plot_options po = {"Layer set: median lobe error vs CPU cost per query",
                            "CPU microseconds per query (1 thread)",
                            "median lobe error (%)",
                            1,
                            1,
                            0,
                            0};
-  if (nbrdf_plot_write_png(c.plot, &po, 4, ser, &err)) die(c.plot, &err);
+  if (bench_plot_write_png(c.plot, &po, 4, ser, &err)) die(c.plot, &err);
   fprintf(stderr, "wrote %s and %s\n", c.out, c.plot);
 
   free(match), free(v), free(w), free(mc), free(neural_err), free(x), free(y), free(ref), free(lat);

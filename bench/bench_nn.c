@@ -46,8 +46,8 @@ static double time_calls(work_fn fn, void *ctx, double min_s) {
 }
 
 typedef struct run {
-  nbrdf_nn *nn;
-  nbrdf_nn_workspace *ws;
+  nn_network *nn;
+  nn_workspace *ws;
   int batch, chunk;
   float *x, *y, *dy, *grad;
   float *a, *b; /* replay buffers */
@@ -62,24 +62,24 @@ static void die(nbrdf_status st, const nbrdf_error *err) {
 static void net_forward(void *ctx) {
   run *r = ctx;
   nbrdf_error err;
-  die(nbrdf_nn_forward(r->nn, r->ws, r->x, r->batch, r->y, &err), &err);
+  die(nn_forward(r->nn, r->ws, r->x, r->batch, r->y, &err), &err);
 }
 
 static void net_train(void *ctx) {
   run *r = ctx;
   nbrdf_error err;
-  int in = nbrdf_nn_inputs(r->nn), out = nbrdf_nn_outputs(r->nn);
+  int in = nn_inputs(r->nn), out = nn_outputs(r->nn);
   for (int done = 0; done < r->batch; done += r->chunk) {
-    die(nbrdf_nn_forward(r->nn, r->ws, r->x + (size_t)done * in, r->chunk,
-                         r->y + (size_t)done * out, &err),
+    die(nn_forward(r->nn, r->ws, r->x + (size_t)done * in, r->chunk, r->y + (size_t)done * out,
+                   &err),
         &err);
-    die(nbrdf_nn_backward(r->nn, r->ws, r->dy + (size_t)done * out, NULL, r->grad, &err), &err);
+    die(nn_backward(r->nn, r->ws, r->dy + (size_t)done * out, NULL, r->grad, &err), &err);
   }
 }
 
 /* The GEMMs of one forward pass on `rows` rows (nn_gemm_xwt: sgemv for a single row). */
 static void replay_forward_rows(run *r, int rows) {
-  const nbrdf_nn *nn = r->nn;
+  const nn_network *nn = r->nn;
   const float *p = nn->params;
   for (int i = 0; i < nn->spec.n_layers; i++) {
     const nn_layer *l = &nn->layers[i];
@@ -93,9 +93,9 @@ static void replay_forward_rows(run *r, int rows) {
   }
 }
 
-/* The GEMMs of nbrdf_nn_backward(dx = NULL, grad != NULL). */
+/* The GEMMs of nn_backward(dx = NULL, grad != NULL). */
 static void replay_backward_rows(run *r, int rows) {
-  const nbrdf_nn *nn = r->nn;
+  const nn_network *nn = r->nn;
   const float *p = nn->params;
   for (int i = nn->spec.n_layers - 1; i >= 0; i--) {
     const nn_layer *l = &nn->layers[i];
@@ -132,8 +132,8 @@ static void replay_train(void *ctx) {
 
 /* Multiply-adds of the backward GEMMs with dx == NULL: weights' and inputs' gradients, minus
  * the first layer's input gradient. */
-static double backward_macs(const nbrdf_nn *nn) {
-  double m = 2.0 * (double)nbrdf_nn_spec_macs(&nn->spec);
+static double backward_macs(const nn_network *nn) {
+  double m = 2.0 * (double)nn_spec_macs(&nn->spec);
   const nn_layer *l0 = &nn->layers[0];
   if (l0->kind == NBRDF_NN_LINEAR || l0->kind == NBRDF_NN_PLAIN) m -= (double)l0->in * l0->out;
   if (l0->kind == NBRDF_NN_RESIDUAL) m -= (double)l0->in * l0->hidden;
@@ -149,25 +149,25 @@ static void fmt_bytes(char *s, size_t n, double b) {
     snprintf(s, n, "%.0f KiB", b / 1024);
 }
 
-static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int *batches,
-                          int n_batches, double min_s) {
+static void bench_network(const char *name, const nn_spec *spec, const int *batches, int n_batches,
+                          double min_s) {
   nbrdf_error err;
-  nbrdf_nn *nn = NULL;
-  die(nbrdf_nn_create(spec, &nn, &err), &err);
-  nbrdf_nn_init_params(nn, 1);
-  const int in = nbrdf_nn_inputs(nn), out = nbrdf_nn_outputs(nn);
-  const double macs = (double)nbrdf_nn_spec_macs(spec), bmacs = backward_macs(nn);
+  nn_network *nn = NULL;
+  die(nn_create(spec, &nn, &err), &err);
+  nn_init_params(nn, 1);
+  const int in = nn_inputs(nn), out = nn_outputs(nn);
+  const double macs = (double)nn_spec_macs(spec), bmacs = backward_macs(nn);
   int max_b = batches[n_batches - 1];
   run r = {nn, NULL, 0, 0, NULL, NULL, NULL, NULL, NULL, NULL};
   r.x = malloc(sizeof(float) * (size_t)max_b * in);
   r.y = malloc(sizeof(float) * (size_t)max_b * out);
   r.dy = malloc(sizeof(float) * (size_t)max_b * out);
-  r.grad = calloc(nbrdf_nn_param_count(nn), sizeof(float));
+  r.grad = calloc(nn_param_count(nn), sizeof(float));
   const int block = nn_infer_block(nn); /* rows per inference block, replayed the same way */
   size_t rb = sizeof(float) * (size_t)(max_b < block ? max_b : block) * nn->max_width;
   size_t train_cap = 1;
   while (train_cap * 2 <= (size_t)max_b &&
-         nbrdf_nn_workspace_bytes(spec, (int)train_cap * 2, NBRDF_NN_TRAIN) <= TRAIN_BYTES_CAP)
+         nn_workspace_bytes(spec, (int)train_cap * 2, NBRDF_NN_TRAIN) <= TRAIN_BYTES_CAP)
     train_cap *= 2;
   if (train_cap * nn->max_width * sizeof(float) > rb)
     rb = train_cap * nn->max_width * sizeof(float);
@@ -183,25 +183,25 @@ static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int
     /* forward: inference workspace, which works in blocks of nn_infer_block rows */
     r.batch = B;
     r.chunk = B < block ? B : block;
-    die(nbrdf_nn_workspace_create(nn, B, NBRDF_NN_INFER, &r.ws, &err), &err);
-    fmt_bytes(mem_f, sizeof mem_f, (double)nbrdf_nn_workspace_bytes(spec, r.chunk, NBRDF_NN_INFER));
+    die(nn_workspace_create(nn, B, NBRDF_NN_INFER, &r.ws, &err), &err);
+    fmt_bytes(mem_f, sizeof mem_f, (double)nn_workspace_bytes(spec, r.chunk, NBRDF_NN_INFER));
     double tn = 1e30, tg = 1e30;
     for (int round = 0; round < ROUNDS; round++) {
       tn = fmin(tn, time_calls(net_forward, &r, min_s));
       tg = fmin(tg, time_calls(replay_forward, &r, min_s));
     }
-    nbrdf_nn_workspace_destroy(r.ws);
+    nn_workspace_destroy(r.ws);
     double fq = B / tn, f_gflops = 2 * macs * B / tn / 1e9, g_gflops = 2 * macs * B / tg / 1e9;
     /* forward + backward: training workspace, gradients accumulated over chunks */
     r.chunk = B < (int)train_cap ? B : (int)train_cap;
-    die(nbrdf_nn_workspace_create(nn, r.chunk, NBRDF_NN_TRAIN, &r.ws, &err), &err);
-    fmt_bytes(mem_t, sizeof mem_t, (double)nbrdf_nn_workspace_bytes(spec, r.chunk, NBRDF_NN_TRAIN));
+    die(nn_workspace_create(nn, r.chunk, NBRDF_NN_TRAIN, &r.ws, &err), &err);
+    fmt_bytes(mem_t, sizeof mem_t, (double)nn_workspace_bytes(spec, r.chunk, NBRDF_NN_TRAIN));
     double un = 1e30, ug = 1e30;
     for (int round = 0; round < ROUNDS; round++) {
       un = fmin(un, time_calls(net_train, &r, min_s));
       ug = fmin(ug, time_calls(replay_train, &r, min_s));
     }
-    nbrdf_nn_workspace_destroy(r.ws);
+    nn_workspace_destroy(r.ws);
     double tq = B / un, t_gflops = 2 * (macs + bmacs) * B / un / 1e9;
     double tg_gflops = 2 * (macs + bmacs) * B / ug / 1e9;
     printf(
@@ -216,14 +216,14 @@ static void bench_network(const char *name, const nbrdf_nn_spec *spec, const int
   free(r.grad);
   free(r.a);
   free(r.b);
-  nbrdf_nn_destroy(nn);
+  nn_destroy(nn);
 }
 
 /* ---- threading and orientation study ---- */
 
 typedef struct par {
-  nbrdf_nn *nn;
-  nbrdf_nn_workspace *ws[2];
+  nn_network *nn;
+  nn_workspace *ws[2];
   float *x, *y;
   int batch;
   int callers;
@@ -231,10 +231,10 @@ typedef struct par {
 
 static void par_forward(void *ctx) {
   par *p = ctx;
-  int in = nbrdf_nn_inputs(p->nn);
+  int in = nn_inputs(p->nn);
   if (p->callers == 1) {
     nbrdf_error err;
-    die(nbrdf_nn_forward(p->nn, p->ws[0], p->x, p->batch, p->y, &err), &err);
+    die(nn_forward(p->nn, p->ws[0], p->x, p->batch, p->y, &err), &err);
     return;
   }
   int half = p->batch / 2;
@@ -242,8 +242,8 @@ static void par_forward(void *ctx) {
   {
     int t = omp_get_thread_num();
     nbrdf_error err;
-    die(nbrdf_nn_forward(p->nn, p->ws[t], p->x + (size_t)t * half * in, half,
-                         p->y + (size_t)t * half * nbrdf_nn_outputs(p->nn), &err),
+    die(nn_forward(p->nn, p->ws[t], p->x + (size_t)t * half * in, half,
+                   p->y + (size_t)t * half * nn_outputs(p->nn), &err),
         &err);
   }
 }
@@ -277,13 +277,13 @@ static void threads_study(double min_s) {
               {"decoder 1.06M (paper)", 256, 8, 64}};
   for (size_t c = 0; c < sizeof nets / sizeof *nets; c++) {
     nbrdf_error err;
-    nbrdf_nn_spec s;
-    die(nbrdf_nn_spec_resmlp(&s, 38, nets[c].width, nets[c].blocks, 1, 1, &err), &err);
+    nn_spec s;
+    die(nn_spec_resmlp(&s, 38, nets[c].width, nets[c].blocks, 1, 1, &err), &err);
     par p = {NULL, {NULL, NULL}, NULL, NULL, nets[c].batch, 1};
-    die(nbrdf_nn_create(&s, &p.nn, &err), &err);
-    nbrdf_nn_init_params(p.nn, 1);
+    die(nn_create(&s, &p.nn, &err), &err);
+    nn_init_params(p.nn, 1);
     for (int t = 0; t < 2; t++)
-      die(nbrdf_nn_workspace_create(p.nn, p.batch, NBRDF_NN_INFER, &p.ws[t], &err), &err);
+      die(nn_workspace_create(p.nn, p.batch, NBRDF_NN_INFER, &p.ws[t], &err), &err);
     p.x = calloc((size_t)p.batch * 38, sizeof(float));
     p.y = calloc((size_t)p.batch, sizeof(float));
     for (int setting = 0; setting < 4; setting++) {
@@ -297,9 +297,9 @@ static void threads_study(double min_s) {
     openblas_set_num_threads(blas_threads);
     free(p.x);
     free(p.y);
-    nbrdf_nn_workspace_destroy(p.ws[0]);
-    nbrdf_nn_workspace_destroy(p.ws[1]);
-    nbrdf_nn_destroy(p.nn);
+    nn_workspace_destroy(p.ws[0]);
+    nn_workspace_destroy(p.ws[1]);
+    nn_destroy(p.nn);
   }
   printf("\n| sgemm C[m x n] = A[m x k] B | m | n | k | GFLOP/s |\n|---|---|---|---|---|\n");
   int shapes[][3] = {{4096, 256, 256}, {4096, 128, 256}, {4096, 256, 128}, {256, 256, 256}};
@@ -364,9 +364,9 @@ static int bench_main(int argc, char **argv) {
   };
   for (size_t c = 0; c < sizeof nets / sizeof *nets; c++) {
     nbrdf_error err;
-    nbrdf_nn_spec s;
-    die(nbrdf_nn_spec_resmlp(&s, nets[c].in, nets[c].width, nets[c].blocks, nets[c].plain,
-                             nets[c].out, &err),
+    nn_spec s;
+    die(nn_spec_resmlp(&s, nets[c].in, nets[c].width, nets[c].blocks, nets[c].plain, nets[c].out,
+                       &err),
         &err);
     bench_network(nets[c].name, &s, batches, nb, min_s);
   }

@@ -116,7 +116,7 @@ static nbrdf_status neural_fn(void *user, size_t n, const nbrdf_query *q, double
     b->lat = malloc(n * D * sizeof *b->lat), b->dirs = malloc(6 * n * sizeof *b->dirs);
     b->f = malloc(n * sizeof *b->f);
     b->cap = b->lat && b->dirs && b->f ? n : 0;
-    if (!b->cap) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bench_sampling: out of memory");
+    if (!b->cap) return core_fail(err, NBRDF_ERR_MEMORY, "bench_sampling: out of memory");
   }
   for (size_t k = 0; k < n; k++) {
     memcpy(b->lat + k * D, b->latent, D * sizeof *b->lat);
@@ -385,7 +385,7 @@ int main(int argc, char **argv) {
   /* Plots: median relative variance against θo (sky solid, furnace dashed), and the
    * sorted proxy/cosine and proxy/GGX variance ratios. */
   double xs[N_THETA], ys[N_ENV][EVAL_IS_COUNT][N_THETA];
-  nbrdf_plot_series ser[N_ENV * EVAL_IS_COUNT];
+  bench_plot_series ser[N_ENV * EVAL_IS_COUNT];
   int ns = 0;
   double *buf = malloc((size_t)n_cases * sizeof *buf);
   if (!buf) return 1;
@@ -399,7 +399,7 @@ int main(int argc, char **argv) {
           if (cases[e][i].theta == t) buf[nv++] = relvar(&cases[e][i], s, K);
         ys[e][s][t] = quantile(buf, nv, 0.5);
       }
-      ser[ns++] = (nbrdf_plot_series){e == 0 ? eval_is_strategy_name((eval_is_strategy)s) : NULL,
+      ser[ns++] = (bench_plot_series){e == 0 ? eval_is_strategy_name((eval_is_strategy)s) : NULL,
                                       N_THETA,
                                       xs,
                                       ys[e][s],
@@ -411,9 +411,9 @@ int main(int argc, char **argv) {
   char title[128];
   snprintf(title, sizeof title, "Median relative variance, N = %d (sky solid, furnace dashed)",
            c.counts[K]);
-  nbrdf_plot_options po = {title, "theta_o (deg)", "median variance / (L * L)", 0, 1, 0, 0};
+  bench_plot_options po = {title, "theta_o (deg)", "median variance / (L * L)", 0, 1, 0, 0};
   snprintf(path, sizeof path, "%s_variance.png", c.plot_prefix);
-  if (nbrdf_plot_write_png(path, &po, ns, ser, &err)) die(path, &err);
+  if (bench_plot_write_png(path, &po, ns, ser, &err)) die(path, &err);
   int e0 = cases[0] ? 0 : 1;
   double *rx = malloc((size_t)n_cases * sizeof *rx), *ry[2];
   ry[0] = malloc((size_t)n_cases * sizeof *ry[0]), ry[1] = malloc((size_t)n_cases * sizeof *ry[1]);
@@ -427,14 +427,14 @@ int main(int argc, char **argv) {
   qsort(ry[0], (size_t)n_cases, sizeof *ry[0], bench_cmp_double);
   qsort(ry[1], (size_t)n_cases, sizeof *ry[1], bench_cmp_double);
   double one[2] = {1, 1}, ends[2] = {0, 100};
-  nbrdf_plot_series rs[3] = {{"proxy / cosine", n_cases, rx, ry[0], 0, 0},
+  bench_plot_series rs[3] = {{"proxy / cosine", n_cases, rx, ry[0], 0, 0},
                              {"proxy / ggx", n_cases, rx, ry[1], 0, 0},
                              {NULL, 2, ends, one, 1, 0}};
   snprintf(title, sizeof title, "Variance ratios, %s, N = %d, sorted", ENV_NAMES[e0], c.counts[K]);
-  nbrdf_plot_options pr = {
+  bench_plot_options pr = {
       title, "share of BRDF x direction cases (%)", "proxy variance / other", 0, 1, 0, 0};
   snprintf(path, sizeof path, "%s_ratio.png", c.plot_prefix);
-  if (nbrdf_plot_write_png(path, &pr, 3, rs, &err)) die(path, &err);
+  if (bench_plot_write_png(path, &pr, 3, rs, &err)) die(path, &err);
   fprintf(stderr, "wrote %s, %s_variance.png and %s_ratio.png\n", c.out, c.plot_prefix,
           c.plot_prefix);
 

@@ -80,7 +80,7 @@ static void write_plot(const char *path, int n_grids, const train_table_settings
     x[w][i] = g[k].alpha_nodes * (g[k].eta_nodes + g[k].r0_nodes);
     y[0][w][i] = fig[k][1], y[1][w][i] = fig[k][0];
   }
-  nbrdf_plot_series series[2 * MAX_GRIDS + 2];
+  bench_plot_series series[2 * MAX_GRIDS + 2];
   char labels[2 * MAX_GRIDS][64];
   int n = 0;
   double fx[2] = {1e9, 0};
@@ -90,20 +90,20 @@ static void write_plot(const char *path, int n_grids, const train_table_settings
   for (int q = 0; q < 2; q++)
     for (int w = 0; w < n_warps; w++) {
       snprintf(labels[n], sizeof labels[n], "%s, warp %g", q ? "median" : "p90", warps[w]);
-      series[n] = (nbrdf_plot_series){labels[n], count[w], x[w], y[q][w], 0, q ? w + 1 : 0};
+      series[n] = (bench_plot_series){labels[n], count[w], x[w], y[q][w], 0, q ? w + 1 : 0};
       n++;
     }
   double fy[2][2];
   fy[0][0] = fy[0][1] = proj[1], fy[1][0] = fy[1][1] = proj[0];
-  series[n++] = (nbrdf_plot_series){"projected p90", 2, fx, fy[0], 1, 0};
-  series[n++] = (nbrdf_plot_series){"projected median", 2, fx, fy[1], 1, 0};
-  nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
+  series[n++] = (bench_plot_series){"projected p90", 2, fx, fy[0], 1, 0};
+  series[n++] = (bench_plot_series){"projected median", 2, fx, fy[1], 1, 0};
+  bench_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
   o.title = "Base tables: single-set lobe error from table look-ups";
   o.x_label = "table nodes (both tables)";
   o.y_label = "lobe error %";
   o.log_x = 1;
   nbrdf_error err;
-  if (nbrdf_plot_write_png(path, &o, n, series, &err)) die(path, &err);
+  if (bench_plot_write_png(path, &o, n, series, &err)) die(path, &err);
 }
 
 int main(int argc, char **argv) {

@@ -49,12 +49,12 @@ int main(int argc, char **argv) {
   verify_decoder *dec = verify_decoder_create(model);
   float *lat = malloc(sizeof(float) * D);
   double *img = malloc(sizeof(double) * VERIFY_SET);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 7, 0);
+  core_rng rng;
+  core_rng_init(&rng, 7, 0);
   double w0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
   for (int n = 0; n < latents; n++) {
     for (int k = 0; k < D; k++)
-      lat[k] = (float)nbrdf_rng_normal(&rng);
+      lat[k] = (float)core_rng_normal(&rng);
     int finite;
     if (verify_decode(dec, lat, img, &finite, &err) != NBRDF_OK) {
       fprintf(stderr, "bench_verify: %s\n", err.message);
@@ -88,7 +88,7 @@ int main(int argc, char **argv) {
          "CPU-s (%.2f s wall) |\n",
          walks, threads, rc, rw);
   printf("| reference noise of that reference | %.2f %% |\n",
-         100 * nbrdf_lobe_error(VERIFY_SET, a, b));
+         100 * lobe_l1_error(VERIFY_SET, a, b));
   verify_refs_free(refs);
   verify_decoder_free(dec);
   nbrdf_model_destroy(model);

@@ -97,7 +97,7 @@ static void lobe_per_pixel(const nbrdf_brdf *b, double theta_i, int spp, uint64_
 static void bench_lobe(const char *name, const nbrdf_brdf *b, double seconds, int threads) {
   const double theta_i = 30.0 * M_PI / 180.0;
   static double a[RES * RES], c[RES * RES];
-  const bsdf_layered *l = &nbrdf_brdf_bsdf(b)->layered;
+  const bsdf_layered *l = &brdf_bsdf(b)->layered;
   /* calibrate both to about `seconds` of CPU time per image */
   double c0 = bench_cpu_seconds();
   lobe_per_pixel(b, theta_i, 8, 1, threads, a);

@@ -1,7 +1,7 @@
 # The shared library exports exactly the public API: every nbrdf_* function declared in
-# include/nbrdf/*.h. Internal functions also carry the nbrdf_ prefix in places, so a name
-# pattern cannot tell them apart; the list is read from the public headers instead, and
-# cmake re-runs when a public header changes.
+# include/nbrdf/*.h. Internal functions carry their layer's prefix (core_, nn_, model_, ...),
+# but a name pattern would still let a stray nbrdf_ helper out; the list is read from the
+# public headers instead, and cmake re-runs when a public header changes.
 function(nbrdf_public_symbols_map out_file)
   file(GLOB headers ${PROJECT_SOURCE_DIR}/include/nbrdf/*.h)
   set_property(DIRECTORY ${PROJECT_SOURCE_DIR} APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${headers})

@@ -52,15 +52,15 @@ static void check_value(const csv_table *t, size_t r, size_t c) {
   REQUIRE(memcmp(small, big, n1 < sizeof small ? n1 : sizeof small - 1) == 0);
   if (n2 >= sizeof big) return;
   double x = 0;
-  nbrdf_number_result nr = nbrdf_parse_number(big, n2, &x);
+  core_number_result nr = core_parse_number(big, n2, &x);
   REQUIRE(nr >= NBRDF_NUMBER_OK && nr <= NBRDF_NUMBER_UNDERFLOW);
-  REQUIRE(nbrdf_number_problem(nr) != NULL);
+  REQUIRE(core_number_problem(nr) != NULL);
   if (nr != NBRDF_NUMBER_OK) return;
   REQUIRE(isfinite(x));
   char again[64];
   snprintf(again, sizeof again, "%.17g", x);
   double y = 1;
-  REQUIRE(nbrdf_parse_number(again, strlen(again), &y) == NBRDF_NUMBER_OK && y == x);
+  REQUIRE(core_parse_number(again, strlen(again), &y) == NBRDF_NUMBER_OK && y == x);
 }
 
 static void check_table(const csv_table *t) {

@@ -42,11 +42,11 @@ static void check_refusal(nbrdf_status st, const nbrdf_error *err, const char *p
   REQUIRE(strstr(err->message, path) != NULL);
 }
 
-static void check_reader(nbrdf_latent_reader *r, const char *path) {
-  const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+static void check_reader(texture_latent_reader *r, const char *path) {
+  const texture_latent_info *in = texture_latent_reader_info(r);
   REQUIRE(in->width >= 1 && in->height >= 1 && in->levels >= 1);
-  REQUIRE(in->levels == 1 || in->levels == nbrdf_mip_level_count(in->width, in->height));
-  REQUIRE(in->channels == nbrdf_latent_channel_count(&in->layout));
+  REQUIRE(in->levels == 1 || in->levels == texture_mip_level_count(in->width, in->height));
+  REQUIRE(in->channels == texture_latent_channel_count(&in->layout));
   REQUIRE(in->tile_width >= 1 && in->tile_height >= 1);
   REQUIRE(in->model_name && in->model_checksum && in->sources && in->settings && in->mip_filter &&
           in->writer);
@@ -58,14 +58,14 @@ static void check_reader(nbrdf_latent_reader *r, const char *path) {
   for (int level = 0; level < in->levels && budget > 0; level++) {
     int w = 0, h = 0;
     nbrdf_error err = {0};
-    REQUIRE(nbrdf_latent_reader_level_size(r, level, &w, &h, &err) == NBRDF_OK);
-    REQUIRE(w == nbrdf_mip_level_dim(in->width, level));
-    REQUIRE(h == nbrdf_mip_level_dim(in->height, level));
+    REQUIRE(texture_latent_reader_level_size(r, level, &w, &h, &err) == NBRDF_OK);
+    REQUIRE(w == texture_mip_level_dim(in->width, level));
+    REQUIRE(h == texture_mip_level_dim(in->height, level));
     for (int y = 0; y < h && budget > 0; y += in->tile_height)
       for (int x = 0; x < w && budget > 0; x += in->tile_width, budget--) {
         int rw = w - x < in->tile_width ? w - x : in->tile_width;
         int rh = h - y < in->tile_height ? h - y : in->tile_height;
-        nbrdf_status st = nbrdf_latent_reader_read(r, level, x, y, rw, rh, buf, &err);
+        nbrdf_status st = texture_latent_reader_read(r, level, x, y, rw, rh, buf, &err);
         if (st != NBRDF_OK) {
           check_refusal(st, &err, path);
           continue;
@@ -90,9 +90,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   REQUIRE(f != NULL);
   REQUIRE(fwrite(data, 1, size, f) == size);
   REQUIRE(fclose(f) == 0);
-  nbrdf_latent_reader *r = NULL;
+  texture_latent_reader *r = NULL;
   nbrdf_error err = {0};
-  nbrdf_status st = nbrdf_latent_reader_open(&r, path, &err);
+  nbrdf_status st = texture_latent_reader_open(&r, path, &err);
   if (st == NBRDF_OK) {
     REQUIRE(r != NULL);
     check_reader(r, path);
@@ -100,6 +100,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     REQUIRE(r == NULL);
     check_refusal(st, &err, path);
   }
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   return 0;
 }

@@ -1,6 +1,6 @@
 /* libFuzzer target for the parameter-map path: what `nbrdf bake --alpha1 FILE`
- * (and every other map option) goes through: nbrdf_param_map_open and
- * nbrdf_param_map_read_rows (src/texture/param_map.c) over the OpenImageIO
+ * (and every other map option) goes through: texture_param_map_open and
+ * texture_param_map_read_rows (src/texture/param_map.c) over the OpenImageIO
  * shim (src/texture/oiio_shim.cpp) and, for colour maps, the OpenColorIO one.
  * OpenImageIO and the codecs under it are the system's and not instrumented:
  * the coverage that guides the fuzzer is nbrdf's own.
@@ -43,8 +43,8 @@ static void check_refusal(nbrdf_status st, const nbrdf_error *err, const char *p
   REQUIRE(strstr(err->message, path) != NULL);
 }
 
-static void read_map(nbrdf_param_map *m, const char *path) {
-  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(m);
+static void read_map(texture_param_map *m, const char *path) {
+  const texture_param_map_info *in = texture_param_map_get_info(m);
   REQUIRE(in->width >= 1 && in->height >= 1);
   REQUIRE(in->channels == 1 || in->channels == 3);
   REQUIRE(in->file_channels >= in->channels && in->file_channels <= 4);
@@ -59,7 +59,7 @@ static void read_map(nbrdf_param_map *m, const char *path) {
   for (int y = 0; y < in->height && budget > 0; y += rows) {
     int n = in->height - y < rows ? in->height - y : rows;
     nbrdf_error err = {0};
-    nbrdf_status st = nbrdf_param_map_read_rows(m, y, n, buf, &err);
+    nbrdf_status st = texture_param_map_read_rows(m, y, n, buf, &err);
     size_t texels = (size_t)n * (size_t)in->width;
     budget = texels < budget ? budget - texels : 0;
     if (st != NBRDF_OK) {
@@ -80,16 +80,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     snprintf(dir, sizeof dir, "%s", tmp && *tmp ? tmp : "/tmp");
   }
   char path[256];
-  nbrdf_param_map_options o;
+  texture_param_map_options o;
   const char *ext = param_map_input_decode(data[0], &o);
   snprintf(path, sizeof path, "%s/fuzz_param_map.%ld.%s", dir, (long)getpid(), ext);
   FILE *f = fopen(path, "wb");
   REQUIRE(f != NULL);
   REQUIRE(fwrite(data + 1, 1, size - 1, f) == size - 1);
   REQUIRE(fclose(f) == 0);
-  nbrdf_param_map *m = NULL;
+  texture_param_map *m = NULL;
   nbrdf_error err = {0};
-  nbrdf_status st = nbrdf_param_map_open(path, &o, &m, &err);
+  nbrdf_status st = texture_param_map_open(path, &o, &m, &err);
   if (st == NBRDF_OK) {
     REQUIRE(m != NULL);
     read_map(m, path);
@@ -97,7 +97,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     REQUIRE(m == NULL);
     check_refusal(st, &err, path);
   }
-  nbrdf_param_map_close(m);
+  texture_param_map_close(m);
   unlink(path);
   return 0;
 }

@@ -21,10 +21,10 @@
     if (!(cond)) abort();                                                                          \
   } while (0)
 
-static void check_consistent(const nbrdf_st_reader *r) {
-  size_t n = nbrdf_st_tensor_count(r);
+static void check_consistent(const nn_st_reader *r) {
+  size_t n = nn_st_tensor_count(r);
   for (size_t i = 0; i < n; i++) {
-    const nbrdf_st_tensor *t = nbrdf_st_tensor_at(r, i);
+    const nn_st_tensor *t = nn_st_tensor_at(r, i);
     REQUIRE(t && t->ndim >= 0 && t->ndim <= NBRDF_ST_MAX_DIMS);
     size_t count = 1;
     for (int d = 0; d < t->ndim; d++)
@@ -34,58 +34,58 @@ static void check_consistent(const nbrdf_st_reader *r) {
     for (size_t k = 0; k < t->count; k++)
       sink += t->data[k]; /* every value is readable */
     (void)sink;
-    REQUIRE(nbrdf_st_find(r, t->name) == t);
-    if (i) REQUIRE(strcmp(nbrdf_st_tensor_at(r, i - 1)->name, t->name) < 0);
+    REQUIRE(nn_st_find(r, t->name) == t);
+    if (i) REQUIRE(strcmp(nn_st_tensor_at(r, i - 1)->name, t->name) < 0);
     nbrdf_error err = {0};
-    nbrdf_status st = nbrdf_st_expect(r, t->name, t->ndim, t->shape, NULL, &err);
+    nbrdf_status st = nn_st_expect(r, t->name, t->ndim, t->shape, NULL, &err);
     REQUIRE(st == NBRDF_OK || st == NBRDF_ERR_FORMAT); /* FORMAT: a NaN or an infinity */
   }
-  for (size_t i = 0; i < nbrdf_st_metadata_count(r); i++)
-    REQUIRE(nbrdf_st_metadata_get(r, nbrdf_st_metadata_key(r, i)) == nbrdf_st_metadata_value(r, i));
+  for (size_t i = 0; i < nn_st_metadata_count(r); i++)
+    REQUIRE(nn_st_metadata_get(r, nn_st_metadata_key(r, i)) == nn_st_metadata_value(r, i));
 }
 
-static void check_round_trip(const nbrdf_st_reader *r) {
-  size_t n = nbrdf_st_tensor_count(r);
+static void check_round_trip(const nn_st_reader *r) {
+  size_t n = nn_st_tensor_count(r);
   for (size_t i = 0; i < n; i++)
-    if (!nbrdf_st_tensor_at(r, i)->name[0]) return;
-  nbrdf_st_writer *w = NULL;
-  REQUIRE(nbrdf_st_writer_create(&w, NULL) == NBRDF_OK);
+    if (!nn_st_tensor_at(r, i)->name[0]) return;
+  nn_st_writer *w = NULL;
+  REQUIRE(nn_st_writer_create(&w, NULL) == NBRDF_OK);
   for (size_t i = 0; i < n; i++) {
-    const nbrdf_st_tensor *t = nbrdf_st_tensor_at(r, i);
-    REQUIRE(nbrdf_st_writer_add_borrowed(w, t->name, t->ndim, t->shape, t->data, NULL) == NBRDF_OK);
+    const nn_st_tensor *t = nn_st_tensor_at(r, i);
+    REQUIRE(nn_st_writer_add_borrowed(w, t->name, t->ndim, t->shape, t->data, NULL) == NBRDF_OK);
   }
-  for (size_t i = 0; i < nbrdf_st_metadata_count(r); i++)
-    REQUIRE(nbrdf_st_writer_set_metadata(w, nbrdf_st_metadata_key(r, i),
-                                         nbrdf_st_metadata_value(r, i), NULL) == NBRDF_OK);
+  for (size_t i = 0; i < nn_st_metadata_count(r); i++)
+    REQUIRE(nn_st_writer_set_metadata(w, nn_st_metadata_key(r, i), nn_st_metadata_value(r, i),
+                                      NULL) == NBRDF_OK);
   void *bytes = NULL;
   size_t size = 0;
-  REQUIRE(nbrdf_st_writer_serialize(w, &bytes, &size, NULL) == NBRDF_OK);
-  nbrdf_st_reader *back = NULL;
-  REQUIRE(nbrdf_st_open_memory(bytes, size, "again", &back, NULL) == NBRDF_OK);
-  REQUIRE(nbrdf_st_tensor_count(back) == n);
+  REQUIRE(nn_st_writer_serialize(w, &bytes, &size, NULL) == NBRDF_OK);
+  nn_st_reader *back = NULL;
+  REQUIRE(nn_st_open_memory(bytes, size, "again", &back, NULL) == NBRDF_OK);
+  REQUIRE(nn_st_tensor_count(back) == n);
   for (size_t i = 0; i < n; i++) {
-    const nbrdf_st_tensor *a = nbrdf_st_tensor_at(r, i), *b = nbrdf_st_tensor_at(back, i);
+    const nn_st_tensor *a = nn_st_tensor_at(r, i), *b = nn_st_tensor_at(back, i);
     REQUIRE(strcmp(a->name, b->name) == 0 && a->ndim == b->ndim && a->count == b->count);
     REQUIRE(memcmp(a->shape, b->shape, sizeof a->shape) == 0);
     REQUIRE(b->dtype == NBRDF_ST_F32);
     if (a->count) REQUIRE(memcmp(a->data, b->data, a->count * sizeof(float)) == 0);
   }
-  REQUIRE(nbrdf_st_metadata_count(back) == nbrdf_st_metadata_count(r));
-  for (size_t i = 0; i < nbrdf_st_metadata_count(r); i++) {
-    REQUIRE(strcmp(nbrdf_st_metadata_key(r, i), nbrdf_st_metadata_key(back, i)) == 0);
-    REQUIRE(strcmp(nbrdf_st_metadata_value(r, i), nbrdf_st_metadata_value(back, i)) == 0);
+  REQUIRE(nn_st_metadata_count(back) == nn_st_metadata_count(r));
+  for (size_t i = 0; i < nn_st_metadata_count(r); i++) {
+    REQUIRE(strcmp(nn_st_metadata_key(r, i), nn_st_metadata_key(back, i)) == 0);
+    REQUIRE(strcmp(nn_st_metadata_value(r, i), nn_st_metadata_value(back, i)) == 0);
   }
-  nbrdf_st_close(back);
+  nn_st_close(back);
   free(bytes);
-  nbrdf_st_writer_destroy(w);
+  nn_st_writer_destroy(w);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   nbrdf_error err = {0};
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open_memory(data, size, "fuzz", &r, &err);
+  nn_st_reader *r = NULL;
+  nbrdf_status st = nn_st_open_memory(data, size, "fuzz", &r, &err);
   if (st != NBRDF_OK) {
     REQUIRE(r == NULL && err.status == st && strncmp(err.message, "fuzz: ", 6) == 0);
     REQUIRE(st == NBRDF_ERR_FORMAT || st == NBRDF_ERR_UNSUPPORTED);
@@ -93,6 +93,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   }
   check_consistent(r);
   check_round_trip(r);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   return 0;
 }

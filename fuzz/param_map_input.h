@@ -8,9 +8,9 @@
 #include "texture/param_map.h"
 
 /* The extension to give the file; *o gets the map options the tag asks for. */
-static inline const char *param_map_input_decode(unsigned char tag, nbrdf_param_map_options *o) {
+static inline const char *param_map_input_decode(unsigned char tag, texture_param_map_options *o) {
   static const char *const extensions[8] = {"png", "exr", "tif", "hdr", "tga", "bmp", "ppm", "jpg"};
-  nbrdf_param_map_options d = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+  texture_param_map_options d = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
   *o = d;
   if (tag & 8) o->kind = NBRDF_PARAM_COLOUR;
   if (tag & 16) o->remap = 1, o->lo = 1.0f, o->hi = 2.0f;

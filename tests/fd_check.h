@@ -28,11 +28,10 @@ static inline void fd_check(const char *what, int index, float *p, double analyt
     fd[k] = (up - down) / (dp + dm);
     ok = fabs(fd[k] - analytic) <= 0.03 * fmax(fabs(fd[k]), fabs(analytic)) + 2e-3 * scale;
     if (!ok && k == 2)
-      nbrdf_test_fail(__FILE__, __LINE__,
-                      "%s[%d]: backward %.6g, finite differences %.6g %.6g %.6g", what, index,
-                      analytic, fd[0], fd[1], fd[2]);
+      testing_fail(__FILE__, __LINE__, "%s[%d]: backward %.6g, finite differences %.6g %.6g %.6g",
+                   what, index, analytic, fd[0], fd[1], fd[2]);
   }
-  nbrdf_test_checks++;
+  testing_checks++;
 }
 
 #endif

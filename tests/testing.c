@@ -6,12 +6,12 @@
 #include <string.h>
 #include <unistd.h>
 
-int nbrdf_test_failures = 0;
-int nbrdf_test_checks = 0;
+int testing_failures = 0;
+int testing_checks = 0;
 static char tmpdir_path[256];
 
-void nbrdf_test_fail(const char *file, int line, const char *fmt, ...) {
-  nbrdf_test_failures++;
+void testing_fail(const char *file, int line, const char *fmt, ...) {
+  testing_failures++;
   fprintf(stderr, "%s:%d: ", file, line);
   va_list ap;
   va_start(ap, fmt);
@@ -20,17 +20,17 @@ void nbrdf_test_fail(const char *file, int line, const char *fmt, ...) {
   fputc('\n', stderr);
 }
 
-int nbrdf_test_finish(void) {
-  printf("%d checks, %d failed\n", nbrdf_test_checks, nbrdf_test_failures);
-  if (tmpdir_path[0] && nbrdf_test_failures == 0) {
+int testing_finish(void) {
+  printf("%d checks, %d failed\n", testing_checks, testing_failures);
+  if (tmpdir_path[0] && testing_failures == 0) {
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir_path);
     if (system(cmd) != 0) fprintf(stderr, "could not remove %s\n", tmpdir_path);
   }
-  return nbrdf_test_failures == 0 ? 0 : 1;
+  return testing_failures == 0 ? 0 : 1;
 }
 
-const char *nbrdf_test_tmpdir(void) {
+const char *testing_tmpdir(void) {
   if (!tmpdir_path[0]) {
     const char *base = getenv("TMPDIR");
     snprintf(tmpdir_path, sizeof tmpdir_path, "%s/nbrdf-test-XXXXXX", base ? base : "/tmp");
@@ -42,16 +42,14 @@ const char *nbrdf_test_tmpdir(void) {
   return tmpdir_path;
 }
 
-const char *nbrdf_test_source_dir(void) {
+const char *testing_source_dir(void) {
   const char *s = getenv("NBRDF_SOURCE_DIR");
   return s ? s : ".";
 }
 
-const char *nbrdf_test_message(const nbrdf_error *err) {
-  return err ? err->message : "(no message)";
-}
+const char *testing_message(const nbrdf_error *err) { return err ? err->message : "(no message)"; }
 
-int nbrdf_test_png_size(const char *path, int *w, int *h) {
+int testing_png_size(const char *path, int *w, int *h) {
   unsigned char b[26];
   FILE *f = fopen(path, "rb");
   if (!f) return 0;
@@ -67,7 +65,7 @@ static int compare_names(const void *a, const void *b) {
   return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-char **nbrdf_test_list_dir(const char *dir, size_t *n) {
+char **testing_list_dir(const char *dir, size_t *n) {
   *n = 0;
   DIR *d = opendir(dir);
   CHECK_MSG(d != NULL, "cannot open %s", dir);
@@ -85,7 +83,7 @@ char **nbrdf_test_list_dir(const char *dir, size_t *n) {
   return names ? names : calloc(1, sizeof *names);
 }
 
-void nbrdf_test_write_text(const char *path, const char *text) {
+void testing_write_text(const char *path, const char *text) {
   FILE *f = fopen(path, "wb");
   if (f) {
     fputs(text, f);
@@ -93,7 +91,7 @@ void nbrdf_test_write_text(const char *path, const char *text) {
   }
 }
 
-int nbrdf_test_file_is(const char *path, const char *text) {
+int testing_file_is(const char *path, const char *text) {
   char buf[256] = {0};
   FILE *f = fopen(path, "rb");
   if (!f) return 0;

@@ -1,5 +1,5 @@
 /* A minimal test harness: each tests/<layer>/test_*.c has a main() that calls
- * RUN(fn) for each test function and returns nbrdf_test_finish(). */
+ * RUN(fn) for each test function and returns testing_finish(). */
 #ifndef NBRDF_TESTING_H
 #define NBRDF_TESTING_H
 
@@ -9,56 +9,56 @@
 
 #include "nbrdf/status.h"
 
-extern int nbrdf_test_failures;
-extern int nbrdf_test_checks;
+extern int testing_failures;
+extern int testing_checks;
 
-void nbrdf_test_fail(const char *file, int line, const char *fmt, ...);
-int nbrdf_test_finish(void);
+void testing_fail(const char *file, int line, const char *fmt, ...);
+int testing_finish(void);
 /* A scratch directory unique to this test process, created on first use. */
-const char *nbrdf_test_tmpdir(void);
+const char *testing_tmpdir(void);
 /* The message of an error, or "(no message)" for NULL. A function rather than
  * `(errp) ? ...` in the macros, which GCC rejects (-Waddress) for `&err`. */
-const char *nbrdf_test_message(const nbrdf_error *err);
+const char *testing_message(const nbrdf_error *err);
 /* Reads an 8-bit RGB PNG's size from its IHDR chunk; 0 if the file is not one. */
-int nbrdf_test_png_size(const char *path, int *w, int *h);
+int testing_png_size(const char *path, int *w, int *h);
 /* $NBRDF_SOURCE_DIR (the repository root), for fixtures. */
-const char *nbrdf_test_source_dir(void);
+const char *testing_source_dir(void);
 /* The names in `dir` not starting with '.', sorted (strdup'd, in a malloc'd
  * array: free each and the array); NULL, a failed CHECK, when it cannot be read. */
-char **nbrdf_test_list_dir(const char *dir, size_t *n);
+char **testing_list_dir(const char *dir, size_t *n);
 /* Writes `text` to `path` (nothing on failure: the test's next CHECK sees it). */
-void nbrdf_test_write_text(const char *path, const char *text);
+void testing_write_text(const char *path, const char *text);
 /* 1 when the file at `path` holds exactly `text` (up to 255 bytes). */
-int nbrdf_test_file_is(const char *path, const char *text);
+int testing_file_is(const char *path, const char *text);
 
 #define RUN(fn)                                                                                    \
   do {                                                                                             \
-    int before_ = nbrdf_test_failures;                                                             \
+    int before_ = testing_failures;                                                                \
     fn();                                                                                          \
-    printf("%s %s\n", nbrdf_test_failures == before_ ? "ok  " : "FAIL", #fn);                      \
+    printf("%s %s\n", testing_failures == before_ ? "ok  " : "FAIL", #fn);                         \
     fflush(stdout);                                                                                \
   } while (0)
 
 #define CHECK(cond)                                                                                \
   do {                                                                                             \
-    nbrdf_test_checks++;                                                                           \
-    if (!(cond)) nbrdf_test_fail(__FILE__, __LINE__, "CHECK(%s)", #cond);                          \
+    testing_checks++;                                                                              \
+    if (!(cond)) testing_fail(__FILE__, __LINE__, "CHECK(%s)", #cond);                             \
   } while (0)
 
 #define CHECK_MSG(cond, ...)                                                                       \
   do {                                                                                             \
-    nbrdf_test_checks++;                                                                           \
-    if (!(cond)) nbrdf_test_fail(__FILE__, __LINE__, __VA_ARGS__);                                 \
+    testing_checks++;                                                                              \
+    if (!(cond)) testing_fail(__FILE__, __LINE__, __VA_ARGS__);                                    \
   } while (0)
 
 /* |a - b| <= tol, and neither is NaN. */
 #define CHECK_NEAR(a, b, tol)                                                                      \
   do {                                                                                             \
     double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);                                 \
-    nbrdf_test_checks++;                                                                           \
+    testing_checks++;                                                                              \
     if (!(fabs(a_ - b_) <= t_))                                                                    \
-      nbrdf_test_fail(__FILE__, __LINE__, "CHECK_NEAR(%s, %s): %.9g vs %.9g, tol %.3g", #a, #b,    \
-                      a_, b_, t_);                                                                 \
+      testing_fail(__FILE__, __LINE__, "CHECK_NEAR(%s, %s): %.9g vs %.9g, tol %.3g", #a, #b, a_,   \
+                   b_, t_);                                                                        \
   } while (0)
 
 /* |a - b| <= rel * max(|a|, |b|) + abs_tol. */
@@ -66,32 +66,32 @@ int nbrdf_test_file_is(const char *path, const char *text);
   do {                                                                                             \
     double a_ = (double)(a), b_ = (double)(b);                                                     \
     double t_ = (double)(rel)*fmax(fabs(a_), fabs(b_)) + (double)(abs_tol);                        \
-    nbrdf_test_checks++;                                                                           \
+    testing_checks++;                                                                              \
     if (!(fabs(a_ - b_) <= t_))                                                                    \
-      nbrdf_test_fail(__FILE__, __LINE__, "CHECK_REL(%s, %s): %.9g vs %.9g (rel %.3g)", #a, #b,    \
-                      a_, b_, (double)(rel));                                                      \
+      testing_fail(__FILE__, __LINE__, "CHECK_REL(%s, %s): %.9g vs %.9g (rel %.3g)", #a, #b, a_,   \
+                   b_, (double)(rel));                                                             \
   } while (0)
 
 /* A call returning nbrdf_status must succeed; prints the error message if not. */
 #define CHECK_OK(call, errp)                                                                       \
   do {                                                                                             \
-    nbrdf_test_checks++;                                                                           \
+    testing_checks++;                                                                              \
     nbrdf_status s_ = (call);                                                                      \
     if (s_ != NBRDF_OK)                                                                            \
-      nbrdf_test_fail(__FILE__, __LINE__, "%s failed: %s", #call, nbrdf_test_message(errp));       \
+      testing_fail(__FILE__, __LINE__, "%s failed: %s", #call, testing_message(errp));             \
   } while (0)
 
 /* A call must fail with `status` and a message containing `needle`. */
 #define CHECK_FAILS(call, status, errp, needle)                                                    \
   do {                                                                                             \
-    nbrdf_test_checks++;                                                                           \
+    testing_checks++;                                                                              \
     nbrdf_status s_ = (call);                                                                      \
     if (s_ != (status))                                                                            \
-      nbrdf_test_fail(__FILE__, __LINE__, "%s returned %s, expected %s", #call,                    \
-                      nbrdf_status_name(s_), nbrdf_status_name(status));                           \
+      testing_fail(__FILE__, __LINE__, "%s returned %s, expected %s", #call,                       \
+                   nbrdf_status_name(s_), nbrdf_status_name(status));                              \
     else if (!strstr((errp)->message, (needle)))                                                   \
-      nbrdf_test_fail(__FILE__, __LINE__, "%s: message \"%s\" lacks \"%s\"", #call,                \
-                      (errp)->message, (needle));                                                  \
+      testing_fail(__FILE__, __LINE__, "%s: message \"%s\" lacks \"%s\"", #call, (errp)->message,  \
+                   (needle));                                                                      \
   } while (0)
 
 #endif

@@ -84,7 +84,7 @@ static const rgb8 BLACK = {0, 0, 0}, GRID = {220, 220, 220}, MINOR = {240, 240, 
                   WHITE = {255, 255, 255}, FRAME = {160, 160, 160};
 enum { TEXT_SCALE = 2, GLYPH_ADVANCE = 6 * TEXT_SCALE, GLYPH_HEIGHT = 7 * TEXT_SCALE };
 
-static rgb8 series_colour(const nbrdf_plot_series *s, int i) {
+static rgb8 series_colour(const bench_plot_series *s, int i) {
   int k = s[i].color > 0 ? s[i].color - 1 : i;
   return PALETTE[k % (int)(sizeof PALETTE / sizeof PALETTE[0])];
 }
@@ -221,7 +221,7 @@ static void draw_ticks(canvas *c, const frame *f, const axis *a, int vertical) {
   }
 }
 
-static void draw_series(canvas *c, const frame *f, const nbrdf_plot_series *s, rgb8 col) {
+static void draw_series(canvas *c, const frame *f, const bench_plot_series *s, rgb8 col) {
   double dash = 0.0, px = 0, py = 0;
   int have_prev = 0;
   for (int k = 0; k < s->n; k++) {
@@ -240,7 +240,7 @@ static void draw_series(canvas *c, const frame *f, const nbrdf_plot_series *s, r
     }
 }
 
-static void draw_legend(canvas *c, const frame *f, int n, const nbrdf_plot_series *s) {
+static void draw_legend(canvas *c, const frame *f, int n, const bench_plot_series *s) {
   int rows = 0, wmax = 0;
   for (int i = 0; i < n; i++)
     if (s[i].label) rows++, wmax = wmax > text_width(s[i].label) ? wmax : text_width(s[i].label);
@@ -262,22 +262,22 @@ static void draw_legend(canvas *c, const frame *f, int n, const nbrdf_plot_serie
   }
 }
 
-nbrdf_status nbrdf_plot_render(const nbrdf_plot_options *options, int n_series,
-                               const nbrdf_plot_series *series, unsigned char **rgb, int *width,
+nbrdf_status bench_plot_render(const bench_plot_options *options, int n_series,
+                               const bench_plot_series *series, unsigned char **rgb, int *width,
                                int *height, nbrdf_error *err) {
-  nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
+  bench_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
   if (options) o = *options;
   const int w = o.width ? o.width : 800, h = o.height ? o.height : 520;
   *rgb = NULL;
   if (w < 200 || h < 150 || w > 8192 || h > 8192)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "plot size %d x %d is outside 200x150 .. 8192²", w,
-                      h);
-  if (n_series < 0) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "plot of %d series", n_series);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "plot size %d x %d is outside 200x150 .. 8192²", w,
+                     h);
+  if (n_series < 0) return core_fail(err, NBRDF_ERR_ARGUMENT, "plot of %d series", n_series);
   frame f = {90, w - 20, 56, h - 64, {o.log_x, 0, 0, 0}, {o.log_y, 0, 0, 0}};
   double xmin = INFINITY, xmax = -INFINITY, ymin = INFINITY, ymax = -INFINITY;
   for (int i = 0; i < n_series; i++) {
     if (series[i].n < 0 || (series[i].n > 0 && (!series[i].x || !series[i].y)))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "plot series %d has no data", i);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "plot series %d has no data", i);
     for (int k = 0; k < series[i].n; k++) {
       double x = series[i].x[k], y = series[i].y[k];
       if (!usable(&f.x, x) || !usable(&f.y, y)) continue;
@@ -288,7 +288,7 @@ nbrdf_status nbrdf_plot_render(const nbrdf_plot_options *options, int n_series,
   axis_fit(&f.y, ymin, ymax);
 
   canvas c = {w, h, malloc((size_t)w * (size_t)h * 3)};
-  if (!c.rgb) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "plot: out of memory");
+  if (!c.rgb) return core_fail(err, NBRDF_ERR_MEMORY, "plot: out of memory");
   memset(c.rgb, 255, (size_t)w * (size_t)h * 3);
   draw_ticks(&c, &f, &f.x, 0);
   draw_ticks(&c, &f, &f.y, 1);
@@ -308,16 +308,16 @@ nbrdf_status nbrdf_plot_render(const nbrdf_plot_options *options, int n_series,
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_plot_write_png(const char *path, const nbrdf_plot_options *options, int n_series,
-                                  const nbrdf_plot_series *series, nbrdf_error *err) {
+nbrdf_status bench_plot_write_png(const char *path, const bench_plot_options *options, int n_series,
+                                  const bench_plot_series *series, nbrdf_error *err) {
   unsigned char *rgb;
   int w, h;
-  nbrdf_status st = nbrdf_plot_render(options, n_series, series, &rgb, &w, &h, err);
+  nbrdf_status st = bench_plot_render(options, n_series, series, &rgb, &w, &h, err);
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "%s: ", path);
+    core_error_prefix(err, "%s: ", path);
     return st;
   }
-  st = nbrdf_png_write_rgb8(path, w, h, rgb, err);
+  st = lobe_png_write_rgb8(path, w, h, rgb, err);
   free(rgb);
   return st;
 }

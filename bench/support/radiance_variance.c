@@ -50,7 +50,7 @@ double eval_is_sample(eval_is_strategy s, const eval_is_lobe *l, vec3 wo, const 
     if (!model_proxy_sample(l->sigma, l->w, wo, u[0], u[1], u[2], &d, &pdf)) return 0.0;
     break;
   case EVAL_IS_COSINE:
-    d = nbrdf_warp_cosine_hemisphere(u[1], u[2]);
+    d = core_warp_cosine_hemisphere(u[1], u[2]);
     pdf = cosine_pdf(d);
     break;
   case EVAL_IS_GGX: {
@@ -66,7 +66,7 @@ double eval_is_sample(eval_is_strategy s, const eval_is_lobe *l, vec3 wo, const 
       double v[3] = {2.0 * u[0], u[1], u[2]};
       if (eval_is_sample(EVAL_IS_PROXY, l, wo, v, &d) <= 0.0) return 0.0;
     } else {
-      d = nbrdf_warp_cosine_hemisphere(u[1], u[2]);
+      d = core_warp_cosine_hemisphere(u[1], u[2]);
     }
     pdf = eval_is_pdf(EVAL_IS_MIX, l, wo, d);
     break;
@@ -101,10 +101,10 @@ nbrdf_status eval_is_variance(const eval_is_setup *su, const eval_is_lobe *lobe,
     nmax = su->counts[k] > nmax ? su->counts[k] : nmax;
   if (su->reps < 2 || su->n_counts < 1 || su->n_counts > EVAL_IS_MAX_N || nmax < 1 ||
       !(wo.z > 0.0))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "radiance variance: need reps >= 2, 1..%d sample counts >= 1 and wo above "
-                      "the horizon",
-                      EVAL_IS_MAX_N);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "radiance variance: need reps >= 2, 1..%d sample counts >= 1 and wo above "
+                     "the horizon",
+                     EVAL_IS_MAX_N);
   size_t total = (size_t)su->reps * (size_t)nmax;
   double *c = malloc(total * sizeof *c), *f = malloc(total * sizeof *f);
   double *weight = malloc(total * sizeof *weight);
@@ -112,15 +112,15 @@ nbrdf_status eval_is_variance(const eval_is_setup *su, const eval_is_lobe *lobe,
   nbrdf_query *q = malloc(total * sizeof *q);
   nbrdf_status st = c && f && weight && slot && q
                         ? NBRDF_OK
-                        : nbrdf_fail(err, NBRDF_ERR_MEMORY, "radiance variance: out of memory");
+                        : core_fail(err, NBRDF_ERR_MEMORY, "radiance variance: out of memory");
   /* Pooled radiance: inverse-variance weighted; a zero-variance estimator is exact. */
   double wsum = 0.0, wmean = 0.0, exact = -1.0;
   for (int s = 0; s < EVAL_IS_COUNT && !st; s++) {
-    nbrdf_rng rng;
-    nbrdf_rng_init(&rng, su->seed, nbrdf_hash64(stream, (uint64_t)s));
+    core_rng rng;
+    core_rng_init(&rng, su->seed, core_hash64(stream, (uint64_t)s));
     size_t n = 0, lost = 0;
     for (size_t k = 0; k < total; k++) {
-      double u[3] = {nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng)};
+      double u[3] = {core_rng_uniform(&rng), core_rng_uniform(&rng), core_rng_uniform(&rng)};
       vec3 wi;
       double pdf = eval_is_sample((eval_is_strategy)s, lobe, wo, u, &wi);
       c[k] = 0.0;

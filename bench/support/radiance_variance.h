@@ -54,7 +54,7 @@ typedef double (*eval_is_radiance_fn)(void *user, vec3 wi);
 #define EVAL_IS_MAX_N 8
 
 typedef struct eval_is_setup {
-  nbrdf_lobe_fn brdf; /* f(ωi, ωo) without cosine, batched */
+  lobe_fn brdf; /* f(ωi, ωo) without cosine, batched */
   void *brdf_user;
   eval_is_radiance_fn radiance;
   void *radiance_user;

@@ -51,7 +51,7 @@ void nbrdf_bake_param_constant(nbrdf_bake_param *p, float value) {
 
 nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bake_param *p,
                                     nbrdf_error *err) {
-  if (!arg || !*arg) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name);
+  if (!arg || !*arg) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name);
   /* "v" or "v,v,v", each number as core/number.h reads it (white space
    * around it allowed, hex/inf/nan not). */
   float v[3];
@@ -59,11 +59,11 @@ nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bak
   for (const char *s = arg;; n++) {
     const char *comma = strchr(s, ',');
     size_t len = comma ? (size_t)(comma - s) : strlen(s);
-    nbrdf_number_result r = n < 3 ? nbrdf_parse_float(s, len, &v[n]) : NBRDF_NUMBER_SYNTAX;
+    core_number_result r = n < 3 ? core_parse_float(s, len, &v[n]) : NBRDF_NUMBER_SYNTAX;
     if (r == NBRDF_NUMBER_OVERFLOW || r == NBRDF_NUMBER_UNDERFLOW)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "%s: '%.*s' %s as a float; write ./%s for a file of that name", name,
-                        (int)len, s, nbrdf_number_problem(r), arg);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "%s: '%.*s' %s as a float; write ./%s for a file of that name", name,
+                       (int)len, s, core_number_problem(r), arg);
     if (r != NBRDF_NUMBER_OK) numbers = 0;
     if (!comma) break;
     s = comma + 1;
@@ -80,20 +80,20 @@ nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bak
    * value, "0x10" or "0.5,0.5", is not reported as a missing image). */
   struct stat sb;
   if (stat(arg, &sb) != 0 && errno == ENOENT)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s: '%s' is neither a number (nor three, comma-separated) nor an "
-                      "existing file",
-                      name, arg);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s: '%s' is neither a number (nor three, comma-separated) nor an "
+                     "existing file",
+                     name, arg);
   p->path = arg;
   return NBRDF_OK;
 }
 
 typedef struct mip_ctx {
   const nbrdf_model *model;
-  const nbrdf_latent_layout *layout;
+  const texture_latent_layout *layout;
   /* COMPACT: the basis, the bundle-latent layout and a row of it */
   const bake_compact *compact;
-  const nbrdf_latent_layout *work;
+  const texture_latent_layout *work;
   float *work_row;
 } mip_ctx;
 
@@ -104,24 +104,25 @@ static nbrdf_status mip_row(void *user, int level, int y, float *row, int width,
   (void)level, (void)y;
   const mip_ctx *m = user;
   if (!m->compact) return bake_proxy_from_latents(m->model, m->layout, row, (size_t)width, err);
-  const int C = nbrdf_latent_colours(m->layout);
-  const int fin = nbrdf_latent_channel_count(m->layout), fw = nbrdf_latent_channel_count(m->work);
+  const int C = texture_latent_colours(m->layout);
+  const int fin = texture_latent_channel_count(m->layout),
+            fw = texture_latent_channel_count(m->work);
   float coords[BAKE_COMPACT_MAX_DIM], z[NBRDF_LATENT_MAX_DIM];
   for (int x = 0; x < width; x++)
     for (int c = 0; c < C; c++) {
       for (int j = 0; j < m->compact->dim; j++)
-        coords[j] = row[x * fin + nbrdf_latent_index_latent(m->layout, c, j)];
+        coords[j] = row[x * fin + texture_latent_index_latent(m->layout, c, j)];
       bake_compact_expand(m->compact, coords, z);
       for (int d = 0; d < m->work->latent_dim; d++)
-        m->work_row[x * fw + nbrdf_latent_index_latent(m->work, c, d)] = z[d];
+        m->work_row[x * fw + texture_latent_index_latent(m->work, c, d)] = z[d];
     }
   nbrdf_status st = bake_proxy_from_latents(m->model, m->work, m->work_row, (size_t)width, err);
   for (int x = 0; st == NBRDF_OK && x < width; x++)
     for (int c = 0; c < C; c++) {
-      row[x * fin + nbrdf_latent_index_sigma(m->layout, c)] =
-          m->work_row[x * fw + nbrdf_latent_index_sigma(m->work, c)];
-      row[x * fin + nbrdf_latent_index_w(m->layout, c)] =
-          m->work_row[x * fw + nbrdf_latent_index_w(m->work, c)];
+      row[x * fin + texture_latent_index_sigma(m->layout, c)] =
+          m->work_row[x * fw + texture_latent_index_sigma(m->work, c)];
+      row[x * fin + texture_latent_index_w(m->layout, c)] =
+          m->work_row[x * fw + texture_latent_index_w(m->work, c)];
     }
   return st;
 }
@@ -151,7 +152,7 @@ static void warn_clamped(const bake_band *b, const nbrdf_bake_options *o) {
 /* Progress in rows, fractional inside a band: the band's own ticks cover
  * BAKE_BAND_FRACTION of it, the writer the rest (docs/BAKE.md, "Progress"). */
 typedef struct bake_progress {
-  nbrdf_ticker ticker;
+  core_ticker ticker;
   int y, rows, height;
   double fraction; /* of the current band, for the writer's ticks */
 } bake_progress;
@@ -159,12 +160,12 @@ typedef struct bake_progress {
 static int band_tick(void *user, double fraction) {
   bake_progress *p = user;
   p->fraction = fraction;
-  return nbrdf_ticker_tick(&p->ticker, "bake", p->y + p->rows * fraction, p->height, 0);
+  return core_ticker_tick(&p->ticker, "bake", p->y + p->rows * fraction, p->height, 0);
 }
 
 static int writer_tick(void *user) {
   bake_progress *p = user;
-  return nbrdf_ticker_tick(&p->ticker, "bake", p->y + p->rows * p->fraction, p->height, 0);
+  return core_ticker_tick(&p->ticker, "bake", p->y + p->rows * p->fraction, p->height, 0);
 }
 
 /* Level-0 rows handed to the writer at a time, so that cancel is seen
@@ -172,11 +173,11 @@ static int writer_tick(void *user) {
  * checks between groups of tiles itself). */
 #define WRITE_ROWS 8
 
-static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
+static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
                         const nbrdf_bake_inputs *in, const nbrdf_bake_options *o,
                         const char *out_path, nbrdf_bake_report *rep, nbrdf_error *err) {
   int W, H;
-  nbrdf_status st = nbrdf_param_sources_common_size(src, NBRDF_BAKE_PARAM_COUNT, &W, &H, err);
+  nbrdf_status st = texture_param_sources_common_size(src, NBRDF_BAKE_PARAM_COUNT, &W, &H, err);
   if (st != NBRDF_OK) return st;
   if (W == 0) { /* every input a constant */
     W = in->width ? in->width : 1;
@@ -186,13 +187,13 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
    * message names the map that is too large rather than the output. */
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT && (W > TEXTURE_SIZE_MAX || H > TEXTURE_SIZE_MAX);
        id++) {
-    nbrdf_param_map *m = nbrdf_param_source_get_map(src[id]);
-    const nbrdf_param_map_info *mi = m ? nbrdf_param_map_get_info(m) : NULL;
+    texture_param_map *m = texture_param_source_get_map(src[id]);
+    const texture_param_map_info *mi = m ? texture_param_map_get_info(m) : NULL;
     if (mi && (mi->width > TEXTURE_SIZE_MAX || mi->height > TEXTURE_SIZE_MAX))
-      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                        "%s: %s is %dx%d; a texture is at most %dx%d texels", param_names[id],
-                        nbrdf_param_map_path(m), mi->width, mi->height, TEXTURE_SIZE_MAX,
-                        TEXTURE_SIZE_MAX);
+      return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                       "%s: %s is %dx%d; a texture is at most %dx%d texels", param_names[id],
+                       texture_param_map_path(m), mi->width, mi->height, TEXTURE_SIZE_MAX,
+                       TEXTURE_SIZE_MAX);
   }
   int rgb = 0;
   /* Every file the bake reads: the maps and the bundle's files (no output may replace them). */
@@ -203,28 +204,28 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
     inputs[i] = model_files[i];
   char sources[4096] = "";
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    rgb |= nbrdf_param_source_channels(src[id]) == 3;
-    nbrdf_param_map *m = nbrdf_param_source_get_map(src[id]);
-    if (m) inputs[n_inputs++] = nbrdf_param_map_path(m);
+    rgb |= texture_param_source_channels(src[id]) == 3;
+    texture_param_map *m = texture_param_source_get_map(src[id]);
+    if (m) inputs[n_inputs++] = texture_param_map_path(m);
     if (id) append(sources, sizeof sources, "; ");
-    append(sources, sizeof sources, nbrdf_param_source_describe(src[id]));
+    append(sources, sizeof sources, texture_param_source_describe(src[id]));
   }
-  nbrdf_latent_layout layout = {nbrdf_model_latent_dim(model),
-                                rgb ? NBRDF_COLOUR_RGB : NBRDF_COLOUR_MONO, 1};
-  static const nbrdf_latent_compression compression[4] = {NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ,
-                                                          NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
-  nbrdf_latent_compression comp = compression[o->compression];
+  texture_latent_layout layout = {nbrdf_model_latent_dim(model),
+                                  rgb ? NBRDF_COLOUR_RGB : NBRDF_COLOUR_MONO, 1};
+  static const texture_latent_compression compression[4] = {NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ,
+                                                            NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
+  texture_latent_compression comp = compression[o->compression];
   char quant[16] = "off", settings[512];
   if (o->quantise_bits) snprintf(quant, sizeof quant, "%d", o->quantise_bits);
   snprintf(settings, sizeof settings,
            "storage=%s; compression=%s; tile=%d; mipLevels=%s; roughness=%s; range=%s; "
            "proxyMips=predicted; quantise=%s",
-           o->storage == NBRDF_BAKE_FLOAT ? "float" : "half", nbrdf_latent_compression_name(comp),
+           o->storage == NBRDF_BAKE_FLOAT ? "float" : "half", texture_latent_compression_name(comp),
            o->tile_size, o->mip_levels == 1 ? "1" : "full",
            o->roughness == NBRDF_ROUGHNESS_PERCEPTUAL ? "perceptual" : "alpha",
            o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp", quant);
   bake_progress prog = {.height = H};
-  nbrdf_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
+  core_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
   /* Above the fast level: ground truth and fit first, before any file exists. */
   bake_accuracy_result acc = {0};
   nbrdf_model *specialised = NULL, *compact = NULL;
@@ -246,17 +247,17 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
     }
     if (specialised) model = specialised;
   }
-  const nbrdf_latent_layout work = layout;
+  const texture_latent_layout work = layout;
   if (compact) layout.latent_dim = acc.compact.dim;
   /* A model with a decoder of its own (nbrdf_model_with_decoder) makes a
    * texture that carries it: version 2; else exactly version 1. */
   nbrdf_decoder_info own;
   nbrdf_model_own_decoder(compact ? compact : model, &own);
-  nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
+  texture_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), sources,
                             settings, own.bytes, own.size, NULL};
   if (o->accuracy != NBRDF_BAKE_FAST) meta.accuracy = acc.attribute;
   mip_ctx mctx = {model, &layout, compact ? &acc.compact : NULL, &work, NULL};
-  nbrdf_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
   wo.tile_size = o->tile_size;
   wo.compression = comp;
@@ -270,8 +271,8 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   int band_rows = BAND_TEXELS / W;
   if (band_rows < 1) band_rows = 1;
   if (band_rows > H) band_rows = H;
-  size_t texel_floats = (size_t)nbrdf_latent_channel_count(&layout);
-  size_t work_floats = (size_t)nbrdf_latent_channel_count(&work);
+  size_t texel_floats = (size_t)texture_latent_channel_count(&layout);
+  size_t work_floats = (size_t)texture_latent_channel_count(&work);
   float *texels = malloc(sizeof(float) * work_floats * (size_t)band_rows * W);
   /* COMPACT: the band's texels (bundle latents) are reduced into `out` */
   float *out = compact ? malloc(sizeof(float) * texel_floats * (size_t)band_rows * W) : texels;
@@ -283,12 +284,12 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
     if (out != texels) free(out);
     free(texels);
     free(mctx.work_row);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
+    return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band");
   }
 
-  nbrdf_latent_writer *writer = NULL;
-  st = nbrdf_latent_writer_create(&writer, out_path, W, H, &layout, &meta, &wo, inputs, n_inputs,
-                                  err);
+  texture_latent_writer *writer = NULL;
+  st = texture_latent_writer_create(&writer, out_path, W, H, &layout, &meta, &wo, inputs, n_inputs,
+                                    err);
   bake_band band;
   /* One band: nothing to carry over, so no cache memory. */
   size_t cache_max = band_rows < H ? o->tuple_cache : 0;
@@ -302,8 +303,8 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
     int rows = H - y < band_rows ? H - y : band_rows;
     prog.y = y, prog.rows = rows, prog.fraction = 0.0;
-    if (nbrdf_ticker_tick(&prog.ticker, "bake", y, H, y == 0)) {
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y, H);
+    if (core_ticker_tick(&prog.ticker, "bake", y, H, y == 0)) {
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y, H);
       break;
     }
     st = bake_band_run(&band, y, rows, texels, err);
@@ -313,20 +314,20 @@ static nbrdf_status run(const nbrdf_model *model, nbrdf_param_source **src,
       int n = rows - j < WRITE_ROWS ? rows - j : WRITE_ROWS;
       prog.fraction = BAKE_BAND_FRACTION + (1.0 - BAKE_BAND_FRACTION) * j / rows;
       if (j && writer_tick(&prog)) {
-        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y + j, H);
+        st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled at row %d of %d", y + j, H);
         break;
       }
-      st = nbrdf_latent_writer_write_rows(writer, out + (size_t)j * W * texel_floats, n, err);
+      st = texture_latent_writer_write_rows(writer, out + (size_t)j * W * texel_floats, n, err);
     }
   }
-  if (st == NBRDF_OK && nbrdf_ticker_tick(&prog.ticker, "bake", H, H, 1))
-    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the file was complete");
+  if (st == NBRDF_OK && core_ticker_tick(&prog.ticker, "bake", H, H, 1))
+    st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the file was complete");
   if (st == NBRDF_OK) {
-    if (band.audit.audited) nbrdf_latent_writer_set_max_albedo(writer, (float)band.audit.worst);
-    st = nbrdf_latent_writer_finish(writer, err);
+    if (band.audit.audited) texture_latent_writer_set_max_albedo(writer, (float)band.audit.worst);
+    st = texture_latent_writer_finish(writer, err);
     writer = NULL;
   }
-  nbrdf_latent_writer_abort(writer);
+  texture_latent_writer_abort(writer);
   if (st == NBRDF_OK) {
     warn_clamped(&band, o);
     char audit_msg[768];
@@ -373,31 +374,31 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
                         const nbrdf_bake_options *options, const char *out_path,
                         nbrdf_bake_report *report, nbrdf_error *err) {
   if (!model || !inputs || !out_path || !*out_path)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: model, inputs and output path are required");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: model, inputs and output path are required");
   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
   if (options) o = *options;
   if (o.mip_levels != 0 && o.mip_levels != 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "bake: mip_levels is 0 (full chain) or 1 (level 0 only), not %d",
-                      o.mip_levels);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "bake: mip_levels is 0 (full chain) or 1 (level 0 only), not %d",
+                     o.mip_levels);
   if ((unsigned)o.compression > NBRDF_BAKE_UNCOMPRESSED)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: unknown compression %d", (int)o.compression);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: unknown compression %d", (int)o.compression);
   if (o.quantise_bits != 0 && (o.quantise_bits < 2 || o.quantise_bits > 16))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bake: quantise_bits is 0 (off) or 2..16, not %d",
-                      o.quantise_bits);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: quantise_bits is 0 (off) or 2..16, not %d",
+                     o.quantise_bits);
   if ((unsigned)o.accuracy > NBRDF_BAKE_COMPACT)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "bake: accuracy is fast, fitted, specialised or compact (0 to 3), not %d",
-                      (int)o.accuracy);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "bake: accuracy is fast, fitted, specialised or compact (0 to 3), not %d",
+                     (int)o.accuracy);
   if (!isfinite(o.budget) || o.budget < 0.0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "bake: budget is a number of seconds > 0 (0: the level's default), not %g",
-                      o.budget);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "bake: budget is a number of seconds > 0 (0: the level's default), not %g",
+                     o.budget);
   if (report) memset(report, 0, sizeof *report);
-  nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
+  texture_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   nbrdf_status st = bake_open_sources(inputs, src, err);
   if (st == NBRDF_OK) st = run(model, src, inputs, &o, out_path, report, err);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
-    nbrdf_param_source_free(src[id]);
+    texture_param_source_free(src[id]);
   return st;
 }

@@ -66,7 +66,7 @@ static nbrdf_status plan_fit(nbrdf_bake_accuracy level, double share, double bud
                         MIN_STEPS * step_cost(1, 256, macs, PROJECT_PASSES);
     if (joint && budget >= fitted_min)
       snprintf(also, sizeof also, "; within %g s 'fitted' fits", budget / share);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
                       "bake: a budget of %g s is too small for '%s': its smallest plan (1 tuple "
                       "fitted, 1 held out, %d fit steps) costs %.1f s; give a budget of %.0f s "
                       "or more, or use 'fast'%s",
@@ -142,7 +142,7 @@ void bake_accuracy_free(bake_accuracy_result *r) {
 }
 
 nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *scene,
-                                   const nbrdf_bake_options *o, nbrdf_ticker *ticker,
+                                   const nbrdf_bake_options *o, core_ticker *ticker,
                                    bake_accuracy_result *r, nbrdf_error *err) {
   memset(r, 0, sizeof *r);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
@@ -159,7 +159,7 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
     model_decoder_config cfg;
     nbrdf_status cs = bake_compact_config(K, width, &cfg, err);
     if (cs != NBRDF_OK) return cs;
-    student_macs = nbrdf_nn_spec_macs(&cfg.spec);
+    student_macs = nn_spec_macs(&cfg.spec);
   }
   bake_gather_settings gs = {scene->width, scene->height, scene->colours, lo, hi,
                              o->roughness,  o->range,     o->quantise_bits, o->cancel};
@@ -183,19 +183,19 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
                             o->seed,       ticker,    0.0,     0.0, o->cancel};
   if (st == NBRDF_OK) {
     ts.total = (double)(sel.n_fit + sel.n_held);
-    if (ticker && nbrdf_ticker_tick(ticker, "ground truth", 0, ts.total, 1))
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the ground truth");
+    if (ticker && core_ticker_tick(ticker, "ground truth", 0, ts.total, 1))
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the ground truth");
   }
   if (st == NBRDF_OK) st = bake_truth_samples(sel.fit, sel.n_fit, &ts, &samples, err);
   if (st == NBRDF_OK) {
     images = malloc(sizeof(double) * sel.n_held * BAKE_LOBE_N_THETA * LOBE_RES * LOBE_RES + 1);
-    if (!images) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for lobe images");
+    if (!images) st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for lobe images");
     ts.done0 = (double)sel.n_fit;
   }
   if (st == NBRDF_OK) st = bake_truth_lobes(sel.held, sel.n_held, &ts, images, err);
   if (st == NBRDF_OK && ticker &&
-      nbrdf_ticker_tick(ticker, "ground truth", ts.total, ts.total, 1))
-    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled after the ground truth");
+      core_ticker_tick(ticker, "ground truth", ts.total, ts.total, 1))
+    st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled after the ground truth");
   bake_fit_settings fs = {plan.project_steps, plan.joint_steps, plan.rows_per_brdf, o->seed,
                           ticker, o->cancel};
   if (st == NBRDF_OK)

@@ -43,14 +43,14 @@ typedef struct bake_accuracy_result {
 } bake_accuracy_result;
 
 typedef struct bake_scene {
-  nbrdf_param_source **src;
+  texture_param_source **src;
   int width, height, colours;
 } bake_scene;
 
 /* Runs everything before the texels for level o->accuracy (not FAST):
  * progress stages "ground truth" and "fit" through `ticker`. */
 nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *scene,
-                                   const nbrdf_bake_options *o, nbrdf_ticker *ticker,
+                                   const nbrdf_bake_options *o, core_ticker *ticker,
                                    bake_accuracy_result *r, nbrdf_error *err);
 void bake_accuracy_free(bake_accuracy_result *r);
 

@@ -19,7 +19,7 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
                              const float *sigma, double *maxv, int *theta_index, nbrdf_error *err) {
   if (n == 0) return NBRDF_OK;
   double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
-  if (!rho) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+  if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   model_runner runner;
   nbrdf_status st = model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
   if (!st)
@@ -80,7 +80,7 @@ nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const fl
     a->scratch_cap = n;
     if (!a->lat || !a->sigma || !a->maxv || !a->theta) {
       a->scratch_cap = 0;
-      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+      return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
     }
   }
   for (size_t k = 0; k < n; k++) {

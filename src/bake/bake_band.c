@@ -27,13 +27,13 @@
 
 static nbrdf_status tick(bake_band *b, double fraction, int y0, int rows, nbrdf_error *err) {
   if (b->tick && b->tick(b->tick_user, fraction))
-    return nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled in rows %d to %d", y0,
-                      y0 + rows - 1);
+    return core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled in rows %d to %d", y0,
+                     y0 + rows - 1);
   return NBRDF_OK;
 }
 
-void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
-                    const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
+void bake_band_init(bake_band *b, const nbrdf_model *model, texture_param_source **src,
+                    const texture_latent_layout *layout, int width, nbrdf_roughness roughness,
                     nbrdf_range_policy range, size_t cache_max, int quantise_bits) {
   memset(b, 0, sizeof *b);
   b->cache.max = cache_max;
@@ -71,18 +71,18 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem) {
 
 /* "alpha1 map a.png: texel (3, 5) channel G" or "alpha1 constant". */
 static void where(const bake_band *b, int id, int x, int y, int c, char *buf, size_t n) {
-  nbrdf_param_source *s = b->src[id];
-  nbrdf_param_map *m = nbrdf_param_source_get_map(s);
+  texture_param_source *s = b->src[id];
+  texture_param_map *m = texture_param_source_get_map(s);
   if (!m) {
     snprintf(buf, n, "%s (constant)", nbrdf_bake_param_name((nbrdf_bake_param_id)id));
     return;
   }
   static const char rgb[] = "RGB";
-  if (nbrdf_param_source_channels(s) == 3)
-    snprintf(buf, n, "%s: texel (%d, %d) channel %c, %s", nbrdf_param_map_path(m), x, y, rgb[c],
+  if (texture_param_source_channels(s) == 3)
+    snprintf(buf, n, "%s: texel (%d, %d) channel %c, %s", texture_param_map_path(m), x, y, rgb[c],
              nbrdf_bake_param_name((nbrdf_bake_param_id)id));
   else
-    snprintf(buf, n, "%s: texel (%d, %d), %s", nbrdf_param_map_path(m), x, y,
+    snprintf(buf, n, "%s: texel (%d, %d), %s", texture_param_map_path(m), x, y,
              nbrdf_bake_param_name((nbrdf_bake_param_id)id));
 }
 
@@ -197,7 +197,7 @@ static nbrdf_status evaluate(bake_band *b, const size_t *idx, size_t n, nbrdf_er
   const size_t D = (size_t)b->layout.latent_dim;
   bake_correct_latents(b->correct, b->uniq, idx, n, b->uniq_out, D + 2);
   float *lat = malloc(sizeof(float) * n * (D + 2));
-  if (!lat) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples", n);
+  if (!lat) return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples", n);
   float *sigma = lat + n * D, *w = sigma + n;
   for (size_t k = 0; k < n; k++)
     memcpy(lat + k * D, b->uniq_out + idx[k] * (D + 2), sizeof(float) * D);
@@ -211,7 +211,7 @@ static nbrdf_status evaluate(bake_band *b, const size_t *idx, size_t n, nbrdf_er
 }
 
 nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err) {
-  const int C = nbrdf_latent_colours(&b->layout), D = b->layout.latent_dim;
+  const int C = texture_latent_colours(&b->layout), D = b->layout.latent_dim;
   const size_t n = (size_t)rows * b->width * C;
   size_t hcap = 16;
   while (hcap < 2 * n)
@@ -221,13 +221,13 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
       !grow((void **)&b->hash, &b->hash_cap, hcap, sizeof *b->hash) ||
       !grow((void **)&b->missing, &b->missing_cap, n, sizeof *b->missing) ||
       (b->cache.max && !cache_ready(&b->cache, D)))
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band of %zu texels", n);
+    return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a band of %zu texels", n);
   b->hash_cap = hcap; /* a power of two; extra capacity from an earlier band is unused */
   memset(b->hash, 0, sizeof *b->hash * hcap);
 
-  nbrdf_param_band band[NBRDF_BAKE_PARAM_COUNT];
+  texture_param_band band[NBRDF_BAKE_PARAM_COUNT];
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    nbrdf_status st = nbrdf_param_source_read_band(b->src[id], y0, rows, &band[id], err);
+    nbrdf_status st = texture_param_source_read_band(b->src[id], y0, rows, &band[id], err);
     if (st != NBRDF_OK) return st;
   }
   size_t n_uniq = 0;
@@ -238,7 +238,7 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
       for (int c = 0; c < C; c++) {
         bake_tuple t;
         for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-          float v = nbrdf_param_band_at(&band[id], x, j, c);
+          float v = texture_param_band_at(&band[id], x, j, c);
           nbrdf_status st = check_value(b, id, &v, x, y0 + j, c, err);
           if (st != NBRDF_OK) return st;
           t.p[id] =
@@ -250,7 +250,7 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
 
   free(b->uniq_out);
   b->uniq_out = malloc(sizeof(float) * n_uniq * (size_t)(D + 2));
-  if (!b->uniq_out) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory");
+  if (!b->uniq_out) return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory");
   size_t n_missing = n_uniq;
   if (b->cache.max)
     n_missing = cache_lookup(b, n_uniq);
@@ -283,16 +283,16 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
   b->evaluated += n_missing;
   b->reused += n_uniq - n_missing;
 
-  const int texel_floats = nbrdf_latent_channel_count(&b->layout);
+  const int texel_floats = texture_latent_channel_count(&b->layout);
   for (size_t i = 0; i < (size_t)rows * b->width; i++) {
     float *texel = texels + i * texel_floats;
     for (int c = 0; c < C; c++) {
       const float *o = b->uniq_out + b->slot[i * C + c] * (size_t)(D + 2);
       for (int k = 0; k < D; k++)
-        texel[nbrdf_latent_index_latent(&b->layout, c, k)] = o[k];
+        texel[texture_latent_index_latent(&b->layout, c, k)] = o[k];
       if (b->layout.proxy) {
-        texel[nbrdf_latent_index_sigma(&b->layout, c)] = o[D];
-        texel[nbrdf_latent_index_w(&b->layout, c)] = o[D + 1];
+        texel[texture_latent_index_sigma(&b->layout, c)] = o[D];
+        texel[texture_latent_index_w(&b->layout, c)] = o[D + 1];
       }
     }
   }
@@ -307,26 +307,26 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
   return NBRDF_OK;
 }
 
-nbrdf_status bake_proxy_from_latents(const nbrdf_model *model, const nbrdf_latent_layout *layout,
+nbrdf_status bake_proxy_from_latents(const nbrdf_model *model, const texture_latent_layout *layout,
                                      float *texels, size_t n, nbrdf_error *err) {
   if (!layout->proxy || n == 0) return NBRDF_OK;
-  const int C = nbrdf_latent_colours(layout), D = layout->latent_dim;
-  const int texel_floats = nbrdf_latent_channel_count(layout);
+  const int C = texture_latent_colours(layout), D = layout->latent_dim;
+  const int texel_floats = texture_latent_channel_count(layout);
   size_t m = n * C;
   float *lat = malloc(sizeof(float) * m * (D + 2));
-  if (!lat) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a mip row");
+  if (!lat) return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for a mip row");
   float *sigma = lat + m * D, *w = sigma + m;
   for (size_t i = 0; i < n; i++)
     for (int c = 0; c < C; c++)
       for (int k = 0; k < D; k++)
         lat[(i * C + c) * D + k] =
-            texels[i * texel_floats + nbrdf_latent_index_latent(layout, c, k)];
+            texels[i * texel_floats + texture_latent_index_latent(layout, c, k)];
   nbrdf_status st = nbrdf_model_proxy_params(model, m, lat, sigma, w, err);
   if (st == NBRDF_OK)
     for (size_t i = 0; i < n; i++)
       for (int c = 0; c < C; c++) {
-        texels[i * texel_floats + nbrdf_latent_index_sigma(layout, c)] = sigma[i * C + c];
-        texels[i * texel_floats + nbrdf_latent_index_w(layout, c)] = w[i * C + c];
+        texels[i * texel_floats + texture_latent_index_sigma(layout, c)] = sigma[i * C + c];
+        texels[i * texel_floats + texture_latent_index_w(layout, c)] = w[i * C + c];
       }
   free(lat);
   return st;

@@ -29,8 +29,8 @@ typedef struct bake_cache {
 
 typedef struct bake_band {
   const nbrdf_model *model;
-  nbrdf_param_source **src; /* NBRDF_BAKE_PARAM_COUNT sources */
-  nbrdf_latent_layout layout;
+  texture_param_source **src; /* NBRDF_BAKE_PARAM_COUNT sources */
+  texture_latent_layout layout;
   int width;
   nbrdf_roughness roughness;
   nbrdf_range_policy range;
@@ -68,21 +68,21 @@ typedef struct bake_band {
  * model's base-table grids. `cache_max` distinct tuples are remembered
  * across bands (0: none); the cache is allocated on first use.
  * `quantise_bits` (0: off) as nbrdf_bake_options.quantise_bits. */
-void bake_band_init(bake_band *b, const nbrdf_model *model, nbrdf_param_source **src,
-                    const nbrdf_latent_layout *layout, int width, nbrdf_roughness roughness,
+void bake_band_init(bake_band *b, const nbrdf_model *model, texture_param_source **src,
+                    const texture_latent_layout *layout, int width, nbrdf_roughness roughness,
                     nbrdf_range_policy range, size_t cache_max, int quantise_bits);
 /* The fraction of a band's time bake_band_run's ticks reach (the rest is
  * the caller's: writing the band). */
 #define BAKE_BAND_FRACTION 0.8
 
 /* Computes rows [y0, y0 + rows) into `texels` (rows * width texels of
- * nbrdf_latent_channel_count floats, logical order). */
+ * texture_latent_channel_count floats, logical order). */
 nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_error *err);
 void bake_band_free(bake_band *b);
 
 /* Recomputes sigma and w of `n` texels (logical order) from their latents:
  * the proxy of averaged latents, for mip levels >= 1. */
-nbrdf_status bake_proxy_from_latents(const nbrdf_model *model, const nbrdf_latent_layout *layout,
+nbrdf_status bake_proxy_from_latents(const nbrdf_model *model, const texture_latent_layout *layout,
                                      float *texels, size_t n, nbrdf_error *err);
 
 #endif

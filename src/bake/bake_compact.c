@@ -66,7 +66,7 @@ nbrdf_status bake_compact_basis(const float *z, size_t n, int D, int K, bake_com
                                 nbrdf_error *err) {
   memset(c, 0, sizeof *c);
   if (K < 1 || K > D || n == 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "compact: %d coordinates of %zu latents of %d", K,
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "compact: %d coordinates of %zu latents of %d", K,
                       n, D);
   c->dim = K, c->work_dim = D;
   c->mean = calloc((size_t)D, sizeof(float));
@@ -76,7 +76,7 @@ nbrdf_status bake_compact_basis(const float *z, size_t n, int D, int K, bake_com
   if (!c->mean || !c->basis || !c->project || !cov) {
     free(cov);
     bake_compact_free(c);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
+    return core_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
   }
   double *vec = cov + (size_t)D * D, *ev = vec + (size_t)D * D, *mean = ev + D;
   for (size_t k = 0; k < n; k++)
@@ -124,6 +124,15 @@ nbrdf_status bake_compact_basis(const float *z, size_t n, int D, int K, bake_com
   return NBRDF_OK;
 }
 
+static void bake_compact_reduce_centred(const bake_compact *c, const float *zc, float *coords) {
+  for (int j = 0; j < c->dim; j++) {
+    double s = 0.0;
+    for (int d = 0; d < c->work_dim; d++)
+      s += (double)c->project[j * c->work_dim + d] * zc[d];
+    coords[j] = (float)s;
+  }
+}
+
 void bake_compact_reduce(const bake_compact *c, const float *z, float *coords) {
   for (int j = 0; j < c->dim; j++) {
     double s = 0.0;
@@ -144,10 +153,10 @@ void bake_compact_expand(const bake_compact *c, const float *coords, float *z) {
 
 nbrdf_status bake_compact_config(int dim, int width, model_decoder_config *cfg, nbrdf_error *err) {
   if (dim < 1 || dim > BAKE_COMPACT_MAX_DIM)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "compact: %d latent channels; 1 to %d", dim,
-                      BAKE_COMPACT_MAX_DIM);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "compact: %d latent channels; 1 to %d", dim,
+                     BAKE_COMPACT_MAX_DIM);
   if (width < 4 || width > 256)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "compact: decoder width %d; 4 to 256", width);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "compact: decoder width %d; 4 to 256", width);
   model_encoding hd = {MODEL_ENCODING_HALFDIFF, 1};
   nbrdf_status st = model_decoder_config_make(dim, hd, MODEL_OUTPUT_LOG1P, width, 1, 0, cfg, err);
   if (st == NBRDF_OK) snprintf(cfg->preset, sizeof cfg->preset, "compact");
@@ -160,13 +169,14 @@ nbrdf_status bake_compact_config(int dim, int width, model_decoder_config *cfg, 
  * directions taken from the same rows), then SPREAD_ROWS, all with the
  * specialised decoder's values there. `z` holds each tuple's latent, sigma and w (D + 2). */
 #define PROXY_ROWS 1024
+#define PROJECTION_LR 2e-3f
 /* ... and SPREAD_ROWS with ωi uniform over the hemisphere, grazing included
  * (ωo half from the proxy, half uniform): a small network extrapolates
  * wildly where it saw nothing, and a renderer asks there. */
 #define SPREAD_ROWS 1024
 
-static void uniform_direction(nbrdf_rng *rng, double w[3]) {
-  double z = 1e-3 + (1.0 - 1e-3) * nbrdf_rng_uniform(rng), phi = 2.0 * M_PI * nbrdf_rng_uniform(rng);
+static void uniform_direction(core_rng *rng, double w[3]) {
+  double z = 1e-3 + (1.0 - 1e-3) * core_rng_uniform(rng), phi = 2.0 * M_PI * core_rng_uniform(rng);
   double s = sqrt(1.0 - z * z);
   w[0] = s * cos(phi), w[1] = s * sin(phi), w[2] = z;
 }
@@ -177,7 +187,7 @@ static nbrdf_status teacher_rows(const model_decoder *teacher, const bake_tuple 
   memset(out, 0, sizeof *out);
   const int D = teacher->cfg.latent_dim;
   size_t *near = malloc(sizeof *near * (n ? n : 1)), rows = 0;
-  if (!near) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
+  if (!near) return core_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
   for (size_t k = 0; k < n; k++) {
     float best = INFINITY;
     near[k] = 0;
@@ -196,7 +206,7 @@ static nbrdf_status teacher_rows(const model_decoder *teacher, const bake_tuple 
   model_runner run = {0};
   nbrdf_status st = NBRDF_OK;
   if (!out->offsets || !out->wi || !out->wo || !out->f || !lat)
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory for %zu teacher rows", rows);
+    st = core_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory for %zu teacher rows", rows);
   size_t r = 0;
   for (size_t k = 0; st == NBRDF_OK && k < n; k++) {
     out->offsets[k] = r;
@@ -205,8 +215,8 @@ static nbrdf_status teacher_rows(const model_decoder *teacher, const bake_tuple 
     memcpy(out->wo + 3 * r, truth->wo + 3 * a, sizeof(float) * 3 * (b - a));
     size_t r0 = r;
     r += b - a;
-    nbrdf_rng rng;
-    nbrdf_rng_init(&rng, seed, k);
+    core_rng rng;
+    core_rng_init(&rng, seed, k);
     const float *zk = z + k * (size_t)(D + 2);
     for (int q = 0; q < PROXY_ROWS + SPREAD_ROWS; q++, r++) {
       double wid[3], u[3], wo[3], pdf;
@@ -219,7 +229,7 @@ static nbrdf_status teacher_rows(const model_decoder *teacher, const bake_tuple 
       if (q < PROXY_ROWS || q % 2)
         for (int tries = 0; !ok && tries < 16; tries++) {
           for (int i = 0; i < 3; i++)
-            u[i] = nbrdf_rng_uniform(&rng);
+            u[i] = core_rng_uniform(&rng);
           ok = nbrdf_proxy_sample(zk[D], zk[D + 1], wid, u, wo, &pdf) && wo[2] > 1e-4;
         }
       if (!ok) uniform_direction(&rng, wo);
@@ -245,11 +255,108 @@ static nbrdf_status teacher_rows(const model_decoder *teacher, const bake_tuple 
 typedef struct distil {
   model_fit *fit;
   model_samples ms;
+  size_t n;
+  int K, D;
+  const float *zc; /* [n x D] latents minus the mean */
+  float *P, *gP;   /* [K x D] the projection and its gradient */
+  float *coords;   /* [n x K] P zc, the fit's latents */
 } distil;
 
+/* The projection learns with the student: coords = P zc, so dL/dP is the sum
+ * over BRDFs of dL/dcoords zcᵀ (the fit's latent gradient). */
 static nbrdf_status distil_gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
   distil *d = user;
-  return model_fit_gradient(d->fit, &d->ms, step, loss, err);
+  for (size_t b = 0; b < d->n; b++)
+    for (int j = 0; j < d->K; j++) {
+      double s = 0.0;
+      for (int i = 0; i < d->D; i++)
+        s += (double)d->P[j * d->D + i] * d->zc[b * d->D + i];
+      d->coords[b * d->K + j] = (float)s;
+    }
+  nbrdf_status st = model_fit_gradient(d->fit, &d->ms, step, loss, err);
+  if (st != NBRDF_OK) return st;
+  const float *gl = model_fit_grad_latent(d->fit);
+  memset(d->gP, 0, sizeof(float) * d->K * d->D);
+  for (size_t b = 0; b < d->n; b++)
+    for (int j = 0; j < d->K; j++) {
+      float g = gl[b * d->K + j];
+      for (int i = 0; i < d->D; i++)
+        d->gP[j * d->D + i] += g * d->zc[b * d->D + i];
+    }
+  return NBRDF_OK;
+}
+
+/* Inverts the K x K matrix a (destroyed) into inv by Gauss-Jordan with
+ * partial pivoting; 0 when it is singular. */
+static int invert(double *a, int K, double *inv) {
+  for (int r = 0; r < K; r++)
+    for (int k = 0; k < K; k++)
+      inv[r * K + k] = r == k;
+  for (int c = 0; c < K; c++) {
+    int p = c;
+    for (int r = c + 1; r < K; r++)
+      if (fabs(a[r * K + c]) > fabs(a[p * K + c])) p = r;
+    if (!(fabs(a[p * K + c]) > 1e-12)) return 0;
+    for (int k = 0; k < K; k++) {
+      double t = a[c * K + k];
+      a[c * K + k] = a[p * K + k], a[p * K + k] = t;
+      t = inv[c * K + k];
+      inv[c * K + k] = inv[p * K + k], inv[p * K + k] = t;
+    }
+    double d = a[c * K + c];
+    for (int k = 0; k < K; k++)
+      a[c * K + k] /= d, inv[c * K + k] /= d;
+    for (int r = 0; r < K; r++) {
+      double f = r == c ? 0.0 : a[r * K + c];
+      for (int k = 0; f != 0.0 && k < K; k++)
+        a[r * K + k] -= f * a[c * K + k], inv[r * K + k] -= f * inv[c * K + k];
+    }
+  }
+  return 1;
+}
+
+/* After the projection learned: the basis that best reconstructs the scene's
+ * latents from their coordinates (least squares, B = Zc Cᵀ (C Cᵀ)⁻¹; the
+ * proxy of a mip texel is predicted from mean + B c) and the share of their
+ * variance it keeps. A singular C Cᵀ (a constant scene) keeps the basis. */
+static void refit_basis(bake_compact *c, const float *zc, size_t n) {
+  const int K = c->dim, D = c->work_dim;
+  double g[BAKE_COMPACT_MAX_DIM * BAKE_COMPACT_MAX_DIM] = {0};
+  double gi[BAKE_COMPACT_MAX_DIM * BAKE_COMPACT_MAX_DIM];
+  double *m = calloc((size_t)D * K, sizeof(double));
+  float *cb = malloc(sizeof(float) * K * (n ? n : 1));
+  if (!m || !cb) {
+    free(m), free(cb);
+    return;
+  }
+  for (size_t b = 0; b < n; b++)
+    bake_compact_reduce_centred(c, zc + b * D, cb + b * K);
+  for (size_t b = 0; b < n; b++)
+    for (int j = 0; j < K; j++) {
+      for (int k = 0; k < K; k++)
+        g[j * K + k] += (double)cb[b * K + j] * cb[b * K + k];
+      for (int i = 0; i < D; i++)
+        m[i * K + j] += (double)zc[b * D + i] * cb[b * K + j];
+    }
+  if (invert(g, K, gi)) {
+    double res = 0.0, tot = 0.0;
+    for (int i = 0; i < D; i++)
+      for (int k = 0; k < K; k++) {
+        double v = 0.0;
+        for (int j = 0; j < K; j++)
+          v += m[i * K + j] * gi[j * K + k];
+        c->basis[i * K + k] = (float)v;
+      }
+    for (size_t b = 0; b < n; b++)
+      for (int i = 0; i < D; i++) {
+        double v = 0.0;
+        for (int k = 0; k < K; k++)
+          v += (double)c->basis[i * K + k] * cb[b * K + k];
+        res += (zc[b * D + i] - v) * (zc[b * D + i] - v), tot += (double)zc[b * D + i] * zc[b * D + i];
+      }
+    c->kept = tot > 0.0 ? 1.0 - res / tot : 1.0;
+  }
+  free(m), free(cb);
 }
 
 nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction *corr,
@@ -270,7 +377,8 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
   float *coords = malloc(sizeof(float) * (n_all ? n_all : 1) * dim);
   train_samples teach = {0};
   nbrdf_status st = NBRDF_OK;
-  if (!all || !net || !z || !coords) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
+  if (!all || !net || !z || !coords)
+    st = core_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
   if (st == NBRDF_OK) {
     memcpy(all, fit, sizeof *fit * n_fit);
     memcpy(all + n_fit, scene, sizeof *scene * n_scene);
@@ -296,7 +404,7 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
     wi = malloc(sizeof(float) * 3 * rows), wo = malloc(sizeof(float) * 3 * rows);
     f = malloc(sizeof(float) * rows);
     if (!offsets || !wi || !wo || !f)
-      st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory for %zu rows", rows);
+      st = core_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory for %zu rows", rows);
   }
   if (st == NBRDF_OK) {
     memcpy(offsets, truth->offsets, sizeof *offsets * (n_fit + 1));
@@ -312,7 +420,14 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
   model_decoder_config cfg;
   if (st == NBRDF_OK) st = bake_compact_config(dim, s->width, &cfg, err);
   if (st == NBRDF_OK) st = model_decoder_create(&cfg, s->seed, &c->student, err);
-  distil d = {NULL, {n_all, offsets, wi, wo, f, NULL}};
+  /* The latents minus the mean, for the projection's gradient. */
+  float *zc = st == NBRDF_OK ? malloc(sizeof(float) * n_all * D) : NULL;
+  float *gP = st == NBRDF_OK ? malloc(sizeof(float) * dim * D) : NULL;
+  if (st == NBRDF_OK && (!zc || !gP)) st = core_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
+  for (size_t k = 0; st == NBRDF_OK && k < n_all; k++)
+    for (int i = 0; i < D; i++)
+      zc[k * D + i] = z[k * D + i] - c->mean[i];
+  distil d = {NULL, {n_all, offsets, wi, wo, f, NULL}, n_all, dim, D, zc, c->project, gP, coords};
   model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
   o.rows_per_brdf = s->rows;
   o.seed = s->seed + 2;
@@ -322,17 +437,15 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
   o.lr_weights = 2e-2f;
   if (st == NBRDF_OK) st = model_fit_create(c->student, n_all, coords, &o, &d.fit, err);
   if (st == NBRDF_OK) {
-    /* The coordinates stay as the basis gives them (every texel's are computed
-     * the same way); only the student's weights learn. */
-    trainer_group g = {"decoder.params",
-                       "adam.weights.m",
-                       "adam.weights.v",
-                       nbrdf_nn_params(c->student->nn),
-                       model_fit_grad_weights(d.fit),
-                       nbrdf_nn_param_count(c->student->nn),
-                       o.lr_weights,
-                       s->steps / 3 > 0 ? s->steps / 3 : 0,
-                       0.3f};
+    /* The student and the projection learn together, starting from the
+     * principal one; every texel's coordinates are then that one linear map
+     * of its latent. */
+    int decay = s->steps / 3 > 0 ? s->steps / 3 : 0;
+    trainer_group g[2] = {{"decoder.params", "adam.weights.m", "adam.weights.v",
+                           nn_params(c->student->nn), model_fit_grad_weights(d.fit),
+                           nn_param_count(c->student->nn), o.lr_weights, decay, 0.3f},
+                          {"projection", "adam.projection.m", "adam.projection.v", c->project, gP,
+                           (size_t)dim * D, PROJECTION_LR, decay, 0.3f}};
     trainer_options to = TRAINER_OPTIONS_DEFAULT;
     to.steps = s->steps;
     to.stage = "distil";
@@ -341,15 +454,20 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
     to.progress_total = s->steps;
     trainer_fit tf = {.user = &d, .gradient = distil_gradient};
     trainer_result r;
-    st = trainer_run(&to, &tf, &g, 1, NULL, 0, NULL, 0, &r, err);
+    st = trainer_run(&to, &tf, g, 2, NULL, 0, NULL, 0, &r, err);
     if (st == NBRDF_ERR_CANCELLED)
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled while distilling (step %d of %d)",
-                      (int)r.steps_done, s->steps);
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled while distilling (step %d of %d)",
+                     (int)r.steps_done, s->steps);
   }
   double *per = st == NBRDF_OK ? malloc(sizeof(double) * n_all) : NULL;
-  if (st == NBRDF_OK && !per) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
+  if (st == NBRDF_OK && !per) st = core_fail(err, NBRDF_ERR_MEMORY, "compact: out of memory");
   double mean;
+  if (st == NBRDF_OK) {
+    double lf;
+    st = distil_gradient(&d, 0, &lf, err); /* coords of the final projection */
+  }
   if (st == NBRDF_OK) st = model_fit_eval_loss(d.fit, &d.ms, per, &mean, err);
+  if (st == NBRDF_OK) refit_basis(c, zc, n_all);
   if (st == NBRDF_OK) {
     double a = 0.0, b = 0.0;
     for (size_t k = 0; k < n_all; k++)
@@ -361,28 +479,29 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
   model_fit_destroy(d.fit);
   free(offsets), free(wi), free(wo), free(f);
   train_samples_free(&teach);
-  free(all), free(net), free(z), free(coords);
+  free(all), free(net), free(z), free(coords), free(zc), free(gP);
   if (st != NBRDF_OK) bake_compact_free(c);
   return st;
 }
 
-void bake_compact_texels(const bake_compact *c, const nbrdf_latent_layout *work, const float *in,
-                         const nbrdf_latent_layout *out_layout, float *out, size_t n) {
-  const int C = nbrdf_latent_colours(work);
-  const int fin = nbrdf_latent_channel_count(work), fout = nbrdf_latent_channel_count(out_layout);
+void bake_compact_texels(const bake_compact *c, const texture_latent_layout *work, const float *in,
+                         const texture_latent_layout *out_layout, float *out, size_t n) {
+  const int C = texture_latent_colours(work);
+  const int fin = texture_latent_channel_count(work),
+            fout = texture_latent_channel_count(out_layout);
   float z[NBRDF_LATENT_MAX_DIM], coords[BAKE_COMPACT_MAX_DIM];
   for (size_t i = 0; i < n; i++) {
     const float *t = in + i * fin;
     float *o = out + i * fout;
     for (int ch = 0; ch < C; ch++) {
       for (int d = 0; d < work->latent_dim; d++)
-        z[d] = t[nbrdf_latent_index_latent(work, ch, d)];
+        z[d] = t[texture_latent_index_latent(work, ch, d)];
       bake_compact_reduce(c, z, coords);
       for (int j = 0; j < c->dim; j++)
-        o[nbrdf_latent_index_latent(out_layout, ch, j)] = coords[j];
+        o[texture_latent_index_latent(out_layout, ch, j)] = coords[j];
       if (work->proxy && out_layout->proxy) {
-        o[nbrdf_latent_index_sigma(out_layout, ch)] = t[nbrdf_latent_index_sigma(work, ch)];
-        o[nbrdf_latent_index_w(out_layout, ch)] = t[nbrdf_latent_index_w(work, ch)];
+        o[texture_latent_index_sigma(out_layout, ch)] = t[texture_latent_index_sigma(work, ch)];
+        o[texture_latent_index_w(out_layout, ch)] = t[texture_latent_index_w(work, ch)];
       }
     }
   }

@@ -56,7 +56,7 @@ typedef struct bake_compact_settings {
   int steps;     /* distillation steps */
   int rows;      /* rows drawn per BRDF per step */
   uint64_t seed;
-  nbrdf_ticker *ticker; /* stage "distil", done/total in steps; may be NULL */
+  core_ticker *ticker; /* stage "distil", done/total in steps; may be NULL */
   volatile sig_atomic_t *cancel;
 } bake_compact_settings;
 
@@ -77,8 +77,8 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
 
 /* n texels from the work layout (latent D + proxy) to the compact layout
  * (K + proxy), both in logical order. */
-void bake_compact_texels(const bake_compact *c, const nbrdf_latent_layout *work,
-                         const float *in, const nbrdf_latent_layout *out_layout, float *out,
+void bake_compact_texels(const bake_compact *c, const texture_latent_layout *work,
+                         const float *in, const texture_latent_layout *out_layout, float *out,
                          size_t n);
 
 #endif

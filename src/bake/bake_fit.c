@@ -26,8 +26,7 @@ const model_decoder *bake_correction_decoder(const bake_correction *c, const nbr
 static nbrdf_status clone_decoder(const model_decoder *src, model_decoder **out, nbrdf_error *err) {
   nbrdf_status st = model_decoder_create(&src->cfg, 0, out, err);
   if (st != NBRDF_OK) return st;
-  memcpy(nbrdf_nn_params((*out)->nn), nbrdf_nn_params_const(src->nn),
-         sizeof(float) * nbrdf_nn_param_count(src->nn));
+  memcpy(nn_params((*out)->nn), nn_params_const(src->nn), sizeof(float) * nn_param_count(src->nn));
   return NBRDF_OK;
 }
 
@@ -54,8 +53,8 @@ static nbrdf_status fit_steps(model_decoder *dec, size_t n, float *z, const mode
   trainer_group groups[2] = {
       {"latents", "adam.latents.m", "adam.latents.v", z, model_fit_grad_latent(f.fit),
        model_fit_latent_count(f.fit), o->lr_latent, decay, 0.5f},
-      {"decoder.params", "adam.weights.m", "adam.weights.v", nbrdf_nn_params(dec->nn),
-       model_fit_grad_weights(f.fit), nbrdf_nn_param_count(dec->nn), o->lr_weights, decay, 0.5f}};
+      {"decoder.params", "adam.weights.m", "adam.weights.v", nn_params(dec->nn),
+       model_fit_grad_weights(f.fit), nn_param_count(dec->nn), o->lr_weights, decay, 0.5f}};
   trainer_options to = TRAINER_OPTIONS_DEFAULT;
   to.steps = steps;
   to.stage = "fit";
@@ -67,8 +66,8 @@ static nbrdf_status fit_steps(model_decoder *dec, size_t n, float *z, const mode
   /* Frozen decoder (lr_weights 0): one group, the fit never writes its weights. */
   st = trainer_run(&to, &fit, groups, o->lr_weights > 0.0f ? 2 : 1, NULL, 0, NULL, 0, &r, err);
   if (st == NBRDF_ERR_CANCELLED)
-    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled during the fit (step %d of %d)",
-                    done0 + (int)r.steps_done, total);
+    st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled during the fit (step %d of %d)",
+                   done0 + (int)r.steps_done, total);
   model_fit_destroy(f.fit);
   return st;
 }
@@ -103,7 +102,7 @@ nbrdf_status bake_fit_run(const nbrdf_model *model, const bake_tuple *t, size_t 
   float *net = malloc(sizeof(float) * n * (D + 2) + 1), *z = malloc(sizeof(float) * n * D + 1);
   nbrdf_status st = NBRDF_OK;
   if (!c->tuples || !c->delta || !net || !z)
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the fit");
+    st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the fit");
   if (st == NBRDF_OK) {
     memcpy(c->tuples, t, sizeof *t * n);
     st = bake_tuples_evaluate(model, t, NULL, n, net, err);
@@ -127,8 +126,8 @@ nbrdf_status bake_fit_run(const nbrdf_model *model, const bake_tuple *t, size_t 
     if (st == NBRDF_OK)
       st = fit_steps(c->decoder, n, z, &o, s->joint_steps, &ms, s, s->project_steps, total, err);
   }
-  if (st == NBRDF_OK && s->ticker && nbrdf_ticker_tick(s->ticker, "fit", total, total, 1))
-    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled after the fit");
+  if (st == NBRDF_OK && s->ticker && core_ticker_tick(s->ticker, "fit", total, total, 1))
+    st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled after the fit");
   for (size_t k = 0; st == NBRDF_OK && k < n; k++)
     for (int d = 0; d < D; d++)
       c->delta[k * D + d] = z[k * D + d] - net[k * (D + 2) + d];
@@ -241,7 +240,7 @@ nbrdf_status bake_heldout_error(const nbrdf_model *model, const bake_correction 
   model_runner run_u = {0}, run_s = {0};
   nbrdf_status st = NBRDF_OK;
   if (!net || !lat || !dirs || !img || !errs)
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the held-out error");
+    st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the held-out error");
   if (st == NBRDF_OK) st = bake_tuples_evaluate(model, t, NULL, n, net, err);
   const model_decoder *spec = compact ? compact->student : bake_correction_decoder(c, model);
   float coords[BAKE_COMPACT_MAX_DIM];

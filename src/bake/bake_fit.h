@@ -29,7 +29,7 @@ typedef struct bake_fit_settings {
   int joint_steps;    /* decoder + latents steps (0: FITTED) */
   int rows_per_brdf;  /* samples drawn per tuple per step */
   uint64_t seed;
-  nbrdf_ticker *ticker; /* stage "fit", done/total in steps; may be NULL */
+  core_ticker *ticker; /* stage "fit", done/total in steps; may be NULL */
   volatile sig_atomic_t *cancel;
 } bake_fit_settings;
 

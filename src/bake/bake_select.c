@@ -19,7 +19,7 @@ static uint64_t tuple_hash(const bake_tuple *t) {
   const unsigned char *p = (const unsigned char *)t->p;
   for (size_t i = 0; i < sizeof t->p; i++)
     h = (h ^ p[i]) * 1099511628211ull;
-  return nbrdf_hash64(h, 0);
+  return core_hash64(h, 0);
 }
 
 float bake_tuple_distance2(const bake_tuple *a, const bake_tuple *b, const float *lo,
@@ -76,7 +76,7 @@ static void set_add(tuple_set *s, const bake_tuple *t, size_t *distinct) {
   }
 }
 
-nbrdf_status bake_gather_tuples(nbrdf_param_source **src, const bake_gather_settings *s,
+nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_settings *s,
                                 bake_tuple **out, size_t *n, size_t *distinct, nbrdf_error *err) {
   *out = NULL, *n = 0, *distinct = 0;
   tuple_set set = {0};
@@ -86,23 +86,23 @@ nbrdf_status bake_gather_tuples(nbrdf_param_source **src, const bake_gather_sett
   set.table = calloc(set.cap, sizeof *set.table);
   nbrdf_status st = NBRDF_OK;
   if (!set.keys || !set.hashes || !set.table)
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory gathering distinct tuples");
+    st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory gathering distinct tuples");
   const int band_rows = 64;
   for (int y0 = 0; st == NBRDF_OK && y0 < s->height; y0 += band_rows) {
     int rows = s->height - y0 < band_rows ? s->height - y0 : band_rows;
     if (s->cancel && *s->cancel) {
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled while gathering tuples");
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled while gathering tuples");
       break;
     }
-    nbrdf_param_band band[NBRDF_BAKE_PARAM_COUNT];
+    texture_param_band band[NBRDF_BAKE_PARAM_COUNT];
     for (int id = 0; st == NBRDF_OK && id < NBRDF_BAKE_PARAM_COUNT; id++)
-      st = nbrdf_param_source_read_band(src[id], y0, rows, &band[id], err);
+      st = texture_param_source_read_band(src[id], y0, rows, &band[id], err);
     for (int j = 0; st == NBRDF_OK && j < rows; j++)
       for (int x = 0; st == NBRDF_OK && x < s->width; x++)
         for (int c = 0; st == NBRDF_OK && c < s->colours; c++) {
           bake_tuple t;
           for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-            float v = nbrdf_param_band_at(&band[id], x, j, c);
+            float v = texture_param_band_at(&band[id], x, j, c);
             const float typed = v;
             bake_verdict verdict = bake_value_prepare(s->lo, s->hi, id, s->roughness, s->range, &v);
             if (verdict > BAKE_VALUE_CLAMPED) {
@@ -141,8 +141,8 @@ nbrdf_status bake_select(const bake_tuple *cand, size_t n, const float *lo, cons
                          nbrdf_error *err) {
   memset(sel, 0, sizeof *sel);
   if (n_fit > n) n_fit = n;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, nbrdf_hash64(seed, SELECT_TAG), 0);
+  core_rng rng;
+  core_rng_init(&rng, core_hash64(seed, SELECT_TAG), 0);
   /* The pool: every candidate, or a seeded stride through them. */
   size_t pool_n = n < FPS_POOL_MAX ? n : FPS_POOL_MAX;
   size_t *pool = malloc(sizeof *pool * (pool_n ? pool_n : 1));
@@ -153,10 +153,10 @@ nbrdf_status bake_select(const bake_tuple *cand, size_t n, const float *lo, cons
   if (!pool || !dist || !taken || !sel->fit || !sel->held) {
     free(pool), free(dist), free(taken);
     bake_selection_free(sel);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory selecting tuples");
+    return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory selecting tuples");
   }
   double stride = (double)n / (double)(pool_n ? pool_n : 1);
-  double offset = nbrdf_rng_uniform(&rng) * stride;
+  double offset = core_rng_uniform(&rng) * stride;
   for (size_t k = 0; k < pool_n; k++) {
     size_t i = (size_t)(offset + stride * (double)k);
     pool[k] = i < n ? i : n - 1;
@@ -165,7 +165,7 @@ nbrdf_status bake_select(const bake_tuple *cand, size_t n, const float *lo, cons
    * pool member farthest from every pick so far (ties: the lowest index). */
   for (size_t k = 0; k < pool_n; k++)
     dist[k] = 1e30f;
-  size_t next = pool_n ? (size_t)(nbrdf_rng_uniform(&rng) * (double)pool_n) : 0;
+  size_t next = pool_n ? (size_t)(core_rng_uniform(&rng) * (double)pool_n) : 0;
   if (next >= pool_n) next = pool_n ? pool_n - 1 : 0;
   for (size_t f = 0; f < n_fit && f < pool_n; f++) {
     const bake_tuple *t = &cand[pool[next]];
@@ -192,7 +192,7 @@ nbrdf_status bake_select(const bake_tuple *cand, size_t n, const float *lo, cons
     /* Uniform picks among the tuples not fitted (each distinct tuple once,
      * so the estimate weighs the scene's variety, not its texel counts). */
     for (size_t k = 0; k < n_held && sel->n_held < untaken; k++) {
-      size_t i = (size_t)(nbrdf_rng_uniform(&rng) * (double)n);
+      size_t i = (size_t)(core_rng_uniform(&rng) * (double)n);
       if (i >= n) i = n - 1;
       while (taken[i])
         i = (i + 1) % n;

@@ -32,7 +32,7 @@ typedef struct bake_gather_settings {
 /* The distinct tuples (prepared as the bake prepares them: bake_tuple.h) of
  * the maps; *distinct receives the number before any thinning. A value the
  * bake would refuse fails here, naming the parameter and texel. */
-nbrdf_status bake_gather_tuples(nbrdf_param_source **src, const bake_gather_settings *s,
+nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_settings *s,
                                 bake_tuple **out, size_t *n, size_t *distinct, nbrdf_error *err);
 
 typedef struct bake_selection {

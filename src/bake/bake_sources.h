@@ -14,7 +14,7 @@ nbrdf_status bake_check_size(int width, int height, nbrdf_error *err);
 /* Opens the six sources and sizes the maps: to in->width x height when
  * given (resampled when in->resample is BILINEAR, else an error for a map of
  * another size), else with BILINEAR to the largest map. */
-nbrdf_status bake_open_sources(const nbrdf_bake_inputs *in, nbrdf_param_source **src,
+nbrdf_status bake_open_sources(const nbrdf_bake_inputs *in, texture_param_source **src,
                                nbrdf_error *err);
 
 #endif

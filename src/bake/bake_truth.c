@@ -44,7 +44,8 @@ static int hook_tick(void *user) {
   done = sh->done;
   const bake_truth_settings *s = sh->s;
   if ((s->cancel && *s->cancel) ||
-      (s->ticker && nbrdf_ticker_tick(s->ticker, "ground truth", s->done0 + (double)done, s->total, 0)))
+      (s->ticker &&
+       core_ticker_tick(s->ticker, "ground truth", s->done0 + (double)done, s->total, 0)))
     sh->stop = 1;
   return sh->stop;
 }
@@ -62,7 +63,7 @@ static nbrdf_status run_jobs(const bake_tuple *t, size_t n, const bake_truth_set
   nbrdf_error *errs = calloc(n ? n : 1, sizeof *errs);
   if (!sts || !errs) {
     free(sts), free(errs);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the ground truth");
+    return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the ground truth");
   }
 #pragma omp parallel for schedule(dynamic, 1)
   for (long k = 0; k < (long)n; k++) {
@@ -77,7 +78,7 @@ static nbrdf_status run_jobs(const bake_tuple *t, size_t n, const bake_truth_set
   }
   nbrdf_status st = NBRDF_OK;
   if (sh.stop)
-    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled during the ground truth");
+    st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled during the ground truth");
   for (size_t k = 0; k < n && st == NBRDF_OK; k++)
     if (sts[k] != NBRDF_OK) {
       if (err) *err = errs[k];
@@ -100,7 +101,7 @@ static nbrdf_status sample_job(const bake_truth_settings *s, const bake_tuple *t
   train_params p;
   bake_tuple_params(&t[k], &p);
   size_t row = (size_t)ds.incident * ds.outgoing * TRAIN_DATASET_FLOATS;
-  return train_samples_generate_hooked(&ds, nbrdf_hash64(s->seed, TRUTH_TAG), k, &p, hook,
+  return train_samples_generate_hooked(&ds, core_hash64(s->seed, TRUTH_TAG), k, &p, hook,
                                        (float *)out + k * row, err);
 }
 
@@ -109,7 +110,8 @@ nbrdf_status bake_truth_samples(const bake_tuple *t, size_t n, const bake_truth_
   train_dataset_settings ds = dataset_settings(s);
   size_t per = (size_t)ds.incident * ds.outgoing;
   float *buf = malloc(sizeof(float) * per * TRAIN_DATASET_FLOATS * (n ? n : 1));
-  if (!buf) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples' samples", n);
+  if (!buf)
+    return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples' samples", n);
   nbrdf_status st = run_jobs(t, n, s, sample_job, buf, err);
   for (size_t k = 0; k < n && st == NBRDF_OK; k++) {
     train_params p;
@@ -138,14 +140,14 @@ static nbrdf_status lobe_job(const bake_truth_settings *s, const bake_tuple *t, 
   size_t px = (size_t)s->lobe_res * s->lobe_res;
   double *images = (double *)out + k * BAKE_LOBE_N_THETA * px;
   for (int i = 0; i < BAKE_LOBE_N_THETA && st == NBRDF_OK; i++) {
-    uint64_t seed = nbrdf_hash64(nbrdf_hash64(s->seed, LOBE_TAG), k * BAKE_LOBE_N_THETA + i);
-    int ok = layered_lobe_image_hooked(&nbrdf_brdf_bsdf(b)->layered,
-                                       bake_lobe_theta_deg[i] * (M_PI / 180.0), s->lobe_res,
-                                       s->lobe_walks, seed, 1, hook, images + i * px, NULL);
+    uint64_t seed = core_hash64(core_hash64(s->seed, LOBE_TAG), k * BAKE_LOBE_N_THETA + i);
+    int ok =
+        layered_lobe_image_hooked(&brdf_bsdf(b)->layered, bake_lobe_theta_deg[i] * (M_PI / 180.0),
+                                  s->lobe_res, s->lobe_walks, seed, 1, hook, images + i * px, NULL);
     if (ok < 0)
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled during the ground truth");
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled during the ground truth");
     else if (!ok)
-      st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory in the lobe estimator");
+      st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory in the lobe estimator");
   }
   nbrdf_brdf_destroy(b);
   return st;

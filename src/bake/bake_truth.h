@@ -29,7 +29,7 @@ typedef struct bake_truth_settings {
   uint64_t seed;
   /* Stage "ground truth", done/total in tuples (fit and held-out together:
    * `done0` of `total` before this call). */
-  nbrdf_ticker *ticker;
+  core_ticker *ticker;
   double done0, total;
   volatile sig_atomic_t *cancel; /* may be NULL */
 } bake_truth_settings;

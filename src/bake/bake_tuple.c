@@ -50,25 +50,24 @@ nbrdf_status bake_value_fail(bake_verdict verdict, const float *lo, const float 
       (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2)) {
     double a = (double)typed * (double)typed;
     if (verdict == BAKE_VALUE_INVALID)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "%s = %g (perceptual roughness r; alpha = r^2 = %g) is not a finite "
-                        "value >= 0",
-                        at, (double)typed, a);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s = %g (perceptual roughness r; alpha = r^2 = %g) is outside the "
-                      "model's trained range: r in [%g, %g] (alpha in [%g, %g])",
-                      at, (double)typed, a, sqrt((double)lo[id]), sqrt((double)hi[id]),
-                      (double)lo[id], (double)hi[id]);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "%s = %g (perceptual roughness r; alpha = r^2 = %g) is not a finite "
+                       "value >= 0",
+                       at, (double)typed, a);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s = %g (perceptual roughness r; alpha = r^2 = %g) is outside the "
+                     "model's trained range: r in [%g, %g] (alpha in [%g, %g])",
+                     at, (double)typed, a, sqrt((double)lo[id]), sqrt((double)hi[id]),
+                     (double)lo[id], (double)hi[id]);
   }
   if (verdict == BAKE_VALUE_INVALID)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is not a finite value >= 0", at,
-                      (double)typed);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is not a finite value >= 0", at,
+                     (double)typed);
   if (verdict == BAKE_VALUE_UNPHYSICAL)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is above 1 (not physical)", at,
-                      (double)typed);
-  return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                    "%s = %g is outside the model's trained range [%g, %g]", at, (double)typed,
-                    (double)lo[id], (double)hi[id]);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is above 1 (not physical)", at,
+                     (double)typed);
+  return core_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is outside the model's trained range [%g, %g]",
+                   at, (double)typed, (double)lo[id], (double)hi[id]);
 }
 
 /* Quantisation levels are spaced evenly where the parameter's effect is
@@ -117,7 +116,7 @@ nbrdf_status bake_tuples_evaluate(const nbrdf_model *model, const bake_tuple *t,
   if (!p0 || !lat) {
     free(p0);
     free(lat);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples", n);
+    return core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for %zu tuples", n);
   }
   float *p1 = p0 + n, *q0 = p0 + 2 * n, *q1 = p0 + 3 * n;
   float *top = lat, *bottom = top + n * D, *layered = bottom + n * D;

@@ -9,7 +9,7 @@ static nbrdf_status new_handle(const bsdf *b, nbrdf_brdf **out, nbrdf_error *err
   nbrdf_brdf *h = malloc(sizeof *h);
   if (!h || !bsdf_clone(&h->b, b)) {
     free(h);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory creating a BRDF");
+    return core_fail(err, NBRDF_ERR_MEMORY, "out of memory creating a BRDF");
   }
   *out = h;
   return NBRDF_OK;
@@ -17,12 +17,12 @@ static nbrdf_status new_handle(const bsdf *b, nbrdf_brdf **out, nbrdf_error *err
 
 nbrdf_status nbrdf_brdf_create_conductor(double alpha, double r0, nbrdf_brdf **out,
                                          nbrdf_error *err) {
-  if (!out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "conductor: out is NULL");
+  if (!out) return core_fail(err, NBRDF_ERR_ARGUMENT, "conductor: out is NULL");
   *out = NULL;
   nbrdf_status st;
-  if ((st = nbrdf_check_range(err, "alpha", alpha, NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX)) ||
-      (st = nbrdf_check_range(err, "r0", r0, 0.0, 1.0))) {
-    nbrdf_error_prefix(err, "conductor: ");
+  if ((st = core_check_range(err, "alpha", alpha, NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX)) ||
+      (st = core_check_range(err, "r0", r0, 0.0, 1.0))) {
+    core_error_prefix(err, "conductor: ");
     return st;
   }
   bsdf b = {.kind = BSDF_CONDUCTOR, .conductor = {alpha, r0}};
@@ -31,12 +31,12 @@ nbrdf_status nbrdf_brdf_create_conductor(double alpha, double r0, nbrdf_brdf **o
 
 nbrdf_status nbrdf_brdf_create_dielectric(double alpha, double eta, nbrdf_brdf **out,
                                           nbrdf_error *err) {
-  if (!out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dielectric: out is NULL");
+  if (!out) return core_fail(err, NBRDF_ERR_ARGUMENT, "dielectric: out is NULL");
   *out = NULL;
   nbrdf_status st;
-  if ((st = nbrdf_check_range(err, "alpha", alpha, NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX)) ||
-      (st = nbrdf_check_range(err, "eta", eta, NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX))) {
-    nbrdf_error_prefix(err, "dielectric: ");
+  if ((st = core_check_range(err, "alpha", alpha, NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX)) ||
+      (st = core_check_range(err, "eta", eta, NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX))) {
+    core_error_prefix(err, "dielectric: ");
     return st;
   }
   bsdf b = {.kind = BSDF_DIELECTRIC, .dielectric = {alpha, eta}};
@@ -46,17 +46,17 @@ nbrdf_status nbrdf_brdf_create_dielectric(double alpha, double eta, nbrdf_brdf *
 nbrdf_status nbrdf_brdf_create_layered(double alpha1, double eta, double albedo, double sigma_t,
                                        const nbrdf_brdf *bottom, nbrdf_brdf **out,
                                        nbrdf_error *err) {
-  if (!out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layered: out is NULL");
+  if (!out) return core_fail(err, NBRDF_ERR_ARGUMENT, "layered: out is NULL");
   *out = NULL;
   nbrdf_status st;
-  if ((st = nbrdf_check_range(err, "alpha1", alpha1, NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX)) ||
-      (st = nbrdf_check_range(err, "eta", eta, NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX)) ||
-      (st = nbrdf_check_range(err, "albedo", albedo, 0.0, 1.0)) ||
-      (st = nbrdf_check_range(err, "sigma_t", sigma_t, 0.0, NBRDF_GT_SIGMA_T_MAX))) {
-    nbrdf_error_prefix(err, "layered: ");
+  if ((st = core_check_range(err, "alpha1", alpha1, NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX)) ||
+      (st = core_check_range(err, "eta", eta, NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX)) ||
+      (st = core_check_range(err, "albedo", albedo, 0.0, 1.0)) ||
+      (st = core_check_range(err, "sigma_t", sigma_t, 0.0, NBRDF_GT_SIGMA_T_MAX))) {
+    core_error_prefix(err, "layered: ");
     return st;
   }
-  if (!bottom) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layered: bottom is NULL");
+  if (!bottom) return core_fail(err, NBRDF_ERR_ARGUMENT, "layered: bottom is NULL");
   /* The bottom is copied by new_handle's deep clone (bsdf_clone), so the
    * caller may destroy it afterwards. */
   bsdf b = {.kind = BSDF_LAYERED,
@@ -77,21 +77,21 @@ int nbrdf_brdf_is_stochastic(const nbrdf_brdf *brdf) {
   return brdf && bsdf_is_stochastic(&brdf->b);
 }
 
-nbrdf_status nbrdf_brdf_check_direction(const double w[3], const char *what, vec3 *out,
-                                        nbrdf_error *err) {
+nbrdf_status brdf_check_direction(const double w[3], const char *what, vec3 *out,
+                                  nbrdf_error *err) {
   vec3 v = v3(w[0], w[1], w[2]);
   if (!v3_is_finite(v))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = (%g, %g, %g) is not finite", what, v.x, v.y,
-                      v.z);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s = (%g, %g, %g) is not finite", what, v.x, v.y,
+                     v.z);
   if (!(v.z > 0.0))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s = (%g, %g, %g) has z <= 0 (must point into the upper hemisphere)", what,
-                      v.x, v.y, v.z);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s = (%g, %g, %g) has z <= 0 (must point into the upper hemisphere)", what,
+                     v.x, v.y, v.z);
   double len = v3_length(v);
   if (!(fabs(len - 1.0) <= 1e-6))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s = (%g, %g, %g) is not a unit vector (length %.9g, tolerance 1e-6)", what,
-                      v.x, v.y, v.z, len);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s = (%g, %g, %g) is not a unit vector (length %.9g, tolerance 1e-6)", what,
+                     v.x, v.y, v.z, len);
   *out = v3_scale(v, 1.0 / len);
   return NBRDF_OK;
 }

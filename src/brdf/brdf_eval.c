@@ -13,8 +13,8 @@
 /* Mean and standard error of the mean of one query's spp walks (Welford). */
 static void eval_stochastic(const bsdf_layered *l, vec3 wo, vec3 wi, uint64_t seed, uint64_t stream,
                             int spp, double *f, double *se) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, stream);
+  core_rng rng;
+  core_rng_init(&rng, seed, stream);
   double mean = 0.0, m2 = 0.0;
   for (int s = 0; s < spp; s++) {
     double x = bsdf_layered_walk(l, wo, wi, BSDF_RADIANCE, &rng);
@@ -36,21 +36,21 @@ nbrdf_status nbrdf_brdf_eval_many(size_t n, const nbrdf_brdf *const *brdfs,
   if (options) opts = *options;
   if (n == 0) return NBRDF_OK;
   if (!brdfs || !queries || !f)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "eval: brdfs, queries and f must not be NULL");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "eval: brdfs, queries and f must not be NULL");
   if (opts.spp < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "eval: spp = %d must be >= 1", opts.spp);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "eval: spp = %d must be >= 1", opts.spp);
   if (opts.threads < 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "eval: threads = %d must be >= 0 (0 = all)",
-                      opts.threads);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "eval: threads = %d must be >= 0 (0 = all)",
+                     opts.threads);
   for (size_t k = 0; k < n; k++) {
     char what[64];
     vec3 v;
-    if (!brdfs[k]) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "query %zu: BRDF is NULL", k);
+    if (!brdfs[k]) return core_fail(err, NBRDF_ERR_ARGUMENT, "query %zu: BRDF is NULL", k);
     snprintf(what, sizeof what, "query %zu: wi", k);
-    nbrdf_status st = nbrdf_brdf_check_direction(queries[k].wi, what, &v, err);
+    nbrdf_status st = brdf_check_direction(queries[k].wi, what, &v, err);
     if (st) return st;
     snprintf(what, sizeof what, "query %zu: wo", k);
-    if ((st = nbrdf_brdf_check_direction(queries[k].wo, what, &v, err))) return st;
+    if ((st = brdf_check_direction(queries[k].wo, what, &v, err))) return st;
   }
 
   long long bad = -1; /* smallest query index with a non-finite result */
@@ -64,8 +64,8 @@ nbrdf_status nbrdf_brdf_eval_many(size_t n, const nbrdf_brdf *const *brdfs,
   for (long long k = 0; k < count; k++) {
     const bsdf *b = &brdfs[k]->b;
     vec3 wi, wo;
-    nbrdf_brdf_check_direction(queries[k].wi, "", &wi, NULL);
-    nbrdf_brdf_check_direction(queries[k].wo, "", &wo, NULL);
+    brdf_check_direction(queries[k].wi, "", &wi, NULL);
+    brdf_check_direction(queries[k].wo, "", &wo, NULL);
     double value, se = 0.0;
     /* pbrt's order: the walk starts from wo (the sensor side) and ends by
      * next-event estimation towards wi; the BRDF is reciprocal either way. */
@@ -81,10 +81,10 @@ nbrdf_status nbrdf_brdf_eval_many(size_t n, const nbrdf_brdf *const *brdfs,
     }
   }
   if (bad >= 0)
-    return nbrdf_fail(err, NBRDF_ERR_INTERNAL,
-                      "query %lld: the estimate is not finite (a bug in nbrdf: please report "
-                      "it with the BRDF's parameters and directions)",
-                      bad);
+    return core_fail(err, NBRDF_ERR_INTERNAL,
+                     "query %lld: the estimate is not finite (a bug in nbrdf: please report "
+                     "it with the BRDF's parameters and directions)",
+                     bad);
   return NBRDF_OK;
 }
 
@@ -92,9 +92,9 @@ nbrdf_status nbrdf_brdf_eval(const nbrdf_brdf *brdf, size_t n, const nbrdf_query
                              const nbrdf_eval_options *options, double *f, double *f_stderr,
                              nbrdf_error *err) {
   if (n == 0) return NBRDF_OK;
-  if (!brdf) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "eval: BRDF is NULL");
+  if (!brdf) return core_fail(err, NBRDF_ERR_ARGUMENT, "eval: BRDF is NULL");
   const nbrdf_brdf **many = malloc(n * sizeof *many);
-  if (!many) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "eval: out of memory for %zu queries", n);
+  if (!many) return core_fail(err, NBRDF_ERR_MEMORY, "eval: out of memory for %zu queries", n);
   for (size_t k = 0; k < n; k++)
     many[k] = brdf;
   nbrdf_status st = nbrdf_brdf_eval_many(n, many, queries, options, f, f_stderr, err);
@@ -104,8 +104,8 @@ nbrdf_status nbrdf_brdf_eval(const nbrdf_brdf *brdf, size_t n, const nbrdf_query
 
 /* One draw of the public sampler: ωo for ωi from stream (seed, index). */
 static double sample_one(const bsdf *b, vec3 wi, uint64_t seed, uint64_t index, vec3 *wo) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, index);
+  core_rng rng;
+  core_rng_init(&rng, seed, index);
   bsdf_sample s;
   /* A dielectric as a BRDF is its reflection lobe: sample that lobe only. */
   if (bsdf_sample_dir(b, wi, BSDF_RADIANCE, BSDF_REFLECTION, &rng, &s) && s.wi.z > 0.0) {
@@ -119,13 +119,13 @@ static double sample_one(const bsdf *b, vec3 wi, uint64_t seed, uint64_t index, 
 nbrdf_status nbrdf_brdf_sample(const nbrdf_brdf *brdf, const double wi[3], uint64_t seed,
                                uint64_t index, double wo[3], double *weight, nbrdf_error *err) {
   if (!brdf || !wi || !wo || !weight)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "sample: brdf, wi, wo and weight must not be NULL");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "sample: brdf, wi, wo and weight must not be NULL");
   vec3 w, out;
-  nbrdf_status st = nbrdf_brdf_check_direction(wi, "sample: wi", &w, err);
+  nbrdf_status st = brdf_check_direction(wi, "sample: wi", &w, err);
   if (st) return st;
   double x = sample_one(&brdf->b, w, seed, index, &out);
   if (!isfinite(x) || !v3_is_finite(out))
-    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "sample: non-finite weight (a bug in nbrdf)");
+    return core_fail(err, NBRDF_ERR_INTERNAL, "sample: non-finite weight (a bug in nbrdf)");
   wo[0] = out.x;
   wo[1] = out.y;
   wo[2] = out.z;
@@ -140,16 +140,16 @@ nbrdf_status nbrdf_brdf_sample(const nbrdf_brdf *brdf, const double wi[3], uint6
 nbrdf_status nbrdf_brdf_albedo(const nbrdf_brdf *brdf, double theta_i, int samples, uint64_t seed,
                                double *rho, double *rho_stderr, nbrdf_error *err) {
   if (!brdf || !rho)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo: brdf and rho must not be NULL");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "albedo: brdf and rho must not be NULL");
   if (!isfinite(theta_i) || !(theta_i >= 0.0 && theta_i < 0.5 * M_PI))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo: theta_i = %g is outside [0, pi/2) radians",
-                      theta_i);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "albedo: theta_i = %g is outside [0, pi/2) radians",
+                     theta_i);
   if (samples < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo: samples = %d must be >= 1", samples);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "albedo: samples = %d must be >= 1", samples);
   vec3 wi = v3(sin(theta_i), 0.0, cos(theta_i));
   int blocks = (samples + ALBEDO_BLOCK - 1) / ALBEDO_BLOCK;
   double *sums = malloc(2 * (size_t)blocks * sizeof *sums);
-  if (!sums) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "albedo: out of memory");
+  if (!sums) return core_fail(err, NBRDF_ERR_MEMORY, "albedo: out of memory");
 #pragma omp parallel for schedule(dynamic, 1)
   for (int k = 0; k < blocks; k++) {
     double s1 = 0.0, s2 = 0.0;
@@ -172,7 +172,7 @@ nbrdf_status nbrdf_brdf_albedo(const nbrdf_brdf *brdf, double theta_i, int sampl
   double mean = s1 / samples;
   double var = samples > 1 ? fmax(0.0, (s2 - s1 * mean) / (samples - 1)) : INFINITY;
   if (!isfinite(mean))
-    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "albedo: non-finite estimate (a bug in nbrdf)");
+    return core_fail(err, NBRDF_ERR_INTERNAL, "albedo: non-finite estimate (a bug in nbrdf)");
   *rho = mean;
   if (rho_stderr) *rho_stderr = sqrt(var / samples);
   return NBRDF_OK;

@@ -10,12 +10,11 @@ struct nbrdf_brdf {
   bsdf b;
 };
 
-static inline const bsdf *nbrdf_brdf_bsdf(const nbrdf_brdf *brdf) { return &brdf->b; }
+static inline const bsdf *brdf_bsdf(const nbrdf_brdf *brdf) { return &brdf->b; }
 
 /* Checks a direction given through the public API: finite, z > 0, unit length
  * within 1e-6; writes it normalised. `what` names it in the message
  * ("query 3: wo"). */
-nbrdf_status nbrdf_brdf_check_direction(const double w[3], const char *what, vec3 *out,
-                                        nbrdf_error *err);
+nbrdf_status brdf_check_direction(const double w[3], const char *what, vec3 *out, nbrdf_error *err);
 
 #endif

@@ -6,7 +6,7 @@
 #include "brdf/dielectric.h"
 #include "brdf/layered.h"
 
-double bsdf_eval(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng) {
+double bsdf_eval(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, core_rng *rng) {
   switch (b->kind) {
   case BSDF_CONDUCTOR:
     return bsdf_conductor_eval(&b->conductor, wo, wi);
@@ -18,7 +18,7 @@ double bsdf_eval(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng
   return 0.0;
 }
 
-int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, nbrdf_rng *rng,
+int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, core_rng *rng,
                     bsdf_sample *s) {
   switch (b->kind) {
   case BSDF_CONDUCTOR:
@@ -46,7 +46,7 @@ double bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags) {
   return 0.0;
 }
 
-double bsdf_eval_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags, nbrdf_rng *rng,
+double bsdf_eval_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags, core_rng *rng,
                      double *pdf) {
   if (b->kind == BSDF_CONDUCTOR) {
     double f = bsdf_conductor_eval_pdf(&b->conductor, wo, wi, pdf);

@@ -89,17 +89,17 @@ struct bsdf {
   };
 };
 
-double bsdf_eval(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng);
+double bsdf_eval(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, core_rng *rng);
 /* Draws wi given wo among the lobes in `flags`; returns 0 when the draw has no
  * valid direction (absorbed, below the horizon, total internal reflection
  * under BSDF_TRANSMISSION only). */
-int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, nbrdf_rng *rng,
+int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, core_rng *rng,
                     bsdf_sample *s);
 /* Density with which bsdf_sample_dir(wo, mode, flags) returns wi (0 for Dirac
  * lobes); p̃ for stochastic BSDFs (see above). */
 double bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags);
 /* bsdf_eval and bsdf_pdf at once (shares the half vector and D). */
-double bsdf_eval_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags, nbrdf_rng *rng,
+double bsdf_eval_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags, core_rng *rng,
                      double *pdf);
 int bsdf_is_stochastic(const bsdf *b);
 

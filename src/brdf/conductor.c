@@ -55,7 +55,7 @@ int bsdf_conductor_sample(const bsdf_conductor *c, vec3 wo, double u1, double u2
   return reflect_normal(c, wo, m, s);
 }
 
-int bsdf_conductor_sample_rng(const bsdf_conductor *c, vec3 wo, nbrdf_rng *rng, bsdf_sample *s) {
+int bsdf_conductor_sample_rng(const bsdf_conductor *c, vec3 wo, core_rng *rng, bsdf_sample *s) {
   if (!(wo.z > 0.0)) return 0;
   double x, y, r2;
   disk_sample(rng, &x, &y, &r2);

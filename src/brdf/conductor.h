@@ -15,6 +15,6 @@ double bsdf_conductor_pdf(const bsdf_conductor *c, vec3 wo, vec3 wi);
 double bsdf_conductor_eval_pdf(const bsdf_conductor *c, vec3 wo, vec3 wi, double *pdf);
 /* weight = F G2 / G1(wo) ≤ 1. */
 int bsdf_conductor_sample(const bsdf_conductor *c, vec3 wo, double u1, double u2, bsdf_sample *s);
-int bsdf_conductor_sample_rng(const bsdf_conductor *c, vec3 wo, nbrdf_rng *rng, bsdf_sample *s);
+int bsdf_conductor_sample_rng(const bsdf_conductor *c, vec3 wo, core_rng *rng, bsdf_sample *s);
 
 #endif

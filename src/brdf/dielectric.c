@@ -147,10 +147,10 @@ int bsdf_dielectric_sample(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, in
 }
 
 int bsdf_dielectric_sample_rng(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
-                               nbrdf_rng *rng, bsdf_sample *s) {
+                               core_rng *rng, bsdf_sample *s) {
   if (d->eta == 1.0) return sample_delta(wo, flags, s);
   if (wo.z == 0.0) return 0;
-  double uc = (flags & BSDF_ALL) == BSDF_ALL ? nbrdf_rng_uniform(rng) : 0.0;
+  double uc = (flags & BSDF_ALL) == BSDF_ALL ? core_rng_uniform(rng) : 0.0;
   double x, y, r2;
   disk_sample(rng, &x, &y, &r2);
   vec3 m;

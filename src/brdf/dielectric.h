@@ -30,6 +30,6 @@ double bsdf_dielectric_exit(const bsdf_dielectric *d, vec3 ws, vec3 wi, bsdf_mod
 /* The same, drawing its random numbers from rng (the lobe number only when
  * both lobes are allowed). */
 int bsdf_dielectric_sample_rng(const bsdf_dielectric *d, vec3 wo, bsdf_mode mode, int flags,
-                               nbrdf_rng *rng, bsdf_sample *s);
+                               core_rng *rng, bsdf_sample *s);
 
 #endif

@@ -9,11 +9,11 @@
 #include "core/vec3.h"
 
 /* Uniform in the open unit disk; *r2 = x² + y² (uniform in [0, 1)). */
-static inline void disk_sample(nbrdf_rng *rng, double *x, double *y, double *r2) {
+static inline void disk_sample(core_rng *rng, double *x, double *y, double *r2) {
   double a, b, s;
   do {
-    a = 2.0 * nbrdf_rng_uniform(rng) - 1.0;
-    b = 2.0 * nbrdf_rng_uniform(rng) - 1.0;
+    a = 2.0 * core_rng_uniform(rng) - 1.0;
+    b = 2.0 * core_rng_uniform(rng) - 1.0;
     s = a * a + b * b;
   } while (s >= 1.0);
   *x = a;

@@ -14,12 +14,12 @@
 #define RR_LONG_WALK 512
 #define RR_LONG_SURVIVAL 0.99
 
-int bsdf_layered_roulette(double *beta, double scale, int vertex, nbrdf_rng *rng) {
+int bsdf_layered_roulette(double *beta, double scale, int vertex, core_rng *rng) {
   double q = *beta * scale / RR_THRESHOLD;
   if (vertex > RR_LONG_WALK) q = fmin(q, RR_LONG_SURVIVAL);
   if (q >= 1.0) return 1;
   if (!(q > 0.0)) return 0;
-  if (nbrdf_rng_uniform(rng) >= q) return 0;
+  if (core_rng_uniform(rng) >= q) return 0;
   *beta /= q;
   return 1;
 }
@@ -39,7 +39,7 @@ static double exit_term(const bsdf_dielectric *top, vec3 w, vec3 wi, bsdf_mode m
   return fe * bsdf_mis_power(p_strategy, pe);
 }
 
-double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng) {
+double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, core_rng *rng) {
   if (!(wo.z > 0.0) || !(wi.z > 0.0)) return 0.0;
   const bsdf_dielectric *top = &l->top;
   const bsdf *bottom = l->bottom;
@@ -74,7 +74,7 @@ double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode
     if (!bsdf_layered_roulette(&beta, rr_scale, vertex, rng)) break;
     if (scattering) {
       /* Free flight: optical distance ~ Exp(1), depth changes by t |cos θ|. */
-      double t = -log(1.0 - nbrdf_rng_uniform(rng)) / sigma_t;
+      double t = -log(1.0 - core_rng_uniform(rng)) / sigma_t;
       double zn = z - t * w.z;
       if (zn > 0.0 && zn < 1.0) {
         z = zn;
@@ -123,7 +123,7 @@ double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode
   return sum;
 }
 
-double bsdf_layered_eval(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, nbrdf_rng *rng) {
+double bsdf_layered_eval(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, core_rng *rng) {
   if (!(wo.z > 0.0) || !(wi.z > 0.0)) return 0.0;
   return bsdf_dielectric_eval(&l->top, wo, wi, mode) + bsdf_layered_walk(l, wo, wi, mode, rng);
 }

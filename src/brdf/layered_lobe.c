@@ -43,7 +43,7 @@ static void splat_exit(lobe_walker *lw, vec3 w, double p_strategy, double scale)
   }
 }
 
-static void walk(lobe_walker *lw, vec3 wi, nbrdf_rng *rng) {
+static void walk(lobe_walker *lw, vec3 wi, core_rng *rng) {
   const bsdf_layered *l = lw->l;
   const bsdf_dielectric *top = &l->top;
   const double sigma_t = l->sigma_t, albedo = l->albedo;
@@ -76,7 +76,7 @@ static void walk(lobe_walker *lw, vec3 wi, nbrdf_rng *rng) {
   for (int vertex = 0;; vertex++) {
     if (!bsdf_layered_roulette(&beta, rr_scale, vertex, rng)) break;
     if (scattering) {
-      double t = -log(1.0 - nbrdf_rng_uniform(rng)) / sigma_t;
+      double t = -log(1.0 - core_rng_uniform(rng)) / sigma_t;
       double zn = z - t * w.z;
       if (zn > 0.0 && zn < 1.0) {
         z = zn;
@@ -166,8 +166,8 @@ static int lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, i
           stop = halted;
           if (stop) break;
         }
-        nbrdf_rng rng;
-        nbrdf_rng_init(&rng, seed, (uint64_t)j);
+        core_rng rng;
+        core_rng_init(&rng, seed, (uint64_t)j);
         walk(&lw, wi, &rng);
         for (size_t k = 0; k < n; k++) {
           s1[k] += lw.acc[k];

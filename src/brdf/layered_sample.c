@@ -13,7 +13,7 @@ static int finish(const bsdf_layered *l, vec3 wo, vec3 wi, double weight, bsdf_s
   return 1;
 }
 
-int bsdf_layered_sample(const bsdf_layered *l, vec3 wo, bsdf_mode mode, nbrdf_rng *rng,
+int bsdf_layered_sample(const bsdf_layered *l, vec3 wo, bsdf_mode mode, core_rng *rng,
                         bsdf_sample *s) {
   if (!(wo.z > 0.0)) return 0;
   const bsdf_dielectric *top = &l->top;
@@ -30,7 +30,7 @@ int bsdf_layered_sample(const bsdf_layered *l, vec3 wo, bsdf_mode mode, nbrdf_rn
   for (int vertex = 0;; vertex++) {
     if (!bsdf_layered_roulette(&beta, rr_scale, vertex, rng)) return 0;
     if (scattering) {
-      double t = -log(1.0 - nbrdf_rng_uniform(rng)) / sigma_t;
+      double t = -log(1.0 - core_rng_uniform(rng)) / sigma_t;
       double zn = z - t * w.z;
       if (zn > 0.0 && zn < 1.0) {
         z = zn;

@@ -34,7 +34,7 @@ int cli_fail_error(const char *cmd, const nbrdf_error *err) {
 }
 
 int cli_parse_double(const char *text, double *out) {
-  return text && nbrdf_parse_number(text, strlen(text), out) == NBRDF_NUMBER_OK;
+  return text && core_parse_number(text, strlen(text), out) == NBRDF_NUMBER_OK;
 }
 
 int cli_parse_int(const char *text, long lo, long hi, long *out) {

@@ -67,7 +67,7 @@ int cli_outputs_check(const char *cmd, const cli_inputs *in, const char *const *
   for (int i = 0; i < n_outputs; i++) {
     if (!outputs[i]) continue;
     nbrdf_error err = {0};
-    if (nbrdf_output_check(outputs[i], in->path, in->n, &err) != NBRDF_OK)
+    if (core_output_check(outputs[i], in->path, in->n, &err) != NBRDF_OK)
       return cli_fail_error(cmd, &err);
     for (int j = 0; j < i; j++)
       if (outputs[j] && same_file(outputs[i], outputs[j]))

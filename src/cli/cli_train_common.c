@@ -57,12 +57,12 @@ void train_limits_note(const char *checkpoint, int legacy) {
 }
 
 nbrdf_status train_load_tables(const char *path, model_base_table t[2], nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
+  nn_st_reader *r = NULL;
   memset(t, 0, 2 * sizeof *t);
-  nbrdf_status st = nbrdf_st_open(path, &r, err);
+  nbrdf_status st = nn_st_open(path, &r, err);
   if (!st) st = model_base_table_read(r, MODEL_TABLE_DIELECTRIC, 32, &t[0], err);
   if (!st) st = model_base_table_read(r, MODEL_TABLE_CONDUCTOR, 32, &t[1], err);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   return st;
 }
 
@@ -75,9 +75,9 @@ int train_split_list(char *list, const char **out, int max) {
 
 nbrdf_status train_read_net(const char *path, int layering, model_layering **lay,
                             model_sampler **smp, nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(path, &r, err);
+  nn_st_reader *r = NULL;
+  nbrdf_status st = nn_st_open(path, &r, err);
   if (!st) st = layering ? model_layering_read(r, lay, err) : model_sampler_read(r, smp, err);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   return st;
 }

@@ -335,12 +335,11 @@ static int parse_row(const csv_table *t, size_t r, const layout *lay, double *v)
     size_t len = csv_value(t, r, lay->index[c], buf, sizeof buf);
     if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
     double x = 0;
-    nbrdf_number_result nr = len < sizeof buf && strlen(buf) == len
-                                 ? nbrdf_parse_number(buf, len, &x)
-                                 : NBRDF_NUMBER_SYNTAX;
+    core_number_result nr = len < sizeof buf && strlen(buf) == len ? core_parse_number(buf, len, &x)
+                                                                   : NBRDF_NUMBER_SYNTAX;
     if (nr != NBRDF_NUMBER_OK)
       return cli_fail("eval", "line %zu, column '%s': '%s' %s", t->line[r], s->name,
-                      printable(buf, shown, sizeof shown), nbrdf_number_problem(nr));
+                      printable(buf, shown, sizeof shown), core_number_problem(nr));
     if (x < s->lo || x > s->hi || (s->hi_open && x == s->hi))
       return cli_fail("eval", "line %zu, column '%s': %s is outside %c%g, %g%c", t->line[r],
                       s->name, printable(buf, shown, sizeof shown), '[', s->lo, s->hi,
@@ -435,7 +434,7 @@ static int read_input(const char *path, csv_table *t) {
   FILE *in = stdin;
   if (path) {
     int fd = -1;
-    if (nbrdf_input_open(path, NBRDF_INPUT_ANY_SIZE, &fd, NULL, &err) != NBRDF_OK)
+    if (core_input_open(path, NBRDF_INPUT_ANY_SIZE, &fd, NULL, &err) != NBRDF_OK)
       return cli_fail_error("eval", &err);
     in = fdopen(fd, "rb");
     if (!in) {

@@ -46,24 +46,24 @@ int cmd_info(int argc, char **argv) {
   }
   if (!path) return cli_usage_error("info", "needs a texture file");
   nbrdf_error err = {0};
-  nbrdf_latent_reader *r = NULL;
-  if (nbrdf_latent_reader_open(&r, path, &err) != NBRDF_OK) return cli_fail_error("info", &err);
-  const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+  texture_latent_reader *r = NULL;
+  if (texture_latent_reader_open(&r, path, &err) != NBRDF_OK) return cli_fail_error("info", &err);
+  const texture_latent_info *in = texture_latent_reader_info(r);
   printf("file:          %s (%lld bytes)\n", path, (long long)in->file_size);
   printf("size:          %d x %d\n", in->width, in->height);
   printf("levels:        %d:", in->levels);
   for (int l = 0; l < in->levels; l++) {
     int w = 0, h = 0;
-    if (nbrdf_latent_reader_level_size(r, l, &w, &h, &err) != NBRDF_OK) break;
+    if (texture_latent_reader_level_size(r, l, &w, &h, &err) != NBRDF_OK) break;
     printf(" %dx%d", w, h);
   }
   printf("\n");
   printf("tiles:         %d x %d\n", in->tile_width, in->tile_height);
-  printf("colour mode:   %s\n", nbrdf_colour_mode_name(in->layout.colour));
+  printf("colour mode:   %s\n", texture_colour_mode_name(in->layout.colour));
   printf("channels:      %d (latent dim %d per colour channel%s)\n", in->channels,
          in->layout.latent_dim, in->layout.proxy ? ", plus proxy sigma and w" : "");
-  printf("storage:       %s\n", nbrdf_latent_storage_name(in->storage));
-  printf("compression:   %s\n", nbrdf_latent_compression_name(in->compression));
+  printf("storage:       %s\n", texture_latent_storage_name(in->storage));
+  printf("compression:   %s\n", texture_latent_compression_name(in->compression));
   printf("format:        version %d, mip filter %s\n", in->format_version, in->mip_filter);
   printf("model:         %s (checksum %s)\n", in->model_name, in->model_checksum);
   printf("sources:       %s\n", in->sources);
@@ -84,14 +84,14 @@ int cmd_info(int argc, char **argv) {
   fflush(stdout); /* what the header says comes out before the check's verdict */
   if (header_only) {
     printf("check:         header only (--header-only)\n");
-  } else if (nbrdf_latent_reader_check_decoder(r, about, sizeof about, &err) != NBRDF_OK ||
-             nbrdf_latent_reader_check(r, &err) != NBRDF_OK) {
+  } else if (texture_latent_reader_check_decoder(r, about, sizeof about, &err) != NBRDF_OK ||
+             texture_latent_reader_check(r, &err) != NBRDF_OK) {
     printf("check:         FAILED\n");
     rc = cli_fail_error("info", &err);
   } else {
     printf("check:         every tile of %d level(s) read, all values finite%s%s\n", in->levels,
            about[0] ? "; own decoder: " : "", about);
   }
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   return rc;
 }

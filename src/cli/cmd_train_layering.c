@@ -124,7 +124,7 @@ int cmd_train_layering(int argc, char **argv) {
   if (!st) st = model_decoder_load(decoder ? decoder : dec_path, &dec, &err);
   if (!st && init) st = train_read_net(init, 1, &init_net, NULL, &err);
   if (!st && !decoded && !(lat = malloc(d.n_brdfs * 32 * sizeof *lat)))
-    st = nbrdf_fail(&err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+    st = core_fail(&err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st && !decoded) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
   s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   s.init = init_net;

@@ -26,7 +26,7 @@ static nbrdf_status add_layered_latents(const char *layering, const char *tables
   if (!st) st = train_read_net(layering, 1, &net, NULL, err);
   if (!st) st = layering_pairs_make(&d, NULL, t, 2, 0, &all, &none, err);
   float *grown = st ? NULL : realloc(*lat, (*n + all.n) * 32 * sizeof(float));
-  if (!st && !grown) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
+  if (!st && !grown) st = core_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
   if (grown) *lat = grown;
   if (!st) st = train_layering_pair_latents(net, &all, *lat + *n * 32, err);
   if (!st) *n += all.n;
@@ -106,19 +106,19 @@ int cmd_train_sampler(int argc, char **argv) {
   snprintf(path, sizeof path, "%s/decoder.safetensors", run);
   nbrdf_status st = model_decoder_load(path, &dec, &err);
   /* The checkpoint's latents: their count follows from the tensor's size. */
-  nbrdf_st_reader *r = NULL;
+  nn_st_reader *r = NULL;
   snprintf(path, sizeof path, "%s/checkpoint.safetensors", run);
-  if (!st) st = nbrdf_st_open(path, &r, &err);
-  const nbrdf_st_tensor *t = r ? nbrdf_st_find(r, "latents") : NULL;
+  if (!st) st = nn_st_open(path, &r, &err);
+  const nn_st_tensor *t = r ? nn_st_find(r, "latents") : NULL;
   size_t total = t ? t->count / 32 : 0,
          use = brdfs > 0 && (size_t)brdfs < total ? (size_t)brdfs : total;
-  if (!st && !t) st = nbrdf_fail(&err, NBRDF_ERR_FORMAT, "%s: no latents", path);
+  if (!st && !t) st = core_fail(&err, NBRDF_ERR_FORMAT, "%s: no latents", path);
   if (!st && !(lat = malloc(use * 32 * sizeof *lat)))
-    st = nbrdf_fail(&err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
+    st = core_fail(&err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
   /* An even spread over the run's BRDFs (single and layered alike). */
   for (size_t k = 0; k < use && !st; k++)
     memcpy(lat + k * 32, t->data + (k * total / use) * 32, 32 * sizeof *lat);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   size_t from_run = use;
   if (!st && layering) st = add_layered_latents(layering, tables, n_data, data, &lat, &use, &err);
   train_sampler_result res;

@@ -61,7 +61,7 @@ static nbrdf_status run_chunk(const nbrdf_model *model, eval_neural_kind kind, c
   float *tuple_out = scratch, *lat = tuple_out + m * (D + 2), *wi = lat + m * D, *wo = wi + 3 * m,
         *out = wo + 3 * m;
   float *p0 = malloc(sizeof(float) * 2 * m);
-  if (!p0) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "eval: out of memory");
+  if (!p0) return core_fail(err, NBRDF_ERR_MEMORY, "eval: out of memory");
   nbrdf_status st = NBRDF_OK;
   if (kind == EVAL_NEURAL_LAYERED) {
     st = bake_tuples_evaluate(model, t, NULL, m, tuple_out, err);

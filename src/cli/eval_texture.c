@@ -73,12 +73,11 @@ static int parse_row(const csv_table *t, size_t r, const size_t index[N_COLS], d
     size_t len = csv_value(t, r, index[c], buf, sizeof buf);
     if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
     double x = 0;
-    nbrdf_number_result nr = len < sizeof buf && strlen(buf) == len
-                                 ? nbrdf_parse_number(buf, len, &x)
-                                 : NBRDF_NUMBER_SYNTAX;
+    core_number_result nr = len < sizeof buf && strlen(buf) == len ? core_parse_number(buf, len, &x)
+                                                                   : NBRDF_NUMBER_SYNTAX;
     if (nr != NBRDF_NUMBER_OK)
       return cli_fail("eval", "line %zu, column '%s': '%s' %s", t->line[r], s->name,
-                      printable(buf, shown, sizeof shown), nbrdf_number_problem(nr));
+                      printable(buf, shown, sizeof shown), core_number_problem(nr));
     if (x < s->lo || x > s->hi || (s->hi_open && x == s->hi))
       return cli_fail("eval", "line %zu, column '%s': %s is outside [%g, %g%c", t->line[r], s->name,
                       printable(buf, shown, sizeof shown), s->lo, s->hi, s->hi_open ? ')' : ']');
@@ -107,15 +106,15 @@ typedef struct buffers {
 /* Parses, fetches and decodes rows [r0, r0 + n) (records r0 + 1 ...) into f. */
 static int decode_chunk(const csv_table *t, const size_t index[N_COLS], const nbrdf_model *model,
                         const eval_latent_image *img, int level, size_t r0, size_t n, buffers *b) {
-  const nbrdf_latent_layout *lay = &img->layout;
-  int colours = nbrdf_latent_colours(lay), D = lay->latent_dim;
+  const texture_latent_layout *lay = &img->layout;
+  int colours = texture_latent_colours(lay), D = lay->latent_dim;
   for (size_t k = 0; k < n; k++) {
     double v[N_COLS];
     int rc = parse_row(t, r0 + k + 1, index, v);
     if (rc != CLI_EXIT_OK) return rc;
     eval_latent_fetch_level(img, level, (float)v[COL_U], (float)v[COL_V], b->texel);
     for (int c = 0; c < colours; c++)
-      memcpy(b->lat + (k * colours + c) * D, b->texel + nbrdf_latent_index_latent(lay, c, 0),
+      memcpy(b->lat + (k * colours + c) * D, b->texel + texture_latent_index_latent(lay, c, 0),
              sizeof(float) * (size_t)D);
     direction(v[COL_THETA_I], v[COL_PHI_I], b->wi + 3 * k);
     direction(v[COL_THETA_O], v[COL_PHI_O], b->wo + 3 * k);
@@ -136,7 +135,7 @@ int eval_texture(const eval_texture_options *o, const csv_table *t, FILE *out) {
   nbrdf_status st = eval_latent_image_load_model(o->texture, bundle, &img, &model, &err);
   nbrdf_model_destroy(bundle);
   if (st != NBRDF_OK) return cli_fail_error("eval", &err);
-  int colours = nbrdf_latent_colours(&img->layout);
+  int colours = texture_latent_colours(&img->layout);
   size_t index[N_COLS];
   buffers b = {0};
   if (o->level >= img->levels)

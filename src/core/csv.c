@@ -45,8 +45,8 @@ static int lines_within_bound(const char *text, size_t from, size_t to, size_t *
 }
 
 static nbrdf_status line_too_long(nbrdf_error *err, const char *name, size_t line) {
-  return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: line %zu is longer than %d bytes (the limit)", name,
-                    line, CSV_LINE_MAX);
+  return core_fail(err, NBRDF_ERR_FORMAT, "%s: line %zu is longer than %d bytes (the limit)", name,
+                   line, CSV_LINE_MAX);
 }
 
 nbrdf_status csv_read(FILE *in, const char *name, csv_table *table, nbrdf_error *err) {
@@ -56,7 +56,7 @@ nbrdf_status csv_read(FILE *in, const char *name, csv_table *table, nbrdf_error 
   for (;;) {
     if (!grow((void **)&buf, &cap, len + 65536, 1)) {
       free(buf);
-      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory after %zu bytes", name, len);
+      return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory after %zu bytes", name, len);
     }
     size_t got = fread(buf + len, 1, cap - len, in);
     if (!lines_within_bound(buf, len, len + got, &line, &line_len)) {
@@ -68,7 +68,7 @@ nbrdf_status csv_read(FILE *in, const char *name, csv_table *table, nbrdf_error 
   }
   if (ferror(in)) {
     free(buf);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: read error after %zu bytes", name, len);
+    return core_fail(err, NBRDF_ERR_IO, "%s: read error after %zu bytes", name, len);
   }
   return csv_parse(buf, len, name, table, err);
 }
@@ -135,8 +135,8 @@ nbrdf_status csv_parse(char *text, size_t len, const char *name, csv_table *tabl
         const size_t quote_line = line;
         for (q2++;; q2++) {
           if (q2 >= len) {
-            st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "line %zu: a quoted field is never closed",
-                            quote_line);
+            st = core_fail(err, NBRDF_ERR_FORMAT, "line %zu: a quoted field is never closed",
+                           quote_line);
             goto fail;
           }
           if (text[q2] == '\n') line++;
@@ -152,8 +152,8 @@ nbrdf_status csv_parse(char *text, size_t len, const char *name, csv_table *tabl
           q2++;
         if (q2 < len && text[q2] == '\r' && (q2 + 1 == len || text[q2 + 1] == '\n')) q2++;
         if (q2 < len && text[q2] != ',' && text[q2] != '\n') {
-          st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "line %zu: unexpected text after a closing quote",
-                          line);
+          st = core_fail(err, NBRDF_ERR_FORMAT, "line %zu: unexpected text after a closing quote",
+                         line);
           goto fail;
         }
       } else {
@@ -176,7 +176,7 @@ nbrdf_status csv_parse(char *text, size_t len, const char *name, csv_table *tabl
   return NBRDF_OK;
 
 oom:
-  st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory on line %zu", name, line);
+  st = core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory on line %zu", name, line);
 fail:
   csv_free(table);
   return st;

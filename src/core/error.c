@@ -20,7 +20,7 @@ const char *nbrdf_status_name(nbrdf_status status) {
   return "unknown";
 }
 
-nbrdf_status nbrdf_fail(nbrdf_error *err, nbrdf_status status, const char *fmt, ...) {
+nbrdf_status core_fail(nbrdf_error *err, nbrdf_status status, const char *fmt, ...) {
   if (err) {
     va_list ap;
     va_start(ap, fmt);
@@ -31,7 +31,7 @@ nbrdf_status nbrdf_fail(nbrdf_error *err, nbrdf_status status, const char *fmt, 
   return status;
 }
 
-void nbrdf_error_prefix(nbrdf_error *err, const char *fmt, ...) {
+void core_error_prefix(nbrdf_error *err, const char *fmt, ...) {
   if (!err) return;
   char prefix[NBRDF_ERROR_MESSAGE_MAX];
   va_list ap;
@@ -47,18 +47,18 @@ void nbrdf_error_prefix(nbrdf_error *err, const char *fmt, ...) {
   err->message[plen + mlen] = '\0';
 }
 
-void nbrdf_error_clear(nbrdf_error *err) {
+void core_error_clear(nbrdf_error *err) {
   if (!err) return;
   err->status = NBRDF_OK;
   err->message[0] = '\0';
 }
 
-nbrdf_status nbrdf_check_range(nbrdf_error *err, const char *name, double value, double lo,
-                               double hi) {
-  if (isnan(value)) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s is NaN", name);
-  if (isinf(value)) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s is infinite", name);
+nbrdf_status core_check_range(nbrdf_error *err, const char *name, double value, double lo,
+                              double hi) {
+  if (isnan(value)) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s is NaN", name);
+  if (isinf(value)) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s is infinite", name);
   if (value < lo || value > hi)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is outside [%g, %g]", name, value, lo,
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g is outside [%g, %g]", name, value, lo,
                       hi);
   return NBRDF_OK;
 }

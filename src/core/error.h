@@ -11,18 +11,18 @@
 #endif
 
 /* Records a failure and returns `status`, so callers can write
- * `return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "alpha is %g", a);` */
-nbrdf_status nbrdf_fail(nbrdf_error *err, nbrdf_status status, const char *fmt, ...)
+ * `return core_fail(err, NBRDF_ERR_ARGUMENT, "alpha is %g", a);` */
+nbrdf_status core_fail(nbrdf_error *err, nbrdf_status status, const char *fmt, ...)
     NBRDF_PRINTF(3, 4);
 
 /* Puts context in front of an existing message ("r0.png: " + message). */
-void nbrdf_error_prefix(nbrdf_error *err, const char *fmt, ...) NBRDF_PRINTF(2, 3);
+void core_error_prefix(nbrdf_error *err, const char *fmt, ...) NBRDF_PRINTF(2, 3);
 
-void nbrdf_error_clear(nbrdf_error *err);
+void core_error_clear(nbrdf_error *err);
 
 /* Checks that `value` is finite and within [lo, hi]; the message names the
  * parameter and the range. */
-nbrdf_status nbrdf_check_range(nbrdf_error *err, const char *name, double value, double lo,
-                               double hi);
+nbrdf_status core_check_range(nbrdf_error *err, const char *name, double value, double lo,
+                              double hi);
 
 #endif

@@ -18,12 +18,12 @@
  * but a regular file (symlinks followed) and files of more than max_bytes.
  * A FIFO is opened without blocking, so that the refusal is immediate.
  * Sets *fd and *size (either may be NULL: a NULL fd closes the file). */
-nbrdf_status nbrdf_input_open(const char *path, uint64_t max_bytes, int *fd, uint64_t *size,
-                              nbrdf_error *err);
+nbrdf_status core_input_open(const char *path, uint64_t max_bytes, int *fd, uint64_t *size,
+                             nbrdf_error *err);
 
 /* The same refusals for readers that open the file by name themselves
  * (OpenImageIO): stat(2) only, nothing is opened. */
-nbrdf_status nbrdf_input_check(const char *path, uint64_t max_bytes, uint64_t *size,
-                               nbrdf_error *err);
+nbrdf_status core_input_check(const char *path, uint64_t max_bytes, uint64_t *size,
+                              nbrdf_error *err);
 
 #endif

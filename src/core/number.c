@@ -11,7 +11,7 @@ static int is_space(char c) {
 }
 static int is_digit(char c) { return c >= '0' && c <= '9'; }
 
-nbrdf_number_result nbrdf_parse_number(const char *text, size_t len, double *out) {
+core_number_result core_parse_number(const char *text, size_t len, double *out) {
   if (!text) return NBRDF_NUMBER_SYNTAX;
   const char *a = text, *b = text + len;
   while (a < b && is_space(*a))
@@ -53,9 +53,9 @@ nbrdf_number_result nbrdf_parse_number(const char *text, size_t len, double *out
   return NBRDF_NUMBER_OK;
 }
 
-nbrdf_number_result nbrdf_parse_float(const char *text, size_t len, float *out) {
+core_number_result core_parse_float(const char *text, size_t len, float *out) {
   double d;
-  nbrdf_number_result r = nbrdf_parse_number(text, len, &d);
+  core_number_result r = core_parse_number(text, len, &d);
   if (r != NBRDF_NUMBER_OK) return r;
   if (fabs(d) > FLT_MAX) return NBRDF_NUMBER_OVERFLOW;
   if (d != 0.0 && fabs(d) < FLT_MIN) return NBRDF_NUMBER_UNDERFLOW;
@@ -63,7 +63,7 @@ nbrdf_number_result nbrdf_parse_float(const char *text, size_t len, float *out) 
   return NBRDF_NUMBER_OK;
 }
 
-const char *nbrdf_number_problem(nbrdf_number_result r) {
+const char *core_number_problem(core_number_result r) {
   switch (r) {
   case NBRDF_NUMBER_OK:
     break;

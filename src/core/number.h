@@ -10,21 +10,21 @@
 
 #include <stddef.h>
 
-typedef enum nbrdf_number_result {
+typedef enum core_number_result {
   NBRDF_NUMBER_OK = 0,
   NBRDF_NUMBER_SYNTAX = 1,    /* not a decimal number */
   NBRDF_NUMBER_OVERFLOW = 2,  /* |value| beyond the largest double */
   NBRDF_NUMBER_UNDERFLOW = 3, /* a non-zero value that rounds to 0 or a subnormal */
-} nbrdf_number_result;
+} core_number_result;
 
 /* Parses text[0..len) entirely (len: strlen for a string). Sets *out only on
  * NBRDF_NUMBER_OK. */
-nbrdf_number_result nbrdf_parse_number(const char *text, size_t len, double *out);
+core_number_result core_parse_number(const char *text, size_t len, double *out);
 
 /* The same for a float (overflow and underflow judged against float). */
-nbrdf_number_result nbrdf_parse_float(const char *text, size_t len, float *out);
+core_number_result core_parse_float(const char *text, size_t len, float *out);
 
 /* "is not a number", "overflows", "underflows": for messages. */
-const char *nbrdf_number_problem(nbrdf_number_result r);
+const char *core_number_problem(core_number_result r);
 
 #endif

@@ -18,7 +18,7 @@
 #define TEMP_SUFFIX ".tmp"
 #define TEMP_HEX 8
 
-static void release(nbrdf_output_file *f) {
+static void release(core_output_file *f) {
   free(f->path);
   free(f->temp_path);
   f->path = f->temp_path = NULL;
@@ -33,30 +33,30 @@ static int read_only(const char *path, const struct stat *sb) {
   return (sb->st_mode & 0222) == 0 || access(path, W_OK) != 0;
 }
 
-nbrdf_status nbrdf_output_check(const char *path, const char *const *inputs, int n_inputs,
-                                nbrdf_error *err) {
-  if (!path || !path[0]) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "output path is empty");
+nbrdf_status core_output_check(const char *path, const char *const *inputs, int n_inputs,
+                               nbrdf_error *err) {
+  if (!path || !path[0]) return core_fail(err, NBRDF_ERR_ARGUMENT, "output path is empty");
   struct stat out;
   if (stat(path, &out) != 0) return NBRDF_OK; /* a new file cannot be an input */
-  if (S_ISDIR(out.st_mode)) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: is a directory", path);
+  if (S_ISDIR(out.st_mode)) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: is a directory", path);
   for (int i = 0; i < n_inputs; i++) {
     struct stat in;
     if (!inputs[i] || stat(inputs[i], &in) != 0) continue;
     if (in.st_dev == out.st_dev && in.st_ino == out.st_ino)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "%s: the output is the input '%s'; refusing to overwrite an input", path,
-                        inputs[i]);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "%s: the output is the input '%s'; refusing to overwrite an input", path,
+                       inputs[i]);
   }
   if (!S_ISREG(out.st_mode))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s: exists and is not a regular file (a device, FIFO or socket); refusing "
-                      "to replace it",
-                      path);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s: exists and is not a regular file (a device, FIFO or socket); refusing "
+                     "to replace it",
+                     path);
   if (read_only(path, &out))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s: exists and is read-only; refusing to replace it (make it writable or "
-                      "remove it first)",
-                      path);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s: exists and is read-only; refusing to replace it (make it writable or "
+                     "remove it first)",
+                     path);
   return NBRDF_OK;
 }
 
@@ -163,19 +163,19 @@ static void carry_mode(int fd, const struct stat *sb) {
   (void)fchmod(fd, sb->st_mode & 0777);
 }
 
-nbrdf_status nbrdf_output_file_open_flags(nbrdf_output_file *f, const char *path,
-                                          const char *const *inputs, int n_inputs, int flags,
-                                          nbrdf_error *err) {
+nbrdf_status core_output_file_open_flags(core_output_file *f, const char *path,
+                                         const char *const *inputs, int n_inputs, int flags,
+                                         nbrdf_error *err) {
   f->path = f->temp_path = NULL;
   f->proc_path[0] = '\0';
   f->fd = -1;
   f->keep_mode = 0;
-  if (!path || !path[0]) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "output path is empty");
+  if (!path || !path[0]) return core_fail(err, NBRDF_ERR_ARGUMENT, "output path is empty");
   const char *slash = strrchr(path, '/');
   const char *base = slash ? slash + 1 : path;
   if (!base[0] || strcmp(base, ".") == 0 || strcmp(base, "..") == 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: is a directory", path);
-  nbrdf_status st = nbrdf_output_check(path, inputs, n_inputs, err);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: is a directory", path);
+  nbrdf_status st = core_output_check(path, inputs, n_inputs, err);
   if (st != NBRDF_OK) return st;
   struct stat existing;
   int exists = stat(path, &existing) == 0;
@@ -189,7 +189,7 @@ nbrdf_status nbrdf_output_file_open_flags(nbrdf_output_file *f, const char *path
   if (!dir || !f->path || !f->temp_path) {
     free(dir);
     release(f);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+    return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   }
   remove_stale_temps(dir);
 
@@ -220,7 +220,7 @@ nbrdf_status nbrdf_output_file_open_flags(nbrdf_output_file *f, const char *path
     if (f->fd < 0) e = errno;
   }
   if (f->fd < 0) {
-    nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create a file in '%s': %s", path, dir, strerror(e));
+    core_fail(err, NBRDF_ERR_IO, "%s: cannot create a file in '%s': %s", path, dir, strerror(e));
     free(dir);
     release(f);
     return NBRDF_ERR_IO;
@@ -235,24 +235,24 @@ nbrdf_status nbrdf_output_file_open_flags(nbrdf_output_file *f, const char *path
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_output_file_open(nbrdf_output_file *f, const char *path,
-                                    const char *const *inputs, int n_inputs, nbrdf_error *err) {
-  return nbrdf_output_file_open_flags(f, path, inputs, n_inputs, 0, err);
+nbrdf_status core_output_file_open(core_output_file *f, const char *path, const char *const *inputs,
+                                   int n_inputs, nbrdf_error *err) {
+  return core_output_file_open_flags(f, path, inputs, n_inputs, 0, err);
 }
 
-const char *nbrdf_output_file_name(const nbrdf_output_file *f) {
+const char *core_output_file_name(const core_output_file *f) {
   return f->temp_path ? f->temp_path : f->proc_path;
 }
 
-nbrdf_status nbrdf_output_file_pwrite(nbrdf_output_file *f, const void *data, size_t n,
-                                      long long offset, nbrdf_error *err) {
+nbrdf_status core_output_file_pwrite(core_output_file *f, const void *data, size_t n,
+                                     long long offset, nbrdf_error *err) {
   const char *p = data;
   while (n > 0) {
     ssize_t w = pwrite(f->fd, p, n, (off_t)offset);
     if (w < 0 && errno == EINTR) continue;
     if (w <= 0)
-      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: write failed: %s", f->path,
-                        w < 0 ? strerror(errno) : "no progress");
+      return core_fail(err, NBRDF_ERR_IO, "%s: write failed: %s", f->path,
+                       w < 0 ? strerror(errno) : "no progress");
     p += w;
     n -= (size_t)w;
     offset += w;
@@ -262,7 +262,7 @@ nbrdf_status nbrdf_output_file_pwrite(nbrdf_output_file *f, const void *data, si
 
 /* Links the unnamed temporary file to the destination: directly when there is
  * none, else under a temporary name renamed over it. */
-static int link_unnamed(nbrdf_output_file *f) {
+static int link_unnamed(core_output_file *f) {
   struct stat sb;
   if (lstat(f->path, &sb) != 0 && errno == ENOENT) {
     if (linkat(AT_FDCWD, f->proc_path, AT_FDCWD, f->path, AT_SYMLINK_FOLLOW) == 0) return 0;
@@ -294,47 +294,46 @@ static int link_unnamed(nbrdf_output_file *f) {
   return rc;
 }
 
-nbrdf_status nbrdf_output_file_commit(nbrdf_output_file *f, nbrdf_error *err) {
+nbrdf_status core_output_file_commit(core_output_file *f, nbrdf_error *err) {
   nbrdf_status st = NBRDF_OK;
   if (f->fd < 0) {
-    nbrdf_output_file_abort(f);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "output: commit without an open file");
+    core_output_file_abort(f);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "output: commit without an open file");
   }
   if (fsync(f->fd) != 0 && errno != EINVAL)
-    st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot flush to disk: %s", f->path, strerror(errno));
+    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot flush to disk: %s", f->path, strerror(errno));
   /* The destination may have been replaced by a FIFO or made read-only meanwhile. */
-  if (st == NBRDF_OK) st = nbrdf_output_check(f->path, NULL, 0, err);
+  if (st == NBRDF_OK) st = core_output_check(f->path, NULL, 0, err);
   /* Renamed before closing: the lock is held until the name is gone. */
   if (st == NBRDF_OK && f->temp_path && rename(f->temp_path, f->path) != 0)
-    st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot rename '%s' into place: %s", f->path,
-                    f->temp_path, strerror(errno));
+    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot rename '%s' into place: %s", f->path,
+                   f->temp_path, strerror(errno));
   if (st == NBRDF_OK && !f->temp_path && link_unnamed(f) != 0)
-    st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot put the written file in place: %s", f->path,
-                    strerror(errno));
+    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot put the written file in place: %s", f->path,
+                   strerror(errno));
   if (close(f->fd) != 0 && st == NBRDF_OK)
-    st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot close: %s", f->path, strerror(errno));
+    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot close: %s", f->path, strerror(errno));
   f->fd = -1;
   if (st != NBRDF_OK && f->temp_path) unlink(f->temp_path);
   release(f);
   return st;
 }
 
-void nbrdf_output_file_abort(nbrdf_output_file *f) {
+void core_output_file_abort(core_output_file *f) {
   if (f->temp_path) unlink(f->temp_path);
   if (f->fd >= 0) close(f->fd);
   release(f);
 }
 
-nbrdf_status nbrdf_output_file_write_all(const char *path, const void *data, size_t n,
-                                         const char *const *inputs, int n_inputs,
-                                         nbrdf_error *err) {
-  nbrdf_output_file f;
-  nbrdf_status st = nbrdf_output_file_open(&f, path, inputs, n_inputs, err);
+nbrdf_status core_output_file_write_all(const char *path, const void *data, size_t n,
+                                        const char *const *inputs, int n_inputs, nbrdf_error *err) {
+  core_output_file f;
+  nbrdf_status st = core_output_file_open(&f, path, inputs, n_inputs, err);
   if (st != NBRDF_OK) return st;
-  st = nbrdf_output_file_pwrite(&f, data, n, 0, err);
+  st = core_output_file_pwrite(&f, data, n, 0, err);
   if (st != NBRDF_OK) {
-    nbrdf_output_file_abort(&f);
+    core_output_file_abort(&f);
     return st;
   }
-  return nbrdf_output_file_commit(&f, err);
+  return core_output_file_commit(&f, err);
 }

@@ -26,15 +26,15 @@
 
 #include "nbrdf/status.h"
 
-typedef struct nbrdf_output_file {
+typedef struct core_output_file {
   char *path;         /* the destination */
   char *temp_path;    /* the named temporary file, or NULL for an unnamed (O_TMPFILE) one */
   char proc_path[32]; /* "/proc/self/fd/N" of an unnamed temporary file */
   int fd;             /* open for writing until commit or abort */
   int keep_mode;      /* the destination existed: its mode and owner are carried over */
-} nbrdf_output_file;
+} core_output_file;
 
-/* nbrdf_output_file_open_flags: use a named temporary file even where O_TMPFILE works
+/* core_output_file_open_flags: use a named temporary file even where O_TMPFILE works
  * (tests of the fallback). The environment variable NBRDF_OUTPUT_NAMED_TEMP=1 does the
  * same for a whole process (shell tests, diagnosis on unusual file systems). */
 #define NBRDF_OUTPUT_NAMED_TEMP 1
@@ -43,32 +43,32 @@ typedef struct nbrdf_output_file {
  * a non-regular file, a read-only file, and one of the `n_inputs` paths (NULL
  * entries and paths that do not exist are skipped). A missing `path` is fine.
  * The message names the output and, when it is one, the input. */
-nbrdf_status nbrdf_output_check(const char *path, const char *const *inputs, int n_inputs,
-                                nbrdf_error *err);
+nbrdf_status core_output_check(const char *path, const char *const *inputs, int n_inputs,
+                               nbrdf_error *err);
 
-/* Checks `path` (nbrdf_output_check) and creates the temporary file (mode 0666
+/* Checks `path` (core_output_check) and creates the temporary file (mode 0666
  * less the umask, or the existing destination's). */
-nbrdf_status nbrdf_output_file_open(nbrdf_output_file *f, const char *path,
-                                    const char *const *inputs, int n_inputs, nbrdf_error *err);
-nbrdf_status nbrdf_output_file_open_flags(nbrdf_output_file *f, const char *path,
-                                          const char *const *inputs, int n_inputs, int flags,
-                                          nbrdf_error *err);
+nbrdf_status core_output_file_open(core_output_file *f, const char *path, const char *const *inputs,
+                                   int n_inputs, nbrdf_error *err);
+nbrdf_status core_output_file_open_flags(core_output_file *f, const char *path,
+                                         const char *const *inputs, int n_inputs, int flags,
+                                         nbrdf_error *err);
 /* A name by which another writer (OpenImageIO) can open the temporary file for
  * writing: "/proc/self/fd/N" or the named temporary file. `f->fd` stays open. */
-const char *nbrdf_output_file_name(const nbrdf_output_file *f);
+const char *core_output_file_name(const core_output_file *f);
 /* Writes `n` bytes at `offset` of the temporary file. */
-nbrdf_status nbrdf_output_file_pwrite(nbrdf_output_file *f, const void *data, size_t n,
-                                      long long offset, nbrdf_error *err);
+nbrdf_status core_output_file_pwrite(core_output_file *f, const void *data, size_t n,
+                                     long long offset, nbrdf_error *err);
 /* Flushes the temporary file to disk and puts it in place of the destination
  * (checked again: it may have become a special file meanwhile). On failure the
  * temporary file is removed. Either way `f` is released. */
-nbrdf_status nbrdf_output_file_commit(nbrdf_output_file *f, nbrdf_error *err);
+nbrdf_status core_output_file_commit(core_output_file *f, nbrdf_error *err);
 /* Closes and removes the temporary file and releases `f`. Safe to call on a
  * file that was never opened, or already committed or aborted. */
-void nbrdf_output_file_abort(nbrdf_output_file *f);
+void core_output_file_abort(core_output_file *f);
 
 /* The whole of `data` as the file `path` (open, write, commit). */
-nbrdf_status nbrdf_output_file_write_all(const char *path, const void *data, size_t n,
-                                         const char *const *inputs, int n_inputs, nbrdf_error *err);
+nbrdf_status core_output_file_write_all(const char *path, const void *data, size_t n,
+                                        const char *const *inputs, int n_inputs, nbrdf_error *err);
 
 #endif

@@ -18,22 +18,22 @@
 /* Seconds between calls of a progress callback at most (about 10 a second). */
 #define NBRDF_PROGRESS_INTERVAL 0.1
 
-typedef struct nbrdf_ticker {
+typedef struct core_ticker {
   nbrdf_progress_fn fn; /* may be NULL */
   void *user;
   volatile sig_atomic_t *cancel; /* may be NULL */
   double last;                   /* monotonic seconds of the last call of fn; < 0: none yet */
   int stopped;                   /* 1 once cancelled: every later tick says so too */
-} nbrdf_ticker;
+} core_ticker;
 
-void nbrdf_ticker_init(nbrdf_ticker *t, nbrdf_progress_fn fn, void *user,
-                       volatile sig_atomic_t *cancel);
+void core_ticker_init(core_ticker *t, nbrdf_progress_fn fn, void *user,
+                      volatile sig_atomic_t *cancel);
 /* Non-zero when the work must stop: the cancel flag is set, or the callback,
  * called when `force` is set or NBRDF_PROGRESS_INTERVAL has passed since its
  * last call, returned non-zero. */
-int nbrdf_ticker_tick(nbrdf_ticker *t, const char *stage, double done, double total, int force);
+int core_ticker_tick(core_ticker *t, const char *stage, double done, double total, int force);
 
 /* Monotonic seconds (CLOCK_MONOTONIC). */
-double nbrdf_monotonic_seconds(void);
+double core_monotonic_seconds(void);
 
 #endif

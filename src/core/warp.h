@@ -5,13 +5,13 @@
 #include "core/vec3.h"
 
 /* Concentric map of the square onto the unit disk (Shirley & Chiu 1997). */
-void nbrdf_warp_disk(double u1, double u2, double *x, double *y);
+void core_warp_disk(double u1, double u2, double *x, double *y);
 /* Cosine-weighted upper hemisphere; pdf = cos θ / π. */
-vec3 nbrdf_warp_cosine_hemisphere(double u1, double u2);
-double nbrdf_warp_cosine_hemisphere_pdf(vec3 w);
+vec3 core_warp_cosine_hemisphere(double u1, double u2);
+double core_warp_cosine_hemisphere_pdf(vec3 w);
 /* Uniform sphere; pdf = 1 / 4π. */
-vec3 nbrdf_warp_uniform_sphere(double u1, double u2);
+vec3 core_warp_uniform_sphere(double u1, double u2);
 /* Uniform upper hemisphere; pdf = 1 / 2π. */
-vec3 nbrdf_warp_uniform_hemisphere(double u1, double u2);
+vec3 core_warp_uniform_hemisphere(double u1, double u2);
 
 #endif

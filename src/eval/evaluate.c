@@ -33,8 +33,7 @@ static nbrdf_status decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, 
   int D = d->dec->cfg.latent_dim;
   float *lat = calloc(n * (size_t)D, sizeof *lat), *wi = calloc(6 * n, sizeof *wi);
   float *wo = wi ? wi + 3 * n : NULL, *out = calloc(n, sizeof *out);
-  nbrdf_status st =
-      lat && wi && out ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  nbrdf_status st = lat && wi && out ? NBRDF_OK : core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   for (size_t k = 0; k < n && !st; k++) {
     memcpy(lat + k * (size_t)D, d->latent, (size_t)D * sizeof *lat);
     for (int j = 0; j < 3; j++)
@@ -106,22 +105,22 @@ nbrdf_status eval_score_latents(model_decoder *dec, size_t n, const float *lat, 
                                 double *approx, eval_case *cases, nbrdf_error *err) {
   size_t D = (size_t)dec->cfg.latent_dim;
   double *own = approx ? NULL : malloc(PER_BRDF * sizeof *own);
-  if (!approx && !own) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
+  if (!approx && !own) return core_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
   decoder_lobe dl = {dec, {0}, NULL};
   nbrdf_status st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &dl.runner, err);
   for (size_t i = 0; i < n && !st; i++) {
     dl.latent = lat + i * D;
     const double *r = ref + i * PER_BRDF;
     double *img = approx ? approx + i * PER_BRDF : own;
-    st = nbrdf_lobe_images(decoder_lobe_fn, &dl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
-                           nbrdf_lobe_theta_deg, img, err);
+    st = lobe_images(decoder_lobe_fn, &dl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg, img,
+                     err);
     if (st) break;
     eval_case *c = &cases[i];
-    c->lobe_error = nbrdf_lobe_error(PER_BRDF, r, img);
-    c->albedo_error = nbrdf_lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, r, img, NULL);
+    c->lobe_error = lobe_l1_error(PER_BRDF, r, img);
+    c->albedo_error = lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, r, img, NULL);
     c->max_albedo = 0;
     for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
-      double a = nbrdf_lobe_albedo(NBRDF_LOBE_RES, img + t * IMG);
+      double a = lobe_albedo(NBRDF_LOBE_RES, img + t * IMG);
       if (a > c->max_albedo) c->max_albedo = a;
     }
   }
@@ -136,9 +135,9 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
   r->set = set, r->n = s->count;
   if (model) dec = model->decoder;
   if ((set == EVAL_LAYER || set == EVAL_LAYER3 || set == EVAL_TABLE) && !model)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "evaluate: the %s set needs a bundle (tables and layering network)",
-                      eval_set_name(set));
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "evaluate: the %s set needs a bundle (tables and layering network)",
+                     eval_set_name(set));
   size_t n = (size_t)s->count, D = (size_t)dec->cfg.latent_dim;
   r->cases = calloc(n, sizeof *r->cases);
   r->ref = malloc(n * PER_BRDF * sizeof *r->ref);
@@ -148,7 +147,7 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
   if (!r->cases || !r->ref || !r->approx || !lat || !params) {
     free(lat), free(params);
     eval_result_free(r);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
+    return core_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
   }
   uint64_t family = train_heldout_seed(eval_set_heldout(set));
   for (size_t i = 0; i < n; i++) {

@@ -47,30 +47,30 @@ static void cache_path(char *out, size_t size, eval_set set, const eval_settings
 }
 
 static int load_cache(const char *path, const eval_settings *s, eval_extra_ref *x) {
-  nbrdf_st_reader *r = NULL;
-  if (nbrdf_st_open(path, &r, NULL) != NBRDF_OK) return 0;
+  nn_st_reader *r = NULL;
+  if (nn_st_open(path, &r, NULL) != NBRDF_OK) return 0;
   int64_t img[4] = {s->count, EVAL_N_GRAZING, NBRDF_LOBE_RES, NBRDF_LOBE_RES};
   int64_t per[2] = {s->count, NT};
   const float *a = NULL, *b = NULL, *c = NULL, *d = NULL;
-  int ok = nbrdf_st_expect(r, "images", 4, img, &a, NULL) == NBRDF_OK &&
-           nbrdf_st_expect(r, "mirror", 2, per, &b, NULL) == NBRDF_OK &&
-           nbrdf_st_expect(r, "albedo", 2, per, &c, NULL) == NBRDF_OK &&
-           nbrdf_st_expect(r, "albedo_se", 2, per, &d, NULL) == NBRDF_OK;
+  int ok = nn_st_expect(r, "images", 4, img, &a, NULL) == NBRDF_OK &&
+           nn_st_expect(r, "mirror", 2, per, &b, NULL) == NBRDF_OK &&
+           nn_st_expect(r, "albedo", 2, per, &c, NULL) == NBRDF_OK &&
+           nn_st_expect(r, "albedo_se", 2, per, &d, NULL) == NBRDF_OK;
   if (ok) {
     for (size_t k = 0; k < (size_t)s->count * PER_GRAZING; k++)
       x->images[k] = a[k];
     for (size_t k = 0; k < (size_t)s->count * NT; k++)
       x->mirror[k] = b[k], x->albedo[k] = c[k], x->albedo_se[k] = d[k];
   }
-  nbrdf_st_close(r);
+  nn_st_close(r);
   return ok;
 }
 
 static void save_cache(const char *path, const eval_settings *s, const eval_extra_ref *x) {
   size_t ni = (size_t)s->count * PER_GRAZING, np = (size_t)s->count * NT;
   float *buf = malloc((ni + 3 * np) * sizeof *buf);
-  nbrdf_st_writer *w = NULL;
-  if (buf && nbrdf_st_writer_create(&w, NULL) == NBRDF_OK) {
+  nn_st_writer *w = NULL;
+  if (buf && nn_st_writer_create(&w, NULL) == NBRDF_OK) {
     for (size_t k = 0; k < ni; k++)
       buf[k] = (float)x->images[k];
     for (size_t k = 0; k < np; k++) {
@@ -82,13 +82,13 @@ static void save_cache(const char *path, const eval_settings *s, const eval_extr
     int64_t per[2] = {s->count, NT};
     mkdir(s->cache_dir, 0777);
     /* A cache that cannot be written only costs the next run time. */
-    if (nbrdf_st_writer_add_borrowed(w, "images", 4, img, buf, NULL) == NBRDF_OK &&
-        nbrdf_st_writer_add_borrowed(w, "mirror", 2, per, buf + ni, NULL) == NBRDF_OK &&
-        nbrdf_st_writer_add_borrowed(w, "albedo", 2, per, buf + ni + np, NULL) == NBRDF_OK &&
-        nbrdf_st_writer_add_borrowed(w, "albedo_se", 2, per, buf + ni + 2 * np, NULL) == NBRDF_OK)
-      (void)nbrdf_st_writer_save(w, path, NULL, NULL);
+    if (nn_st_writer_add_borrowed(w, "images", 4, img, buf, NULL) == NBRDF_OK &&
+        nn_st_writer_add_borrowed(w, "mirror", 2, per, buf + ni, NULL) == NBRDF_OK &&
+        nn_st_writer_add_borrowed(w, "albedo", 2, per, buf + ni + np, NULL) == NBRDF_OK &&
+        nn_st_writer_add_borrowed(w, "albedo_se", 2, per, buf + ni + 2 * np, NULL) == NBRDF_OK)
+      (void)nn_st_writer_save(w, path, NULL, NULL);
   }
-  nbrdf_st_writer_destroy(w);
+  nn_st_writer_destroy(w);
   free(buf);
 }
 
@@ -107,7 +107,7 @@ static nbrdf_status point_refs(const train_params *p, uint64_t seed, int walks, 
   st = nbrdf_brdf_eval(b, NT, q, &o, mirror, NULL, err);
   for (int t = 0; t < NT && !st; t++)
     st = nbrdf_brdf_albedo(b, eval_theta_all_deg[t] * (M_PI / 180.0), REF_ALBEDO_SAMPLES,
-                           nbrdf_hash64(seed, (uint64_t)t), &albedo[t], &albedo_se[t], err);
+                           core_hash64(seed, (uint64_t)t), &albedo[t], &albedo_se[t], err);
   nbrdf_brdf_destroy(b);
   return st;
 }
@@ -123,7 +123,7 @@ nbrdf_status eval_reference_extra(eval_set set, const eval_settings *s, eval_ext
   x->albedo_se = malloc(n * NT * sizeof *x->albedo_se);
   if (!x->images || !x->mirror || !x->albedo || !x->albedo_se) {
     eval_extra_ref_free(x);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
+    return core_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
   }
   char path[4096];
   if (s->cache_dir) {
@@ -134,20 +134,20 @@ nbrdf_status eval_reference_extra(eval_set set, const eval_settings *s, eval_ext
   train_kind kind = train_heldout_kind(eval_set_heldout(set));
   char stage[64];
   snprintf(stage, sizeof stage, "%s: grazing reference", eval_set_name(set));
-  nbrdf_ticker ticker;
-  nbrdf_ticker_init(&ticker, s->progress, s->user, NULL);
+  core_ticker ticker;
+  core_ticker_init(&ticker, s->progress, s->user, NULL);
   nbrdf_status st = NBRDF_OK;
   for (size_t i = 0; i < n && !st; i++) {
     train_params p;
     train_params_draw(family, kind, (uint64_t)i, &p);
-    uint64_t seed = nbrdf_hash64(nbrdf_hash64(family, EXTRA_TAG), (uint64_t)i);
+    uint64_t seed = core_hash64(core_hash64(family, EXTRA_TAG), (uint64_t)i);
     st = eval_images_of(&p, seed, s->walks, NULL, EVAL_N_GRAZING, grazing_deg,
                         x->images + i * PER_GRAZING, err);
     if (!st)
       st = point_refs(&p, seed ^ 1u, s->walks, x->mirror + i * NT, x->albedo + i * NT,
                       x->albedo_se + i * NT, err);
-    if (!st && nbrdf_ticker_tick(&ticker, stage, (double)(i + 1), (double)n, 1))
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
+    if (!st && core_ticker_tick(&ticker, stage, (double)(i + 1), (double)n, 1))
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
   }
   if (st) {
     eval_extra_ref_free(x);
@@ -165,7 +165,7 @@ static nbrdf_status decode_one(model_decoder *dec, model_runner *runner, const f
   float *lat = calloc(n * (size_t)D, sizeof *lat), *dirs = calloc(6 * n, sizeof *dirs);
   float *out = calloc(n, sizeof *out);
   nbrdf_status st =
-      lat && dirs && out ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+      lat && dirs && out ? NBRDF_OK : core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   for (size_t k = 0; k < n && !st; k++) {
     memcpy(lat + k * (size_t)D, latent, (size_t)D * sizeof *lat);
     for (int a = 0; a < 3; a++)
@@ -189,7 +189,7 @@ static nbrdf_status grazing_fn(void *user, size_t n, const nbrdf_query *q, doubl
                                nbrdf_error *err) {
   grazing_lobe *g = user;
   double *dirs = malloc(6 * n * sizeof *dirs);
-  if (!dirs) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  if (!dirs) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   for (size_t k = 0; k < n; k++)
     for (int a = 0; a < 3; a++)
       dirs[3 * k + a] = q[k].wi[a], dirs[3 * n + 3 * k + a] = q[k].wo[a];
@@ -211,7 +211,7 @@ nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size
   float *sigma = model ? malloc(n * sizeof *sigma) : NULL,
         *w = model ? malloc(n * sizeof *w) : NULL;
   if (!img || !all_ref || !rho || (model && (!sigma || !w)))
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
+    st = core_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
   /* Decoded albedo with the proxy lobe of each latent as one more technique. */
   if (!st && model) st = nbrdf_model_proxy_params(model, n, lat, sigma, w, err);
   if (!st)
@@ -223,17 +223,16 @@ nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size
     const float *latent = lat + i * D;
     g.latent = latent;
     /* Decoded images at all six angles, the references beside them. */
-    st = nbrdf_lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg,
-                           img, err);
+    st = lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg, img, err);
     if (!st)
-      st = nbrdf_lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, EVAL_N_GRAZING, grazing_deg,
-                             img + PER_BRDF, err);
+      st = lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, EVAL_N_GRAZING, grazing_deg, img + PER_BRDF,
+                       err);
     if (st) break;
     memcpy(all_ref, ref + i * PER_BRDF, PER_BRDF * sizeof *all_ref);
     memcpy(all_ref + PER_BRDF, x->images + i * PER_GRAZING, PER_GRAZING * sizeof *all_ref);
     for (int t = 0; t < NT; t++)
-      c->pointwise[t] = nbrdf_lobe_pointwise_error(NBRDF_LOBE_RES, all_ref + t * IMG, img + t * IMG,
-                                                   POINTWISE_FLOOR);
+      c->pointwise[t] =
+          lobe_pointwise_error(NBRDF_LOBE_RES, all_ref + t * IMG, img + t * IMG, POINTWISE_FLOOR);
     /* Over all six images: each image's pixels against its own peak. */
     double *e = malloc(NT * IMG * sizeof *e);
     size_t m = 0;
@@ -242,17 +241,17 @@ nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size
         double peak = 0.0, wo[3];
         for (int row = 0; row < NBRDF_LOBE_RES; row++)
           for (int col = 0; col < NBRDF_LOBE_RES; col++)
-            if (nbrdf_lobe_pixel_wo(NBRDF_LOBE_RES, row, col, wo))
+            if (lobe_pixel_wo(NBRDF_LOBE_RES, row, col, wo))
               peak = fmax(peak, all_ref[t * IMG + (size_t)row * NBRDF_LOBE_RES + col] / wo[2]);
         for (int row = 0; row < NBRDF_LOBE_RES; row++)
           for (int col = 0; col < NBRDF_LOBE_RES; col++) {
             size_t k = t * IMG + (size_t)row * NBRDF_LOBE_RES + col;
-            if (nbrdf_lobe_pixel_wo(NBRDF_LOBE_RES, row, col, wo) && peak > 0.0 &&
+            if (lobe_pixel_wo(NBRDF_LOBE_RES, row, col, wo) && peak > 0.0 &&
                 all_ref[k] / wo[2] > POINTWISE_FLOOR * peak)
               e[m++] = fabs(img[k] / all_ref[k] - 1.0);
           }
       }
-    c->pointwise_all = e ? nbrdf_median_finite(m, e) : NAN;
+    c->pointwise_all = e ? lobe_median_finite(m, e) : NAN;
     free(e);
     /* Mirror direction. */
     double wi[3 * NT], wo[3 * NT], f[NT];
@@ -282,10 +281,10 @@ void eval_summarise_extra(eval_result *r) {
   for (int t = 0; t < NT; t++) {
     for (int i = 0; i < r->n; i++)
       v[i] = r->cases[i].pointwise[t];
-    r->median_pointwise[t] = nbrdf_median_finite((size_t)r->n, v);
+    r->median_pointwise[t] = lobe_median_finite((size_t)r->n, v);
     for (int i = 0; i < r->n; i++)
       v[i] = r->cases[i].mirror_error[t];
-    r->median_mirror[t] = nbrdf_median_finite((size_t)r->n, v);
+    r->median_mirror[t] = lobe_median_finite((size_t)r->n, v);
     r->max_decoded_albedo[t] = 0.0, r->max_albedo_excess[t] = -INFINITY;
     for (int i = 0; i < r->n; i++) {
       const eval_case *c = &r->cases[i];
@@ -297,6 +296,6 @@ void eval_summarise_extra(eval_result *r) {
   }
   for (int i = 0; i < r->n; i++)
     v[i] = r->cases[i].pointwise_all;
-  r->median_pointwise_all = nbrdf_median_finite((size_t)r->n, v);
+  r->median_pointwise_all = lobe_median_finite((size_t)r->n, v);
   free(v);
 }

@@ -41,14 +41,14 @@ int eval_set_parse(const char *name, eval_set *set) {
 /* Progress inside one BRDF's reference (its layered images take seconds):
  * the ticker is asked between chunks of walks. */
 typedef struct ref_tick {
-  nbrdf_ticker *ticker;
+  core_ticker *ticker;
   const char *stage;
   double done, total;
 } ref_tick;
 
 static int ref_tick_fn(void *user) {
   ref_tick *t = user;
-  return nbrdf_ticker_tick(t->ticker, t->stage, t->done, t->total, 0);
+  return core_ticker_tick(t->ticker, t->stage, t->done, t->total, 0);
 }
 
 nbrdf_status eval_images_of(const train_params *p, uint64_t seed, int walks,
@@ -59,18 +59,18 @@ nbrdf_status eval_images_of(const train_params *p, uint64_t seed, int walks,
   if (st) return st;
   if (nbrdf_brdf_is_stochastic(b)) {
     for (int t = 0; t < n_theta && !st; t++) {
-      int ok = layered_lobe_image_hooked(&nbrdf_brdf_bsdf(b)->layered,
+      int ok = layered_lobe_image_hooked(&brdf_bsdf(b)->layered,
                                          theta_deg[t] * (M_PI / 180.0), NBRDF_LOBE_RES,
-                                         walks, nbrdf_hash64(seed, (uint64_t)t), 0, hook,
+                                         walks, core_hash64(seed, (uint64_t)t), 0, hook,
                                          out + t * IMG, NULL);
       if (ok < 0)
-        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
+        st = core_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
       else if (!ok)
-        st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory in the lobe estimator");
+        st = core_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory in the lobe estimator");
     }
   } else {
-    nbrdf_lobe_brdf lb = {b, {seed, 1, 1}};
-    st = nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, NBRDF_LOBE_RES, n_theta, theta_deg, out, err);
+    lobe_brdf lb = {b, {seed, 1, 1}};
+    st = lobe_images(lobe_brdf_fn, &lb, NBRDF_LOBE_RES, n_theta, theta_deg, out, err);
   }
   nbrdf_brdf_destroy(b);
   return st;
@@ -82,18 +82,18 @@ static void cache_path(char *out, size_t size, eval_set set, const eval_settings
 }
 
 static int load_cache(const char *path, const eval_settings *s, double *images, double *noise) {
-  nbrdf_st_reader *r = NULL;
-  if (nbrdf_st_open(path, &r, NULL) != NBRDF_OK) return 0;
+  nn_st_reader *r = NULL;
+  if (nn_st_open(path, &r, NULL) != NBRDF_OK) return 0;
   int64_t shape[4] = {s->count, NBRDF_LOBE_N_THETA, NBRDF_LOBE_RES, NBRDF_LOBE_RES}, one = 1;
   const float *x = NULL, *nz = NULL;
-  int ok = nbrdf_st_expect(r, "images", 4, shape, &x, NULL) == NBRDF_OK &&
-           nbrdf_st_expect(r, "noise", 1, &one, &nz, NULL) == NBRDF_OK;
+  int ok = nn_st_expect(r, "images", 4, shape, &x, NULL) == NBRDF_OK &&
+           nn_st_expect(r, "noise", 1, &one, &nz, NULL) == NBRDF_OK;
   if (ok) {
     for (size_t k = 0; k < (size_t)s->count * PER_BRDF; k++)
       images[k] = x[k];
     *noise = nz[0];
   }
-  nbrdf_st_close(r);
+  nn_st_close(r);
   return ok;
 }
 
@@ -101,18 +101,18 @@ static void save_cache(const char *path, const eval_settings *s, const double *i
                        double noise) {
   size_t n = (size_t)s->count * PER_BRDF;
   float *x = malloc(n * sizeof *x), nz = (float)noise;
-  nbrdf_st_writer *w = NULL;
-  if (x && nbrdf_st_writer_create(&w, NULL) == NBRDF_OK) {
+  nn_st_writer *w = NULL;
+  if (x && nn_st_writer_create(&w, NULL) == NBRDF_OK) {
     for (size_t k = 0; k < n; k++)
       x[k] = (float)images[k];
     int64_t shape[4] = {s->count, NBRDF_LOBE_N_THETA, NBRDF_LOBE_RES, NBRDF_LOBE_RES}, one = 1;
     mkdir(s->cache_dir, 0777);
     /* A cache that cannot be written only costs the next run time. */
-    if (nbrdf_st_writer_add_borrowed(w, "images", 4, shape, x, NULL) == NBRDF_OK &&
-        nbrdf_st_writer_add(w, "noise", 1, &one, &nz, NULL) == NBRDF_OK)
-      (void)nbrdf_st_writer_save(w, path, NULL, NULL);
+    if (nn_st_writer_add_borrowed(w, "images", 4, shape, x, NULL) == NBRDF_OK &&
+        nn_st_writer_add(w, "noise", 1, &one, &nz, NULL) == NBRDF_OK)
+      (void)nn_st_writer_save(w, path, NULL, NULL);
   }
-  nbrdf_st_writer_destroy(w);
+  nn_st_writer_destroy(w);
   free(x);
 }
 
@@ -135,25 +135,25 @@ nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images
   snprintf(stage, sizeof stage, "%s: reference", names[set]);
   int nn = s->noise_brdfs < s->count ? s->noise_brdfs : s->count, n_noise = 0;
   double *second = malloc(PER_BRDF * sizeof *second), *errs = malloc((size_t)(nn + 1) * 8);
-  nbrdf_status st = second && errs ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
-  nbrdf_ticker ticker;
-  nbrdf_ticker_init(&ticker, s->progress, s->user, NULL);
+  nbrdf_status st = second && errs ? NBRDF_OK : core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  core_ticker ticker;
+  core_ticker_init(&ticker, s->progress, s->user, NULL);
   ref_tick rt = {&ticker, stage, 0.0, s->count};
   layered_lobe_hook hook = {NULL, ref_tick_fn, &rt};
   for (int i = 0; i < s->count && !st; i++) {
     train_params p;
     train_params_draw(family, kind, (uint64_t)i, &p);
-    uint64_t seed = nbrdf_hash64(nbrdf_hash64(family, REF_TAG), (uint64_t)i);
+    uint64_t seed = core_hash64(core_hash64(family, REF_TAG), (uint64_t)i);
     rt.done = i;
-    st = eval_images_of(&p, seed, s->walks, &hook, NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg,
+    st = eval_images_of(&p, seed, s->walks, &hook, NBRDF_LOBE_N_THETA, lobe_theta_deg,
                         images + (size_t)i * PER_BRDF, err);
     if (!st && i < nn && p.n_coats > 0) {
       st = eval_images_of(&p, seed ^ UINT64_C(0x9e3779b97f4a7c15), s->walks, &hook,
-                          NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg, second, err);
-      if (!st) errs[n_noise++] = nbrdf_lobe_error(PER_BRDF, images + (size_t)i * PER_BRDF, second);
+                          NBRDF_LOBE_N_THETA, lobe_theta_deg, second, err);
+      if (!st) errs[n_noise++] = lobe_l1_error(PER_BRDF, images + (size_t)i * PER_BRDF, second);
     }
-    if (!st && nbrdf_ticker_tick(&ticker, stage, i + 1, s->count, 1))
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
+    if (!st && core_ticker_tick(&ticker, stage, i + 1, s->count, 1))
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
   }
   *noise = 0.0;
   if (n_noise > 0) {

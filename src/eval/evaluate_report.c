@@ -97,7 +97,7 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
   char *text = NULL;
   size_t len = 0;
   FILE *f = open_memstream(&text, &len); /* written whole by the output module */
-  if (!f) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+  if (!f) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   fprintf(f, "{\n  \"model\": \"%s\",\n  \"count\": %d,\n  \"reference_walks\": %d,\n", model_label,
           s->count, s->walks);
   fprintf(f, "  \"projection_steps\": %d,\n  \"sets\": {", s->project_steps);
@@ -126,8 +126,8 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
   }
   fprintf(f, "\n  }\n}\n");
   int bad = ferror(f) | fclose(f);
-  nbrdf_status st = bad ? nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path)
-                        : nbrdf_output_file_write_all(path, text, len, NULL, 0, err);
+  nbrdf_status st = bad ? core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path)
+                        : core_output_file_write_all(path, text, len, NULL, 0, err);
   free(text);
   return st;
 }
@@ -135,7 +135,7 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
 nbrdf_status eval_write_plots(const char *dir, const eval_result *r, int n_results,
                               nbrdf_error *err) {
   if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", dir, strerror(errno));
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", dir, strerror(errno));
   nbrdf_status st = NBRDF_OK;
   for (int k = 0; k < n_results && !st; k++) {
     const char *what[2] = {"median", "worst"};
@@ -144,8 +144,8 @@ nbrdf_status eval_write_plots(const char *dir, const eval_result *r, int n_resul
       char path[4096];
       snprintf(path, sizeof path, "%s/%s_%s.png", dir, eval_set_name(r[k].set), what[j]);
       size_t at = (size_t)idx[j] * PER_BRDF;
-      st = nbrdf_lobe_write_png(path, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, r[k].ref + at,
-                                r[k].approx + at, 2, err);
+      st = lobe_write_png(path, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, r[k].ref + at, r[k].approx + at,
+                          2, err);
     }
   }
   return st;

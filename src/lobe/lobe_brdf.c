@@ -2,8 +2,8 @@
  * metrics link without the physics. */
 #include "lobe/lobe.h"
 
-nbrdf_status nbrdf_lobe_brdf_fn(void *user, size_t n, const nbrdf_query *queries, double *f,
-                                nbrdf_error *err) {
-  const nbrdf_lobe_brdf *b = user;
+nbrdf_status lobe_brdf_fn(void *user, size_t n, const nbrdf_query *queries, double *f,
+                          nbrdf_error *err) {
+  const lobe_brdf *b = user;
   return nbrdf_brdf_eval(b->brdf, n, queries, &b->options, f, NULL, err);
 }

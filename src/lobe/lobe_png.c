@@ -31,17 +31,17 @@ static void diverging(double d, unsigned char *rgb) {
   rgb[2] = d > 0 ? lo : hi;
 }
 
-nbrdf_status nbrdf_lobe_write_png(const char *path, int res, int n_images, const double *ref,
-                                  const double *approx, int zoom, nbrdf_error *err) {
+nbrdf_status lobe_write_png(const char *path, int res, int n_images, const double *ref,
+                            const double *approx, int zoom, nbrdf_error *err) {
   if (res < 1 || res > 1024 || n_images < 1 || n_images > 64 || zoom < 1 || zoom > 16)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s: lobe PNG of %d images of %d² pixels at zoom %d is out of range", path,
-                      n_images, res, zoom);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s: lobe PNG of %d images of %d² pixels at zoom %d is out of range", path,
+                     n_images, res, zoom);
   const int cols = approx ? 3 : 1, panel = res * zoom;
   const int width = cols * panel + (cols + 1) * GAP,
             height = n_images * panel + (n_images + 1) * GAP;
   unsigned char *rgb = malloc((size_t)width * (size_t)height * 3);
-  if (!rgb) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+  if (!rgb) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   memset(rgb, 255, (size_t)width * (size_t)height * 3);
   const size_t stride = (size_t)res * (size_t)res;
   for (int t = 0; t < n_images; t++) {
@@ -56,7 +56,7 @@ nbrdf_status nbrdf_lobe_write_png(const char *path, int res, int n_images, const
           double wo[3];
           size_t p = (size_t)row * (size_t)res + (size_t)col;
           unsigned char px[3] = {0, 0, 0}; /* outside the disk */
-          if (nbrdf_lobe_pixel_wo(res, row, col, wo)) {
+          if (lobe_pixel_wo(res, row, col, wo)) {
             if (c == 2)
               diverging((a[p] - r[p]) * scale, px);
             else
@@ -72,7 +72,7 @@ nbrdf_status nbrdf_lobe_write_png(const char *path, int res, int n_images, const
           }
         }
   }
-  nbrdf_status st = nbrdf_png_write_rgb8(path, width, height, rgb, err);
+  nbrdf_status st = lobe_png_write_rgb8(path, width, height, rgb, err);
   free(rgb);
   return st;
 }

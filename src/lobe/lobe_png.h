@@ -11,7 +11,7 @@
  * map; the difference approx − ref uses the same scale, red where the
  * approximation is higher, blue where it is lower. Pixels are magnified
  * `zoom` times (1..16). */
-nbrdf_status nbrdf_lobe_write_png(const char *path, int res, int n_images, const double *ref,
-                                  const double *approx, int zoom, nbrdf_error *err);
+nbrdf_status lobe_write_png(const char *path, int res, int n_images, const double *ref,
+                            const double *approx, int zoom, nbrdf_error *err);
 
 #endif

@@ -9,7 +9,7 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-double nbrdf_median_finite(size_t n, const double *x) {
+double lobe_median_finite(size_t n, const double *x) {
   double *v = malloc((n ? n : 1) * sizeof *v);
   if (!v) return NAN;
   size_t m = 0;
@@ -24,15 +24,15 @@ double nbrdf_median_finite(size_t n, const double *x) {
   return med;
 }
 
-double nbrdf_lobe_pointwise_error(int res, const double *ref, const double *approx,
-                                  double floor_fraction) {
+double lobe_pointwise_error(int res, const double *ref, const double *approx,
+                            double floor_fraction) {
   size_t npix = (size_t)res * (size_t)res;
   double *e = malloc(npix * sizeof *e);
   if (!e) return NAN;
   double peak = 0.0, wo[3];
   for (int row = 0; row < res; row++)
     for (int col = 0; col < res; col++)
-      if (nbrdf_lobe_pixel_wo(res, row, col, wo)) {
+      if (lobe_pixel_wo(res, row, col, wo)) {
         double f = ref[(size_t)row * res + col] / wo[2];
         if (f > peak) peak = f;
       }
@@ -40,11 +40,11 @@ double nbrdf_lobe_pointwise_error(int res, const double *ref, const double *appr
   for (int row = 0; row < res; row++)
     for (int col = 0; col < res; col++) {
       size_t k = (size_t)row * res + col;
-      if (!nbrdf_lobe_pixel_wo(res, row, col, wo)) continue;
+      if (!lobe_pixel_wo(res, row, col, wo)) continue;
       double f = ref[k] / wo[2];
       if (peak > 0.0 && f > floor_fraction * peak) e[m++] = fabs(approx[k] / ref[k] - 1.0);
     }
-  double med = nbrdf_median_finite(m, e);
+  double med = lobe_median_finite(m, e);
   free(e);
   return med;
 }

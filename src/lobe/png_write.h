@@ -12,8 +12,8 @@ extern "C" {
 /* Writes width×height pixels of 3 bytes (R, G, B), rows top to bottom, to
  * `path` as PNG. The file is written under a temporary name next to `path`
  * and renamed, so a failure never leaves a half-written image behind. */
-nbrdf_status nbrdf_png_write_rgb8(const char *path, int width, int height, const unsigned char *rgb,
-                                  nbrdf_error *err);
+nbrdf_status lobe_png_write_rgb8(const char *path, int width, int height, const unsigned char *rgb,
+                                 nbrdf_error *err);
 
 #ifdef __cplusplus
 }

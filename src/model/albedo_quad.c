@@ -51,7 +51,7 @@ static double tech_pdf(const technique *t, vec3 wi, vec3 wo) {
 
 static int tech_sample(const technique *t, vec3 wi, double u1, double u2, vec3 *wo) {
   if (t->kind == 0) {
-    *wo = nbrdf_warp_cosine_hemisphere(u1, u2);
+    *wo = core_warp_cosine_hemisphere(u1, u2);
     return 1;
   }
   if (t->kind == 1) {
@@ -68,12 +68,12 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
                                     double proxy_sigma, nbrdf_error *err) {
   memset(q, 0, sizeof *q);
   if (!(theta_i >= 0.0 && theta_i < 0.5 * M_PI))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "albedo quadrature: theta_i = %g rad, expected [0, pi/2)", theta_i);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "albedo quadrature: theta_i = %g rad, expected [0, pi/2)", theta_i);
   if (n < 16)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: %d samples, expected >= 16", n);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: %d samples, expected >= 16", n);
   if (!(proxy_sigma >= 0.0) || !isfinite(proxy_sigma))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: proxy sigma = %g", proxy_sigma);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: proxy sigma = %g", proxy_sigma);
   technique tech[MODEL_ALBEDO_QUAD_MAX_TECH];
   double share[MODEL_ALBEDO_QUAD_MAX_TECH];
   int nt = 0;
@@ -95,7 +95,7 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
   q->weight = malloc((size_t)n * sizeof *q->weight);
   if (!q->wo || !q->weight) {
     model_albedo_quad_free(q);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "albedo quadrature: out of memory (%d samples)", n);
+    return core_fail(err, NBRDF_ERR_MEMORY, "albedo quadrature: out of memory (%d samples)", n);
   }
   q->n = n;
   q->n_tech = nt;
@@ -115,12 +115,12 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
   }
   int k = 0;
   for (int j = 0; j < nt; j++) {
-    nbrdf_rng rng;
-    nbrdf_rng_init(&rng, nbrdf_hash64(seed, (uint64_t)llround(theta_i * 1e9)), (uint64_t)j);
+    core_rng rng;
+    core_rng_init(&rng, core_hash64(seed, (uint64_t)llround(theta_i * 1e9)), (uint64_t)j);
     for (int s = 0; s < counts[j]; s++, k++) {
       /* Stratified in u1 (one stratum per sample), jittered in u2. */
-      double u1 = (s + nbrdf_rng_uniform(&rng)) / counts[j];
-      double u2 = nbrdf_rng_uniform(&rng);
+      double u1 = (s + core_rng_uniform(&rng)) / counts[j];
+      double u2 = core_rng_uniform(&rng);
       vec3 wo;
       double w = 0.0;
       if (tech_sample(&tech[j], wi, u1, u2, &wo) && wo.z > MIN_COS) {
@@ -178,8 +178,8 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
                                   double *se, nbrdf_error *err) {
   if (n_latents == 0 || n_theta <= 0) return NBRDF_OK;
   if (samples < 16 || samples > MAX_ROWS)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "decoded albedo: %d samples, expected 16..%d",
-                      samples, MAX_ROWS);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "decoded albedo: %d samples, expected 16..%d",
+                     samples, MAX_ROWS);
   const int D = dec->cfg.latent_dim;
   size_t per = (size_t)(MAX_ROWS / samples);
   if (per > n_latents) per = n_latents;
@@ -192,7 +192,7 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
   model_albedo_quad *quads = calloc(per, sizeof *quads);
   nbrdf_status st = NBRDF_OK;
   if (!lat || !wi || !wo || !f || !fd || !quads)
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "decoded albedo: out of memory (%zu rows)", rows);
+    st = core_fail(err, NBRDF_ERR_MEMORY, "decoded albedo: out of memory (%zu rows)", rows);
   for (int t = 0; st == NBRDF_OK && t < n_theta; t++) {
     double th = theta_deg[t] * M_PI / 180.0;
     for (size_t l0 = 0; st == NBRDF_OK && l0 < n_latents; l0 += per) {

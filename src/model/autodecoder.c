@@ -34,10 +34,10 @@ nbrdf_status model_fit_create(model_decoder *dec, size_t n_brdfs, float *latents
                               const model_fit_options *opts, model_fit **out, nbrdf_error *err) {
   if (n_brdfs < 1 || opts->rows_per_brdf < 1 || opts->max_batch < 1 || !(opts->lr_latent >= 0.0f) ||
       !(opts->lr_weights >= 0.0f) || !(opts->latent_l2 >= 0.0f))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "fit: needs >= 1 BRDF, rows per BRDF and batch, and non-negative rates");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "fit: needs >= 1 BRDF, rows per BRDF and batch, and non-negative rates");
   model_fit *fit = calloc(1, sizeof *fit);
-  if (!fit) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "fit: out of memory");
+  if (!fit) return core_fail(err, NBRDF_ERR_MEMORY, "fit: out of memory");
   fit->dec = dec;
   fit->n_brdfs = n_brdfs;
   fit->latents = latents;
@@ -53,11 +53,10 @@ nbrdf_status model_fit_create(model_decoder *dec, size_t n_brdfs, float *latents
   fit->row_weight = malloc(batch * sizeof(float));
   fit->row_brdf = malloc(batch * sizeof(size_t));
   fit->grad_latent = malloc(n_latent * sizeof(float));
-  if (opts->lr_weights > 0.0f)
-    fit->grad_weights = malloc(nbrdf_nn_param_count(dec->nn) * sizeof(float));
+  if (opts->lr_weights > 0.0f) fit->grad_weights = malloc(nn_param_count(dec->nn) * sizeof(float));
   if (!fit->dy || !fit->dx || !fit->target || !fit->row_weight || !fit->row_brdf ||
       !fit->grad_latent || (opts->lr_weights > 0.0f && !fit->grad_weights)) {
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "fit: out of memory for %zu latents", n_brdfs);
+    st = core_fail(err, NBRDF_ERR_MEMORY, "fit: out of memory for %zu latents", n_brdfs);
     goto fail;
   }
   *out = fit;
@@ -81,11 +80,11 @@ static void fill_row(model_fit *fit, const model_samples *s, int r, size_t b, si
 /* Forward, loss, backward of the m rows in the runner; gradients accumulate. */
 static nbrdf_status run_batch(model_fit *fit, int m, float scale, double *loss, nbrdf_error *err) {
   const model_decoder *dec = fit->dec;
-  nbrdf_status st = nbrdf_nn_forward(dec->nn, fit->runner.ws, fit->runner.x, m, fit->runner.y, err);
+  nbrdf_status st = nn_forward(dec->nn, fit->runner.ws, fit->runner.x, m, fit->runner.y, err);
   if (st != NBRDF_OK) return st;
   *loss += model_loss_sum(fit->opts.loss, dec->cfg.output, (size_t)m, fit->runner.y, fit->target,
                           fit->row_weight, scale, fit->dy);
-  st = nbrdf_nn_backward(dec->nn, fit->runner.ws, fit->dy, fit->dx, fit->grad_weights, err);
+  st = nn_backward(dec->nn, fit->runner.ws, fit->dy, fit->dx, fit->grad_weights, err);
   if (st != NBRDF_OK) return st;
   size_t dim = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
   for (int r = 0; r < m; r++) {
@@ -100,23 +99,22 @@ static nbrdf_status run_batch(model_fit *fit, int m, float scale, double *loss, 
 nbrdf_status model_fit_gradient(model_fit *fit, const model_samples *s, int64_t step, double *loss,
                                 nbrdf_error *err) {
   if (s->n_brdfs != fit->n_brdfs)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "fit: samples for %zu BRDFs, the fit has %zu",
-                      s->n_brdfs, fit->n_brdfs);
+    return core_fail(err, NBRDF_ERR_MISMATCH, "fit: samples for %zu BRDFs, the fit has %zu",
+                     s->n_brdfs, fit->n_brdfs);
   size_t dim = (size_t)fit->dec->cfg.latent_dim, n_latent = fit->n_brdfs * dim;
   size_t per = (size_t)fit->opts.rows_per_brdf;
   float scale = (float)(1.0 / ((double)fit->n_brdfs * (double)per));
   memset(fit->grad_latent, 0, n_latent * sizeof(float));
-  if (fit->grad_weights)
-    memset(fit->grad_weights, 0, nbrdf_nn_param_count(fit->dec->nn) * sizeof(float));
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, fit->opts.seed, (uint64_t)step);
+  if (fit->grad_weights) memset(fit->grad_weights, 0, nn_param_count(fit->dec->nn) * sizeof(float));
+  core_rng rng;
+  core_rng_init(&rng, fit->opts.seed, (uint64_t)step);
   double sum = 0.0;
   int m = 0;
   nbrdf_status st = NBRDF_OK;
   for (size_t b = 0; b < fit->n_brdfs && st == NBRDF_OK; b++) {
     size_t count = s->offsets[b + 1] - s->offsets[b];
     for (size_t j = 0; j < per && st == NBRDF_OK; j++) {
-      size_t idx = s->offsets[b] + (size_t)(nbrdf_rng_uniform(&rng) * (double)count);
+      size_t idx = s->offsets[b] + (size_t)(core_rng_uniform(&rng) * (double)count);
       fill_row(fit, s, m++, b, idx);
       if (m == fit->runner.max_batch) {
         st = run_batch(fit, m, scale, &sum, err);
@@ -149,8 +147,8 @@ size_t model_fit_latent_count(const model_fit *fit) {
 nbrdf_status model_fit_eval_loss(model_fit *fit, const model_samples *s, double *per_brdf,
                                  double *mean, nbrdf_error *err) {
   if (s->n_brdfs != fit->n_brdfs)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "fit: samples for %zu BRDFs, the fit has %zu",
-                      s->n_brdfs, fit->n_brdfs);
+    return core_fail(err, NBRDF_ERR_MISMATCH, "fit: samples for %zu BRDFs, the fit has %zu",
+                     s->n_brdfs, fit->n_brdfs);
   const model_decoder *dec = fit->dec;
   double all = 0.0;
   for (size_t b = 0; b < fit->n_brdfs; b++) {
@@ -160,8 +158,7 @@ nbrdf_status model_fit_eval_loss(model_fit *fit, const model_samples *s, double 
       int m = 0;
       for (size_t i = i0; i < end && m < fit->runner.max_batch; i++)
         fill_row(fit, s, m++, b, i);
-      nbrdf_status st =
-          nbrdf_nn_forward(dec->nn, fit->runner.ws, fit->runner.x, m, fit->runner.y, err);
+      nbrdf_status st = nn_forward(dec->nn, fit->runner.ws, fit->runner.x, m, fit->runner.y, err);
       if (st != NBRDF_OK) return st;
       sum += model_loss_sum(fit->opts.loss, dec->cfg.output, (size_t)m, fit->runner.y, fit->target,
                             NULL, 1.0f, NULL);

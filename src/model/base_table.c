@@ -35,18 +35,18 @@ nbrdf_status model_base_table_init(model_base_table *t, model_table_kind kind, i
   const int n[2] = {n0, n1};
   const float *axes[2] = {axis0, axis1};
   if (dim < 1 || dim > 4096)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s table: latent dimension %d",
-                      model_table_name(kind), dim);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s table: latent dimension %d",
+                     model_table_name(kind), dim);
   for (int a = 0; a < 2; a++) {
     if (n[a] < 2 || n[a] > 1 << 16)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "%s table: %d nodes on the %s axis, expected 2..65536",
-                        model_table_name(kind), n[a], model_table_param(kind, a));
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "%s table: %d nodes on the %s axis, expected 2..65536",
+                       model_table_name(kind), n[a], model_table_param(kind, a));
     for (int i = 0; i < n[a]; i++) {
       if (!isfinite(axes[a][i]) || (i > 0 && !(axes[a][i] > axes[a][i - 1])))
-        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                          "%s table: the %s axis is not finite and strictly increasing at node %d",
-                          model_table_name(kind), model_table_param(kind, a), i);
+        return core_fail(err, NBRDF_ERR_ARGUMENT,
+                         "%s table: the %s axis is not finite and strictly increasing at node %d",
+                         model_table_name(kind), model_table_param(kind, a), i);
     }
   }
   t->kind = kind;
@@ -58,7 +58,7 @@ nbrdf_status model_base_table_init(model_base_table *t, model_table_kind kind, i
   t->latents = calloc((size_t)n0 * (size_t)n1 * (size_t)dim, sizeof(float));
   if (!t->axis[0] || !t->axis[1] || !t->latents) {
     model_base_table_free(t);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s table: out of memory", model_table_name(kind));
+    return core_fail(err, NBRDF_ERR_MEMORY, "%s table: out of memory", model_table_name(kind));
   }
   for (int a = 0; a < 2; a++)
     memcpy(t->axis[a], axes[a], (size_t)n[a] * sizeof(float));
@@ -93,13 +93,13 @@ nbrdf_status model_base_table_lookup(const model_base_table *t, size_t n, const 
     for (int a = 0; a < 2; a++) {
       double lo = t->axis[a][0], hi = t->axis[a][t->n[a] - 1];
       if (!isfinite(p[a]))
-        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g (query %zu) is not finite",
-                          model_table_param(t->kind, a), p[a], k);
+        return core_fail(err, NBRDF_ERR_ARGUMENT, "%s = %g (query %zu) is not finite",
+                         model_table_param(t->kind, a), p[a], k);
       if (p[a] < lo || p[a] > hi) {
         if (refuse)
-          return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                            "%s = %g (query %zu) is outside the model's table range [%g, %g]",
-                            model_table_param(t->kind, a), p[a], k, lo, hi);
+          return core_fail(err, NBRDF_ERR_ARGUMENT,
+                           "%s = %g (query %zu) is outside the model's table range [%g, %g]",
+                           model_table_param(t->kind, a), p[a], k, lo, hi);
         flags |= (unsigned char)(1u << a);
         p[a] = p[a] < lo ? lo : hi;
       }
@@ -123,47 +123,46 @@ static void tensor_name(char *buf, size_t size, model_table_kind kind, const cha
   snprintf(buf, size, "%s.%s", model_table_name(kind), what);
 }
 
-nbrdf_status model_base_table_write(const model_base_table *t, nbrdf_st_writer *w,
-                                    nbrdf_error *err) {
+nbrdf_status model_base_table_write(const model_base_table *t, nn_st_writer *w, nbrdf_error *err) {
   char name[64];
   nbrdf_status st = NBRDF_OK;
   for (int a = 0; a < 2 && st == NBRDF_OK; a++) {
     int64_t shape[1] = {t->n[a]};
     tensor_name(name, sizeof name, t->kind, model_table_axis_tensor(t->kind, a));
-    st = nbrdf_st_writer_add_borrowed(w, name, 1, shape, t->axis[a], err);
+    st = nn_st_writer_add_borrowed(w, name, 1, shape, t->axis[a], err);
   }
   int64_t shape[3] = {t->n[0], t->n[1], t->dim};
   tensor_name(name, sizeof name, t->kind, "latents");
-  if (st == NBRDF_OK) st = nbrdf_st_writer_add_borrowed(w, name, 3, shape, t->latents, err);
+  if (st == NBRDF_OK) st = nn_st_writer_add_borrowed(w, name, 3, shape, t->latents, err);
   return st;
 }
 
-nbrdf_status model_base_table_read(const nbrdf_st_reader *r, model_table_kind kind, int dim,
+nbrdf_status model_base_table_read(const nn_st_reader *r, model_table_kind kind, int dim,
                                    model_base_table *t, nbrdf_error *err) {
-  const char *label = nbrdf_st_label(r);
+  const char *label = nn_st_label(r);
   char name[64];
   const float *axes[2];
   int n[2];
   for (int a = 0; a < 2; a++) {
     tensor_name(name, sizeof name, kind, model_table_axis_tensor(kind, a));
-    const nbrdf_st_tensor *ten = nbrdf_st_find(r, name);
-    if (!ten) return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: has no tensor '%s'", label, name);
+    const nn_st_tensor *ten = nn_st_find(r, name);
+    if (!ten) return core_fail(err, NBRDF_ERR_MISMATCH, "%s: has no tensor '%s'", label, name);
     if (ten->ndim != 1 || ten->shape[0] < 2 || ten->shape[0] > 1 << 16)
-      return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                        "%s: tensor '%s' must be a vector of 2..65536 grid nodes", label, name);
+      return core_fail(err, NBRDF_ERR_MISMATCH,
+                       "%s: tensor '%s' must be a vector of 2..65536 grid nodes", label, name);
     n[a] = (int)ten->shape[0];
     int64_t shape[1] = {n[a]};
-    nbrdf_status st = nbrdf_st_expect(r, name, 1, shape, &axes[a], err);
+    nbrdf_status st = nn_st_expect(r, name, 1, shape, &axes[a], err);
     if (st != NBRDF_OK) return st;
   }
   nbrdf_status st = model_base_table_init(t, kind, dim, n[0], axes[0], n[1], axes[1], err);
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "%s: ", label);
+    core_error_prefix(err, "%s: ", label);
     return st;
   }
   int64_t shape[3] = {n[0], n[1], dim};
   tensor_name(name, sizeof name, kind, "latents");
-  st = nbrdf_st_expect_copy(r, name, 3, shape, t->latents, err);
+  st = nn_st_expect_copy(r, name, 3, shape, t->latents, err);
   if (st != NBRDF_OK) model_base_table_free(t);
   return st;
 }

@@ -57,9 +57,8 @@ nbrdf_status model_base_table_lookup(const model_base_table *t, size_t n, const 
                                      unsigned char *clamped, nbrdf_error *err);
 
 /* Adds / reads table `t` to / from a base_tables file. */
-nbrdf_status model_base_table_write(const model_base_table *t, nbrdf_st_writer *w,
-                                    nbrdf_error *err);
-nbrdf_status model_base_table_read(const nbrdf_st_reader *r, model_table_kind kind, int dim,
+nbrdf_status model_base_table_write(const model_base_table *t, nn_st_writer *w, nbrdf_error *err);
+nbrdf_status model_base_table_read(const nn_st_reader *r, model_table_kind kind, int dim,
                                    model_base_table *t, nbrdf_error *err);
 
 #endif

@@ -18,7 +18,7 @@ const char *const model_bundle_files[4] = {"decoder.safetensors", "layering.safe
 static nbrdf_status join(char *buf, const char *dir, const char *file, nbrdf_error *err) {
   int n = snprintf(buf, BUNDLE_PATH_MAX, "%s/%s", dir, file);
   if (n < 0 || n >= BUNDLE_PATH_MAX)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
   return NBRDF_OK;
 }
 
@@ -43,24 +43,24 @@ void nbrdf_model_destroy(nbrdf_model *m) {
   free(m);
 }
 
-static nbrdf_status read_tables(const nbrdf_st_reader *r, nbrdf_model *m, nbrdf_error *err) {
-  const char *label = nbrdf_st_label(r), *format = nbrdf_st_metadata_get(r, "nbrdf.format");
+static nbrdf_status read_tables(const nn_st_reader *r, nbrdf_model *m, nbrdf_error *err) {
+  const char *label = nn_st_label(r), *format = nn_st_metadata_get(r, "nbrdf.format");
   if (!format || strcmp(format, "nbrdf-base-tables") != 0)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "%s: metadata nbrdf.format is not \"nbrdf-base-tables\"", label);
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "%s: metadata nbrdf.format is not \"nbrdf-base-tables\"", label);
   long version, dim;
   nbrdf_status st = model_meta_int(r, "nbrdf.version", 1, 1, &version, err);
   if (st == NBRDF_OK) st = model_meta_int(r, "nbrdf.latent_dim", 1, 4096, &dim, err);
   if (st == NBRDF_OK && dim != m->latent_dim)
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dimension %ld, the bundle's is %d", label,
-                    dim, m->latent_dim);
+    st = core_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dimension %ld, the bundle's is %d", label,
+                   dim, m->latent_dim);
   if (st == NBRDF_OK)
     st = model_base_table_read(r, MODEL_TABLE_DIELECTRIC, m->latent_dim, &m->tables[0], err);
   if (st == NBRDF_OK)
     st = model_base_table_read(r, MODEL_TABLE_CONDUCTOR, m->latent_dim, &m->tables[1], err);
-  if (st == NBRDF_OK && nbrdf_st_tensor_count(r) != 6)
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: %zu tensors, expected the 6 of two tables", label,
-                    nbrdf_st_tensor_count(r));
+  if (st == NBRDF_OK && nn_st_tensor_count(r) != 6)
+    st = core_fail(err, NBRDF_ERR_MISMATCH, "%s: %zu tensors, expected the 6 of two tables", label,
+                   nn_st_tensor_count(r));
   return st;
 }
 
@@ -73,9 +73,9 @@ static nbrdf_status load_part(const char *dir, int i, nbrdf_model *m, uint64_t *
   size_t size = 0;
   if (st == NBRDF_OK) st = model_read_file(path, NBRDF_ST_FILE_MAX, &bytes, &size, err);
   if (st != NBRDF_OK) return st;
-  *hash = nbrdf_st_fnv1a64(*hash, bytes, size);
-  nbrdf_st_reader *r = NULL;
-  st = nbrdf_st_open_memory(bytes, size, path, &r, err);
+  *hash = nn_st_fnv1a64(*hash, bytes, size);
+  nn_st_reader *r = NULL;
+  st = nn_st_open_memory(bytes, size, path, &r, err);
   free(bytes);
   if (st != NBRDF_OK) return st;
   int dim = 0;
@@ -98,10 +98,10 @@ static nbrdf_status load_part(const char *dir, int i, nbrdf_model *m, uint64_t *
     break;
   }
   if (st == NBRDF_OK && what && dim != m->latent_dim)
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                    "%s: the %s has latent dimension %d, model.json says %d", path, what, dim,
-                    m->latent_dim);
-  nbrdf_st_close(r);
+    st =
+        core_fail(err, NBRDF_ERR_MISMATCH, "%s: the %s has latent dimension %d, model.json says %d",
+                  path, what, dim, m->latent_dim);
+  nn_st_close(r);
   return st;
 }
 
@@ -113,7 +113,7 @@ static nbrdf_status remember_files(const char *dir, nbrdf_model *m, nbrdf_error 
   for (int i = 0; i < 5; i++)
     total += strlen(dir) + strlen(names[i]) + 2;
   char *p = m->files_text = malloc(total);
-  if (!p) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", dir);
+  if (!p) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", dir);
   for (int i = 0; i < 5; i++) {
     m->files[i] = p;
     p += sprintf(p, "%s/%s", dir, names[i]) + 1;
@@ -122,9 +122,9 @@ static nbrdf_status remember_files(const char *dir, nbrdf_model *m, nbrdf_error 
 }
 
 nbrdf_status nbrdf_model_load(const char *dir, nbrdf_model **out, nbrdf_error *err) {
-  if (!dir || !out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "model load: NULL argument");
+  if (!dir || !out) return core_fail(err, NBRDF_ERR_ARGUMENT, "model load: NULL argument");
   nbrdf_model *m = calloc(1, sizeof *m);
-  if (!m) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", dir);
+  if (!m) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", dir);
   char expected_checksum[17] = "";
   nbrdf_status st = model_bundle_read_json(dir, m, expected_checksum, err);
   uint64_t hash = NBRDF_ST_FNV1A64_INIT;
@@ -134,11 +134,11 @@ nbrdf_status nbrdf_model_load(const char *dir, nbrdf_model **out, nbrdf_error *e
     m->checksum = hash;
     snprintf(m->checksum_hex, sizeof m->checksum_hex, "%016" PRIx64, hash);
     if (strcmp(expected_checksum, m->checksum_hex) != 0)
-      st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "%s/model.json: checksum %s does not match the weight files' %s (a file was "
-                      "damaged, or replaced without reassembling the bundle with `nbrdf train "
-                      "bundle`)",
-                      dir, expected_checksum, m->checksum_hex);
+      st = core_fail(err, NBRDF_ERR_MISMATCH,
+                     "%s/model.json: checksum %s does not match the weight files' %s (a file was "
+                     "damaged, or replaced without reassembling the bundle with `nbrdf train "
+                     "bundle`)",
+                     dir, expected_checksum, m->checksum_hex);
   }
   if (st == NBRDF_OK) st = model_bundle_check_json(dir, m, err);
   if (st == NBRDF_OK) st = remember_files(dir, m, err);
@@ -160,7 +160,7 @@ int nbrdf_model_files(const nbrdf_model *m, const char *const **paths) {
 }
 int64_t nbrdf_model_decoder_macs(const nbrdf_model *m) { return model_decoder_macs(m->decoder); }
 int64_t nbrdf_model_layering_macs(const nbrdf_model *m) {
-  return nbrdf_nn_spec_macs(nbrdf_nn_get_spec(m->layering->nn));
+  return nn_spec_macs(nn_get_spec(m->layering->nn));
 }
 
 void nbrdf_model_base_grid(const nbrdf_model *m, nbrdf_base_kind kind, int *n0, const float **axis0,
@@ -176,32 +176,31 @@ static nbrdf_status check_parts(const model_bundle_parts *p, nbrdf_error *err) {
   int dim = p->decoder->cfg.latent_dim;
   if (p->layering->latent_dim != dim || p->sampler->latent_dim != dim || p->tables[0]->dim != dim ||
       p->tables[1]->dim != dim)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "bundle: latent dimensions disagree (decoder %d, layering %d, sampler %d, "
-                      "tables %d and %d)",
-                      dim, p->layering->latent_dim, p->sampler->latent_dim, p->tables[0]->dim,
-                      p->tables[1]->dim);
+    return core_fail(err, NBRDF_ERR_MISMATCH,
+                     "bundle: latent dimensions disagree (decoder %d, layering %d, sampler %d, "
+                     "tables %d and %d)",
+                     dim, p->layering->latent_dim, p->sampler->latent_dim, p->tables[0]->dim,
+                     p->tables[1]->dim);
   if (p->tables[0]->kind != MODEL_TABLE_DIELECTRIC || p->tables[1]->kind != MODEL_TABLE_CONDUCTOR)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bundle: tables must be (dielectric, conductor)");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "bundle: tables must be (dielectric, conductor)");
   if (!p->name || !*p->name || strlen(p->name) >= sizeof(((nbrdf_model *)0)->name))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "bundle: the name must have 1..63 characters");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "bundle: the name must have 1..63 characters");
   return NBRDF_OK;
 }
 
 nbrdf_status model_tables_save(const model_base_table *const tables[2], const char *path,
                                nbrdf_error *err) {
-  nbrdf_st_writer *w = NULL;
+  nn_st_writer *w = NULL;
   char dim[16];
   snprintf(dim, sizeof dim, "%d", tables[0]->dim);
-  nbrdf_status st = nbrdf_st_writer_create(&w, err);
-  if (st == NBRDF_OK)
-    st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", "nbrdf-base-tables", err);
-  if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.version", "1", err);
-  if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.latent_dim", dim, err);
+  nbrdf_status st = nn_st_writer_create(&w, err);
+  if (st == NBRDF_OK) st = nn_st_writer_set_metadata(w, "nbrdf.format", "nbrdf-base-tables", err);
+  if (st == NBRDF_OK) st = nn_st_writer_set_metadata(w, "nbrdf.version", "1", err);
+  if (st == NBRDF_OK) st = nn_st_writer_set_metadata(w, "nbrdf.latent_dim", dim, err);
   if (st == NBRDF_OK) st = model_base_table_write(tables[0], w, err);
   if (st == NBRDF_OK) st = model_base_table_write(tables[1], w, err);
-  if (st == NBRDF_OK) st = nbrdf_st_writer_save(w, path, NULL, err);
-  nbrdf_st_writer_destroy(w);
+  if (st == NBRDF_OK) st = nn_st_writer_save(w, path, NULL, err);
+  nn_st_writer_destroy(w);
   return st;
 }
 
@@ -224,7 +223,7 @@ nbrdf_status model_bundle_save(const char *dir, const model_bundle_parts *p, uin
     char *bytes = NULL;
     size_t size = 0;
     if (st == NBRDF_OK) st = model_read_file(path, NBRDF_ST_FILE_MAX, &bytes, &size, err);
-    if (st == NBRDF_OK) hash = nbrdf_st_fnv1a64(hash, bytes, size);
+    if (st == NBRDF_OK) hash = nn_st_fnv1a64(hash, bytes, size);
     free(bytes);
   }
   if (st == NBRDF_OK) st = model_bundle_write_json(dir, p, hash, err);

@@ -31,8 +31,8 @@ typedef struct checker {
 static const cJSON *member(checker *c, const cJSON *obj, const char *section, const char *key) {
   const cJSON *v = cJSON_IsObject(obj) ? cJSON_GetObjectItemCaseSensitive(obj, key) : NULL;
   if (!v && c->st == NBRDF_OK)
-    c->st = nbrdf_fail(c->err, NBRDF_ERR_MISMATCH, "%s: \"%s.%s\" is missing (%s)", c->path,
-                       section, key, REBUILD_HINT);
+    c->st = core_fail(c->err, NBRDF_ERR_MISMATCH, "%s: \"%s.%s\" is missing (%s)", c->path, section,
+                      key, REBUILD_HINT);
   return v;
 }
 
@@ -41,9 +41,9 @@ static void expect_string(checker *c, const cJSON *obj, const char *section, con
   const cJSON *v = member(c, obj, section, key);
   if (c->st != NBRDF_OK) return;
   if (!cJSON_IsString(v) || strcmp(v->valuestring, want) != 0)
-    c->st = nbrdf_fail(c->err, NBRDF_ERR_MISMATCH, "%s: \"%s.%s\" is %s, %s has \"%s\" (%s)",
-                       c->path, section, key, cJSON_IsString(v) ? v->valuestring : "not a string",
-                       file, want, REBUILD_HINT);
+    c->st = core_fail(c->err, NBRDF_ERR_MISMATCH, "%s: \"%s.%s\" is %s, %s has \"%s\" (%s)",
+                      c->path, section, key, cJSON_IsString(v) ? v->valuestring : "not a string",
+                      file, want, REBUILD_HINT);
 }
 
 static void expect_number(checker *c, const cJSON *obj, const char *section, const char *key,
@@ -51,7 +51,7 @@ static void expect_number(checker *c, const cJSON *obj, const char *section, con
   const cJSON *v = member(c, obj, section, key);
   if (c->st != NBRDF_OK) return;
   if (!cJSON_IsNumber(v) || v->valuedouble != want)
-    c->st = nbrdf_fail(c->err, NBRDF_ERR_MISMATCH, "%s: \"%s.%s\" is %.9g, %s has %.9g (%s)",
+    c->st = core_fail(c->err, NBRDF_ERR_MISMATCH, "%s: \"%s.%s\" is %.9g, %s has %.9g (%s)",
                        c->path, section, key, cJSON_IsNumber(v) ? v->valuedouble : NAN, file,
                        want, REBUILD_HINT);
 }
@@ -64,31 +64,31 @@ static void expect_axis(checker *c, const cJSON *obj, const char *section, const
   if (c->st != NBRDF_OK) return;
   int count = cJSON_IsArray(v) ? cJSON_GetArraySize(v) : -1;
   if (count != n) {
-    c->st = nbrdf_fail(c->err, NBRDF_ERR_MISMATCH,
-                       "%s: \"%s.%s\" has %d nodes, base_tables.safetensors %d (%s)", c->path,
-                       section, key, count, n, REBUILD_HINT);
+    c->st = core_fail(c->err, NBRDF_ERR_MISMATCH,
+                      "%s: \"%s.%s\" has %d nodes, base_tables.safetensors %d (%s)", c->path,
+                      section, key, count, n, REBUILD_HINT);
     return;
   }
   for (int i = 0; i < n; i++) {
     const cJSON *x = cJSON_GetArrayItem(v, i);
     if (!cJSON_IsNumber(x) || (float)x->valuedouble != axis[i]) {
-      c->st = nbrdf_fail(c->err, NBRDF_ERR_MISMATCH,
-                         "%s: \"%s.%s\" node %d is %.9g, base_tables.safetensors has %.9g (%s)",
-                         c->path, section, key, i, cJSON_IsNumber(x) ? x->valuedouble : NAN,
-                         (double)axis[i], REBUILD_HINT);
+      c->st = core_fail(c->err, NBRDF_ERR_MISMATCH,
+                        "%s: \"%s.%s\" node %d is %.9g, base_tables.safetensors has %.9g (%s)",
+                        c->path, section, key, i, cJSON_IsNumber(x) ? x->valuedouble : NAN,
+                        (double)axis[i], REBUILD_HINT);
       return;
     }
   }
 }
 
 static void expect_net(checker *c, const cJSON *root, const char *section, const char *file,
-                       const char *preset, const nbrdf_nn *nn) {
+                       const char *preset, const nn_network *nn) {
   const cJSON *o = member(c, root, "model", section);
   expect_string(c, o, section, "preset", file, preset);
-  expect_number(c, o, section, "inputs", file, nbrdf_nn_inputs(nn));
-  expect_number(c, o, section, "outputs", file, nbrdf_nn_outputs(nn));
-  expect_number(c, o, section, "macs", file, (double)nbrdf_nn_spec_macs(nbrdf_nn_get_spec(nn)));
-  expect_number(c, o, section, "params", file, (double)nbrdf_nn_param_count(nn));
+  expect_number(c, o, section, "inputs", file, nn_inputs(nn));
+  expect_number(c, o, section, "outputs", file, nn_outputs(nn));
+  expect_number(c, o, section, "macs", file, (double)nn_spec_macs(nn_get_spec(nn)));
+  expect_number(c, o, section, "params", file, (double)nn_param_count(nn));
 }
 
 nbrdf_status model_bundle_check_json(const char *dir, const nbrdf_model *m, nbrdf_error *err) {

@@ -5,8 +5,8 @@
 #include "model/bundle.h"
 #include "model/proxy.h"
 
-static void net_line(FILE *out, const char *what, const char *preset, const nbrdf_nn *nn) {
-  const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(nn);
+static void net_line(FILE *out, const char *what, const char *preset, const nn_network *nn) {
+  const nn_spec *spec = nn_get_spec(nn);
   /* The first layer lifts the inputs to the width; count only the blocks after it. */
   int plain = 0, residual = 0, width = spec->layers[0].width;
   for (int i = 1; i < spec->n_layers; i++) {
@@ -16,8 +16,8 @@ static void net_line(FILE *out, const char *what, const char *preset, const nbrd
   fprintf(out,
           "%-10s preset %s: %d -> %d, width %d, %d residual + %d plain blocks, %" PRId64
           " MACs per query, %zu parameters\n",
-          what, preset, nbrdf_nn_inputs(nn), nbrdf_nn_outputs(nn), width, residual, plain,
-          nbrdf_nn_spec_macs(spec), nbrdf_nn_param_count(nn));
+          what, preset, nn_inputs(nn), nn_outputs(nn), width, residual, plain, nn_spec_macs(spec),
+          nn_param_count(nn));
 }
 
 void model_bundle_describe(const nbrdf_model *m, FILE *out) {

@@ -18,12 +18,12 @@
  * neighbouring latents (as a trained table does) and baked maps show their
  * structure. Coefficients N(0, 0.5²) from PCG32 stream `stream`. */
 static void fill_smooth(model_base_table *t, uint64_t seed, uint64_t stream) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, stream);
+  core_rng rng;
+  core_rng_init(&rng, seed, stream);
   for (int j = 0; j < t->dim; j++) {
     double c[4];
     for (int q = 0; q < 4; q++)
-      c[q] = 0.5 * nbrdf_rng_normal(&rng);
+      c[q] = 0.5 * core_rng_normal(&rng);
     for (int a = 0; a < t->n[0]; a++) {
       double u = (double)a / (t->n[0] - 1);
       for (int b = 0; b < t->n[1]; b++) {
@@ -60,11 +60,11 @@ nbrdf_status model_bundle_init_random(const char *dir, const char *name, uint64_
   model_base_table tables[2] = {{0}, {0}};
   nbrdf_status st = model_decoder_preset(decoder_preset, INIT_LATENT_DIM, &cfg, err);
   /* One seed, distinct derived seeds per part: the parts stay independent. */
-  if (st == NBRDF_OK) st = model_decoder_create(&cfg, nbrdf_hash64(seed, 1), &dec, err);
+  if (st == NBRDF_OK) st = model_decoder_create(&cfg, core_hash64(seed, 1), &dec, err);
   if (st == NBRDF_OK)
-    st = model_layering_create("paper", INIT_LATENT_DIM, nbrdf_hash64(seed, 2), &lay, err);
+    st = model_layering_create("paper", INIT_LATENT_DIM, core_hash64(seed, 2), &lay, err);
   if (st == NBRDF_OK)
-    st = model_sampler_create("default", INIT_LATENT_DIM, nbrdf_hash64(seed, 3), &smp, err);
+    st = model_sampler_create("default", INIT_LATENT_DIM, core_hash64(seed, 3), &smp, err);
   if (st == NBRDF_OK)
     st = model_base_table_init(&tables[0], MODEL_TABLE_DIELECTRIC, INIT_LATENT_DIM,
                                INIT_ALPHA_NODES, alpha, INIT_ETA_NODES, eta, err);
@@ -72,8 +72,8 @@ nbrdf_status model_bundle_init_random(const char *dir, const char *name, uint64_
     st = model_base_table_init(&tables[1], MODEL_TABLE_CONDUCTOR, INIT_LATENT_DIM, INIT_ALPHA_NODES,
                                alpha, INIT_R0_NODES, r0, err);
   if (st == NBRDF_OK) {
-    fill_smooth(&tables[0], nbrdf_hash64(seed, 4), 0);
-    fill_smooth(&tables[1], nbrdf_hash64(seed, 4), 1);
+    fill_smooth(&tables[0], core_hash64(seed, 4), 0);
+    fill_smooth(&tables[1], core_hash64(seed, 4), 1);
     model_bundle_parts parts = {
         .name = name,
         .trained = 0,

@@ -16,7 +16,7 @@ nbrdf_status model_bundle_parse_json(const char *dir, char path[4096], cJSON **r
                                      nbrdf_error *err) {
   *root = NULL;
   int n = snprintf(path, 4096, "%s/model.json", dir);
-  if (n < 0 || n >= 4096) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
+  if (n < 0 || n >= 4096) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
   char *text = NULL;
   size_t size = 0;
   nbrdf_status st = model_read_file(path, MODEL_JSON_MAX, &text, &size, err);
@@ -26,7 +26,7 @@ nbrdf_status model_bundle_parse_json(const char *dir, char path[4096], cJSON **r
   if (!cJSON_IsObject(*root)) {
     cJSON_Delete(*root);
     *root = NULL;
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: not a JSON object", path);
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: not a JSON object", path);
   }
   return NBRDF_OK;
 }
@@ -44,34 +44,33 @@ nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checks
   const cJSON *dim = cJSON_GetObjectItemCaseSensitive(root, "latent_dim");
   const cJSON *sum = cJSON_GetObjectItemCaseSensitive(root, "checksum");
   if (!cJSON_IsString(format) || strcmp(format->valuestring, MODEL_BUNDLE_FORMAT) != 0)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"format\" is not \"%s\"", path,
-                    MODEL_BUNDLE_FORMAT);
+    st =
+        core_fail(err, NBRDF_ERR_FORMAT, "%s: \"format\" is not \"%s\"", path, MODEL_BUNDLE_FORMAT);
   else if (!cJSON_IsNumber(version) || version->valuedouble != MODEL_BUNDLE_VERSION)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"version\" is not %d (a newer nbrdf wrote it?)",
-                    path, MODEL_BUNDLE_VERSION);
+    st = core_fail(err, NBRDF_ERR_FORMAT, "%s: \"version\" is not %d (a newer nbrdf wrote it?)",
+                   path, MODEL_BUNDLE_VERSION);
   else if (!cJSON_IsString(name) || !name->valuestring[0] ||
            strlen(name->valuestring) >= sizeof m->name)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"name\" must be a string of 1..%zu characters",
-                    path, sizeof m->name - 1);
+    st = core_fail(err, NBRDF_ERR_FORMAT, "%s: \"name\" must be a string of 1..%zu characters",
+                   path, sizeof m->name - 1);
   else if (!cJSON_IsBool(trained))
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"trained\" must be true or false", path);
+    st = core_fail(err, NBRDF_ERR_FORMAT, "%s: \"trained\" must be true or false", path);
   else if (!cJSON_IsNumber(dim) || dim->valuedouble != floor(dim->valuedouble) ||
            dim->valuedouble < 1 || dim->valuedouble > 4096)
-    st =
-        nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"latent_dim\" must be an integer in 1..4096", path);
+    st = core_fail(err, NBRDF_ERR_FORMAT, "%s: \"latent_dim\" must be an integer in 1..4096", path);
   else if (!sum)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                    "%s: no \"checksum\" (a bundle records the checksum of its four .safetensors "
-                    "files, so that a damaged or replaced file is refused); if the files are the "
-                    "intended ones, reassemble the bundle from them with `nbrdf train bundle -o "
-                    "NEW_DIR --name NAME --decoder F --tables F --layering F --sampler F "
-                    "[--card F] [--note TEXT]`, which writes model.json with it "
-                    "(docs/MODEL_BUNDLE.md, \"Checksums\")",
-                    path);
+    st = core_fail(err, NBRDF_ERR_FORMAT,
+                   "%s: no \"checksum\" (a bundle records the checksum of its four .safetensors "
+                   "files, so that a damaged or replaced file is refused); if the files are the "
+                   "intended ones, reassemble the bundle from them with `nbrdf train bundle -o "
+                   "NEW_DIR --name NAME --decoder F --tables F --layering F --sampler F "
+                   "[--card F] [--note TEXT]`, which writes model.json with it "
+                   "(docs/MODEL_BUNDLE.md, \"Checksums\")",
+                   path);
   else if (!cJSON_IsString(sum) || strlen(sum->valuestring) != 16 ||
            strspn(sum->valuestring, "0123456789abcdef") != 16)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: \"checksum\" must be 16 lower-case hex digits",
-                    path);
+    st =
+        core_fail(err, NBRDF_ERR_FORMAT, "%s: \"checksum\" must be 16 lower-case hex digits", path);
   if (st == NBRDF_OK) {
     snprintf(m->name, sizeof m->name, "%s", name->valuestring);
     m->trained = cJSON_IsTrue(trained);
@@ -101,13 +100,13 @@ static cJSON *axis_json(const float *axis, int n) {
   return a;
 }
 
-static cJSON *net_json(const char *preset, const nbrdf_nn *nn) {
+static cJSON *net_json(const char *preset, const nn_network *nn) {
   cJSON *o = cJSON_CreateObject();
   cJSON_AddStringToObject(o, "preset", preset);
-  cJSON_AddNumberToObject(o, "inputs", nbrdf_nn_inputs(nn));
-  cJSON_AddNumberToObject(o, "outputs", nbrdf_nn_outputs(nn));
-  cJSON_AddNumberToObject(o, "macs", (double)nbrdf_nn_spec_macs(nbrdf_nn_get_spec(nn)));
-  cJSON_AddNumberToObject(o, "params", (double)nbrdf_nn_param_count(nn));
+  cJSON_AddNumberToObject(o, "inputs", nn_inputs(nn));
+  cJSON_AddNumberToObject(o, "outputs", nn_outputs(nn));
+  cJSON_AddNumberToObject(o, "macs", (double)nn_spec_macs(nn_get_spec(nn)));
+  cJSON_AddNumberToObject(o, "params", (double)nn_param_count(nn));
   return o;
 }
 
@@ -146,12 +145,12 @@ nbrdf_status model_bundle_write_json(const char *dir, const model_bundle_parts *
   if (p->note) cJSON_AddStringToObject(root, "note", p->note);
   char *text = cJSON_Print(root);
   cJSON_Delete(root);
-  if (!text) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s/model.json: out of memory", dir);
+  if (!text) return core_fail(err, NBRDF_ERR_MEMORY, "%s/model.json: out of memory", dir);
   size_t len = strlen(text);
   char *line = malloc(len + 2);
   nbrdf_status st;
   if (!line) {
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s/model.json: out of memory", dir);
+    st = core_fail(err, NBRDF_ERR_MEMORY, "%s/model.json: out of memory", dir);
   } else {
     memcpy(line, text, len);
     memcpy(line + len, "\n", 2);
@@ -178,16 +177,16 @@ static void add(card *c, const char *fmt, ...) {
     c->len += (size_t)n < sizeof c->text - c->len ? (size_t)n : sizeof c->text - 1 - c->len;
 }
 
-static void add_net(card *c, const char *what, const char *preset, const nbrdf_nn *nn) {
-  add(c, "| %s | %s | %d -> %d | %" PRId64 " | %zu |\n", what, preset, nbrdf_nn_inputs(nn),
-      nbrdf_nn_outputs(nn), nbrdf_nn_spec_macs(nbrdf_nn_get_spec(nn)), nbrdf_nn_param_count(nn));
+static void add_net(card *c, const char *what, const char *preset, const nn_network *nn) {
+  add(c, "| %s | %s | %d -> %d | %" PRId64 " | %zu |\n", what, preset, nn_inputs(nn),
+      nn_outputs(nn), nn_spec_macs(nn_get_spec(nn)), nn_param_count(nn));
 }
 
 nbrdf_status model_bundle_write_card(const char *dir, const model_bundle_parts *p,
                                      uint64_t checksum, nbrdf_error *err) {
   if (p->card) return model_write_text_file(dir, "MODEL_CARD.md", p->card, err);
   card *c = calloc(1, sizeof *c);
-  if (!c) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s/MODEL_CARD.md: out of memory", dir);
+  if (!c) return core_fail(err, NBRDF_ERR_MEMORY, "%s/MODEL_CARD.md: out of memory", dir);
   add(c, "# Model card: %s\n\n", p->name);
   if (!p->trained)
     add(c,

@@ -9,7 +9,7 @@
  *   (clamped so that f is >= 0 and finite). Specular peaks span orders of
  *   magnitude; in log space they cost the network no more than the tails.
  *
- * Presets (MACs = GEMM multiply-adds per query, nbrdf_nn_spec_macs):
+ * Presets (MACs = GEMM multiply-adds per query, nn_spec_macs):
  *   paper   cartesian, f,     width 256, 8 residual + 8 plain blocks   1,058,560
  *   large   halfdiff,  log1p, width 128, 3 residual + 3 plain blocks     103,296
  *   medium  halfdiff,  log1p, width 64,  3 residual + 3 plain blocks      27,072
@@ -34,12 +34,12 @@ typedef struct model_decoder_config {
   int latent_dim;  /* 32 in the paper */
   model_encoding encoding;
   model_output output;
-  nbrdf_nn_spec spec; /* inputs = latent_dim + encoding width, 1 output */
+  nn_spec spec; /* inputs = latent_dim + encoding width, 1 output */
 } model_decoder_config;
 
 typedef struct model_decoder {
   model_decoder_config cfg;
-  nbrdf_nn *nn;
+  nn_network *nn;
 } model_decoder;
 
 /* Names of the presets, NULL-terminated. */
@@ -48,7 +48,7 @@ extern const char *const model_decoder_presets[];
 /* A preset's configuration for the given latent dimension. */
 nbrdf_status model_decoder_preset(const char *name, int latent_dim, model_decoder_config *cfg,
                                   nbrdf_error *err);
-/* A residual MLP (nbrdf_nn_spec_resmlp) configuration of your own. */
+/* A residual MLP (nn_spec_resmlp) configuration of your own. */
 nbrdf_status model_decoder_config_make(int latent_dim, model_encoding encoding, model_output output,
                                        int width, int blocks, int interleave_plain,
                                        model_decoder_config *cfg, nbrdf_error *err);
@@ -83,8 +83,7 @@ nbrdf_status model_decoder_save(const model_decoder *dec, const char *path, uint
 /* The bytes model_decoder_save would write, in a malloc'ed buffer. */
 nbrdf_status model_decoder_serialize(const model_decoder *dec, void **bytes, size_t *size,
                                      nbrdf_error *err);
-nbrdf_status model_decoder_read(const nbrdf_st_reader *reader, model_decoder **out,
-                                nbrdf_error *err);
+nbrdf_status model_decoder_read(const nn_st_reader *reader, model_decoder **out, nbrdf_error *err);
 nbrdf_status model_decoder_load(const char *path, model_decoder **out, nbrdf_error *err);
 
 #endif

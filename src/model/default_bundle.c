@@ -50,22 +50,22 @@ static int beside(const char *file, const char *rel, char out[PATH_MAX]) {
 
 static nbrdf_status found(char *path, size_t size, const char *dir, nbrdf_error *err) {
   if (strlen(dir) >= size)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "default bundle %s: path longer than %zu bytes", dir,
-                      size - 1);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "default bundle %s: path longer than %zu bytes", dir,
+                     size - 1);
   memcpy(path, dir, strlen(dir) + 1);
   return NBRDF_OK;
 }
 
 nbrdf_status nbrdf_default_bundle_path(char *path, size_t size, nbrdf_error *err) {
   if (!path || size == 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "default bundle: no room for the path");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "default bundle: no room for the path");
   const char *env = getenv("NBRDF_BUNDLE");
   if (env && env[0]) {
     if (!is_dir(env))
-      return nbrdf_fail(err, NBRDF_ERR_IO, "$NBRDF_BUNDLE=%s: %s", env,
-                        errno == ENOENT ? "no such folder" : "not a folder");
+      return core_fail(err, NBRDF_ERR_IO, "$NBRDF_BUNDLE=%s: %s", env,
+                       errno == ENOENT ? "no such folder" : "not a folder");
     if (!holds_bundle(env))
-      return nbrdf_fail(err, NBRDF_ERR_FORMAT, "$NBRDF_BUNDLE=%s: no model.json in it", env);
+      return core_fail(err, NBRDF_ERR_FORMAT, "$NBRDF_BUNDLE=%s: no model.json in it", env);
     return found(path, size, env, err);
   }
 
@@ -95,7 +95,7 @@ nbrdf_status nbrdf_default_bundle_path(char *path, size_t size, nbrdf_error *err
     if (holds_bundle(fixed[i])) return found(path, size, fixed[i], err);
     tried[n_tried++] = fixed[i];
   }
-  nbrdf_fail(err, NBRDF_ERR_IO, "no default model bundle found ($NBRDF_BUNDLE is not set; tried");
+  core_fail(err, NBRDF_ERR_IO, "no default model bundle found ($NBRDF_BUNDLE is not set; tried");
   for (int i = 0; i < n_tried && err; i++) {
     size_t used = strlen(err->message);
     snprintf(err->message + used, sizeof err->message - used, "%s %s", i ? "," : "", tried[i]);
@@ -116,6 +116,6 @@ nbrdf_status nbrdf_model_load_default(nbrdf_model **out, char *path_used, size_t
   if (path_used && size > 0) snprintf(path_used, size, "%s", dir);
   st = nbrdf_model_load(dir, out, err);
   if (st != NBRDF_OK && getenv("NBRDF_BUNDLE") && getenv("NBRDF_BUNDLE")[0])
-    nbrdf_error_prefix(err, "$NBRDF_BUNDLE=%s: ", dir);
+    core_error_prefix(err, "$NBRDF_BUNDLE=%s: ", dir);
   return st;
 }

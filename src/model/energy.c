@@ -29,21 +29,21 @@ nbrdf_status model_energy_parse_angles(const char *text, const char *option,
                                        model_energy_options *o, nbrdf_error *err) {
   char buf[256];
   if (strlen(text) >= sizeof buf)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: list too long", option);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: list too long", option);
   strcpy(buf, text);
   int n = 0;
   for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
     char *end = NULL;
     double v = strtod(tok, &end);
     if (end == tok || *end != '\0' || !(v >= 0.0 && v < 90.0))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: '%s' is not an angle in degrees in [0, 90)",
-                        option, tok);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: '%s' is not an angle in degrees in [0, 90)",
+                       option, tok);
     if (n == MODEL_ENERGY_MAX_THETA)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: at most %d angles", option,
-                        MODEL_ENERGY_MAX_THETA);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: at most %d angles", option,
+                       MODEL_ENERGY_MAX_THETA);
     o->theta_deg[n++] = v;
   }
-  if (n == 0) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no angle given", option);
+  if (n == 0) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: no angle given", option);
   o->n_theta = n;
   return NBRDF_OK;
 }
@@ -59,18 +59,18 @@ nbrdf_status model_energy_create(const model_decoder *dec, const model_energy_op
                                  model_energy **out, nbrdf_error *err) {
   *out = NULL;
   if (!(o->lambda >= 0.0f) || !isfinite(o->lambda))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: lambda = %g, expected >= 0",
-                      (double)o->lambda);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: lambda = %g, expected >= 0",
+                     (double)o->lambda);
   if (o->n_theta < 1 || o->n_theta > MODEL_ENERGY_MAX_THETA || o->samples < 16 || o->samples > 4096)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "energy penalty: %d angles (1..%d) and %d samples (16..4096)", o->n_theta,
-                      MODEL_ENERGY_MAX_THETA, o->samples);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "energy penalty: %d angles (1..%d) and %d samples (16..4096)", o->n_theta,
+                     MODEL_ENERGY_MAX_THETA, o->samples);
   for (int t = 0; t < o->n_theta; t++)
     if (!(o->theta_deg[t] >= 0.0 && o->theta_deg[t] < 90.0))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: angle %g is outside [0, 90)",
-                        o->theta_deg[t]);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: angle %g is outside [0, 90)",
+                       o->theta_deg[t]);
   model_energy *e = calloc(1, sizeof *e);
-  if (!e) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
+  if (!e) return core_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
   e->dec = dec, e->o = *o;
   e->rows_per_latent = o->n_theta * o->samples;
   size_t R = (size_t)e->rows_per_latent, batch = R * LATENTS_PER_PASS;
@@ -84,7 +84,7 @@ nbrdf_status model_energy_create(const model_decoder *dec, const model_energy_op
     e->dx = malloc(batch * in * sizeof *e->dx);
     e->f = malloc((size_t)o->samples * sizeof *e->f);
     if (!e->wi || !e->wo || !e->weight || !e->dy || !e->dx || !e->f)
-      st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
+      st = core_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
   }
   if (st) {
     model_energy_destroy(e);
@@ -100,7 +100,7 @@ static nbrdf_status make_directions(model_energy *e, int64_t step, nbrdf_error *
   for (int t = 0; t < e->o.n_theta; t++) {
     model_albedo_quad q;
     nbrdf_status st = model_albedo_quad_init(&q, e->o.theta_deg[t] * (M_PI / 180.0), S,
-                                             nbrdf_hash64(e->o.seed, (uint64_t)step), 0.0, err);
+                                             core_hash64(e->o.seed, (uint64_t)step), 0.0, err);
     if (st) return st;
     for (int k = 0; k < S; k++) {
       size_t r = (size_t)t * S + (size_t)k;
@@ -141,7 +141,7 @@ nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, c
         memcpy(x + r * in, latents + (l0 + l) * D, D * sizeof *x);
       model_encode(&dec->cfg.encoding, R, e->wi, e->wo, x + D, in);
     }
-    st = nbrdf_nn_forward(dec->nn, e->runner.ws, e->runner.x, (int)(m * R), e->runner.y, err);
+    st = nn_forward(dec->nn, e->runner.ws, e->runner.x, (int)(m * R), e->runner.y, err);
     if (st) break;
     int active = 0;
     for (size_t l = 0; l < m; l++)
@@ -163,8 +163,7 @@ nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, c
       }
     /* A pass with no latent above its ceiling has a zero gradient. */
     if (!backprop || !active) continue;
-    st = nbrdf_nn_backward(dec->nn, e->runner.ws, e->dy, grad_latent ? e->dx : NULL, grad_weights,
-                           err);
+    st = nn_backward(dec->nn, e->runner.ws, e->dy, grad_latent ? e->dx : NULL, grad_weights, err);
     if (st || !grad_latent) continue;
     for (size_t l = 0; l < m; l++) {
       float *g = grad_latent + (l0 + l) * D;

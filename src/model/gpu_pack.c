@@ -16,17 +16,17 @@ static uint32_t bits(float f) {
 }
 
 /* Offset of tensor layers.<i>.<part>, or NONE when the layer has no such tensor. */
-static uint32_t tensor_offset(const nbrdf_nn *nn, int i, const char *part) {
+static uint32_t tensor_offset(const nn_network *nn, int i, const char *part) {
   char name[64];
   snprintf(name, sizeof name, "layers.%d.%s", i, part);
-  const nbrdf_nn_tensor *t = nbrdf_nn_find_tensor(nn, name);
+  const nn_tensor *t = nn_find_tensor(nn, name);
   return t ? (uint32_t)t->offset : NBRDF_GPU_NONE;
 }
 
-static void layer_record(const nbrdf_nn *nn, int i, uint32_t r[NBRDF_GPU_LAYER_WORDS]) {
-  const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(nn);
-  const nbrdf_nn_layer_spec *s = &spec->layers[i];
-  int in = nbrdf_nn_spec_width(spec, i), out = nbrdf_nn_spec_width(spec, i + 1);
+static void layer_record(const nn_network *nn, int i, uint32_t r[NBRDF_GPU_LAYER_WORDS]) {
+  const nn_spec *spec = nn_get_spec(nn);
+  const nn_layer_spec *s = &spec->layers[i];
+  int in = nn_spec_width(spec, i), out = nn_spec_width(spec, i + 1);
   int residual = s->kind == NBRDF_NN_RESIDUAL;
   int plain = s->kind == NBRDF_NN_PLAIN;
   memset(r, 0, sizeof(uint32_t) * NBRDF_GPU_LAYER_WORDS);
@@ -35,7 +35,7 @@ static void layer_record(const nbrdf_nn *nn, int i, uint32_t r[NBRDF_GPU_LAYER_W
   r[2] = (uint32_t)out;
   r[3] = residual ? (uint32_t)(s->hidden > 0 ? s->hidden : in / 2) : 0u;
   r[4] = s->has_skip ? (uint32_t)s->skip_from : NBRDF_GPU_NONE;
-  r[5] = s->has_skip ? (uint32_t)nbrdf_nn_spec_width(spec, s->skip_from) : 0u;
+  r[5] = s->has_skip ? (uint32_t)nn_spec_width(spec, s->skip_from) : 0u;
   const char *w1 = residual ? "fc1.weight" : plain ? "fc.weight" : "weight";
   const char *b1 = residual ? "fc1.bias" : plain ? "fc.bias" : "bias";
   const char *g1 = residual ? "norm1.weight" : "norm.weight";
@@ -65,21 +65,21 @@ static void layer_record(const nbrdf_nn *nn, int i, uint32_t r[NBRDF_GPU_LAYER_W
 
 nbrdf_status model_gpu_pack_decoder(const model_decoder *dec, uint32_t *words, size_t capacity,
                                     size_t *n_words, nbrdf_error *err) {
-  const nbrdf_nn *nn = dec->nn;
-  const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(nn);
+  const nn_network *nn = dec->nn;
+  const nn_spec *spec = nn_get_spec(nn);
   int max_width = spec->n_inputs;
   for (int i = 0; i < spec->n_layers; i++) {
-    const nbrdf_nn_layer_spec *s = &spec->layers[i];
+    const nn_layer_spec *s = &spec->layers[i];
     /* The shader keeps the network input for the whole pass, but no other activation. */
     if (s->has_skip && s->skip_from != 0)
-      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                        "gpu pack: layer %d (%s) has a skip from activation %d; the shader "
-                        "supports skips from the network input only",
-                        i, nbrdf_nn_kind_name(s->kind), s->skip_from);
-    int w = nbrdf_nn_spec_width(spec, i + 1);
+      return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                       "gpu pack: layer %d (%s) has a skip from activation %d; the shader "
+                       "supports skips from the network input only",
+                       i, nn_kind_name(s->kind), s->skip_from);
+    int w = nn_spec_width(spec, i + 1);
     if (w > max_width) max_width = w;
     if (s->kind == NBRDF_NN_RESIDUAL) {
-      int in = nbrdf_nn_spec_width(spec, i);
+      int in = nn_spec_width(spec, i);
       int h = s->hidden > 0 ? s->hidden : in / 2;
       if (h > max_width) max_width = h;
     }
@@ -90,15 +90,15 @@ nbrdf_status model_gpu_pack_decoder(const model_decoder *dec, uint32_t *words, s
    * that indexes it in local memory. */
   max_width = (max_width + 31) / 32 * 32;
   if (max_width < 64) max_width = 64;
-  size_t n_params = nbrdf_nn_param_count(nn);
+  size_t n_params = nn_param_count(nn);
   size_t params_at = NBRDF_GPU_HEADER_WORDS + (size_t)NBRDF_GPU_LAYER_WORDS * spec->n_layers;
   size_t total = params_at + n_params;
   if (n_words) *n_words = total;
   if (!words) return NBRDF_OK;
   if (capacity < total)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "gpu pack: the decoder needs %zu words, got %zu",
-                      total, capacity);
-  int64_t macs = nbrdf_nn_spec_macs(spec);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "gpu pack: the decoder needs %zu words, got %zu",
+                     total, capacity);
+  int64_t macs = nn_spec_macs(spec);
   memset(words, 0, sizeof(uint32_t) * params_at);
   words[NBRDF_GPU_W_MAGIC] = NBRDF_GPU_DECODER_MAGIC;
   words[NBRDF_GPU_W_VERSION] = NBRDF_GPU_VERSION;
@@ -108,14 +108,14 @@ nbrdf_status model_gpu_pack_decoder(const model_decoder *dec, uint32_t *words, s
   words[NBRDF_GPU_W_ENCODING] = (uint32_t)dec->cfg.encoding.kind;
   words[NBRDF_GPU_W_OCTAVES] = (uint32_t)dec->cfg.encoding.octaves;
   words[NBRDF_GPU_W_OUTPUT] = dec->cfg.output == MODEL_OUTPUT_LOG1P ? 1u : 0u;
-  words[NBRDF_GPU_W_OUTPUTS] = (uint32_t)nbrdf_nn_spec_outputs(spec);
+  words[NBRDF_GPU_W_OUTPUTS] = (uint32_t)nn_spec_outputs(spec);
   words[NBRDF_GPU_W_MAX_WIDTH] = (uint32_t)max_width;
   words[NBRDF_GPU_W_PARAMS] = (uint32_t)params_at;
   words[NBRDF_GPU_W_PARAM_COUNT] = (uint32_t)n_params;
   words[NBRDF_GPU_W_MACS] = macs > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)macs;
   for (int i = 0; i < spec->n_layers; i++)
     layer_record(nn, i, words + NBRDF_GPU_HEADER_WORDS + (size_t)NBRDF_GPU_LAYER_WORDS * i);
-  const float *p = nbrdf_nn_params_const(nn);
+  const float *p = nn_params_const(nn);
   for (size_t k = 0; k < n_params; k++)
     words[params_at + k] = bits(p[k]);
   return NBRDF_OK;
@@ -123,7 +123,7 @@ nbrdf_status model_gpu_pack_decoder(const model_decoder *dec, uint32_t *words, s
 
 nbrdf_status nbrdf_gpu_pack_decoder(const nbrdf_model *model, uint32_t *words, size_t capacity,
                                     size_t *n_words, nbrdf_error *err) {
-  if (!model) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "gpu pack: NULL model");
+  if (!model) return core_fail(err, NBRDF_ERR_ARGUMENT, "gpu pack: NULL model");
   return model_gpu_pack_decoder(model->decoder, words, capacity, n_words, err);
 }
 
@@ -132,33 +132,33 @@ nbrdf_status nbrdf_gpu_pack_latents(int levels, const int *width, const int *hei
                                     const float *const *data, uint32_t *words, size_t capacity,
                                     size_t *n_words, nbrdf_error *err) {
   if (levels < 1 || levels > NBRDF_GPU_L_MAX_LEVELS)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "gpu pack: %d levels, expected 1..%d", levels,
-                      NBRDF_GPU_L_MAX_LEVELS);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "gpu pack: %d levels, expected 1..%d", levels,
+                     NBRDF_GPU_L_MAX_LEVELS);
   if ((colours != 1 && colours != 3) || latent_dim < 1 ||
       channels != colours * (latent_dim + (proxy ? 2 : 0)))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "gpu pack: %d channels per texel do not match %d colour(s) of %d latents%s",
-                      channels, colours, latent_dim, proxy ? " + sigma, w" : "");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "gpu pack: %d channels per texel do not match %d colour(s) of %d latents%s",
+                     channels, colours, latent_dim, proxy ? " + sigma, w" : "");
   size_t total = NBRDF_GPU_L_DATA;
   for (int l = 0; l < levels; l++) {
     int w = width[0] >> l, h = height[0] >> l;
     w = w > 1 ? w : 1;
     h = h > 1 ? h : 1;
     if (width[0] < 1 || height[0] < 1 || width[l] != w || height[l] != h)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "gpu pack: level %d is %d x %d, the round-down chain of %d x %d needs "
-                        "%d x %d",
-                        l, width[l], height[l], width[0], height[0], w, h);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "gpu pack: level %d is %d x %d, the round-down chain of %d x %d needs "
+                       "%d x %d",
+                       l, width[l], height[l], width[0], height[0], w, h);
     total += (size_t)w * h * channels;
   }
   if (total > UINT32_MAX)
-    return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                      "gpu pack: %zu words exceed the 32-bit word offsets", total);
+    return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                     "gpu pack: %zu words exceed the 32-bit word offsets", total);
   if (n_words) *n_words = total;
   if (!words) return NBRDF_OK;
   if (capacity < total)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "gpu pack: the texture needs %zu words, got %zu",
-                      total, capacity);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "gpu pack: the texture needs %zu words, got %zu",
+                     total, capacity);
   memset(words, 0, sizeof(uint32_t) * NBRDF_GPU_L_DATA);
   words[NBRDF_GPU_L_MAGIC] = NBRDF_GPU_LATENT_MAGIC;
   words[NBRDF_GPU_L_VERSION] = NBRDF_GPU_VERSION;

@@ -7,16 +7,16 @@
 nbrdf_status nbrdf_latent_interpolate(size_t count, int dim, const float *latents,
                                       const double *weights, float *out, nbrdf_error *err) {
   if (count < 1 || dim < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "interpolate: %zu latents of %d floats", count, dim);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "interpolate: %zu latents of %d floats", count, dim);
   double sum = 0.0;
   for (size_t k = 0; k < count; k++) {
     if (!isfinite(weights[k]) || weights[k] < 0.0)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "interpolate: weight %zu = %g is not finite and >= 0", k, weights[k]);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "interpolate: weight %zu = %g is not finite and >= 0", k, weights[k]);
     sum += weights[k];
   }
   if (!(sum > 0.0) || !isfinite(sum))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "interpolate: the weights sum to %g, not > 0", sum);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "interpolate: the weights sum to %g, not > 0", sum);
   for (int j = 0; j < dim; j++) {
     double acc = 0.0;
     for (size_t k = 0; k < count; k++)

@@ -9,11 +9,11 @@
 
 const char *const model_layering_presets[] = {"paper", "medium", "small", NULL};
 
-nbrdf_status model_layering_spec(const char *preset, int latent_dim, nbrdf_nn_spec *spec,
+nbrdf_status model_layering_spec(const char *preset, int latent_dim, nn_spec *spec,
                                  nbrdf_error *err) {
   if (latent_dim < 1 || latent_dim > 4096)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layering: latent dimension %d, expected 1..4096",
-                      latent_dim);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "layering: latent dimension %d, expected 1..4096",
+                     latent_dim);
   int width, blocks;
   if (!strcmp(preset, "paper"))
     width = 512, blocks = 4;
@@ -22,17 +22,17 @@ nbrdf_status model_layering_spec(const char *preset, int latent_dim, nbrdf_nn_sp
   else if (!strcmp(preset, "small"))
     width = 128, blocks = 2;
   else
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "unknown layering preset '%s' (paper, medium, small)", preset);
-  return nbrdf_nn_spec_resmlp(spec, 2 * latent_dim + 2, width, blocks, 0, latent_dim, err);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "unknown layering preset '%s' (paper, medium, small)",
+                     preset);
+  return nn_spec_resmlp(spec, 2 * latent_dim + 2, width, blocks, 0, latent_dim, err);
 }
 
-static nbrdf_status wrap(const char *preset, int latent_dim, nbrdf_nn *nn, model_layering **out,
+static nbrdf_status wrap(const char *preset, int latent_dim, nn_network *nn, model_layering **out,
                          nbrdf_error *err) {
   model_layering *net = calloc(1, sizeof *net);
   if (!net) {
-    nbrdf_nn_destroy(nn);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "layering: out of memory");
+    nn_destroy(nn);
+    return core_fail(err, NBRDF_ERR_MEMORY, "layering: out of memory");
   }
   snprintf(net->preset, sizeof net->preset, "%s", preset);
   net->latent_dim = latent_dim;
@@ -43,18 +43,18 @@ static nbrdf_status wrap(const char *preset, int latent_dim, nbrdf_nn *nn, model
 
 nbrdf_status model_layering_create(const char *preset, int latent_dim, uint64_t seed,
                                    model_layering **out, nbrdf_error *err) {
-  nbrdf_nn_spec spec;
-  nbrdf_nn *nn = NULL;
+  nn_spec spec;
+  nn_network *nn = NULL;
   nbrdf_status st = model_layering_spec(preset, latent_dim, &spec, err);
-  if (st == NBRDF_OK) st = nbrdf_nn_create(&spec, &nn, err);
+  if (st == NBRDF_OK) st = nn_create(&spec, &nn, err);
   if (st != NBRDF_OK) return st;
-  nbrdf_nn_init_params(nn, seed);
+  nn_init_params(nn, seed);
   return wrap(preset, latent_dim, nn, out, err);
 }
 
 void model_layering_destroy(model_layering *net) {
   if (!net) return;
-  nbrdf_nn_destroy(net->nn);
+  nn_destroy(net->nn);
   free(net);
 }
 
@@ -81,7 +81,7 @@ nbrdf_status model_layering_eval(const model_layering *net, model_runner *runner
     size_t m = n - k0 < chunk ? n - k0 : chunk;
     model_layering_fill_inputs(net, m, top + k0 * d, bottom + k0 * d, albedo + k0, sigma_t + k0,
                                runner->x);
-    nbrdf_status st = nbrdf_nn_forward(net->nn, runner->ws, runner->x, (int)m, out + k0 * d, err);
+    nbrdf_status st = nn_forward(net->nn, runner->ws, runner->x, (int)m, out + k0 * d, err);
     if (st != NBRDF_OK) return st;
   }
   return NBRDF_OK;
@@ -89,35 +89,35 @@ nbrdf_status model_layering_eval(const model_layering *net, model_runner *runner
 
 nbrdf_status model_layering_save(const model_layering *net, const char *path, uint64_t *checksum,
                                  nbrdf_error *err) {
-  nbrdf_st_writer *w = NULL;
+  nn_st_writer *w = NULL;
   nbrdf_status st = model_net_writer(net->nn, "layering", net->latent_dim, &w, err);
-  if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.sigma_t_input", "log1p", err);
-  if (st == NBRDF_OK) st = nbrdf_st_writer_set_metadata(w, "nbrdf.preset", net->preset, err);
-  if (st == NBRDF_OK) st = nbrdf_st_writer_save(w, path, checksum, err);
-  nbrdf_st_writer_destroy(w);
+  if (st == NBRDF_OK) st = nn_st_writer_set_metadata(w, "nbrdf.sigma_t_input", "log1p", err);
+  if (st == NBRDF_OK) st = nn_st_writer_set_metadata(w, "nbrdf.preset", net->preset, err);
+  if (st == NBRDF_OK) st = nn_st_writer_save(w, path, checksum, err);
+  nn_st_writer_destroy(w);
   return st;
 }
 
-nbrdf_status model_layering_read(const nbrdf_st_reader *reader, model_layering **out,
+nbrdf_status model_layering_read(const nn_st_reader *reader, model_layering **out,
                                  nbrdf_error *err) {
-  const char *label = nbrdf_st_label(reader), *cond = NULL;
+  const char *label = nn_st_label(reader), *cond = NULL;
   nbrdf_status st = model_net_check_kind(reader, "layering", err);
-  if (st == NBRDF_OK) st = nbrdf_st_metadata_require(reader, "nbrdf.sigma_t_input", &cond, err);
+  if (st == NBRDF_OK) st = nn_st_metadata_require(reader, "nbrdf.sigma_t_input", &cond, err);
   if (st == NBRDF_OK && strcmp(cond, "log1p") != 0)
-    st = nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                    "%s: sigma_t input \"%s\" is not supported (only \"log1p\")", label, cond);
-  nbrdf_nn *nn = NULL;
+    st = core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                   "%s: sigma_t input \"%s\" is not supported (only \"log1p\")", label, cond);
+  nn_network *nn = NULL;
   int dim = 0;
   if (st == NBRDF_OK) st = model_net_read(reader, "layering", &nn, &dim, err);
   if (st != NBRDF_OK) return st;
-  if (nbrdf_nn_inputs(nn) != 2 * dim + 2 || nbrdf_nn_outputs(nn) != dim) {
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                    "%s: layering network maps %d inputs to %d outputs; latent dimension %d "
-                    "needs %d -> %d",
-                    label, nbrdf_nn_inputs(nn), nbrdf_nn_outputs(nn), dim, 2 * dim + 2, dim);
-    nbrdf_nn_destroy(nn);
+  if (nn_inputs(nn) != 2 * dim + 2 || nn_outputs(nn) != dim) {
+    st = core_fail(err, NBRDF_ERR_MISMATCH,
+                   "%s: layering network maps %d inputs to %d outputs; latent dimension %d "
+                   "needs %d -> %d",
+                   label, nn_inputs(nn), nn_outputs(nn), dim, 2 * dim + 2, dim);
+    nn_destroy(nn);
     return st;
   }
-  const char *preset = nbrdf_st_metadata_get(reader, "nbrdf.preset");
+  const char *preset = nn_st_metadata_get(reader, "nbrdf.preset");
   return wrap(preset ? preset : "custom", dim, nn, out, err);
 }

@@ -25,12 +25,12 @@
 typedef struct model_layering {
   char preset[32];
   int latent_dim;
-  nbrdf_nn *nn; /* 2D + 2 inputs, D outputs */
+  nn_network *nn; /* 2D + 2 inputs, D outputs */
 } model_layering;
 
 extern const char *const model_layering_presets[];
 
-nbrdf_status model_layering_spec(const char *preset, int latent_dim, nbrdf_nn_spec *spec,
+nbrdf_status model_layering_spec(const char *preset, int latent_dim, nn_spec *spec,
                                  nbrdf_error *err);
 nbrdf_status model_layering_create(const char *preset, int latent_dim, uint64_t seed,
                                    model_layering **out, nbrdf_error *err);
@@ -51,7 +51,7 @@ nbrdf_status model_layering_eval(const model_layering *net, model_runner *runner
 
 nbrdf_status model_layering_save(const model_layering *net, const char *path, uint64_t *checksum,
                                  nbrdf_error *err);
-nbrdf_status model_layering_read(const nbrdf_st_reader *reader, model_layering **out,
+nbrdf_status model_layering_read(const nn_st_reader *reader, model_layering **out,
                                  nbrdf_error *err);
 
 #endif

@@ -15,21 +15,21 @@
  * bundle's tables, layering and sampling networks write. */
 static nbrdf_status check_full_latents(const nbrdf_model *m, const char *what, nbrdf_error *err) {
   if (!m->parent || m->latent_dim == m->parent->latent_dim) return NBRDF_OK;
-  return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                    "%s: this model decodes a compact texture's %d latent channels; %s works on "
-                    "the bundle's %d-float latents (use the bundle itself)",
-                    what, m->latent_dim, what, m->parent->latent_dim);
+  return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                   "%s: this model decodes a compact texture's %d latent channels; %s works on "
+                   "the bundle's %d-float latents (use the bundle itself)",
+                   what, m->latent_dim, what, m->parent->latent_dim);
 }
 
 static nbrdf_status check_direction(const float *w, const char *name, size_t k, nbrdf_error *err) {
   double x = w[0], y = w[1], z = w[2];
   if (!isfinite(x) || !isfinite(y) || !isfinite(z))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s of query %zu is not finite", name, k);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s of query %zu is not finite", name, k);
   if (fabs(sqrt(x * x + y * y + z * z) - 1.0) > 1e-3)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s of query %zu is not a unit vector", name, k);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s of query %zu is not a unit vector", name, k);
   if (!(z > 0.0))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s of query %zu is at or below the horizon (z = %g)", name, k, z);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s of query %zu is at or below the horizon (z = %g)",
+                     name, k, z);
   return NBRDF_OK;
 }
 
@@ -45,7 +45,7 @@ static nbrdf_status check_directions(size_t n, const float *wi, const float *wo,
 static nbrdf_status check_finite(const float *x, size_t count, const char *what, nbrdf_error *err) {
   for (size_t k = 0; k < count; k++)
     if (!isfinite(x[k]))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: value %zu is not finite", what, k);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: value %zu is not finite", what, k);
   return NBRDF_OK;
 }
 
@@ -58,7 +58,7 @@ static int batch_for(size_t rows, int multiple) {
 nbrdf_status nbrdf_model_decode(const nbrdf_model *m, size_t n, int channels, const float *latents,
                                 const float *wi, const float *wo, float *f, nbrdf_error *err) {
   if (channels < 1 || channels > 64)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "decode: %d channels, expected 1..64", channels);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "decode: %d channels, expected 1..64", channels);
   if (n == 0) return NBRDF_OK;
   nbrdf_status st = check_directions(n, wi, wo, err);
   if (st == NBRDF_OK)
@@ -77,7 +77,7 @@ nbrdf_status nbrdf_model_base_latents(const nbrdf_model *m, nbrdf_base_kind kind
                                       const float *p0, const float *p1, nbrdf_range_policy policy,
                                       float *out, unsigned char *clamped, nbrdf_error *err) {
   if (kind != NBRDF_BASE_DIELECTRIC && kind != NBRDF_BASE_CONDUCTOR)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "base latents: unknown base kind %d", (int)kind);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "base latents: unknown base kind %d", (int)kind);
   nbrdf_status full = check_full_latents(m, "base latents", err);
   if (full != NBRDF_OK) return full;
   /* Parameters are floats everywhere in the public API (as nbrdf_model_layer's); the table
@@ -105,11 +105,11 @@ nbrdf_status nbrdf_model_layer(const nbrdf_model *m, size_t n, const float *top,
   if (n == 0) return NBRDF_OK;
   for (size_t k = 0; k < n; k++) {
     if (!(albedo[k] >= 0.0f && albedo[k] <= 1.0f))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "layer: albedo = %g (query %zu) is outside [0, 1]",
-                        albedo[k], k);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "layer: albedo = %g (query %zu) is outside [0, 1]",
+                       albedo[k], k);
     if (!(sigma_t[k] >= 0.0f) || !isfinite(sigma_t[k]))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "layer: sigma_t = %g (query %zu) is not finite and >= 0", sigma_t[k], k);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "layer: sigma_t = %g (query %zu) is not finite and >= 0", sigma_t[k], k);
   }
   size_t count = n * (size_t)m->latent_dim;
   nbrdf_status st = check_finite(top, count, "layer: top latents", err);
@@ -151,27 +151,27 @@ int nbrdf_proxy_sample(double sigma, double w, const double wi[3], const double 
 static nbrdf_status check_projection(size_t n_brdfs, const size_t *offsets, const float *wi,
                                      const float *wo, const float *f,
                                      const nbrdf_project_options *o, nbrdf_error *err) {
-  if (n_brdfs < 1) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "project: no BRDF given");
+  if (n_brdfs < 1) return core_fail(err, NBRDF_ERR_ARGUMENT, "project: no BRDF given");
   if (offsets[0] != 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "project: offsets[0] = %zu, expected 0", offsets[0]);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "project: offsets[0] = %zu, expected 0", offsets[0]);
   for (size_t b = 0; b < n_brdfs; b++)
     if (offsets[b + 1] <= offsets[b])
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "project: BRDF %zu has no samples", b);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "project: BRDF %zu has no samples", b);
   size_t rows = offsets[n_brdfs];
   nbrdf_status st = check_directions(rows, wi, wo, err);
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "project: ");
+    core_error_prefix(err, "project: ");
     return st;
   }
   for (size_t r = 0; r < rows; r++)
     if (!(f[r] >= 0.0f) || !isfinite(f[r]))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "project: f of sample %zu = %g is not finite and >= 0", r, f[r]);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "project: f of sample %zu = %g is not finite and >= 0", r, f[r]);
   if (o->steps < 0 || o->rows_per_brdf < 1 || !(o->learning_rate > 0.0f) ||
       !isfinite(o->learning_rate) || (o->loss != NBRDF_LOSS_L1 && o->loss != NBRDF_LOSS_L1_LOG1P))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "project: options need steps >= 0, rows_per_brdf >= 1, a learning rate > 0 "
-                      "and a known loss");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "project: options need steps >= 0, rows_per_brdf >= 1, a learning rate > 0 "
+                     "and a known loss");
   return NBRDF_OK;
 }
 
@@ -200,21 +200,21 @@ nbrdf_status nbrdf_model_project(const nbrdf_model *m, size_t n_brdfs, const siz
   fo.max_batch = batch_for(n_brdfs * (size_t)o->rows_per_brdf, 1);
   model_samples samples = {n_brdfs, offsets, wi, wo, f, NULL};
   model_fit *fit = NULL;
-  nbrdf_adam *adam = NULL;
+  nn_adam *adam = NULL;
   /* The smallest loop over the gradient engine: in memory, no schedule, no
    * checkpoint (src/train/trainer.h is the loop with all of them; the model
    * layer cannot call up into train/). */
-  nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
+  nn_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
   ao.lr = o->learning_rate;
   st = model_fit_create(m->decoder, n_brdfs, out, &fo, &fit, err);
-  if (st == NBRDF_OK) st = nbrdf_adam_create(count, &ao, &adam, err);
+  if (st == NBRDF_OK) st = nn_adam_create(count, &ao, &adam, err);
   for (int s = 0; st == NBRDF_OK && s < o->steps; s++) {
     st = model_fit_gradient(fit, &samples, s, NULL, err);
-    if (st == NBRDF_OK) st = nbrdf_adam_step(adam, out, model_fit_grad_latent(fit), err);
+    if (st == NBRDF_OK) st = nn_adam_step(adam, out, model_fit_grad_latent(fit), err);
   }
   if (st == NBRDF_OK && final_loss) st = model_fit_eval_loss(fit, &samples, final_loss, NULL, err);
-  nbrdf_adam_destroy(adam);
+  nn_adam_destroy(adam);
   model_fit_destroy(fit);
-  if (st != NBRDF_OK) nbrdf_error_prefix(err, "project: ");
+  if (st != NBRDF_OK) core_error_prefix(err, "project: ");
   return st;
 }

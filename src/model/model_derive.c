@@ -16,13 +16,13 @@
 static nbrdf_status read_decoder(const nbrdf_model *root, const void *bytes, size_t size,
                                  const char *label, model_decoder **out, nbrdf_error *err) {
   if (size > NBRDF_DECODER_BYTES_MAX)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%s: %zu bytes, more than the %zu MiB a decoder may have", label, size,
-                      NBRDF_DECODER_BYTES_MAX >> 20);
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open_memory(bytes, size, label, &r, err);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s: %zu bytes, more than the %zu MiB a decoder may have", label, size,
+                     NBRDF_DECODER_BYTES_MAX >> 20);
+  nn_st_reader *r = NULL;
+  nbrdf_status st = nn_st_open_memory(bytes, size, label, &r, err);
   if (st == NBRDF_OK) st = model_decoder_read(r, out, err);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   if (st != NBRDF_OK) return st;
   /* A compact texture's decoder (issue 19) reads fewer latents than the
    * bundle's networks write; never more. */
@@ -30,9 +30,9 @@ static nbrdf_status read_decoder(const nbrdf_model *root, const void *bytes, siz
     int dim = (*out)->cfg.latent_dim;
     model_decoder_destroy(*out);
     *out = NULL;
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "%s: the decoder has latent dimension %d, more than the bundle '%s''s %d",
-                      label, dim, root->name, root->latent_dim);
+    return core_fail(err, NBRDF_ERR_MISMATCH,
+                     "%s: the decoder has latent dimension %d, more than the bundle '%s''s %d",
+                     label, dim, root->name, root->latent_dim);
   }
   return NBRDF_OK;
 }
@@ -40,7 +40,7 @@ static nbrdf_status read_decoder(const nbrdf_model *root, const void *bytes, siz
 nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t size,
                           const char *label, nbrdf_model **out, nbrdf_error *err) {
   if (!base || !out || (!bytes && size))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "model with decoder: NULL argument");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "model with decoder: NULL argument");
   *out = NULL;
   if (!label) label = "decoder";
   /* The bundle's parts always come from the loaded bundle, never from another
@@ -60,7 +60,7 @@ nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t siz
     free(m);
     free(copy);
     model_decoder_destroy(dec);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", label);
+    return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", label);
   }
   memcpy(m->name, root->name, sizeof m->name);
   m->trained = root->trained;
@@ -82,7 +82,7 @@ nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t siz
     m->decoder_bytes = copy;
     m->decoder_size = size;
     snprintf(m->decoder_checksum_hex, sizeof m->decoder_checksum_hex, "%016" PRIx64,
-             nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, bytes, size));
+             nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, bytes, size));
   } else {
     m->decoder = root->decoder;
   }
@@ -93,13 +93,13 @@ nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t siz
 nbrdf_status nbrdf_model_with_decoder(const nbrdf_model *base, const void *bytes, size_t size,
                                       const char *label, nbrdf_model **out, nbrdf_error *err) {
   if (!bytes)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no decoder bytes", label ? label : "decoder");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: no decoder bytes", label ? label : "decoder");
   return model_derive(base, bytes, size, label, out, err);
 }
 
 nbrdf_status nbrdf_model_with_decoder_file(const nbrdf_model *base, const char *path,
                                            nbrdf_model **out, nbrdf_error *err) {
-  if (!path) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "model with decoder: NULL path");
+  if (!path) return core_fail(err, NBRDF_ERR_ARGUMENT, "model with decoder: NULL path");
   char *bytes = NULL;
   size_t size = 0;
   /* One byte over the limit is enough to tell "too large" from "fits". */

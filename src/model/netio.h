@@ -6,7 +6,7 @@
  *   nbrdf.format      "nbrdf-model-network"
  *   nbrdf.version     "1"
  *   nbrdf.network     "decoder" | "layering" | "sampler"
- *   nbrdf.spec        the nn architecture as JSON (nbrdf_nn_spec_to_json)
+ *   nbrdf.spec        the nn architecture as JSON (nn_spec_to_json)
  *   nbrdf.latent_dim  latent floats per colour channel, e.g. "32"
  * plus each network's own keys (see decoder.h, layering.h, sampler.h). The
  * tensors are exactly the network's tensors (names of src/nn/nn.h); a file
@@ -21,37 +21,37 @@
 #define MODEL_NET_VERSION "1"
 
 typedef struct model_runner {
-  nbrdf_nn_workspace *ws;
+  nn_workspace *ws;
   float *x; /* [max_batch × inputs] */
   float *y; /* [max_batch × outputs] */
   int max_batch;
 } model_runner;
 
-nbrdf_status model_runner_create(const nbrdf_nn *nn, int max_batch, nbrdf_nn_mode mode,
+nbrdf_status model_runner_create(const nn_network *nn, int max_batch, nn_mode mode,
                                  model_runner *runner, nbrdf_error *err);
 void model_runner_destroy(model_runner *runner); /* zeroes it; a zeroed runner is fine */
 
 /* Starts a writer holding every tensor of `nn` (borrowed: keep nn alive until
  * the save) and the common metadata. */
-nbrdf_status model_net_writer(const nbrdf_nn *nn, const char *network, int latent_dim,
-                              nbrdf_st_writer **out, nbrdf_error *err);
+nbrdf_status model_net_writer(const nn_network *nn, const char *network, int latent_dim,
+                              nn_st_writer **out, nbrdf_error *err);
 
 /* Checks the common metadata of an open file (network kind, format, version)
  * and builds the network it describes, with its weights; *latent_dim gets the
  * file's latent dimension. */
-nbrdf_status model_net_read(const nbrdf_st_reader *reader, const char *network, nbrdf_nn **out,
+nbrdf_status model_net_read(const nn_st_reader *reader, const char *network, nn_network **out,
                             int *latent_dim, nbrdf_error *err);
 
 /* Fails unless the file says it holds `network` (nbrdf.format and
  * nbrdf.network), so that a file in the wrong place gets that message first. */
-nbrdf_status model_net_check_kind(const nbrdf_st_reader *reader, const char *network,
+nbrdf_status model_net_check_kind(const nn_st_reader *reader, const char *network,
                                   nbrdf_error *err);
 
 /* Integer metadata value in [lo, hi]; the message names the file and key. */
-nbrdf_status model_meta_int(const nbrdf_st_reader *reader, const char *key, long lo, long hi,
+nbrdf_status model_meta_int(const nn_st_reader *reader, const char *key, long lo, long hi,
                             long *value, nbrdf_error *err);
 /* Finite double metadata value in [lo, hi]. */
-nbrdf_status model_meta_double(const nbrdf_st_reader *reader, const char *key, double lo, double hi,
+nbrdf_status model_meta_double(const nn_st_reader *reader, const char *key, double lo, double hi,
                                double *value, nbrdf_error *err);
 
 #endif

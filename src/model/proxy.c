@@ -45,7 +45,7 @@ int model_proxy_sample(double sigma, double w, vec3 wi, double u_lobe, double u1
                        vec3 *wo, double *pdf) {
   vec3 d;
   if (u_lobe < w) {
-    d = nbrdf_warp_cosine_hemisphere(u1, u2);
+    d = core_warp_cosine_hemisphere(u1, u2);
   } else {
     /* Invert the truncated radial CDF: r² = −2σ² log(1 − u1 (1 − exp(−1/2σ²))). */
     double s2 = sigma * sigma;

@@ -23,12 +23,12 @@
 typedef struct model_sampler {
   char preset[32];
   int latent_dim;
-  nbrdf_nn *nn; /* D inputs, 2 outputs */
+  nn_network *nn; /* D inputs, 2 outputs */
 } model_sampler;
 
 extern const char *const model_sampler_presets[];
 
-nbrdf_status model_sampler_spec(const char *preset, int latent_dim, nbrdf_nn_spec *spec,
+nbrdf_status model_sampler_spec(const char *preset, int latent_dim, nn_spec *spec,
                                 nbrdf_error *err);
 nbrdf_status model_sampler_create(const char *preset, int latent_dim, uint64_t seed,
                                   model_sampler **out, nbrdf_error *err);
@@ -44,7 +44,6 @@ nbrdf_status model_sampler_eval(const model_sampler *net, model_runner *runner, 
 
 nbrdf_status model_sampler_save(const model_sampler *net, const char *path, uint64_t *checksum,
                                 nbrdf_error *err);
-nbrdf_status model_sampler_read(const nbrdf_st_reader *reader, model_sampler **out,
-                                nbrdf_error *err);
+nbrdf_status model_sampler_read(const nn_st_reader *reader, model_sampler **out, nbrdf_error *err);
 
 #endif

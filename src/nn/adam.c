@@ -14,8 +14,8 @@ typedef struct adam_group {
   float lr, weight_decay;
 } adam_group;
 
-struct nbrdf_adam {
-  nbrdf_adam_options opts;
+struct nn_adam {
+  nn_adam_options opts;
   size_t n;
   float *m, *v;
   uint16_t *group_of; /* NULL until the first group is added: everything in group 0 */
@@ -24,30 +24,30 @@ struct nbrdf_adam {
   int64_t t;
 };
 
-static nbrdf_status check_options(const nbrdf_adam_options *o, nbrdf_error *err) {
+static nbrdf_status check_options(const nn_adam_options *o, nbrdf_error *err) {
   nbrdf_status st;
-  if ((st = nbrdf_check_range(err, "adam lr", o->lr, 0.0, 1e6)) ||
-      (st = nbrdf_check_range(err, "adam beta1", o->beta1, 0.0, 0.999999)) ||
-      (st = nbrdf_check_range(err, "adam beta2", o->beta2, 0.0, 0.999999999)) ||
-      (st = nbrdf_check_range(err, "adam eps", o->eps, 0.0, 1.0)) ||
-      (st = nbrdf_check_range(err, "adam weight_decay", o->weight_decay, 0.0, 1e6)) ||
-      (st = nbrdf_check_range(err, "adam decay_every", o->decay_every, 0.0, 2e9)) ||
-      (st = nbrdf_check_range(err, "adam decay_gamma", o->decay_gamma, 1e-30, 1.0)))
+  if ((st = core_check_range(err, "adam lr", o->lr, 0.0, 1e6)) ||
+      (st = core_check_range(err, "adam beta1", o->beta1, 0.0, 0.999999)) ||
+      (st = core_check_range(err, "adam beta2", o->beta2, 0.0, 0.999999999)) ||
+      (st = core_check_range(err, "adam eps", o->eps, 0.0, 1.0)) ||
+      (st = core_check_range(err, "adam weight_decay", o->weight_decay, 0.0, 1e6)) ||
+      (st = core_check_range(err, "adam decay_every", o->decay_every, 0.0, 2e9)) ||
+      (st = core_check_range(err, "adam decay_gamma", o->decay_gamma, 1e-30, 1.0)))
     return st;
   if (o->beta1 >= 1.0f || o->beta2 >= 1.0f)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "adam betas must be < 1");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "adam betas must be < 1");
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_adam_create(size_t n, const nbrdf_adam_options *opts, nbrdf_adam **out,
-                               nbrdf_error *err) {
+nbrdf_status nn_adam_create(size_t n, const nn_adam_options *opts, nn_adam **out,
+                            nbrdf_error *err) {
   *out = NULL;
-  nbrdf_adam_options defaults = NBRDF_ADAM_OPTIONS_DEFAULT;
+  nn_adam_options defaults = NBRDF_ADAM_OPTIONS_DEFAULT;
   if (!opts) opts = &defaults;
   nbrdf_status st = check_options(opts, err);
   if (st != NBRDF_OK) return st;
-  if (n == 0) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "adam: no parameters to optimise");
-  nbrdf_adam *a = calloc(1, sizeof *a);
+  if (n == 0) return core_fail(err, NBRDF_ERR_ARGUMENT, "adam: no parameters to optimise");
+  nn_adam *a = calloc(1, sizeof *a);
   if (a) {
     a->opts = *opts;
     a->n = n;
@@ -56,8 +56,8 @@ nbrdf_status nbrdf_adam_create(size_t n, const nbrdf_adam_options *opts, nbrdf_a
     a->groups = malloc(sizeof *a->groups);
   }
   if (!a || !a->m || !a->v || !a->groups) {
-    nbrdf_adam_destroy(a);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "adam: out of memory for %zu parameters", n);
+    nn_adam_destroy(a);
+    return core_fail(err, NBRDF_ERR_MEMORY, "adam: out of memory for %zu parameters", n);
   }
   a->groups[0].lr = opts->lr;
   a->groups[0].weight_decay = opts->weight_decay;
@@ -66,7 +66,7 @@ nbrdf_status nbrdf_adam_create(size_t n, const nbrdf_adam_options *opts, nbrdf_a
   return NBRDF_OK;
 }
 
-void nbrdf_adam_destroy(nbrdf_adam *adam) {
+void nn_adam_destroy(nn_adam *adam) {
   if (!adam) return;
   free(adam->m);
   free(adam->v);
@@ -75,22 +75,22 @@ void nbrdf_adam_destroy(nbrdf_adam *adam) {
   free(adam);
 }
 
-nbrdf_status nbrdf_adam_add_group(nbrdf_adam *adam, size_t offset, size_t count, float lr,
-                                  float weight_decay, int *group, nbrdf_error *err) {
+nbrdf_status nn_adam_add_group(nn_adam *adam, size_t offset, size_t count, float lr,
+                               float weight_decay, int *group, nbrdf_error *err) {
   nbrdf_status st;
-  if ((st = nbrdf_check_range(err, "adam group lr", lr, 0.0, 1e6)) ||
-      (st = nbrdf_check_range(err, "adam group weight_decay", weight_decay, 0.0, 1e6)))
+  if ((st = core_check_range(err, "adam group lr", lr, 0.0, 1e6)) ||
+      (st = core_check_range(err, "adam group weight_decay", weight_decay, 0.0, 1e6)))
     return st;
   if (offset > adam->n || count > adam->n - offset || count == 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "adam group [%zu, %zu) is empty or outside the %zu parameters", offset,
-                      offset + count, adam->n);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "adam group [%zu, %zu) is empty or outside the %zu parameters", offset,
+                     offset + count, adam->n);
   if (adam->n_groups >= MAX_GROUPS)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "adam: more than %d groups", MAX_GROUPS - 1);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "adam: more than %d groups", MAX_GROUPS - 1);
   if (!adam->group_of && !(adam->group_of = calloc(adam->n, sizeof *adam->group_of)))
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "adam: out of memory for groups");
+    return core_fail(err, NBRDF_ERR_MEMORY, "adam: out of memory for groups");
   adam_group *g = realloc(adam->groups, sizeof *g * (size_t)(adam->n_groups + 1));
-  if (!g) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "adam: out of memory for groups");
+  if (!g) return core_fail(err, NBRDF_ERR_MEMORY, "adam: out of memory for groups");
   adam->groups = g;
   int id = adam->n_groups++;
   g[id].lr = lr;
@@ -101,18 +101,17 @@ nbrdf_status nbrdf_adam_add_group(nbrdf_adam *adam, size_t offset, size_t count,
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_adam_add_group_tensors(nbrdf_adam *adam, const nbrdf_nn *nn,
-                                          const char *name_part, float lr, float weight_decay,
-                                          int *group, nbrdf_error *err) {
+nbrdf_status nn_adam_add_group_tensors(nn_adam *adam, const nn_network *nn, const char *name_part,
+                                       float lr, float weight_decay, int *group, nbrdf_error *err) {
   if (nn->n_params != adam->n)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "adam has %zu parameters but the network has %zu",
-                      adam->n, nn->n_params);
+    return core_fail(err, NBRDF_ERR_MISMATCH, "adam has %zu parameters but the network has %zu",
+                     adam->n, nn->n_params);
   int id = -1;
   for (int k = 0; k < nn->n_tensors; k++) {
-    const nbrdf_nn_tensor *t = &nn->tensors[k];
+    const nn_tensor *t = &nn->tensors[k];
     if (!strstr(t->name, name_part)) continue;
     if (id < 0) {
-      nbrdf_status st = nbrdf_adam_add_group(adam, t->offset, t->count, lr, weight_decay, &id, err);
+      nbrdf_status st = nn_adam_add_group(adam, t->offset, t->count, lr, weight_decay, &id, err);
       if (st != NBRDF_OK) return st;
     } else {
       for (size_t i = t->offset; i < t->offset + t->count; i++)
@@ -120,36 +119,36 @@ nbrdf_status nbrdf_adam_add_group_tensors(nbrdf_adam *adam, const nbrdf_nn *nn,
     }
   }
   if (id < 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "adam: no tensor name contains \"%s\"", name_part);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "adam: no tensor name contains \"%s\"", name_part);
   if (group) *group = id;
   return NBRDF_OK;
 }
 
 /* Step decay of the paper: lr * gamma^floor(t / decay_every). */
-static double schedule(const nbrdf_adam *adam, int64_t t) {
+static double schedule(const nn_adam *adam, int64_t t) {
   if (adam->opts.decay_every <= 0) return 1.0;
   return pow(adam->opts.decay_gamma, (double)(t / adam->opts.decay_every));
 }
 
-float nbrdf_adam_lr(const nbrdf_adam *adam, int group) {
+float nn_adam_lr(const nn_adam *adam, int group) {
   if (group < 0 || group >= adam->n_groups) return 0.0f;
   return (float)(adam->groups[group].lr * schedule(adam, adam->t));
 }
 
-int64_t nbrdf_adam_steps(const nbrdf_adam *adam) { return adam->t; }
+int64_t nn_adam_steps(const nn_adam *adam) { return adam->t; }
 
-float *nbrdf_adam_moment(nbrdf_adam *adam, int second) { return second ? adam->v : adam->m; }
-size_t nbrdf_adam_size(const nbrdf_adam *adam) { return adam->n; }
-void nbrdf_adam_set_steps(nbrdf_adam *adam, int64_t steps) { adam->t = steps; }
+float *nn_adam_moment(nn_adam *adam, int second) { return second ? adam->v : adam->m; }
+size_t nn_adam_size(const nn_adam *adam) { return adam->n; }
+void nn_adam_set_steps(nn_adam *adam, int64_t steps) { adam->t = steps; }
 
-void nbrdf_adam_reset(nbrdf_adam *adam) {
+void nn_adam_reset(nn_adam *adam) {
   memset(adam->m, 0, sizeof *adam->m * adam->n);
   memset(adam->v, 0, sizeof *adam->v * adam->n);
   adam->t = 0;
 }
 
 /* The update of one run of parameters sharing lr and weight decay. */
-static void step_run(nbrdf_adam *a, float *p, const float *g, size_t from, size_t to,
+static void step_run(nn_adam *a, float *p, const float *g, size_t from, size_t to,
                      const adam_group *grp, double sched, double bc1, double bc2) {
   const float b1 = a->opts.beta1, b2 = a->opts.beta2, eps = a->opts.eps;
   /* Folding the bias corrections into the step size and eps (Kingma & Ba, end of Sec. 2). */
@@ -165,12 +164,11 @@ static void step_run(nbrdf_adam *a, float *p, const float *g, size_t from, size_
   }
 }
 
-nbrdf_status nbrdf_adam_step(nbrdf_adam *adam, float *params, const float *grads,
-                             nbrdf_error *err) {
+nbrdf_status nn_adam_step(nn_adam *adam, float *params, const float *grads, nbrdf_error *err) {
   for (size_t i = 0; i < adam->n; i++)
     if (!isfinite(grads[i]))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "adam: gradient %zu is %g; no parameter was updated", i, (double)grads[i]);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "adam: gradient %zu is %g; no parameter was updated", i, (double)grads[i]);
   double sched = schedule(adam, adam->t);
   adam->t++;
   double bc1 = 1.0 - pow(adam->opts.beta1, (double)adam->t);

@@ -12,8 +12,8 @@
 #include "nn/internal.h"
 
 typedef struct bw {
-  const nbrdf_nn *nn;
-  nbrdf_nn_workspace *ws;
+  const nn_network *nn;
+  nn_workspace *ws;
   int rows;
   float *grad; /* NULL: no parameter gradients (frozen network) */
   int want_input_grad;
@@ -33,7 +33,7 @@ static void linear_params(const bw *b, size_t w_off, size_t b_off, int out, int 
 static void skip_backward(const bw *b, const nn_layer *l, const float *g) {
   int j = l->skip_from;
   if (j < 0 || (j == 0 && !b->want_input_grad && l->wskip == NN_NONE)) return;
-  nbrdf_nn_workspace *ws = b->ws;
+  nn_workspace *ws = b->ws;
   if (l->wskip == NN_NONE) {
     float *acc = ws->grad_skip[j];
     size_t n = (size_t)b->rows * l->out;
@@ -63,9 +63,9 @@ static void ln_backward(const bw *b, int w, float *g, const float *y_relu, const
 /* Layer i: g = dL/d(output) on entry (may be modified); writes dL/d(input) into dx unless
  * dx == NULL. Returns the buffer holding dL/d(input) (dx, or g for in-place layers). */
 static float *layer_backward(const bw *b, int i, float *g, float *dx) {
-  const nbrdf_nn *nn = b->nn;
+  const nn_network *nn = b->nn;
   const nn_layer *l = &nn->layers[i];
-  nbrdf_nn_workspace *ws = b->ws;
+  nn_workspace *ws = b->ws;
   const nn_layer_buffers *lb = &ws->layer[i];
   const float *p = nn->params, *x = ws->act[i], *y = ws->act[i + 1];
   switch (l->kind) {
@@ -101,23 +101,23 @@ static float *layer_backward(const bw *b, int i, float *g, float *dx) {
   return NULL;
 }
 
-nbrdf_status nbrdf_nn_backward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *dy,
-                               float *dx, float *grad, nbrdf_error *err) {
+nbrdf_status nn_backward(const nn_network *nn, nn_workspace *ws, const float *dy, float *dx,
+                         float *grad, nbrdf_error *err) {
   if (!nn || !ws || !dy)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network backward: NULL %s",
-                      !nn   ? "network"
-                      : !ws ? "workspace"
-                            : "output gradient");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "network backward: NULL %s",
+                     !nn   ? "network"
+                     : !ws ? "workspace"
+                           : "output gradient");
   if (ws->mode != NBRDF_NN_TRAIN)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "network backward: the workspace was made for inference only");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "network backward: the workspace was made for inference only");
   if (!nn_same_spec(&nn->spec, &ws->spec))
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "network backward: the workspace was made for another architecture");
+    return core_fail(err, NBRDF_ERR_MISMATCH,
+                     "network backward: the workspace was made for another architecture");
   if (!ws->has_fresh)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "network backward: no forward pass to differentiate (call forward first; "
-                      "each forward allows one backward)");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "network backward: no forward pass to differentiate (call forward first; "
+                     "each forward allows one backward)");
   ws->has_fresh = 0;
   const int L = nn->spec.n_layers, rows = ws->batch;
   bw b = {nn, ws, rows, grad, dx != NULL};

@@ -6,7 +6,7 @@
 #include "nn/internal.h"
 
 /* Layer i on `rows` rows: x -> y; `skip` is the skip source's activation (or NULL). */
-static void layer_forward(const nbrdf_nn *nn, int i, int rows, const float *x, const float *skip,
+static void layer_forward(const nn_network *nn, int i, int rows, const float *x, const float *skip,
                           float *y, const nn_layer_buffers *b) {
   const nn_layer *l = &nn->layers[i];
   const float *p = nn->params;
@@ -45,7 +45,7 @@ static void layer_forward(const nbrdf_nn *nn, int i, int rows, const float *x, c
   }
 }
 
-static void forward_train(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int rows,
+static void forward_train(const nn_network *nn, nn_workspace *ws, const float *x, int rows,
                           float *y) {
   const int L = nn->spec.n_layers;
   memcpy(ws->act[0], x, sizeof(float) * (size_t)rows * nn->widths[0]);
@@ -61,7 +61,7 @@ static void forward_train(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const floa
 
 /* Inference: x and y are used in place, intermediate activations ping-pong between two
  * buffers unless a later skip needs them. */
-static void forward_infer(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int rows,
+static void forward_infer(const nn_network *nn, nn_workspace *ws, const float *x, int rows,
                           float *y) {
   const int L = nn->spec.n_layers;
   nn_layer_buffers b = {ws->scratch_z, ws->scratch_r, ws->scratch_h, ws->scratch_z, ws->scratch_r};
@@ -81,24 +81,24 @@ static void forward_infer(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const floa
   }
 }
 
-nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int batch,
-                              float *y, nbrdf_error *err) {
+nbrdf_status nn_forward(const nn_network *nn, nn_workspace *ws, const float *x, int batch, float *y,
+                        nbrdf_error *err) {
   if (!nn || !ws || !x || !y)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network forward: NULL %s",
-                      !nn   ? "network"
-                      : !ws ? "workspace"
-                      : !x  ? "input"
-                            : "output");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "network forward: NULL %s",
+                     !nn   ? "network"
+                     : !ws ? "workspace"
+                     : !x  ? "input"
+                           : "output");
   if (!nn_same_spec(&nn->spec, &ws->spec))
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "network forward: the workspace was made for another architecture");
+    return core_fail(err, NBRDF_ERR_MISMATCH,
+                     "network forward: the workspace was made for another architecture");
   if (batch < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network forward: batch = %d, expected >= 1", batch);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "network forward: batch = %d, expected >= 1", batch);
   if (ws->mode == NBRDF_NN_TRAIN) {
     if (batch > ws->max_batch)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "network forward: batch %d exceeds the training workspace's %d", batch,
-                        ws->max_batch);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "network forward: batch %d exceeds the training workspace's %d", batch,
+                       ws->max_batch);
     forward_train(nn, ws, x, batch, y);
     return NBRDF_OK;
   }

@@ -14,7 +14,7 @@
  * parameter array; NN_NONE where the layer has no such tensor. PLAIN uses the "1" slots
  * (fc, norm); LINEAR uses w1/b1; LAYERNORM g1/be1; RESIDUAL both slots. */
 typedef struct nn_layer {
-  nbrdf_nn_kind kind;
+  nn_kind kind;
   int in, out, hidden;
   int skip_from;  /* activation index, -1 = none */
   int skip_width; /* width of that activation */
@@ -23,21 +23,21 @@ typedef struct nn_layer {
   size_t wskip; /* projection of the skip, NN_NONE for an identity skip */
 } nn_layer;
 
-struct nbrdf_nn {
-  nbrdf_nn_spec spec;
+struct nn_network {
+  nn_spec spec;
   nn_layer layers[NBRDF_NN_MAX_LAYERS];
   int widths[NBRDF_NN_MAX_LAYERS + 1];      /* width of each activation */
   int skip_source[NBRDF_NN_MAX_LAYERS + 1]; /* non-zero: some later layer reads it */
   int max_width;                            /* over activations and hidden widths */
   float *params;
   size_t n_params;
-  nbrdf_nn_tensor *tensors;
+  nn_tensor *tensors;
   int n_tensors;
 };
 
 /* Resolves spec (already validated) into layers, widths and tensors. Sets nn->n_params and
  * fills nn->tensors when it is non-NULL (count them first with tensors == NULL). */
-void nn_resolve(nbrdf_nn *nn);
+void nn_resolve(nn_network *nn);
 
 /* Pointers of one layer's buffers during forward (TRAIN: the stored ones, INFER: scratch). */
 typedef struct nn_layer_buffers {
@@ -45,9 +45,9 @@ typedef struct nn_layer_buffers {
   float *z2, *r2;     /* the same for a residual block's second norm */
 } nn_layer_buffers;
 
-struct nbrdf_nn_workspace {
-  nbrdf_nn_spec spec; /* the architecture it was sized for */
-  nbrdf_nn_mode mode;
+struct nn_workspace {
+  nn_spec spec; /* the architecture it was sized for */
+  nn_mode mode;
   int max_batch;
   int rows;      /* rows its buffers hold: max_batch (TRAIN), at most nn_infer_block (INFER) */
   int batch;     /* rows of the last TRAIN forward */
@@ -67,10 +67,10 @@ struct nbrdf_nn_workspace {
  * that a layer's output is still in cache for the next. Larger blocks were up to 3x slower on
  * the 2-core build machine for widths 128..512 (16384 vs 1024..4096 rows); smaller ones gain
  * nothing and make the GEMMs less efficient. */
-int nn_infer_block(const nbrdf_nn *nn);
+int nn_infer_block(const nn_network *nn);
 
 /* Do two valid specs describe the same architecture (same buffers, same tensors)? */
-int nn_same_spec(const nbrdf_nn_spec *a, const nbrdf_nn_spec *b);
+int nn_same_spec(const nn_spec *a, const nn_spec *b);
 
 /* Layer kernels over rows x w buffers (src/nn/kernels.c). */
 void nn_gemm_xwt(int rows, int in, int out, const float *x, const float *w, float beta, float *y);

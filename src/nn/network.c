@@ -10,7 +10,7 @@
 #include "nn/internal.h"
 
 typedef struct tensor_list {
-  nbrdf_nn_tensor *t; /* NULL while counting */
+  nn_tensor *t; /* NULL while counting */
   int n;
   size_t offset;
 } tensor_list;
@@ -18,7 +18,7 @@ typedef struct tensor_list {
 static size_t add_tensor(tensor_list *tl, int layer, const char *part, int rows, int cols) {
   size_t at = tl->offset;
   if (tl->t) {
-    nbrdf_nn_tensor *t = &tl->t[tl->n];
+    nn_tensor *t = &tl->t[tl->n];
     snprintf(t->name, sizeof t->name, "layers.%d.%s", layer, part);
     t->offset = at;
     t->rank = cols > 0 ? 2 : 1;
@@ -31,14 +31,14 @@ static size_t add_tensor(tensor_list *tl, int layer, const char *part, int rows,
   return at;
 }
 
-void nn_resolve(nbrdf_nn *nn) {
-  const nbrdf_nn_spec *spec = &nn->spec;
+void nn_resolve(nn_network *nn) {
+  const nn_spec *spec = &nn->spec;
   tensor_list tl = {nn->tensors, 0, 0};
   memset(nn->skip_source, 0, sizeof nn->skip_source);
   nn->widths[0] = spec->n_inputs;
   nn->max_width = spec->n_inputs;
   for (int i = 0; i < spec->n_layers; i++) {
-    const nbrdf_nn_layer_spec *s = &spec->layers[i];
+    const nn_layer_spec *s = &spec->layers[i];
     nn_layer *l = &nn->layers[i];
     l->kind = s->kind;
     l->in = nn->widths[i];
@@ -88,12 +88,12 @@ void nn_resolve(nbrdf_nn *nn) {
   nn->n_tensors = tl.n;
 }
 
-nbrdf_status nbrdf_nn_create(const nbrdf_nn_spec *spec, nbrdf_nn **out, nbrdf_error *err) {
+nbrdf_status nn_create(const nn_spec *spec, nn_network **out, nbrdf_error *err) {
   *out = NULL;
-  nbrdf_status st = nbrdf_nn_spec_validate(spec, err);
+  nbrdf_status st = nn_spec_validate(spec, err);
   if (st != NBRDF_OK) return st;
-  nbrdf_nn *nn = calloc(1, sizeof *nn);
-  if (!nn) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "network: out of memory");
+  nn_network *nn = calloc(1, sizeof *nn);
+  if (!nn) return core_fail(err, NBRDF_ERR_MEMORY, "network: out of memory");
   nn->spec = *spec;
   nn_resolve(nn); /* counts tensors and parameters */
   nn->tensors = calloc((size_t)nn->n_tensors + 1, sizeof *nn->tensors);
@@ -101,8 +101,8 @@ nbrdf_status nbrdf_nn_create(const nbrdf_nn_spec *spec, nbrdf_nn **out, nbrdf_er
   nn->params = aligned_alloc(NN_ALIGN, bytes ? bytes : NN_ALIGN);
   if (!nn->tensors || !nn->params) {
     size_t n = nn->n_params;
-    nbrdf_nn_destroy(nn);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "network: out of memory for %zu parameters", n);
+    nn_destroy(nn);
+    return core_fail(err, NBRDF_ERR_MEMORY, "network: out of memory for %zu parameters", n);
   }
   memset(nn->params, 0, bytes);
   nn_resolve(nn); /* fills the tensor views */
@@ -110,55 +110,55 @@ nbrdf_status nbrdf_nn_create(const nbrdf_nn_spec *spec, nbrdf_nn **out, nbrdf_er
   return NBRDF_OK;
 }
 
-void nbrdf_nn_destroy(nbrdf_nn *nn) {
+void nn_destroy(nn_network *nn) {
   if (!nn) return;
   free(nn->params);
   free(nn->tensors);
   free(nn);
 }
 
-const nbrdf_nn_spec *nbrdf_nn_get_spec(const nbrdf_nn *nn) { return &nn->spec; }
-int nbrdf_nn_inputs(const nbrdf_nn *nn) { return nn->widths[0]; }
-int nbrdf_nn_outputs(const nbrdf_nn *nn) { return nn->widths[nn->spec.n_layers]; }
-float *nbrdf_nn_params(nbrdf_nn *nn) { return nn->params; }
-const float *nbrdf_nn_params_const(const nbrdf_nn *nn) { return nn->params; }
-size_t nbrdf_nn_param_count(const nbrdf_nn *nn) { return nn->n_params; }
-int nbrdf_nn_tensor_count(const nbrdf_nn *nn) { return nn->n_tensors; }
+const nn_spec *nn_get_spec(const nn_network *nn) { return &nn->spec; }
+int nn_inputs(const nn_network *nn) { return nn->widths[0]; }
+int nn_outputs(const nn_network *nn) { return nn->widths[nn->spec.n_layers]; }
+float *nn_params(nn_network *nn) { return nn->params; }
+const float *nn_params_const(const nn_network *nn) { return nn->params; }
+size_t nn_param_count(const nn_network *nn) { return nn->n_params; }
+int nn_tensor_count(const nn_network *nn) { return nn->n_tensors; }
 
-const nbrdf_nn_tensor *nbrdf_nn_tensor_at(const nbrdf_nn *nn, int index) {
+const nn_tensor *nn_tensor_at(const nn_network *nn, int index) {
   return index >= 0 && index < nn->n_tensors ? &nn->tensors[index] : NULL;
 }
 
-const nbrdf_nn_tensor *nbrdf_nn_find_tensor(const nbrdf_nn *nn, const char *name) {
+const nn_tensor *nn_find_tensor(const nn_network *nn, const char *name) {
   for (int i = 0; i < nn->n_tensors; i++)
     if (strcmp(nn->tensors[i].name, name) == 0) return &nn->tensors[i];
   return NULL;
 }
 
 /* Does the weight at `offset` feed a ReLU (directly or through a LayerNorm)? */
-static int feeds_relu(const nbrdf_nn *nn, size_t offset) {
+static int feeds_relu(const nn_network *nn, size_t offset) {
   for (int i = 0; i < nn->spec.n_layers; i++) {
     const nn_layer *l = &nn->layers[i];
     if (offset == l->wskip) return 0;
     if (l->kind == NBRDF_NN_PLAIN || l->kind == NBRDF_NN_RESIDUAL)
       if (offset == l->w1 || offset == l->w2) return 1;
     if (l->kind == NBRDF_NN_LINEAR && offset == l->w1) {
-      nbrdf_nn_kind next = i + 1 < nn->spec.n_layers ? nn->layers[i + 1].kind : 0;
+      nn_kind next = i + 1 < nn->spec.n_layers ? nn->layers[i + 1].kind : 0;
       return next == NBRDF_NN_RELU || next == NBRDF_NN_LAYERNORM;
     }
   }
   return 0;
 }
 
-static int is_gamma(const nbrdf_nn *nn, size_t offset) {
+static int is_gamma(const nn_network *nn, size_t offset) {
   for (int i = 0; i < nn->spec.n_layers; i++)
     if (offset == nn->layers[i].g1 || offset == nn->layers[i].g2) return 1;
   return 0;
 }
 
-void nbrdf_nn_init_params(nbrdf_nn *nn, uint64_t seed) {
+void nn_init_params(nn_network *nn, uint64_t seed) {
   for (int k = 0; k < nn->n_tensors; k++) {
-    const nbrdf_nn_tensor *t = &nn->tensors[k];
+    const nn_tensor *t = &nn->tensors[k];
     float *p = nn->params + t->offset;
     if (t->rank == 1) {
       /* LayerNorm gamma = 1, beta = 0; every bias = 0. */
@@ -171,9 +171,9 @@ void nbrdf_nn_init_params(nbrdf_nn *nn, uint64_t seed) {
      * unit variance through a linear map. */
     double gain = feeds_relu(nn, t->offset) ? 6.0 : 3.0;
     float bound = (float)sqrt(gain / t->cols);
-    nbrdf_rng rng;
-    nbrdf_rng_init(&rng, seed, (uint64_t)k);
+    core_rng rng;
+    core_rng_init(&rng, seed, (uint64_t)k);
     for (size_t i = 0; i < t->count; i++)
-      p[i] = bound * (2.0f * nbrdf_rng_uniformf(&rng) - 1.0f);
+      p[i] = bound * (2.0f * core_rng_uniformf(&rng) - 1.0f);
   }
 }

@@ -13,9 +13,9 @@
  *   same as NoTrans/NoTrans (bench_nn --threads: 104.7 vs 105.4 GFLOP/s at 4096x256x256,
  *   within 1 % at the other decoder shapes). Backward: dL/dx = G W (NoTrans, NoTrans) and
  *   dL/dW += G^T x (Trans, NoTrans), G = dL/dy.
- * - All parameters of a network live in ONE contiguous float array (nbrdf_nn_params); each
- *   tensor is a named view into it (nbrdf_nn_tensor). Gradients use the same layout in a
- *   caller-owned array of nbrdf_nn_param_count floats, so that several threads can each
+ * - All parameters of a network live in ONE contiguous float array (nn_params); each
+ *   tensor is a named view into it (nn_tensor). Gradients use the same layout in a
+ *   caller-owned array of nn_param_count floats, so that several threads can each
  *   accumulate their own gradients against one shared network.
  * - A network is read-only during forward/backward; a workspace (one per thread) holds every
  *   activation the backward pass needs, allocated once for a maximum batch size. Forward and
@@ -46,7 +46,7 @@
  *   any        layers.<i>.skip.weight (only when a projected skip is present)
  * Tensors appear in the parameter array in this order, layer by layer.
  *
- * Initialisation (nbrdf_nn_init_params, deterministic for a seed and independent of the
+ * Initialisation (nn_init_params, deterministic for a seed and independent of the
  * thread count): a weight feeding a ReLU (PLAIN fc, RESIDUAL fc1 and fc2, a LINEAR followed
  * by RELU or LAYERNORM) is He/Kaiming uniform U(-sqrt(6/fan_in), +sqrt(6/fan_in)); any other
  * weight (an output LINEAR, a skip projection) is LeCun uniform U(-sqrt(3/fan_in), ..);
@@ -85,123 +85,123 @@
 
 /* ---------------------------------------------------------------- spec (architecture) -- */
 
-typedef enum nbrdf_nn_kind {
+typedef enum nn_kind {
   NBRDF_NN_LINEAR = 1,
   NBRDF_NN_LAYERNORM,
   NBRDF_NN_RELU,
   NBRDF_NN_PLAIN,
   NBRDF_NN_RESIDUAL
-} nbrdf_nn_kind;
+} nn_kind;
 
-typedef struct nbrdf_nn_layer_spec {
-  nbrdf_nn_kind kind;
+typedef struct nn_layer_spec {
+  nn_kind kind;
   int width;     /* output width (LINEAR, PLAIN); for the others 0 or the input width */
   int hidden;    /* RESIDUAL bottleneck width; 0 = width / 2 */
   int has_skip;  /* non-zero: add activation `skip_from` before normalisation */
   int skip_from; /* 0 = network input, k >= 1 = output of layer k-1; must be <= own index */
-} nbrdf_nn_layer_spec;
+} nn_layer_spec;
 
 #define NBRDF_NN_MAX_LAYERS 64
 #define NBRDF_NN_MAX_WIDTH 8192
 
 /* The architecture: a plain value (copyable, no pointers). The output width is the last
- * layer's width. Serialises to JSON (nbrdf_nn_spec_to_json) for safetensors __metadata__. */
-typedef struct nbrdf_nn_spec {
+ * layer's width. Serialises to JSON (nn_spec_to_json) for safetensors __metadata__. */
+typedef struct nn_spec {
   int n_inputs;
   int n_layers;
-  nbrdf_nn_layer_spec layers[NBRDF_NN_MAX_LAYERS];
-} nbrdf_nn_spec;
+  nn_layer_spec layers[NBRDF_NN_MAX_LAYERS];
+} nn_spec;
 
 /* Empty spec with `n_inputs` input features. */
-void nbrdf_nn_spec_init(nbrdf_nn_spec *spec, int n_inputs);
+void nn_spec_init(nn_spec *spec, int n_inputs);
 /* Appends a layer; `width` is ignored (may be 0) for LAYERNORM, RELU and RESIDUAL, whose
  * width equals their input's. Returns the new layer's index, or -1 when the spec is full
- * (nbrdf_nn_spec_validate then reports it). */
-int nbrdf_nn_spec_add(nbrdf_nn_spec *spec, nbrdf_nn_kind kind, int width);
+ * (nn_spec_validate then reports it). */
+int nn_spec_add(nn_spec *spec, nn_kind kind, int width);
 /* Sets layer `layer`'s skip source (0 = network input, k >= 1 = output of layer k-1). */
-void nbrdf_nn_spec_skip(nbrdf_nn_spec *spec, int layer, int from);
+void nn_spec_skip(nn_spec *spec, int layer, int from);
 /* The residual MLP of the paper: PLAIN(n_inputs -> width), then n_blocks times
  * [RESIDUAL(width), and PLAIN(width -> width) if interleave_plain], then LINEAR(width ->
  * n_outputs). The released decoder is (38, 256, 8, 1, 1): 1,058,560 multiply-adds. */
-nbrdf_status nbrdf_nn_spec_resmlp(nbrdf_nn_spec *spec, int n_inputs, int width, int n_blocks,
-                                  int interleave_plain, int n_outputs, nbrdf_error *err);
+nbrdf_status nn_spec_resmlp(nn_spec *spec, int n_inputs, int width, int n_blocks,
+                            int interleave_plain, int n_outputs, nbrdf_error *err);
 
 /* Checks kinds, widths (1..NBRDF_NN_MAX_WIDTH, LayerNorm >= 2, even RESIDUAL hidden > 0)
  * and skip sources; the message names the layer ("layer 3 (residual): ..."). */
-nbrdf_status nbrdf_nn_spec_validate(const nbrdf_nn_spec *spec, nbrdf_error *err);
+nbrdf_status nn_spec_validate(const nn_spec *spec, nbrdf_error *err);
 /* Width of activation j (0 = input, k = output of layer k-1) of a VALID spec. */
-int nbrdf_nn_spec_width(const nbrdf_nn_spec *spec, int activation);
-int nbrdf_nn_spec_outputs(const nbrdf_nn_spec *spec);
+int nn_spec_width(const nn_spec *spec, int activation);
+int nn_spec_outputs(const nn_spec *spec);
 /* Multiply-adds of the GEMMs per query (what the paper counts). */
-int64_t nbrdf_nn_spec_macs(const nbrdf_nn_spec *spec);
-size_t nbrdf_nn_spec_param_count(const nbrdf_nn_spec *spec);
+int64_t nn_spec_macs(const nn_spec *spec);
+size_t nn_spec_param_count(const nn_spec *spec);
 /* "linear", "layernorm", "relu", "plain", "residual"; NULL for an unknown kind. */
-const char *nbrdf_nn_kind_name(nbrdf_nn_kind kind);
+const char *nn_kind_name(nn_kind kind);
 
 /* JSON form, e.g.
  *   {"format":"nbrdf-nn","version":1,"inputs":38,"layers":[{"kind":"plain","width":256},
  *    {"kind":"residual","hidden":128},{"kind":"linear","width":1,"skip":0}]}
  * ("skip" present only when has_skip). *json receives a malloc'd, NUL-terminated compact
  * string that the caller frees with free(). */
-nbrdf_status nbrdf_nn_spec_to_json(const nbrdf_nn_spec *spec, char **json, nbrdf_error *err);
+nbrdf_status nn_spec_to_json(const nn_spec *spec, char **json, nbrdf_error *err);
 /* Parses and validates; unknown keys, wrong types and invalid architectures are refused with
  * a message naming the offending layer/key. `spec` is untouched on failure. */
-nbrdf_status nbrdf_nn_spec_from_json(const char *json, nbrdf_nn_spec *spec, nbrdf_error *err);
+nbrdf_status nn_spec_from_json(const char *json, nn_spec *spec, nbrdf_error *err);
 
 /* ---------------------------------------------------------------------- the network -- */
 
-typedef struct nbrdf_nn nbrdf_nn;
+typedef struct nn_network nn_network;
 
 /* A named view into the parameter (and gradient) array: a weight is [rows = out, cols = in]
  * row-major; a vector has rank 1, rows = length, cols = 1. */
-typedef struct nbrdf_nn_tensor {
+typedef struct nn_tensor {
   char name[48];
   size_t offset; /* in floats, from the start of the parameter array */
   size_t count;  /* rows * cols */
   int rank;      /* 2 for weights, 1 for biases and LayerNorm gamma/beta */
   int rows, cols;
-} nbrdf_nn_tensor;
+} nn_tensor;
 
 /* Validates the spec and allocates the parameters, zero-filled (call init_params or load
  * weights before use). */
-nbrdf_status nbrdf_nn_create(const nbrdf_nn_spec *spec, nbrdf_nn **out, nbrdf_error *err);
-void nbrdf_nn_destroy(nbrdf_nn *nn);
+nbrdf_status nn_create(const nn_spec *spec, nn_network **out, nbrdf_error *err);
+void nn_destroy(nn_network *nn);
 
-const nbrdf_nn_spec *nbrdf_nn_get_spec(const nbrdf_nn *nn);
-int nbrdf_nn_inputs(const nbrdf_nn *nn);
-int nbrdf_nn_outputs(const nbrdf_nn *nn);
+const nn_spec *nn_get_spec(const nn_network *nn);
+int nn_inputs(const nn_network *nn);
+int nn_outputs(const nn_network *nn);
 
 /* The contiguous parameter array (64-byte aligned) and its length in floats. */
-float *nbrdf_nn_params(nbrdf_nn *nn);
-const float *nbrdf_nn_params_const(const nbrdf_nn *nn);
-size_t nbrdf_nn_param_count(const nbrdf_nn *nn);
+float *nn_params(nn_network *nn);
+const float *nn_params_const(const nn_network *nn);
+size_t nn_param_count(const nn_network *nn);
 
-int nbrdf_nn_tensor_count(const nbrdf_nn *nn);
-const nbrdf_nn_tensor *nbrdf_nn_tensor_at(const nbrdf_nn *nn, int index);
+int nn_tensor_count(const nn_network *nn);
+const nn_tensor *nn_tensor_at(const nn_network *nn, int index);
 /* NULL when no tensor has that name. */
-const nbrdf_nn_tensor *nbrdf_nn_find_tensor(const nbrdf_nn *nn, const char *name);
+const nn_tensor *nn_find_tensor(const nn_network *nn, const char *name);
 
 /* Deterministic initialisation (see the top of this file). */
-void nbrdf_nn_init_params(nbrdf_nn *nn, uint64_t seed);
+void nn_init_params(nn_network *nn, uint64_t seed);
 
 /* ----------------------------------------------------------------------- workspaces -- */
 
-typedef enum nbrdf_nn_mode {
+typedef enum nn_mode {
   NBRDF_NN_TRAIN = 0, /* keeps every activation: forward then backward */
   NBRDF_NN_INFER = 1  /* forward only, any batch: processed in cache-sized blocks of at most
                          max_batch rows through ping-pong buffers */
-} nbrdf_nn_mode;
+} nn_mode;
 
-typedef struct nbrdf_nn_workspace nbrdf_nn_workspace;
+typedef struct nn_workspace nn_workspace;
 
 /* A workspace for batches of up to `max_batch` rows of this network's architecture (it may be
  * used with any network of an identical spec). */
-nbrdf_status nbrdf_nn_workspace_create(const nbrdf_nn *nn, int max_batch, nbrdf_nn_mode mode,
-                                       nbrdf_nn_workspace **out, nbrdf_error *err);
-void nbrdf_nn_workspace_destroy(nbrdf_nn_workspace *ws);
-int nbrdf_nn_workspace_max_batch(const nbrdf_nn_workspace *ws);
+nbrdf_status nn_workspace_create(const nn_network *nn, int max_batch, nn_mode mode,
+                                 nn_workspace **out, nbrdf_error *err);
+void nn_workspace_destroy(nn_workspace *ws);
+int nn_workspace_max_batch(const nn_workspace *ws);
 /* Bytes a workspace for this spec, batch and mode allocates. */
-size_t nbrdf_nn_workspace_bytes(const nbrdf_nn_spec *spec, int max_batch, nbrdf_nn_mode mode);
+size_t nn_workspace_bytes(const nn_spec *spec, int max_batch, nn_mode mode);
 
 /* ----------------------------------------------------------------- forward / backward -- */
 
@@ -210,67 +210,65 @@ size_t nbrdf_nn_workspace_bytes(const nbrdf_nn_spec *spec, int max_batch, nbrdf_
  * any batch >= 1 is processed in blocks of min(max_batch, ~2 MiB per activation buffer)
  * rows, so an INFER workspace never holds more than that. `y` must not overlap `x`.
  * Non-finite inputs are not checked here (hot path); they propagate. */
-nbrdf_status nbrdf_nn_forward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *x, int batch,
-                              float *y, nbrdf_error *err);
+nbrdf_status nn_forward(const nn_network *nn, nn_workspace *ws, const float *x, int batch, float *y,
+                        nbrdf_error *err);
 
 /* Backward pass of the LAST forward on `ws` (TRAIN mode), with dy = dL/dy [batch x outputs]:
  * - dx: if non-NULL, receives dL/dx [batch x inputs] (overwritten), e.g. for a latent that
  *   is part of the input;
- * - grad: if non-NULL, dL/dparams is ADDED into it (same layout as nbrdf_nn_params; zero it
+ * - grad: if non-NULL, dL/dparams is ADDED into it (same layout as nn_params; zero it
  *   before the first batch of a step). With grad == NULL the weight-gradient GEMMs are
  *   skipped (a frozen network, as in projection).
  * The stored activations are consumed: call forward again before another backward. */
-nbrdf_status nbrdf_nn_backward(const nbrdf_nn *nn, nbrdf_nn_workspace *ws, const float *dy,
-                               float *dx, float *grad, nbrdf_error *err);
+nbrdf_status nn_backward(const nn_network *nn, nn_workspace *ws, const float *dy, float *dx,
+                         float *grad, nbrdf_error *err);
 
 /* -------------------------------------------------------------------------------- Adam -- */
 
 /* Adam (Kingma & Ba 2015) with decoupled weight decay (AdamW, Loshchilov & Hutter 2019) and
  * the paper's step decay: lr(t) = lr * gamma^floor(t / decay_every), t = steps taken. */
-typedef struct nbrdf_adam_options {
+typedef struct nn_adam_options {
   float lr;           /* base learning rate of the default group */
   float beta1, beta2; /* moment decay rates, in [0, 1) */
   float eps;          /* added to sqrt(v_hat) */
   float weight_decay; /* decoupled: p -= lr(t) * weight_decay * p; 0 = none */
   int decay_every;    /* steps between learning-rate decays; 0 = never */
   float decay_gamma;  /* factor per decay, in (0, 1] */
-} nbrdf_adam_options;
+} nn_adam_options;
 
 #define NBRDF_ADAM_OPTIONS_DEFAULT                                                                 \
   { 1e-3f, 0.9f, 0.999f, 1e-8f, 0.0f, 0, 1.0f }
 
-typedef struct nbrdf_adam nbrdf_adam;
+typedef struct nn_adam nn_adam;
 
-/* An optimiser for a float array of `n` parameters (a network's nbrdf_nn_params, or any
+/* An optimiser for a float array of `n` parameters (a network's nn_params, or any
  * external array such as a latent table). Moments start at zero. */
-nbrdf_status nbrdf_adam_create(size_t n, const nbrdf_adam_options *opts, nbrdf_adam **out,
-                               nbrdf_error *err);
-void nbrdf_adam_destroy(nbrdf_adam *adam);
+nbrdf_status nn_adam_create(size_t n, const nn_adam_options *opts, nn_adam **out, nbrdf_error *err);
+void nn_adam_destroy(nn_adam *adam);
 
 /* Gives parameters [offset, offset + count) their own base learning rate and weight decay
  * (a parameter group). Later groups override earlier ones where they overlap; parameters in
  * no group use the options' lr and weight_decay. Returns the group's id (>= 1) in *group. */
-nbrdf_status nbrdf_adam_add_group(nbrdf_adam *adam, size_t offset, size_t count, float lr,
-                                  float weight_decay, int *group, nbrdf_error *err);
+nbrdf_status nn_adam_add_group(nn_adam *adam, size_t offset, size_t count, float lr,
+                               float weight_decay, int *group, nbrdf_error *err);
 /* Same, for every tensor of `nn` whose name contains `name_part` (e.g. ".weight", "norm");
  * fails if none matches. */
-nbrdf_status nbrdf_adam_add_group_tensors(nbrdf_adam *adam, const nbrdf_nn *nn,
-                                          const char *name_part, float lr, float weight_decay,
-                                          int *group, nbrdf_error *err);
+nbrdf_status nn_adam_add_group_tensors(nn_adam *adam, const nn_network *nn, const char *name_part,
+                                       float lr, float weight_decay, int *group, nbrdf_error *err);
 
 /* One step on all n parameters: params -= lr(t) * m_hat / (sqrt(v_hat) + eps) (+ decay).
  * Non-finite gradients are refused (nothing is updated) with the index of the first one. */
-nbrdf_status nbrdf_adam_step(nbrdf_adam *adam, float *params, const float *grads, nbrdf_error *err);
+nbrdf_status nn_adam_step(nn_adam *adam, float *params, const float *grads, nbrdf_error *err);
 /* Learning rate the NEXT step will use for `group` (0 = default). */
-float nbrdf_adam_lr(const nbrdf_adam *adam, int group);
+float nn_adam_lr(const nn_adam *adam, int group);
 /* Steps taken so far. */
-int64_t nbrdf_adam_steps(const nbrdf_adam *adam);
+int64_t nn_adam_steps(const nn_adam *adam);
 /* Forgets moments and step count (e.g. to reuse one optimiser for a new projection). */
-void nbrdf_adam_reset(nbrdf_adam *adam);
+void nn_adam_reset(nn_adam *adam);
 /* The moment arrays (n floats each) and the step count, for checkpoints: a training run
  * resumed from saved moments and steps continues exactly as if it had not stopped. */
-float *nbrdf_adam_moment(nbrdf_adam *adam, int second); /* 0: m, 1: v */
-size_t nbrdf_adam_size(const nbrdf_adam *adam);
-void nbrdf_adam_set_steps(nbrdf_adam *adam, int64_t steps);
+float *nn_adam_moment(nn_adam *adam, int second); /* 0: m, 1: v */
+size_t nn_adam_size(const nn_adam *adam);
+void nn_adam_set_steps(nn_adam *adam, int64_t steps);
 
 #endif

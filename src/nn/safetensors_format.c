@@ -11,7 +11,7 @@ typedef struct dtype_info {
   const char *name;
   size_t size;
   int readable; /* nbrdf converts it to float */
-  nbrdf_st_dtype dtype;
+  nn_st_dtype dtype;
 } dtype_info;
 
 /* Every dtype of the format (safetensors 0.4+); sub-byte ones have size 0 and are refused. */
@@ -28,7 +28,7 @@ static const dtype_info DTYPES[] = {
     {"F6_E2M3", 0, 0, NBRDF_ST_F32}, {"F6_E3M2", 0, 0, NBRDF_ST_F32},
 };
 
-int nbrdf_st_dtype_lookup(const char *name, nbrdf_st_dtype *dtype, size_t *size) {
+int nn_st_dtype_lookup(const char *name, nn_st_dtype *dtype, size_t *size) {
   for (size_t i = 0; i < sizeof DTYPES / sizeof DTYPES[0]; i++) {
     if (strcmp(name, DTYPES[i].name) != 0) continue;
     if (!DTYPES[i].readable) return 0;
@@ -39,7 +39,7 @@ int nbrdf_st_dtype_lookup(const char *name, nbrdf_st_dtype *dtype, size_t *size)
   return -1;
 }
 
-const char *nbrdf_st_dtype_name(nbrdf_st_dtype dtype) {
+const char *nn_st_dtype_name(nn_st_dtype dtype) {
   switch (dtype) {
   case NBRDF_ST_F32:
     return "F32";
@@ -89,7 +89,7 @@ static uint32_t load_u32(const unsigned char *p) {
   return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
-void nbrdf_st_convert(nbrdf_st_dtype dtype, const unsigned char *src, size_t count, float *dst) {
+void nn_st_convert(nn_st_dtype dtype, const unsigned char *src, size_t count, float *dst) {
   switch (dtype) {
   case NBRDF_ST_F32:
     for (size_t i = 0; i < count; i++)
@@ -114,7 +114,7 @@ void nbrdf_st_convert(nbrdf_st_dtype dtype, const unsigned char *src, size_t cou
   }
 }
 
-size_t nbrdf_st_utf8_invalid_at(const unsigned char *s, size_t size) {
+size_t nn_st_utf8_invalid_at(const unsigned char *s, size_t size) {
   size_t i = 0;
   while (i < size) {
     unsigned c = s[i];
@@ -144,7 +144,7 @@ size_t nbrdf_st_utf8_invalid_at(const unsigned char *s, size_t size) {
   return size;
 }
 
-void nbrdf_st_format_shape(char *buf, size_t size, int ndim, const uint64_t *shape) {
+void nn_st_format_shape(char *buf, size_t size, int ndim, const uint64_t *shape) {
   size_t used = 0;
   int n = snprintf(buf, size, "[");
   used = n > 0 ? (size_t)n : 0;
@@ -159,7 +159,7 @@ void nbrdf_st_format_shape(char *buf, size_t size, int ndim, const uint64_t *sha
     memcpy(buf + size - 4, "...", 4);
 }
 
-uint64_t nbrdf_st_fnv1a64(uint64_t hash, const void *bytes, size_t size) {
+uint64_t nn_st_fnv1a64(uint64_t hash, const void *bytes, size_t size) {
   const unsigned char *p = bytes;
   for (size_t i = 0; i < size; i++) {
     hash ^= p[i];

@@ -33,7 +33,7 @@ static nbrdf_status fail_at(parser *p, nbrdf_status status, const char *fmt, ...
   va_start(ap, fmt);
   vsnprintf(what, sizeof what, fmt, ap);
   va_end(ap);
-  return nbrdf_fail(p->err, status, "header: %s (at header byte %zu)", what, p->pos);
+  return core_fail(p->err, status, "header: %s (at header byte %zu)", what, p->pos);
 }
 
 static void skip_ws(parser *p) {
@@ -112,7 +112,7 @@ static nbrdf_status parse_string(parser *p, const char *what, char **out) {
     end += p->s[end] == '\\' ? 2 : 1;
   if (end >= p->size) return fail_at(p, NBRDF_ERR_FORMAT, "unterminated string in %s", what);
   unsigned char *o = malloc(end - start + 1);
-  if (!o) return nbrdf_fail(p->err, NBRDF_ERR_MEMORY, "out of memory reading the header");
+  if (!o) return core_fail(p->err, NBRDF_ERR_MEMORY, "out of memory reading the header");
   size_t n = 0;
   while (p->pos < end) {
     unsigned char ch = p->s[p->pos];
@@ -265,7 +265,7 @@ static nbrdf_status parse_metadata(parser *p, st_header *h) {
   for (int first = 1;; first = 0) {
     if (peek(p) == '}' && first) break;
     st_meta *meta = grow(h->meta, &h->meta_cap, h->meta_count, sizeof *meta);
-    if (!meta) return nbrdf_fail(p->err, NBRDF_ERR_MEMORY, "out of memory reading the header");
+    if (!meta) return core_fail(p->err, NBRDF_ERR_MEMORY, "out of memory reading the header");
     h->meta = meta;
     char **key = &h->meta[h->meta_count].key, **value = &h->meta[h->meta_count].value;
     *key = *value = NULL;
@@ -285,7 +285,7 @@ static nbrdf_status parse_metadata(parser *p, st_header *h) {
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_st_parse_header(const char *json, size_t size, st_header *h, nbrdf_error *err) {
+nbrdf_status nn_st_parse_header(const char *json, size_t size, st_header *h, nbrdf_error *err) {
   parser p = {(const unsigned char *)json, size, 0, err};
   nbrdf_status st = expect(&p, '{', "at the start of the header");
   int have_metadata = 0;
@@ -303,7 +303,7 @@ nbrdf_status nbrdf_st_parse_header(const char *json, size_t size, st_header *h, 
       st_entry *entries = grow(h->entries, &h->cap, h->count, sizeof *entries);
       if (!entries) {
         free(name);
-        return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory reading the header");
+        return core_fail(err, NBRDF_ERR_MEMORY, "out of memory reading the header");
       }
       h->entries = entries;
       st_entry *t = &h->entries[h->count++];
@@ -324,7 +324,7 @@ nbrdf_status nbrdf_st_parse_header(const char *json, size_t size, st_header *h, 
   return NBRDF_OK;
 }
 
-void nbrdf_st_header_free(st_header *h) {
+void nn_st_header_free(st_header *h) {
   for (size_t i = 0; i < h->count; i++) {
     free(h->entries[i].name);
     free(h->entries[i].dtype);

@@ -12,14 +12,14 @@
 
 /* Looks a dtype string up. Returns 1 and sets *dtype and *size for a dtype nbrdf reads,
  * 0 for a dtype of the format nbrdf refuses, -1 for an unknown string. */
-int nbrdf_st_dtype_lookup(const char *name, nbrdf_st_dtype *dtype, size_t *size);
+int nn_st_dtype_lookup(const char *name, nn_st_dtype *dtype, size_t *size);
 
 /* Converts `count` little-endian values of `dtype` at `src` (any alignment) to float. */
-void nbrdf_st_convert(nbrdf_st_dtype dtype, const unsigned char *src, size_t count, float *dst);
+void nn_st_convert(nn_st_dtype dtype, const unsigned char *src, size_t count, float *dst);
 
 /* Index of the first byte that is not part of valid UTF-8 (no overlongs, no surrogates,
  * nothing above U+10FFFF), or `size` if all are valid. */
-size_t nbrdf_st_utf8_invalid_at(const unsigned char *s, size_t size);
+size_t nn_st_utf8_invalid_at(const unsigned char *s, size_t size);
 
 /* a * b into *out; 0 on overflow. */
 static inline int st_mul_u64(uint64_t a, uint64_t b, uint64_t *out) {
@@ -29,7 +29,7 @@ static inline int st_mul_u64(uint64_t a, uint64_t b, uint64_t *out) {
 }
 
 /* "[2, 3]" into buf (truncated with "..." if it does not fit). */
-void nbrdf_st_format_shape(char *buf, size_t size, int ndim, const uint64_t *shape);
+void nn_st_format_shape(char *buf, size_t size, int ndim, const uint64_t *shape);
 
 /* One tensor entry of a header, as parsed (nothing checked beyond JSON types). */
 typedef struct st_entry {
@@ -52,9 +52,9 @@ typedef struct st_header {
 } st_header;
 
 /* Parses the JSON header (exactly `size` bytes, already checked to be UTF-8) into `out`,
- * which the caller zero-initialises and frees with nbrdf_st_header_free even on failure.
+ * which the caller zero-initialises and frees with nn_st_header_free even on failure.
  * Messages carry no file name (the caller prefixes it). */
-nbrdf_status nbrdf_st_parse_header(const char *json, size_t size, st_header *out, nbrdf_error *err);
-void nbrdf_st_header_free(st_header *header);
+nbrdf_status nn_st_parse_header(const char *json, size_t size, st_header *out, nbrdf_error *err);
+void nn_st_header_free(st_header *header);
 
 #endif

@@ -14,11 +14,11 @@
 #include "core/input_file.h"
 #include "nn/safetensors_internal.h"
 
-struct nbrdf_st_reader {
+struct nn_st_reader {
   char *label;
   uint64_t checksum;
   st_header header;         /* entries sorted by name, metadata by key; owns the strings */
-  nbrdf_st_tensor *tensors; /* parallel to header.entries */
+  nn_st_tensor *tensors;    /* parallel to header.entries */
   float *values;            /* every tensor's converted data, one block */
 };
 
@@ -40,47 +40,47 @@ static int compare_entry_offsets(const void *a, const void *b) {
 }
 
 /* The dtype, shape and offsets of one tensor, on their own and against the data size. */
-static nbrdf_status check_entry(const st_entry *e, uint64_t data_size, nbrdf_st_dtype *dtype,
+static nbrdf_status check_entry(const st_entry *e, uint64_t data_size, nn_st_dtype *dtype,
                                 uint64_t *count, nbrdf_error *err) {
   size_t elem = 0;
-  int known = nbrdf_st_dtype_lookup(e->dtype, dtype, &elem);
+  int known = nn_st_dtype_lookup(e->dtype, dtype, &elem);
   if (known < 0)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has unknown dtype \"%.40s\"", e->name,
-                      e->dtype);
+    return core_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has unknown dtype \"%.40s\"", e->name,
+                     e->dtype);
   if (known == 0)
-    return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                      "tensor '%s' has dtype %s; nbrdf reads only F32, F16, BF16 and F64", e->name,
-                      e->dtype);
+    return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                     "tensor '%s' has dtype %s; nbrdf reads only F32, F16, BF16 and F64", e->name,
+                     e->dtype);
   char shape[160];
-  nbrdf_st_format_shape(shape, sizeof shape, e->ndim, e->shape);
+  nn_st_format_shape(shape, sizeof shape, e->ndim, e->shape);
   uint64_t n = 1, bytes = 0;
   for (int d = 0; d < e->ndim; d++) {
     if (e->shape[d] > (uint64_t)INT64_MAX)
-      return nbrdf_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has dimension %d of %llu, too large",
-                        e->name, d, (ull)e->shape[d]);
+      return core_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has dimension %d of %llu, too large",
+                       e->name, d, (ull)e->shape[d]);
     if (!st_mul_u64(n, e->shape[d], &n))
-      return nbrdf_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has shape %s whose size overflows",
-                        e->name, shape);
+      return core_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has shape %s whose size overflows",
+                       e->name, shape);
   }
   if (!st_mul_u64(n, elem, &bytes))
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has shape %s whose size overflows",
-                      e->name, shape);
+    return core_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has shape %s whose size overflows",
+                     e->name, shape);
   if (e->begin > e->end)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "tensor '%s' has data_offsets [%llu, %llu] that end "
-                      "before they begin",
-                      e->name, (ull)e->begin, (ull)e->end);
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "tensor '%s' has data_offsets [%llu, %llu] that end "
+                     "before they begin",
+                     e->name, (ull)e->begin, (ull)e->end);
   if (bytes != e->end - e->begin)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "tensor '%s' (%s, shape %s) needs %llu bytes but its data_offsets "
-                      "[%llu, %llu] span %llu",
-                      e->name, e->dtype, shape, (ull)bytes, (ull)e->begin, (ull)e->end,
-                      (ull)(e->end - e->begin));
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "tensor '%s' (%s, shape %s) needs %llu bytes but its data_offsets "
+                     "[%llu, %llu] span %llu",
+                     e->name, e->dtype, shape, (ull)bytes, (ull)e->begin, (ull)e->end,
+                     (ull)(e->end - e->begin));
   if (e->end > data_size)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "tensor '%s' has data_offsets [%llu, %llu] past the "
-                      "end of the data buffer (%llu bytes; truncated file?)",
-                      e->name, (ull)e->begin, (ull)e->end, (ull)data_size);
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "tensor '%s' has data_offsets [%llu, %llu] past the "
+                     "end of the data buffer (%llu bytes; truncated file?)",
+                     e->name, (ull)e->begin, (ull)e->end, (ull)data_size);
   *count = n;
   return NBRDF_OK;
 }
@@ -89,13 +89,13 @@ static nbrdf_status check_entry(const st_entry *e, uint64_t data_size, nbrdf_st_
 static nbrdf_status check_coverage(const st_header *h, uint64_t data_size, nbrdf_error *err) {
   if (h->count == 0) {
     if (data_size == 0) return NBRDF_OK;
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "%llu trailing bytes after the header, which lists "
-                      "no tensor",
-                      (ull)data_size);
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "%llu trailing bytes after the header, which lists "
+                     "no tensor",
+                     (ull)data_size);
   }
   const st_entry **order = malloc(h->count * sizeof *order);
-  if (!order) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory checking offsets");
+  if (!order) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory checking offsets");
   for (size_t i = 0; i < h->count; i++)
     order[i] = &h->entries[i];
   qsort(order, h->count, sizeof *order, compare_entry_offsets);
@@ -104,62 +104,62 @@ static nbrdf_status check_coverage(const st_header *h, uint64_t data_size, nbrdf
   for (size_t i = 0; i < h->count && !st; i++) {
     const st_entry *e = order[i];
     if (e->begin < covered)
-      st = nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "tensors '%s' and '%s' overlap in the data buffer "
-                      "(data_offsets [%llu, %llu] and [%llu, %llu])",
-                      order[i - 1]->name, e->name, (ull)order[i - 1]->begin, (ull)order[i - 1]->end,
-                      (ull)e->begin, (ull)e->end);
+      st = core_fail(err, NBRDF_ERR_FORMAT,
+                     "tensors '%s' and '%s' overlap in the data buffer "
+                     "(data_offsets [%llu, %llu] and [%llu, %llu])",
+                     order[i - 1]->name, e->name, (ull)order[i - 1]->begin, (ull)order[i - 1]->end,
+                     (ull)e->begin, (ull)e->end);
     else if (e->begin > covered)
-      st = nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "bytes [%llu, %llu) of the data buffer belong to no "
-                      "tensor (a hole before '%s')",
-                      (ull)covered, (ull)e->begin, e->name);
+      st = core_fail(err, NBRDF_ERR_FORMAT,
+                     "bytes [%llu, %llu) of the data buffer belong to no "
+                     "tensor (a hole before '%s')",
+                     (ull)covered, (ull)e->begin, e->name);
     covered = e->end;
   }
   free(order);
   if (!st && covered < data_size)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%llu trailing bytes after the last tensor's data",
-                    (ull)(data_size - covered));
+    st = core_fail(err, NBRDF_ERR_FORMAT, "%llu trailing bytes after the last tensor's data",
+                   (ull)(data_size - covered));
   return st;
 }
 
-static nbrdf_status load(nbrdf_st_reader *r, const unsigned char *bytes, size_t size,
+static nbrdf_status load(nn_st_reader *r, const unsigned char *bytes, size_t size,
                          nbrdf_error *err) {
   if (size < 8)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "file of %zu bytes is too short for the 8-byte "
-                      "header length (truncated?)",
-                      size);
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "file of %zu bytes is too short for the 8-byte "
+                     "header length (truncated?)",
+                     size);
   uint64_t n = 0;
   for (int k = 7; k >= 0; k--)
     n = n << 8 | bytes[k];
   if (n > size - 8)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "header length %llu runs past the end of the file "
-                      "(%zu bytes; truncated?)",
-                      (ull)n, size);
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "header length %llu runs past the end of the file "
+                     "(%zu bytes; truncated?)",
+                     (ull)n, size);
   if (n > ST_MAX_HEADER)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "header length %llu exceeds the format's limit of "
-                      "%llu bytes",
-                      (ull)n, (ull)ST_MAX_HEADER);
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "header length %llu exceeds the format's limit of "
+                     "%llu bytes",
+                     (ull)n, (ull)ST_MAX_HEADER);
   const unsigned char *json = bytes + 8;
   if (n == 0 || json[0] != '{')
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "header does not start with '{' "
-                      "(not a safetensors file?)");
-  size_t bad = nbrdf_st_utf8_invalid_at(json, (size_t)n);
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "header does not start with '{' "
+                     "(not a safetensors file?)");
+  size_t bad = nn_st_utf8_invalid_at(json, (size_t)n);
   if (bad < n)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "header is not valid UTF-8 (at header byte %zu)", bad);
+    return core_fail(err, NBRDF_ERR_FORMAT, "header is not valid UTF-8 (at header byte %zu)", bad);
   st_header *h = &r->header;
-  nbrdf_status st = nbrdf_st_parse_header((const char *)json, (size_t)n, h, err);
+  nbrdf_status st = nn_st_parse_header((const char *)json, (size_t)n, h, err);
   if (st) return st;
 
   const unsigned char *data = json + n;
   uint64_t data_size = size - 8 - n, total = 0;
-  nbrdf_st_dtype *dtypes = calloc(h->count + 1, sizeof *dtypes);
+  nn_st_dtype *dtypes = calloc(h->count + 1, sizeof *dtypes);
   uint64_t *counts = calloc(h->count + 1, sizeof *counts);
-  if (!dtypes || !counts) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  if (!dtypes || !counts) st = core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   for (size_t i = 0; i < h->count && !st; i++) {
     st = check_entry(&h->entries[i], data_size, &dtypes[i], &counts[i], err);
     total += counts[i]; /* counts[i] <= data_size / 2: no overflow */
@@ -171,25 +171,24 @@ static nbrdf_status load(nbrdf_st_reader *r, const unsigned char *bytes, size_t 
   if (h->count) qsort(h->entries, h->count, sizeof *h->entries, compare_entry_names);
   for (size_t i = 1; i < h->count; i++)
     if (strcmp(h->entries[i - 1].name, h->entries[i].name) == 0)
-      return nbrdf_fail(err, NBRDF_ERR_FORMAT, "tensor name '%s' appears twice",
-                        h->entries[i].name);
+      return core_fail(err, NBRDF_ERR_FORMAT, "tensor name '%s' appears twice", h->entries[i].name);
   if (h->meta_count) qsort(h->meta, h->meta_count, sizeof *h->meta, compare_meta_keys);
   for (size_t i = 1; i < h->meta_count; i++)
     if (strcmp(h->meta[i - 1].key, h->meta[i].key) == 0)
-      return nbrdf_fail(err, NBRDF_ERR_FORMAT, "metadata key '%s' appears twice", h->meta[i].key);
+      return core_fail(err, NBRDF_ERR_FORMAT, "metadata key '%s' appears twice", h->meta[i].key);
   if ((st = check_coverage(h, data_size, err))) return st;
 
   /* Only now that every size is backed by real bytes is anything large allocated. */
   r->tensors = calloc(h->count + 1, sizeof *r->tensors);
   r->values = total ? malloc((size_t)total * sizeof(float)) : NULL;
   if (!r->tensors || (total && !r->values))
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory for %llu values", (ull)total);
+    return core_fail(err, NBRDF_ERR_MEMORY, "out of memory for %llu values", (ull)total);
   size_t next = 0;
   for (size_t i = 0; i < h->count; i++) {
     const st_entry *e = &h->entries[i];
-    nbrdf_st_tensor *t = &r->tensors[i];
+    nn_st_tensor *t = &r->tensors[i];
     size_t elem = 0;
-    nbrdf_st_dtype_lookup(e->dtype, &t->dtype, &elem);
+    nn_st_dtype_lookup(e->dtype, &t->dtype, &elem);
     t->name = e->name;
     t->ndim = e->ndim;
     t->count = 1;
@@ -199,34 +198,34 @@ static nbrdf_status load(nbrdf_st_reader *r, const unsigned char *bytes, size_t 
       t->shape[d] = (int64_t)e->shape[d];
     if (t->count) {
       float *dst = r->values + next;
-      nbrdf_st_convert(t->dtype, data + e->begin, t->count, dst);
+      nn_st_convert(t->dtype, data + e->begin, t->count, dst);
       t->data = dst;
       next += t->count;
     }
   }
-  r->checksum = nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, bytes, size);
+  r->checksum = nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, bytes, size);
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_st_open_memory(const void *bytes, size_t size, const char *label,
-                                  nbrdf_st_reader **out, nbrdf_error *err) {
-  if (!out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_open_memory: out is NULL");
+nbrdf_status nn_st_open_memory(const void *bytes, size_t size, const char *label,
+                               nn_st_reader **out, nbrdf_error *err) {
+  if (!out) return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_open_memory: out is NULL");
   *out = NULL;
   if (!label) label = "<memory>";
   if (!bytes && size)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no bytes given for a size of %zu", label, size);
-  nbrdf_st_reader *r = calloc(1, sizeof *r);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: no bytes given for a size of %zu", label, size);
+  nn_st_reader *r = calloc(1, sizeof *r);
   char *copy = strdup(label);
   if (!r || !copy) {
     free(r);
     free(copy);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", label);
+    return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", label);
   }
   r->label = copy;
   nbrdf_status st = load(r, bytes, size, err);
   if (st) {
-    nbrdf_error_prefix(err, "%s: ", label);
-    nbrdf_st_close(r);
+    core_error_prefix(err, "%s: ", label);
+    nn_st_close(r);
     return st;
   }
   *out = r;
@@ -237,23 +236,23 @@ static nbrdf_status io_error(nbrdf_error *err, const char *path, const char *wha
   char reason[128] = "unknown error";
   if (strerror_r(code, reason, sizeof reason) != 0)
     snprintf(reason, sizeof reason, "errno %d", code);
-  return nbrdf_fail(err, NBRDF_ERR_IO, "%s: %s: %s", path, what, reason);
+  return core_fail(err, NBRDF_ERR_IO, "%s: %s: %s", path, what, reason);
 }
 
-nbrdf_status nbrdf_st_open(const char *path, nbrdf_st_reader **out, nbrdf_error *err) {
-  if (!path || !out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_open: NULL argument");
+nbrdf_status nn_st_open(const char *path, nn_st_reader **out, nbrdf_error *err) {
+  if (!path || !out) return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_open: NULL argument");
   *out = NULL;
   /* Regular files only (a FIFO would block, a device never end), and the
    * size comes from stat before anything is allocated. */
   int fd = -1;
   uint64_t file_size = 0;
-  nbrdf_status opened = nbrdf_input_open(path, NBRDF_ST_FILE_MAX, &fd, &file_size, err);
+  nbrdf_status opened = core_input_open(path, NBRDF_ST_FILE_MAX, &fd, &file_size, err);
   if (opened != NBRDF_OK) return opened;
   size_t size = (size_t)file_size, done = 0;
   unsigned char *bytes = malloc(size ? size : 1);
   if (!bytes) {
     close(fd);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %zu bytes", path, size);
+    return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %zu bytes", path, size);
   }
   while (done < size) {
     ssize_t got = read(fd, bytes + done, size - done);
@@ -263,34 +262,34 @@ nbrdf_status nbrdf_st_open(const char *path, nbrdf_st_reader **out, nbrdf_error 
       free(bytes);
       close(fd);
       if (code) return io_error(err, path, "cannot read", code);
-      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: file shrank while being read", path);
+      return core_fail(err, NBRDF_ERR_IO, "%s: file shrank while being read", path);
     }
     done += (size_t)got;
   }
   close(fd);
-  nbrdf_status st = nbrdf_st_open_memory(bytes, size, path, out, err);
+  nbrdf_status st = nn_st_open_memory(bytes, size, path, out, err);
   free(bytes);
   return st;
 }
 
-void nbrdf_st_close(nbrdf_st_reader *r) {
+void nn_st_close(nn_st_reader *r) {
   if (!r) return;
-  nbrdf_st_header_free(&r->header);
+  nn_st_header_free(&r->header);
   free(r->tensors);
   free(r->values);
   free(r->label);
   free(r);
 }
 
-const char *nbrdf_st_label(const nbrdf_st_reader *r) { return r->label; }
-uint64_t nbrdf_st_checksum(const nbrdf_st_reader *r) { return r->checksum; }
-size_t nbrdf_st_tensor_count(const nbrdf_st_reader *r) { return r->header.count; }
+const char *nn_st_label(const nn_st_reader *r) { return r->label; }
+uint64_t nn_st_checksum(const nn_st_reader *r) { return r->checksum; }
+size_t nn_st_tensor_count(const nn_st_reader *r) { return r->header.count; }
 
-const nbrdf_st_tensor *nbrdf_st_tensor_at(const nbrdf_st_reader *r, size_t index) {
+const nn_st_tensor *nn_st_tensor_at(const nn_st_reader *r, size_t index) {
   return index < r->header.count ? &r->tensors[index] : NULL;
 }
 
-const nbrdf_st_tensor *nbrdf_st_find(const nbrdf_st_reader *r, const char *name) {
+const nn_st_tensor *nn_st_find(const nn_st_reader *r, const char *name) {
   size_t lo = 0, hi = r->header.count;
   while (lo < hi) {
     size_t mid = lo + (hi - lo) / 2;
@@ -304,19 +303,18 @@ const nbrdf_st_tensor *nbrdf_st_find(const nbrdf_st_reader *r, const char *name)
   return NULL;
 }
 
-nbrdf_status nbrdf_st_expect(const nbrdf_st_reader *r, const char *name, int ndim,
-                             const int64_t *shape, const float **data, nbrdf_error *err) {
+nbrdf_status nn_st_expect(const nn_st_reader *r, const char *name, int ndim, const int64_t *shape,
+                          const float **data, nbrdf_error *err) {
   if (!r || !name || ndim < 0 || ndim > NBRDF_ST_MAX_DIMS || (ndim > 0 && !shape))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_expect: invalid arguments");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_expect: invalid arguments");
   uint64_t want[NBRDF_ST_MAX_DIMS] = {0}, have[NBRDF_ST_MAX_DIMS] = {0};
   for (int d = 0; d < ndim; d++) {
     if (shape[d] < 0)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_expect: negative dimension for '%s'",
-                        name);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_expect: negative dimension for '%s'", name);
     want[d] = (uint64_t)shape[d];
   }
-  const nbrdf_st_tensor *t = nbrdf_st_find(r, name);
-  if (!t) return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: has no tensor '%s'", r->label, name);
+  const nn_st_tensor *t = nn_st_find(r, name);
+  if (!t) return core_fail(err, NBRDF_ERR_MISMATCH, "%s: has no tensor '%s'", r->label, name);
   int same = t->ndim == ndim;
   for (int d = 0; d < t->ndim; d++)
     have[d] = (uint64_t)t->shape[d];
@@ -324,40 +322,40 @@ nbrdf_status nbrdf_st_expect(const nbrdf_st_reader *r, const char *name, int ndi
     same = have[d] == want[d];
   if (!same) {
     char got_s[160], want_s[160];
-    nbrdf_st_format_shape(got_s, sizeof got_s, t->ndim, have);
-    nbrdf_st_format_shape(want_s, sizeof want_s, ndim, want);
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: tensor '%s' has shape %s, expected %s",
-                      r->label, name, got_s, want_s);
+    nn_st_format_shape(got_s, sizeof got_s, t->ndim, have);
+    nn_st_format_shape(want_s, sizeof want_s, ndim, want);
+    return core_fail(err, NBRDF_ERR_MISMATCH, "%s: tensor '%s' has shape %s, expected %s", r->label,
+                     name, got_s, want_s);
   }
   for (size_t i = 0; i < t->count; i++)
     if (!isfinite(t->data[i]))
-      return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: tensor '%s' holds %s at flat index %zu",
-                        r->label, name, isnan(t->data[i]) ? "NaN" : "an infinity", i);
+      return core_fail(err, NBRDF_ERR_FORMAT, "%s: tensor '%s' holds %s at flat index %zu",
+                       r->label, name, isnan(t->data[i]) ? "NaN" : "an infinity", i);
   if (data) *data = t->data;
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_st_expect_copy(const nbrdf_st_reader *r, const char *name, int ndim,
-                                  const int64_t *shape, float *dst, nbrdf_error *err) {
+nbrdf_status nn_st_expect_copy(const nn_st_reader *r, const char *name, int ndim,
+                               const int64_t *shape, float *dst, nbrdf_error *err) {
   const float *src = NULL;
-  nbrdf_status st = nbrdf_st_expect(r, name, ndim, shape, &src, err);
+  nbrdf_status st = nn_st_expect(r, name, ndim, shape, &src, err);
   if (st) return st;
-  const nbrdf_st_tensor *t = nbrdf_st_find(r, name);
+  const nn_st_tensor *t = nn_st_find(r, name);
   if (t->count) memcpy(dst, src, t->count * sizeof(float));
   return NBRDF_OK;
 }
 
-size_t nbrdf_st_metadata_count(const nbrdf_st_reader *r) { return r->header.meta_count; }
+size_t nn_st_metadata_count(const nn_st_reader *r) { return r->header.meta_count; }
 
-const char *nbrdf_st_metadata_key(const nbrdf_st_reader *r, size_t index) {
+const char *nn_st_metadata_key(const nn_st_reader *r, size_t index) {
   return index < r->header.meta_count ? r->header.meta[index].key : NULL;
 }
 
-const char *nbrdf_st_metadata_value(const nbrdf_st_reader *r, size_t index) {
+const char *nn_st_metadata_value(const nn_st_reader *r, size_t index) {
   return index < r->header.meta_count ? r->header.meta[index].value : NULL;
 }
 
-const char *nbrdf_st_metadata_get(const nbrdf_st_reader *r, const char *key) {
+const char *nn_st_metadata_get(const nn_st_reader *r, const char *key) {
   size_t lo = 0, hi = r->header.meta_count;
   while (lo < hi) {
     size_t mid = lo + (hi - lo) / 2;
@@ -371,10 +369,10 @@ const char *nbrdf_st_metadata_get(const nbrdf_st_reader *r, const char *key) {
   return NULL;
 }
 
-nbrdf_status nbrdf_st_metadata_require(const nbrdf_st_reader *r, const char *key,
-                                       const char **value, nbrdf_error *err) {
-  const char *v = nbrdf_st_metadata_get(r, key);
-  if (!v) return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: metadata has no key '%s'", r->label, key);
+nbrdf_status nn_st_metadata_require(const nn_st_reader *r, const char *key, const char **value,
+                                    nbrdf_error *err) {
+  const char *v = nn_st_metadata_get(r, key);
+  if (!v) return core_fail(err, NBRDF_ERR_MISMATCH, "%s: metadata has no key '%s'", r->label, key);
   if (value) *value = v;
   return NBRDF_OK;
 }

@@ -19,20 +19,20 @@ typedef struct wtensor {
   float *owned;
 } wtensor;
 
-struct nbrdf_st_writer {
+struct nn_st_writer {
   wtensor *tensors;
   size_t count, cap;
   st_meta *meta;
   size_t meta_count, meta_cap;
 };
 
-nbrdf_status nbrdf_st_writer_create(nbrdf_st_writer **out, nbrdf_error *err) {
-  if (!out) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_writer_create: out is NULL");
+nbrdf_status nn_st_writer_create(nn_st_writer **out, nbrdf_error *err) {
+  if (!out) return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_writer_create: out is NULL");
   *out = calloc(1, sizeof **out);
-  return *out ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  return *out ? NBRDF_OK : core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
 }
 
-void nbrdf_st_writer_destroy(nbrdf_st_writer *w) {
+void nn_st_writer_destroy(nn_st_writer *w) {
   if (!w) return;
   for (size_t i = 0; i < w->count; i++) {
     free(w->tensors[i].name);
@@ -49,42 +49,42 @@ void nbrdf_st_writer_destroy(nbrdf_st_writer *w) {
 
 /* A string the header can carry: non-empty (for names), UTF-8. */
 static nbrdf_status check_text(const char *s, const char *what, nbrdf_error *err) {
-  if (!s) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s is NULL", what);
+  if (!s) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s is NULL", what);
   size_t n = strlen(s);
-  if (nbrdf_st_utf8_invalid_at((const unsigned char *)s, n) < n)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s '%s' is not valid UTF-8", what, s);
+  if (nn_st_utf8_invalid_at((const unsigned char *)s, n) < n)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s '%s' is not valid UTF-8", what, s);
   return NBRDF_OK;
 }
 
-static nbrdf_status add(nbrdf_st_writer *w, const char *name, int ndim, const int64_t *shape,
+static nbrdf_status add(nn_st_writer *w, const char *name, int ndim, const int64_t *shape,
                         const float *data, int copy, nbrdf_error *err) {
-  if (!w) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_writer_add: writer is NULL");
+  if (!w) return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_writer_add: writer is NULL");
   nbrdf_status st = check_text(name, "tensor name", err);
   if (st) return st;
   if (!name[0] || strcmp(name, "__metadata__") == 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "'%s' cannot name a tensor", name);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "'%s' cannot name a tensor", name);
   if (ndim < 0 || ndim > NBRDF_ST_MAX_DIMS || (ndim > 0 && !shape))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': ndim %d is outside [0, %d]", name,
-                      ndim, NBRDF_ST_MAX_DIMS);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': ndim %d is outside [0, %d]", name, ndim,
+                     NBRDF_ST_MAX_DIMS);
   wtensor t = {0};
   uint64_t count = 1, bytes = 0;
   for (int d = 0; d < ndim; d++) {
     if (shape[d] < 0)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': dimension %d is negative", name, d);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': dimension %d is negative", name, d);
     t.shape[d] = (uint64_t)shape[d];
     if (!st_mul_u64(count, t.shape[d], &count))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': size overflows", name);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': size overflows", name);
   }
   if (!st_mul_u64(count, sizeof(float), &bytes) || bytes > SIZE_MAX / 2)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': size overflows", name);
-  if (count && !data) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': data is NULL", name);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': size overflows", name);
+  if (count && !data) return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': data is NULL", name);
   for (size_t i = 0; i < w->count; i++)
     if (strcmp(w->tensors[i].name, name) == 0)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s' was already added", name);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s' was already added", name);
   if (w->count == w->cap) {
     size_t cap = w->cap ? 2 * w->cap : 16;
     wtensor *a = realloc(w->tensors, cap * sizeof *a);
-    if (!a) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+    if (!a) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
     w->tensors = a, w->cap = cap;
   }
   t.ndim = ndim;
@@ -98,31 +98,30 @@ static nbrdf_status add(nbrdf_st_writer *w, const char *name, int ndim, const in
   if (!t.name || (copy && count && !t.owned)) {
     free(t.name);
     free(t.owned);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory copying tensor '%s'", name);
+    return core_fail(err, NBRDF_ERR_MEMORY, "out of memory copying tensor '%s'", name);
   }
   w->tensors[w->count++] = t;
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_st_writer_add(nbrdf_st_writer *w, const char *name, int ndim,
-                                 const int64_t *shape, const float *data, nbrdf_error *err) {
+nbrdf_status nn_st_writer_add(nn_st_writer *w, const char *name, int ndim, const int64_t *shape,
+                              const float *data, nbrdf_error *err) {
   return add(w, name, ndim, shape, data, 1, err);
 }
 
-nbrdf_status nbrdf_st_writer_add_borrowed(nbrdf_st_writer *w, const char *name, int ndim,
-                                          const int64_t *shape, const float *data,
-                                          nbrdf_error *err) {
+nbrdf_status nn_st_writer_add_borrowed(nn_st_writer *w, const char *name, int ndim,
+                                       const int64_t *shape, const float *data, nbrdf_error *err) {
   return add(w, name, ndim, shape, data, 0, err);
 }
 
-nbrdf_status nbrdf_st_writer_set_metadata(nbrdf_st_writer *w, const char *key, const char *value,
-                                          nbrdf_error *err) {
-  if (!w) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_writer_set_metadata: NULL writer");
+nbrdf_status nn_st_writer_set_metadata(nn_st_writer *w, const char *key, const char *value,
+                                       nbrdf_error *err) {
+  if (!w) return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_writer_set_metadata: NULL writer");
   nbrdf_status st = check_text(key, "metadata key", err);
   if (!st) st = check_text(value, "metadata value", err);
   if (st) return st;
   char *v = strdup(value);
-  if (!v) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  if (!v) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   for (size_t i = 0; i < w->meta_count; i++)
     if (strcmp(w->meta[i].key, key) == 0) {
       free(w->meta[i].value);
@@ -138,7 +137,7 @@ nbrdf_status nbrdf_st_writer_set_metadata(nbrdf_st_writer *w, const char *key, c
   if (!k || w->meta_count == w->meta_cap) {
     free(k);
     free(v);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+    return core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   }
   w->meta[w->meta_count++] = (st_meta){k, v};
   return NBRDF_OK;
@@ -201,10 +200,10 @@ static void put_le32(unsigned char *o, uint32_t v) {
   o[2] = (unsigned char)(v >> 16), o[3] = (unsigned char)(v >> 24);
 }
 
-nbrdf_status nbrdf_st_writer_serialize(const nbrdf_st_writer *w, void **bytes, size_t *size,
-                                       nbrdf_error *err) {
+nbrdf_status nn_st_writer_serialize(const nn_st_writer *w, void **bytes, size_t *size,
+                                    nbrdf_error *err) {
   if (!w || !bytes || !size)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_writer_serialize: NULL argument");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_writer_serialize: NULL argument");
   *bytes = NULL, *size = 0;
   const wtensor **order = malloc((w->count + 1) * sizeof *order);
   const st_meta **meta = malloc((w->meta_count + 1) * sizeof *meta);
@@ -254,10 +253,10 @@ nbrdf_status nbrdf_st_writer_serialize(const nbrdf_st_writer *w, void **bytes, s
     free(h.p);
     free(order);
     free(meta);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "the header would be %zu bytes, above the "
-                      "format's limit of %llu",
-                      len, (unsigned long long)ST_MAX_HEADER);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "the header would be %zu bytes, above the "
+                     "format's limit of %llu",
+                     len, (unsigned long long)ST_MAX_HEADER);
   }
   unsigned char *out = NULL;
   size_t total = 0;
@@ -280,24 +279,24 @@ nbrdf_status nbrdf_st_writer_serialize(const nbrdf_st_writer *w, void **bytes, s
   free(h.p);
   free(order);
   free(meta);
-  if (!out) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory serialising tensors");
+  if (!out) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory serialising tensors");
   *bytes = out, *size = total;
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_st_writer_save(const nbrdf_st_writer *w, const char *path, uint64_t *checksum,
-                                  nbrdf_error *err) {
+nbrdf_status nn_st_writer_save(const nn_st_writer *w, const char *path, uint64_t *checksum,
+                               nbrdf_error *err) {
   if (!w || !path || !path[0])
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "nbrdf_st_writer_save: NULL writer or empty path");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_writer_save: NULL writer or empty path");
   void *bytes = NULL;
   size_t size = 0;
-  nbrdf_status st = nbrdf_st_writer_serialize(w, &bytes, &size, err);
+  nbrdf_status st = nn_st_writer_serialize(w, &bytes, &size, err);
   if (st) {
-    nbrdf_error_prefix(err, "%s: ", path);
+    core_error_prefix(err, "%s: ", path);
     return st;
   }
-  st = nbrdf_output_file_write_all(path, bytes, size, NULL, 0, err);
-  if (!st && checksum) *checksum = nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, bytes, size);
+  st = core_output_file_write_all(path, bytes, size, NULL, 0, err);
+  if (!st && checksum) *checksum = nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, bytes, size);
   free(bytes);
   return st;
 }

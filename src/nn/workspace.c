@@ -9,7 +9,7 @@
 /* Beyond this, rows x width x 4 bytes could overflow int arithmetic in BLAS calls. */
 #define MAX_BATCH (1 << 24)
 
-int nn_infer_block(const nbrdf_nn *nn) {
+int nn_infer_block(const nn_network *nn) {
   int rows = (1 << 19) / nn->max_width / 16 * 16;
   return rows < 64 ? 64 : rows;
 }
@@ -30,7 +30,7 @@ static float *carve_f(carver *c, int rows, int w) {
 }
 
 /* Lays the workspace out (ws->block == NULL: only measures) and returns its size. */
-static size_t plan(nbrdf_nn_workspace *ws, const nbrdf_nn *nn) {
+static size_t plan(nn_workspace *ws, const nn_network *nn) {
   carver c = {ws->block, 0};
   const int W = nn->max_width, L = nn->spec.n_layers;
   const int block = nn_infer_block(nn);
@@ -82,10 +82,10 @@ static size_t plan(nbrdf_nn_workspace *ws, const nbrdf_nn *nn) {
   return c.used;
 }
 
-size_t nbrdf_nn_workspace_bytes(const nbrdf_nn_spec *spec, int max_batch, nbrdf_nn_mode mode) {
-  if (nbrdf_nn_spec_validate(spec, NULL) != NBRDF_OK || max_batch < 1) return 0;
-  nbrdf_nn *nn = calloc(1, sizeof *nn);
-  nbrdf_nn_workspace *ws = calloc(1, sizeof *ws);
+size_t nn_workspace_bytes(const nn_spec *spec, int max_batch, nn_mode mode) {
+  if (nn_spec_validate(spec, NULL) != NBRDF_OK || max_batch < 1) return 0;
+  nn_network *nn = calloc(1, sizeof *nn);
+  nn_workspace *ws = calloc(1, sizeof *ws);
   size_t bytes = 0;
   if (nn && ws) {
     nn->spec = *spec;
@@ -99,16 +99,16 @@ size_t nbrdf_nn_workspace_bytes(const nbrdf_nn_spec *spec, int max_batch, nbrdf_
   return bytes;
 }
 
-nbrdf_status nbrdf_nn_workspace_create(const nbrdf_nn *nn, int max_batch, nbrdf_nn_mode mode,
-                                       nbrdf_nn_workspace **out, nbrdf_error *err) {
+nbrdf_status nn_workspace_create(const nn_network *nn, int max_batch, nn_mode mode,
+                                 nn_workspace **out, nbrdf_error *err) {
   *out = NULL;
   if (max_batch < 1 || max_batch > MAX_BATCH)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network workspace: max_batch = %d, expected 1..%d",
-                      max_batch, MAX_BATCH);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "network workspace: max_batch = %d, expected 1..%d",
+                     max_batch, MAX_BATCH);
   if (mode != NBRDF_NN_TRAIN && mode != NBRDF_NN_INFER)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "network workspace: unknown mode %d", (int)mode);
-  nbrdf_nn_workspace *ws = calloc(1, sizeof *ws);
-  if (!ws) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "network workspace: out of memory");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "network workspace: unknown mode %d", (int)mode);
+  nn_workspace *ws = calloc(1, sizeof *ws);
+  if (!ws) return core_fail(err, NBRDF_ERR_MEMORY, "network workspace: out of memory");
   ws->spec = nn->spec;
   ws->mode = mode;
   ws->max_batch = max_batch;
@@ -117,25 +117,24 @@ nbrdf_status nbrdf_nn_workspace_create(const nbrdf_nn *nn, int max_batch, nbrdf_
   if (!ws->block) {
     size_t bytes = ws->bytes;
     free(ws);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY,
-                      "network workspace: out of memory for %zu bytes (batch %d)", bytes,
-                      max_batch);
+    return core_fail(err, NBRDF_ERR_MEMORY,
+                     "network workspace: out of memory for %zu bytes (batch %d)", bytes, max_batch);
   }
   plan(ws, nn);
   *out = ws;
   return NBRDF_OK;
 }
 
-void nbrdf_nn_workspace_destroy(nbrdf_nn_workspace *ws) {
+void nn_workspace_destroy(nn_workspace *ws) {
   if (!ws) return;
   free(ws->block);
   free(ws);
 }
 
-int nn_same_spec(const nbrdf_nn_spec *a, const nbrdf_nn_spec *b) {
+int nn_same_spec(const nn_spec *a, const nn_spec *b) {
   if (a->n_inputs != b->n_inputs || a->n_layers != b->n_layers) return 0;
   for (int i = 0; i < a->n_layers; i++) {
-    const nbrdf_nn_layer_spec *x = &a->layers[i], *y = &b->layers[i];
+    const nn_layer_spec *x = &a->layers[i], *y = &b->layers[i];
     if (x->kind != y->kind || x->width != y->width || x->hidden != y->hidden ||
         x->has_skip != y->has_skip || x->skip_from != y->skip_from)
       return 0;
@@ -143,4 +142,4 @@ int nn_same_spec(const nbrdf_nn_spec *a, const nbrdf_nn_spec *b) {
   return 1;
 }
 
-int nbrdf_nn_workspace_max_batch(const nbrdf_nn_workspace *ws) { return ws->max_batch; }
+int nn_workspace_max_batch(const nn_workspace *ws) { return ws->max_batch; }

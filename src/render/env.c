@@ -115,7 +115,7 @@ static nbrdf_status build_table(eval_env *env, nbrdf_error *err) {
   env->cond_cdf = malloc(sizeof(double) * TABLE_H * (TABLE_W + 1));
   env->marg_cdf = malloc(sizeof(double) * (TABLE_H + 1));
   if (!env->cell_prob || !env->cond_cdf || !env->marg_cdf)
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "environment table: out of memory");
+    return core_fail(err, NBRDF_ERR_MEMORY, "environment table: out of memory");
   double total = 0.0, floor_v;
   for (int j = 0; j < TABLE_H; j++) {
     double sin_t = sin((j + 0.5) / TABLE_H * M_PI);
@@ -192,24 +192,24 @@ double eval_env_pdf(const eval_env *env, vec3 d) {
 }
 
 static nbrdf_status load_image(eval_env *env, const char *path, nbrdf_error *err) {
-  nbrdf_image_in *in = NULL;
-  nbrdf_image_info info;
-  nbrdf_status st = nbrdf_image_open(path, 0, &in, &info, err);
+  texture_image_in *in = NULL;
+  texture_image_info info;
+  nbrdf_status st = texture_image_open(path, 0, &in, &info, err);
   if (st != NBRDF_OK) return st;
   int colour = info.channels >= 3 && info.alpha_channel != 1 && info.alpha_channel != 2 ? 3 : 1;
   float *raw = malloc(sizeof(float) * (size_t)info.width * info.height * colour);
   env->image = malloc(sizeof(float) * 3 * (size_t)info.width * info.height);
-  if (!raw || !env->image) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
-  if (st == NBRDF_OK) st = nbrdf_image_read_rows(in, 0, 0, info.height, 0, colour, raw, err);
-  nbrdf_image_close(in);
+  if (!raw || !env->image) st = core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+  if (st == NBRDF_OK) st = texture_image_read_rows(in, 0, 0, info.height, 0, colour, raw, err);
+  texture_image_close(in);
   for (size_t p = 0; st == NBRDF_OK && p < (size_t)info.width * info.height; p++)
     for (int c = 0; c < 3; c++) {
       float v = raw[p * colour + (colour == 3 ? c : 0)];
       if (!isfinite(v) || v < 0.0f)
-        st = nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                        "%s: pixel (%zu, %zu) is %g (radiance must be "
-                        "finite and >= 0)",
-                        path, p % (size_t)info.width, p / (size_t)info.width, (double)v);
+        st = core_fail(err, NBRDF_ERR_FORMAT,
+                       "%s: pixel (%zu, %zu) is %g (radiance must be "
+                       "finite and >= 0)",
+                       path, p % (size_t)info.width, p / (size_t)info.width, (double)v);
       env->image[3 * p + c] = v;
     }
   free(raw);
@@ -220,7 +220,7 @@ static nbrdf_status load_image(eval_env *env, const char *path, nbrdf_error *err
 nbrdf_status eval_env_create(const nbrdf_render_options *opts, eval_env **out, nbrdf_error *err) {
   *out = NULL;
   eval_env *env = calloc(1, sizeof *env);
-  if (!env) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "environment: out of memory");
+  if (!env) return core_fail(err, NBRDF_ERR_MEMORY, "environment: out of memory");
   env->kind = opts->env;
   env->scale = opts->env_scale;
   env->sun = v3_normalize(v3(0.5, 0.55, 0.45));
@@ -228,20 +228,20 @@ nbrdf_status eval_env_create(const nbrdf_render_options *opts, eval_env **out, n
     env->value[c] = opts->env_value[c];
   nbrdf_status st = NBRDF_OK;
   if (!(opts->env_scale >= 0.0f) || !isfinite(opts->env_scale))
-    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "environment scale %g is not finite and >= 0",
-                    (double)opts->env_scale);
+    st = core_fail(err, NBRDF_ERR_ARGUMENT, "environment scale %g is not finite and >= 0",
+                   (double)opts->env_scale);
   else if (env->kind == NBRDF_ENV_CONSTANT) {
     for (int c = 0; c < 3; c++)
       if (!(opts->env_value[c] >= 0.0f) || !isfinite(opts->env_value[c]))
-        st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "constant environment %g is not finite and >= 0",
-                        (double)opts->env_value[c]);
+        st = core_fail(err, NBRDF_ERR_ARGUMENT, "constant environment %g is not finite and >= 0",
+                       (double)opts->env_value[c]);
   } else if (env->kind == NBRDF_ENV_IMAGE) {
     if (!opts->env_path)
-      st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "environment image: no path given");
+      st = core_fail(err, NBRDF_ERR_ARGUMENT, "environment image: no path given");
     else
       st = load_image(env, opts->env_path, err);
   } else if (env->kind != NBRDF_ENV_SKY) {
-    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "unknown environment kind %d", (int)env->kind);
+    st = core_fail(err, NBRDF_ERR_ARGUMENT, "unknown environment kind %d", (int)env->kind);
   }
   if (st == NBRDF_OK) st = build_table(env, err);
   if (st != NBRDF_OK) {

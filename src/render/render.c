@@ -12,35 +12,35 @@
 static nbrdf_status check_options(const nbrdf_model *model, const nbrdf_render_options *o,
                                   nbrdf_error *err) {
   if (o->mode != NBRDF_RENDER_NEURAL && o->mode != NBRDF_RENDER_REFERENCE)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: unknown mode %d", (int)o->mode);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render: unknown mode %d", (int)o->mode);
   if (o->scene != NBRDF_SCENE_SPHERE && o->scene != NBRDF_SCENE_PLANE)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: unknown scene %d", (int)o->scene);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render: unknown scene %d", (int)o->scene);
   if (o->width < 1 || o->height < 1 || o->width > 16384 || o->height > 16384)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: image %d x %d, expected 1..16384 each",
-                      o->width, o->height);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render: image %d x %d, expected 1..16384 each",
+                     o->width, o->height);
   if (o->spp < 1 || o->spp > (1 << 20))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: %d samples per pixel, expected 1..2^20",
-                      o->spp);
-  if (o->threads < 0) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: %d threads", o->threads);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render: %d samples per pixel, expected 1..2^20",
+                     o->spp);
+  if (o->threads < 0) return core_fail(err, NBRDF_ERR_ARGUMENT, "render: %d threads", o->threads);
   if (!(o->light_intensity >= 0.0) || !isfinite(o->light_intensity))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: light intensity %g is not finite and >= 0",
-                      o->light_intensity);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render: light intensity %g is not finite and >= 0",
+                     o->light_intensity);
   for (int k = 0; k < 3; k++)
     if (!isfinite(o->light_pos[k]))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: light position is not finite");
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "render: light position is not finite");
   if (o->scene == NBRDF_SCENE_PLANE && !(o->plane_repeat > 0.0 && isfinite(o->plane_repeat)))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: plane repeat %g is not finite and > 0",
-                      o->plane_repeat);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render: plane repeat %g is not finite and > 0",
+                     o->plane_repeat);
   if (o->mode == NBRDF_RENDER_NEURAL && !model)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: neural mode needs a model");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render: neural mode needs a model");
   if (o->mode == NBRDF_RENDER_REFERENCE) {
     if (!o->reference || (o->reference_channels != 1 && o->reference_channels != 3))
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "render: reference mode needs 1 or 3 ground-truth BRDFs, got %d",
-                        o->reference_channels);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "render: reference mode needs 1 or 3 ground-truth BRDFs, got %d",
+                       o->reference_channels);
     for (int c = 0; c < o->reference_channels; c++)
       if (!o->reference[c])
-        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render: reference BRDF %d is NULL", c);
+        return core_fail(err, NBRDF_ERR_ARGUMENT, "render: reference BRDF %d is NULL", c);
   }
   return NBRDF_OK;
 }
@@ -70,7 +70,7 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   memset(&ctx, 0, sizeof ctx);
   ctx.opts = o, ctx.model = decoding, ctx.tex = tex, ctx.env = env;
   ctx.colours =
-      o->mode == NBRDF_RENDER_NEURAL ? nbrdf_latent_colours(&tex->layout) : o->reference_channels;
+      o->mode == NBRDF_RENDER_NEURAL ? texture_latent_colours(&tex->layout) : o->reference_channels;
   eval_camera_setup(&ctx.cam, o->scene, o->width, o->height, o->plane_repeat);
 
   int tx = (o->width + EVAL_RENDER_TILE - 1) / EVAL_RENDER_TILE;
@@ -81,10 +81,10 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   size_t decoded = 0, evals = 0;
   double decode_s = 0.0;
   nbrdf_error first = {NBRDF_OK, ""};
-  nbrdf_ticker ticker; /* ticked inside the critical section below only */
-  nbrdf_ticker_init(&ticker, o->progress, o->user, o->cancel);
-  if (nbrdf_ticker_tick(&ticker, "render", 0, tiles, 1))
-    nbrdf_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled before the first tile"), stop = 1;
+  core_ticker ticker; /* ticked inside the critical section below only */
+  core_ticker_init(&ticker, o->progress, o->user, o->cancel);
+  if (core_ticker_tick(&ticker, "render", 0, tiles, 1))
+    core_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled before the first tile"), stop = 1;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : decoded, evals, decode_s)
   for (int t = 0; t < tiles; t++) {
     int halt;
@@ -100,10 +100,10 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
     {
       if (ts != NBRDF_OK && first.status == NBRDF_OK) first = e, first.status = ts;
       done++;
-      if (ts != NBRDF_OK || nbrdf_ticker_tick(&ticker, "render", done, tiles, done == tiles)) {
+      if (ts != NBRDF_OK || core_ticker_tick(&ticker, "render", done, tiles, done == tiles)) {
         if (first.status == NBRDF_OK)
-          nbrdf_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled after %d of %d tiles", done,
-                     tiles);
+          core_fail(&first, NBRDF_ERR_CANCELLED, "render: cancelled after %d of %d tiles", done,
+                    tiles);
 #pragma omp atomic write
         stop = 1;
       }

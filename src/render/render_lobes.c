@@ -22,7 +22,7 @@ static nbrdf_status decode_fn(void *user, size_t n, const nbrdf_query *q, double
   float *lat = malloc(sizeof(float) * n * D), *wi = malloc(sizeof(float) * n * 3);
   float *wo = malloc(sizeof(float) * n * 3), *ff = malloc(sizeof(float) * n);
   nbrdf_status st = NBRDF_OK;
-  if (!lat || !wi || !wo || !ff) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "lobes: out of memory");
+  if (!lat || !wi || !wo || !ff) st = core_fail(err, NBRDF_ERR_MEMORY, "lobes: out of memory");
   for (size_t k = 0; st == NBRDF_OK && k < n; k++) {
     memcpy(lat + k * D, u->latent, sizeof(float) * D);
     for (int a = 0; a < 3; a++)
@@ -44,44 +44,44 @@ nbrdf_status nbrdf_render_lobes(const nbrdf_model *model, const char *latent_pat
   nbrdf_model *decoding = NULL; /* with the texture's own decoder, if it has one */
   nbrdf_status st = eval_latent_image_load_model(latent_path, model, &tex, &decoding, err);
   if (st != NBRDF_OK) return st;
-  int colours = nbrdf_latent_colours(&tex->layout);
+  int colours = texture_latent_colours(&tex->layout);
   if (level < 0 || level >= tex->levels)
-    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d (the texture has %d)",
-                    latent_path, level, tex->levels);
+    st = core_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d (the texture has %d)", latent_path,
+                   level, tex->levels);
   else if (x < 0 || y < 0 || x >= tex->width[level] || y >= tex->height[level])
-    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: texel (%d, %d) is outside level %d (%d x %d)",
-                    latent_path, x, y, level, tex->width[level], tex->height[level]);
+    st = core_fail(err, NBRDF_ERR_ARGUMENT, "%s: texel (%d, %d) is outside level %d (%d x %d)",
+                   latent_path, x, y, level, tex->width[level], tex->height[level]);
   else if (reference && reference_channels != 1 && reference_channels != colours)
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%d reference BRDFs for a texture of %d colours",
-                    reference_channels, colours);
+    st = core_fail(err, NBRDF_ERR_MISMATCH, "%d reference BRDFs for a texture of %d colours",
+                   reference_channels, colours);
   else if (reference && spp < 1)
-    st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "lobes: %d samples per pixel", spp);
+    st = core_fail(err, NBRDF_ERR_ARGUMENT, "lobes: %d samples per pixel", spp);
   size_t per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES * NBRDF_LOBE_N_THETA;
   double *dec = NULL, *ref = NULL;
   if (st == NBRDF_OK) {
     dec = malloc(sizeof(double) * per * colours);
     ref = reference ? malloc(sizeof(double) * per * colours) : NULL;
-    if (!dec || (reference && !ref)) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "lobes: out of memory");
+    if (!dec || (reference && !ref)) st = core_fail(err, NBRDF_ERR_MEMORY, "lobes: out of memory");
   }
   const float *texel = st == NBRDF_OK ? tex->data[level] + ((size_t)y * tex->width[level] + x) *
                                                                (size_t)tex->channels
                                       : NULL;
   for (int c = 0; st == NBRDF_OK && c < colours; c++) {
-    decode_fn_user u = {decoding, texel + (size_t)c * nbrdf_latent_block(&tex->layout)};
-    st = nbrdf_lobe_images(decode_fn, &u, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, nbrdf_lobe_theta_deg,
-                           dec + c * per, err);
+    decode_fn_user u = {decoding, texel + (size_t)c * texture_latent_block(&tex->layout)};
+    st = lobe_images(decode_fn, &u, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg,
+                     dec + c * per, err);
     if (st == NBRDF_OK && reference) {
-      nbrdf_lobe_brdf lb = {reference[reference_channels == 1 ? 0 : c], NBRDF_EVAL_OPTIONS_DEFAULT};
+      lobe_brdf lb = {reference[reference_channels == 1 ? 0 : c], NBRDF_EVAL_OPTIONS_DEFAULT};
       lb.options.spp = spp, lb.options.seed = seed + (uint64_t)c;
-      st = nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
-                             nbrdf_lobe_theta_deg, ref + c * per, err);
+      st = lobe_images(lobe_brdf_fn, &lb, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg,
+                       ref + c * per, err);
     }
   }
   if (st == NBRDF_OK)
-    st = nbrdf_lobe_write_png(png_path, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA * colours,
-                              reference ? ref : dec, reference ? dec : NULL, 2, err);
+    st = lobe_write_png(png_path, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA * colours,
+                        reference ? ref : dec, reference ? dec : NULL, 2, err);
   if (st == NBRDF_OK && reference && lobe_error)
-    *lobe_error = nbrdf_lobe_error(per * colours, ref, dec);
+    *lobe_error = lobe_l1_error(per * colours, ref, dec);
   free(dec), free(ref);
   eval_latent_image_free(tex);
   nbrdf_model_destroy(decoding);

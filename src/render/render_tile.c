@@ -22,7 +22,7 @@ typedef struct query {
 
 typedef struct tile_buf {
   double *acc;
-  nbrdf_rng *rng;
+  core_rng *rng;
   float *texel; /* per slot: channels floats */
   query *q;
   float *latent, *wi, *wo, *f; /* decoder batch */
@@ -42,8 +42,8 @@ static void texel_proxy(const eval_latent_image *tex, const float *texel, int c,
     *s = 1.0f, *w = 1.0f;
     return;
   }
-  *s = texel[nbrdf_latent_index_sigma(&tex->layout, c)];
-  *w = texel[nbrdf_latent_index_w(&tex->layout, c)];
+  *s = texel[texture_latent_index_sigma(&tex->layout, c)];
+  *w = texel[texture_latent_index_w(&tex->layout, c)];
   if (!(*s > 1e-3f)) *s = 1e-3f;
   *w = *w < 0.0f ? 0.0f : (*w > 1.0f ? 1.0f : *w);
 }
@@ -54,7 +54,7 @@ static void texel_proxy(const eval_latent_image *tex, const float *texel, int c,
 static double strategy_pdf(const eval_render_ctx *ctx, const float *texel, int c, vec3 wi,
                            vec3 wo) {
   const eval_latent_image *tex = ctx->tex;
-  int T = nbrdf_latent_colours(&tex->layout);
+  int T = texture_latent_colours(&tex->layout);
   float s[3], w[3];
   for (int k = 0; k < T; k++)
     texel_proxy(tex, texel, k, &s[k], &w[k]);
@@ -74,7 +74,7 @@ static nbrdf_status eval_queries(const eval_render_ctx *ctx, tile_buf *b, int nq
   const eval_latent_image *tex = ctx->tex;
   int K = ctx->colours;
   if (ctx->opts->mode == NBRDF_RENDER_NEURAL) {
-    int D = tex->layout.latent_dim, block = nbrdf_latent_block(&tex->layout);
+    int D = tex->layout.latent_dim, block = texture_latent_block(&tex->layout);
     for (int k = 0; k < nq; k++) {
       const float *texel = tex_buf + (size_t)b->q[k].slot * tex->channels;
       for (int c = 0; c < K; c++)
@@ -82,11 +82,11 @@ static nbrdf_status eval_queries(const eval_render_ctx *ctx, tile_buf *b, int nq
       memcpy(b->wi + 3 * k, b->q[k].wi, sizeof(float) * 3);
       memcpy(b->wo + 3 * k, b->q[k].wo, sizeof(float) * 3);
     }
-    double t0 = nbrdf_monotonic_seconds();
+    double t0 = core_monotonic_seconds();
     nbrdf_status st =
         nbrdf_model_decode(ctx->model, (size_t)nq, K, b->latent, b->wi, b->wo, b->f, err);
     if (st != NBRDF_OK) return st;
-    *decode_seconds += nbrdf_monotonic_seconds() - t0;
+    *decode_seconds += core_monotonic_seconds() - t0;
     *decoded += (size_t)nq * K;
     for (int k = 0; k < nq; k++)
       for (int o = 0; o < 3; o++)
@@ -99,7 +99,7 @@ static nbrdf_status eval_queries(const eval_render_ctx *ctx, tile_buf *b, int nq
       b->gt[k].wi[a] = b->q[k].wi[a], b->gt[k].wo[a] = b->q[k].wo[a];
   for (int c = 0; c < K; c++) {
     nbrdf_eval_options eo = NBRDF_EVAL_OPTIONS_DEFAULT;
-    eo.seed = nbrdf_hash64(seed, (uint64_t)c), eo.spp = 1, eo.threads = 1;
+    eo.seed = core_hash64(seed, (uint64_t)c), eo.spp = 1, eo.threads = 1;
     nbrdf_status st =
         nbrdf_brdf_eval(ctx->opts->reference[c], (size_t)nq, b->gt, &eo, b->fd, NULL, err);
     if (st != NBRDF_OK) return st;
@@ -155,7 +155,7 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
   int D = tex->layout.latent_dim;
   tile_buf b = {0};
   b.acc = calloc((size_t)npix * 3, sizeof(double));
-  b.rng = malloc(sizeof(nbrdf_rng) * npix);
+  b.rng = malloc(sizeof(core_rng) * npix);
   b.texel = malloc(sizeof(float) * slots * C);
   b.q = malloc(sizeof(query) * maxq);
   if (o->mode == NBRDF_RENDER_NEURAL) {
@@ -168,16 +168,16 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
   if (!b.acc || !b.rng || !b.texel || !b.q ||
       (o->mode == NBRDF_RENDER_NEURAL ? !b.latent || !b.wi || !b.wo || !b.f : !b.gt || !b.fd)) {
     buf_free(&b);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "render: tile %d: out of memory", tile);
+    return core_fail(err, NBRDF_ERR_MEMORY, "render: tile %d: out of memory", tile);
   }
   for (int p = 0; p < npix; p++)
-    nbrdf_rng_init(&b.rng[p], o->seed, (uint64_t)(y0 + p / w) * o->width + (uint64_t)(x0 + p % w));
+    core_rng_init(&b.rng[p], o->seed, (uint64_t)(y0 + p / w) * o->width + (uint64_t)(x0 + p % w));
   nbrdf_status st = NBRDF_OK;
   for (int s0 = 0; st == NBRDF_OK && s0 < spp; s0 += per_chunk) {
     /* a tile of thousands of samples per pixel takes seconds: Ctrl-C is seen
      * between its batches too (the caller reports progress per tile) */
     if (o->cancel && *o->cancel) {
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "render: cancelled in tile %d", tile);
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "render: cancelled in tile %d", tile);
       break;
     }
     int s1 = s0 + per_chunk < spp ? s0 + per_chunk : spp, nq = 0;
@@ -186,12 +186,12 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
       uint64_t gpix = (uint64_t)py * o->width + (uint64_t)px;
       for (int s = s0; st == NBRDF_OK && s < s1; s++) {
         int slot = p * per_chunk + (s - s0);
-        nbrdf_rng *r = &b.rng[p];
-        double jx = nbrdf_rng_uniform(r), jy = nbrdf_rng_uniform(r);
-        double ue[2] = {nbrdf_rng_uniform(r), nbrdf_rng_uniform(r)};
+        core_rng *r = &b.rng[p];
+        double jx = core_rng_uniform(r), jy = core_rng_uniform(r);
+        double ue[2] = {core_rng_uniform(r), core_rng_uniform(r)};
         double ub[4];
         for (int k = 0; k < 4; k++)
-          ub[k] = nbrdf_rng_uniform(r);
+          ub[k] = core_rng_uniform(r);
         vec3 dir = eval_camera_ray(&ctx->cam, px + jx, py + jy);
         eval_hit hit;
         if (!eval_camera_hit(&ctx->cam, dir, tex->width[0], tex->height[0], &hit)) {
@@ -235,11 +235,11 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
         /* One BRDF sample. */
         if (o->mode == NBRDF_RENDER_REFERENCE) {
           st = reference_brdf_samples(ctx, &hit, texel, wi,
-                                      nbrdf_hash64(o->seed ^ 0x5851f42d4c957f2dULL, gpix),
+                                      core_hash64(o->seed ^ 0x5851f42d4c957f2dULL, gpix),
                                       (uint64_t)s, &b.acc[3 * p], brdf_evals, err);
           continue;
         }
-        int T = nbrdf_latent_colours(&tex->layout);
+        int T = texture_latent_colours(&tex->layout);
         float sg[3], wg[3];
         for (int k = 0; k < T; k++)
           texel_proxy(tex, texel, k, &sg[k], &wg[k]);
@@ -258,7 +258,7 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
     }
     if (st == NBRDF_OK)
       st = eval_queries(ctx, &b, nq, b.texel,
-                        nbrdf_hash64(nbrdf_hash64(o->seed, (uint64_t)tile), (uint64_t)s0), decoded,
+                        core_hash64(core_hash64(o->seed, (uint64_t)tile), (uint64_t)s0), decoded,
                         decode_seconds, brdf_evals, err);
   }
   for (int p = 0; st == NBRDF_OK && p < npix; p++) {

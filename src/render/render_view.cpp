@@ -37,9 +37,9 @@ extern "C" nbrdf_status eval_view_create(const char *config_path, const char *di
       v->description = std::string(d) + " / " + w + " (" + config + ")";
     } else {
       if (display || view)
-        return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                          "a display or view needs an OCIO config (--ocio or $OCIO); the built-in "
-                          "transform is sRGB only");
+        return core_fail(err, NBRDF_ERR_ARGUMENT,
+                         "a display or view needs an OCIO config (--ocio or $OCIO); the built-in "
+                         "transform is sRGB only");
       OCIO::ExponentWithLinearTransformRcPtr t = OCIO::ExponentWithLinearTransform::Create();
       const double gamma[4] = {2.4, 2.4, 2.4, 1.0};
       const double offset[4] = {0.055, 0.055, 0.055, 0.0};
@@ -53,8 +53,8 @@ extern "C" nbrdf_status eval_view_create(const char *config_path, const char *di
     *out = v.release();
     return NBRDF_OK;
   } catch (const std::exception &e) {
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "OCIO view transform%s%s: %s",
-                      config ? " in config " : "", config ? config : "", e.what());
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "OCIO view transform%s%s: %s",
+                     config ? " in config " : "", config ? config : "", e.what());
   }
 }
 
@@ -71,8 +71,8 @@ extern "C" nbrdf_status eval_view_apply(const eval_view *v, float *rgb, size_t n
     }
     return NBRDF_OK;
   } catch (const std::exception &e) {
-    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "view transform %s: %s", v->description.c_str(),
-                      e.what());
+    return core_fail(err, NBRDF_ERR_INTERNAL, "view transform %s: %s", v->description.c_str(),
+                     e.what());
   }
 }
 

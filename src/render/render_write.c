@@ -18,7 +18,7 @@ static nbrdf_status write_png(const char *path, int width, int height, const flo
   if (st != NBRDF_OK) return st;
   float *d = malloc(sizeof(float) * 3 * n);
   unsigned char *px = malloc(3 * n);
-  if (!d || !px) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+  if (!d || !px) st = core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   if (st == NBRDF_OK) {
     /* Negative or non-finite radiance has no display value: black. */
     for (size_t i = 0; i < 3 * n; i++)
@@ -30,7 +30,7 @@ static nbrdf_status write_png(const char *path, int width, int height, const flo
       float v = d[i] > 0.0f ? (d[i] < 1.0f ? d[i] : 1.0f) : 0.0f;
       px[i] = (unsigned char)lrintf(v * 255.0f);
     }
-    st = nbrdf_png_write_rgb8(path, width, height, px, err);
+    st = lobe_png_write_rgb8(path, width, height, px, err);
   }
   free(d), free(px);
   eval_view_free(view);
@@ -41,9 +41,9 @@ nbrdf_status nbrdf_render_write(const char *exr_path, const char *png_path, int 
                                 const float *rgb, const char *display, const char *ocio_config,
                                 nbrdf_error *err) {
   if (width < 1 || height < 1 || !rgb)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "render write: empty image");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render write: empty image");
   nbrdf_status st = NBRDF_OK;
-  if (exr_path) st = nbrdf_image_write(exr_path, width, height, 3, rgb, NBRDF_PIXEL_FLOAT, err);
+  if (exr_path) st = texture_image_write(exr_path, width, height, 3, rgb, NBRDF_PIXEL_FLOAT, err);
   if (st == NBRDF_OK && png_path)
     st = write_png(png_path, width, height, rgb, display, ocio_config, err);
   return st;

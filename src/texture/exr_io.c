@@ -11,13 +11,13 @@
 static void on_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
   void *user = NULL;
   if (exr_get_user_data(ctxt, &user) != EXR_ERR_SUCCESS || !user) return;
-  nbrdf_exr_stream *s = user;
+  texture_exr_stream *s = user;
   snprintf(s->message, sizeof s->message, "%s", msg ? msg : exr_get_default_error_message(code));
 }
 
 static int64_t read_fn(exr_const_context_t ctxt, void *user, void *buffer, uint64_t sz,
                        uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
-  nbrdf_exr_stream *s = user;
+  texture_exr_stream *s = user;
   uint64_t done = 0;
   while (done < sz) {
     ssize_t r = pread(s->fd, (char *)buffer + done, sz - done, (off_t)(offset + done));
@@ -34,23 +34,23 @@ static int64_t read_fn(exr_const_context_t ctxt, void *user, void *buffer, uint6
 
 static int64_t size_fn(exr_const_context_t ctxt, void *user) {
   (void)ctxt;
-  nbrdf_exr_stream *s = user;
+  texture_exr_stream *s = user;
   struct stat st;
   return fstat(s->fd, &st) == 0 ? (int64_t)st.st_size : -1;
 }
 
 static int64_t write_fn(exr_const_context_t ctxt, void *user, const void *buffer, uint64_t sz,
                         uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
-  nbrdf_exr_stream *s = user;
+  texture_exr_stream *s = user;
   nbrdf_error e;
-  if (nbrdf_output_file_pwrite(s->out, buffer, sz, (long long)offset, &e) != NBRDF_OK) {
+  if (core_output_file_pwrite(s->out, buffer, sz, (long long)offset, &e) != NBRDF_OK) {
     error_cb(ctxt, EXR_ERR_WRITE_IO, "%s", e.message);
     return -1;
   }
   return (int64_t)sz;
 }
 
-exr_context_initializer_t nbrdf_exr_initializer(nbrdf_exr_stream *stream, int for_write) {
+exr_context_initializer_t texture_exr_initializer(texture_exr_stream *stream, int for_write) {
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.error_handler_fn = on_error;
   init.user_data = stream;
@@ -69,13 +69,13 @@ exr_context_initializer_t nbrdf_exr_initializer(nbrdf_exr_stream *stream, int fo
   return init;
 }
 
-nbrdf_status nbrdf_exr_fail(nbrdf_error *err, nbrdf_status status, const nbrdf_exr_stream *s,
-                            exr_result_t rv, const char *path, const char *what) {
+nbrdf_status texture_exr_fail(nbrdf_error *err, nbrdf_status status, const texture_exr_stream *s,
+                              exr_result_t rv, const char *path, const char *what) {
   const char *msg = s && s->message[0] ? s->message : exr_get_default_error_message(rv);
-  return nbrdf_fail(err, status, "%s: %s: %s", path, what, msg);
+  return core_fail(err, status, "%s: %s: %s", path, what, msg);
 }
 
-exr_compression_t nbrdf_exr_compression(nbrdf_latent_compression c) {
+exr_compression_t texture_exr_compression(texture_latent_compression c) {
   switch (c) {
   case NBRDF_LATENT_ZIP:
     return EXR_COMPRESSION_ZIP;
@@ -91,7 +91,7 @@ exr_compression_t nbrdf_exr_compression(nbrdf_latent_compression c) {
   return EXR_COMPRESSION_LAST_TYPE;
 }
 
-int nbrdf_exr_compression_from(exr_compression_t c, nbrdf_latent_compression *out) {
+int texture_exr_compression_from(exr_compression_t c, texture_latent_compression *out) {
   switch (c) {
   case EXR_COMPRESSION_ZIP:
     *out = NBRDF_LATENT_ZIP;
@@ -115,19 +115,19 @@ int nbrdf_exr_compression_from(exr_compression_t c, nbrdf_latent_compression *ou
 
 static const char *const compression_names[] = {"zip", "piz", "zips", "rle", "none"};
 
-const char *nbrdf_latent_compression_name(nbrdf_latent_compression c) {
+const char *texture_latent_compression_name(texture_latent_compression c) {
   return (unsigned)c < 5 ? compression_names[c] : "unknown";
 }
 
-int nbrdf_latent_compression_parse(const char *name, nbrdf_latent_compression *out) {
+int texture_latent_compression_parse(const char *name, texture_latent_compression *out) {
   for (int i = 0; name && i < 5; i++)
     if (strcmp(name, compression_names[i]) == 0) {
-      *out = (nbrdf_latent_compression)i;
+      *out = (texture_latent_compression)i;
       return 1;
     }
   return 0;
 }
 
-const char *nbrdf_latent_storage_name(nbrdf_latent_storage s) {
+const char *texture_latent_storage_name(texture_latent_storage s) {
   return s == NBRDF_LATENT_FLOAT ? "float" : "half";
 }

@@ -12,22 +12,22 @@
 #include "texture/latent_exr.h"
 
 /* The user data of every context we create. */
-typedef struct nbrdf_exr_stream {
+typedef struct texture_exr_stream {
   int fd;                 /* reading: the file; -1 when writing */
-  nbrdf_output_file *out; /* writing: the temporary file */
+  core_output_file *out;  /* writing: the temporary file */
   char message[400];      /* the library's last error message */
-} nbrdf_exr_stream;
+} texture_exr_stream;
 
 /* An initializer wired to `stream` (pread/pwrite, error capture, size
  * limits that keep a corrupted header from asking for absurd allocations). */
-exr_context_initializer_t nbrdf_exr_initializer(nbrdf_exr_stream *stream, int for_write);
+exr_context_initializer_t texture_exr_initializer(texture_exr_stream *stream, int for_write);
 
 /* Fails with "<path>: <what>: <library message>". */
-nbrdf_status nbrdf_exr_fail(nbrdf_error *err, nbrdf_status status, const nbrdf_exr_stream *s,
-                            exr_result_t rv, const char *path, const char *what);
+nbrdf_status texture_exr_fail(nbrdf_error *err, nbrdf_status status, const texture_exr_stream *s,
+                              exr_result_t rv, const char *path, const char *what);
 
-exr_compression_t nbrdf_exr_compression(nbrdf_latent_compression c);
+exr_compression_t texture_exr_compression(texture_latent_compression c);
 /* Maps back; returns 0 for a compression that is not lossless. */
-int nbrdf_exr_compression_from(exr_compression_t c, nbrdf_latent_compression *out);
+int texture_exr_compression_from(exr_compression_t c, texture_latent_compression *out);
 
 #endif

@@ -21,13 +21,13 @@ static nbrdf_status check_png(FILE *f, const char *path, uint64_t size, nbrdf_er
   for (;;) {
     unsigned char head[8];
     if (fseek(f, (long)pos, SEEK_SET) != 0 || fread(head, 1, 8, f) != 8)
-      return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: truncated PNG (no IEND chunk)", path);
+      return core_fail(err, NBRDF_ERR_FORMAT, "%s: truncated PNG (no IEND chunk)", path);
     uint64_t len = be32(head);
     if (len > 0x7fffffffu || len + 12 > size - pos)
-      return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                        "%s: PNG chunk '%.4s' at byte %llu claims %llu bytes; the file has %llu",
-                        path, (const char *)head + 4, (unsigned long long)pos,
-                        (unsigned long long)len, (unsigned long long)(size - pos));
+      return core_fail(err, NBRDF_ERR_FORMAT,
+                       "%s: PNG chunk '%.4s' at byte %llu claims %llu bytes; the file has %llu",
+                       path, (const char *)head + 4, (unsigned long long)pos,
+                       (unsigned long long)len, (unsigned long long)(size - pos));
     if (!memcmp(head + 4, "IEND", 4)) return NBRDF_OK;
     pos += len + 12;
   }
@@ -60,22 +60,22 @@ static nbrdf_status check_exr(FILE *f, const char *path, uint64_t size, unsigned
       unsigned char b[4];
       if (!read_name(f, name, max_name, &pos) ||
           (name[0] && !read_name(f, type, max_name, &pos)))
-        return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                          "%s: OpenEXR header truncated or malformed (a name of more than %d "
-                          "characters, or no end)",
-                          path, max_name);
+        return core_fail(err, NBRDF_ERR_FORMAT,
+                         "%s: OpenEXR header truncated or malformed (a name of more than %d "
+                         "characters, or no end)",
+                         path, max_name);
       if (!name[0]) break;
       if (fread(b, 1, 4, f) != 4)
-        return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: OpenEXR header truncated", path);
+        return core_fail(err, NBRDF_ERR_FORMAT, "%s: OpenEXR header truncated", path);
       pos += 4;
       uint64_t len = le32(b);
       if (len > 0x7fffffffu || len > size - pos)
-        return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                          "%s: OpenEXR attribute '%s' claims %llu bytes; the file has %llu left",
-                          path, name, (unsigned long long)len, (unsigned long long)(size - pos));
+        return core_fail(err, NBRDF_ERR_FORMAT,
+                         "%s: OpenEXR attribute '%s' claims %llu bytes; the file has %llu left",
+                         path, name, (unsigned long long)len, (unsigned long long)(size - pos));
       pos += len;
       if (fseek(f, (long)pos, SEEK_SET) != 0)
-        return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot seek", path);
+        return core_fail(err, NBRDF_ERR_IO, "%s: cannot seek", path);
     }
     /* One header, or a multi-part file's headers up to an empty one. */
     if (!multipart || attrs == 0) return NBRDF_OK;
@@ -88,24 +88,24 @@ static nbrdf_status check_exr(FILE *f, const char *path, uint64_t size, unsigned
  * header the walk above accepts can still make it read a later size from the
  * wrong bytes (fuzz_param_map: a 1.9 GB allocation). */
 static nbrdf_status check_exr_core(const char *path, nbrdf_error *err) {
-  nbrdf_exr_stream stream = {.fd = -1};
-  nbrdf_status st = nbrdf_input_open(path, NBRDF_INPUT_ANY_SIZE, &stream.fd, NULL, err);
+  texture_exr_stream stream = {.fd = -1};
+  nbrdf_status st = core_input_open(path, NBRDF_INPUT_ANY_SIZE, &stream.fd, NULL, err);
   if (st != NBRDF_OK) return st;
-  exr_context_initializer_t init = nbrdf_exr_initializer(&stream, 0);
+  exr_context_initializer_t init = texture_exr_initializer(&stream, 0);
   exr_context_t ctx = NULL;
   exr_result_t rv = exr_start_read(&ctx, path, &init);
   if (rv != EXR_ERR_SUCCESS)
-    st = nbrdf_exr_fail(err, NBRDF_ERR_FORMAT, &stream, rv, path, "malformed OpenEXR header");
+    st = texture_exr_fail(err, NBRDF_ERR_FORMAT, &stream, rv, path, "malformed OpenEXR header");
   else
     exr_finish(&ctx);
   close(stream.fd);
   return st;
 }
 
-nbrdf_status nbrdf_image_check_structure(const char *path, uint64_t size, nbrdf_error *err) {
-  if (size == 0) return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: is empty (0 bytes)", path);
+nbrdf_status texture_image_check_structure(const char *path, uint64_t size, nbrdf_error *err) {
+  if (size == 0) return core_fail(err, NBRDF_ERR_FORMAT, "%s: is empty (0 bytes)", path);
   FILE *f = fopen(path, "rb");
-  if (!f) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open", path);
+  if (!f) return core_fail(err, NBRDF_ERR_IO, "%s: cannot open", path);
   unsigned char magic[8] = {0};
   size_t got = fread(magic, 1, 8, f);
   nbrdf_status st = NBRDF_OK;

@@ -16,7 +16,7 @@ extern "C" {
 #endif
 
 /* `size`: the file's size in bytes (from stat). Messages name the file. */
-nbrdf_status nbrdf_image_check_structure(const char *path, uint64_t size, nbrdf_error *err);
+nbrdf_status texture_image_check_structure(const char *path, uint64_t size, nbrdf_error *err);
 
 #ifdef __cplusplus
 }

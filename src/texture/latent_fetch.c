@@ -16,18 +16,18 @@ void eval_latent_image_free(eval_latent_image *img) {
   free(img);
 }
 
-nbrdf_status eval_latent_image_create(const nbrdf_latent_layout *layout, int width, int height,
+nbrdf_status eval_latent_image_create(const texture_latent_layout *layout, int width, int height,
                                       int levels, eval_latent_image **out, nbrdf_error *err) {
   *out = NULL;
-  nbrdf_status st = nbrdf_latent_layout_check(layout, err);
+  nbrdf_status st = texture_latent_layout_check(layout, err);
   if (st != NBRDF_OK) return st;
   if (width < 1 || height < 1 || levels < 1 || levels > EVAL_LATENT_MAX_LEVELS)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "latent image %d x %d with %d levels", width, height,
-                      levels);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "latent image %d x %d with %d levels", width, height,
+                     levels);
   eval_latent_image *img = calloc(1, sizeof *img);
-  if (!img) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "latent image: out of memory");
+  if (!img) return core_fail(err, NBRDF_ERR_MEMORY, "latent image: out of memory");
   img->layout = *layout;
-  img->channels = nbrdf_latent_channel_count(layout);
+  img->channels = texture_latent_channel_count(layout);
   for (int l = 0; l < levels; l++) {
     int w = width >> l, h = height >> l;
     img->width[l] = w > 1 ? w : 1;
@@ -36,7 +36,7 @@ nbrdf_status eval_latent_image_create(const nbrdf_latent_layout *layout, int wid
     img->levels = l + 1;
     if (!img->data[l]) {
       eval_latent_image_free(img);
-      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "latent image level %d: out of memory", l);
+      return core_fail(err, NBRDF_ERR_MEMORY, "latent image level %d: out of memory", l);
     }
   }
   *out = img;
@@ -44,25 +44,25 @@ nbrdf_status eval_latent_image_create(const nbrdf_latent_layout *layout, int wid
 }
 
 /* Every level of the open texture (closes it). */
-static nbrdf_status load_levels(nbrdf_latent_reader *r, const char *path, eval_latent_image **out,
+static nbrdf_status load_levels(texture_latent_reader *r, const char *path, eval_latent_image **out,
                                 nbrdf_error *err) {
-  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  const texture_latent_info *info = texture_latent_reader_info(r);
   if (info->levels > EVAL_LATENT_MAX_LEVELS) {
-    nbrdf_latent_reader_close(r);
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: %d mip levels", path, info->levels);
+    texture_latent_reader_close(r);
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: %d mip levels", path, info->levels);
   }
   eval_latent_image *img = NULL;
   nbrdf_status st =
       eval_latent_image_create(&info->layout, info->width, info->height, info->levels, &img, err);
   for (int l = 0; st == NBRDF_OK && l < img->levels; l++) {
     int w, h;
-    st = nbrdf_latent_reader_level_size(r, l, &w, &h, err);
+    st = texture_latent_reader_level_size(r, l, &w, &h, err);
     if (st == NBRDF_OK && (w != img->width[l] || h != img->height[l]))
-      st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: level %d is %d x %d, expected %d x %d", path, l,
-                      w, h, img->width[l], img->height[l]);
-    if (st == NBRDF_OK) st = nbrdf_latent_reader_read(r, l, 0, 0, w, h, img->data[l], err);
+      st = core_fail(err, NBRDF_ERR_FORMAT, "%s: level %d is %d x %d, expected %d x %d", path, l, w,
+                     h, img->width[l], img->height[l]);
+    if (st == NBRDF_OK) st = texture_latent_reader_read(r, l, 0, 0, w, h, img->data[l], err);
   }
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   if (st != NBRDF_OK) {
     eval_latent_image_free(img);
     return st;
@@ -74,10 +74,10 @@ static nbrdf_status load_levels(nbrdf_latent_reader *r, const char *path, eval_l
 nbrdf_status eval_latent_image_load(const char *path, eval_latent_image **out, char *model_checksum,
                                     size_t checksum_size, nbrdf_error *err) {
   *out = NULL;
-  nbrdf_latent_reader *r = NULL;
-  nbrdf_status st = nbrdf_latent_reader_open(&r, path, err);
+  texture_latent_reader *r = NULL;
+  nbrdf_status st = texture_latent_reader_open(&r, path, err);
   if (st != NBRDF_OK) return st;
-  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  const texture_latent_info *info = texture_latent_reader_info(r);
   if (model_checksum && checksum_size)
     snprintf(model_checksum, checksum_size, "%s", info->model_checksum);
   return load_levels(r, path, out, err);
@@ -88,11 +88,11 @@ nbrdf_status eval_latent_image_load_model(const char *path, const nbrdf_model *b
                                           nbrdf_error *err) {
   *out = NULL;
   *model = NULL;
-  nbrdf_latent_reader *r = NULL;
-  nbrdf_status st = nbrdf_latent_reader_open(&r, path, err);
-  if (st == NBRDF_OK) st = nbrdf_latent_reader_model(r, bundle, model, err);
+  texture_latent_reader *r = NULL;
+  nbrdf_status st = texture_latent_reader_open(&r, path, err);
+  if (st == NBRDF_OK) st = texture_latent_reader_model(r, bundle, model, err);
   if (st != NBRDF_OK) {
-    nbrdf_latent_reader_close(r);
+    texture_latent_reader_close(r);
     return st;
   }
   st = load_levels(r, path, out, err);

@@ -31,7 +31,7 @@
 #define EVAL_LATENT_MAX_LEVELS 32
 
 typedef struct eval_latent_image {
-  nbrdf_latent_layout layout;
+  texture_latent_layout layout;
   int channels; /* floats per texel, logical order (latent_layout.h) */
   int levels;
   int width[EVAL_LATENT_MAX_LEVELS], height[EVAL_LATENT_MAX_LEVELS];
@@ -40,7 +40,7 @@ typedef struct eval_latent_image {
 
 /* An image with the round-down chain of `levels` levels of a W x H level 0,
  * data zeroed (tests fill it). */
-nbrdf_status eval_latent_image_create(const nbrdf_latent_layout *layout, int width, int height,
+nbrdf_status eval_latent_image_create(const texture_latent_layout *layout, int width, int height,
                                       int levels, eval_latent_image **out, nbrdf_error *err);
 /* Reads every level of the latent texture at `path`. `model_checksum` (may be
  * NULL) receives the bundle checksum recorded in the file, so that a caller

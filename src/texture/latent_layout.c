@@ -8,47 +8,47 @@
 static const char *const mono_suffix[] = {"Y"};
 static const char *const rgb_suffix[] = {"R", "G", "B"};
 
-nbrdf_status nbrdf_latent_layout_check(const nbrdf_latent_layout *layout, nbrdf_error *err) {
-  if (!layout) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "latent layout is NULL");
+nbrdf_status texture_latent_layout_check(const texture_latent_layout *layout, nbrdf_error *err) {
+  if (!layout) return core_fail(err, NBRDF_ERR_ARGUMENT, "latent layout is NULL");
   if (layout->latent_dim < 1 || layout->latent_dim > NBRDF_LATENT_MAX_DIM)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "latent dimension %d is outside [1, %d]",
-                      layout->latent_dim, NBRDF_LATENT_MAX_DIM);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "latent dimension %d is outside [1, %d]",
+                     layout->latent_dim, NBRDF_LATENT_MAX_DIM);
   if (layout->colour != NBRDF_COLOUR_MONO && layout->colour != NBRDF_COLOUR_RGB)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "colour mode %d is neither mono (1) nor RGB (3)",
-                      (int)layout->colour);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "colour mode %d is neither mono (1) nor RGB (3)",
+                     (int)layout->colour);
   if (layout->proxy != 0 && layout->proxy != 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "proxy flag %d is neither 0 nor 1", layout->proxy);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "proxy flag %d is neither 0 nor 1", layout->proxy);
   return NBRDF_OK;
 }
 
-int nbrdf_latent_colours(const nbrdf_latent_layout *layout) { return (int)layout->colour; }
+int texture_latent_colours(const texture_latent_layout *layout) { return (int)layout->colour; }
 
-int nbrdf_latent_block(const nbrdf_latent_layout *layout) {
+int texture_latent_block(const texture_latent_layout *layout) {
   return layout->latent_dim + (layout->proxy ? 2 : 0);
 }
 
-int nbrdf_latent_channel_count(const nbrdf_latent_layout *layout) {
-  return nbrdf_latent_colours(layout) * nbrdf_latent_block(layout);
+int texture_latent_channel_count(const texture_latent_layout *layout) {
+  return texture_latent_colours(layout) * texture_latent_block(layout);
 }
 
-int nbrdf_latent_index_latent(const nbrdf_latent_layout *layout, int c, int k) {
-  return c * nbrdf_latent_block(layout) + k;
+int texture_latent_index_latent(const texture_latent_layout *layout, int c, int k) {
+  return c * texture_latent_block(layout) + k;
 }
 
-int nbrdf_latent_index_sigma(const nbrdf_latent_layout *layout, int c) {
-  return c * nbrdf_latent_block(layout) + layout->latent_dim;
+int texture_latent_index_sigma(const texture_latent_layout *layout, int c) {
+  return c * texture_latent_block(layout) + layout->latent_dim;
 }
 
-int nbrdf_latent_index_w(const nbrdf_latent_layout *layout, int c) {
-  return c * nbrdf_latent_block(layout) + layout->latent_dim + 1;
+int texture_latent_index_w(const texture_latent_layout *layout, int c) {
+  return c * texture_latent_block(layout) + layout->latent_dim + 1;
 }
 
-static const char *colour_suffix(const nbrdf_latent_layout *layout, int c) {
+static const char *colour_suffix(const texture_latent_layout *layout, int c) {
   return layout->colour == NBRDF_COLOUR_MONO ? mono_suffix[0] : rgb_suffix[c];
 }
 
-void nbrdf_latent_channel_name(const nbrdf_latent_layout *layout, int i, char *buf, size_t n) {
-  int block = nbrdf_latent_block(layout);
+void texture_latent_channel_name(const texture_latent_layout *layout, int i, char *buf, size_t n) {
+  int block = texture_latent_block(layout);
   int c = i / block, k = i % block;
   const char *suffix = colour_suffix(layout, c);
   /* Two digits keep names aligned for the paper's 32 latents; wider
@@ -62,14 +62,14 @@ void nbrdf_latent_channel_name(const nbrdf_latent_layout *layout, int i, char *b
     snprintf(buf, n, "proxy.w.%s", suffix);
 }
 
-static int parse_colour(const nbrdf_latent_layout *layout, const char *suffix) {
-  for (int c = 0; c < nbrdf_latent_colours(layout); c++)
+static int parse_colour(const texture_latent_layout *layout, const char *suffix) {
+  for (int c = 0; c < texture_latent_colours(layout); c++)
     if (strcmp(suffix, colour_suffix(layout, c)) == 0) return c;
   return -1;
 }
 
-int nbrdf_latent_channel_index(const nbrdf_latent_layout *layout, const char *name) {
-  int block = nbrdf_latent_block(layout), c, k;
+int texture_latent_channel_index(const texture_latent_layout *layout, const char *name) {
+  int block = texture_latent_block(layout), c, k;
   if (strncmp(name, "latent.L", 8) == 0) {
     const char *p = name + 8;
     int digits = layout->latent_dim > 100 ? 3 : 2, value = 0;
@@ -92,7 +92,7 @@ int nbrdf_latent_channel_index(const nbrdf_latent_layout *layout, const char *na
   return c < 0 ? -1 : c * block + k;
 }
 
-const char *nbrdf_colour_mode_name(nbrdf_colour_mode mode) {
+const char *texture_colour_mode_name(texture_colour_mode mode) {
   switch (mode) {
   case NBRDF_COLOUR_MONO:
     return "mono";
@@ -102,7 +102,7 @@ const char *nbrdf_colour_mode_name(nbrdf_colour_mode mode) {
   return "unknown";
 }
 
-int nbrdf_colour_mode_parse(const char *name, nbrdf_colour_mode *out) {
+int texture_colour_mode_parse(const char *name, texture_colour_mode *out) {
   if (!name) return 0;
   if (strcmp(name, "mono") == 0) {
     *out = NBRDF_COLOUR_MONO;

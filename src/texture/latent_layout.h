@@ -51,41 +51,41 @@
  * level-0 latents in a texel's footprint (see mip_chain.h). */
 #define NBRDF_MIP_FILTER_BOX "box-latent-mean"
 
-typedef enum nbrdf_colour_mode {
+typedef enum texture_colour_mode {
   NBRDF_COLOUR_MONO = 1, /* one BRDF per texel, channel suffix .Y */
   NBRDF_COLOUR_RGB = 3   /* an independent BRDF per R, G, B channel */
-} nbrdf_colour_mode;
+} texture_colour_mode;
 
-typedef struct nbrdf_latent_layout {
+typedef struct texture_latent_layout {
   int latent_dim;           /* latents per colour channel (the paper uses 32) */
-  nbrdf_colour_mode colour; /* mono or RGB */
+  texture_colour_mode colour; /* mono or RGB */
   int proxy;                /* 1: sigma and w of the sampling proxy follow each latent */
-} nbrdf_latent_layout;
+} texture_latent_layout;
 
 /* A layout the format can hold: 1 <= latent_dim <= NBRDF_LATENT_MAX_DIM, a
  * known colour mode, proxy 0 or 1. */
-nbrdf_status nbrdf_latent_layout_check(const nbrdf_latent_layout *layout, nbrdf_error *err);
+nbrdf_status texture_latent_layout_check(const texture_latent_layout *layout, nbrdf_error *err);
 
-int nbrdf_latent_colours(const nbrdf_latent_layout *layout);
+int texture_latent_colours(const texture_latent_layout *layout);
 /* Floats per colour channel: latent_dim, plus 2 with the proxy. */
-int nbrdf_latent_block(const nbrdf_latent_layout *layout);
+int texture_latent_block(const texture_latent_layout *layout);
 /* Floats per texel. */
-int nbrdf_latent_channel_count(const nbrdf_latent_layout *layout);
+int texture_latent_channel_count(const texture_latent_layout *layout);
 
 /* Logical indices of latent k, sigma and w of colour channel c. */
-int nbrdf_latent_index_latent(const nbrdf_latent_layout *layout, int c, int k);
-int nbrdf_latent_index_sigma(const nbrdf_latent_layout *layout, int c);
-int nbrdf_latent_index_w(const nbrdf_latent_layout *layout, int c);
+int texture_latent_index_latent(const texture_latent_layout *layout, int c, int k);
+int texture_latent_index_sigma(const texture_latent_layout *layout, int c);
+int texture_latent_index_w(const texture_latent_layout *layout, int c);
 
 /* The EXR channel name of logical index i ("latent.L07.G", "proxy.w.Y").
  * `buf` needs at most 24 bytes. */
-void nbrdf_latent_channel_name(const nbrdf_latent_layout *layout, int i, char *buf, size_t n);
+void texture_latent_channel_name(const texture_latent_layout *layout, int i, char *buf, size_t n);
 /* The logical index of an EXR channel name, or -1 if the layout has no
  * such channel. */
-int nbrdf_latent_channel_index(const nbrdf_latent_layout *layout, const char *name);
+int texture_latent_channel_index(const texture_latent_layout *layout, const char *name);
 
-const char *nbrdf_colour_mode_name(nbrdf_colour_mode mode);
+const char *texture_colour_mode_name(texture_colour_mode mode);
 /* "mono" or "rgb"; returns 0 for anything else. */
-int nbrdf_colour_mode_parse(const char *name, nbrdf_colour_mode *out);
+int texture_colour_mode_parse(const char *name, texture_colour_mode *out);
 
 #endif

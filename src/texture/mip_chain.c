@@ -5,7 +5,7 @@
 
 #include "core/error.h"
 
-int nbrdf_mip_level_count(int width, int height) {
+int texture_mip_level_count(int width, int height) {
   int m = width > height ? width : height, n = 1;
   while (m > 1) {
     m >>= 1;
@@ -14,18 +14,18 @@ int nbrdf_mip_level_count(int width, int height) {
   return n;
 }
 
-int nbrdf_mip_level_dim(int dim0, int level) {
+int texture_mip_level_dim(int dim0, int level) {
   int d = level >= 31 ? 0 : dim0 >> level;
   return d < 1 ? 1 : d;
 }
 
-void nbrdf_mip_footprint(int dim0, int level, int i, int *begin, int *end) {
-  int n = nbrdf_mip_level_dim(dim0, level);
+void texture_mip_footprint(int dim0, int level, int i, int *begin, int *end) {
+  int n = texture_mip_level_dim(dim0, level);
   *begin = i << level;
   *end = i == n - 1 ? dim0 : (i + 1) << level;
 }
 
-struct nbrdf_mip_builder {
+struct texture_mip_builder {
   int channels, levels;
   int w[NBRDF_MIP_MAX_LEVELS], h[NBRDF_MIP_MAX_LEVELS];
   /* sum[l]: running sums of the level-0 texels of the current row of
@@ -34,31 +34,31 @@ struct nbrdf_mip_builder {
   float *mean; /* scratch row handed to `emit` for levels >= 1 */
   float *copy; /* scratch copy of a level-0 row handed to `emit` */
   int rows;
-  nbrdf_mip_row_fn emit;
+  texture_mip_row_fn emit;
   void *user;
 };
 
-nbrdf_status nbrdf_mip_builder_create(int width, int height, int channels, int levels,
-                                      nbrdf_mip_row_fn emit, void *user, nbrdf_mip_builder **out,
-                                      nbrdf_error *err) {
+nbrdf_status texture_mip_builder_create(int width, int height, int channels, int levels,
+                                        texture_mip_row_fn emit, void *user,
+                                        texture_mip_builder **out, nbrdf_error *err) {
   *out = NULL;
   if (width < 1 || height < 1 || channels < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "mip chain of %dx%d texels of %d channels", width,
-                      height, channels);
-  int full = nbrdf_mip_level_count(width, height);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "mip chain of %dx%d texels of %d channels", width,
+                     height, channels);
+  int full = texture_mip_level_count(width, height);
   if (levels < 1 || levels > full)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "%d mip levels requested; a %dx%d texture has 1 to %d", levels, width, height,
-                      full);
-  nbrdf_mip_builder *b = calloc(1, sizeof *b);
-  if (!b) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory for a mip builder");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%d mip levels requested; a %dx%d texture has 1 to %d", levels, width, height,
+                     full);
+  texture_mip_builder *b = calloc(1, sizeof *b);
+  if (!b) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory for a mip builder");
   b->channels = channels;
   b->levels = levels;
   b->emit = emit;
   b->user = user;
   for (int l = 0; l < levels; l++) {
-    b->w[l] = nbrdf_mip_level_dim(width, l);
-    b->h[l] = nbrdf_mip_level_dim(height, l);
+    b->w[l] = texture_mip_level_dim(width, l);
+    b->h[l] = texture_mip_level_dim(height, l);
   }
   int ok = 1;
   for (int l = 1; l < levels; l++) {
@@ -68,20 +68,20 @@ nbrdf_status nbrdf_mip_builder_create(int width, int height, int channels, int l
   b->mean = malloc((size_t)b->w[levels > 1 ? 1 : 0] * (size_t)channels * sizeof(float));
   b->copy = malloc((size_t)width * (size_t)channels * sizeof(float));
   if (!ok || !b->mean || !b->copy) {
-    nbrdf_mip_builder_free(b);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "out of memory for a mip chain %d texels wide", width);
+    texture_mip_builder_free(b);
+    return core_fail(err, NBRDF_ERR_MEMORY, "out of memory for a mip chain %d texels wide", width);
   }
   *out = b;
   return NBRDF_OK;
 }
 
 /* The last row of level l-1 that feeds row y of level l. */
-static int last_child(const nbrdf_mip_builder *b, int l, int y) {
+static int last_child(const texture_mip_builder *b, int l, int y) {
   return y == b->h[l] - 1 ? b->h[l - 1] - 1 : 2 * y + 1;
 }
 
 /* Adds a row of level l-1 (as sums, or level-0 values) into level l. */
-static void accumulate_float(nbrdf_mip_builder *b, int l, const float *row) {
+static void accumulate_float(texture_mip_builder *b, int l, const float *row) {
   int C = b->channels, wp = b->w[l - 1], wl = b->w[l];
   double *sum = b->sum[l];
   for (int x = 0; x < wp; x++) {
@@ -93,7 +93,7 @@ static void accumulate_float(nbrdf_mip_builder *b, int l, const float *row) {
   }
 }
 
-static void accumulate_double(nbrdf_mip_builder *b, int l, const double *row) {
+static void accumulate_double(texture_mip_builder *b, int l, const double *row) {
   int C = b->channels, wp = b->w[l - 1], wl = b->w[l];
   double *sum = b->sum[l];
   for (int x = 0; x < wp; x++) {
@@ -108,14 +108,14 @@ static void accumulate_double(nbrdf_mip_builder *b, int l, const double *row) {
 /* Row y of level l (l >= 1) is complete: emit its means, pass its sums on
  * to level l+1, and clear it. Going through sums keeps every level-0 texel's
  * weight equal, whatever the nesting of odd footprints. */
-static nbrdf_status finish_row(nbrdf_mip_builder *b, int l, int y, nbrdf_error *err) {
+static nbrdf_status finish_row(texture_mip_builder *b, int l, int y, nbrdf_error *err) {
   int C = b->channels, W0 = b->w[0], H0 = b->h[0];
   int y0, y1;
-  nbrdf_mip_footprint(H0, l, y, &y0, &y1);
+  texture_mip_footprint(H0, l, y, &y0, &y1);
   const double *sum = b->sum[l];
   for (int x = 0; x < b->w[l]; x++) {
     int x0, x1;
-    nbrdf_mip_footprint(W0, l, x, &x0, &x1);
+    texture_mip_footprint(W0, l, x, &x0, &x1);
     double inv = 1.0 / ((double)(x1 - x0) * (double)(y1 - y0));
     for (int c = 0; c < C; c++)
       b->mean[(size_t)x * C + c] = (float)(sum[(size_t)x * C + c] * inv);
@@ -134,11 +134,12 @@ static nbrdf_status finish_row(nbrdf_mip_builder *b, int l, int y, nbrdf_error *
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_mip_builder_push_row(nbrdf_mip_builder *b, const float *row, nbrdf_error *err) {
+nbrdf_status texture_mip_builder_push_row(texture_mip_builder *b, const float *row,
+                                          nbrdf_error *err) {
   int y = b->rows;
   if (y >= b->h[0])
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "row %d pushed into a mip chain %d rows high", y,
-                      b->h[0]);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "row %d pushed into a mip chain %d rows high", y,
+                     b->h[0]);
   size_t n = (size_t)b->w[0] * (size_t)b->channels;
   memcpy(b->copy, row, n * sizeof(float));
   nbrdf_status st = b->emit(b->user, 0, y, b->copy, err);
@@ -152,9 +153,9 @@ nbrdf_status nbrdf_mip_builder_push_row(nbrdf_mip_builder *b, const float *row, 
   return NBRDF_OK;
 }
 
-int nbrdf_mip_builder_rows(const nbrdf_mip_builder *b) { return b->rows; }
+int texture_mip_builder_rows(const texture_mip_builder *b) { return b->rows; }
 
-void nbrdf_mip_builder_free(nbrdf_mip_builder *b) {
+void texture_mip_builder_free(texture_mip_builder *b) {
   if (!b) return;
   for (int l = 0; l < NBRDF_MIP_MAX_LEVELS; l++)
     free(b->sum[l]);

@@ -23,33 +23,34 @@
 #define NBRDF_MIP_MAX_LEVELS 32
 
 /* Levels of a full ROUND_DOWN chain for a W x H texture (W, H >= 1). */
-int nbrdf_mip_level_count(int width, int height);
+int texture_mip_level_count(int width, int height);
 /* One dimension of level `level`: max(1, floor(dim0 / 2^level)). */
-int nbrdf_mip_level_dim(int dim0, int level);
+int texture_mip_level_dim(int dim0, int level);
 /* The footprint [begin, end) at level 0, along one axis of size dim0, of
  * index i of level `level`. */
-void nbrdf_mip_footprint(int dim0, int level, int i, int *begin, int *end);
+void texture_mip_footprint(int dim0, int level, int i, int *begin, int *end);
 
 /* Receives each finished row of each level, top to bottom within a level;
  * row y of level l arrives as soon as its footprint is complete. `row` holds
- * nbrdf_mip_level_dim(width, l) texels of `channels` floats; the callee may
+ * texture_mip_level_dim(width, l) texels of `channels` floats; the callee may
  * modify it (it is the builder's scratch, and is not used again). A non-OK
  * return stops the builder and is passed back to the caller of push_row. */
-typedef nbrdf_status (*nbrdf_mip_row_fn)(void *user, int level, int y, float *row,
-                                         nbrdf_error *err);
+typedef nbrdf_status (*texture_mip_row_fn)(void *user, int level, int y, float *row,
+                                           nbrdf_error *err);
 
-typedef struct nbrdf_mip_builder nbrdf_mip_builder;
+typedef struct texture_mip_builder texture_mip_builder;
 
-/* A builder of `levels` levels (1 .. nbrdf_mip_level_count) for a
+/* A builder of `levels` levels (1 .. texture_mip_level_count) for a
  * width x height texture of `channels` floats per texel. */
-nbrdf_status nbrdf_mip_builder_create(int width, int height, int channels, int levels,
-                                      nbrdf_mip_row_fn emit, void *user, nbrdf_mip_builder **out,
-                                      nbrdf_error *err);
+nbrdf_status texture_mip_builder_create(int width, int height, int channels, int levels,
+                                        texture_mip_row_fn emit, void *user,
+                                        texture_mip_builder **out, nbrdf_error *err);
 /* Feeds the next level-0 row (width * channels floats). Emits it as level 0,
  * then every coarser row it completes. */
-nbrdf_status nbrdf_mip_builder_push_row(nbrdf_mip_builder *b, const float *row, nbrdf_error *err);
+nbrdf_status texture_mip_builder_push_row(texture_mip_builder *b, const float *row,
+                                          nbrdf_error *err);
 /* Level-0 rows pushed so far. */
-int nbrdf_mip_builder_rows(const nbrdf_mip_builder *b);
-void nbrdf_mip_builder_free(nbrdf_mip_builder *b);
+int texture_mip_builder_rows(const texture_mip_builder *b);
+void texture_mip_builder_free(texture_mip_builder *b);
 
 #endif

@@ -15,7 +15,7 @@ extern "C" {
 
 namespace OCIO = OCIO_NAMESPACE;
 
-struct nbrdf_colour_xform {
+struct texture_colour_xform {
   std::string description;
   OCIO::ConstCPUProcessorRcPtr cpu; /* null for the identity */
 };
@@ -53,20 +53,20 @@ OCIO::ConstCPUProcessorRcPtr exact_cpu(const OCIO::ConstProcessorRcPtr &p) {
 } // namespace
 
 extern "C" nbrdf_status nbrdf_colour_xform_create(const char *colour_space, const char *config_path,
-                                                  nbrdf_colour_xform **out, nbrdf_error *err) {
+                                                  texture_colour_xform **out, nbrdf_error *err) {
   *out = nullptr;
   if (!colour_space || !colour_space[0])
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "colour space name is empty");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "colour space name is empty");
   const char *config = config_path ? config_path : std::getenv("OCIO");
   if (config && !config[0]) config = nullptr;
   try {
-    std::unique_ptr<nbrdf_colour_xform> x(new nbrdf_colour_xform);
+    std::unique_ptr<texture_colour_xform> x(new texture_colour_xform);
     if (config) {
       OCIO::ConstConfigRcPtr cfg = OCIO::Config::CreateFromFile(config);
       if (cfg->getColorSpace(colour_space)) {
         if (!cfg->hasRole(OCIO::ROLE_SCENE_LINEAR))
-          return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "OCIO config %s has no scene_linear role",
-                            config);
+          return core_fail(err, NBRDF_ERR_ARGUMENT, "OCIO config %s has no scene_linear role",
+                           config);
         x->cpu = exact_cpu(cfg->getProcessor(colour_space, OCIO::ROLE_SCENE_LINEAR));
         x->description = std::string(colour_space) + " (" + config + ") -> scene_linear";
         *out = x.release();
@@ -79,30 +79,30 @@ extern "C" nbrdf_status nbrdf_colour_xform_create(const char *colour_space, cons
     } else if (is_identity_name(colour_space)) {
       x->description = "linear (no conversion)";
     } else if (config) {
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "colour space '%s' is not in the OCIO config %s",
-                        colour_space, config);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "colour space '%s' is not in the OCIO config %s",
+                       colour_space, config);
     } else {
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                        "unknown colour space '%s' (built in: srgb, linear, raw; for others "
-                        "give an OCIO config or set $OCIO)",
-                        colour_space);
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "unknown colour space '%s' (built in: srgb, linear, raw; for others "
+                       "give an OCIO config or set $OCIO)",
+                       colour_space);
     }
     *out = x.release();
     return NBRDF_OK;
   } catch (const std::exception &e) {
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "colour space '%s'%s%s: %s", colour_space,
-                      config ? " in OCIO config " : "", config ? config : "", e.what());
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "colour space '%s'%s%s: %s", colour_space,
+                     config ? " in OCIO config " : "", config ? config : "", e.what());
   }
 }
 
-extern "C" int nbrdf_colour_xform_is_identity(const nbrdf_colour_xform *x) { return !x->cpu; }
+extern "C" int texture_colour_xform_is_identity(const texture_colour_xform *x) { return !x->cpu; }
 
-extern "C" const char *nbrdf_colour_xform_describe(const nbrdf_colour_xform *x) {
+extern "C" const char *texture_colour_xform_describe(const texture_colour_xform *x) {
   return x->description.c_str();
 }
 
-extern "C" nbrdf_status nbrdf_colour_xform_apply_rgb(const nbrdf_colour_xform *x, float *rgb,
-                                                     size_t n, nbrdf_error *err) {
+extern "C" nbrdf_status texture_colour_xform_apply_rgb(const texture_colour_xform *x, float *rgb,
+                                                       size_t n, nbrdf_error *err) {
   if (!x->cpu || n == 0) return NBRDF_OK;
   try {
     // One row per call keeps the width within OCIO's long, whatever n is.
@@ -114,13 +114,13 @@ extern "C" nbrdf_status nbrdf_colour_xform_apply_rgb(const nbrdf_colour_xform *x
     }
     return NBRDF_OK;
   } catch (const std::exception &e) {
-    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "colour conversion %s: %s", x->description.c_str(),
-                      e.what());
+    return core_fail(err, NBRDF_ERR_INTERNAL, "colour conversion %s: %s", x->description.c_str(),
+                     e.what());
   }
 }
 
-extern "C" nbrdf_status nbrdf_colour_xform_apply_grey(const nbrdf_colour_xform *x, float *v,
-                                                      size_t n, nbrdf_error *err) {
+extern "C" nbrdf_status texture_colour_xform_apply_grey(const texture_colour_xform *x, float *v,
+                                                        size_t n, nbrdf_error *err) {
   if (!x->cpu || n == 0) return NBRDF_OK;
   constexpr size_t CHUNK = 4096;
   float rgb[3 * CHUNK];
@@ -128,7 +128,7 @@ extern "C" nbrdf_status nbrdf_colour_xform_apply_grey(const nbrdf_colour_xform *
     size_t m = n - i < CHUNK ? n - i : CHUNK;
     for (size_t j = 0; j < m; j++)
       rgb[3 * j] = rgb[3 * j + 1] = rgb[3 * j + 2] = v[i + j];
-    nbrdf_status st = nbrdf_colour_xform_apply_rgb(x, rgb, m, err);
+    nbrdf_status st = texture_colour_xform_apply_rgb(x, rgb, m, err);
     if (st != NBRDF_OK) return st;
     for (size_t j = 0; j < m; j++)
       v[i + j] = (rgb[3 * j] + rgb[3 * j + 1] + rgb[3 * j + 2]) / 3.0f;
@@ -136,4 +136,4 @@ extern "C" nbrdf_status nbrdf_colour_xform_apply_grey(const nbrdf_colour_xform *
   return NBRDF_OK;
 }
 
-extern "C" void nbrdf_colour_xform_free(nbrdf_colour_xform *x) { delete x; }
+extern "C" void texture_colour_xform_free(texture_colour_xform *x) { delete x; }

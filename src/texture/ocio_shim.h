@@ -20,22 +20,22 @@
 extern "C" {
 #endif
 
-typedef struct nbrdf_colour_xform nbrdf_colour_xform;
+typedef struct texture_colour_xform texture_colour_xform;
 
 nbrdf_status nbrdf_colour_xform_create(const char *colour_space, const char *config_path,
-                                       nbrdf_colour_xform **out, nbrdf_error *err);
+                                       texture_colour_xform **out, nbrdf_error *err);
 /* 1 when the conversion does nothing ("linear", "raw"). */
-int nbrdf_colour_xform_is_identity(const nbrdf_colour_xform *x);
+int texture_colour_xform_is_identity(const texture_colour_xform *x);
 /* "sRGB (built in) -> linear", "ACEScg (config.ocio) -> scene_linear", ... */
-const char *nbrdf_colour_xform_describe(const nbrdf_colour_xform *x);
+const char *texture_colour_xform_describe(const texture_colour_xform *x);
 /* Converts n RGB triples in place. Safe from several threads at once. */
-nbrdf_status nbrdf_colour_xform_apply_rgb(const nbrdf_colour_xform *x, float *rgb, size_t n,
-                                          nbrdf_error *err);
+nbrdf_status texture_colour_xform_apply_rgb(const texture_colour_xform *x, float *rgb, size_t n,
+                                            nbrdf_error *err);
 /* Converts n grey values in place: each goes through as (v, v, v) (OCIO
  * refuses one-channel images) and the mean of the result comes back. */
-nbrdf_status nbrdf_colour_xform_apply_grey(const nbrdf_colour_xform *x, float *v, size_t n,
-                                           nbrdf_error *err);
-void nbrdf_colour_xform_free(nbrdf_colour_xform *x);
+nbrdf_status texture_colour_xform_apply_grey(const texture_colour_xform *x, float *v, size_t n,
+                                             nbrdf_error *err);
+void texture_colour_xform_free(texture_colour_xform *x);
 
 #ifdef __cplusplus
 }

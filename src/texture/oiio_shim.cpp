@@ -24,7 +24,7 @@ using OIIO::ImageOutput;
 using OIIO::ImageSpec;
 using OIIO::TypeDesc;
 
-struct nbrdf_image_in {
+struct texture_image_in {
   std::string path;
   std::unique_ptr<ImageInput> in;
   ImageSpec spec;
@@ -41,7 +41,7 @@ std::string first_line(std::string s) {
   return s.empty() ? std::string("unknown error") : s;
 }
 
-nbrdf_pixel_format classify(TypeDesc t) {
+texture_pixel_format classify(TypeDesc t) {
   switch (t.basetype) {
   case TypeDesc::UINT8:
     return NBRDF_PIXEL_U8;
@@ -56,7 +56,7 @@ nbrdf_pixel_format classify(TypeDesc t) {
   }
 }
 
-TypeDesc to_type(nbrdf_pixel_format f) {
+TypeDesc to_type(texture_pixel_format f) {
   switch (f) {
   case NBRDF_PIXEL_U8:
     return TypeDesc::UINT8;
@@ -75,7 +75,7 @@ void copy_string(char *dst, size_t n, const std::string &src) {
 
 } // namespace
 
-extern "C" const char *nbrdf_pixel_format_name(nbrdf_pixel_format format) {
+extern "C" const char *texture_pixel_format_name(texture_pixel_format format) {
   switch (format) {
   case NBRDF_PIXEL_U8:
     return "uint8";
@@ -91,36 +91,36 @@ extern "C" const char *nbrdf_pixel_format_name(nbrdf_pixel_format format) {
   return "other";
 }
 
-extern "C" nbrdf_status nbrdf_image_open(const char *path, int flags, nbrdf_image_in **out,
-                                         nbrdf_image_info *info, nbrdf_error *err) {
+extern "C" nbrdf_status texture_image_open(const char *path, int flags, texture_image_in **out,
+                                           texture_image_info *info, nbrdf_error *err) {
   *out = nullptr;
-  if (!path) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "image path is NULL");
+  if (!path) return core_fail(err, NBRDF_ERR_ARGUMENT, "image path is NULL");
   // OpenImageIO opens by name: a FIFO or a device would block it or never end.
   uint64_t size = 0;
-  nbrdf_status st = nbrdf_input_check(path, NBRDF_INPUT_ANY_SIZE, &size, err);
-  if (st == NBRDF_OK) st = nbrdf_image_check_structure(path, size, err);
+  nbrdf_status st = core_input_check(path, NBRDF_INPUT_ANY_SIZE, &size, err);
+  if (st == NBRDF_OK) st = texture_image_check_structure(path, size, err);
   if (st != NBRDF_OK) return st;
   try {
-    std::unique_ptr<nbrdf_image_in> img(new nbrdf_image_in);
+    std::unique_ptr<texture_image_in> img(new texture_image_in);
     img->path = path;
     ImageSpec config;
     if (flags & NBRDF_IMAGE_UNASSOCIATED_ALPHA) config.attribute("oiio:UnassociatedAlpha", 1);
     img->in = ImageInput::open(path, &config);
     if (!img->in)
-      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path,
-                        first_line(OIIO::geterror()).c_str());
+      return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path,
+                       first_line(OIIO::geterror()).c_str());
     img->spec = img->in->spec();
     const ImageSpec &s = img->spec;
     if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
-      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
-                        path, s.width, s.height, s.depth, s.nchannels);
+      return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
+                       path, s.width, s.height, s.depth, s.nchannels);
     // OpenImageIO reads a whole tile (as floats) to deliver any row of it: a
     // forged tile size would make it allocate gigabytes for a small image.
     if (s.tile_width > 0 && s.tile_height > 0 &&
         (double)s.tile_width * s.tile_height * s.nchannels * 4.0 > kTileBytesMax)
-      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                        "%s: tiles of %dx%d texels and %d channels (at most %d MiB a tile)", path,
-                        s.tile_width, s.tile_height, s.nchannels, (int)(kTileBytesMax >> 20));
+      return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                       "%s: tiles of %dx%d texels and %d channels (at most %d MiB a tile)", path,
+                       s.tile_width, s.tile_height, s.nchannels, (int)(kTileBytesMax >> 20));
     // OpenImageIO's Targa reader decodes the whole image when the first row is
     // asked for: a 21-byte file claiming 13000x13000 texels allocated 676 MB
     // (fuzz_param_map). Run-length packets hold at most 128 texels for one
@@ -129,9 +129,9 @@ extern "C" nbrdf_status nbrdf_image_open(const char *path, int flags, nbrdf_imag
       double texel_bytes = (double)s.nchannels * (double)s.format.size();
       double most = 128.0 * (double)size / (1.0 + texel_bytes);
       if ((double)s.width * (double)s.height > most)
-        return nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                          "%s: a Targa image of %dx%d texels cannot fit in %llu bytes", path,
-                          s.width, s.height, (unsigned long long)size);
+        return core_fail(err, NBRDF_ERR_FORMAT,
+                         "%s: a Targa image of %dx%d texels cannot fit in %llu bytes", path,
+                         s.width, s.height, (unsigned long long)size);
     }
     std::memset(info, 0, sizeof *info);
     info->width = s.width;
@@ -151,41 +151,41 @@ extern "C" nbrdf_status nbrdf_image_open(const char *path, int flags, nbrdf_imag
     *out = img.release();
     return NBRDF_OK;
   } catch (const std::exception &e) {
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path, e.what());
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path, e.what());
   } catch (...) {
-    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", path);
+    return core_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", path);
   }
 }
 
-extern "C" const char *nbrdf_image_channel_name(const nbrdf_image_in *img, int c) {
+extern "C" const char *texture_image_channel_name(const texture_image_in *img, int c) {
   if (c < 0 || c >= (int)img->spec.channelnames.size()) return "";
   return img->spec.channelnames[(size_t)c].c_str();
 }
 
-extern "C" nbrdf_status nbrdf_image_level_size(nbrdf_image_in *img, int level, int *width,
-                                               int *height, nbrdf_error *err) {
+extern "C" nbrdf_status texture_image_level_size(texture_image_in *img, int level, int *width,
+                                                 int *height, nbrdf_error *err) {
   try {
     ImageSpec s = level == 0 ? img->spec : img->in->spec_dimensions(0, level);
     if (level < 0 || s.width < 1)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d", img->path.c_str(), level);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d", img->path.c_str(), level);
     *width = s.width;
     *height = s.height;
     return NBRDF_OK;
   } catch (const std::exception &e) {
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: %s", img->path.c_str(), e.what());
+    return core_fail(err, NBRDF_ERR_IO, "%s: %s", img->path.c_str(), e.what());
   }
 }
 
-extern "C" nbrdf_status nbrdf_image_read_rows(nbrdf_image_in *img, int level, int y0, int y1,
-                                              int c0, int c1, float *out, nbrdf_error *err) {
+extern "C" nbrdf_status texture_image_read_rows(texture_image_in *img, int level, int y0, int y1,
+                                                int c0, int c1, float *out, nbrdf_error *err) {
   const char *path = img->path.c_str();
   try {
     ImageSpec s = level == 0 ? img->spec : img->in->spec_dimensions(0, level);
     if (level < 0 || s.width < 1)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d", path, level);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d", path, level);
     if (y0 < 0 || y1 > s.height || y0 >= y1 || c0 < 0 || c1 > s.nchannels || c0 >= c1)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows [%d, %d) channels [%d, %d) of %dx%d",
-                        path, y0, y1, c0, c1, s.width, s.height);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows [%d, %d) channels [%d, %d) of %dx%d",
+                       path, y0, y1, c0, c1, s.width, s.height);
     bool ok;
     if (s.tile_width > 0 && s.tile_height > 0) {
       // OIIO 2.4.7's read_scanlines dies of SIGFPE on tiled files: read the
@@ -204,17 +204,17 @@ extern "C" nbrdf_status nbrdf_image_read_rows(nbrdf_image_in *img, int level, in
       ok = img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT, out);
     }
     if (!ok)
-      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot read rows %d..%d: %s", path, y0, y1 - 1,
-                        first_line(img->in->geterror()).c_str());
+      return core_fail(err, NBRDF_ERR_IO, "%s: cannot read rows %d..%d: %s", path, y0, y1 - 1,
+                       first_line(img->in->geterror()).c_str());
     return NBRDF_OK;
   } catch (const std::exception &e) {
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: %s", path, e.what());
+    return core_fail(err, NBRDF_ERR_IO, "%s: %s", path, e.what());
   } catch (...) {
-    return nbrdf_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", path);
+    return core_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", path);
   }
 }
 
-extern "C" void nbrdf_image_close(nbrdf_image_in *img) {
+extern "C" void texture_image_close(texture_image_in *img) {
   if (!img) return;
   try {
     if (img->in) img->in->close();
@@ -223,36 +223,36 @@ extern "C" void nbrdf_image_close(nbrdf_image_in *img) {
   delete img;
 }
 
-extern "C" nbrdf_status nbrdf_image_write(const char *path, int width, int height, int channels,
-                                          const float *pixels, nbrdf_pixel_format format,
-                                          nbrdf_error *err) {
+extern "C" nbrdf_status texture_image_write(const char *path, int width, int height, int channels,
+                                            const float *pixels, texture_pixel_format format,
+                                            nbrdf_error *err) {
   if (!path || width < 1 || height < 1 || channels < 1 || channels > 16 || !pixels)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: cannot write a %dx%d image of %d channels",
-                      path ? path : "(null)", width, height, channels);
-  nbrdf_output_file f;
-  nbrdf_status st = nbrdf_output_file_open(&f, path, nullptr, 0, err);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: cannot write a %dx%d image of %d channels",
+                     path ? path : "(null)", width, height, channels);
+  core_output_file f;
+  nbrdf_status st = core_output_file_open(&f, path, nullptr, 0, err);
   if (st != NBRDF_OK) return st;
   /* OpenImageIO opens the file by name: "/proc/self/fd/N" reaches the unnamed temporary file. */
   try {
     std::unique_ptr<ImageOutput> out = ImageOutput::create(path);
     if (!out) {
-      nbrdf_output_file_abort(&f);
-      return nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: no image format for this name: %s", path,
-                        first_line(OIIO::geterror()).c_str());
+      core_output_file_abort(&f);
+      return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: no image format for this name: %s", path,
+                       first_line(OIIO::geterror()).c_str());
     }
     ImageSpec spec(width, height, channels, to_type(format));
     if (channels == 4) spec.alpha_channel = 3;
     bool ok =
-        out->open(nbrdf_output_file_name(&f), spec) && out->write_image(TypeDesc::FLOAT, pixels);
+        out->open(core_output_file_name(&f), spec) && out->write_image(TypeDesc::FLOAT, pixels);
     std::string why = ok ? std::string() : first_line(out->geterror());
     ok = out->close() && ok;
     if (!ok) {
-      nbrdf_output_file_abort(&f);
-      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, why.c_str());
+      core_output_file_abort(&f);
+      return core_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, why.c_str());
     }
   } catch (const std::exception &e) {
-    nbrdf_output_file_abort(&f);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, e.what());
+    core_output_file_abort(&f);
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, e.what());
   }
-  return nbrdf_output_file_commit(&f, err);
+  return core_output_file_commit(&f, err);
 }

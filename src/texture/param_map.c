@@ -8,24 +8,24 @@
 #include "core/error.h"
 #include "texture/ocio_shim.h"
 
-struct nbrdf_param_map {
+struct texture_param_map {
   char *path;
-  nbrdf_image_in *img;
-  nbrdf_param_map_info info;
-  nbrdf_param_map_options opts;
-  nbrdf_colour_xform *xform; /* NULL: no colour conversion */
+  texture_image_in *img;
+  texture_param_map_info info;
+  texture_param_map_options opts;
+  texture_colour_xform *xform; /* NULL: no colour conversion */
   int integer;               /* 8/16-bit (or other integer) samples */
   int first_channel;         /* 1 when alpha comes first, else 0 */
 };
 
-static int is_integer(nbrdf_pixel_format f, const char *name) {
+static int is_integer(texture_pixel_format f, const char *name) {
   if (f == NBRDF_PIXEL_U8 || f == NBRDF_PIXEL_U16) return 1;
   if (f == NBRDF_PIXEL_HALF || f == NBRDF_PIXEL_FLOAT) return 0;
   return strstr(name, "int") != NULL; /* uint32, int16, ... */
 }
 
-static nbrdf_status set_up_colour(nbrdf_param_map *m, nbrdf_error *err) {
-  nbrdf_param_map_info *in = &m->info;
+static nbrdf_status set_up_colour(texture_param_map *m, nbrdf_error *err) {
+  texture_param_map_info *in = &m->info;
   if (m->opts.kind != NBRDF_PARAM_COLOUR) {
     snprintf(in->conversion, sizeof in->conversion, "none (non-colour data)");
     return NBRDF_OK;
@@ -34,38 +34,38 @@ static nbrdf_status set_up_colour(nbrdf_param_map *m, nbrdf_error *err) {
   if (!space) space = m->integer ? "srgb" : "linear";
   nbrdf_status st = nbrdf_colour_xform_create(space, m->opts.ocio_config, &m->xform, err);
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "%s: ", m->path);
+    core_error_prefix(err, "%s: ", m->path);
     return st;
   }
-  snprintf(in->conversion, sizeof in->conversion, "%s", nbrdf_colour_xform_describe(m->xform));
-  if (nbrdf_colour_xform_is_identity(m->xform)) {
-    nbrdf_colour_xform_free(m->xform);
+  snprintf(in->conversion, sizeof in->conversion, "%s", texture_colour_xform_describe(m->xform));
+  if (texture_colour_xform_is_identity(m->xform)) {
+    texture_colour_xform_free(m->xform);
     m->xform = NULL;
   }
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_param_map_open(const char *path, const nbrdf_param_map_options *opts,
-                                  nbrdf_param_map **out, nbrdf_error *err) {
+nbrdf_status texture_param_map_open(const char *path, const texture_param_map_options *opts,
+                                    texture_param_map **out, nbrdf_error *err) {
   *out = NULL;
-  const nbrdf_param_map_options defaults = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+  const texture_param_map_options defaults = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
   if (!opts) opts = &defaults;
   if (opts->remap && !(isfinite(opts->lo) && isfinite(opts->hi) && opts->lo >= 0.0f))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: remap range [%g, %g] is not finite and >= 0",
-                      path ? path : "(null)", (double)opts->lo, (double)opts->hi);
-  nbrdf_param_map *m = calloc(1, sizeof *m);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: remap range [%g, %g] is not finite and >= 0",
+                     path ? path : "(null)", (double)opts->lo, (double)opts->hi);
+  texture_param_map *m = calloc(1, sizeof *m);
   if (!m || !path || !(m->path = strdup(path))) {
     free(m);
-    return nbrdf_fail(err, path ? NBRDF_ERR_MEMORY : NBRDF_ERR_ARGUMENT, "%s: cannot open map",
-                      path ? path : "(null)");
+    return core_fail(err, path ? NBRDF_ERR_MEMORY : NBRDF_ERR_ARGUMENT, "%s: cannot open map",
+                     path ? path : "(null)");
   }
   m->opts = *opts;
-  nbrdf_image_info ii;
+  texture_image_info ii;
   /* Alpha is coverage, not a parameter: read the colour as stored (not
    * multiplied by alpha, which zeroes texels under alpha = 0) and drop it. */
-  nbrdf_status st = nbrdf_image_open(path, NBRDF_IMAGE_UNASSOCIATED_ALPHA, &m->img, &ii, err);
+  nbrdf_status st = texture_image_open(path, NBRDF_IMAGE_UNASSOCIATED_ALPHA, &m->img, &ii, err);
   if (st == NBRDF_OK) {
-    nbrdf_param_map_info *in = &m->info;
+    texture_param_map_info *in = &m->info;
     in->width = ii.width;
     in->height = ii.height;
     in->file_channels = ii.channels;
@@ -85,10 +85,10 @@ nbrdf_status nbrdf_param_map_open(const char *path, const nbrdf_param_map_option
       in->channels = ii.channels - 1;
       m->first_channel = alpha == 0 ? 1 : 0;
     } else {
-      st = nbrdf_fail(err, NBRDF_ERR_UNSUPPORTED,
-                      "%s: %d channels; a parameter map has 1 (grey), 3 (RGB), or either plus "
-                      "alpha (ignored)",
-                      path, ii.channels);
+      st = core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                     "%s: %d channels; a parameter map has 1 (grey), 3 (RGB), or either plus "
+                     "alpha (ignored)",
+                     path, ii.channels);
     }
   }
   if (st == NBRDF_OK) st = set_up_colour(m, err);
@@ -98,18 +98,20 @@ nbrdf_status nbrdf_param_map_open(const char *path, const nbrdf_param_map_option
              (double)opts->lo, (double)opts->hi);
   }
   if (st != NBRDF_OK) {
-    nbrdf_param_map_close(m);
+    texture_param_map_close(m);
     return st;
   }
   *out = m;
   return NBRDF_OK;
 }
 
-const nbrdf_param_map_info *nbrdf_param_map_get_info(const nbrdf_param_map *m) { return &m->info; }
+const texture_param_map_info *texture_param_map_get_info(const texture_param_map *m) {
+  return &m->info;
+}
 
-const char *nbrdf_param_map_path(const nbrdf_param_map *m) { return m->path; }
+const char *texture_param_map_path(const texture_param_map *m) { return m->path; }
 
-static nbrdf_status validate(const nbrdf_param_map *m, int y0, int rows, const float *v,
+static nbrdf_status validate(const texture_param_map *m, int y0, int rows, const float *v,
                              nbrdf_error *err) {
   int C = m->info.channels, W = m->info.width;
   size_t n = (size_t)rows * W * C;
@@ -120,25 +122,27 @@ static nbrdf_status validate(const nbrdf_param_map *m, int y0, int rows, const f
     char channel[16] = "";
     if (C == 3) snprintf(channel, sizeof channel, " channel %c", "RGB"[i % 3]);
     const char *what = isnan(v[i]) ? "is NaN" : isinf(v[i]) ? "is infinite" : "is negative";
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: texel (%d, %d)%s %s (%g)%s", m->path, x, y,
-                      channel, what, (double)v[i],
-                      m->xform && !isnan(v[i]) ? " after colour conversion" : "");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: texel (%d, %d)%s %s (%g)%s", m->path, x, y,
+                     channel, what, (double)v[i],
+                     m->xform && !isnan(v[i]) ? " after colour conversion" : "");
   }
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_param_map_read_rows(nbrdf_param_map *m, int y0, int rows, float *out,
-                                       nbrdf_error *err) {
-  const nbrdf_param_map_info *in = &m->info;
+nbrdf_status texture_param_map_read_rows(texture_param_map *m, int y0, int rows, float *out,
+                                         nbrdf_error *err) {
+  const texture_param_map_info *in = &m->info;
   if (y0 < 0 || rows < 1 || rows > in->height - y0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows %d..%d of a map %d rows high", m->path, y0,
-                      y0 + rows - 1, in->height);
-  nbrdf_status st = nbrdf_image_read_rows(m->img, 0, y0, y0 + rows, m->first_channel,
-                                          m->first_channel + in->channels, out, err);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows %d..%d of a map %d rows high", m->path, y0,
+                     y0 + rows - 1, in->height);
+  nbrdf_status st = texture_image_read_rows(m->img, 0, y0, y0 + rows, m->first_channel,
+                                            m->first_channel + in->channels, out, err);
   if (st != NBRDF_OK) return st;
   size_t texels = (size_t)rows * in->width;
-  if (m->xform && in->channels == 3) st = nbrdf_colour_xform_apply_rgb(m->xform, out, texels, err);
-  if (m->xform && in->channels == 1) st = nbrdf_colour_xform_apply_grey(m->xform, out, texels, err);
+  if (m->xform && in->channels == 3)
+    st = texture_colour_xform_apply_rgb(m->xform, out, texels, err);
+  if (m->xform && in->channels == 1)
+    st = texture_colour_xform_apply_grey(m->xform, out, texels, err);
   if (st != NBRDF_OK) return st;
   if (m->opts.remap && m->integer) {
     float lo = m->opts.lo, span = m->opts.hi - m->opts.lo;
@@ -148,10 +152,10 @@ nbrdf_status nbrdf_param_map_read_rows(nbrdf_param_map *m, int y0, int rows, flo
   return validate(m, y0, rows, out, err);
 }
 
-void nbrdf_param_map_close(nbrdf_param_map *m) {
+void texture_param_map_close(texture_param_map *m) {
   if (!m) return;
-  nbrdf_image_close(m->img);
-  nbrdf_colour_xform_free(m->xform);
+  texture_image_close(m->img);
+  texture_colour_xform_free(m->xform);
   free(m->path);
   free(m);
 }

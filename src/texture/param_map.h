@@ -15,13 +15,13 @@
 #include "nbrdf/status.h"
 #include "texture/oiio_shim.h"
 
-typedef enum nbrdf_param_kind {
+typedef enum texture_param_kind {
   NBRDF_PARAM_DATA = 0,  /* alpha, eta, sigma_t: values used as stored */
   NBRDF_PARAM_COLOUR = 1 /* R0, A: colour data */
-} nbrdf_param_kind;
+} texture_param_kind;
 
-typedef struct nbrdf_param_map_options {
-  nbrdf_param_kind kind;
+typedef struct texture_param_map_options {
+  texture_param_kind kind;
   /* COLOUR only: the map's colour space (ocio_shim.h names). NULL: "srgb"
    * for integer images, "linear" for half/float ones. */
   const char *colour_space;
@@ -32,33 +32,33 @@ typedef struct nbrdf_param_map_options {
    * and are never remapped. */
   int remap;
   float lo, hi;
-} nbrdf_param_map_options;
+} texture_param_map_options;
 
 #define NBRDF_PARAM_MAP_OPTIONS_DEFAULT                                                            \
   { NBRDF_PARAM_DATA, NULL, NULL, 0, 0.0f, 1.0f }
 
-typedef struct nbrdf_param_map_info {
+typedef struct texture_param_map_info {
   int width, height;
   int channels;      /* 1 or 3: floats per texel delivered */
   int file_channels; /* as stored: 1 to 4 */
-  nbrdf_pixel_format format;
+  texture_pixel_format format;
   int bits_per_sample;
   char format_name[16];           /* "uint8", "half", ... */
   char file_format[32];           /* "png", "openexr", ... */
   char reported_colour_space[64]; /* as OpenImageIO reports it, "" if none */
   char conversion[160];           /* what is applied, for logs and the texture header */
-} nbrdf_param_map_info;
+} texture_param_map_info;
 
-typedef struct nbrdf_param_map nbrdf_param_map;
+typedef struct texture_param_map texture_param_map;
 
-nbrdf_status nbrdf_param_map_open(const char *path, const nbrdf_param_map_options *opts,
-                                  nbrdf_param_map **out, nbrdf_error *err);
-const nbrdf_param_map_info *nbrdf_param_map_get_info(const nbrdf_param_map *m);
-const char *nbrdf_param_map_path(const nbrdf_param_map *m);
+nbrdf_status texture_param_map_open(const char *path, const texture_param_map_options *opts,
+                                    texture_param_map **out, nbrdf_error *err);
+const texture_param_map_info *texture_param_map_get_info(const texture_param_map *m);
+const char *texture_param_map_path(const texture_param_map *m);
 /* Rows [y0, y0 + rows): rows * width * channels floats. Fails naming the
  * first NaN, infinite or negative texel ("r0.png: texel (41, 7) is NaN"). */
-nbrdf_status nbrdf_param_map_read_rows(nbrdf_param_map *m, int y0, int rows, float *out,
-                                       nbrdf_error *err);
-void nbrdf_param_map_close(nbrdf_param_map *m);
+nbrdf_status texture_param_map_read_rows(texture_param_map *m, int y0, int rows, float *out,
+                                         nbrdf_error *err);
+void texture_param_map_close(texture_param_map *m);
 
 #endif

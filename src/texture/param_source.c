@@ -8,15 +8,15 @@
 #include "core/error.h"
 #include "core/number.h"
 
-struct nbrdf_param_source {
+struct texture_param_source {
   char name[32];
   int channels;
   float constant[3];
-  nbrdf_param_map *map; /* NULL for a constant */
+  texture_param_map *map; /* NULL for a constant */
   float *rows;          /* the last band read from the map */
   size_t rows_cap;      /* floats */
   char description[512];
-  /* bilinear resampling (nbrdf_param_source_resample): target size, 0 when off,
+  /* bilinear resampling (texture_param_source_resample): target size, 0 when off,
    * and the source rows [cy0, cy1) last read, kept because consecutive bands
    * share a source row and formats like PNG cannot seek backwards cheaply */
   int tw, th;
@@ -25,25 +25,25 @@ struct nbrdf_param_source {
   int cy0, cy1;
 };
 
-static nbrdf_param_source *new_source(const char *name) {
-  nbrdf_param_source *s = calloc(1, sizeof *s);
+static texture_param_source *new_source(const char *name) {
+  texture_param_source *s = calloc(1, sizeof *s);
   if (s) snprintf(s->name, sizeof s->name, "%s", name ? name : "parameter");
   return s;
 }
 
-nbrdf_status nbrdf_param_source_constant(const char *name, const float *value, int channels,
-                                         nbrdf_param_source **out, nbrdf_error *err) {
+nbrdf_status texture_param_source_constant(const char *name, const float *value, int channels,
+                                           texture_param_source **out, nbrdf_error *err) {
   *out = NULL;
   const char *who = name ? name : "parameter";
   if (channels != 1 && channels != 3)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: a constant has 1 or 3 values, not %d", who,
-                      channels);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: a constant has 1 or 3 values, not %d", who,
+                     channels);
   for (int c = 0; c < channels; c++)
     if (!isfinite(value[c]) || value[c] < 0.0f)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %g is not a finite value >= 0", who,
-                        (double)value[c]);
-  nbrdf_param_source *s = new_source(name);
-  if (!s) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", who);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: %g is not a finite value >= 0", who,
+                       (double)value[c]);
+  texture_param_source *s = new_source(name);
+  if (!s) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", who);
   s->channels = channels;
   for (int c = 0; c < 3; c++)
     s->constant[c] = value[channels == 3 ? c : 0];
@@ -56,19 +56,19 @@ nbrdf_status nbrdf_param_source_constant(const char *name, const float *value, i
   return NBRDF_OK;
 }
 
-nbrdf_status nbrdf_param_source_map(const char *name, const char *path,
-                                    const nbrdf_param_map_options *opts, nbrdf_param_source **out,
-                                    nbrdf_error *err) {
+nbrdf_status texture_param_source_map(const char *name, const char *path,
+                                      const texture_param_map_options *opts,
+                                      texture_param_source **out, nbrdf_error *err) {
   *out = NULL;
-  nbrdf_param_source *s = new_source(name);
-  if (!s) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", name ? name : "map");
-  nbrdf_status st = nbrdf_param_map_open(path, opts, &s->map, err);
+  texture_param_source *s = new_source(name);
+  if (!s) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", name ? name : "map");
+  nbrdf_status st = texture_param_map_open(path, opts, &s->map, err);
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "%s: ", s->name);
+    core_error_prefix(err, "%s: ", s->name);
     free(s);
     return st;
   }
-  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(s->map);
+  const texture_param_map_info *in = texture_param_map_get_info(s->map);
   s->channels = in->channels;
   snprintf(s->description, sizeof s->description, "%s=%s (%s %s %s, %s)", s->name, path,
            in->file_format, in->format_name, in->channels == 1 ? "grey" : "rgb", in->conversion);
@@ -78,13 +78,13 @@ nbrdf_status nbrdf_param_source_map(const char *name, const char *path,
 
 /* Parses "v" or "v,v,v" completely; returns the number of values, 0 if not
  * numbers, -1 if one is out of a float's range (*bad says which). */
-static int parse_numbers(const char *arg, float v[3], nbrdf_number_result *bad) {
+static int parse_numbers(const char *arg, float v[3], core_number_result *bad) {
   int n = 0;
   for (const char *s = arg;;) {
     const char *comma = strchr(s, ',');
     size_t len = comma ? (size_t)(comma - s) : strlen(s);
     if (n == 3) return 0;
-    nbrdf_number_result r = nbrdf_parse_float(s, len, &v[n++]);
+    core_number_result r = core_parse_float(s, len, &v[n++]);
     if (r == NBRDF_NUMBER_OVERFLOW || r == NBRDF_NUMBER_UNDERFLOW) return *bad = r, -1;
     if (r != NBRDF_NUMBER_OK) return 0;
     if (!comma) return n == 1 || n == 3 ? n : 0;
@@ -92,38 +92,38 @@ static int parse_numbers(const char *arg, float v[3], nbrdf_number_result *bad) 
   }
 }
 
-nbrdf_status nbrdf_param_source_parse(const char *name, const char *arg,
-                                      const nbrdf_param_map_options *opts, nbrdf_param_source **out,
-                                      nbrdf_error *err) {
+nbrdf_status texture_param_source_parse(const char *name, const char *arg,
+                                        const texture_param_map_options *opts,
+                                        texture_param_source **out, nbrdf_error *err) {
   *out = NULL;
   if (!arg || !arg[0])
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name ? name : "parameter");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name ? name : "parameter");
   float v[3];
-  nbrdf_number_result bad = NBRDF_NUMBER_OK;
+  core_number_result bad = NBRDF_NUMBER_OK;
   int n = parse_numbers(arg, v, &bad);
   if (n < 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: '%s': a value %s for a float",
-                      name ? name : "parameter", arg, nbrdf_number_problem(bad));
-  if (n) return nbrdf_param_source_constant(name, v, n, out, err);
-  return nbrdf_param_source_map(name, arg, opts, out, err);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: '%s': a value %s for a float",
+                     name ? name : "parameter", arg, core_number_problem(bad));
+  if (n) return texture_param_source_constant(name, v, n, out, err);
+  return texture_param_source_map(name, arg, opts, out, err);
 }
 
-int nbrdf_param_source_is_constant(const nbrdf_param_source *s) { return s->map == NULL; }
-int nbrdf_param_source_channels(const nbrdf_param_source *s) { return s->channels; }
+int texture_param_source_is_constant(const texture_param_source *s) { return s->map == NULL; }
+int texture_param_source_channels(const texture_param_source *s) { return s->channels; }
 
-void nbrdf_param_source_size(const nbrdf_param_source *s, int *width, int *height) {
-  const nbrdf_param_map_info *in = s->map ? nbrdf_param_map_get_info(s->map) : NULL;
+void texture_param_source_size(const texture_param_source *s, int *width, int *height) {
+  const texture_param_map_info *in = s->map ? texture_param_map_get_info(s->map) : NULL;
   *width = in ? (s->tw ? s->tw : in->width) : 0;
   *height = in ? (s->th ? s->th : in->height) : 0;
 }
 
-nbrdf_status nbrdf_param_source_resample(nbrdf_param_source *s, int width, int height,
-                                         nbrdf_error *err) {
+nbrdf_status texture_param_source_resample(texture_param_source *s, int width, int height,
+                                           nbrdf_error *err) {
   if (!s->map) return NBRDF_OK;
-  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(s->map);
+  const texture_param_map_info *in = texture_param_map_get_info(s->map);
   if (width < 1 || height < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: %s: cannot resample to %dx%d", s->name,
-                      nbrdf_param_map_path(s->map), width, height);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: %s: cannot resample to %dx%d", s->name,
+                     texture_param_map_path(s->map), width, height);
   s->tw = width == in->width && height == in->height ? 0 : width;
   s->th = s->tw ? height : 0;
   s->cy0 = s->cy1 = 0;
@@ -157,8 +157,8 @@ static void source_coord(int t, int n, int m, int *i0, int *i1, float *f) {
 }
 
 /* Rows [y0, y0 + rows) of the target size into s->rows. */
-static nbrdf_status read_resampled(nbrdf_param_source *s, int y0, int rows, nbrdf_error *err) {
-  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(s->map);
+static nbrdf_status read_resampled(texture_param_source *s, int y0, int rows, nbrdf_error *err) {
+  const texture_param_map_info *in = texture_param_map_get_info(s->map);
   const int W = in->width, H = in->height, ch = in->channels;
   const size_t row = (size_t)W * ch;
   int a, b, unused0;
@@ -167,18 +167,18 @@ static nbrdf_status read_resampled(nbrdf_param_source *s, int y0, int rows, nbrd
   source_coord(y0 + rows - 1, H, s->th, &unused0, &b, &unused1);
   if (!grow_floats(&s->src_rows, &s->src_cap, (size_t)(b - a + 1) * row) ||
       !grow_floats(&s->rows, &s->rows_cap, (size_t)rows * s->tw * ch))
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d rows", s->name, rows);
+    return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d rows", s->name, rows);
   int have = 0; /* rows [a, a + have) already in src_rows */
   if (s->cy1 > s->cy0 && a >= s->cy0 && a < s->cy1) {
     have = (s->cy1 < b + 1 ? s->cy1 : b + 1) - a;
     memmove(s->src_rows, s->src_rows + (size_t)(a - s->cy0) * row, sizeof(float) * have * row);
   }
   if (a + have <= b) {
-    nbrdf_status st = nbrdf_param_map_read_rows(s->map, a + have, b + 1 - (a + have),
-                                                s->src_rows + (size_t)have * row, err);
+    nbrdf_status st = texture_param_map_read_rows(s->map, a + have, b + 1 - (a + have),
+                                                  s->src_rows + (size_t)have * row, err);
     if (st != NBRDF_OK) {
       s->cy0 = s->cy1 = 0;
-      nbrdf_error_prefix(err, "%s: ", s->name);
+      core_error_prefix(err, "%s: ", s->name);
       return st;
     }
   }
@@ -204,26 +204,26 @@ static nbrdf_status read_resampled(nbrdf_param_source *s, int y0, int rows, nbrd
   return NBRDF_OK;
 }
 
-float nbrdf_param_source_value(const nbrdf_param_source *s, int c) {
+float texture_param_source_value(const texture_param_source *s, int c) {
   return s->map || c < 0 || c > 2 ? 0.0f : s->constant[c];
 }
 
-const char *nbrdf_param_source_describe(const nbrdf_param_source *s) { return s->description; }
-nbrdf_param_map *nbrdf_param_source_get_map(nbrdf_param_source *s) { return s->map; }
+const char *texture_param_source_describe(const texture_param_source *s) { return s->description; }
+texture_param_map *texture_param_source_get_map(texture_param_source *s) { return s->map; }
 
-nbrdf_status nbrdf_param_source_read_band(nbrdf_param_source *s, int y0, int rows,
-                                          nbrdf_param_band *band, nbrdf_error *err) {
+nbrdf_status texture_param_source_read_band(texture_param_source *s, int y0, int rows,
+                                            texture_param_band *band, nbrdf_error *err) {
   band->channels = s->channels;
   if (!s->map) {
     band->data = s->constant;
     band->row_stride = band->texel_stride = 0;
     return NBRDF_OK;
   }
-  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(s->map);
+  const texture_param_map_info *in = texture_param_map_get_info(s->map);
   if (s->tw) {
     if (y0 < 0 || rows < 1 || rows > s->th - y0)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows %d..%d of a map %d rows high", s->name,
-                        y0, y0 + rows - 1, s->th);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows %d..%d of a map %d rows high", s->name,
+                       y0, y0 + rows - 1, s->th);
     nbrdf_status st = read_resampled(s, y0, rows, err);
     band->data = s->rows;
     band->texel_stride = in->channels;
@@ -233,14 +233,13 @@ nbrdf_status nbrdf_param_source_read_band(nbrdf_param_source *s, int y0, int row
   size_t need = rows > 0 ? (size_t)rows * in->width * in->channels : 0;
   if (need > s->rows_cap) {
     float *p = realloc(s->rows, need * sizeof(float));
-    if (!p)
-      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d rows", s->name, rows);
+    if (!p) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for %d rows", s->name, rows);
     s->rows = p;
     s->rows_cap = need;
   }
-  nbrdf_status st = nbrdf_param_map_read_rows(s->map, y0, rows, s->rows, err);
+  nbrdf_status st = texture_param_map_read_rows(s->map, y0, rows, s->rows, err);
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "%s: ", s->name);
+    core_error_prefix(err, "%s: ", s->name);
     return st;
   }
   band->data = s->rows;
@@ -249,33 +248,33 @@ nbrdf_status nbrdf_param_source_read_band(nbrdf_param_source *s, int y0, int row
   return NBRDF_OK;
 }
 
-void nbrdf_param_source_free(nbrdf_param_source *s) {
+void texture_param_source_free(texture_param_source *s) {
   if (!s) return;
-  nbrdf_param_map_close(s->map);
+  texture_param_map_close(s->map);
   free(s->rows);
   free(s->src_rows);
   free(s);
 }
 
-nbrdf_status nbrdf_param_sources_common_size(nbrdf_param_source *const *sources, int n, int *width,
-                                             int *height, nbrdf_error *err) {
-  const nbrdf_param_source *first = NULL;
+nbrdf_status texture_param_sources_common_size(texture_param_source *const *sources, int n,
+                                               int *width, int *height, nbrdf_error *err) {
+  const texture_param_source *first = NULL;
   *width = *height = 0;
   for (int i = 0; i < n; i++) {
-    const nbrdf_param_source *s = sources[i];
+    const texture_param_source *s = sources[i];
     if (!s || !s->map) continue;
     int w, h;
-    nbrdf_param_source_size(s, &w, &h);
+    texture_param_source_size(s, &w, &h);
     if (!first) {
       first = s;
       *width = w;
       *height = h;
     } else if (w != *width || h != *height) {
-      return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                        "%s: %s is %dx%d, but %s: %s is %dx%d (maps must share one size "
-                        "unless resampling is asked for)",
-                        s->name, nbrdf_param_map_path(s->map), w, h, first->name,
-                        nbrdf_param_map_path(first->map), *width, *height);
+      return core_fail(err, NBRDF_ERR_MISMATCH,
+                       "%s: %s is %dx%d, but %s: %s is %dx%d (maps must share one size "
+                       "unless resampling is asked for)",
+                       s->name, texture_param_map_path(s->map), w, h, first->name,
+                       texture_param_map_path(first->map), *width, *height);
     }
   }
   return NBRDF_OK;

@@ -21,36 +21,36 @@ uint64_t train_hash_floats(uint64_t h, const float *x, size_t n) {
   return h;
 }
 
-static nbrdf_status add(nbrdf_st_writer *w, const char *name, size_t n, const float *x,
+static nbrdf_status add(nn_st_writer *w, const char *name, size_t n, const float *x,
                         nbrdf_error *err) {
   int64_t shape[1] = {(int64_t)n};
-  return nbrdf_st_writer_add_borrowed(w, name, 1, shape, x, err);
+  return nn_st_writer_add_borrowed(w, name, 1, shape, x, err);
 }
 
 nbrdf_status train_checkpoint_save(const char *path, const train_checkpoint_parts *p, int64_t step,
                                    nbrdf_error *err) {
-  nbrdf_st_writer *w = NULL;
+  nn_st_writer *w = NULL;
   char text[32], key[256];
-  nbrdf_status st = nbrdf_st_writer_create(&w, err);
+  nbrdf_status st = nn_st_writer_create(&w, err);
   snprintf(text, sizeof text, "%" PRId64, step);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.format", p->format, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.step", text, err);
-  if (!st) st = nbrdf_st_writer_set_metadata(w, "nbrdf.options", p->options, err);
+  if (!st) st = nn_st_writer_set_metadata(w, "nbrdf.format", p->format, err);
+  if (!st) st = nn_st_writer_set_metadata(w, "nbrdf.step", text, err);
+  if (!st) st = nn_st_writer_set_metadata(w, "nbrdf.options", p->options, err);
   for (int i = 0; i < p->n_words && !st; i++) {
     snprintf(key, sizeof key, "nbrdf.state.%s", p->words[i].name);
     snprintf(text, sizeof text, "%" PRIu64, *p->words[i].value);
-    st = nbrdf_st_writer_set_metadata(w, key, text, err);
+    st = nn_st_writer_set_metadata(w, key, text, err);
   }
   for (int g = 0; g < p->n_groups && !st; g++) {
     const trainer_group *G = &p->groups[g];
     st = add(w, G->tensor, G->n, G->params, err);
-    if (!st && p->adams[g]) st = add(w, G->m_tensor, G->n, nbrdf_adam_moment(p->adams[g], 0), err);
-    if (!st && p->adams[g]) st = add(w, G->v_tensor, G->n, nbrdf_adam_moment(p->adams[g], 1), err);
+    if (!st && p->adams[g]) st = add(w, G->m_tensor, G->n, nn_adam_moment(p->adams[g], 0), err);
+    if (!st && p->adams[g]) st = add(w, G->v_tensor, G->n, nn_adam_moment(p->adams[g], 1), err);
   }
   for (int i = 0; i < p->n_tensors && !st; i++)
     st = add(w, p->tensors[i].name, p->tensors[i].n, p->tensors[i].data, err);
-  if (!st) st = nbrdf_st_writer_save(w, path, NULL, err);
-  nbrdf_st_writer_destroy(w);
+  if (!st) st = nn_st_writer_save(w, path, NULL, err);
+  nn_st_writer_destroy(w);
   return st;
 }
 
@@ -88,29 +88,29 @@ static nbrdf_status compare_options(const char *label, const char *have, const c
       int in_ckpt = option_value(have, key, a, sizeof a);
       int in_run = option_value(want, key, b, sizeof b);
       if (!in_ckpt || !in_run || strcmp(a, b))
-        return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                          "%s: the checkpoint was made with %s = %s, this run has %s = %s (give "
-                          "the same value, or start a new run)",
-                          label, key, in_ckpt ? a : "(unset)", key, in_run ? b : "(unset)");
+        return core_fail(err, NBRDF_ERR_MISMATCH,
+                         "%s: the checkpoint was made with %s = %s, this run has %s = %s (give "
+                         "the same value, or start a new run)",
+                         label, key, in_ckpt ? a : "(unset)", key, in_run ? b : "(unset)");
       at = end ? end + 1 : NULL;
     }
   }
   return NBRDF_OK;
 }
 
-static nbrdf_status take(const nbrdf_st_reader *r, const char *name, size_t n, float *dst,
+static nbrdf_status take(const nn_st_reader *r, const char *name, size_t n, float *dst,
                          nbrdf_error *err) {
   int64_t shape[1] = {(int64_t)n};
-  return nbrdf_st_expect_copy(r, name, 1, shape, dst, err);
+  return nn_st_expect_copy(r, name, 1, shape, dst, err);
 }
 
-static nbrdf_status parse_u64(const nbrdf_st_reader *r, const char *key, uint64_t *out,
+static nbrdf_status parse_u64(const nn_st_reader *r, const char *key, uint64_t *out,
                               nbrdf_error *err) {
-  const char *s = nbrdf_st_metadata_get(r, key);
+  const char *s = nn_st_metadata_get(r, key);
   char *end = NULL;
   unsigned long long v = s && *s >= '0' && *s <= '9' ? strtoull(s, &end, 10) : 0;
   if (!s || !end || *end)
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: no valid %s", nbrdf_st_label(r), key);
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: no valid %s", nn_st_label(r), key);
   *out = (uint64_t)v;
   return NBRDF_OK;
 }
@@ -118,17 +118,17 @@ static nbrdf_status parse_u64(const nbrdf_st_reader *r, const char *key, uint64_
 nbrdf_status train_checkpoint_load(const char *path, const train_checkpoint_parts *p,
                                    const trainer_fit *fit, int64_t *step, int *legacy_used,
                                    nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(path, &r, err);
+  nn_st_reader *r = NULL;
+  nbrdf_status st = nn_st_open(path, &r, err);
   if (st) return st;
   *legacy_used = 0;
-  const char *fmt = nbrdf_st_metadata_get(r, "nbrdf.format");
-  const char *options = nbrdf_st_metadata_get(r, "nbrdf.options");
+  const char *fmt = nn_st_metadata_get(r, "nbrdf.format");
+  const char *options = nn_st_metadata_get(r, "nbrdf.options");
   if (!fmt || strcmp(fmt, p->format))
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                    "%s: a checkpoint of format '%s', this run writes '%s' (another kind of "
-                    "training; give another checkpoint path)",
-                    path, fmt ? fmt : "(none)", p->format);
+    st = core_fail(err, NBRDF_ERR_MISMATCH,
+                   "%s: a checkpoint of format '%s', this run writes '%s' (another kind of "
+                   "training; give another checkpoint path)",
+                   path, fmt ? fmt : "(none)", p->format);
   if (!st && options) {
     st = compare_options(path, options, p->options, err);
     uint64_t k = 0;
@@ -138,7 +138,7 @@ nbrdf_status train_checkpoint_load(const char *path, const train_checkpoint_part
     st = fit->legacy(fit->user, r, step, err);
     *legacy_used = 1;
   } else if (!st) {
-    st = nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s: the checkpoint records no nbrdf.options", path);
+    st = core_fail(err, NBRDF_ERR_MISMATCH, "%s: the checkpoint records no nbrdf.options", path);
   }
   char key[256];
   for (int i = 0; i < p->n_words && !st; i++) {
@@ -148,20 +148,20 @@ nbrdf_status train_checkpoint_load(const char *path, const train_checkpoint_part
   for (int g = 0; g < p->n_groups && !st; g++) {
     const trainer_group *G = &p->groups[g];
     st = take(r, G->tensor, G->n, G->params, err);
-    if (!st && p->adams[g]) st = take(r, G->m_tensor, G->n, nbrdf_adam_moment(p->adams[g], 0), err);
-    if (!st && p->adams[g]) st = take(r, G->v_tensor, G->n, nbrdf_adam_moment(p->adams[g], 1), err);
+    if (!st && p->adams[g]) st = take(r, G->m_tensor, G->n, nn_adam_moment(p->adams[g], 0), err);
+    if (!st && p->adams[g]) st = take(r, G->v_tensor, G->n, nn_adam_moment(p->adams[g], 1), err);
   }
   for (int i = 0; i < p->n_tensors && !st; i++)
     st = take(r, p->tensors[i].name, p->tensors[i].n, p->tensors[i].data, err);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   return st;
 }
 
 nbrdf_status train_checkpoint_latents(const char *checkpoint, size_t n_brdfs, int dim,
                                       float *latents, nbrdf_error *err) {
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open(checkpoint, &r, err);
+  nn_st_reader *r = NULL;
+  nbrdf_status st = nn_st_open(checkpoint, &r, err);
   if (!st) st = take(r, "latents", n_brdfs * (size_t)dim, latents, err);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   return st;
 }

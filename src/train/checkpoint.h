@@ -24,7 +24,7 @@ uint64_t train_hash_floats(uint64_t h, const float *x, size_t n);
 typedef struct train_checkpoint_parts {
   const char *format, *options;
   const trainer_group *groups;
-  nbrdf_adam *const *adams; /* [n_groups], NULL where a group has none */
+  nn_adam *const *adams; /* [n_groups], NULL where a group has none */
   int n_groups;
   const trainer_tensor *tensors;
   int n_tensors;

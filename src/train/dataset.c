@@ -25,21 +25,21 @@
 
 nbrdf_status train_dataset_check_settings(const train_dataset_settings *s, nbrdf_error *err) {
   if ((unsigned)s->kind > TRAIN_SINGLE)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: unknown kind %d", (int)s->kind);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "dataset: unknown kind %d", (int)s->kind);
   if (s->incident < 1 || s->incident > 4096)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: incident = %d must be in [1, 4096]",
-                      s->incident);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "dataset: incident = %d must be in [1, 4096]",
+                     s->incident);
   if (s->outgoing < 1 || s->outgoing > 65536)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: outgoing = %d must be in [1, 65536]",
-                      s->outgoing);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "dataset: outgoing = %d must be in [1, 65536]",
+                     s->outgoing);
   if (s->sampled < 0 || s->sampled > s->outgoing)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: sampled = %d must be in [0, %d]",
-                      s->sampled, s->outgoing);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "dataset: sampled = %d must be in [0, %d]",
+                     s->sampled, s->outgoing);
   if (s->spp < 2 || s->spp > (1 << 30))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "dataset: spp = %d must be >= 2 (standard errors need two walks)", s->spp);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "dataset: spp = %d must be >= 2 (standard errors need two walks)", s->spp);
   if (s->threads < 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: threads = %d must be >= 0", s->threads);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "dataset: threads = %d must be >= 0", s->threads);
   return NBRDF_OK;
 }
 
@@ -50,12 +50,12 @@ static void store(float *x, vec3 wi, vec3 wo) {
 
 /* The M outgoing directions for wi (see dataset.h). */
 static nbrdf_status choose_outgoing(const train_dataset_settings *s, const nbrdf_brdf *b, vec3 wi,
-                                    uint64_t seed, nbrdf_rng *rng, vec3 *wo, nbrdf_error *err) {
+                                    uint64_t seed, core_rng *rng, vec3 *wo, nbrdf_error *err) {
   int uniform = s->outgoing - s->sampled;
   for (int j = 0; j < s->outgoing; j++) {
-    double u1 = nbrdf_rng_uniform(rng), u2 = nbrdf_rng_uniform(rng);
+    double u1 = core_rng_uniform(rng), u2 = core_rng_uniform(rng);
     vec3 w =
-        (j % 2 == 0) ? nbrdf_warp_uniform_hemisphere(u1, u2) : nbrdf_warp_cosine_hemisphere(u1, u2);
+        (j % 2 == 0) ? core_warp_uniform_hemisphere(u1, u2) : core_warp_cosine_hemisphere(u1, u2);
     if (j >= uniform) {
       double wi3[3] = {wi.x, wi.y, wi.z}, o[3], weight;
       nbrdf_status st = nbrdf_brdf_sample(b, wi3, seed, (uint64_t)j, o, &weight, err);
@@ -63,7 +63,7 @@ static nbrdf_status choose_outgoing(const train_dataset_settings *s, const nbrdf
       if (weight > 0.0 && o[2] > 1e-4)
         w = v3(o[0], o[1], o[2]);
       else
-        w = nbrdf_warp_cosine_hemisphere(u1, u2);
+        w = core_warp_cosine_hemisphere(u1, u2);
     }
     /* Keep clear of the horizon, where a direction would be rejected. */
     if (!(w.z > 1e-6)) w = v3_normalize(v3(w.x, w.y, 1e-6));
@@ -112,27 +112,27 @@ static nbrdf_status samples_generate(const train_dataset_settings *s, uint64_t f
   nbrdf_query *q = malloc(m * sizeof *q);
   double *f = malloc(2 * m * sizeof *f), *se = f ? f + m : NULL;
   if (!wo || !q || !f) {
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory for %zu directions", m);
+    st = core_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory for %zu directions", m);
     goto done;
   }
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, nbrdf_hash64(family, DIR_TAG), index);
+  core_rng rng;
+  core_rng_init(&rng, core_hash64(family, DIR_TAG), index);
   for (int i = 0; i < s->incident && !st; i++) {
     /* One jittered θi per stratum of [0°, 89°). */
-    double theta = (i + nbrdf_rng_uniform(&rng)) / s->incident * THETA_I_MAX_DEG * M_PI / 180.0;
+    double theta = (i + core_rng_uniform(&rng)) / s->incident * THETA_I_MAX_DEG * M_PI / 180.0;
     vec3 wi = v3(sin(theta), 0.0, cos(theta));
     uint64_t stream = index * (uint64_t)s->incident + (uint64_t)i;
-    uint64_t seed = nbrdf_hash64(nbrdf_hash64(family, WALK_TAG), stream);
+    uint64_t seed = core_hash64(core_hash64(family, WALK_TAG), stream);
     st = choose_outgoing(s, b, wi, seed, &rng, wo, err);
     if (st) break;
     if (nbrdf_brdf_is_stochastic(b)) {
-      int ok = layered_lobe_eval_hooked(&nbrdf_brdf_bsdf(b)->layered, wi, m, wo, s->spp, seed, 1,
-                                        hook, f, se);
+      int ok =
+          layered_lobe_eval_hooked(&brdf_bsdf(b)->layered, wi, m, wo, s->spp, seed, 1, hook, f, se);
       if (ok < 0)
-        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "dataset: BRDF %llu stopped",
-                        (unsigned long long)index);
+        st = core_fail(err, NBRDF_ERR_CANCELLED, "dataset: BRDF %llu stopped",
+                       (unsigned long long)index);
       else if (!ok)
-        st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory in the lobe estimator");
+        st = core_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory in the lobe estimator");
     } else {
       for (size_t j = 0; j < m; j++) {
         q[j] = (nbrdf_query){{wi.x, wi.y, wi.z}, {wo[j].x, wo[j].y, wo[j].z}};
@@ -147,9 +147,9 @@ static nbrdf_status samples_generate(const train_dataset_settings *s, uint64_t f
       x[6] = (float)f[j];
       x[7] = (float)se[j];
       if (!isfinite(x[6]) || !isfinite(x[7]))
-        st = nbrdf_fail(err, NBRDF_ERR_INTERNAL,
-                        "dataset: BRDF %llu, sample %zu: value %g ± %g does not fit a float",
-                        (unsigned long long)index, (size_t)i * m + j, f[j], se[j]);
+        st = core_fail(err, NBRDF_ERR_INTERNAL,
+                       "dataset: BRDF %llu, sample %zu: value %g ± %g does not fit a float",
+                       (unsigned long long)index, (size_t)i * m + j, f[j], se[j]);
     }
   }
 done:

@@ -67,13 +67,13 @@ void ds_encode_header(const train_dataset_settings *s, unsigned char out[DS_HEAD
   ds_put_u32(out + 44, (uint32_t)s->spp);
   ds_put_u32(out + 48, TRAIN_DATASET_PARAMS);
   ds_put_u32(out + 52, TRAIN_DATASET_FLOATS);
-  ds_put_u64(out + 56, nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, out, 56));
+  ds_put_u64(out + 56, nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, out, 56));
 }
 
 int ds_decode_header(const unsigned char in[DS_HEADER_BYTES], train_dataset_settings *s,
                      const char **why) {
   if (memcmp(in, DS_MAGIC, 8) != 0) return *why = "not an nbrdf data set (bad magic)", 0;
-  if (ds_get_u64(in + 56) != nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, in, 56))
+  if (ds_get_u64(in + 56) != nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, in, 56))
     return *why = "header checksum mismatch", 0;
   uint32_t version = ds_get_u32(in + 8);
   if (version != TRAIN_DATASET_VERSION && version != TRAIN_DATASET_VERSION_DRAWS)
@@ -123,7 +123,7 @@ void ds_encode_record(const train_dataset_settings *s, uint64_t index, const tra
   for (size_t i = 0; i < n; i++)
     put_f32(q + 4 * i, samples[i]);
   size_t body = DS_RECORD_HEAD_BYTES + 4 * n;
-  ds_put_u64(out + body, nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, out, body));
+  ds_put_u64(out + body, nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, out, body));
 }
 
 void ds_encode_footer(uint64_t count, uint64_t checksum, unsigned char out[DS_FOOTER_BYTES]) {

@@ -60,19 +60,19 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
                                 train_dataset_record_fn on_record, void *user, nbrdf_error *err) {
   memset(info, 0, sizeof *info);
   int fd = -1;
-  nbrdf_status opened = nbrdf_input_open(path, NBRDF_INPUT_ANY_SIZE, &fd, NULL, err);
+  nbrdf_status opened = core_input_open(path, NBRDF_INPUT_ANY_SIZE, &fd, NULL, err);
   if (opened != NBRDF_OK) return opened;
   FILE *f = fdopen(fd, "rb");
   if (!f) {
     close(fd);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open for reading", path);
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot open for reading", path);
   }
   unsigned char head[DS_HEADER_BYTES];
   const char *why = "truncated header";
   if (fread(head, 1, sizeof head, f) != sizeof head ||
       !ds_decode_header(head, &info->settings, &why)) {
     fclose(f);
-    return nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: %s", path, why);
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: %s", path, why);
   }
   const train_dataset_settings *s = &info->settings;
   uint64_t family = train_family_seed(s->seed);
@@ -81,9 +81,9 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
   float *samples = malloc(n * TRAIN_DATASET_FLOATS * sizeof *samples);
   if (!rec || !samples) {
     free(rec), free(samples), fclose(f);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for a %zu-byte record", path, rb);
+    return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for a %zu-byte record", path, rb);
   }
-  uint64_t sum = nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, head, sizeof head);
+  uint64_t sum = nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, head, sizeof head);
   info->valid_bytes = DS_HEADER_BYTES;
   nbrdf_status st = NBRDF_OK;
   why = NULL;
@@ -95,7 +95,7 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
       why = got == 0 ? "missing: the file is unfinished (resume it)" : "truncated";
       break;
     }
-    if (ds_get_u64(rec + rb - 8) != nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, rec, rb - 8)) {
+    if (ds_get_u64(rec + rb - 8) != nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, rec, rb - 8)) {
       why = "checksum mismatch";
       break;
     }
@@ -103,18 +103,18 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
     why = check_record(s, family, i, rec, &r.params, samples, &bad_sample);
     if (why) {
       if (strict)
-        st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: record %llu (sample %zu): %s", path,
-                        (unsigned long long)i, bad_sample, why);
+        st = core_fail(err, NBRDF_ERR_FORMAT, "%s: record %llu (sample %zu): %s", path,
+                       (unsigned long long)i, bad_sample, why);
       break;
     }
-    sum = nbrdf_st_fnv1a64(sum, rec, rb);
+    sum = nn_st_fnv1a64(sum, rec, rb);
     info->records = i + 1;
     info->valid_bytes += rb;
     if (on_record && on_record(user, &r)) break;
   }
   if (!st && why && strict)
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: record %llu of %llu: %s", path,
-                    (unsigned long long)i, (unsigned long long)s->count, why);
+    st = core_fail(err, NBRDF_ERR_FORMAT, "%s: record %llu of %llu: %s", path,
+                   (unsigned long long)i, (unsigned long long)s->count, why);
   if (!st && !why && info->records == s->count) {
     unsigned char foot[DS_FOOTER_BYTES + 1];
     size_t got = fread(foot, 1, sizeof foot, f);
@@ -123,11 +123,11 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
       info->complete = 1;
       info->checksum = sum;
     } else if (strict) {
-      st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: %s", path,
-                      got == 0                ? "footer missing (an unfinished file?)"
-                      : got > DS_FOOTER_BYTES ? "trailing bytes after the footer"
-                      : got < DS_FOOTER_BYTES ? "truncated footer"
-                                              : "footer checksum or count mismatch");
+      st = core_fail(err, NBRDF_ERR_FORMAT, "%s: %s", path,
+                     got == 0                ? "footer missing (an unfinished file?)"
+                     : got > DS_FOOTER_BYTES ? "trailing bytes after the footer"
+                     : got < DS_FOOTER_BYTES ? "truncated footer"
+                                             : "footer checksum or count mismatch");
     }
   }
   info->prefix_checksum = sum;

@@ -25,17 +25,17 @@ static nbrdf_status open_output(const char *path, const train_dataset_settings *
   *done = 0, *complete = 0;
   /* Appended in place (a stopped run resumes from the valid prefix), so not through a
    * temporary file; the destination is still checked like every output's. */
-  nbrdf_status checked = nbrdf_output_check(path, NULL, 0, err);
+  nbrdf_status checked = core_output_check(path, NULL, 0, err);
   if (checked != NBRDF_OK) return checked;
   if (access(path, F_OK) == 0) {
     train_dataset_info info;
     nbrdf_status st = train_dataset_read(path, 0, &info, NULL, NULL, err);
     if (st) {
-      nbrdf_error_prefix(err, "cannot resume (delete the file to start again): ");
+      core_error_prefix(err, "cannot resume (delete the file to start again): ");
       return st;
     }
     if (!same_settings(&info.settings, s))
-      return nbrdf_fail(
+      return core_fail(
           err, NBRDF_ERR_MISMATCH,
           "%s: exists with other settings (kind %s, draws %s, count %llu, seed %llu, "
           "incident %d, outgoing %d, sampled %d, spp %d); delete it or use them",
@@ -46,29 +46,29 @@ static nbrdf_status open_output(const char *path, const train_dataset_settings *
     if (info.complete) return NBRDF_OK;
     /* Drop a partial or corrupt tail record before appending. */
     if (truncate(path, (off_t)info.valid_bytes) != 0)
-      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot truncate to its valid prefix", path);
+      return core_fail(err, NBRDF_ERR_IO, "%s: cannot truncate to its valid prefix", path);
     *out = fopen(path, "r+b");
     if (!*out || fseek(*out, (long)info.valid_bytes, SEEK_SET) != 0) {
       if (*out) fclose(*out);
-      return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot open for appending", path);
+      return core_fail(err, NBRDF_ERR_IO, "%s: cannot open for appending", path);
     }
     return NBRDF_OK;
   }
   unsigned char head[DS_HEADER_BYTES];
   ds_encode_header(s, head);
   *out = fopen(path, "wb");
-  if (!*out) return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
+  if (!*out) return core_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
   if (fwrite(head, 1, sizeof head, *out) != sizeof head || fflush(*out) != 0) {
     fclose(*out);
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write the header", path);
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot write the header", path);
   }
-  *sum = nbrdf_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, head, sizeof head);
+  *sum = nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, head, sizeof head);
   return NBRDF_OK;
 }
 
 /* The calling thread's ticker, asked from inside its BRDF's random walks. */
 typedef struct batch_tick {
-  nbrdf_ticker *tk;
+  core_ticker *tk;
   const train_dataset_settings *s;
   uint64_t first;
   int *made;
@@ -80,7 +80,7 @@ static int batch_tick_fn(void *user) {
   int m;
 #pragma omp atomic read
   m = *b->made;
-  if (nbrdf_ticker_tick(b->tk, "dataset", (double)(b->first + (uint64_t)m), (double)b->s->count, 0))
+  if (core_ticker_tick(b->tk, "dataset", (double)(b->first + (uint64_t)m), (double)b->s->count, 0))
     *b->halt = 1;
   return *b->halt;
 }
@@ -93,7 +93,7 @@ static int batch_tick_fn(void *user) {
  * the caller keeps the records made in order. */
 static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t first, int n,
                                    int threads, unsigned char *recs, float *samples,
-                                   size_t per_thread, nbrdf_ticker *tk, unsigned char *ok,
+                                   size_t per_thread, core_ticker *tk, unsigned char *ok,
                                    int *stopped, nbrdf_error *err) {
   size_t rb = ds_record_bytes(s);
   nbrdf_status st = NBRDF_OK;
@@ -110,7 +110,7 @@ static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t fir
     if (!h && omp_get_thread_num() == 0) {
 #pragma omp atomic read
       m = made;
-      if (nbrdf_ticker_tick(tk, "dataset", (double)(first + (uint64_t)m), (double)s->count, 0)) {
+      if (core_ticker_tick(tk, "dataset", (double)(first + (uint64_t)m), (double)s->count, 0)) {
 #pragma omp atomic write
         halt = 1;
         h = 1;
@@ -140,8 +140,8 @@ static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t fir
 
 nbrdf_status train_dataset_write(const char *path, const train_dataset_settings *s,
                                  uint64_t *resumed_from, nbrdf_error *err) {
-  if (!path || !s) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: NULL path or settings");
-  if (s->count < 1) return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "dataset: count must be >= 1");
+  if (!path || !s) return core_fail(err, NBRDF_ERR_ARGUMENT, "dataset: NULL path or settings");
+  if (s->count < 1) return core_fail(err, NBRDF_ERR_ARGUMENT, "dataset: count must be >= 1");
   nbrdf_status st = train_dataset_check_settings(s, err);
   if (st) return st;
   FILE *f = NULL;
@@ -157,16 +157,16 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
   size_t per_thread = (size_t)s->incident * (size_t)s->outgoing * TRAIN_DATASET_FLOATS;
   unsigned char *recs = malloc((size_t)batch * rb), *ok = malloc((size_t)batch);
   float *samples = malloc((size_t)threads * per_thread * sizeof *samples);
-  nbrdf_ticker tk;
-  nbrdf_ticker_init(&tk, s->progress, s->user, NULL);
+  core_ticker tk;
+  core_ticker_init(&tk, s->progress, s->user, NULL);
   if (!recs || !ok || !samples) {
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory for a batch of %d", batch);
+    st = core_fail(err, NBRDF_ERR_MEMORY, "dataset: out of memory for a batch of %d", batch);
     goto done;
   }
-  if (nbrdf_ticker_tick(&tk, "dataset", (double)done, (double)s->count, 1)) {
-    st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
-                    "%s: stopped at %llu of %llu BRDFs; run again to resume", path,
-                    (unsigned long long)done, (unsigned long long)s->count);
+  if (core_ticker_tick(&tk, "dataset", (double)done, (double)s->count, 1)) {
+    st = core_fail(err, NBRDF_ERR_CANCELLED,
+                   "%s: stopped at %llu of %llu BRDFs; run again to resume", path,
+                   (unsigned long long)done, (unsigned long long)s->count);
     goto done;
   }
   while (done < s->count) {
@@ -181,27 +181,27 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
           break;
         }
     if (fwrite(recs, rb, (size_t)n, f) != (size_t)n || fflush(f) != 0) {
-      st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: write failed after %llu records: %s", path,
-                      (unsigned long long)done, strerror(errno));
+      st = core_fail(err, NBRDF_ERR_IO, "%s: write failed after %llu records: %s", path,
+                     (unsigned long long)done, strerror(errno));
       goto done;
     }
-    sum = nbrdf_st_fnv1a64(sum, recs, (size_t)n * rb);
+    sum = nn_st_fnv1a64(sum, recs, (size_t)n * rb);
     done += (uint64_t)n;
     if ((stopped ||
-         nbrdf_ticker_tick(&tk, "dataset", (double)done, (double)s->count, done == s->count)) &&
+         core_ticker_tick(&tk, "dataset", (double)done, (double)s->count, done == s->count)) &&
         done < s->count) {
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED,
-                      "%s: stopped at %llu of %llu BRDFs; run again to resume", path,
-                      (unsigned long long)done, (unsigned long long)s->count);
+      st = core_fail(err, NBRDF_ERR_CANCELLED,
+                     "%s: stopped at %llu of %llu BRDFs; run again to resume", path,
+                     (unsigned long long)done, (unsigned long long)s->count);
       goto done;
     }
   }
   unsigned char foot[DS_FOOTER_BYTES];
   ds_encode_footer(s->count, sum, foot);
   if (fwrite(foot, 1, sizeof foot, f) != sizeof foot || fflush(f) != 0)
-    st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot write the footer", path);
+    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot write the footer", path);
 done:
   free(recs), free(ok), free(samples);
-  if (fclose(f) != 0 && !st) st = nbrdf_fail(err, NBRDF_ERR_IO, "%s: close failed", path);
+  if (fclose(f) != 0 && !st) st = core_fail(err, NBRDF_ERR_IO, "%s: close failed", path);
   return st;
 }

@@ -36,10 +36,10 @@ nbrdf_status train_energy_create(const model_decoder *dec, const train_samples *
   *out = NULL;
   if (o->lambda == 0.0f) return NBRDF_OK;
   if (brdfs_per_step < 1 || brdfs_per_step > 4096)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "energy penalty: %d BRDFs per step, expected 1..4096", brdfs_per_step);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: %d BRDFs per step, expected 1..4096",
+                     brdfs_per_step);
   train_energy *e = calloc(1, sizeof *e);
-  if (!e) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
+  if (!e) return core_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
   e->data = data, e->o = *o, e->per_step = brdfs_per_step, e->D = dec->cfg.latent_dim;
   nbrdf_status st = model_energy_create(dec, o, &e->pen, err);
   size_t T = (size_t)o->n_theta, K = (size_t)brdfs_per_step;
@@ -50,7 +50,7 @@ nbrdf_status train_energy_create(const model_decoder *dec, const train_samples *
     e->ceil = malloc(K * T * sizeof *e->ceil);
     e->pick = malloc(K * sizeof *e->pick);
     if (!e->ceiling || !e->lat || !e->grad || !e->ceil || !e->pick)
-      st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
+      st = core_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
   }
   if (st) {
     train_energy_destroy(e);
@@ -74,8 +74,8 @@ static void compute(train_energy *e, size_t b) {
   for (int t = 0; t < e->o.n_theta; t++) {
     double rho = 1.0, se = 0.0;
     if (nbrdf_brdf_albedo(brdf, e->o.theta_deg[t] * (M_PI / 180.0), TRAIN_ENERGY_REF_SAMPLES,
-                          nbrdf_hash64(nbrdf_hash64(e->o.seed, ENERGY_TAG), b * 64 + (size_t)t),
-                          &rho, &se, NULL) != NBRDF_OK)
+                          core_hash64(core_hash64(e->o.seed, ENERGY_TAG), b * 64 + (size_t)t), &rho,
+                          &se, NULL) != NBRDF_OK)
       rho = 1.0, se = 0.0;
     c[t] = (float)fmin(1.0, rho + 2.0 * se + 0.01);
   }
@@ -88,8 +88,8 @@ nbrdf_status train_energy_ceilings(train_energy *e, size_t n, const size_t *brdf
   for (size_t i = 0; i < n; i++) {
     size_t b = brdfs[i];
     if (b >= e->data->n_brdfs)
-      return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: BRDF %zu of %zu", b,
-                        e->data->n_brdfs);
+      return core_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: BRDF %zu of %zu", b,
+                       e->data->n_brdfs);
     if (isnan(e->ceiling[b * T])) compute(e, b);
     memcpy(out + i * T, e->ceiling + b * T, T * sizeof *out);
   }
@@ -105,13 +105,13 @@ nbrdf_status train_energy_add_fit(train_energy *e, model_fit *fit, const float *
    * K is far below the BRDF count in practice). */
   size_t n = e->data->n_brdfs, K = (size_t)e->per_step < n ? (size_t)e->per_step : n;
   size_t D = (size_t)e->D;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, nbrdf_hash64(e->o.seed, ENERGY_TAG + 1), (uint64_t)step);
+  core_rng rng;
+  core_rng_init(&rng, core_hash64(e->o.seed, ENERGY_TAG + 1), (uint64_t)step);
   for (size_t k = 0; k < K; k++) {
     size_t b;
     int again;
     do {
-      b = (size_t)(nbrdf_rng_uniform(&rng) * (double)n);
+      b = (size_t)(core_rng_uniform(&rng) * (double)n);
       again = 0;
       for (size_t j = 0; j < k; j++)
         again |= e->pick[j] == b;

@@ -5,7 +5,7 @@
 int train_epoch_shuffle_init(train_epoch_shuffle *s, size_t n, uint64_t seed, uint64_t stream) {
   s->n = n;
   s->idx = malloc((n ? n : 1) * sizeof *s->idx);
-  nbrdf_rng_init(&s->before, seed, stream);
+  core_rng_init(&s->before, seed, stream);
   s->after = s->before;
   s->shuffled = 0;
   s->valid = 0;
@@ -17,17 +17,17 @@ void train_epoch_shuffle_free(train_epoch_shuffle *s) {
   s->idx = NULL;
 }
 
-void train_shuffle_indices(size_t *idx, size_t n, nbrdf_rng *g) {
+void train_shuffle_indices(size_t *idx, size_t n, core_rng *g) {
   for (size_t i = 0; i < n; i++)
     idx[i] = i;
   for (size_t i = n; i > 1; i--) {
-    size_t j = (size_t)(nbrdf_rng_uniform(g) * (double)i), x = idx[i - 1];
+    size_t j = (size_t)(core_rng_uniform(g) * (double)i), x = idx[i - 1];
     idx[i - 1] = idx[j], idx[j] = x;
   }
 }
 
 static void draw(train_epoch_shuffle *s) {
-  nbrdf_rng g = s->before;
+  core_rng g = s->before;
   train_shuffle_indices(s->idx, s->n, &g);
   s->after = g;
   s->valid = 1;

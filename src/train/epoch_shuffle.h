@@ -15,13 +15,13 @@
 typedef struct train_epoch_shuffle {
   size_t *idx; /* [n]: the shuffle of epoch shuffled − 1 */
   size_t n;
-  nbrdf_rng before, after; /* around that shuffle */
+  core_rng before, after;  /* around that shuffle */
   uint64_t shuffled;       /* epochs shuffled so far */
   int valid;               /* idx holds that shuffle (0 after a resume) */
 } train_epoch_shuffle;
 
 /* idx = a Fisher–Yates shuffle of 0..n−1 drawn from g (advanced). */
-void train_shuffle_indices(size_t *idx, size_t n, nbrdf_rng *g);
+void train_shuffle_indices(size_t *idx, size_t n, core_rng *g);
 
 /* Allocates idx; the generator starts at (seed, stream). */
 int train_epoch_shuffle_init(train_epoch_shuffle *s, size_t n, uint64_t seed, uint64_t stream);

@@ -28,7 +28,7 @@ static nbrdf_status pairs_alloc(layering_pairs *p, size_t n, size_t D, int targe
       p->albedo2 && p->sigma_t2 && p->coats && p->brdf)
     return NBRDF_OK;
   layering_pairs_free(p);
-  return nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory for %zu pairs", n);
+  return core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory for %zu pairs", n);
 }
 
 static int held_out(size_t k, int every) {
@@ -53,7 +53,7 @@ nbrdf_status layering_pairs_make(const train_samples *data, const float *latents
     nv += (size_t)held_out(n++, every);
   }
   if (n - nv < 1)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "train layering: the data has no layered BRDFs");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "train layering: the data has no layered BRDFs");
   nbrdf_status st = pairs_alloc(train, n - nv, D, latents != NULL, err);
   if (!st) st = pairs_alloc(val, nv ? nv : 1, D, latents != NULL, err);
   if (st) {

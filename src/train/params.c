@@ -23,9 +23,9 @@ int train_kind_parse(const char *name) {
   return -1;
 }
 
-uint64_t train_family_seed(uint64_t seed) { return nbrdf_hash64(TRAIN_TAG, seed); }
+uint64_t train_family_seed(uint64_t seed) { return core_hash64(TRAIN_TAG, seed); }
 
-uint64_t train_heldout_seed(train_heldout set) { return nbrdf_hash64(HELDOUT_TAG, (uint64_t)set); }
+uint64_t train_heldout_seed(train_heldout set) { return core_hash64(HELDOUT_TAG, (uint64_t)set); }
 
 train_kind train_heldout_kind(train_heldout set) {
   switch (set) {
@@ -84,11 +84,11 @@ static double draw_eta(train_draws d, double u) {
   return d == TRAIN_DRAWS_COVERAGE ? train_draw_eta_coverage(u) : train_draw_eta(u);
 }
 
-static void draw_coat(nbrdf_rng *rng, train_draws d, train_coat *c) {
-  c->alpha = draw_alpha(d, nbrdf_rng_uniform(rng));
-  c->eta = draw_eta(d, nbrdf_rng_uniform(rng));
-  c->albedo = train_draw_albedo(nbrdf_rng_uniform(rng));
-  c->sigma_t = train_draw_sigma_t(nbrdf_rng_uniform(rng));
+static void draw_coat(core_rng *rng, train_draws d, train_coat *c) {
+  c->alpha = draw_alpha(d, core_rng_uniform(rng));
+  c->eta = draw_eta(d, core_rng_uniform(rng));
+  c->albedo = train_draw_albedo(core_rng_uniform(rng));
+  c->sigma_t = train_draw_sigma_t(core_rng_uniform(rng));
 }
 
 void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_params *p) {
@@ -99,22 +99,22 @@ void train_params_draw_from(uint64_t family, train_kind kind, train_draws draws,
                             train_params *p) {
   /* The kind enters the generator seed, so that layered2 and layered3 sets
    * drawn with the same seed do not share their outer coats. */
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, nbrdf_hash64(family, (uint64_t)kind), index);
+  core_rng rng;
+  core_rng_init(&rng, core_hash64(family, (uint64_t)kind), index);
   memset(p, 0, sizeof *p);
   if (kind == TRAIN_SINGLE)
-    kind = nbrdf_rng_uniform(&rng) < 0.5 ? TRAIN_CONDUCTOR : TRAIN_DIELECTRIC;
+    kind = core_rng_uniform(&rng) < 0.5 ? TRAIN_CONDUCTOR : TRAIN_DIELECTRIC;
   p->kind = kind;
   p->n_coats = kind == TRAIN_LAYERED2 ? 1 : kind == TRAIN_LAYERED3 ? 2 : 0;
   for (int c = 0; c < p->n_coats; c++)
     draw_coat(&rng, draws, &p->coat[c]);
   /* The conductor base keeps Table 2's α; a dielectric is a coat on its own. */
-  double u = nbrdf_rng_uniform(&rng);
+  double u = core_rng_uniform(&rng);
   p->base_alpha = kind == TRAIN_DIELECTRIC ? draw_alpha(draws, u) : train_draw_alpha(u);
   if (kind == TRAIN_DIELECTRIC)
-    p->base_eta = draw_eta(draws, nbrdf_rng_uniform(&rng));
+    p->base_eta = draw_eta(draws, core_rng_uniform(&rng));
   else
-    p->base_r0 = nbrdf_rng_uniform(&rng);
+    p->base_r0 = core_rng_uniform(&rng);
 }
 
 nbrdf_status train_params_create(const train_params *p, nbrdf_brdf **out, nbrdf_error *err) {

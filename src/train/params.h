@@ -8,8 +8,8 @@
  * number of threads, and resumed.
  *
  * Training and held-out sets are kept disjoint by construction: the family
- * seed of a training set is nbrdf_hash64(TRAIN_TAG, user seed), that of a
- * held-out set nbrdf_hash64(HELDOUT_TAG, set id), with two different tags;
+ * seed of a training set is core_hash64(TRAIN_TAG, user seed), that of a
+ * held-out set core_hash64(HELDOUT_TAG, set id), with two different tags;
  * the generators of the two families therefore start from different states
  * (a collision would need a splitmix64 collision between the two inputs), and
  * the parameters are continuous, so no held-out BRDF reappears in training
@@ -78,7 +78,7 @@ uint64_t train_heldout_seed(train_heldout set);
 train_kind train_heldout_kind(train_heldout set);
 
 /* BRDF `index` of the family: p is a pure function of (family, kind, index);
- * it uses stream `index` of the seed nbrdf_hash64(family, kind). */
+ * it uses stream `index` of the seed core_hash64(family, kind). */
 void train_params_draw(uint64_t family, train_kind kind, uint64_t index, train_params *p);
 /* The same from the distribution `draws` (TABLE2: train_params_draw). */
 void train_params_draw_from(uint64_t family, train_kind kind, train_draws draws, uint64_t index,

@@ -20,10 +20,10 @@ static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error
     /* A step of both tables is seconds on a loaded machine: Ctrl-C is also seen between
      * the sets, as it was when each table was a run of its own. */
     if (i > 0 && p->cancel && *p->cancel)
-      return nbrdf_fail(err, NBRDF_ERR_CANCELLED,
-                        "projection: cancelled in step %lld (the last checkpoint, if any, "
-                        "resumes it)",
-                        (long long)step + 1);
+      return core_fail(err, NBRDF_ERR_CANCELLED,
+                       "projection: cancelled in step %lld (the last checkpoint, if any, "
+                       "resumes it)",
+                       (long long)step + 1);
     double l = 0.0;
     nbrdf_status st = model_fit_gradient(p->fit[i], &p->sets[i], step, &l, err);
     if (st) return st;
@@ -42,7 +42,7 @@ nbrdf_status train_project_sets(model_decoder *dec, int n_sets, const model_samp
       {"latents.2", "adam.latents.2.m", "adam.latents.2.v"},
       {"latents.3", "adam.latents.3.m", "adam.latents.3.v"}};
   if (n_sets < 1 || n_sets > TRAIN_PROJECTION_MAX_SETS)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "projection: 1..%d sets", TRAIN_PROJECTION_MAX_SETS);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "projection: 1..%d sets", TRAIN_PROJECTION_MAX_SETS);
   projection pr = {.n = n_sets, .sets = sets};
   trainer_group groups[TRAIN_PROJECTION_MAX_SETS];
   model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;

@@ -54,17 +54,17 @@ nbrdf_status run_log_open(run_log *log, const char *path, const char *header, in
   char *text = malloc(n);
   if (!text) {
     free(rows);
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+    return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   }
   snprintf(text, n, "%s\n%s", header, rows ? rows : "");
   free(rows);
   /* The kept rows replace the log whole (core/output_file.h); later rows are appended. */
-  nbrdf_status st = nbrdf_output_file_write_all(path, text, strlen(text), NULL, 0, err);
+  nbrdf_status st = core_output_file_write_all(path, text, strlen(text), NULL, 0, err);
   free(text);
   if (st != NBRDF_OK) return st;
   log->f = fopen(path, "a");
   if (!log->f)
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot append to the log: %s", path, strerror(errno));
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot append to the log: %s", path, strerror(errno));
   return NBRDF_OK;
 }
 

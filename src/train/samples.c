@@ -34,7 +34,7 @@ static nbrdf_status append(train_samples *s, capacity *cap, const train_params *
       !grow((void **)&s->f, &c_f, rows, sizeof(float)) ||
       !grow((void **)&s->offsets, &c_off, s->n_brdfs + 2, sizeof(size_t)) ||
       !grow((void **)&s->params, &c_par, s->n_brdfs + 1, sizeof(train_params)))
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory at %zu rows", rows);
+    return core_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory at %zu rows", rows);
   cap->rows = c_rows;
   cap->brdfs = c_off < c_par ? c_off : c_par;
   if (s->n_brdfs == 0) s->offsets[0] = 0;
@@ -56,8 +56,7 @@ nbrdf_status train_samples_append(train_samples *s, const train_params *params, 
                                   const float *samples, nbrdf_error *err) {
   /* Exact-size growth: callers that append many BRDFs use the loader. */
   capacity cap = {s->n_brdfs, s->n_rows};
-  if (n == 0)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "training samples: a BRDF without samples");
+  if (n == 0) return core_fail(err, NBRDF_ERR_ARGUMENT, "training samples: a BRDF without samples");
   return append(s, &cap, params, n, samples, err);
 }
 
@@ -73,7 +72,7 @@ static int on_record(void *user, const train_dataset_record *r) {
   load_state *ls = user;
   if (ls->limit && ls->taken == ls->limit) return 1;
   ls->st = append(ls->s, &ls->cap, &r->params, r->n_samples, r->samples, ls->err);
-  ls->hash = nbrdf_st_fnv1a64(ls->hash, r->samples,
+  ls->hash = nn_st_fnv1a64(ls->hash, r->samples,
                               r->n_samples * TRAIN_DATASET_FLOATS * sizeof(float));
   ls->taken++;
   return ls->st != NBRDF_OK;
@@ -98,26 +97,26 @@ nbrdf_status train_samples_load(int n_files, const char *const *specs, train_sam
                                 nbrdf_error *err) {
   memset(out, 0, sizeof *out);
   out->checksums = calloc((size_t)(n_files > 0 ? n_files : 1), sizeof(uint64_t));
-  if (!out->checksums) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory");
+  if (!out->checksums) return core_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory");
   load_state ls = {out, {0, 0}, 0, 0, 0, NBRDF_OK, err};
   for (int i = 0; i < n_files; i++) {
     char path[4096];
     train_dataset_info info;
     nbrdf_status st = NBRDF_OK;
     if (!parse_spec(specs[i], path, sizeof path, &ls.limit))
-      st = nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", specs[i]);
+      st = core_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", specs[i]);
     ls.taken = 0, ls.hash = NBRDF_ST_FNV1A64_INIT;
     if (!st) st = train_dataset_read(path, !ls.limit, &info, on_record, &ls, err);
     if (st == NBRDF_OK) st = ls.st;
     if (st == NBRDF_OK && ls.limit && ls.taken < ls.limit)
-      st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: has %llu valid records, %llu were asked for",
-                      path, (unsigned long long)ls.taken, (unsigned long long)ls.limit);
+      st = core_fail(err, NBRDF_ERR_FORMAT, "%s: has %llu valid records, %llu were asked for", path,
+                     (unsigned long long)ls.taken, (unsigned long long)ls.limit);
     if (st == NBRDF_OK && !ls.limit && !info.complete)
-      st = nbrdf_fail(err, NBRDF_ERR_FORMAT,
-                      "%s: incomplete data set (%llu of %llu BRDFs); finish it with the same "
-                      "`nbrdf dataset` command first, or take its first records with %s:N",
-                      path, (unsigned long long)info.records,
-                      (unsigned long long)info.settings.count, path);
+      st = core_fail(err, NBRDF_ERR_FORMAT,
+                     "%s: incomplete data set (%llu of %llu BRDFs); finish it with the same "
+                     "`nbrdf dataset` command first, or take its first records with %s:N",
+                     path, (unsigned long long)info.records,
+                     (unsigned long long)info.settings.count, path);
     if (st != NBRDF_OK) {
       train_samples_free(out);
       return st;
@@ -127,7 +126,7 @@ nbrdf_status train_samples_load(int n_files, const char *const *specs, train_sam
   }
   if (out->n_brdfs == 0) {
     train_samples_free(out);
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "training samples: no data set given");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "training samples: no data set given");
   }
   return NBRDF_OK;
 }
@@ -143,7 +142,7 @@ nbrdf_status train_samples_generate_all(train_samples *data, size_t n, const tra
   nbrdf_error *errs = calloc(n, sizeof *errs);
   nbrdf_status st = buf && sts && errs
                         ? NBRDF_OK
-                        : nbrdf_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory");
+                        : core_fail(err, NBRDF_ERR_MEMORY, "training samples: out of memory");
   if (!st) {
 #pragma omp parallel for schedule(dynamic, 1)
     for (long k = 0; k < (long)n; k++)

@@ -56,7 +56,7 @@ static nbrdf_status fit_tables(model_decoder *dec, const train_table_settings *s
     size_t n = (size_t)t[k].n[0] * (size_t)t[k].n[1];
     train_params *p = table_params(&t[k]);
     st = p ? train_samples_generate_all(&data[k], n, p, TABLE_FAMILY, err)
-           : nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
+           : core_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
     free(p);
     if (!st) memset(t[k].latents, 0, n * (size_t)t[k].dim * sizeof(float));
   }
@@ -71,9 +71,8 @@ static nbrdf_status fit_tables(model_decoder *dec, const train_table_settings *s
   if (s->eta_min != 1.05) /* absent at the default: checkpoints from before it still match */
     trainer_option(options, sizeof options, "eta-min", "%.9g", s->eta_min);
   trainer_option(options, sizeof options, "decoder weights", "%016llx",
-                 (unsigned long long)train_hash_floats(TRAIN_HASH_START,
-                                                       nbrdf_nn_params_const(dec->nn),
-                                                       nbrdf_nn_param_count(dec->nn)));
+                 (unsigned long long)train_hash_floats(TRAIN_HASH_START, nn_params_const(dec->nn),
+                                                       nn_param_count(dec->nn)));
   trainer_options to = TRAINER_OPTIONS_DEFAULT;
   to.format = "nbrdf-train-tables-checkpoint";
   to.options = options;
@@ -92,15 +91,15 @@ nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
   if (s->alpha_nodes < 2 || s->eta_nodes < 2 || s->r0_nodes < 2 || s->steps < 1 ||
       !(s->eta_warp >= 0.25 && s->eta_warp <= 4) || !(s->r0_warp >= 0.25 && s->r0_warp <= 4) ||
       !(s->eta_min >= 1.0 && s->eta_min <= 1.9))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "tables: >= 2 nodes per axis, >= 1 step, warps in [0.25, 4] and the first "
-                      "eta node in [1, 1.9]");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "tables: >= 2 nodes per axis, >= 1 step, warps in [0.25, 4] and the first "
+                     "eta node in [1, 1.9]");
   int na = s->alpha_nodes, D = dec->cfg.latent_dim;
   float *alpha = malloc((size_t)na * sizeof *alpha);
   float *eta = malloc((size_t)s->eta_nodes * sizeof *eta);
   float *r0 = malloc((size_t)s->r0_nodes * sizeof *r0);
   nbrdf_status st =
-      alpha && eta && r0 ? NBRDF_OK : nbrdf_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
+      alpha && eta && r0 ? NBRDF_OK : core_fail(err, NBRDF_ERR_MEMORY, "tables: out of memory");
   memset(tables, 0, 2 * sizeof *tables);
   if (!st) {
     alpha_axis(alpha, na);

@@ -52,11 +52,11 @@ nbrdf_status train_tables_fit(model_decoder *dec, const train_table_settings *s,
  * streams of (family, index k) (generated in parallel). Analytic and layered
  * BRDFs alike: tables, held-out evaluation and the interpolation-error
  * measurement use it. */
-typedef struct nbrdf_ticker nbrdf_ticker;
+typedef struct core_ticker core_ticker;
 /* Progress of a projection (optional): each step ticks `tk` with `stage`,
  * done = done0 + step of `total`; a stop fails with NBRDF_ERR_CANCELLED. */
 typedef struct train_project_progress {
-  nbrdf_ticker *tk;
+  core_ticker *tk;
   const char *stage;
   double done0, total;
 } train_project_progress;

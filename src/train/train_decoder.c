@@ -22,7 +22,7 @@ static nbrdf_status make_validation(int n, train_samples *out, nbrdf_error *err)
   memset(out, 0, sizeof *out);
   if (n <= 0) return NBRDF_OK;
   train_params *params = malloc((size_t)n * sizeof *params);
-  if (!params) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "validation: out of memory");
+  if (!params) return core_fail(err, NBRDF_ERR_MEMORY, "validation: out of memory");
   uint64_t family = train_heldout_seed(TRAIN_HELDOUT_REP);
   for (int i = 0; i < n; i++)
     train_params_draw(family, train_heldout_kind(TRAIN_HELDOUT_REP),
@@ -39,7 +39,7 @@ static nbrdf_status validate(model_decoder *dec, const train_decoder_settings *s
   if (val->n_brdfs == 0) return NBRDF_OK;
   size_t nl = val->n_brdfs * (size_t)dec->cfg.latent_dim;
   float *lat = calloc(nl, sizeof *lat);
-  if (!lat) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "validation: out of memory");
+  if (!lat) return core_fail(err, NBRDF_ERR_MEMORY, "validation: out of memory");
   train_projection p = {s->loss, 256, 2e-2f, 100, 0.5f, s->seed, 300};
   model_samples view = train_samples_view(val);
   nbrdf_status st = train_project_sets(dec, 1, &view, &lat, &p, NULL, NULL, err);
@@ -56,16 +56,16 @@ static nbrdf_status validate(model_decoder *dec, const train_decoder_settings *s
 static nbrdf_status join(char *out, size_t size, const char *dir, const char *name,
                          nbrdf_error *err) {
   if ((size_t)snprintf(out, size, "%s/%s", dir, name) >= size)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: path too long", dir);
   return NBRDF_OK;
 }
 
 static void init_latents(float *lat, size_t n, uint64_t seed) {
   /* Small random latents (DeepSDF's N(0, 0.01²)) so that BRDFs start apart. */
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 0x6c6174656e7473u);
+  core_rng rng;
+  core_rng_init(&rng, seed, 0x6c6174656e7473u);
   for (size_t k = 0; k < n; k++)
-    lat[k] = (float)(0.01 * nbrdf_rng_normal(&rng));
+    lat[k] = (float)(0.01 * core_rng_normal(&rng));
 }
 
 void train_decoder_settings_default(train_decoder_settings *s) {
@@ -157,7 +157,7 @@ static nbrdf_status save(void *user, nbrdf_error *err) {
 static nbrdf_status run_options(const decoder_run *d, char *out, size_t size, nbrdf_error *err) {
   const train_decoder_settings *s = d->s;
   char *spec = NULL, key[1024], num[32];
-  nbrdf_status st = nbrdf_nn_spec_to_json(&d->dec->cfg.spec, &spec, err);
+  nbrdf_status st = nn_spec_to_json(&d->dec->cfg.spec, &spec, err);
   if (st) return st;
   train_checkpoint_data_key(d->data, key, sizeof key);
   out[0] = '\0';
@@ -185,31 +185,31 @@ static nbrdf_status run_options(const decoder_run *d, char *out, size_t size, nb
   return NBRDF_OK;
 }
 
-static nbrdf_status require(const nbrdf_st_reader *r, const char *k, const char *want,
+static nbrdf_status require(const nn_st_reader *r, const char *k, const char *want,
                             const char *what, nbrdf_error *err) {
-  const char *v = nbrdf_st_metadata_get(r, k);
+  const char *v = nn_st_metadata_get(r, k);
   if (v && !strcmp(v, want)) return NBRDF_OK;
-  return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                    "%s: the checkpoint was made with another %s than this run's (start a new "
-                    "run folder, or give the same settings)",
-                    nbrdf_st_label(r), what);
+  return core_fail(err, NBRDF_ERR_MISMATCH,
+                   "%s: the checkpoint was made with another %s than this run's (start a new "
+                   "run folder, or give the same settings)",
+                   nn_st_label(r), what);
 }
 
 /* Checkpoints from before nbrdf.options: architecture and data as they were
  * checked then (the other settings were not recorded). */
-static nbrdf_status legacy(void *user, const nbrdf_st_reader *r, int64_t *step, nbrdf_error *err) {
+static nbrdf_status legacy(void *user, const nn_st_reader *r, int64_t *step, nbrdf_error *err) {
   decoder_run *d = user;
   char *spec = NULL, key[1024];
   train_checkpoint_data_key(d->data, key, sizeof key);
-  nbrdf_status st = nbrdf_nn_spec_to_json(&d->dec->cfg.spec, &spec, err);
+  nbrdf_status st = nn_spec_to_json(&d->dec->cfg.spec, &spec, err);
   if (!st) st = require(r, "nbrdf.spec", spec, "decoder architecture", err);
   if (!st) st = require(r, "nbrdf.data", key, "data sets", err);
   free(spec);
-  const char *s = nbrdf_st_metadata_get(r, "nbrdf.step");
+  const char *s = nn_st_metadata_get(r, "nbrdf.step");
   char *end = NULL;
   long long k = s ? strtoll(s, &end, 10) : -1;
   if (!st && (!s || *end || k < 0))
-    st = nbrdf_fail(err, NBRDF_ERR_FORMAT, "%s: no valid nbrdf.step", nbrdf_st_label(r));
+    st = core_fail(err, NBRDF_ERR_FORMAT, "%s: no valid nbrdf.step", nn_st_label(r));
   if (!st) *step = (int64_t)k;
   return st;
 }
@@ -225,12 +225,12 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
   if (st) return st;
   if (s->steps < 1 || s->rows_per_brdf < 1 || s->log_every < 1 || !(s->checkpoint_seconds > 0) ||
       !(s->brdf_weight >= 0.0 && s->brdf_weight <= 2.0))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "train decoder: steps, rows per BRDF, log interval and checkpoint "
-                      "interval must be positive, the BRDF weight power in [0, 2]");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "train decoder: steps, rows per BRDF, log interval and checkpoint "
+                     "interval must be positive, the BRDF weight power in [0, 2]");
   if (mkdir(s->run_dir, 0777) != 0 && errno != EEXIST)
-    return nbrdf_fail(err, NBRDF_ERR_IO, "%s: cannot create the run folder: %s", s->run_dir,
-                      strerror(errno));
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot create the run folder: %s", s->run_dir,
+                     strerror(errno));
 
   train_samples data, val;
   memset(&val, 0, sizeof val);
@@ -247,7 +247,7 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
   size_t nl = data.n_brdfs * (size_t)s->arch.latent_dim;
   if (!st) st = model_decoder_create(&s->arch, s->seed, &d.dec, err);
   if (!st && (!(lat = malloc(nl * sizeof *lat)) || !options))
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for latents");
+    st = core_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for latents");
   if (!st) {
     init_latents(lat, nl, s->seed);
     model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
@@ -260,7 +260,7 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
     st = model_fit_create(d.dec, data.n_brdfs, lat, &o, &d.fit, err);
   }
   if (!st && s->brdf_weight != 0.0 && !(weight = brdf_weights(&data, s->brdf_weight)))
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for BRDF weights");
+    st = core_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for BRDF weights");
   if (!st) st = train_energy_create(d.dec, &data, &s->energy, s->energy_brdfs, &d.energy, err);
   if (!st) st = run_options(&d, options, 16384, err);
   if (!st) {
@@ -271,9 +271,9 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
     trainer_group groups[2] = {
         {"latents", "adam.latents.m", "adam.latents.v", lat, model_fit_grad_latent(d.fit), nl,
          s->lr_latent, s->decay_every, s->decay_gamma},
-        {"decoder.params", "adam.weights.m", "adam.weights.v", nbrdf_nn_params(d.dec->nn),
-         model_fit_grad_weights(d.fit), nbrdf_nn_param_count(d.dec->nn), s->lr_weights,
-         s->decay_every, s->decay_gamma}};
+        {"decoder.params", "adam.weights.m", "adam.weights.v", nn_params(d.dec->nn),
+         model_fit_grad_weights(d.fit), nn_param_count(d.dec->nn), s->lr_weights, s->decay_every,
+         s->decay_gamma}};
     trainer_options to = TRAINER_OPTIONS_DEFAULT;
     to.steps = s->steps, to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
     to.checkpoint = ckpt, to.checkpoint_seconds = s->checkpoint_seconds;

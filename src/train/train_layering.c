@@ -21,7 +21,7 @@ static nbrdf_status batch_loss(model_layering *net, model_runner *run, const lay
     model_layering_fill_inputs(net, 1, p->top + i * D, p->bottom + i * D, p->albedo + i,
                                p->sigma_t + i, x + r * in);
   }
-  nbrdf_status st = nbrdf_nn_forward(net->nn, run->ws, x, (int)m, run->y, err);
+  nbrdf_status st = nn_forward(net->nn, run->ws, x, (int)m, run->y, err);
   if (st) return st;
   double sum = 0.0, scale = 1.0 / ((double)m * (double)D);
   for (size_t r = 0; r < m; r++)
@@ -31,7 +31,7 @@ static nbrdf_status batch_loss(model_layering *net, model_runner *run, const lay
       if (dy) dy[r * D + j] = (float)(2.0 * e * scale);
     }
   *loss = sum * scale;
-  if (grad) st = nbrdf_nn_backward(net->nn, run->ws, dy, NULL, grad, err);
+  if (grad) st = nn_backward(net->nn, run->ws, dy, NULL, grad, err);
   return st;
 }
 
@@ -88,7 +88,7 @@ static nbrdf_status latent_gradient(void *user, int64_t step, double *loss, nbrd
   const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
   size_t B = (size_t)t->s->batch, k0 = (size_t)(step % t->steps_per_epoch) * B;
   size_t m = t->train->n - k0 < B ? t->train->n - k0 : B;
-  memset(t->grad, 0, nbrdf_nn_param_count(t->net->nn) * sizeof *t->grad);
+  memset(t->grad, 0, nn_param_count(t->net->nn) * sizeof *t->grad);
   nbrdf_status st = batch_loss(t->net, &t->run, t->train, idx + k0, m, t->grad, t->dy, loss, err);
   t->sum += *loss * (double)m, t->rows += m;
   return st;
@@ -157,18 +157,18 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   char options[4096];
   st = model_layering_create(s->preset, (int)D, s->seed, &t.net, err);
   if (!st) st = model_runner_create(t.net->nn, (int)B, NBRDF_NN_TRAIN, &t.run, err);
-  if (!st && !(t.grad = malloc(nbrdf_nn_param_count(t.net->nn) * sizeof *t.grad)))
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!st && !(t.grad = malloc(nn_param_count(t.net->nn) * sizeof *t.grad)))
+    st = core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st && (!shuffle_ok || !t.eval_idx || !t.dy))
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+    st = core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st) {
     latent_options(&t, latents, options, sizeof options);
     trainer_group g = {"layering.params",
                        "adam.m",
                        "adam.v",
-                       nbrdf_nn_params(t.net->nn),
+                       nn_params(t.net->nn),
                        t.grad,
-                       nbrdf_nn_param_count(t.net->nn),
+                       nn_param_count(t.net->nn),
                        s->lr,
                        s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
                        s->decay_gamma};

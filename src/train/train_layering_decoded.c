@@ -39,7 +39,7 @@ nbrdf_status train_layering_pair_latents(const model_layering *net, const layeri
   model_runner run = {0};
   float *inner = malloc(D * sizeof *inner);
   nbrdf_status st = inner ? model_runner_create(net->nn, 1, NBRDF_NN_INFER, &run, err)
-                          : nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+                          : core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   for (size_t i = 0; i < p->n && !st; i++)
     st = pair_latent(net, &run, p, i, inner, out + i * D, err);
   model_runner_destroy(&run);
@@ -57,7 +57,7 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
   float *f = malloc((size_t)B * sizeof *f);
   nbrdf_status st = (z && inner && f)
                         ? NBRDF_OK
-                        : nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+                        : core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st && net) st = model_runner_create(net->nn, 1, NBRDF_NN_INFER, &lrun, err);
   if (!st) st = model_runner_create(dec->nn, B, NBRDF_NN_INFER, &drun, err);
   double sum = 0.0;
@@ -74,7 +74,7 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
         fill_decoder_row(dec, data, z, k, drun.x + (size_t)m * in);
         f[m] = data->f[k];
       }
-      st = nbrdf_nn_forward(dec->nn, drun.ws, drun.x, m, drun.y, err);
+      st = nn_forward(dec->nn, drun.ws, drun.x, m, drun.y, err);
       if (!st) sum += model_loss_sum(loss, dec->cfg.output, (size_t)m, drun.y, f, NULL, 1.0f, NULL);
       rows += (size_t)m;
     }
@@ -118,15 +118,15 @@ nbrdf_status train_layering_decoded_create(model_layering *net, model_decoder *d
                                            train_layering_decoded **out, nbrdf_error *err) {
   *out = NULL;
   if (batch < 1 || rows < 1 || (int64_t)batch * rows > (1 << 20))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "train layering: batch × rows per pair must be in [1, 2^20] (got %d × %d)",
-                      batch, rows);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "train layering: batch × rows per pair must be in [1, 2^20] (got %d × %d)",
+                     batch, rows);
   if (net->latent_dim != dec->cfg.latent_dim)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "train layering: layering latents of %d floats, the decoder's %d",
-                      net->latent_dim, dec->cfg.latent_dim);
+    return core_fail(err, NBRDF_ERR_MISMATCH,
+                     "train layering: layering latents of %d floats, the decoder's %d",
+                     net->latent_dim, dec->cfg.latent_dim);
   train_layering_decoded *t = calloc(1, sizeof *t);
-  if (!t) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!t) return core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   t->net = net, t->dec = dec, t->data = data, t->batch = batch, t->rows = rows;
   t->loss = loss, t->seed = seed;
   size_t B = (size_t)batch, R = (size_t)rows, D = (size_t)net->latent_dim;
@@ -142,7 +142,7 @@ nbrdf_status train_layering_decoded_create(model_layering *net, model_decoder *d
     t->dzi = malloc(B * D * sizeof(float));
     t->inner_row = malloc(B * sizeof(int));
     if (!t->dz || !t->f || !t->dy || !t->dx || !t->dxl || !t->dzi || !t->inner_row)
-      st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+      st = core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   }
   if (st) {
     train_layering_decoded_destroy(t);
@@ -164,8 +164,8 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
                                              const size_t *idx, int m, int64_t step, float *grad,
                                              double *loss, nbrdf_error *err) {
   if (m < 1 || m > t->batch)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "train layering: %d pairs in a batch of %d", m,
-                      t->batch);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "train layering: %d pairs in a batch of %d", m,
+                     t->batch);
   const model_decoder *dec = t->dec;
   size_t D = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
   size_t R = (size_t)t->rows, lin = 2 * D + 2;
@@ -178,7 +178,7 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
     t->inner_row[m2++] = r;
   }
   nbrdf_status st = NBRDF_OK;
-  if (m2) st = nbrdf_nn_forward(t->net->nn, t->lrun2.ws, t->lrun2.x, m2, t->lrun2.y, err);
+  if (m2) st = nn_forward(t->net->nn, t->lrun2.ws, t->lrun2.x, m2, t->lrun2.y, err);
   if (st) return st;
   for (int r = 0, j = 0; r < m; r++) {
     size_t i = idx[r];
@@ -186,26 +186,26 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
     model_layering_fill_inputs(t->net, 1, p->top + i * D, bottom, p->albedo + i, p->sigma_t + i,
                                t->lrun.x + (size_t)r * lin);
   }
-  st = nbrdf_nn_forward(t->net->nn, t->lrun.ws, t->lrun.x, m, t->lrun.y, err);
+  st = nn_forward(t->net->nn, t->lrun.ws, t->lrun.x, m, t->lrun.y, err);
   if (st) return st;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, t->seed, (uint64_t)step);
+  core_rng rng;
+  core_rng_init(&rng, t->seed, (uint64_t)step);
   for (int r = 0; r < m; r++) {
     size_t b = p->brdf[idx[r]], begin = t->data->offsets[b];
     size_t count = t->data->offsets[b + 1] - begin;
     for (size_t j = 0; j < R; j++) {
-      size_t k = begin + (size_t)(nbrdf_rng_uniform(&rng) * (double)count), row = (size_t)r * R + j;
+      size_t k = begin + (size_t)(core_rng_uniform(&rng) * (double)count), row = (size_t)r * R + j;
       fill_decoder_row(dec, t->data, t->lrun.y + (size_t)r * D, k, t->drun.x + row * in);
       t->f[row] = t->data->f[k];
     }
   }
   int rows = m * (int)R;
-  st = nbrdf_nn_forward(dec->nn, t->drun.ws, t->drun.x, rows, t->drun.y, err);
+  st = nn_forward(dec->nn, t->drun.ws, t->drun.x, rows, t->drun.y, err);
   if (st) return st;
   double sum = model_loss_sum(t->loss, dec->cfg.output, (size_t)rows, t->drun.y, t->f, NULL,
                               (float)(1.0 / rows), t->dy);
   *loss = sum / rows;
-  st = nbrdf_nn_backward(dec->nn, t->drun.ws, t->dy, t->dx, NULL, err);
+  st = nn_backward(dec->nn, t->drun.ws, t->dy, t->dx, NULL, err);
   if (st) return st;
   /* Each pair's latent feeds all its rows: its gradient is their sum. */
   for (int r = 0; r < m; r++) {
@@ -222,10 +222,10 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const la
       train_energy_pairs(t->energy, (size_t)m, idx, p->brdf, t->lrun.y, step, t->dz, &penalty, err);
   if (st) return st;
   *loss += penalty;
-  st = nbrdf_nn_backward(t->net->nn, t->lrun.ws, t->dz, m2 ? t->dxl : NULL, grad, err);
+  st = nn_backward(t->net->nn, t->lrun.ws, t->dz, m2 ? t->dxl : NULL, grad, err);
   if (st || !m2) return st;
   /* The inner application's output entered the outer one as its bottom. */
   for (int j = 0; j < m2; j++)
     memcpy(t->dzi + (size_t)j * D, t->dxl + (size_t)t->inner_row[j] * lin + D, D * sizeof(float));
-  return nbrdf_nn_backward(t->net->nn, t->lrun2.ws, t->dzi, NULL, grad, err);
+  return nn_backward(t->net->nn, t->lrun2.ws, t->dzi, NULL, grad, err);
 }

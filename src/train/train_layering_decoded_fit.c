@@ -53,22 +53,22 @@ static void run_key(const decoded_run *t, char *out, size_t size) {
 
 /* A checkpoint from before nbrdf.options: the run key as it was checked
  * then; the step from its epoch and batch. */
-static nbrdf_status legacy(void *user, const nbrdf_st_reader *r, int64_t *step, nbrdf_error *err) {
+static nbrdf_status legacy(void *user, const nn_st_reader *r, int64_t *step, nbrdf_error *err) {
   decoded_run *t = user;
   char key[2048];
   run_key(t, key, sizeof key);
-  const char *k = nbrdf_st_metadata_get(r, "nbrdf.run");
-  const char *e = nbrdf_st_metadata_get(r, "nbrdf.epoch");
-  const char *b = nbrdf_st_metadata_get(r, "nbrdf.batch");
+  const char *k = nn_st_metadata_get(r, "nbrdf.run");
+  const char *e = nn_st_metadata_get(r, "nbrdf.epoch");
+  const char *b = nn_st_metadata_get(r, "nbrdf.batch");
   char *end = NULL, *bend = NULL;
   long ep = e ? strtol(e, &end, 10) : -1;
   long long bt = b ? strtoll(b, &bend, 10) : 0; /* older still: at an epoch's end */
   if (b && (*bend || bt < 0 || bt >= t->steps_per_epoch)) bt = -1;
   if (!k || strcmp(k, key) || !e || *end || ep < 0 || bt < 0)
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                      "%s: a checkpoint of another layering run (data, preset or settings "
-                      "differ); remove it or give the same settings",
-                      nbrdf_st_label(r));
+    return core_fail(err, NBRDF_ERR_MISMATCH,
+                     "%s: a checkpoint of another layering run (data, preset or settings "
+                     "differ); remove it or give the same settings",
+                     nn_st_label(r));
   *step = (int64_t)ep * t->steps_per_epoch + bt;
   return NBRDF_OK;
 }
@@ -91,9 +91,8 @@ static void run_options(const decoded_run *t, char *out, size_t size) {
   trainer_option(out, size, "loss", "%s", model_loss_name(s->loss));
   trainer_option(out, size, "data", "%s", data);
   trainer_option(out, size, "decoder weights", "%016llx",
-                 (unsigned long long)train_hash_floats(TRAIN_HASH_START,
-                                                       nbrdf_nn_params_const(t->dec->nn),
-                                                       nbrdf_nn_param_count(t->dec->nn)));
+                 (unsigned long long)train_hash_floats(
+                     TRAIN_HASH_START, nn_params_const(t->dec->nn), nn_param_count(t->dec->nn)));
   trainer_option(out, size, "tables", "%016llx", (unsigned long long)t->tables_hash);
   if (s->energy.lambda > 0.0f) /* only when on: runs without the penalty still resume */
     trainer_option(out, size, "energy", "%g/%d/%d", (double)s->energy.lambda, s->energy.n_theta,
@@ -102,8 +101,8 @@ static void run_options(const decoded_run *t, char *out, size_t size) {
 
 /* Each epoch's shuffle from its own stream: a function of the seed and the epoch. */
 static void shuffle(size_t *idx, size_t n, uint64_t seed, int epoch) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 0x6c61796572000000u + (uint64_t)epoch);
+  core_rng rng;
+  core_rng_init(&rng, seed, 0x6c61796572000000u + (uint64_t)epoch);
   train_shuffle_indices(idx, n, &rng);
 }
 
@@ -111,21 +110,21 @@ static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {
   const train_layering_settings *s = t->s;
   nbrdf_status st = model_layering_create(s->preset, (int)D, s->seed, &t->net, err);
   if (!st && s->init) {
-    size_t n = nbrdf_nn_param_count(t->net->nn);
-    if (strcmp(s->init->preset, s->preset) || nbrdf_nn_param_count(s->init->nn) != n ||
+    size_t n = nn_param_count(t->net->nn);
+    if (strcmp(s->init->preset, s->preset) || nn_param_count(s->init->nn) != n ||
         s->init->latent_dim != (int)D)
-      return nbrdf_fail(err, NBRDF_ERR_MISMATCH,
-                        "train layering: the initial weights are of preset '%s', the run's is '%s'",
-                        s->init->preset, s->preset);
-    memcpy(nbrdf_nn_params(t->net->nn), nbrdf_nn_params_const(s->init->nn), n * sizeof(float));
+      return core_fail(err, NBRDF_ERR_MISMATCH,
+                       "train layering: the initial weights are of preset '%s', the run's is '%s'",
+                       s->init->preset, s->preset);
+    memcpy(nn_params(t->net->nn), nn_params_const(s->init->nn), n * sizeof(float));
   }
   if (!st)
     st = train_layering_decoded_create(t->net, t->dec, t->data, s->batch, s->rows_per_pair, s->loss,
                                        s->seed, &t->engine, err);
   if (!st) st = train_layering_decoded_set_energy(t->engine, &s->energy, s->energy_brdfs, err);
   if (st) return st;
-  if (!(t->grad = malloc(nbrdf_nn_param_count(t->net->nn) * sizeof(float))))
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!(t->grad = malloc(nn_param_count(t->net->nn) * sizeof(float))))
+    return core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   return NBRDF_OK;
 }
 
@@ -138,7 +137,7 @@ static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error
   if (t->shuffled != epoch) shuffle(t->idx, t->train->n, t->s->seed, epoch);
   t->shuffled = epoch;
   int m = (int)(t->train->n - k0 < B ? t->train->n - k0 : B);
-  memset(t->grad, 0, nbrdf_nn_param_count(t->net->nn) * sizeof *t->grad);
+  memset(t->grad, 0, nn_param_count(t->net->nn) * sizeof *t->grad);
   nbrdf_status st = train_layering_decoded_gradient(t->engine, t->train, t->idx + k0, m, step,
                                                     t->grad, loss, err);
   t->sum += *loss * m, t->rows += (size_t)m;
@@ -184,16 +183,16 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
   t.tables_hash = train_layering_tables_hash(tables);
   t.idx = malloc(train.n * sizeof *t.idx);
   char options[4096];
-  if (!t.idx) st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!t.idx) st = core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st) st = setup(&t, D, err);
   if (!st) {
     run_options(&t, options, sizeof options);
     trainer_group g = {"layering.params",
                        "adam.m",
                        "adam.v",
-                       nbrdf_nn_params(t.net->nn),
+                       nn_params(t.net->nn),
                        t.grad,
-                       nbrdf_nn_param_count(t.net->nn),
+                       nn_param_count(t.net->nn),
                        s->lr,
                        s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
                        s->decay_gamma};

@@ -87,21 +87,21 @@ nbrdf_status train_sampler_targets(model_decoder *dec, size_t n, const float *la
   model_runner run = {0};
   nbrdf_status st = ls.wi && ls.wo && ls.weight && ls.lambert && ls.pg && wi && lat && f && q0
                         ? model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &run, err)
-                        : nbrdf_fail(err, NBRDF_ERR_MEMORY, "sampler targets: out of memory");
+                        : core_fail(err, NBRDF_ERR_MEMORY, "sampler targets: out of memory");
   double sum_fit = 0.0, sum_cos = 0.0;
   for (size_t b = 0; b < n && !st; b++) {
-    nbrdf_rng rng;
-    nbrdf_rng_init(&rng, s->seed, b);
+    core_rng rng;
+    core_rng_init(&rng, s->seed, b);
     /* Directions: stratified θi, ωo from the wide proposal. */
     for (int i = 0; i < s->incident; i++) {
-      double th = (i + nbrdf_rng_uniform(&rng)) / s->incident * (80.0 * M_PI / 180.0);
+      double th = (i + core_rng_uniform(&rng)) / s->incident * (80.0 * M_PI / 180.0);
       vec3 v = v3(sin(th), 0.0, cos(th));
       for (int k = 0; k < s->outgoing; k++) {
         int j = i * s->outgoing + k;
         vec3 o;
         double pdf = 0.0;
-        while (!model_proxy_sample(Q0_SIGMA, Q0_W, v, nbrdf_rng_uniform(&rng),
-                                   nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng), &o, &pdf))
+        while (!model_proxy_sample(Q0_SIGMA, Q0_W, v, core_rng_uniform(&rng),
+                                   core_rng_uniform(&rng), core_rng_uniform(&rng), &o, &pdf))
           ;
         ls.wi[j] = v, ls.wo[j] = o, q0[j] = pdf;
         wi[3 * j] = (float)v.x, wi[3 * j + 1] = (float)v.y, wi[3 * j + 2] = (float)v.z;
@@ -134,7 +134,7 @@ nbrdf_status train_sampler_targets(model_decoder *dec, size_t n, const float *la
       sum_cos -= ls.weight[j] * log(ls.lambert[j]);
     sigma[b] = (float)sg, w[b] = (float)ww;
     if (s->progress && s->progress(s->user, "sampler: targets", (double)(b + 1), (double)n))
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "train sampler: cancelled");
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "train sampler: cancelled");
   }
   if (mean_ce_fit) *mean_ce_fit = sum_fit / (double)n;
   if (mean_ce_cosine) *mean_ce_cosine = sum_cos / (double)n;
@@ -171,15 +171,15 @@ static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error
   size_t m = t->n - k0 < t->B ? t->n - k0 : t->B;
   for (size_t r0 = 0; r0 < m; r0++)
     memcpy(t->run.x + r0 * D, t->latents + idx[k0 + r0] * D, D * sizeof(float));
-  nbrdf_status st = nbrdf_nn_forward(t->net->nn, t->run.ws, t->run.x, (int)m, t->run.y, err);
+  nbrdf_status st = nn_forward(t->net->nn, t->run.ws, t->run.x, (int)m, t->run.y, err);
   double sq = 0.0;
   for (size_t r0 = 0; r0 < 2 * m && !st; r0++) {
     t->dy[r0] = (t->run.y[r0] - t->target[2 * idx[k0 + r0 / 2] + r0 % 2]) / (float)m;
     sq += (double)t->dy[r0] * t->dy[r0];
   }
   *loss = 0.5 * sq * (double)m; /* ½ Σ e² / m, the regression's loss */
-  if (!st) memset(t->grad, 0, nbrdf_nn_param_count(t->net->nn) * sizeof *t->grad);
-  if (!st) st = nbrdf_nn_backward(t->net->nn, t->run.ws, t->dy, NULL, t->grad, err);
+  if (!st) memset(t->grad, 0, nn_param_count(t->net->nn) * sizeof *t->grad);
+  if (!st) st = nn_backward(t->net->nn, t->run.ws, t->dy, NULL, t->grad, err);
   return st;
 }
 
@@ -197,9 +197,8 @@ static void run_options(const sampler_run *t, model_decoder *dec, const train_sa
   trainer_option(out, size, "latents", "%zu, %016llx", t->n,
                  (unsigned long long)train_hash_floats(TRAIN_HASH_START, t->latents, t->n * t->D));
   trainer_option(out, size, "decoder weights", "%016llx",
-                 (unsigned long long)train_hash_floats(TRAIN_HASH_START,
-                                                       nbrdf_nn_params_const(dec->nn),
-                                                       nbrdf_nn_param_count(dec->nn)));
+                 (unsigned long long)train_hash_floats(TRAIN_HASH_START, nn_params_const(dec->nn),
+                                                       nn_param_count(dec->nn)));
 }
 
 nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latents,
@@ -216,7 +215,7 @@ nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latent
   int shuffle_ok = train_epoch_shuffle_init(&t.shuffle, n, s->seed, 0x73616d70u);
   nbrdf_status st = sigma && w && target && t.dy && shuffle_ok
                         ? NBRDF_OK
-                        : nbrdf_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
+                        : core_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
   /* The targets are a function of the decoder and the latents: a resumed run
    * computes them again (seconds) rather than checkpointing them. */
   if (!st)
@@ -226,17 +225,17 @@ nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latent
     raw_outputs(sigma[b], w[b], target + 2 * b);
   if (!st) st = model_sampler_create("default", (int)D, s->seed, &t.net, err);
   if (!st) st = model_runner_create(t.net->nn, (int)B, NBRDF_NN_TRAIN, &t.run, err);
-  if (!st && !(t.grad = malloc(nbrdf_nn_param_count(t.net->nn) * sizeof *t.grad)))
-    st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
+  if (!st && !(t.grad = malloc(nn_param_count(t.net->nn) * sizeof *t.grad)))
+    st = core_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
   if (!st) {
     char options[2048];
     run_options(&t, dec, s, options, sizeof options);
     trainer_group g = {"sampler.params",
                        "adam.m",
                        "adam.v",
-                       nbrdf_nn_params(t.net->nn),
+                       nn_params(t.net->nn),
                        t.grad,
-                       nbrdf_nn_param_count(t.net->nn),
+                       nn_param_count(t.net->nn),
                        s->lr,
                        (int)t.steps_per_epoch * (s->epochs / 3 > 0 ? s->epochs / 3 : 1),
                        0.3f};
@@ -262,7 +261,7 @@ nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latent
   double sq = 0.0;
   for (size_t k0 = 0; k0 < n && !st; k0 += B) {
     size_t m = n - k0 < B ? n - k0 : B;
-    st = nbrdf_nn_forward(t.net->nn, t.run.ws, latents + k0 * D, (int)m, t.run.y, err);
+    st = nn_forward(t.net->nn, t.run.ws, latents + k0 * D, (int)m, t.run.y, err);
     for (size_t r0 = 0; r0 < 2 * m && !st; r0++) {
       double e = t.run.y[r0] - target[2 * k0 + r0];
       sq += e * e;

@@ -16,7 +16,7 @@ struct trainer {
   const trainer_options *o;
   const trainer_group *groups;
   int n_groups;
-  nbrdf_adam *adam[MAX_GROUPS];
+  nn_adam *adam[MAX_GROUPS];
   run_log log;
   double t0;
 };
@@ -28,10 +28,10 @@ void trainer_log(trainer *t, const char *fmt, ...) {
   va_end(ap);
 }
 
-double trainer_seconds(const trainer *t) { return nbrdf_monotonic_seconds() - t->t0; }
+double trainer_seconds(const trainer *t) { return core_monotonic_seconds() - t->t0; }
 
 double trainer_lr(const trainer *t, int group) {
-  return t->adam[group] ? (double)nbrdf_adam_lr(t->adam[group], 0) : 0.0;
+  return t->adam[group] ? (double)nn_adam_lr(t->adam[group], 0) : 0.0;
 }
 
 void trainer_option(char *options, size_t size, const char *key, const char *fmt, ...) {
@@ -57,11 +57,11 @@ static nbrdf_status create_adams(trainer *t, nbrdf_error *err) {
   for (int g = 0; g < t->n_groups; g++) {
     const trainer_group *G = &t->groups[g];
     if (!(G->lr > 0.0f)) continue;
-    nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
+    nn_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
     ao.lr = G->lr;
     ao.decay_every = G->decay_every;
     ao.decay_gamma = G->decay_gamma;
-    nbrdf_status st = nbrdf_adam_create(G->n, &ao, &t->adam[g], err);
+    nbrdf_status st = nn_adam_create(G->n, &ao, &t->adam[g], err);
     if (st) return st;
   }
   return NBRDF_OK;
@@ -70,7 +70,7 @@ static nbrdf_status create_adams(trainer *t, nbrdf_error *err) {
 static nbrdf_status apply(trainer *t, nbrdf_error *err) {
   nbrdf_status st = NBRDF_OK;
   for (int g = 0; g < t->n_groups && !st; g++)
-    if (t->adam[g]) st = nbrdf_adam_step(t->adam[g], t->groups[g].params, t->groups[g].grad, err);
+    if (t->adam[g]) st = nn_adam_step(t->adam[g], t->groups[g].params, t->groups[g].grad, err);
   return st;
 }
 
@@ -83,9 +83,9 @@ static nbrdf_status stopped(const trainer_options *o, int64_t step, nbrdf_error 
              (long long)o->progress_force);
   if (o->progress_force > 1 && step % o->progress_force == 0)
     snprintf(where, sizeof where, " (after epoch %lld)", (long long)(step / o->progress_force));
-  return nbrdf_fail(err, NBRDF_ERR_CANCELLED, "%s: stopped at step %lld of %lld%s%s", o->stage,
-                    (long long)step, (long long)o->steps, where,
-                    o->checkpoint ? " (checkpointed; run the same command to resume)" : "");
+  return core_fail(err, NBRDF_ERR_CANCELLED, "%s: stopped at step %lld of %lld%s%s", o->stage,
+                   (long long)step, (long long)o->steps, where,
+                   o->checkpoint ? " (checkpointed; run the same command to resume)" : "");
 }
 
 nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
@@ -95,10 +95,10 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
   memset(r, 0, sizeof *r);
   if (n_groups < 1 || n_groups > MAX_GROUPS || o->steps < 0 || o->checkpoint_boundary < 1 ||
       o->log_unit < 1 || !(o->progress_unit > 0))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: 1..%d parameter groups, steps >= 0", o->stage,
-                      MAX_GROUPS);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: 1..%d parameter groups, steps >= 0", o->stage,
+                     MAX_GROUPS);
   trainer t = {.o = o, .groups = groups, .n_groups = n_groups};
-  t.t0 = nbrdf_monotonic_seconds();
+  t.t0 = core_monotonic_seconds();
   nbrdf_status st = create_adams(&t, err);
   train_checkpoint_parts parts = {o->format, o->options, groups, t.adam, n_groups,
                                   tensors,   n_tensors,  words,  n_words};
@@ -109,13 +109,13 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
   if (!st && o->checkpoint && !(stat(o->checkpoint, &sb) != 0 && errno == ENOENT)) {
     st = train_checkpoint_load(o->checkpoint, &parts, fit, &step, &r->legacy_resume, err);
     for (int g = 0; g < n_groups && !st; g++)
-      if (t.adam[g]) nbrdf_adam_set_steps(t.adam[g], step);
+      if (t.adam[g]) nn_adam_set_steps(t.adam[g], step);
     r->resumed_from = step;
   }
   if (!st && o->log_path)
     st = run_log_open(&t.log, o->log_path, o->log_header, step / o->log_unit, err);
-  nbrdf_ticker own, *tk = o->ticker ? o->ticker : &own;
-  if (!o->ticker) nbrdf_ticker_init(&own, o->progress, o->user, o->cancel);
+  core_ticker own, *tk = o->ticker ? o->ticker : &own;
+  if (!o->ticker) core_ticker_init(&own, o->progress, o->user, o->cancel);
   double total = o->progress_total > 0 ? o->progress_total : (double)o->steps / o->progress_unit;
   double last_ckpt = t.t0;
   /* A stop step the checkpoint already passed stops at once (nothing to save). */
@@ -126,15 +126,15 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
     if (!st) st = apply(&t, err);
     if (st) break;
     step++;
-    double now = nbrdf_monotonic_seconds();
+    double now = core_monotonic_seconds();
     if ((o->stop_at_step > 0 && step >= o->stop_at_step) ||
         (o->max_seconds > 0 && now - t.t0 >= o->max_seconds))
       stop = 1;
     /* A borrowed ticker's owner reports its own first and last (this run is a part). */
     int force = !o->ticker &&
                 (step == o->steps || (o->progress_force > 0 && step % o->progress_force == 0));
-    if (nbrdf_ticker_tick(tk, o->stage, o->progress_offset + (double)step / o->progress_unit, total,
-                          force))
+    if (core_ticker_tick(tk, o->stage, o->progress_offset + (double)step / o->progress_unit, total,
+                         force))
       stop = 1;
     int last = stop || step == o->steps;
     int save =
@@ -145,7 +145,7 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
     if (!st && save) {
       st = train_checkpoint_save(o->checkpoint, &parts, step, err);
       if (!st && fit->save) st = fit->save(fit->user, err);
-      last_ckpt = nbrdf_monotonic_seconds();
+      last_ckpt = core_monotonic_seconds();
     }
   }
   r->steps_done = step;
@@ -154,6 +154,6 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
   if (!st && !r->finished) st = stopped(o, step, err);
   run_log_close(&t.log);
   for (int g = 0; g < n_groups; g++)
-    nbrdf_adam_destroy(t.adam[g]);
+    nn_adam_destroy(t.adam[g]);
   return st;
 }

@@ -72,7 +72,7 @@ typedef struct trainer_fit {
   nbrdf_status (*save)(void *user, nbrdf_error *err);
   /* A checkpoint without nbrdf.options (made before it existed): check it the
    * old way and give the step it reached. NULL: such checkpoints are refused. */
-  nbrdf_status (*legacy)(void *user, const nbrdf_st_reader *r, int64_t *step, nbrdf_error *err);
+  nbrdf_status (*legacy)(void *user, const nn_st_reader *r, int64_t *step, nbrdf_error *err);
 } trainer_fit;
 
 typedef struct trainer_options {
@@ -95,7 +95,7 @@ typedef struct trainer_options {
   nbrdf_progress_fn progress;
   void *user;
   volatile sig_atomic_t *cancel;
-  nbrdf_ticker *ticker;
+  core_ticker *ticker;
   double progress_offset, progress_total, progress_unit;
   int64_t progress_force;
 } trainer_options;

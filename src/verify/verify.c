@@ -21,16 +21,16 @@ typedef struct verify_run {
   const char *path;
   nbrdf_verify_options o;
   nbrdf_roughness roughness;
-  nbrdf_latent_reader *reader;
-  const nbrdf_latent_info *info;
-  nbrdf_param_source *src[NBRDF_BAKE_PARAM_COUNT];
+  texture_latent_reader *reader;
+  const texture_latent_info *info;
+  texture_param_source *src[NBRDF_BAKE_PARAM_COUNT];
   int colours;
   verify_refs *refs;
   verify_decoder *dec;
   float *texel;                         /* one texel of the file, all channels */
   double *ref, *approx, *run_a, *run_b; /* colours × VERIFY_SET each */
   nbrdf_verify_report *rep;
-  nbrdf_ticker ticker;
+  core_ticker ticker;
   size_t texel_index; /* of the texel being compared, for the progress */
   int references;     /* references computed for it so far */
   int last_image;
@@ -44,8 +44,8 @@ static int reference_tick(void *user, int image) {
   if (image < v->last_image) v->references++;
   v->last_image = image;
   double f = (v->references * 8.0 + image) / (8.0 * v->colours);
-  return nbrdf_ticker_tick(&v->ticker, "verify", (double)v->texel_index + (f < 0.95 ? f : 0.95),
-                           (double)v->rep->n_texels, 0);
+  return core_ticker_tick(&v->ticker, "verify", (double)v->texel_index + (f < 0.95 ? f : 0.95),
+                          (double)v->rep->n_texels, 0);
 }
 
 static double now(void) {
@@ -55,14 +55,14 @@ static double now(void) {
 }
 
 static nbrdf_status open_texture(verify_run *v, nbrdf_error *err) {
-  nbrdf_status st = nbrdf_latent_reader_open(&v->reader, v->path, err);
+  nbrdf_status st = texture_latent_reader_open(&v->reader, v->path, err);
   if (st != NBRDF_OK) return st;
-  v->info = nbrdf_latent_reader_info(v->reader);
+  v->info = texture_latent_reader_info(v->reader);
   /* The reader refuses versions newer than this build's; every older one is
    * decoded as a renderer would: with the texture's own decoder, if any. */
-  st = nbrdf_latent_reader_model(v->reader, v->model, &v->decoding, err);
+  st = texture_latent_reader_model(v->reader, v->model, &v->decoding, err);
   if (st != NBRDF_OK) return st;
-  v->colours = nbrdf_latent_colours(&v->info->layout);
+  v->colours = texture_latent_colours(&v->info->layout);
   if (v->o.roughness == NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE) {
     char value[32];
     latent_setting(v->info->settings, "roughness", value, sizeof value);
@@ -82,15 +82,15 @@ static nbrdf_status open_inputs(verify_run *v, const nbrdf_bake_inputs *inputs, 
   nbrdf_status st = bake_open_sources(in, v->src, err);
   if (st != NBRDF_OK) return st;
   int w, h;
-  st = nbrdf_param_sources_common_size(v->src, NBRDF_BAKE_PARAM_COUNT, &w, &h, err);
+  st = texture_param_sources_common_size(v->src, NBRDF_BAKE_PARAM_COUNT, &w, &h, err);
   if (st != NBRDF_OK) return st;
   if (w && (w != v->info->width || h != v->info->height))
-    return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "the maps are %d x %d but %s is %d x %d", w, h,
-                      v->path, v->info->width, v->info->height);
+    return core_fail(err, NBRDF_ERR_MISMATCH, "the maps are %d x %d but %s is %d x %d", w, h,
+                     v->path, v->info->width, v->info->height);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
-    if (nbrdf_param_source_channels(v->src[id]) == 3 && v->colours == 1)
-      return nbrdf_fail(err, NBRDF_ERR_MISMATCH, "%s is RGB but %s is a mono texture",
-                        nbrdf_param_source_describe(v->src[id]), v->path);
+    if (texture_param_source_channels(v->src[id]) == 3 && v->colours == 1)
+      return core_fail(err, NBRDF_ERR_MISMATCH, "%s is RGB but %s is a mono texture",
+                       texture_param_source_describe(v->src[id]), v->path);
   return NBRDF_OK;
 }
 
@@ -98,10 +98,10 @@ static nbrdf_status open_inputs(verify_run *v, const nbrdf_bake_inputs *inputs, 
 static nbrdf_status texel_tuple(verify_run *v, int x, int y, int c, verify_tuple *t,
                                 nbrdf_error *err) {
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    nbrdf_param_band band;
-    nbrdf_status st = nbrdf_param_source_read_band(v->src[id], y, 1, &band, err);
+    texture_param_band band;
+    nbrdf_status st = texture_param_source_read_band(v->src[id], y, 1, &band, err);
     if (st != NBRDF_OK) return st;
-    float p = nbrdf_param_band_at(&band, x, 0, c) + 0.0f;
+    float p = texture_param_band_at(&band, x, 0, c) + 0.0f;
     if (v->roughness == NBRDF_ROUGHNESS_PERCEPTUAL &&
         (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2))
       p = p * p;
@@ -116,8 +116,8 @@ static nbrdf_status texel_tuple(verify_run *v, int x, int y, int c, verify_tuple
 static nbrdf_status footprint_reference(verify_run *v, nbrdf_verify_texel *out, nbrdf_error *err) {
   const int W = v->info->width, H = v->info->height;
   int x0, x1, y0, y1;
-  nbrdf_mip_footprint(W, out->level, out->x, &x0, &x1);
-  nbrdf_mip_footprint(H, out->level, out->y, &y0, &y1);
+  texture_mip_footprint(W, out->level, out->x, &x0, &x1);
+  texture_mip_footprint(H, out->level, out->y, &y0, &y1);
   verify_point pts[1024];
   int fmax = v->o.footprint_max < 1024 ? v->o.footprint_max : 1024;
   int n = verify_footprint(x0, x1, y0, y1, fmax, pts);
@@ -150,23 +150,23 @@ static nbrdf_status compare_texel(verify_run *v, nbrdf_verify_texel *out, nbrdf_
   if (st != NBRDF_OK) return st;
   double t1 = now();
   v->rep->reference_seconds += t1 - t0;
-  st = nbrdf_latent_reader_read(v->reader, out->level, out->x, out->y, 1, 1, v->texel, err);
+  st = texture_latent_reader_read(v->reader, out->level, out->x, out->y, 1, 1, v->texel, err);
   if (st != NBRDF_OK) return st;
-  const nbrdf_latent_layout *L = &v->info->layout;
+  const texture_latent_layout *L = &v->info->layout;
   float latent[NBRDF_LATENT_MAX_DIM];
   int finite = 1;
   for (int c = 0; c < v->colours && finite && st == NBRDF_OK; c++) {
     for (int k = 0; k < L->latent_dim; k++)
-      latent[k] = v->texel[nbrdf_latent_index_latent(L, c, k)];
+      latent[k] = v->texel[texture_latent_index_latent(L, c, k)];
     st = verify_decode(v->dec, latent, v->approx + (size_t)c * VERIFY_SET, &finite, err);
   }
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "%s: level %d texel (%d, %d): ", v->path, out->level, out->x, out->y);
+    core_error_prefix(err, "%s: level %d texel (%d, %d): ", v->path, out->level, out->x, out->y);
     return st;
   }
   v->rep->decode_seconds += now() - t1;
   const size_t S = VERIFY_SET * (size_t)v->colours;
-  out->reference_noise = nbrdf_lobe_error(S, v->run_a, v->run_b);
+  out->reference_noise = lobe_l1_error(S, v->run_a, v->run_b);
   out->max_albedo = NAN;
   if (!finite) { /* a damaged latent: the worst possible texel, not a crash */
     out->lobe_error = out->albedo_error = INFINITY;
@@ -175,8 +175,8 @@ static nbrdf_status compare_texel(verify_run *v, nbrdf_verify_texel *out, nbrdf_
   /* Energy: each channel's latent with its stored proxy lobe. */
   for (int c = 0; c < v->colours && st == NBRDF_OK; c++) {
     for (int k = 0; k < L->latent_dim; k++)
-      latent[k] = v->texel[nbrdf_latent_index_latent(L, c, k)];
-    float sigma = L->proxy ? v->texel[nbrdf_latent_index_sigma(L, c)] : 0.0f;
+      latent[k] = v->texel[texture_latent_index_latent(L, c, k)];
+    float sigma = L->proxy ? v->texel[texture_latent_index_sigma(L, c)] : 0.0f;
     double m = NAN;
     st = bake_albedo_max(v->decoding, 1, latent, L->proxy && sigma > 0.0f ? &sigma : NULL, &m, NULL,
                          err);
@@ -185,9 +185,9 @@ static nbrdf_status compare_texel(verify_run *v, nbrdf_verify_texel *out, nbrdf_
   if (st != NBRDF_OK) return st;
   if (isnan(v->rep->max_albedo) || out->max_albedo > v->rep->max_albedo)
     v->rep->max_albedo = out->max_albedo;
-  out->lobe_error = nbrdf_lobe_error(S, v->ref, v->approx);
-  out->albedo_error = nbrdf_lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA * v->colours,
-                                              v->ref, v->approx, NULL);
+  out->lobe_error = lobe_l1_error(S, v->ref, v->approx);
+  out->albedo_error =
+      lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA * v->colours, v->ref, v->approx, NULL);
   return NBRDF_OK;
 }
 
@@ -196,14 +196,14 @@ static nbrdf_status plan(verify_run *v, int first, int last, nbrdf_error *err) {
   nbrdf_verify_report *rep = v->rep;
   for (int level = first; level <= last; level++) {
     int w, h;
-    nbrdf_status st = nbrdf_latent_reader_level_size(v->reader, level, &w, &h, err);
+    nbrdf_status st = texture_latent_reader_level_size(v->reader, level, &w, &h, err);
     if (st != NBRDF_OK) return st;
     verify_point *p = NULL;
     size_t n = verify_select(w, h, v->o.texels, v->o.seed, level, &p);
     nbrdf_verify_texel *t = n ? realloc(rep->texels, (rep->n_texels + n) * sizeof *t) : NULL;
     if (!t) {
       free(p);
-      return nbrdf_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory for %zu texels", n);
+      return core_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory for %zu texels", n);
     }
     rep->texels = t;
     for (size_t i = 0; i < n; i++) {
@@ -222,8 +222,8 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   if (st != NBRDF_OK) return st;
   const int levels = v->info->levels;
   if (v->o.level >= levels)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s has %d mip level(s); there is no level %d",
-                      v->path, levels, v->o.level);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s has %d mip level(s); there is no level %d",
+                     v->path, levels, v->o.level);
   int first = v->o.level == NBRDF_VERIFY_ALL_LEVELS ? 0 : v->o.level;
   int last = v->o.level == NBRDF_VERIFY_ALL_LEVELS ? levels - 1 : v->o.level;
   const size_t S = VERIFY_SET * (size_t)v->colours;
@@ -233,7 +233,7 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   v->ref = malloc(4 * S * sizeof(double));
   v->rep = calloc(1, sizeof *v->rep);
   if (!v->refs || !v->dec || !v->texel || !v->ref || !v->rep)
-    return nbrdf_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory");
+    return core_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory");
   v->approx = v->ref + S, v->run_a = v->ref + 2 * S, v->run_b = v->ref + 3 * S;
   nbrdf_verify_report *rep = v->rep;
   rep->width = v->info->width, rep->height = v->info->height;
@@ -248,24 +248,24 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   if (damage.texels)
     rep->nonfinite_level = damage.level, rep->nonfinite_x = damage.x, rep->nonfinite_y = damage.y;
   if (st == NBRDF_OK) st = plan(v, first, last, err);
-  nbrdf_ticker_init(&v->ticker, v->o.progress, v->o.user, v->o.cancel);
+  core_ticker_init(&v->ticker, v->o.progress, v->o.user, v->o.cancel);
   verify_refs_set_cancel(v->refs, v->o.cancel, reference_tick, v);
   for (size_t i = 0; st == NBRDF_OK && i < rep->n_texels; i++) {
     v->texel_index = i, v->references = 0, v->last_image = 0;
-    if (nbrdf_ticker_tick(&v->ticker, "verify", (double)i, (double)rep->n_texels, i == 0))
-      return nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after %zu of %zu texels", i,
-                        rep->n_texels);
+    if (core_ticker_tick(&v->ticker, "verify", (double)i, (double)rep->n_texels, i == 0))
+      return core_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after %zu of %zu texels", i,
+                       rep->n_texels);
     st = compare_texel(v, &rep->texels[i], err);
     if (st == NBRDF_ERR_CANCELLED) /* inside a ground truth */
-      st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after %zu of %zu texels", i,
-                      rep->n_texels);
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after %zu of %zu texels", i,
+                     rep->n_texels);
   }
   if (st != NBRDF_OK) return st;
-  if (nbrdf_ticker_tick(&v->ticker, "verify", (double)rep->n_texels, (double)rep->n_texels, 1))
-    return nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after the last texel");
+  if (core_ticker_tick(&v->ticker, "verify", (double)rep->n_texels, (double)rep->n_texels, 1))
+    return core_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled after the last texel");
   rep->n_levels = last - first + 1;
   rep->per_level = malloc(sizeof *rep->per_level * (size_t)rep->n_levels);
-  if (!rep->per_level) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory");
+  if (!rep->per_level) return core_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory");
   for (int l = first; l <= last; l++)
     rep->per_level[l - first] = verify_summarise(rep->texels, rep->n_texels, l);
   rep->overall = verify_summarise(rep->texels, rep->n_texels, NBRDF_VERIFY_ALL_LEVELS);
@@ -280,8 +280,8 @@ nbrdf_status nbrdf_verify(const nbrdf_model *model, const char *texture,
                           nbrdf_verify_report **report, nbrdf_error *err) {
   if (report) *report = NULL;
   if (!model || !texture || !*texture || !inputs || !report)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "verify: model, texture, inputs and report are required");
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "verify: model, texture, inputs and report are required");
   verify_run v;
   memset(&v, 0, sizeof v);
   v.model = model, v.path = texture;
@@ -291,20 +291,20 @@ nbrdf_status nbrdf_verify(const nbrdf_model *model, const char *texture,
       v.o.level < NBRDF_VERIFY_ALL_LEVELS ||
       (v.o.roughness != NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE &&
        v.o.roughness != NBRDF_ROUGHNESS_ALPHA && v.o.roughness != NBRDF_ROUGHNESS_PERCEPTUAL))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT,
-                      "verify: texels (%d), walks (%d), footprint_max (%d) must be >= 1, threads "
-                      "(%d) >= 0, level (%d) >= -1, roughness (%d) known",
-                      v.o.texels, v.o.walks, v.o.footprint_max, v.o.threads, v.o.level,
-                      v.o.roughness);
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "verify: texels (%d), walks (%d), footprint_max (%d) must be >= 1, threads "
+                     "(%d) >= 0, level (%d) >= -1, roughness (%d) known",
+                     v.o.texels, v.o.walks, v.o.footprint_max, v.o.threads, v.o.level,
+                     v.o.roughness);
   nbrdf_status st = run(&v, inputs, err);
   if (st == NBRDF_OK) {
     *report = v.rep;
     v.rep = NULL;
   }
   nbrdf_verify_report_free(v.rep);
-  nbrdf_latent_reader_close(v.reader);
+  texture_latent_reader_close(v.reader);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
-    nbrdf_param_source_free(v.src[id]);
+    texture_param_source_free(v.src[id]);
   verify_refs_free(v.refs);
   verify_decoder_free(v.dec);
   nbrdf_model_destroy(v.decoding);

@@ -39,7 +39,7 @@ verify_decoder *verify_decoder_create(const nbrdf_model *model) {
   d->model = model;
   d->dim = nbrdf_model_latent_dim(model);
   const int res = NBRDF_LOBE_RES;
-  size_t cap = nbrdf_lobe_pixels_inside(res) * NBRDF_LOBE_N_THETA;
+  size_t cap = lobe_pixels_inside(res) * NBRDF_LOBE_N_THETA;
   d->wi = malloc(cap * 3 * sizeof(float));
   d->wo = malloc(cap * 3 * sizeof(float));
   d->pixel = malloc(cap * sizeof(size_t));
@@ -54,10 +54,10 @@ verify_decoder *verify_decoder_create(const nbrdf_model *model) {
     return NULL;
   }
   for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
-    double th = nbrdf_lobe_theta_deg[t] * (M_PI / 180.0);
+    double th = lobe_theta_deg[t] * (M_PI / 180.0);
     for (int p = 0; p < res * res; p++) {
       double wo[3];
-      if (!nbrdf_lobe_pixel_wo(res, p / res, p % res, wo)) continue;
+      if (!lobe_pixel_wo(res, p / res, p % res, wo)) continue;
       float *i3 = d->wi + 3 * d->n, *o3 = d->wo + 3 * d->n;
       i3[0] = (float)sin(th), i3[1] = 0.0f, i3[2] = (float)cos(th);
       o3[0] = (float)wo[0], o3[1] = (float)wo[1], o3[2] = (float)wo[2];
@@ -90,7 +90,7 @@ nbrdf_status verify_decode(verify_decoder *d, const float *latent, double *image
     memcpy(d->latents + q * D, latent, D * sizeof(float));
   nbrdf_status st = nbrdf_model_decode(d->model, d->n, 1, d->latents, d->wi, d->wo, d->f, err);
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "verify: decode: ");
+    core_error_prefix(err, "verify: decode: ");
     return st;
   }
   d->distinct++;

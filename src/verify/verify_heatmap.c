@@ -21,14 +21,14 @@ static void colour(double t, unsigned char rgb[3]) {
 nbrdf_status nbrdf_verify_write_heatmap(const nbrdf_verify_report *report, int level, double scale,
                                         const char *path, nbrdf_error *err) {
   if (!report || !path || level < 0 || level >= report->levels)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "verify heat-map: no level %d", level);
-  const int w = nbrdf_mip_level_dim(report->width, level);
-  const int h = nbrdf_mip_level_dim(report->height, level);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "verify heat-map: no level %d", level);
+  const int w = texture_mip_level_dim(report->width, level);
+  const int h = texture_mip_level_dim(report->height, level);
   int k = 1;
   while (w * k < 256 && k < 64)
     k++;
   if ((long)w * k * h * k > (1L << 26))
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "%s: a %d x %d heat-map is too large", path, w, h);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: a %d x %d heat-map is too large", path, w, h);
   if (!(scale > 0)) {
     scale = 0;
     for (size_t i = 0; i < report->n_texels; i++)
@@ -38,7 +38,7 @@ nbrdf_status nbrdf_verify_write_heatmap(const nbrdf_verify_report *report, int l
   }
   const int W = w * k, H = h * k;
   unsigned char *rgb = malloc((size_t)W * H * 3);
-  if (!rgb) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+  if (!rgb) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
   for (size_t i = 0; i < (size_t)W * H * 3; i++)
     rgb[i] = 128; /* not compared */
   for (size_t i = 0; i < report->n_texels; i++) {
@@ -51,7 +51,7 @@ nbrdf_status nbrdf_verify_write_heatmap(const nbrdf_verify_report *report, int l
         for (int j = 0; j < 3; j++)
           rgb[((size_t)y * W + x) * 3 + j] = c[j];
   }
-  nbrdf_status st = nbrdf_png_write_rgb8(path, W, H, rgb, err);
+  nbrdf_status st = lobe_png_write_rgb8(path, W, H, rgb, err);
   free(rgb);
   return st;
 }

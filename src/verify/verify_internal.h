@@ -85,7 +85,7 @@ typedef struct verify_damage {
 
 /* Reads every tile of every level of `r` (a damaged tile fails with the
  * reader's message) and counts texels holding non-finite latents. */
-nbrdf_status verify_scan(nbrdf_latent_reader *r, verify_damage *d, nbrdf_error *err);
+nbrdf_status verify_scan(texture_latent_reader *r, verify_damage *d, nbrdf_error *err);
 
 /* ---- statistics ---- */
 /* Summary of the texels of `level` (NBRDF_VERIFY_ALL_LEVELS: all). */

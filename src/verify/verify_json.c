@@ -69,7 +69,7 @@ static cJSON *build(const nbrdf_verify_report *r, const char *texture, size_t wo
   cJSON_AddNumberToObject(root, "lobe_res", NBRDF_LOBE_RES);
   cJSON *th = cJSON_AddArrayToObject(root, "theta_i_deg");
   for (int t = 0; t < NBRDF_LOBE_N_THETA; t++)
-    cJSON_AddItemToArray(th, cJSON_CreateNumber(nbrdf_lobe_theta_deg[t]));
+    cJSON_AddItemToArray(th, cJSON_CreateNumber(lobe_theta_deg[t]));
   cJSON_AddNumberToObject(root, "walks_per_image", r->walks);
   cJSON_AddNumberToObject(root, "reference_runs", 2);
   cJSON_AddNumberToObject(root, "seed", (double)r->seed);
@@ -108,22 +108,22 @@ static cJSON *build(const nbrdf_verify_report *r, const char *texture, size_t wo
 nbrdf_status nbrdf_verify_write_json(const nbrdf_verify_report *report, const char *texture,
                                      size_t worst, const char *path, nbrdf_error *err) {
   if (!report || !texture || !path)
-    return nbrdf_fail(err, NBRDF_ERR_ARGUMENT, "verify json: report, texture and path required");
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "verify json: report, texture and path required");
   cJSON *root = build(report, texture, worst);
   char *text = root ? cJSON_Print(root) : NULL;
   cJSON_Delete(root);
-  if (!text) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for the JSON", path);
+  if (!text) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for the JSON", path);
   size_t len = strlen(text);
   text[len] = '\n'; /* replaces the terminator: written by length */
-  nbrdf_output_file f;
+  core_output_file f;
   const char *inputs[1] = {texture};
-  nbrdf_status st = nbrdf_output_file_open(&f, path, inputs, 1, err);
+  nbrdf_status st = core_output_file_open(&f, path, inputs, 1, err);
   if (st == NBRDF_OK) {
-    st = nbrdf_output_file_pwrite(&f, text, len + 1, 0, err);
+    st = core_output_file_pwrite(&f, text, len + 1, 0, err);
     if (st == NBRDF_OK)
-      st = nbrdf_output_file_commit(&f, err);
+      st = core_output_file_commit(&f, err);
     else
-      nbrdf_output_file_abort(&f);
+      core_output_file_abort(&f);
   }
   free(text);
   return st;

@@ -63,7 +63,7 @@ static uint64_t tuple_seed(uint64_t seed, const verify_tuple *t) {
   for (int i = 0; i < NBRDF_BAKE_PARAM_COUNT; i++) {
     uint32_t bits;
     memcpy(&bits, &t->p[i], sizeof bits);
-    h = nbrdf_hash64(h, bits);
+    h = core_hash64(h, bits);
   }
   return h;
 }
@@ -90,10 +90,10 @@ static nbrdf_status estimate(const verify_refs *r, const verify_tuple *t, double
                                    p[NBRDF_BAKE_SIGMA_T], bottom, &layered, err);
   nbrdf_brdf_destroy(bottom);
   if (st != NBRDF_OK) {
-    nbrdf_error_prefix(err, "verify: ground truth: ");
+    core_error_prefix(err, "verify: ground truth: ");
     return st;
   }
-  const bsdf_layered *l = &nbrdf_brdf_bsdf(layered)->layered;
+  const bsdf_layered *l = &brdf_bsdf(layered)->layered;
   const uint64_t base = tuple_seed(r->seed, t);
   const size_t per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES;
   for (int run = 0; run < 2 && st == NBRDF_OK; run++)
@@ -101,13 +101,13 @@ static nbrdf_status estimate(const verify_refs *r, const verify_tuple *t, double
       double *img = images + (size_t)run * VERIFY_SET + (size_t)k * per;
       image_tick it = {r, run * NBRDF_LOBE_N_THETA + k};
       layered_lobe_hook hook = {r->stop, r->tick ? on_tick : NULL, &it};
-      int ok = layered_lobe_image_hooked(
-          l, nbrdf_lobe_theta_deg[k] * (M_PI / 180.0), NBRDF_LOBE_RES, r->walks,
-          nbrdf_hash64(base, (uint64_t)(run * 16 + k)), r->threads, &hook, img, NULL);
+      int ok = layered_lobe_image_hooked(l, lobe_theta_deg[k] * (M_PI / 180.0), NBRDF_LOBE_RES,
+                                         r->walks, core_hash64(base, (uint64_t)(run * 16 + k)),
+                                         r->threads, &hook, img, NULL);
       if (ok < 0)
-        st = nbrdf_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled in a ground truth");
+        st = core_fail(err, NBRDF_ERR_CANCELLED, "verify: cancelled in a ground truth");
       else if (!ok)
-        st = nbrdf_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory in the ground truth");
+        st = core_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory in the ground truth");
     }
   nbrdf_brdf_destroy(layered);
   return st;
@@ -134,11 +134,11 @@ nbrdf_status verify_refs_get(verify_refs *r, const verify_tuple *t, const double
   if (r->n == r->cap) {
     size_t cap = r->cap ? 2 * r->cap : 16;
     ref_entry *e = realloc(r->e, cap * sizeof *e);
-    if (!e) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory for references");
+    if (!e) return core_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory for references");
     r->e = e, r->cap = cap;
   }
   double *images = malloc(2 * VERIFY_SET * sizeof *images);
-  if (!images) return nbrdf_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory for a reference");
+  if (!images) return core_fail(err, NBRDF_ERR_MEMORY, "verify: out of memory for a reference");
   nbrdf_status st = estimate(r, &k, images, err);
   if (st != NBRDF_OK) {
     free(images);

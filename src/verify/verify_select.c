@@ -42,15 +42,15 @@ size_t verify_select(int w, int h, int n, uint64_t seed, int level, verify_point
   grid(w, h, n, &gx, &gy);
   verify_point *p = malloc(sizeof *p * (size_t)gx * (size_t)gy);
   if (!p) return 0;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 1000u + (uint64_t)level);
+  core_rng rng;
+  core_rng_init(&rng, seed, 1000u + (uint64_t)level);
   size_t k = 0;
   for (int j = 0; j < gy; j++) /* row-major, so rows of maps are read in order */
     for (int i = 0; i < gx; i++) {
       int x0 = (int)((long)w * i / gx), x1 = (int)((long)w * (i + 1) / gx);
       int y0 = (int)((long)h * j / gy), y1 = (int)((long)h * (j + 1) / gy);
-      int x = x0 + (int)(nbrdf_rng_uniform(&rng) * (x1 - x0));
-      int y = y0 + (int)(nbrdf_rng_uniform(&rng) * (y1 - y0));
+      int x = x0 + (int)(core_rng_uniform(&rng) * (x1 - x0));
+      int y = y0 + (int)(core_rng_uniform(&rng) * (y1 - y0));
       p[k++] = (verify_point){x < x1 ? x : x1 - 1, y < y1 ? y : y1 - 1};
     }
   *out = p;

@@ -85,28 +85,28 @@ static void direct(const float t[6], float *latent, float *sigma, float *w) {
 }
 
 /* Texel (x, y) of `level`, all channels, logical order. */
-static float *read_texel(const char *file, int level, int x, int y, nbrdf_latent_info *info) {
+static float *read_texel(const char *file, int level, int x, int y, texture_latent_info *info) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, file, err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, file, err), err);
   if (!r) return NULL;
-  *info = *nbrdf_latent_reader_info(r);
+  *info = *texture_latent_reader_info(r);
   float *t = malloc(sizeof(float) * info->channels);
-  CHECK_OK(nbrdf_latent_reader_read(r, level, x, y, 1, 1, t, err), err);
-  nbrdf_latent_reader_close(r);
+  CHECK_OK(texture_latent_reader_read(r, level, x, y, 1, 1, t, err), err);
+  texture_latent_reader_close(r);
   info->model_name = info->model_checksum = info->sources = info->settings = "";
   return t;
 }
 
-static void check_texel(const float *texel, const nbrdf_latent_layout *L, int c, const float t[6],
+static void check_texel(const float *texel, const texture_latent_layout *L, int c, const float t[6],
                         double tol) {
   int D = L->latent_dim;
   float *lat = malloc(sizeof(float) * D), sigma, w;
   direct(t, lat, &sigma, &w);
   for (int k = 0; k < D; k++)
-    CHECK_NEAR(texel[nbrdf_latent_index_latent(L, c, k)], lat[k], tol);
-  CHECK_NEAR(texel[nbrdf_latent_index_sigma(L, c)], sigma, tol * (1 + fabs(sigma)));
-  CHECK_NEAR(texel[nbrdf_latent_index_w(L, c)], w, tol);
+    CHECK_NEAR(texel[texture_latent_index_latent(L, c, k)], lat[k], tol);
+  CHECK_NEAR(texel[texture_latent_index_sigma(L, c)], sigma, tol * (1 + fabs(sigma)));
+  CHECK_NEAR(texel[texture_latent_index_w(L, c)], w, tol);
   free(lat);
 }
 
@@ -129,26 +129,26 @@ static void test_constants(void) {
   sized.width = NBRDF_BAKE_SIZE_MAX + 1;
   CHECK_FAILS(nbrdf_bake(model, &sized, &o, path("bad_size.exr"), &rep, err), NBRDF_ERR_ARGUMENT,
               err, "65537x7");
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("const.exr"), err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("const.exr"), err), err);
   if (!r) return;
-  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  const texture_latent_info *info = texture_latent_reader_info(r);
   CHECK(info->layout.colour == NBRDF_COLOUR_MONO && info->layout.proxy == 1);
   CHECK(info->layout.latent_dim == nbrdf_model_latent_dim(model));
   CHECK(info->storage == NBRDF_LATENT_FLOAT && info->levels == 1);
   CHECK(!strcmp(info->model_checksum, nbrdf_model_checksum(model)));
   CHECK(strstr(info->sources, "eta=") && strstr(info->settings, "roughness=alpha"));
-  CHECK_OK(nbrdf_latent_check_model(info, "const.exr", nbrdf_model_name(model),
-                                    nbrdf_model_checksum(model), err),
+  CHECK_OK(texture_latent_check_model(info, "const.exr", nbrdf_model_name(model),
+                                      nbrdf_model_checksum(model), err),
            err);
   float *texel = malloc(sizeof(float) * info->channels);
-  CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
+  CHECK_OK(texture_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
   float t[6];
   for (int id = 0; id < 6; id++)
     t[id] = in.param[id].value[0];
   check_texel(texel, &info->layout, 0, t, 1e-5);
   free(texel);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
 }
 
 /* 16 x 16 maps: alpha1 a float gradient of 4 distinct values, r0 an RGB map;
@@ -164,11 +164,11 @@ static void write_maps(void) {
       for (int c = 0; c < 3; c++)
         r0[(y * 16 + x) * 3 + c] = (float)((x + y * 3 + c * 5) % 8) / 8.0f;
     }
-  CHECK_OK(nbrdf_image_write(path("alpha1.exr"), 16, 16, 1, a, NBRDF_PIXEL_FLOAT, err), err);
-  CHECK_OK(nbrdf_image_write(path("r0.exr"), 16, 16, 3, r0, NBRDF_PIXEL_FLOAT, err), err);
-  CHECK_OK(nbrdf_image_write(path("small.exr"), 8, 8, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("alpha1.exr"), 16, 16, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("r0.exr"), 16, 16, 3, r0, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("small.exr"), 8, 8, 1, a, NBRDF_PIXEL_FLOAT, err), err);
   a[5 * 16 + 3] = NAN;
-  CHECK_OK(nbrdf_image_write(path("nan.exr"), 16, 16, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("nan.exr"), 16, 16, 1, a, NBRDF_PIXEL_FLOAT, err), err);
 }
 
 static void test_maps(void) {
@@ -183,7 +183,7 @@ static void test_maps(void) {
   CHECK_OK(nbrdf_bake(model, &in, &o, path("maps.exr"), &rep, err), err);
   CHECK(rep.width == 16 && rep.height == 16 && rep.colour_channels == 3);
   CHECK_MSG(rep.evaluated < rep.brdfs, "distinct %zu of %zu", rep.evaluated, rep.brdfs);
-  nbrdf_latent_info info;
+  texture_latent_info info;
   int x = 9, y = 6;
   float *texel = read_texel(path("maps.exr"), 0, x, y, &info);
   if (!texel) return;
@@ -209,13 +209,13 @@ static void test_maps(void) {
   float *mean = malloc(sizeof(float) * D), sigma, w;
   for (int c = 0; c < 3 && mip; c++) {
     for (int k = 0; k < D; k++) {
-      int i = nbrdf_latent_index_latent(&info.layout, c, k);
+      int i = texture_latent_index_latent(&info.layout, c, k);
       mean[k] = (float)(((double)q[0][i] + q[1][i] + q[2][i] + q[3][i]) / 4.0);
       CHECK_NEAR(mip[i], mean[k], 1e-5);
     }
     CHECK_OK(nbrdf_model_proxy_params(model, 1, mean, &sigma, &w, err), err);
-    CHECK_NEAR(mip[nbrdf_latent_index_sigma(&info.layout, c)], sigma, 1e-4 * (1 + sigma));
-    CHECK_NEAR(mip[nbrdf_latent_index_w(&info.layout, c)], w, 1e-4);
+    CHECK_NEAR(mip[texture_latent_index_sigma(&info.layout, c)], sigma, 1e-4 * (1 + sigma));
+    CHECK_NEAR(mip[texture_latent_index_w(&info.layout, c)], w, 1e-4);
   }
   free(mean);
   free(mip);
@@ -305,7 +305,7 @@ static void test_perceptual(void) {
     nbrdf_bake_param_constant(&in.param[id], sqrtf(in.param[id].value[0]));
   o.roughness = NBRDF_ROUGHNESS_PERCEPTUAL;
   CHECK_OK(nbrdf_bake(model, &in, &o, path("perceptual.exr"), NULL, err), err);
-  nbrdf_latent_info ia, ib;
+  texture_latent_info ia, ib;
   float *a = read_texel(path("alpha.exr"), 0, 0, 0, &ia);
   float *b = read_texel(path("perceptual.exr"), 0, 0, 0, &ib);
   for (int i = 0; a && b && i < ia.channels; i++)
@@ -323,7 +323,7 @@ static void test_colour_maps(void) {
   float v8 = 140.0f / 255.0f, img[4 * 4];
   for (int i = 0; i < 16; i++)
     img[i] = v8;
-  CHECK_OK(nbrdf_image_write(path("v8.png"), 4, 4, 1, img, NBRDF_PIXEL_U8, err), err);
+  CHECK_OK(texture_image_write(path("v8.png"), 4, 4, 1, img, NBRDF_PIXEL_U8, err), err);
   nbrdf_bake_inputs in = constants();
   in.param[NBRDF_BAKE_ALPHA2].path = path("v8.png");
   in.param[NBRDF_BAKE_ALBEDO].path = path("v8.png");
@@ -331,7 +331,7 @@ static void test_colour_maps(void) {
   o.storage = NBRDF_BAKE_FLOAT;
   o.range = NBRDF_RANGE_REFUSE;
   CHECK_OK(nbrdf_bake(model, &in, &o, path("colour.exr"), NULL, err), err);
-  nbrdf_latent_info info;
+  texture_latent_info info;
   float *texel = read_texel(path("colour.exr"), 0, 2, 1, &info);
   if (!texel) return;
   float t[6];
@@ -384,23 +384,23 @@ static void test_energy_audit(void) {
   nbrdf_bake_report rep;
   CHECK_OK(nbrdf_bake(model, &in, &o, path("audit.exr"), &rep, err), err);
   CHECK(rep.audited == rep.evaluated && rep.audited > 1 && rep.max_albedo > 0.0);
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("audit.exr"), err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("audit.exr"), err), err);
   if (!r) return;
-  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  const texture_latent_info *info = texture_latent_reader_info(r);
   CHECK_NEAR(info->max_albedo, (float)rep.max_albedo, 0.0);
-  int C = nbrdf_latent_colours(&info->layout), D = info->layout.latent_dim;
+  int C = texture_latent_colours(&info->layout), D = info->layout.latent_dim;
   size_t n = (size_t)info->width * info->height;
   float *tex = malloc(n * info->channels * sizeof *tex);
   float *lat = malloc(n * C * D * sizeof *lat), *sig = malloc(n * C * sizeof *sig);
   double *mx = malloc(n * C * sizeof *mx);
-  CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, info->width, info->height, tex, err), err);
+  CHECK_OK(texture_latent_reader_read(r, 0, 0, 0, info->width, info->height, tex, err), err);
   for (size_t i = 0; i < n; i++)
     for (int c = 0; c < C; c++) {
       for (int k = 0; k < D; k++)
         lat[(i * C + c) * D + k] =
-            tex[i * info->channels + nbrdf_latent_index_latent(&info->layout, c, k)];
-      sig[i * C + c] = tex[i * info->channels + nbrdf_latent_index_sigma(&info->layout, c)];
+            tex[i * info->channels + texture_latent_index_latent(&info->layout, c, k)];
+      sig[i * C + c] = tex[i * info->channels + texture_latent_index_sigma(&info->layout, c)];
     }
   CHECK_OK(bake_albedo_max(model, n * C, lat, sig, mx, NULL, err), err);
   double worst = 0.0;
@@ -408,7 +408,7 @@ static void test_energy_audit(void) {
     worst = fmax(worst, mx[k]);
   CHECK_NEAR(worst, rep.max_albedo, 1e-9);
   free(tex), free(lat), free(sig), free(mx);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
 
   char msgs[2048] = "";
   o.warning = collect, o.user = msgs, o.energy_audit = 2;
@@ -417,9 +417,9 @@ static void test_energy_audit(void) {
   o.energy_audit = 0;
   CHECK_OK(nbrdf_bake(model, &in, &o, path("audit0.exr"), &rep, err), err);
   CHECK(rep.audited == 0 && isnan(rep.max_albedo));
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("audit0.exr"), err), err);
-  if (r) CHECK(isnan(nbrdf_latent_reader_info(r)->max_albedo));
-  nbrdf_latent_reader_close(r);
+  CHECK_OK(texture_latent_reader_open(&r, path("audit0.exr"), err), err);
+  if (r) CHECK(isnan(texture_latent_reader_info(r)->max_albedo));
+  texture_latent_reader_close(r);
 
   bake_audit a;
   bake_audit_init(&a, 10);
@@ -459,7 +459,7 @@ static void test_extremes(void) {
   /* sigma_t clamped on 3 channels, eta on 3 unless the grid reaches 1 */
   CHECK_MSG(rep.clamped == (size_t)(eta_inside ? 3 : 6), "clamped %zu", rep.clamped);
   CHECK(warnings == (eta_inside ? 1 : 2));
-  nbrdf_latent_info info;
+  texture_latent_info info;
   float *t = read_texel(path("extremes.exr"), 0, 0, 0, &info);
   for (int i = 0; t && i < info.channels; i++)
     CHECK(isfinite(t[i]));
@@ -497,18 +497,18 @@ static void test_deterministic(void) {
  * each channel's largest magnitude (HUGE_VAL if they cannot be compared). */
 static double texel_difference(const char *a, const char *b) {
   double worst = HUGE_VAL;
-  nbrdf_latent_info ia, ib;
+  texture_latent_info ia, ib;
   nbrdf_error e, *err = &e;
-  nbrdf_latent_reader *ra = NULL, *rb = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&ra, a, err), err);
-  CHECK_OK(nbrdf_latent_reader_open(&rb, b, err), err);
+  texture_latent_reader *ra = NULL, *rb = NULL;
+  CHECK_OK(texture_latent_reader_open(&ra, a, err), err);
+  CHECK_OK(texture_latent_reader_open(&rb, b, err), err);
   if (!ra || !rb) goto done;
-  ia = *nbrdf_latent_reader_info(ra), ib = *nbrdf_latent_reader_info(rb);
+  ia = *texture_latent_reader_info(ra), ib = *texture_latent_reader_info(rb);
   if (ia.width != ib.width || ia.height != ib.height || ia.channels != ib.channels) goto done;
   size_t n = (size_t)ia.width * ia.height, C = (size_t)ia.channels;
   float *ta = malloc(sizeof(float) * n * C), *tb = malloc(sizeof(float) * n * C);
-  CHECK_OK(nbrdf_latent_reader_read(ra, 0, 0, 0, ia.width, ia.height, ta, err), err);
-  CHECK_OK(nbrdf_latent_reader_read(rb, 0, 0, 0, ib.width, ib.height, tb, err), err);
+  CHECK_OK(texture_latent_reader_read(ra, 0, 0, 0, ia.width, ia.height, ta, err), err);
+  CHECK_OK(texture_latent_reader_read(rb, 0, 0, 0, ib.width, ib.height, tb, err), err);
   worst = 0;
   for (size_t c = 0; c < C; c++) {
     double scale = 0;
@@ -522,8 +522,8 @@ static double texel_difference(const char *a, const char *b) {
   free(ta);
   free(tb);
 done:
-  nbrdf_latent_reader_close(ra);
-  nbrdf_latent_reader_close(rb);
+  texture_latent_reader_close(ra);
+  texture_latent_reader_close(rb);
   return worst;
 }
 
@@ -543,8 +543,8 @@ static void test_tuple_cache(void) {
       a[y * W + x] = lo[0] + (hi[0] - lo[0]) * (float)((x * 7 + y) % 5) / 5.0f;
       s[y * W + x] = y >= 32 && x % 2 ? 2.0f : 1.0f;
     }
-  CHECK_OK(nbrdf_image_write(path("wide_a.exr"), W, H, 1, a, NBRDF_PIXEL_FLOAT, err), err);
-  CHECK_OK(nbrdf_image_write(path("wide_s.exr"), W, H, 1, s, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("wide_a.exr"), W, H, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("wide_s.exr"), W, H, 1, s, NBRDF_PIXEL_FLOAT, err), err);
   free(a);
   free(s);
   char pa[640], ps[640];
@@ -614,7 +614,7 @@ static void test_quantise(void) {
     a[x] = lo[0] + (hi[0] - lo[0]) * (float)x / 63.0f;
   char pa[640];
   snprintf(pa, sizeof pa, "%s", path("quant_a.exr"));
-  CHECK_OK(nbrdf_image_write(pa, 64, 1, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(pa, 64, 1, 1, a, NBRDF_PIXEL_FLOAT, err), err);
   nbrdf_bake_inputs in = constants();
   in.param[NBRDF_BAKE_ALPHA1].path = pa;
   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
@@ -630,16 +630,16 @@ static void test_quantise(void) {
     float t[6];
     for (int id = 0; id < 6; id++)
       t[id] = quantised(id, id == NBRDF_BAKE_ALPHA1 ? a[x] : in.param[id].value[0], 3);
-    nbrdf_latent_info info;
+    texture_latent_info info;
     float *texel = read_texel(path("quantised.exr"), 0, x, 0, &info);
     if (texel) check_texel(texel, &info.layout, 0, t, 1e-4);
     CHECK(texel != NULL);
     free(texel);
   }
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("quantised.exr"), err), err);
-  CHECK(r && strstr(nbrdf_latent_reader_info(r)->settings, "quantise=3") != NULL);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("quantised.exr"), err), err);
+  CHECK(r && strstr(texture_latent_reader_info(r)->settings, "quantise=3") != NULL);
+  texture_latent_reader_close(r);
   o.quantise_bits = 1;
   CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
               "quantise_bits");
@@ -656,7 +656,7 @@ static void test_resample(void) {
   char pe[640], pa[640];
   snprintf(pe, sizeof pe, "%s", path("eta2x1.exr"));
   snprintf(pa, sizeof pa, "%s", path("alpha1.exr"));
-  CHECK_OK(nbrdf_image_write(pe, 2, 1, 1, eta, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(pe, 2, 1, 1, eta, NBRDF_PIXEL_FLOAT, err), err);
   nbrdf_bake_inputs in = constants();
   in.param[NBRDF_BAKE_ALPHA1].path = pa;
   in.param[NBRDF_BAKE_ETA].path = pe;
@@ -683,51 +683,51 @@ static void test_resample(void) {
       t[id] = in.param[id].value[0];
     t[NBRDF_BAKE_ALPHA1] = lo[0] + (hi[0] - lo[0]) * (float)(x / 4) / 4.0f;
     t[NBRDF_BAKE_ETA] = (float)(1.2 + 0.6 * u);
-    nbrdf_latent_info info;
+    texture_latent_info info;
     float *texel = read_texel(path("resampled.exr"), 0, x, y, &info);
     if (texel) check_texel(texel, &info.layout, 0, t, 1e-4);
     free(texel);
   }
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("resampled.exr"), err), err);
-  CHECK(r && strstr(nbrdf_latent_reader_info(r)->sources, "bilinear 2x1 -> 16x16") != NULL);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("resampled.exr"), err), err);
+  CHECK(r && strstr(texture_latent_reader_info(r)->sources, "bilinear 2x1 -> 16x16") != NULL);
+  texture_latent_reader_close(r);
 
   /* Bands of 3 rows (sharing source rows across bands) read the same values
    * as one band of 37: r0.exr (16 x 16 RGB) enlarged to 23 x 37. */
-  nbrdf_param_map_options mo = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
-  nbrdf_param_source *one = NULL, *three = NULL;
-  CHECK_OK(nbrdf_param_source_map("r0", path("r0.exr"), &mo, &one, err), err);
-  CHECK_OK(nbrdf_param_source_map("r0", path("r0.exr"), &mo, &three, err), err);
+  texture_param_map_options mo = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+  texture_param_source *one = NULL, *three = NULL;
+  CHECK_OK(texture_param_source_map("r0", path("r0.exr"), &mo, &one, err), err);
+  CHECK_OK(texture_param_source_map("r0", path("r0.exr"), &mo, &three, err), err);
   if (!one || !three) return;
-  CHECK_FAILS(nbrdf_param_source_resample(one, 0, 37, err), NBRDF_ERR_ARGUMENT, err, "0x37");
-  CHECK_OK(nbrdf_param_source_resample(one, 23, 37, err), err);
-  CHECK_OK(nbrdf_param_source_resample(three, 23, 37, err), err);
-  nbrdf_param_band all, part;
-  CHECK_OK(nbrdf_param_source_read_band(one, 0, 37, &all, err), err);
+  CHECK_FAILS(texture_param_source_resample(one, 0, 37, err), NBRDF_ERR_ARGUMENT, err, "0x37");
+  CHECK_OK(texture_param_source_resample(one, 23, 37, err), err);
+  CHECK_OK(texture_param_source_resample(three, 23, 37, err), err);
+  texture_param_band all, part;
+  CHECK_OK(texture_param_source_read_band(one, 0, 37, &all, err), err);
   int mismatches = 0;
   for (int y0 = 0; y0 < 37; y0 += 3) {
     int rows = 37 - y0 < 3 ? 37 - y0 : 3;
-    CHECK_OK(nbrdf_param_source_read_band(three, y0, rows, &part, err), err);
+    CHECK_OK(texture_param_source_read_band(three, y0, rows, &part, err), err);
     for (int j = 0; j < rows; j++)
       for (int x = 0; x < 23; x++)
         for (int c = 0; c < 3; c++)
           mismatches +=
-              nbrdf_param_band_at(&part, x, j, c) != nbrdf_param_band_at(&all, x, y0 + j, c);
+              texture_param_band_at(&part, x, j, c) != texture_param_band_at(&all, x, y0 + j, c);
   }
   CHECK_MSG(mismatches == 0, "%d values differ between band sizes", mismatches);
   /* Corners are the source's corners (edges clamped). */
-  CHECK(nbrdf_param_band_at(&all, 0, 0, 1) == (float)((0 + 0 + 5) % 8) / 8.0f);
-  nbrdf_param_source_free(one);
-  nbrdf_param_source_free(three);
+  CHECK(texture_param_band_at(&all, 0, 0, 1) == (float)((0 + 0 + 5) % 8) / 8.0f);
+  texture_param_source_free(one);
+  texture_param_source_free(three);
 }
 
 int main(void) {
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   CHECK_OK(model_bundle_init_random(path("bundle"), "bake-test", 7, "small", err), err);
   CHECK_OK(nbrdf_model_load(path("bundle"), &model, err), err);
-  if (!model) return nbrdf_test_finish();
+  if (!model) return testing_finish();
   write_maps();
   RUN(test_constants);
   RUN(test_maps);
@@ -742,5 +742,5 @@ int main(void) {
   RUN(test_quantise);
   RUN(test_resample);
   nbrdf_model_destroy(model);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -162,22 +162,22 @@ static void test_fitted_constant(void) {
             rep.heldout_error_fast);
   printf("  sharp low-IOR coat: held-out lobe error fast %.2f %%, fitted %.2f %%\n",
          100 * rep.heldout_error_fast, 100 * rep.heldout_error);
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("fitted.exr"), err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("fitted.exr"), err), err);
   if (r) {
-    const char *acc = nbrdf_latent_reader_info(r)->accuracy;
+    const char *acc = texture_latent_reader_info(r)->accuracy;
     CHECK_MSG(strstr(acc, "level=fitted; budget=12;") && strstr(acc, "fitted=1; heldout=1"),
               "accuracy attribute '%s'", acc);
-    nbrdf_latent_reader_close(r);
+    texture_latent_reader_close(r);
   }
   /* A fast bake writes no such attribute. */
   o = (nbrdf_bake_options)NBRDF_BAKE_OPTIONS_DEFAULT;
   CHECK_OK(nbrdf_bake(model, &in, &o, path("fast.exr"), &rep, err), err);
   CHECK(rep.accuracy == NBRDF_BAKE_FAST && rep.fitted_tuples == 0);
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("fast.exr"), err), err);
+  CHECK_OK(texture_latent_reader_open(&r, path("fast.exr"), err), err);
   if (r) {
-    CHECK(nbrdf_latent_reader_info(r)->accuracy[0] == 0);
-    nbrdf_latent_reader_close(r);
+    CHECK(texture_latent_reader_info(r)->accuracy[0] == 0);
+    texture_latent_reader_close(r);
   }
 }
 
@@ -203,12 +203,12 @@ static void test_specialised_constant(void) {
   nbrdf_decoder_info info;
   CHECK_OK(nbrdf_texture_own_decoder(path("spec.exr"), &info, err), err);
   CHECK(info.own && info.size > 0);
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("spec.exr"), err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("spec.exr"), err), err);
   if (r) {
-    CHECK(nbrdf_latent_reader_info(r)->format_version == 2);
-    CHECK(strstr(nbrdf_latent_reader_info(r)->accuracy, "level=specialised;") != NULL);
-    nbrdf_latent_reader_close(r);
+    CHECK(texture_latent_reader_info(r)->format_version == 2);
+    CHECK(strstr(texture_latent_reader_info(r)->accuracy, "level=specialised;") != NULL);
+    texture_latent_reader_close(r);
   }
 }
 
@@ -267,11 +267,11 @@ int main(int argc, char **argv) {
     execv("/proc/self/exe", argv);
   }
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char bundle[1024];
-  snprintf(bundle, sizeof bundle, "%s/models/default", nbrdf_test_source_dir());
+  snprintf(bundle, sizeof bundle, "%s/models/default", testing_source_dir());
   CHECK_OK(nbrdf_model_load(bundle, &model, err), err);
-  if (!model) return nbrdf_test_finish();
+  if (!model) return testing_finish();
   RUN(test_plan);
   RUN(test_select);
   RUN(test_correction);
@@ -281,5 +281,5 @@ int main(int argc, char **argv) {
   RUN(test_fitted_constant);
   RUN(test_specialised_constant);
   nbrdf_model_destroy(model);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -60,8 +60,8 @@ static void write_maps(void) {
     a[i] = 0.05f + 0.8f * (float)i / (SIZE * SIZE);
     b[i] = 0.9f - 0.8f * (float)((i * 7919) % (SIZE * SIZE)) / (SIZE * SIZE);
   }
-  CHECK_OK(nbrdf_image_write(path("alpha1.exr"), SIZE, SIZE, 1, a, NBRDF_PIXEL_FLOAT, err), err);
-  CHECK_OK(nbrdf_image_write(path("albedo.exr"), SIZE, SIZE, 1, b, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("alpha1.exr"), SIZE, SIZE, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("albedo.exr"), SIZE, SIZE, 1, b, NBRDF_PIXEL_FLOAT, err), err);
 }
 
 typedef struct watch {
@@ -77,7 +77,7 @@ static int cancel_inside(void *user, const char *stage, double done, double tota
   w->last_done = done;
   if (done > 0 && done < SIZE) w->inside++;
   if (w->inside < 2) return 0;
-  w->cancelled_at = nbrdf_monotonic_seconds();
+  w->cancelled_at = core_monotonic_seconds();
   return 1;
 }
 
@@ -90,7 +90,7 @@ static void test_cancel_from_callback(void) {
   o.user = &w;
   CHECK_FAILS(nbrdf_bake(model, &in, &o, path("out.exr"), NULL, err), NBRDF_ERR_CANCELLED, err,
               "cancelled");
-  double latency = nbrdf_monotonic_seconds() - w.cancelled_at;
+  double latency = core_monotonic_seconds() - w.cancelled_at;
   CHECK_MSG(w.inside >= 2, "%d progress reports inside the band", w.inside);
   CHECK_MSG(w.monotonic, "progress went backwards or named another stage/total");
   CHECK_MSG(latency < 3.0, "returned %.2f s after the callback cancelled", latency);
@@ -104,7 +104,7 @@ static double flag_set_at;
 
 static void on_alarm(int sig) {
   (void)sig;
-  flag_set_at = nbrdf_monotonic_seconds(); /* clock_gettime is async-signal-safe */
+  flag_set_at = core_monotonic_seconds(); /* clock_gettime is async-signal-safe */
   flag = 1;
 }
 
@@ -123,7 +123,7 @@ static void test_cancel_from_signal(void) {
   setitimer(ITIMER_REAL, &it, NULL);
   CHECK_FAILS(nbrdf_bake(model, &in, &o, path("out.exr"), NULL, err), NBRDF_ERR_CANCELLED, err,
               "cancelled");
-  double latency = nbrdf_monotonic_seconds() - flag_set_at;
+  double latency = core_monotonic_seconds() - flag_set_at;
   sigaction(SIGALRM, &old, NULL);
   CHECK_MSG(flag, "the bake finished before the timer went off");
   CHECK_MSG(latency < 3.0, "returned %.2f s after the flag was set", latency);
@@ -133,14 +133,14 @@ static void test_cancel_from_signal(void) {
 
 int main(void) {
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char bundle[1024];
-  snprintf(bundle, sizeof bundle, "%s/models/default", nbrdf_test_source_dir());
+  snprintf(bundle, sizeof bundle, "%s/models/default", testing_source_dir());
   CHECK_OK(nbrdf_model_load(bundle, &model, err), err);
-  if (!model) return nbrdf_test_finish();
+  if (!model) return testing_finish();
   write_maps();
   RUN(test_cancel_from_callback);
   RUN(test_cancel_from_signal);
   nbrdf_model_destroy(model);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

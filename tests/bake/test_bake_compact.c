@@ -37,16 +37,16 @@ static void test_basis(void) {
   enum { D = 32, N = 400, R = 3 };
   nbrdf_error e, *err = &e;
   static float z[N * D], a[D * R], m[D];
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 7, 1);
+  core_rng rng;
+  core_rng_init(&rng, 7, 1);
   for (int i = 0; i < D * R; i++)
-    a[i] = (float)nbrdf_rng_normal(&rng);
+    a[i] = (float)core_rng_normal(&rng);
   for (int d = 0; d < D; d++)
-    m[d] = (float)nbrdf_rng_normal(&rng);
+    m[d] = (float)core_rng_normal(&rng);
   for (int k = 0; k < N; k++) {
     double u[R];
     for (int j = 0; j < R; j++)
-      u[j] = nbrdf_rng_normal(&rng) * (j + 1);
+      u[j] = core_rng_normal(&rng) * (j + 1);
     for (int d = 0; d < D; d++) {
       double s = m[d];
       for (int j = 0; j < R; j++)
@@ -94,7 +94,7 @@ static void test_config(void) {
   model_decoder_config cfg;
   CHECK_OK(bake_compact_config(BAKE_COMPACT_DEFAULT_DIM, BAKE_COMPACT_DEFAULT_WIDTH, &cfg, err),
            err);
-  int64_t macs = nbrdf_nn_spec_macs(&cfg.spec);
+  int64_t macs = nn_spec_macs(&cfg.spec);
   CHECK_MSG(macs <= 2000, "the default compact decoder costs %lld multiply-adds", (long long)macs);
   CHECK(cfg.latent_dim == 8 && !strcmp(cfg.preset, "compact"));
   CHECK_FAILS(bake_compact_config(9, 32, &cfg, err), NBRDF_ERR_ARGUMENT, err, "1 to 8");
@@ -112,8 +112,8 @@ static nbrdf_bake_inputs small_maps(void) {
       a[y * W + x] = 0.01f + 0.05f * x;
       b[y * W + x] = 0.3f + 0.2f * y;
     }
-  CHECK_OK(nbrdf_image_write(path("alpha1.exr"), W, H, 1, a, NBRDF_PIXEL_FLOAT, err), err);
-  CHECK_OK(nbrdf_image_write(path("albedo.exr"), W, H, 1, b, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("alpha1.exr"), W, H, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(path("albedo.exr"), W, H, 1, b, NBRDF_PIXEL_FLOAT, err), err);
   nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
   const float v[NBRDF_BAKE_PARAM_COUNT] = {0, 1.1f, 0.4f, 0.9f, 0, 1.0f};
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
@@ -144,22 +144,22 @@ static void test_compact_bake(void) {
   printf("  8x4 maps: held-out lobe error fast %.2f %%, compact(4) %.2f %%; %lld MACs\n",
          100 * rep.heldout_error_fast, 100 * rep.heldout_error, rep.decoder_macs);
 
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("compact.exr"), err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("compact.exr"), err), err);
   if (!r) return;
-  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  const texture_latent_info *info = texture_latent_reader_info(r);
   CHECK(info->layout.latent_dim == 4 && info->format_version == 2 && info->decoder_size > 0);
   CHECK(strstr(info->accuracy, "level=compact;") && strstr(info->accuracy, "compact=4;"));
-  CHECK_OK(nbrdf_latent_reader_check(r, err), err);
+  CHECK_OK(texture_latent_reader_check(r, err), err);
   /* Level 1 texel (0, 0): the mean of level-0 texels (0..1, 0..1), coordinates
    * and all (stored as half: a tolerance of the rounding). */
-  const int C = nbrdf_latent_channel_count(&info->layout);
+  const int C = texture_latent_channel_count(&info->layout);
   float l0[4 * 16], l1[16];
   CHECK(C <= 16);
-  CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 2, 2, l0, err), err);
-  CHECK_OK(nbrdf_latent_reader_read(r, 1, 0, 0, 1, 1, l1, err), err);
+  CHECK_OK(texture_latent_reader_read(r, 0, 0, 0, 2, 2, l0, err), err);
+  CHECK_OK(texture_latent_reader_read(r, 1, 0, 0, 1, 1, l1, err), err);
   for (int j = 0; j < info->layout.latent_dim; j++) {
-    int i = nbrdf_latent_index_latent(&info->layout, 0, j);
+    int i = texture_latent_index_latent(&info->layout, 0, j);
     float mean = 0.25f * (l0[i] + l0[C + i] + l0[2 * C + i] + l0[3 * C + i]);
     CHECK_MSG(fabsf(l1[i] - mean) < 2e-2f * (1.0f + fabsf(mean)), "coordinate %d: %g vs mean %g",
               j, l1[i], mean);
@@ -167,7 +167,7 @@ static void test_compact_bake(void) {
   /* The texture's model decodes its 4 coordinates; the bundle's networks
    * that need 32 are refused with a message saying so. */
   nbrdf_model *tm = NULL;
-  CHECK_OK(nbrdf_latent_reader_model(r, model, &tm, err), err);
+  CHECK_OK(texture_latent_reader_model(r, model, &tm, err), err);
   if (tm) {
     CHECK(nbrdf_model_latent_dim(tm) == 4 && nbrdf_model_decoder_macs(tm) == rep.decoder_macs);
     const float wi[3] = {0.3f, 0.0f, 0.9539392f}, wo[3] = {-0.3f, 0.0f, 0.9539392f};
@@ -178,7 +178,7 @@ static void test_compact_bake(void) {
                 "compact texture's 4 latent channels");
     nbrdf_model_destroy(tm);
   }
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
 }
 
 static void test_bad_options(void) {
@@ -206,15 +206,15 @@ int main(int argc, char **argv) {
     execv("/proc/self/exe", argv);
   }
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char bundle[1024];
-  snprintf(bundle, sizeof bundle, "%s/models/default", nbrdf_test_source_dir());
+  snprintf(bundle, sizeof bundle, "%s/models/default", testing_source_dir());
   RUN(test_basis);
   RUN(test_config);
   CHECK_OK(nbrdf_model_load(bundle, &model, err), err);
-  if (!model) return nbrdf_test_finish();
+  if (!model) return testing_finish();
   RUN(test_bad_options);
   RUN(test_compact_bake);
   nbrdf_model_destroy(model);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

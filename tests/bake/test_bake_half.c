@@ -36,9 +36,9 @@ static void test_half_vs_float(nbrdf_model *model) {
   snprintf(pa1, sizeof pa1, "%s/a1.exr", tmp);
   snprintf(pa2, sizeof pa2, "%s/a2.exr", tmp);
   snprintf(pr0, sizeof pr0, "%s/r0.exr", tmp);
-  CHECK_OK(nbrdf_image_write(pa1, N, N, 1, a1, NBRDF_PIXEL_FLOAT, err), err);
-  CHECK_OK(nbrdf_image_write(pa2, N, N, 1, a2, NBRDF_PIXEL_FLOAT, err), err);
-  CHECK_OK(nbrdf_image_write(pr0, N, N, 1, r0, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(pa1, N, N, 1, a1, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(pa2, N, N, 1, a2, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(pr0, N, N, 1, r0, NBRDF_PIXEL_FLOAT, err), err);
   nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
   in.param[NBRDF_BAKE_ALPHA1].path = pa1;
   nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ETA], 1.5f);
@@ -46,7 +46,7 @@ static void test_half_vs_float(nbrdf_model *model) {
   in.param[NBRDF_BAKE_R0].path = pr0;
   nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALBEDO], 0.7f);
   nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_SIGMA_T], 2.0f);
-  nbrdf_latent_reader *r[2] = {NULL, NULL};
+  texture_latent_reader *r[2] = {NULL, NULL};
   for (int s = 0; s < 2; s++) {
     snprintf(out[s], sizeof out[s], "%s/%s.exr", tmp, s ? "float" : "half");
     nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
@@ -54,12 +54,13 @@ static void test_half_vs_float(nbrdf_model *model) {
     o.storage = s ? NBRDF_BAKE_FLOAT : NBRDF_BAKE_HALF;
     o.mip_levels = 1;
     CHECK_OK(nbrdf_bake(model, &in, &o, out[s], NULL, err), err);
-    CHECK_OK(nbrdf_latent_reader_open(&r[s], out[s], err), err);
+    CHECK_OK(texture_latent_reader_open(&r[s], out[s], err), err);
     if (!r[s]) return;
-    CHECK(nbrdf_latent_reader_info(r[s])->storage == (s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF));
+    CHECK(texture_latent_reader_info(r[s])->storage ==
+          (s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF));
   }
-  const nbrdf_latent_layout *L = &nbrdf_latent_reader_info(r[0])->layout;
-  const int D = L->latent_dim, C = nbrdf_latent_reader_info(r[0])->channels;
+  const texture_latent_layout *L = &texture_latent_reader_info(r[0])->layout;
+  const int D = L->latent_dim, C = texture_latent_reader_info(r[0])->channels;
   CHECK(L->colour == NBRDF_COLOUR_MONO);
   verify_decoder *dec = verify_decoder_create(model);
   float *texel = malloc(sizeof(float) * C), *lat = malloc(sizeof(float) * D);
@@ -68,14 +69,14 @@ static void test_half_vs_float(nbrdf_model *model) {
   for (int i = 0; i < 8; i++) {
     int x = (i * 2 + 1) % N, y = (i * 5 + 3) % N; /* spread over both gradients */
     for (int s = 0; s < 2; s++) {
-      CHECK_OK(nbrdf_latent_reader_read(r[s], 0, x, y, 1, 1, texel, err), err);
+      CHECK_OK(texture_latent_reader_read(r[s], 0, x, y, 1, 1, texel, err), err);
       for (int k = 0; k < D; k++)
-        lat[k] = texel[nbrdf_latent_index_latent(L, 0, k)];
+        lat[k] = texel[texture_latent_index_latent(L, 0, k)];
       int finite = 0;
       CHECK_OK(verify_decode(dec, lat, img[s], &finite, err), err);
       CHECK(finite);
     }
-    double le = nbrdf_lobe_error(VERIFY_SET, img[1], img[0]);
+    double le = lobe_l1_error(VERIFY_SET, img[1], img[0]);
     CHECK_MSG(le < 1e-3, "texel (%d, %d): half adds %.4f %% lobe error", x, y, 100 * le);
     worst = le > worst ? le : worst;
     sum += le;
@@ -87,19 +88,19 @@ static void test_half_vs_float(nbrdf_model *model) {
   verify_decoder_free(dec);
   free(texel), free(lat), free(img[0]), free(img[1]);
   for (int s = 0; s < 2; s++)
-    nbrdf_latent_reader_close(r[s]);
+    texture_latent_reader_close(r[s]);
 }
 
 int main(void) {
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char bundle[1024];
-  snprintf(bundle, sizeof bundle, "%s/models/default", nbrdf_test_source_dir());
+  snprintf(bundle, sizeof bundle, "%s/models/default", testing_source_dir());
   nbrdf_model *model = NULL;
   CHECK_OK(nbrdf_model_load(bundle, &model, err), err);
-  if (!model) return nbrdf_test_finish();
+  if (!model) return testing_finish();
   CHECK(nbrdf_model_is_trained(model));
   test_half_vs_float(model);
   nbrdf_model_destroy(model);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

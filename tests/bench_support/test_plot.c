@@ -33,16 +33,16 @@ static int colour_near(const unsigned char *rgb, int w, int x, int y, int rad, i
 static const double XS[3] = {1, 10, 100}, YS[3] = {1, 10, 100};
 
 static void test_points_land_where_the_axes_say(void) {
-  nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
+  bench_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
   o.log_x = o.log_y = 1;
   o.title = "lobe error vs spp";
   /* A dashed floor at y = 1 in the colour of palette entry 2 (orange). */
   static const double ones[3] = {1, 1, 1};
-  nbrdf_plot_series s[2] = {{"coat", 3, XS, YS, 0, 0}, {"floor", 3, XS, ones, 1, 2}};
+  bench_plot_series s[2] = {{"coat", 3, XS, YS, 0, 0}, {"floor", 3, XS, ones, 1, 2}};
   unsigned char *rgb = NULL;
   int w = 0, h = 0;
   nbrdf_error err = {0}, *e = &err;
-  CHECK_OK(nbrdf_plot_render(&o, 2, s, &rgb, &w, &h, &err), e);
+  CHECK_OK(bench_plot_render(&o, 2, s, &rgb, &w, &h, &err), e);
   if (!rgb) return;
   CHECK(w == 800 && h == 520);
   /* Data from 1 to 100 on both log axes: (1, 1) is the lower-left corner of the
@@ -66,29 +66,29 @@ static void test_points_land_where_the_axes_say(void) {
 
 static void test_write_and_failures(void) {
   char path[512];
-  snprintf(path, sizeof path, "%s/plot.png", nbrdf_test_tmpdir());
-  nbrdf_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
+  snprintf(path, sizeof path, "%s/plot.png", testing_tmpdir());
+  bench_plot_options o = NBRDF_PLOT_OPTIONS_DEFAULT;
   o.log_y = 1;
   o.width = 640;
   o.height = 400;
   const double nan_y[3] = {1, NAN, -1}; /* skipped points must not break the plot */
-  nbrdf_plot_series s[2] = {{"a", 3, XS, YS, 0, 0}, {"floor", 3, XS, nan_y, 1, 0}};
+  bench_plot_series s[2] = {{"a", 3, XS, YS, 0, 0}, {"floor", 3, XS, nan_y, 1, 0}};
   nbrdf_error err = {0}, *e = &err;
-  CHECK_OK(nbrdf_plot_write_png(path, &o, 2, s, &err), e);
+  CHECK_OK(bench_plot_write_png(path, &o, 2, s, &err), e);
   int w = 0, h = 0;
-  CHECK(nbrdf_test_png_size(path, &w, &h) && w == 640 && h == 400);
-  CHECK(count_tmp_files(nbrdf_test_tmpdir()) == 0);
+  CHECK(testing_png_size(path, &w, &h) && w == 640 && h == 400);
+  CHECK(count_tmp_files(testing_tmpdir()) == 0);
   o.width = 10;
-  CHECK_FAILS(nbrdf_plot_write_png(path, &o, 2, s, &err), NBRDF_ERR_ARGUMENT, &err, "plot.png");
+  CHECK_FAILS(bench_plot_write_png(path, &o, 2, s, &err), NBRDF_ERR_ARGUMENT, &err, "plot.png");
   o.width = 0;
-  snprintf(path, sizeof path, "%s/no/such/dir/plot.png", nbrdf_test_tmpdir());
-  CHECK_FAILS(nbrdf_plot_write_png(path, &o, 2, s, &err), NBRDF_ERR_IO, &err, "plot.png");
+  snprintf(path, sizeof path, "%s/no/such/dir/plot.png", testing_tmpdir());
+  CHECK_FAILS(bench_plot_write_png(path, &o, 2, s, &err), NBRDF_ERR_IO, &err, "plot.png");
   static const unsigned char px[3] = {1, 2, 3};
-  CHECK_FAILS(nbrdf_png_write_rgb8(path, 0, 1, px, &err), NBRDF_ERR_ARGUMENT, &err, "size");
+  CHECK_FAILS(lobe_png_write_rgb8(path, 0, 1, px, &err), NBRDF_ERR_ARGUMENT, &err, "size");
 }
 
 int main(void) {
   RUN(test_points_land_where_the_axes_say);
   RUN(test_write_and_failures);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

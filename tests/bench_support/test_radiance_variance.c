@@ -32,7 +32,7 @@ static nbrdf_status proxy_shaped_fn(void *user, size_t n, const nbrdf_query *q, 
   return NBRDF_OK;
 }
 
-static eval_is_setup setup_of(nbrdf_lobe_fn fn, void *user) {
+static eval_is_setup setup_of(lobe_fn fn, void *user) {
   eval_is_setup s = {fn, user, furnace, NULL, 200, 2, {16, 64}, 7};
   return s;
 }
@@ -70,8 +70,8 @@ static void test_ggx_conductor(void) {
   nbrdf_error err = {0}, *e = &err;
   CHECK_OK(nbrdf_brdf_create_conductor(0.1, 0.9, &b, &err), e);
   if (!b) return;
-  nbrdf_lobe_brdf lb = {b, NBRDF_EVAL_OPTIONS_DEFAULT};
-  eval_is_setup s = setup_of(nbrdf_lobe_brdf_fn, &lb);
+  lobe_brdf lb = {b, NBRDF_EVAL_OPTIONS_DEFAULT};
+  eval_is_setup s = setup_of(lobe_brdf_fn, &lb);
   const double theta = 40.0 * M_PI / 180.0;
   eval_is_lobe lobe = {0.2, 0.1, 0.1};
   eval_is_result r;
@@ -115,5 +115,5 @@ int main(void) {
   RUN(test_ggx_conductor);
   RUN(test_pdf_matches_sampler);
   RUN(test_bad_arguments);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -39,8 +39,8 @@ static void check_sampler(const char *label, const bsdf *b, vec3 wo, bsdf_mode m
   for (int i = 0; i < CHECK_NC; i++)
     for (int j = 0; j < CHECK_NP; j++)
       hist[i][j] = 0;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 0);
+  core_rng rng;
+  core_rng_init(&rng, seed, 0);
   int ok = 0, bad_values = 0;
   for (int s = 0; s < n; s++) {
     bsdf_sample bs;

@@ -177,5 +177,5 @@ int main(void) {
   RUN(test_eval_rejects_bad_queries);
   RUN(test_bottom_is_copied);
   RUN(test_analytic_through_api);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -24,12 +24,12 @@ static void test_closed_forms(void) {
 }
 
 static void test_reciprocity(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 4, 0);
+  core_rng rng;
+  core_rng_init(&rng, 4, 0);
   bsdf_conductor c = {0.2, 0.6};
   for (int k = 0; k < 1000; k++) {
-    vec3 a = v3_from_spherical(acos(nbrdf_rng_uniform(&rng)), 2 * M_PI * nbrdf_rng_uniform(&rng));
-    vec3 b = v3_from_spherical(acos(nbrdf_rng_uniform(&rng)), 2 * M_PI * nbrdf_rng_uniform(&rng));
+    vec3 a = v3_from_spherical(acos(core_rng_uniform(&rng)), 2 * M_PI * core_rng_uniform(&rng));
+    vec3 b = v3_from_spherical(acos(core_rng_uniform(&rng)), 2 * M_PI * core_rng_uniform(&rng));
     double fab = bsdf_conductor_eval(&c, a, b), fba = bsdf_conductor_eval(&c, b, a);
     if (fabs(fab - fba) > 1e-12 * fab) {
       CHECK_MSG(0, "f(a, b) = %.15g, f(b, a) = %.15g", fab, fba);
@@ -52,8 +52,8 @@ static void test_sampler(void) {
 /* R0 = 1, α = 0.01: a nearly perfect mirror; its albedo (mean sample weight)
  * is G2/G1 ≈ 1 at normal incidence, and below 1 everywhere. */
 static void test_albedo(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 5, 0);
+  core_rng rng;
+  core_rng_init(&rng, 5, 0);
   bsdf mirror = conductor(0.01, 1.0), rough = conductor(1.0, 1.0);
   const double thetas[] = {0.0, 45.0, 80.0, 89.9};
   for (int t = 0; t < 4; t++) {
@@ -77,8 +77,8 @@ static void test_albedo(void) {
 }
 
 static void test_extremes_finite(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 6, 0);
+  core_rng rng;
+  core_rng_init(&rng, 6, 0);
   const double alphas[] = {1e-3, 0.01, 1.0};
   for (int a = 0; a < 3; a++) {
     bsdf b = conductor(alphas[a], 0.0);
@@ -102,5 +102,5 @@ int main(void) {
   RUN(test_sampler);
   RUN(test_albedo);
   RUN(test_extremes_finite);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -45,13 +45,13 @@ static void test_closed_forms(void) {
 /* Generalised reciprocity f(a, b) / η_a² = f(b, a) / η_b² (radiance mode),
  * and the adjoint relation f_importance(a, b) = f_radiance(b, a). */
 static void test_reciprocity(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 11, 0);
+  core_rng rng;
+  core_rng_init(&rng, 11, 0);
   bsdf_dielectric d = {0.4, 1.7};
   int bad = 0, transmissions = 0;
   for (int k = 0; k < 4000; k++) {
-    vec3 a = nbrdf_warp_uniform_sphere(nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng));
-    vec3 b = nbrdf_warp_uniform_sphere(nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng));
+    vec3 a = core_warp_uniform_sphere(core_rng_uniform(&rng), core_rng_uniform(&rng));
+    vec3 b = core_warp_uniform_sphere(core_rng_uniform(&rng), core_rng_uniform(&rng));
     double eta_a = a.z > 0 ? 1.0 : d.eta, eta_b = b.z > 0 ? 1.0 : d.eta;
     double fab = bsdf_dielectric_eval(&d, a, b, BSDF_RADIANCE);
     double fba = bsdf_dielectric_eval(&d, b, a, BSDF_RADIANCE);
@@ -88,8 +88,8 @@ static void test_sampler(void) {
  * entering the coat is divided by η². */
 static double mean_weight(const bsdf *b, vec3 wo, bsdf_mode mode, int n, uint64_t seed,
                           double *se) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 0);
+  core_rng rng;
+  core_rng_init(&rng, seed, 0);
   double s1 = 0, s2 = 0;
   for (int k = 0; k < n; k++) {
     bsdf_sample bs;
@@ -132,8 +132,8 @@ static void test_energy(void) {
 
 static void test_index_matched(void) {
   bsdf b = dielectric(0.3, 1.0);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 1, 0);
+  core_rng rng;
+  core_rng_init(&rng, 1, 0);
   bsdf_sample s;
   vec3 wo = v3_from_spherical(0.7, 0.2);
   CHECK(bsdf_sample_dir(&b, wo, BSDF_RADIANCE, BSDF_ALL, &rng, &s));
@@ -147,8 +147,8 @@ static void test_index_matched(void) {
 /* Very small α, η near 1 and up to 4, grazing 89.9° from both sides, both
  * modes: nothing is NaN or infinite. */
 static void test_extremes_finite(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 12, 0);
+  core_rng rng;
+  core_rng_init(&rng, 12, 0);
   const double alphas[] = {1e-3, 0.01, 1.0}, etas[] = {1.0 + 1e-9, 1.0001, 1.05, 2.0, 4.0};
   int bad = 0;
   for (int a = 0; a < 3; a++)
@@ -180,5 +180,5 @@ int main(void) {
   RUN(test_energy);
   RUN(test_index_matched);
   RUN(test_extremes_finite);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -60,5 +60,5 @@ int main(void) {
   RUN(test_dielectric_values);
   RUN(test_schlick);
   RUN(test_refract);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

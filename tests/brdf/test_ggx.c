@@ -51,12 +51,12 @@ static void check_vndf_histogram(double alpha, vec3 w, uint64_t seed) {
   for (int i = 0; i < NT; i++)
     for (int j = 0; j < NP; j++)
       hist[i][j] = 0;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 0);
+  core_rng rng;
+  core_rng_init(&rng, seed, 0);
   int fails = 0;
   for (int s = 0; s < n; s++) {
     vec3 m;
-    double u1 = nbrdf_rng_uniform(&rng), u2 = nbrdf_rng_uniform(&rng);
+    double u1 = core_rng_uniform(&rng), u2 = core_rng_uniform(&rng);
     if (!ggx_sample_vndf(alpha, w, u1, u2, &m)) {
       fails++;
       continue;
@@ -106,13 +106,13 @@ static void test_vndf_sampling_matches_pdf(void) {
 
 /* Tiny α at grazing: samples stay finite and unit. */
 static void test_vndf_extremes(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 9, 0);
+  core_rng rng;
+  core_rng_init(&rng, 9, 0);
   const double alphas[] = {1e-3, 0.01, 1.0};
   for (int a = 0; a < 3; a++)
     for (int s = 0; s < 20000; s++) {
       vec3 w = v3_from_spherical(89.9 * M_PI / 180, 0.0), m;
-      double u1 = nbrdf_rng_uniform(&rng), u2 = nbrdf_rng_uniform(&rng);
+      double u1 = core_rng_uniform(&rng), u2 = core_rng_uniform(&rng);
       if (!ggx_sample_vndf(alphas[a], w, u1, u2, &m)) continue;
       double pdf = ggx_vndf_pdf(alphas[a], w, m);
       if (!(v3_is_finite(m) && fabs(v3_length(m) - 1.0) < 1e-12 && m.z > 0.0 && isfinite(pdf))) {
@@ -127,5 +127,5 @@ int main(void) {
   RUN(test_d_lambda_values);
   RUN(test_vndf_sampling_matches_pdf);
   RUN(test_vndf_extremes);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -50,23 +50,23 @@ static void test_albedo_at_most_one(void) {
  * with the wrong exit pdf (ECOSYSTEM-NOTES.md, pitfall 1: +2 … +30 %). */
 static double albedo_from_eval(const nbrdf_brdf *b, double theta_i, int n, uint64_t seed,
                                double *se) {
-  const bsdf *in = nbrdf_brdf_bsdf(b);
+  const bsdf *in = brdf_bsdf(b);
   const bsdf_dielectric *top = &in->layered.top;
   vec3 wi = v3(sin(theta_i), 0.0, cos(theta_i));
   nbrdf_query *q = malloc((size_t)n * sizeof *q);
   double *pdf = malloc((size_t)n * sizeof *pdf), *f = malloc((size_t)n * sizeof *f);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 1000);
+  core_rng rng;
+  core_rng_init(&rng, seed, 1000);
   const double c = 0.5; /* mixture weight of the reflection lobe */
   for (int k = 0; k < n; k++) {
     vec3 w = v3(0, 0, 0); /* stays invalid if the lobe's draw fails */
-    double u = nbrdf_rng_uniform(&rng), u1 = nbrdf_rng_uniform(&rng), u2 = nbrdf_rng_uniform(&rng);
+    double u = core_rng_uniform(&rng), u1 = core_rng_uniform(&rng), u2 = core_rng_uniform(&rng);
     bsdf_sample s;
     if (u < c) {
       if (bsdf_dielectric_sample(top, wi, BSDF_RADIANCE, BSDF_REFLECTION, 0.0, u1, u2, &s))
         w = s.wi;
     } else {
-      w = nbrdf_warp_cosine_hemisphere(u1, u2);
+      w = core_warp_cosine_hemisphere(u1, u2);
     }
     if (w.z > 0.0) {
       w = v3_normalize(w);
@@ -193,5 +193,5 @@ int main(void) {
   RUN(test_albedo_at_most_one);
   RUN(test_eval_and_sampler_agree);
   RUN(test_extremes_finite);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

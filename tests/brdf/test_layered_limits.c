@@ -143,5 +143,5 @@ int main(void) {
   RUN(test_single_scattering);
   RUN(test_white_furnace);
   RUN(test_three_layers_reduce);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -8,7 +8,7 @@
 enum { RES = 12 };
 
 static void compare(const char *label, const nbrdf_brdf *b, double theta_deg, int walks, int spp) {
-  const bsdf_layered *l = &nbrdf_brdf_bsdf(b)->layered;
+  const bsdf_layered *l = &brdf_bsdf(b)->layered;
   double img[RES * RES], img_se[RES * RES];
   CHECK(layered_lobe_image(l, theta_deg * M_PI / 180, RES, walks, 21, 0, img, img_se));
   nbrdf_query q[RES * RES];
@@ -66,7 +66,7 @@ static void test_agrees_with_per_pixel_eval(void) {
 
 static void test_deterministic_and_oriented(void) {
   nbrdf_brdf *b = layered2(0.05, 1.5, 0.3, 0.9, 0.5, 1.0);
-  const bsdf_layered *l = &nbrdf_brdf_bsdf(b)->layered;
+  const bsdf_layered *l = &brdf_bsdf(b)->layered;
   double a[RES * RES], sa[RES * RES], c[RES * RES], sc[RES * RES];
   CHECK(layered_lobe_image(l, 0.7, RES, 100, 5, 1, a, sa));
   CHECK(layered_lobe_image(l, 0.7, RES, 100, 5, 2, c, sc));
@@ -85,5 +85,5 @@ static void test_deterministic_and_oriented(void) {
 int main(void) {
   RUN(test_agrees_with_per_pixel_eval);
   RUN(test_deterministic_and_oriented);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -133,5 +133,5 @@ int main(void) {
   RUN(test_reciprocity);
   RUN(test_standard_error_is_honest);
   RUN(test_deterministic);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

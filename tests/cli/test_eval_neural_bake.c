@@ -17,7 +17,7 @@
 static const double DIRS[N_DIRS][4] = {
     {30, 0, 30, 180}, {0, 0, 0, 0}, {60, 10, 20, 250}, {80, 0, 89.9, 180}, {45, 90, 70, -30}};
 
-static const char *nbrdf_bin(void) {
+static const char *cli_bin(void) {
   const char *b = getenv("NBRDF");
   return b ? b : "nbrdf";
 }
@@ -51,7 +51,7 @@ static void warned(const char *text, const char *const *names, char ranges[6][64
 
 static void check_tuple(const nbrdf_model *m, const char *params[6], const char *roughness) {
   static const char *const names[6] = {"alpha1", "eta", "alpha2", "r0", "albedo", "sigma_t"};
-  const char *tmp = nbrdf_test_tmpdir(), *bin = nbrdf_bin(), *src = nbrdf_test_source_dir();
+  const char *tmp = testing_tmpdir(), *bin = cli_bin(), *src = testing_source_dir();
   char cmd[4096], exr[1024], csv[1024], out[1024], bake_err[1024], eval_err[1024];
   snprintf(exr, sizeof exr, "%s/t.exr", tmp);
   snprintf(csv, sizeof csv, "%s/q.csv", tmp);
@@ -80,18 +80,18 @@ static void check_tuple(const nbrdf_model *m, const char *params[6], const char 
 
   /* The baked texel, decoded by the library at the same directions. */
   nbrdf_error err = {0};
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, exr, &err), &err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, exr, &err), &err);
   if (!r) return;
-  const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+  const texture_latent_info *in = texture_latent_reader_info(r);
   float texel[64], latent[32], wi[3 * N_DIRS], wo[3 * N_DIRS], dec[N_DIRS];
   CHECK(in->channels <= 64 && in->layout.latent_dim == 32);
-  CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 1, 1, texel, &err), &err);
-  const nbrdf_latent_layout layout = in->layout;
-  nbrdf_latent_reader_close(r);
+  CHECK_OK(texture_latent_reader_read(r, 0, 0, 0, 1, 1, texel, &err), &err);
+  const texture_latent_layout layout = in->layout;
+  texture_latent_reader_close(r);
   float lat[32 * N_DIRS];
   for (int k = 0; k < 32; k++)
-    latent[k] = texel[nbrdf_latent_index_latent(&layout, 0, k)];
+    latent[k] = texel[texture_latent_index_latent(&layout, 0, k)];
   for (int d = 0; d < N_DIRS; d++) {
     memcpy(lat + 32 * d, latent, sizeof latent);
     for (int s = 0; s < 2; s++) {
@@ -137,7 +137,7 @@ static void check_tuple(const nbrdf_model *m, const char *params[6], const char 
 /* The warnings themselves are checked: a tuple that must warn does. */
 static void check_warns(const char *param, const char *expect) {
   char path[1024];
-  snprintf(path, sizeof path, "%s/eval.err", nbrdf_test_tmpdir());
+  snprintf(path, sizeof path, "%s/eval.err", testing_tmpdir());
   char *e = slurp(path);
   CHECK_MSG(strstr(e, expect) != NULL, "%s: eval's warnings lack '%s': %s", param, expect, e);
   free(e);
@@ -145,11 +145,11 @@ static void check_warns(const char *param, const char *expect) {
 
 int main(void) {
   char dir[4096];
-  snprintf(dir, sizeof dir, "%s/models/default", nbrdf_test_source_dir());
+  snprintf(dir, sizeof dir, "%s/models/default", testing_source_dir());
   nbrdf_error err = {0};
   nbrdf_model *m = NULL;
   CHECK_OK(nbrdf_model_load(dir, &m, &err), &err);
-  if (!m) return nbrdf_test_finish();
+  if (!m) return testing_finish();
   const char *inside[6] = {"0.1", "1.5", "0.3", "0.9", "0.8", "1"};
   check_tuple(m, inside, "alpha");
   const char *thick[6] = {"0.1", "1.5", "0.3", "0.9", "0.8", "1000"};
@@ -168,5 +168,5 @@ int main(void) {
   check_tuple(m, perceptual, "perceptual");
   check_warns("perceptual 0.05", "alpha1: 0.0025 outside the model's trained range [0.01, 1]");
   nbrdf_model_destroy(m);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -32,7 +32,7 @@ static const char *path(const char *name) {
   return buf[k];
 }
 
-static const char *nbrdf_bin(void) {
+static const char *cli_bin(void) {
   const char *b = getenv("NBRDF");
   return b ? b : "nbrdf";
 }
@@ -64,7 +64,7 @@ static int run_eval(const char *tex, int level, const query *q, int n, double *f
   char cmd[4096];
   snprintf(cmd, sizeof cmd,
            "'%s' eval --texture '%s' --level %d --bundle '%s/models/default' --in '%s' >'%s'",
-           nbrdf_bin(), tex, level, nbrdf_test_source_dir(), path("q.csv"), path("out.csv"));
+           cli_bin(), tex, level, testing_source_dir(), path("q.csv"), path("out.csv"));
   CHECK_MSG(system(cmd) == 0, "eval failed: %s", cmd);
   FILE *o = fopen(path("out.csv"), "r");
   char line[1024];
@@ -97,7 +97,7 @@ static void reference(const nbrdf_model *m, const eval_latent_image *img, int le
     float lat[3 * 32], wi[3], wo[3];
     eval_latent_fetch_level(img, level, (float)q[k].u, (float)q[k].v, texel);
     for (int c = 0; c < 3; c++)
-      memcpy(lat + 32 * c, texel + nbrdf_latent_index_latent(&img->layout, c, 0),
+      memcpy(lat + 32 * c, texel + texture_latent_index_latent(&img->layout, c, 0),
              32 * sizeof(float));
     direction(DIRS[q[k].dir], wi, wo);
     CHECK_OK(nbrdf_model_decode(m, 1, 3, lat, wi, wo, f + 3 * k, &err), &err);
@@ -111,12 +111,12 @@ static void test_own_decoder(void) {
   char cmd[4096];
   /* A decoder of the bundle's architecture that decodes differently. */
   char file[1024];
-  snprintf(file, sizeof file, "%s/models/default/decoder.safetensors", nbrdf_test_source_dir());
+  snprintf(file, sizeof file, "%s/models/default/decoder.safetensors", testing_source_dir());
   model_decoder *dec = NULL;
   CHECK_OK(model_decoder_load(file, &dec, err), err);
   if (!dec) return;
-  float *p = nbrdf_nn_params(dec->nn);
-  size_t n_params = nbrdf_nn_param_count(dec->nn);
+  float *p = nn_params(dec->nn);
+  size_t n_params = nn_param_count(dec->nn);
   for (size_t k = 0; k < n_params; k += 5)
     p[k] *= 0.8f;
   CHECK_OK(model_decoder_save(dec, path("dec.safetensors"), NULL, err), err);
@@ -127,7 +127,7 @@ static void test_own_decoder(void) {
            "'%s' bake --bundle '%s/models/default' --alpha1 alpha1.png --eta 1.4 --alpha2 0.3 "
            "--r0 0.9,0.6,0.4 --albedo 0.6 --sigma-t 1 --decoder dec.safetensors -o v2.exr "
            ">/dev/null",
-           tmp, nbrdf_bin(), nbrdf_test_source_dir());
+           tmp, cli_bin(), testing_source_dir());
   CHECK_MSG(system(cmd) == 0, "bake failed: %s", cmd);
 
   nbrdf_model *m = NULL;
@@ -166,14 +166,14 @@ static void test_own_decoder(void) {
   }
   /* At a texel centre the fetch is the texel itself: the texel as read by
    * the reader, decoded, is eval's value too. */
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("v2.exr"), err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("v2.exr"), err), err);
   if (r) {
     float texel[3 * 34], lat[3 * 32], wi[3], wo[3], fl[3];
-    CHECK_OK(nbrdf_latent_reader_read(r, 0, 4, 1, 1, 1, texel, err), err);
-    nbrdf_latent_reader_close(r);
+    CHECK_OK(texture_latent_reader_read(r, 0, 4, 1, 1, 1, texel, err), err);
+    texture_latent_reader_close(r);
     for (int c = 0; c < 3; c++)
-      memcpy(lat + 32 * c, texel + nbrdf_latent_index_latent(&img->layout, c, 0), 32 * 4);
+      memcpy(lat + 32 * c, texel + texture_latent_index_latent(&img->layout, c, 0), 32 * 4);
     direction(DIRS[2], wi, wo);
     CHECK_OK(nbrdf_model_decode(m, 1, 3, lat, wi, wo, fl, err), err);
     query q = {4.5 / 6, 1.5 / 4, 2};
@@ -204,7 +204,7 @@ static void test_own_decoder(void) {
 static void test_v1(void) {
   nbrdf_error e, *err = &e;
   char file[1024];
-  snprintf(file, sizeof file, "%s/tests/cli/data/v1_constant_rgb.exr", nbrdf_test_source_dir());
+  snprintf(file, sizeof file, "%s/tests/cli/data/v1_constant_rgb.exr", testing_source_dir());
   nbrdf_model *m = NULL;
   eval_latent_image *img = NULL;
   CHECK_OK(eval_latent_image_load_model(file, bundle, &img, &m, err), err);
@@ -228,13 +228,13 @@ static void test_v1(void) {
 
 int main(void) {
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s/models/default", nbrdf_test_source_dir());
+  snprintf(dir, sizeof dir, "%s/models/default", testing_source_dir());
   CHECK_OK(nbrdf_model_load(dir, &bundle, err), err);
-  if (!bundle) return nbrdf_test_finish();
+  if (!bundle) return testing_finish();
   RUN(test_own_decoder);
   RUN(test_v1);
   nbrdf_model_destroy(bundle);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

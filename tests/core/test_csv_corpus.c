@@ -39,7 +39,7 @@ static int replay(const char *path, const char *name) {
         char buf[256];
         size_t n = csv_value(&a, r, c, buf, sizeof buf);
         double x;
-        if (n < sizeof buf && nbrdf_parse_number(buf, n, &x) == NBRDF_NUMBER_OK)
+        if (n < sizeof buf && core_parse_number(buf, n, &x) == NBRDF_NUMBER_OK)
           CHECK_MSG(isfinite(x), "%s: '%s' read as %g", name, buf, x);
       }
     }
@@ -51,9 +51,9 @@ static int replay(const char *path, const char *name) {
 
 static void test_corpus(void) {
   char dir[512];
-  snprintf(dir, sizeof dir, "%s/tests/core/csv_corpus", nbrdf_test_source_dir());
+  snprintf(dir, sizeof dir, "%s/tests/core/csv_corpus", testing_source_dir());
   size_t n = 0;
-  char **names = nbrdf_test_list_dir(dir, &n); /* sorted: a stable order for the log */
+  char **names = testing_list_dir(dir, &n); /* sorted: a stable order for the log */
   if (!names) return;
   int parsed = 0;
   for (size_t i = 0; i < n; i++) {
@@ -70,5 +70,5 @@ static void test_corpus(void) {
 
 int main(void) {
   RUN(test_corpus);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -14,7 +14,7 @@
 
 static void test_special_files(void) {
   char dir[1024], fifo[1024], file[1024], link[1024];
-  const char *tmp = nbrdf_test_tmpdir();
+  const char *tmp = testing_tmpdir();
   snprintf(dir, sizeof dir, "%s/in_dir", tmp);
   snprintf(fifo, sizeof fifo, "%s/in_fifo", tmp);
   snprintf(file, sizeof file, "%s/in_file", tmp);
@@ -27,23 +27,23 @@ static void test_special_files(void) {
   nbrdf_error err = {0};
   int fd = -1;
   uint64_t size = 0;
-  CHECK_FAILS(nbrdf_input_open(dir, 100, &fd, &size, &err), NBRDF_ERR_IO, &err, "is a directory");
+  CHECK_FAILS(core_input_open(dir, 100, &fd, &size, &err), NBRDF_ERR_IO, &err, "is a directory");
   CHECK(fd == -1);
   /* Must not block waiting for a writer. */
-  CHECK_FAILS(nbrdf_input_open(fifo, 100, &fd, &size, &err), NBRDF_ERR_IO, &err,
+  CHECK_FAILS(core_input_open(fifo, 100, &fd, &size, &err), NBRDF_ERR_IO, &err,
               "in_fifo: is a FIFO");
-  CHECK_FAILS(nbrdf_input_open(link, 100, &fd, &size, &err), NBRDF_ERR_IO, &err,
+  CHECK_FAILS(core_input_open(link, 100, &fd, &size, &err), NBRDF_ERR_IO, &err,
               "in_link: is a character device");
-  CHECK_FAILS(nbrdf_input_check("/dev/zero", 100, &size, &err), NBRDF_ERR_IO, &err,
+  CHECK_FAILS(core_input_check("/dev/zero", 100, &size, &err), NBRDF_ERR_IO, &err,
               "/dev/zero: is a character device");
-  CHECK_FAILS(nbrdf_input_open(file, 9, &fd, &size, &err), NBRDF_ERR_FORMAT, &err,
+  CHECK_FAILS(core_input_open(file, 9, &fd, &size, &err), NBRDF_ERR_FORMAT, &err,
               "in_file: 10 bytes, more than the 9");
-  CHECK_OK(nbrdf_input_open(file, 10, &fd, &size, &err), &err);
+  CHECK_OK(core_input_open(file, 10, &fd, &size, &err), &err);
   CHECK(fd >= 0 && size == 10);
   char buf[16];
   CHECK(fd >= 0 && read(fd, buf, sizeof buf) == 10); /* blocking mode restored, reads */
   if (fd >= 0) close(fd);
-  CHECK_OK(nbrdf_input_check(file, NBRDF_INPUT_ANY_SIZE, &size, &err), &err);
+  CHECK_OK(core_input_check(file, NBRDF_INPUT_ANY_SIZE, &size, &err), &err);
   rmdir(dir), unlink(fifo), unlink(file), unlink(link);
 }
 
@@ -93,5 +93,5 @@ static void test_csv_line_bound(void) {
 int main(void) {
   RUN(test_special_files);
   RUN(test_csv_line_bound);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -4,8 +4,8 @@
 #include "core/number.h"
 #include "testing.h"
 
-static nbrdf_number_result parse(const char *s, double *v) {
-  return nbrdf_parse_number(s, strlen(s), v);
+static core_number_result parse(const char *s, double *v) {
+  return core_parse_number(s, strlen(s), v);
 }
 
 static void test_accepted(void) {
@@ -37,16 +37,16 @@ static void test_refused(void) {
   CHECK(parse("1e-400", &v) == NBRDF_NUMBER_UNDERFLOW);
   CHECK(parse("1e-320", &v) == NBRDF_NUMBER_UNDERFLOW); /* subnormal */
   /* len bounds the text: "0.5" of "0.5,0.7" */
-  CHECK(nbrdf_parse_number("0.5,0.7", 3, &v) == NBRDF_NUMBER_OK && v == 0.5);
+  CHECK(core_parse_number("0.5,0.7", 3, &v) == NBRDF_NUMBER_OK && v == 0.5);
   float f;
-  CHECK(nbrdf_parse_float("1e39", 4, &f) == NBRDF_NUMBER_OVERFLOW);
-  CHECK(nbrdf_parse_float("1e-39", 5, &f) == NBRDF_NUMBER_UNDERFLOW);
-  CHECK(nbrdf_parse_float("0.25 ", 5, &f) == NBRDF_NUMBER_OK && f == 0.25f);
-  CHECK(strstr(nbrdf_number_problem(NBRDF_NUMBER_UNDERFLOW), "underflow") != NULL);
+  CHECK(core_parse_float("1e39", 4, &f) == NBRDF_NUMBER_OVERFLOW);
+  CHECK(core_parse_float("1e-39", 5, &f) == NBRDF_NUMBER_UNDERFLOW);
+  CHECK(core_parse_float("0.25 ", 5, &f) == NBRDF_NUMBER_OK && f == 0.25f);
+  CHECK(strstr(core_number_problem(NBRDF_NUMBER_UNDERFLOW), "underflow") != NULL);
 }
 
 int main(void) {
   RUN(test_accepted);
   RUN(test_refused);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

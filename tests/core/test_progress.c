@@ -21,44 +21,44 @@ static int count(void *user, const char *stage, double done, double total) {
 
 static void test_throttle(void) {
   counter c = {0, 0, -1.0};
-  nbrdf_ticker t;
-  nbrdf_ticker_init(&t, count, &c, NULL);
-  double t0 = nbrdf_monotonic_seconds();
+  core_ticker t;
+  core_ticker_init(&t, count, &c, NULL);
+  double t0 = core_monotonic_seconds();
   int ticks = 0;
-  while (nbrdf_monotonic_seconds() - t0 < 0.35) {
-    CHECK(!nbrdf_ticker_tick(&t, "s", ticks, 1e9, 0));
+  while (core_monotonic_seconds() - t0 < 0.35) {
+    CHECK(!core_ticker_tick(&t, "s", ticks, 1e9, 0));
     ticks++;
   }
   /* ~0.35 s of ticks: the first call and one per 0.1 s after it */
   CHECK_MSG(c.calls >= 2 && c.calls <= 5, "%d calls in 0.35 s of %d ticks", c.calls, ticks);
   int before = c.calls;
-  CHECK(!nbrdf_ticker_tick(&t, "s", 7, 7, 1));
+  CHECK(!core_ticker_tick(&t, "s", 7, 7, 1));
   CHECK(c.calls == before + 1 && c.last_done == 7); /* forced: always */
 }
 
 static void test_cancel(void) {
   volatile sig_atomic_t flag = 0;
   counter c = {0, 0, -1.0};
-  nbrdf_ticker t;
-  nbrdf_ticker_init(&t, count, &c, &flag);
-  CHECK(!nbrdf_ticker_tick(&t, "s", 0, 1, 0));
+  core_ticker t;
+  core_ticker_init(&t, count, &c, &flag);
+  CHECK(!core_ticker_tick(&t, "s", 0, 1, 0));
   flag = 1;
-  CHECK(nbrdf_ticker_tick(&t, "s", 0, 1, 0)); /* seen at once, throttle or not */
+  CHECK(core_ticker_tick(&t, "s", 0, 1, 0)); /* seen at once, throttle or not */
   flag = 0;
-  CHECK(nbrdf_ticker_tick(&t, "s", 0, 1, 0)); /* and it sticks */
+  CHECK(core_ticker_tick(&t, "s", 0, 1, 0)); /* and it sticks */
 
   counter d = {0, 2, -1.0};
-  nbrdf_ticker_init(&t, count, &d, NULL);
-  CHECK(!nbrdf_ticker_tick(&t, "s", 0, 1, 1));
-  CHECK(nbrdf_ticker_tick(&t, "s", 1, 1, 1)); /* the callback's non-zero return */
-  CHECK(nbrdf_ticker_tick(&t, "s", 1, 1, 1) && d.calls == 2);
+  core_ticker_init(&t, count, &d, NULL);
+  CHECK(!core_ticker_tick(&t, "s", 0, 1, 1));
+  CHECK(core_ticker_tick(&t, "s", 1, 1, 1)); /* the callback's non-zero return */
+  CHECK(core_ticker_tick(&t, "s", 1, 1, 1) && d.calls == 2);
 
-  nbrdf_ticker_init(&t, NULL, NULL, NULL); /* neither: never stops */
-  CHECK(!nbrdf_ticker_tick(&t, "s", 1, 1, 1));
+  core_ticker_init(&t, NULL, NULL, NULL); /* neither: never stops */
+  CHECK(!core_ticker_tick(&t, "s", 1, 1, 1));
 }
 
 int main(void) {
   RUN(test_throttle);
   RUN(test_cancel);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -6,12 +6,12 @@
 #include "testing.h"
 
 static void test_uniform_moments(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 42, 0);
+  core_rng rng;
+  core_rng_init(&rng, 42, 0);
   const int n = 200000;
   double sum = 0, sum2 = 0, lo = 1, hi = 0;
   for (int i = 0; i < n; i++) {
-    double u = nbrdf_rng_uniform(&rng);
+    double u = core_rng_uniform(&rng);
     sum += u;
     sum2 += u * u;
     lo = fmin(lo, u);
@@ -24,13 +24,13 @@ static void test_uniform_moments(void) {
 }
 
 static void test_streams_independent_and_deterministic(void) {
-  nbrdf_rng a, b, c;
-  nbrdf_rng_init(&a, 7, 1);
-  nbrdf_rng_init(&b, 7, 2);
-  nbrdf_rng_init(&c, 7, 1);
+  core_rng a, b, c;
+  core_rng_init(&a, 7, 1);
+  core_rng_init(&b, 7, 2);
+  core_rng_init(&c, 7, 1);
   int same_ab = 0, same_ac = 0;
   for (int i = 0; i < 1000; i++) {
-    uint32_t x = nbrdf_rng_u32(&a), y = nbrdf_rng_u32(&b), z = nbrdf_rng_u32(&c);
+    uint32_t x = core_rng_u32(&a), y = core_rng_u32(&b), z = core_rng_u32(&c);
     same_ab += x == y;
     same_ac += x == z;
   }
@@ -40,14 +40,14 @@ static void test_streams_independent_and_deterministic(void) {
 
 static void test_cosine_warp_matches_pdf(void) {
   /* Histogram of cos θ against the integral of the pdf over each bin. */
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 3, 0);
+  core_rng rng;
+  core_rng_init(&rng, 3, 0);
   enum { BINS = 10 };
   int hist[BINS] = {0};
   const int n = 100000;
   for (int i = 0; i < n; i++) {
-    double u1 = nbrdf_rng_uniform(&rng), u2 = nbrdf_rng_uniform(&rng);
-    vec3 w = nbrdf_warp_cosine_hemisphere(u1, u2);
+    double u1 = core_rng_uniform(&rng), u2 = core_rng_uniform(&rng);
+    vec3 w = core_warp_cosine_hemisphere(u1, u2);
     CHECK_NEAR(v3_length(w), 1.0, 1e-12);
     int bin = (int)(w.z * BINS);
     if (bin >= BINS) bin = BINS - 1;
@@ -63,14 +63,14 @@ static void test_cosine_warp_matches_pdf(void) {
 
 static void test_check_range_messages(void) {
   nbrdf_error err = {0};
-  CHECK(nbrdf_check_range(&err, "alpha", 0.5, 0.01, 1) == NBRDF_OK);
-  CHECK_FAILS(nbrdf_check_range(&err, "alpha", NAN, 0.01, 1), NBRDF_ERR_ARGUMENT, &err,
+  CHECK(core_check_range(&err, "alpha", 0.5, 0.01, 1) == NBRDF_OK);
+  CHECK_FAILS(core_check_range(&err, "alpha", NAN, 0.01, 1), NBRDF_ERR_ARGUMENT, &err,
               "alpha is NaN");
-  CHECK_FAILS(nbrdf_check_range(&err, "eta", INFINITY, 1, 3), NBRDF_ERR_ARGUMENT, &err,
+  CHECK_FAILS(core_check_range(&err, "eta", INFINITY, 1, 3), NBRDF_ERR_ARGUMENT, &err,
               "eta is infinite");
-  CHECK_FAILS(nbrdf_check_range(&err, "r0", -0.5, 0, 1), NBRDF_ERR_ARGUMENT, &err,
+  CHECK_FAILS(core_check_range(&err, "r0", -0.5, 0, 1), NBRDF_ERR_ARGUMENT, &err,
               "r0 = -0.5 is outside [0, 1]");
-  nbrdf_error_prefix(&err, "%s: ", "r0.png");
+  core_error_prefix(&err, "%s: ", "r0.png");
   CHECK(strcmp(err.message, "r0.png: r0 = -0.5 is outside [0, 1]") == 0);
 }
 
@@ -79,5 +79,5 @@ int main(void) {
   RUN(test_streams_independent_and_deterministic);
   RUN(test_cosine_warp_matches_pdf);
   RUN(test_check_range_messages);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

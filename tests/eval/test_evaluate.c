@@ -22,8 +22,8 @@ static void test_single_set(void) {
   CHECK_OK(model_decoder_create(&cfg, 7, &dec, &err), &err);
   if (!dec) return;
   char cache[512], json[512];
-  snprintf(cache, sizeof cache, "%s/cache", nbrdf_test_tmpdir());
-  snprintf(json, sizeof json, "%s/eval.json", nbrdf_test_tmpdir());
+  snprintf(cache, sizeof cache, "%s/cache", testing_tmpdir());
+  snprintf(json, sizeof json, "%s/eval.json", testing_tmpdir());
   eval_settings s = EVAL_SETTINGS_DEFAULT;
   s.count = 5, s.project_steps = 5, s.cache_dir = cache;
   eval_result r;
@@ -31,7 +31,7 @@ static void test_single_set(void) {
   if (!r.cases) return;
   int worse_than_median = 0;
   for (int i = 0; i < r.n; i++) {
-    double e = nbrdf_lobe_error(PER, r.ref + i * PER, r.approx + i * PER);
+    double e = lobe_l1_error(PER, r.ref + i * PER, r.approx + i * PER);
     CHECK_NEAR(r.cases[i].lobe_error, e, 1e-12);
     CHECK(r.cases[i].lobe_error <= r.worst);
     worse_than_median += r.cases[i].lobe_error > r.median;
@@ -71,7 +71,7 @@ static void test_single_set(void) {
     const eval_case *c = &r.cases[i];
     for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
       size_t at = i * PER + (size_t)t * NBRDF_LOBE_RES * NBRDF_LOBE_RES;
-      double e = nbrdf_lobe_pointwise_error(NBRDF_LOBE_RES, r.ref + at, r.approx + at, 0.01);
+      double e = lobe_pointwise_error(NBRDF_LOBE_RES, r.ref + at, r.approx + at, 0.01);
       CHECK_NEAR(c->pointwise[t], e, 1e-6 * (e + 1e-30));
     }
     for (int t = 0; t < EVAL_N_THETA_ALL; t++) {
@@ -92,7 +92,7 @@ static void test_single_set(void) {
 
   /* The table set: the same BRDFs (the same references), latents from a bundle's tables. */
   char dir[512];
-  snprintf(dir, sizeof dir, "%s/bundle", nbrdf_test_tmpdir());
+  snprintf(dir, sizeof dir, "%s/bundle", testing_tmpdir());
   nbrdf_model *m = NULL;
   CHECK_OK(model_bundle_init_random(dir, "eval-test", 3, "small", &err), &err);
   CHECK_OK(nbrdf_model_load(dir, &m, &err), &err);
@@ -143,5 +143,5 @@ static void test_reference_cancel(void) {
 int main(void) {
   RUN(test_single_set);
   RUN(test_reference_cancel);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

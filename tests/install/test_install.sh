@@ -36,13 +36,13 @@ done
 check "libnbrdf.so's SONAME is libnbrdf.so.0" \
   bash -c "readelf -d '$prefix/$libdir/libnbrdf.so' | grep -Fq '[libnbrdf.so.0]'"
 # Exactly the public API is exported: each exported function is declared in an installed
-# header, nothing else is (an internal helper such as nbrdf_adam_step stays local), and
+# header, nothing else is (an internal helper such as nn_adam_step stays local), and
 # every declared function is there.
 exported=$(nm -D --defined-only "$prefix/$libdir/libnbrdf.so" | awk '$2 == "T" {sub(/@.*/, "", $3); print $3}' | sort -u)
 declared=$(cat "$prefix/include/nbrdf/"*.h | sed 's|/\*.*\*/||' | grep -oE 'nbrdf_[a-z0-9_]+[[:space:]]*\(' | grep -oE 'nbrdf_[a-z0-9_]+' | sort -u)
 check "exported functions are the declared ones: $(diff <(echo "$exported") <(echo "$declared") | head -5 | tr '\n' ' ')" \
   test "$exported" = "$declared"
-check "an internal function is not exported" bash -c "! nm -D '$prefix/$libdir/libnbrdf.so' | grep -q ' nbrdf_adam_step'"
+check "an internal function is not exported" bash -c "! nm -D '$prefix/$libdir/libnbrdf.so' | grep -q ' nn_adam_step'"
 check "the library exports more than a handful of functions" test "$(echo "$exported" | wc -l)" -gt 30
 check "installed bundle is the source tree's" \
   cmp -s "$NBRDF_SOURCE_DIR/models/default/model.json" "$prefix/share/nbrdf/models/default/model.json"

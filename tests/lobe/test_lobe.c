@@ -46,41 +46,41 @@ static void test_lambertian_albedo(void) {
   static double img[NT * PIX];
   counter c = {0};
   nbrdf_error err = {0}, *e = &err; /* a pointer: CHECK_OK(x, &err) trips -Waddress */
-  CHECK_OK(nbrdf_lobe_images(lambert, &c, RES, NT, nbrdf_lobe_theta_deg, img, &err), e);
+  CHECK_OK(lobe_images(lambert, &c, RES, NT, lobe_theta_deg, img, &err), e);
   const size_t inside = count_inside(RES);
-  CHECK(nbrdf_lobe_pixels_inside(RES) == inside);
+  CHECK(lobe_pixels_inside(RES) == inside);
   CHECK_MSG(c.calls == 1 && c.n == NT * inside, "one batched call of %zu queries, got %d of %zu",
             NT * inside, c.calls, c.n);
   CHECK(c.bad_direction == 0);
   /* Midpoint rule: every inside pixel contributes (1/π)·(2/64)². */
   const double expected = (double)inside * (2.0 / RES) * (2.0 / RES) / M_PI;
   for (int t = 0; t < NT; t++) {
-    double rho = nbrdf_lobe_albedo(RES, img + t * PIX);
+    double rho = lobe_albedo(RES, img + t * PIX);
     CHECK_NEAR(rho, expected, 1e-12);
     CHECK_NEAR(rho, 1.0, 0.01); /* the pixelised disk has area π within 1 % */
   }
   /* Pixel values: f·cos θo inside, 0 outside (the corner). */
   double wo[3];
-  CHECK(nbrdf_lobe_pixel_wo(RES, 20, 40, wo));
+  CHECK(lobe_pixel_wo(RES, 20, 40, wo));
   CHECK_NEAR(img[PIX + 20 * RES + 40], wo[2] / M_PI, 1e-15);
-  CHECK(!nbrdf_lobe_pixel_wo(RES, 0, 0, wo));
+  CHECK(!lobe_pixel_wo(RES, 0, 0, wo));
   CHECK(img[0] == 0.0 && img[3 * PIX + PIX - 1] == 0.0);
-  CHECK(nbrdf_lobe_pixels_inside(1) == 1 && nbrdf_lobe_pixels_inside(2) == 4);
+  CHECK(lobe_pixels_inside(1) == 1 && lobe_pixels_inside(2) == 4);
 }
 
 static void test_error_of_identical_and_scaled(void) {
   static double ref[NT * PIX], approx[NT * PIX];
   counter c = {0};
   nbrdf_error err = {0}, *e = &err; /* a pointer: CHECK_OK(x, &err) trips -Waddress */
-  CHECK_OK(nbrdf_lobe_images(lambert, &c, RES, NT, nbrdf_lobe_theta_deg, ref, &err), e);
-  CHECK(nbrdf_lobe_error(NT * PIX, ref, ref) == 0.0);
+  CHECK_OK(lobe_images(lambert, &c, RES, NT, lobe_theta_deg, ref, &err), e);
+  CHECK(lobe_l1_error(NT * PIX, ref, ref) == 0.0);
   for (int p = 0; p < NT * PIX; p++)
     approx[p] = 1.1 * ref[p];
-  CHECK_NEAR(nbrdf_lobe_error(NT * PIX, ref, approx), 0.1, 1e-12);
+  CHECK_NEAR(lobe_l1_error(NT * PIX, ref, approx), 0.1, 1e-12);
   double per[NT];
-  double mean = nbrdf_lobe_albedo_error(RES, NT, ref, approx, per);
+  double mean = lobe_albedo_error(RES, NT, ref, approx, per);
   for (int t = 0; t < NT; t++)
-    CHECK_NEAR(per[t], 0.1 * nbrdf_lobe_albedo(RES, ref + t * PIX), 1e-12);
+    CHECK_NEAR(per[t], 0.1 * lobe_albedo(RES, ref + t * PIX), 1e-12);
   CHECK_NEAR(mean, per[0], 1e-12);
   /* The error pools all images: doubling one of four equal-sum images gives 25 %. */
   memcpy(approx, ref, sizeof approx);
@@ -90,10 +90,10 @@ static void test_error_of_identical_and_scaled(void) {
   for (int t = 0; t < NT; t++)
     for (int p = 0; p < PIX; p++)
       s[t] += ref[t * PIX + p];
-  CHECK_NEAR(nbrdf_lobe_error(NT * PIX, ref, approx), s[2] / (s[0] + s[1] + s[2] + s[3]), 1e-12);
+  CHECK_NEAR(lobe_l1_error(NT * PIX, ref, approx), s[2] / (s[0] + s[1] + s[2] + s[3]), 1e-12);
   static const double zero[4] = {0}, one[4] = {0, 1, 0, 0};
-  CHECK(nbrdf_lobe_error(4, zero, zero) == 0.0);
-  CHECK(isinf(nbrdf_lobe_error(4, zero, one)));
+  CHECK(lobe_l1_error(4, zero, zero) == 0.0);
+  CHECK(isinf(lobe_l1_error(4, zero, one)));
 }
 
 /* A narrow lobe around the mirror direction of ωi. */
@@ -110,19 +110,19 @@ static void test_mirror_is_left_of_centre(void) {
   static double img[PIX];
   const double theta = 30.0;
   nbrdf_error err = {0}, *e = &err; /* a pointer: CHECK_OK(x, &err) trips -Waddress */
-  CHECK_OK(nbrdf_lobe_images(mirror_peak, NULL, RES, 1, &theta, img, &err), e);
+  CHECK_OK(lobe_images(mirror_peak, NULL, RES, 1, &theta, img, &err), e);
   int best = 0;
   for (int p = 1; p < PIX; p++)
     if (img[p] > img[best]) best = p;
   double wo[3];
-  CHECK(nbrdf_lobe_pixel_wo(RES, best / RES, best % RES, wo));
+  CHECK(lobe_pixel_wo(RES, best / RES, best % RES, wo));
   CHECK_MSG(fabs(wo[0] + 0.5) < 2.0 / RES && fabs(wo[1]) < 2.0 / RES,
             "peak at (%g, %g), expected (-sin 30°, 0)", wo[0], wo[1]);
 }
 
 static nbrdf_status failing(void *user, size_t n, const nbrdf_query *q, double *f,
                             nbrdf_error *err) {
-  return nbrdf_fail(err, NBRDF_ERR_IO, "decoder weights gone");
+  return core_fail(err, NBRDF_ERR_IO, "decoder weights gone");
 }
 
 static nbrdf_status nan_at_7(void *user, size_t n, const nbrdf_query *q, double *f,
@@ -136,15 +136,15 @@ static void test_failures(void) {
   static double img[2 * PIX];
   nbrdf_error err = {0};
   const double thetas[2] = {0.0, 90.0}, bad_nan[1] = {NAN};
-  CHECK_FAILS(nbrdf_lobe_images(failing, NULL, RES, 1, thetas, img, &err), NBRDF_ERR_IO, &err,
+  CHECK_FAILS(lobe_images(failing, NULL, RES, 1, thetas, img, &err), NBRDF_ERR_IO, &err,
               "decoder weights gone");
-  CHECK_FAILS(nbrdf_lobe_images(nan_at_7, NULL, RES, 1, thetas, img, &err), NBRDF_ERR_INTERNAL,
-              &err, "lobe query 7");
-  CHECK_FAILS(nbrdf_lobe_images(nan_at_7, NULL, RES, 2, thetas, img, &err), NBRDF_ERR_ARGUMENT,
-              &err, "90");
-  CHECK_FAILS(nbrdf_lobe_images(nan_at_7, NULL, RES, 1, bad_nan, img, &err), NBRDF_ERR_ARGUMENT,
-              &err, "NaN");
-  CHECK_FAILS(nbrdf_lobe_images(nan_at_7, NULL, 0, 1, thetas, img, &err), NBRDF_ERR_ARGUMENT, &err,
+  CHECK_FAILS(lobe_images(nan_at_7, NULL, RES, 1, thetas, img, &err), NBRDF_ERR_INTERNAL, &err,
+              "lobe query 7");
+  CHECK_FAILS(lobe_images(nan_at_7, NULL, RES, 2, thetas, img, &err), NBRDF_ERR_ARGUMENT, &err,
+              "90");
+  CHECK_FAILS(lobe_images(nan_at_7, NULL, RES, 1, bad_nan, img, &err), NBRDF_ERR_ARGUMENT, &err,
+              "NaN");
+  CHECK_FAILS(lobe_images(nan_at_7, NULL, 0, 1, thetas, img, &err), NBRDF_ERR_ARGUMENT, &err,
               "resolution");
 }
 
@@ -154,25 +154,25 @@ static void test_pointwise(void) {
   double *ref = calloc(PIX, sizeof *ref), *a = calloc(PIX, sizeof *a), wo[3];
   for (int row = 0; row < RES; row++)
     for (int col = 0; col < RES; col++)
-      if (nbrdf_lobe_pixel_wo(RES, row, col, wo)) {
+      if (lobe_pixel_wo(RES, row, col, wo)) {
         double f = 1.0 + 0.5 * wo[0]; /* f >= 0.5 everywhere: every pixel counts */
         ref[row * RES + col] = f * wo[2];
       }
-  nbrdf_lobe_pixel_wo(RES, 5, 32, wo);
+  lobe_pixel_wo(RES, 5, 32, wo);
   ref[5 * RES + 32] = 1e3 * wo[2]; /* one pixel peak: all others below 1 % */
   for (int k = 0; k < PIX; k++)
     a[k] = 1.1 * ref[k];
-  CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 0.01), 0.1, 1e-9); /* only the peak */
-  CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 1e-4), 0.1, 1e-9); /* all of them */
+  CHECK_NEAR(lobe_pointwise_error(RES, ref, a, 0.01), 0.1, 1e-9); /* only the peak */
+  CHECK_NEAR(lobe_pointwise_error(RES, ref, a, 1e-4), 0.1, 1e-9); /* all of them */
   for (int k = 0; k < PIX; k++)
     if (k != 5 * RES + 32) a[k] = 10.0 * ref[k];
-  CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 0.01), 0.1, 1e-9);
-  CHECK_NEAR(nbrdf_lobe_pointwise_error(RES, ref, a, 1e-4), 9.0, 1e-9);
+  CHECK_NEAR(lobe_pointwise_error(RES, ref, a, 0.01), 0.1, 1e-9);
+  CHECK_NEAR(lobe_pointwise_error(RES, ref, a, 1e-4), 9.0, 1e-9);
   double z[PIX] = {0};
-  CHECK(isnan(nbrdf_lobe_pointwise_error(RES, z, a, 0.01)));
+  CHECK(isnan(lobe_pointwise_error(RES, z, a, 0.01)));
   double v[5] = {3, NAN, 1, 2, INFINITY};
-  CHECK(nbrdf_median_finite(5, v) == 2.0);
-  CHECK(isnan(nbrdf_median_finite(1, v + 1)));
+  CHECK(lobe_median_finite(5, v) == 2.0);
+  CHECK(isnan(lobe_median_finite(1, v + 1)));
   free(ref), free(a);
 }
 
@@ -182,5 +182,5 @@ int main(void) {
   RUN(test_error_of_identical_and_scaled);
   RUN(test_mirror_is_left_of_centre);
   RUN(test_failures);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -17,13 +17,13 @@ static void test_conductor_lobe_albedo_matches_sampler(void) {
   if (!b) return;
   static double img[3 * PIX];
   const double thetas[3] = {0.0, 30.0, 60.0};
-  nbrdf_lobe_brdf lb = {b, NBRDF_EVAL_OPTIONS_DEFAULT};
-  CHECK_OK(nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &lb, RES, 3, thetas, img, &err), e);
+  lobe_brdf lb = {b, NBRDF_EVAL_OPTIONS_DEFAULT};
+  CHECK_OK(lobe_images(lobe_brdf_fn, &lb, RES, 3, thetas, img, &err), e);
   for (int t = 0; t < 3; t++) {
     double rho = 0, se = 0;
     CHECK_OK(nbrdf_brdf_albedo(b, thetas[t] * M_PI / 180, 1 << 16, 3, &rho, &se, &err), e);
     /* The 64² midpoint rule resolves this wide lobe to within 1 %. */
-    double lobe = nbrdf_lobe_albedo(RES, img + t * PIX);
+    double lobe = lobe_albedo(RES, img + t * PIX);
     CHECK_MSG(fabs(lobe - rho) < 0.01 * rho + 4 * se,
               "theta_i %g: lobe %.5f vs sampler %.5f +- %.5f", thetas[t], lobe, rho, se);
     /* At normal incidence: 0.68785 by quadrature of D G2 / (4 cos_i cos_o) cos_o (800 × 64
@@ -43,17 +43,17 @@ static void test_layered_lobe_is_deterministic(void) {
   enum { R = 16 };
   static double a[R * R], c[R * R], d[R * R];
   const double theta = 30.0;
-  nbrdf_lobe_brdf one = {b, {42, 8, 1}}, two = {b, {42, 8, 2}}, other = {b, {43, 8, 2}};
-  CHECK_OK(nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &one, R, 1, &theta, a, &err), e);
-  CHECK_OK(nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &two, R, 1, &theta, c, &err), e);
-  CHECK_OK(nbrdf_lobe_images(nbrdf_lobe_brdf_fn, &other, R, 1, &theta, d, &err), e);
+  lobe_brdf one = {b, {42, 8, 1}}, two = {b, {42, 8, 2}}, other = {b, {43, 8, 2}};
+  CHECK_OK(lobe_images(lobe_brdf_fn, &one, R, 1, &theta, a, &err), e);
+  CHECK_OK(lobe_images(lobe_brdf_fn, &two, R, 1, &theta, c, &err), e);
+  CHECK_OK(lobe_images(lobe_brdf_fn, &other, R, 1, &theta, d, &err), e);
   CHECK(memcmp(a, c, sizeof a) == 0);
-  CHECK(nbrdf_lobe_error(R * R, a, d) > 0.0);
+  CHECK(lobe_l1_error(R * R, a, d) > 0.0);
   nbrdf_brdf_destroy(b);
 }
 
 int main(void) {
   RUN(test_conductor_lobe_albedo_matches_sampler);
   RUN(test_layered_lobe_is_deterministic);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

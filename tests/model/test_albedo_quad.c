@@ -131,5 +131,5 @@ int main(void) {
   RUN(test_conductors);
   RUN(test_lambert_and_determinism);
   RUN(test_decoded);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

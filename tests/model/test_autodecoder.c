@@ -24,9 +24,9 @@ static double ggx_conductor(double alpha, double r0, vec3 wi, vec3 wo) {
   return d * g * f / (4.0 * wi.z * wo.z);
 }
 
-static vec3 hemisphere(nbrdf_rng *rng) {
-  double z = fmax(0.02, nbrdf_rng_uniform(rng));
-  return v3_from_spherical(acos(z), 2 * M_PI * nbrdf_rng_uniform(rng));
+static vec3 hemisphere(core_rng *rng) {
+  double z = fmax(0.02, core_rng_uniform(rng));
+  return v3_from_spherical(acos(z), 2 * M_PI * core_rng_uniform(rng));
 }
 
 static void put(float *dst, vec3 v) {
@@ -34,11 +34,11 @@ static void put(float *dst, vec3 v) {
 }
 
 /* PER samples of one conductor: half of ωo cosine-distributed, half uniform. */
-static void sample_brdf(nbrdf_rng *rng, double alpha, double r0, float *wi, float *wo, float *f) {
+static void sample_brdf(core_rng *rng, double alpha, double r0, float *wi, float *wo, float *f) {
   for (int k = 0; k < PER; k++) {
     vec3 a = hemisphere(rng), b = hemisphere(rng);
     if (k % 2)
-      b = v3_from_spherical(asin(sqrt(nbrdf_rng_uniform(rng))), 2 * M_PI * nbrdf_rng_uniform(rng));
+      b = v3_from_spherical(asin(sqrt(core_rng_uniform(rng))), 2 * M_PI * core_rng_uniform(rng));
     if (b.z < 0.02) b = v3_normalize(v3(b.x, b.y, 0.02));
     put(wi + 3 * k, a);
     put(wo + 3 * k, b);
@@ -89,20 +89,20 @@ static nbrdf_status run_steps(model_fit *fit, const model_samples *s, const mode
                               int decay_every, float *latents, size_t nl, float *weights, size_t nw,
                               int steps, nbrdf_error *err) {
   if (!fit) return NBRDF_OK;
-  nbrdf_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
+  nn_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
   ao.decay_every = decay_every, ao.decay_gamma = 0.5f;
-  nbrdf_adam *al = NULL, *aw = NULL;
+  nn_adam *al = NULL, *aw = NULL;
   ao.lr = o->lr_latent;
-  nbrdf_status st = nbrdf_adam_create(nl, &ao, &al, err);
+  nbrdf_status st = nn_adam_create(nl, &ao, &al, err);
   ao.lr = o->lr_weights;
-  if (!st && weights) st = nbrdf_adam_create(nw, &ao, &aw, err);
+  if (!st && weights) st = nn_adam_create(nw, &ao, &aw, err);
   for (int k = 0; k < steps && !st; k++) {
     st = model_fit_gradient(fit, s, k, NULL, err);
-    if (!st) st = nbrdf_adam_step(al, latents, model_fit_grad_latent(fit), err);
-    if (!st && aw) st = nbrdf_adam_step(aw, weights, model_fit_grad_weights(fit), err);
+    if (!st) st = nn_adam_step(al, latents, model_fit_grad_latent(fit), err);
+    if (!st && aw) st = nn_adam_step(aw, weights, model_fit_grad_weights(fit), err);
   }
-  nbrdf_adam_destroy(al);
-  nbrdf_adam_destroy(aw);
+  nn_adam_destroy(al);
+  nn_adam_destroy(aw);
   return st;
 }
 
@@ -113,15 +113,15 @@ static void test_train_then_project(void) {
   float *wi = malloc(sizeof(float) * 3 * PER * NB), *wo = malloc(sizeof(float) * 3 * PER * NB);
   float *f = malloc(sizeof(float) * PER * NB), latents[NB * D];
   size_t offsets[NB + 1];
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 2022, 0);
+  core_rng rng;
+  core_rng_init(&rng, 2022, 0);
   for (int b = 0; b < NB; b++) {
     offsets[b] = (size_t)b * PER;
     sample_brdf(&rng, alphas[b / 4], r0s[b % 4], wi + 3 * b * PER, wo + 3 * b * PER, f + b * PER);
   }
   offsets[NB] = (size_t)NB * PER;
   for (int i = 0; i < NB * D; i++)
-    latents[i] = (float)(0.1 * nbrdf_rng_normal(&rng));
+    latents[i] = (float)(0.1 * core_rng_normal(&rng));
 
   model_decoder_config cfg;
   model_encoding enc = {MODEL_ENCODING_HALFDIFF, 0};
@@ -139,8 +139,8 @@ static void test_train_then_project(void) {
   model_samples s = {NB, offsets, wi, wo, f, NULL};
   double first = 0.0, last = 0.0;
   CHECK_OK(model_fit_eval_loss(fit, &s, NULL, &first, err), err);
-  CHECK_OK(run_steps(fit, &s, &o, 333, latents, NB * D, nbrdf_nn_params(dec->nn),
-                     nbrdf_nn_param_count(dec->nn), 1000, err),
+  CHECK_OK(run_steps(fit, &s, &o, 333, latents, NB * D, nn_params(dec->nn), nn_param_count(dec->nn),
+                     1000, err),
            err);
   CHECK_OK(model_fit_eval_loss(fit, &s, NULL, &last, err), err);
   printf("  auto-decoder: L1-log1p loss %.4f -> %.4f after 1000 steps\n", first, last);
@@ -163,11 +163,11 @@ static void test_train_then_project(void) {
   CHECK_OK(model_fit_create(dec, 1, z, &po, &proj, err), err);
   model_samples hs = {1, hoff, hwi, hwo, hf, NULL};
   float before[64];
-  size_t np = nbrdf_nn_param_count(dec->nn);
-  memcpy(before, nbrdf_nn_params(dec->nn), sizeof before);
+  size_t np = nn_param_count(dec->nn);
+  memcpy(before, nn_params(dec->nn), sizeof before);
   CHECK_OK(run_steps(proj, &hs, &po, 0, z, D, NULL, 0, 300, err), err);
   model_fit_destroy(proj);
-  CHECK(np > 64 && !memcmp(before, nbrdf_nn_params(dec->nn), sizeof before)); /* frozen */
+  CHECK(np > 64 && !memcmp(before, nn_params(dec->nn), sizeof before)); /* frozen */
   double e_proj = lobe_error(dec, z, alpha, r0), e_mean = lobe_error(dec, mean, alpha, r0);
   double e_train = lobe_error(dec, latents + 6 * D, alphas[1], r0s[2]);
   printf("  lobe error: projected held-out %.1f %%, mean latent %.1f %%, a training BRDF %.1f %%\n",
@@ -181,5 +181,5 @@ static void test_train_then_project(void) {
 
 int main(void) {
   RUN(test_train_then_project);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -20,10 +20,10 @@ static char *path_in(const char *dir, const char *file) {
   return p;
 }
 
-static void random_queries(nbrdf_rng *rng, size_t n, float *wi, float *wo) {
+static void random_queries(core_rng *rng, size_t n, float *wi, float *wo) {
   for (size_t k = 0; k < 2 * n; k++) {
-    double z = 0.05 + 0.95 * nbrdf_rng_uniform(rng), r = sqrt(1 - z * z);
-    double phi = 2 * M_PI * nbrdf_rng_uniform(rng);
+    double z = 0.05 + 0.95 * core_rng_uniform(rng), r = sqrt(1 - z * z);
+    double phi = 2 * M_PI * core_rng_uniform(rng);
     float *w = k < n ? wi + 3 * k : wo + 3 * (k - n);
     w[0] = (float)(r * cos(phi)), w[1] = (float)(r * sin(phi)), w[2] = (float)z;
   }
@@ -45,15 +45,15 @@ static void copy_file(const char *from, const char *to) {
 static void test_network_round_trips(void) {
   nbrdf_error err_ = {0}, *err = &err_;
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s", nbrdf_test_tmpdir());
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 1, 0);
+  snprintf(dir, sizeof dir, "%s", testing_tmpdir());
+  core_rng rng;
+  core_rng_init(&rng, 1, 0);
   enum { N = 37 };
   float lat[N * 32], lat2[N * 32], wi[N * 3], wo[N * 3], a[N], s[N];
   for (int i = 0; i < N * 32; i++)
-    lat[i] = (float)nbrdf_rng_normal(&rng), lat2[i] = (float)nbrdf_rng_normal(&rng);
+    lat[i] = (float)core_rng_normal(&rng), lat2[i] = (float)core_rng_normal(&rng);
   for (int k = 0; k < N; k++)
-    a[k] = (float)nbrdf_rng_uniform(&rng), s[k] = (float)(k % 6);
+    a[k] = (float)core_rng_uniform(&rng), s[k] = (float)(k % 6);
   random_queries(&rng, N, wi, wo);
 
   for (int p = 0; model_decoder_presets[p]; p++) {
@@ -90,10 +90,10 @@ static void test_network_round_trips(void) {
   model_layering *lay = NULL, *lay2 = NULL;
   CHECK_OK(model_layering_create("small", 32, 12, &lay, err), err);
   CHECK_OK(model_layering_save(lay, path_in(dir, "lay.safetensors"), NULL, err), err);
-  nbrdf_st_reader *r = NULL;
-  CHECK_OK(nbrdf_st_open(path_in(dir, "lay.safetensors"), &r, err), err);
+  nn_st_reader *r = NULL;
+  CHECK_OK(nn_st_open(path_in(dir, "lay.safetensors"), &r, err), err);
   if (r) CHECK_OK(model_layering_read(r, &lay2, err), err);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   if (lay && lay2) {
     model_runner r1, r2;
     static float o1[N * 32], o2[N * 32];
@@ -107,18 +107,18 @@ static void test_network_round_trips(void) {
   }
   /* A layering file is not a sampler file. */
   model_sampler *wrong = NULL;
-  CHECK_OK(nbrdf_st_open(path_in(dir, "lay.safetensors"), &r, err), err);
+  CHECK_OK(nn_st_open(path_in(dir, "lay.safetensors"), &r, err), err);
   if (r) CHECK_FAILS(model_sampler_read(r, &wrong, err), NBRDF_ERR_MISMATCH, err, "nbrdf.network");
-  nbrdf_st_close(r);
+  nn_st_close(r);
   model_layering_destroy(lay);
   model_layering_destroy(lay2);
 
   model_sampler *smp = NULL, *smp2 = NULL;
   CHECK_OK(model_sampler_create("default", 32, 13, &smp, err), err);
   CHECK_OK(model_sampler_save(smp, path_in(dir, "smp.safetensors"), NULL, err), err);
-  CHECK_OK(nbrdf_st_open(path_in(dir, "smp.safetensors"), &r, err), err);
+  CHECK_OK(nn_st_open(path_in(dir, "smp.safetensors"), &r, err), err);
   if (r) CHECK_OK(model_sampler_read(r, &smp2, err), err);
-  nbrdf_st_close(r);
+  nn_st_close(r);
   if (smp && smp2) {
     model_runner r1, r2;
     float s1[N], w1[N], s2[N], w2[N];
@@ -137,21 +137,21 @@ static void test_network_round_trips(void) {
 /* Outputs of every public call on two models must agree bit for bit. */
 static void check_same_outputs(const nbrdf_model *m1, const nbrdf_model *m2) {
   nbrdf_error err_ = {0}, *err = &err_;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 2, 0);
+  core_rng rng;
+  core_rng_init(&rng, 2, 0);
   enum { N = 20 };
   static float lat[N * 3 * 32], wi[N * 3], wo[N * 3], f1[N * 3], f2[N * 3];
   static float top[N * 32], bottom[N * 32], o1[N * 32], o2[N * 32];
   float a[N], s[N], sg1[N], w1[N], sg2[N], w2[N];
   float alpha[N], eta[N], r0[N];
   for (int i = 0; i < N * 3 * 32; i++)
-    lat[i] = (float)nbrdf_rng_normal(&rng);
+    lat[i] = (float)core_rng_normal(&rng);
   random_queries(&rng, N, wi, wo);
   for (int k = 0; k < N; k++) {
-    alpha[k] = (float)(0.01 + 0.99 * nbrdf_rng_uniform(&rng));
-    eta[k] = (float)(1.05 + 0.95 * nbrdf_rng_uniform(&rng));
-    r0[k] = (float)nbrdf_rng_uniform(&rng);
-    a[k] = (float)nbrdf_rng_uniform(&rng), s[k] = (float)(5.0 * nbrdf_rng_uniform(&rng));
+    alpha[k] = (float)(0.01 + 0.99 * core_rng_uniform(&rng));
+    eta[k] = (float)(1.05 + 0.95 * core_rng_uniform(&rng));
+    r0[k] = (float)core_rng_uniform(&rng);
+    a[k] = (float)core_rng_uniform(&rng), s[k] = (float)(5.0 * core_rng_uniform(&rng));
   }
   CHECK_OK(nbrdf_model_decode(m1, N, 3, lat, wi, wo, f1, err), err);
   CHECK_OK(nbrdf_model_decode(m2, N, 3, lat, wi, wo, f2, err), err);
@@ -177,10 +177,10 @@ static void check_same_outputs(const nbrdf_model *m1, const nbrdf_model *m2) {
 static void test_bundle_round_trip(void) {
   nbrdf_error err_ = {0}, *err = &err_;
   char a[1024], b[1024], c[1024], d[1024];
-  snprintf(a, sizeof a, "%s", path_in(nbrdf_test_tmpdir(), "bundle-a"));
-  snprintf(b, sizeof b, "%s", path_in(nbrdf_test_tmpdir(), "b/c/bundle-b"));
-  snprintf(c, sizeof c, "%s", path_in(nbrdf_test_tmpdir(), "bundle-c"));
-  snprintf(d, sizeof d, "%s", path_in(nbrdf_test_tmpdir(), "bundle-d"));
+  snprintf(a, sizeof a, "%s", path_in(testing_tmpdir(), "bundle-a"));
+  snprintf(b, sizeof b, "%s", path_in(testing_tmpdir(), "b/c/bundle-b"));
+  snprintf(c, sizeof c, "%s", path_in(testing_tmpdir(), "bundle-c"));
+  snprintf(d, sizeof d, "%s", path_in(testing_tmpdir(), "bundle-d"));
   CHECK_OK(model_bundle_init_random(a, "test-a", 5, "small", err), err);
   CHECK_OK(model_bundle_init_random(b, "test-b", 5, "small", err), err);
   CHECK_OK(model_bundle_init_random(c, "test-c", 6, "small", err), err);
@@ -222,7 +222,7 @@ static void test_bundle_round_trip(void) {
 
 static void test_bundle_refusals(void) {
   nbrdf_error err_ = {0}, *err = &err_;
-  const char *tmp = nbrdf_test_tmpdir();
+  const char *tmp = testing_tmpdir();
   char dir[1024];
   snprintf(dir, sizeof dir, "%s", path_in(tmp, "bad"));
   nbrdf_model *m = NULL;
@@ -289,7 +289,7 @@ static void test_bundle_refusals(void) {
 static void test_public_calls(void) {
   nbrdf_error err_ = {0}, *err = &err_;
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s", path_in(nbrdf_test_tmpdir(), "pub"));
+  snprintf(dir, sizeof dir, "%s", path_in(testing_tmpdir(), "pub"));
   CHECK_OK(model_bundle_init_random(dir, "pub", 3, "small", err), err);
   nbrdf_model *m = NULL;
   CHECK_OK(nbrdf_model_load(dir, &m, err), err);
@@ -335,8 +335,8 @@ static void test_public_calls(void) {
   enum { NB = 2, PER = 256 };
   static float swi[NB * PER * 3], swo[NB * PER * 3], sf[NB * PER], src[NB * PER * 32];
   size_t offsets[NB + 1] = {0, PER, 2 * PER};
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 4, 0);
+  core_rng rng;
+  core_rng_init(&rng, 4, 0);
   random_queries(&rng, NB * PER, swi, swo);
   float pa[NB] = {0.05f, 0.5f}, pr[NB] = {0.9f, 0.3f};
   float z[NB * 32], zero_loss_lat[NB * 32] = {0};
@@ -367,5 +367,5 @@ int main(void) {
   RUN(test_bundle_round_trip);
   RUN(test_bundle_refusals);
   RUN(test_public_calls);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

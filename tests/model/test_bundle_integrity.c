@@ -188,7 +188,7 @@ static void test_grid_edits(void) {
 /* The shipped bundle passes every check and keeps the checksum recorded in
  * the textures baked with it (docs/MODEL_CARD_DEFAULT.md). */
 static void test_default_bundle(void) {
-  const char *src = nbrdf_test_source_dir();
+  const char *src = testing_source_dir();
   nbrdf_error err = {0};
   nbrdf_model *m = NULL;
   CHECK_OK(nbrdf_model_load(path_in(src, "models/default"), &m, &err), &err);
@@ -198,17 +198,17 @@ static void test_default_bundle(void) {
 
 int main(void) {
   char *dir = bundle_dir;
-  snprintf(dir, sizeof bundle_dir, "%s/integrity", nbrdf_test_tmpdir());
+  snprintf(dir, sizeof bundle_dir, "%s/integrity", testing_tmpdir());
   nbrdf_error err = {0};
   size_t size = 0;
   CHECK_OK(model_bundle_init_random(dir, "integrity", 4, "small", &err), &err);
   CHECK_OK(model_read_file(path_in(dir, "model.json"), UINT64_MAX, &saved_json, &size, &err), &err);
-  if (!saved_json) return nbrdf_test_finish();
+  if (!saved_json) return testing_finish();
   loads(dir);
   RUN(test_checksum_required);
   RUN(test_architecture_edits);
   RUN(test_grid_edits);
   RUN(test_default_bundle);
   free(saved_json);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -7,9 +7,9 @@
 #include "model/encoding.h"
 #include "testing.h"
 
-static void random_pair(nbrdf_rng *rng, float wi[3], float wo[3]) {
-  vec3 a = v3_from_spherical(acos(nbrdf_rng_uniform(rng)), 2 * M_PI * nbrdf_rng_uniform(rng));
-  vec3 b = v3_from_spherical(acos(nbrdf_rng_uniform(rng)), 2 * M_PI * nbrdf_rng_uniform(rng));
+static void random_pair(core_rng *rng, float wi[3], float wo[3]) {
+  vec3 a = v3_from_spherical(acos(core_rng_uniform(rng)), 2 * M_PI * core_rng_uniform(rng));
+  vec3 b = v3_from_spherical(acos(core_rng_uniform(rng)), 2 * M_PI * core_rng_uniform(rng));
   wi[0] = (float)a.x, wi[1] = (float)a.y, wi[2] = (float)a.z;
   wo[0] = (float)b.x, wo[1] = (float)b.y, wo[2] = (float)b.z;
 }
@@ -57,8 +57,8 @@ static void test_halfdiff_known_cases(void) {
 /* d is unit, d.z = cos θd = ωi·h, and d does not change when both directions
  * turn about the normal (isotropy). */
 static void test_halfdiff_invariants(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 7, 0);
+  core_rng rng;
+  core_rng_init(&rng, 7, 0);
   for (int t = 0; t < 200; t++) {
     float fi[3], fo[3];
     random_pair(&rng, fi, fo);
@@ -68,7 +68,7 @@ static void test_halfdiff_invariants(void) {
     CHECK_NEAR(d[0] * d[0] + d[1] * d[1] + d[2] * d[2], 1.0, 1e-6);
     CHECK_NEAR(h[0] * h[0] + h[1] * h[1] + h[2] * h[2], 1.0, 1e-9);
     CHECK_NEAR(d[2], wi[0] * h[0] + wi[1] * h[1] + wi[2] * h[2], 1e-9);
-    double phi = 2 * M_PI * nbrdf_rng_uniform(&rng), c = cos(phi), s = sin(phi);
+    double phi = 2 * M_PI * core_rng_uniform(&rng), c = cos(phi), s = sin(phi);
     double ri[3] = {c * wi[0] - s * wi[1], s * wi[0] + c * wi[1], wi[2]};
     double ro[3] = {c * wo[0] - s * wo[1], s * wo[0] + c * wo[1], wo[2]};
     double h2[3], d2[3];
@@ -99,5 +99,5 @@ int main(void) {
   RUN(test_halfdiff_known_cases);
   RUN(test_halfdiff_invariants);
   RUN(test_frequency_features);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -56,7 +56,7 @@ static void test_gradients(void) {
   {
     model_albedo_quad q;
     CHECK_OK(model_albedo_quad_init(&q, o.theta_deg[4] * M_PI / 180.0, o.samples,
-                                    nbrdf_hash64(o.seed, 5), 0.0, &err),
+                                    core_hash64(o.seed, 5), 0.0, &err),
              &err);
     model_runner run;
     CHECK_OK(model_runner_create(dec->nn, 64, NBRDF_NN_INFER, &run, &err), &err);
@@ -74,7 +74,7 @@ static void test_gradients(void) {
     model_runner_destroy(&run);
     model_albedo_quad_free(&q);
   }
-  size_t np = nbrdf_nn_param_count(dec->nn);
+  size_t np = nn_param_count(dec->nn);
   float *gl = calloc(N * D, sizeof *gl), *gw = calloc(np, sizeof *gw);
   double p;
   CHECK_OK(model_energy_add(e, N, lat, ceil, 5, gl, gw, &p, NULL, &err), &err);
@@ -106,7 +106,7 @@ static void test_gradients(void) {
   }
   CHECK(bad == 0);
   /* Weights: every 97th parameter. */
-  float *w = nbrdf_nn_params(dec->nn);
+  float *w = nn_params(dec->nn);
   double wmax = 0.0;
   for (size_t k = 0; k < np; k++)
     wmax = fmax(wmax, fabs(gw[k]));
@@ -145,5 +145,5 @@ static void test_options(void) {
 int main(void) {
   RUN(test_gradients);
   RUN(test_options);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

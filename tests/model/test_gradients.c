@@ -23,15 +23,15 @@ static double max_abs(const float *x, size_t n) {
   return m;
 }
 
-static void fill_normal(nbrdf_rng *rng, float *x, size_t n, double s) {
+static void fill_normal(core_rng *rng, float *x, size_t n, double s) {
   for (size_t i = 0; i < n; i++)
-    x[i] = (float)(s * nbrdf_rng_normal(rng));
+    x[i] = (float)(s * core_rng_normal(rng));
 }
 
-static void random_dirs(nbrdf_rng *rng, float *w, size_t n) {
+static void random_dirs(core_rng *rng, float *w, size_t n) {
   for (size_t k = 0; k < n; k++) {
-    double z = 0.05 + 0.95 * nbrdf_rng_uniform(rng), r = sqrt(1 - z * z);
-    double phi = 2 * M_PI * nbrdf_rng_uniform(rng);
+    double z = 0.05 + 0.95 * core_rng_uniform(rng), r = sqrt(1 - z * z);
+    double phi = 2 * M_PI * core_rng_uniform(rng);
     w[3 * k] = (float)(r * cos(phi)), w[3 * k + 1] = (float)(r * sin(phi)), w[3 * k + 2] = (float)z;
   }
 }
@@ -41,15 +41,15 @@ static void random_dirs(nbrdf_rng *rng, float *w, size_t n) {
 enum { BATCH = 5 };
 
 typedef struct linear_ctx {
-  nbrdf_nn *nn;
-  nbrdf_nn_workspace *ws;
+  nn_network *nn;
+  nn_workspace *ws;
   float *x, *y, *a;
   int rows, outputs;
 } linear_ctx;
 
 static double linear_loss(void *p) {
   linear_ctx *c = p;
-  nbrdf_nn_forward(c->nn, c->ws, c->x, c->rows, c->y, NULL);
+  nn_forward(c->nn, c->ws, c->x, c->rows, c->y, NULL);
   double l = 0.0;
   for (int i = 0; i < c->rows * c->outputs; i++)
     l += (double)c->a[i] * c->y[i];
@@ -57,36 +57,36 @@ static double linear_loss(void *p) {
 }
 
 /* Checks d(Σ a·y)/d(weights) and /d(inputs [cols lo, hi)) of a network on x. */
-static void check_network(const char *what, nbrdf_nn *nn, float *x, int rows, int lo, int hi,
-                          nbrdf_rng *rng) {
+static void check_network(const char *what, nn_network *nn, float *x, int rows, int lo, int hi,
+                          core_rng *rng) {
   nbrdf_error err_ = {0}, *err = &err_;
-  linear_ctx c = {nn, NULL, x, NULL, NULL, rows, nbrdf_nn_outputs(nn)};
-  int in = nbrdf_nn_inputs(nn);
-  size_t np = nbrdf_nn_param_count(nn);
+  linear_ctx c = {nn, NULL, x, NULL, NULL, rows, nn_outputs(nn)};
+  int in = nn_inputs(nn);
+  size_t np = nn_param_count(nn);
   c.y = malloc(sizeof(float) * rows * c.outputs);
   c.a = malloc(sizeof(float) * rows * c.outputs);
   float *dx = malloc(sizeof(float) * rows * in), *grad = calloc(np, sizeof(float));
   fill_normal(rng, c.a, (size_t)rows * c.outputs, 1.0);
-  CHECK_OK(nbrdf_nn_workspace_create(nn, rows, NBRDF_NN_TRAIN, &c.ws, err), err);
+  CHECK_OK(nn_workspace_create(nn, rows, NBRDF_NN_TRAIN, &c.ws, err), err);
   linear_loss(&c);
-  CHECK_OK(nbrdf_nn_backward(nn, c.ws, c.a, dx, grad, err), err);
+  CHECK_OK(nn_backward(nn, c.ws, c.a, dx, grad, err), err);
   double gs = max_abs(grad, np), xs = max_abs(dx, (size_t)rows * in);
-  float *params = nbrdf_nn_params(nn);
+  float *params = nn_params(nn);
   for (int t = 0; t < 60; t++) {
-    int i = (int)(nbrdf_rng_uniform(rng) * np);
+    int i = (int)(core_rng_uniform(rng) * np);
     fd_check(what, i, params + i, grad[i], linear_loss, &c, 1e-3, gs);
   }
   for (int r = 0; r < rows; r++)
     for (int j = lo; j < hi; j++)
       fd_check(what, r * in + j, x + r * in + j, dx[r * in + j], linear_loss, &c, 1e-3, xs);
-  nbrdf_nn_workspace_destroy(c.ws);
+  nn_workspace_destroy(c.ws);
   free(c.y), free(c.a), free(dx), free(grad);
 }
 
 static void test_decoder_presets_small(void) {
   nbrdf_error err_ = {0}, *err = &err_;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 21, 0);
+  core_rng rng;
+  core_rng_init(&rng, 21, 0);
   for (int p = 0; model_decoder_presets[p]; p++) {
     model_decoder_config preset, cfg;
     CHECK_OK(model_decoder_preset(model_decoder_presets[p], 8, &preset, err), err);
@@ -113,8 +113,8 @@ static void test_decoder_presets_small(void) {
 
 static void test_layering_network(void) {
   nbrdf_error err_ = {0}, *err = &err_;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 22, 0);
+  core_rng rng;
+  core_rng_init(&rng, 22, 0);
   model_layering *net = NULL;
   CHECK_OK(model_layering_create("small", 6, 4, &net, err), err);
   if (!net) return;
@@ -122,7 +122,7 @@ static void test_layering_network(void) {
   fill_normal(&rng, top, BATCH * 6, 1.0);
   fill_normal(&rng, bottom, BATCH * 6, 1.0);
   for (int k = 0; k < BATCH; k++)
-    albedo[k] = (float)nbrdf_rng_uniform(&rng), sigma_t[k] = (float)k;
+    albedo[k] = (float)core_rng_uniform(&rng), sigma_t[k] = (float)k;
   model_layering_fill_inputs(net, BATCH, top, bottom, albedo, sigma_t, x);
   CHECK_NEAR(x[13], log1p(0.0), 0.0);
   CHECK_NEAR(x[4 * 14 + 13], log1p(4.0), 1e-6);
@@ -133,13 +133,13 @@ static void test_layering_network(void) {
 /* The sampler through its output transform: L = Σ a0 σ + a1 w. */
 typedef struct sampler_ctx {
   model_sampler *net;
-  nbrdf_nn_workspace *ws;
+  nn_workspace *ws;
   float *x, y[2 * BATCH], a[2 * BATCH];
 } sampler_ctx;
 
 static double sampler_loss(void *p) {
   sampler_ctx *c = p;
-  nbrdf_nn_forward(c->net->nn, c->ws, c->x, BATCH, c->y, NULL);
+  nn_forward(c->net->nn, c->ws, c->x, BATCH, c->y, NULL);
   double l = 0.0;
   for (int k = 0; k < BATCH; k++) {
     float sigma, w;
@@ -151,18 +151,18 @@ static double sampler_loss(void *p) {
 
 static void test_sampler_network(void) {
   nbrdf_error err_ = {0}, *err = &err_;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 23, 0);
+  core_rng rng;
+  core_rng_init(&rng, 23, 0);
   sampler_ctx c = {0};
   CHECK_OK(model_sampler_create("default", 6, 5, &c.net, err), err);
   if (!c.net) return;
   float x[BATCH * 6], dx[BATCH * 6], dy[2 * BATCH];
-  size_t np = nbrdf_nn_param_count(c.net->nn);
+  size_t np = nn_param_count(c.net->nn);
   float *grad = calloc(np, sizeof(float));
   c.x = x;
   fill_normal(&rng, x, BATCH * 6, 1.0);
   fill_normal(&rng, c.a, 2 * BATCH, 1.0);
-  CHECK_OK(nbrdf_nn_workspace_create(c.net->nn, BATCH, NBRDF_NN_TRAIN, &c.ws, err), err);
+  CHECK_OK(nn_workspace_create(c.net->nn, BATCH, NBRDF_NN_TRAIN, &c.ws, err), err);
   sampler_loss(&c);
   for (int k = 0; k < BATCH; k++) {
     float sigma, w, ds, dw;
@@ -170,11 +170,11 @@ static void test_sampler_network(void) {
     CHECK(sigma > 0.0f && w >= 0.0f && w <= 1.0f);
     dy[2 * k] = c.a[2 * k] * ds, dy[2 * k + 1] = c.a[2 * k + 1] * dw;
   }
-  CHECK_OK(nbrdf_nn_backward(c.net->nn, c.ws, dy, dx, grad, err), err);
+  CHECK_OK(nn_backward(c.net->nn, c.ws, dy, dx, grad, err), err);
   double gs = max_abs(grad, np), xs = max_abs(dx, BATCH * 6);
-  float *params = nbrdf_nn_params(c.net->nn);
+  float *params = nn_params(c.net->nn);
   for (int t = 0; t < 60; t++) {
-    int i = (int)(nbrdf_rng_uniform(&rng) * np);
+    int i = (int)(core_rng_uniform(&rng) * np);
     fd_check("sampler", i, params + i, grad[i], sampler_loss, &c, 1e-3, gs);
   }
   for (int i = 0; i < BATCH * 6; i++)
@@ -185,7 +185,7 @@ static void test_sampler_network(void) {
   CHECK(isfinite(s) && s > 100.0f && w == 0.0f);
   model_sampler_transform(small, &s, &w, NULL, NULL);
   CHECK(s >= 1e-3f && w == 1.0f);
-  nbrdf_nn_workspace_destroy(c.ws);
+  nn_workspace_destroy(c.ws);
   model_sampler_destroy(c.net);
   free(grad);
 }
@@ -248,8 +248,8 @@ static double fit_loss(void *p) {
 
 static void test_fit_gradients(void) {
   nbrdf_error err_ = {0}, *err = &err_;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 24, 0);
+  core_rng rng;
+  core_rng_init(&rng, 24, 0);
   enum { NB = 3, PER = 6, D = 8 };
   float wi[NB * PER * 3], wo[NB * PER * 3], f[NB * PER], latents[NB * D];
   size_t offsets[NB + 1] = {0, PER, 2 * PER, 3 * PER};
@@ -257,7 +257,7 @@ static void test_fit_gradients(void) {
   random_dirs(&rng, wo, NB * PER);
   /* Targets far above what a fresh network predicts, so no residual changes sign. */
   for (int i = 0; i < NB * PER; i++)
-    f[i] = (float)(30.0 + 20.0 * nbrdf_rng_uniform(&rng));
+    f[i] = (float)(30.0 + 20.0 * core_rng_uniform(&rng));
   const float brdf_weight[NB] = {0.5f, 2.0f, 1.25f};
   model_samples s = {NB, offsets, wi, wo, f, brdf_weight};
   for (int out = 0; out < 2; out++) {
@@ -284,16 +284,16 @@ static void test_fit_gradients(void) {
       CHECK_OK(model_fit_gradient(fit, &s, 3, &l0, err), err);
       float gl[NB * D];
       memcpy(gl, model_fit_grad_latent(fit), sizeof gl);
-      size_t np = nbrdf_nn_param_count(dec->nn);
+      size_t np = nn_param_count(dec->nn);
       float *gw = malloc(np * sizeof(float));
       memcpy(gw, model_fit_grad_weights(fit), np * sizeof(float));
       fit_ctx c = {fit, &s};
       const char *name = model_loss_name(o.loss);
       for (int i = 0; i < NB * D; i++)
         fd_check(name, i, latents + i, gl[i], fit_loss, &c, 1e-3, max_abs(gl, NB * D));
-      float *params = nbrdf_nn_params(dec->nn);
+      float *params = nn_params(dec->nn);
       for (int t = 0; t < 30; t++) {
-        int i = (int)(nbrdf_rng_uniform(&rng) * np);
+        int i = (int)(core_rng_uniform(&rng) * np);
         fd_check(name, i, params + i, gw[i], fit_loss, &c, 1e-3, max_abs(gw, np));
       }
       /* Another step draws other rows: another loss at the same latents. */
@@ -313,5 +313,5 @@ int main(void) {
   RUN(test_sampler_network);
   RUN(test_losses);
   RUN(test_fit_gradients);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

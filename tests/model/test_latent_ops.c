@@ -21,11 +21,11 @@ static void test_interpolate(void) {
   for (int j = 0; j < 4; j++)
     CHECK(out2[j] == out[j]);
   /* Identical latents come back bit for bit, whatever the weights. */
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 3, 0);
+  core_rng rng;
+  core_rng_init(&rng, 3, 0);
   float same[5 * 32], avg[32];
   for (int j = 0; j < 32; j++)
-    same[j] = (float)nbrdf_rng_normal(&rng);
+    same[j] = (float)core_rng_normal(&rng);
   for (int k = 1; k < 5; k++)
     memcpy(same + 32 * k, same, 32 * sizeof(float));
   double ww[5] = {0.1, 0.3, 0.05, 0.35, 0.2};
@@ -50,10 +50,10 @@ static void test_table_lookup(void) {
   const float alpha[4] = {0.01f, 0.1f, 0.4f, 1.0f}, eta[3] = {1.05f, 1.5f, 2.0f};
   model_base_table t;
   CHECK_OK(model_base_table_init(&t, MODEL_TABLE_DIELECTRIC, 3, 4, alpha, 3, eta, err), err);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 4, 0);
+  core_rng rng;
+  core_rng_init(&rng, 4, 0);
   for (int i = 0; i < 4 * 3 * 3; i++)
-    t.latents[i] = (float)nbrdf_rng_normal(&rng);
+    t.latents[i] = (float)core_rng_normal(&rng);
   /* Exact at every grid node. */
   for (int a = 0; a < 4; a++) {
     for (int b = 0; b < 3; b++) {
@@ -103,13 +103,13 @@ static void test_layering_presets(void) {
   const char *names[] = {"paper", "medium", "small"};
   const int64_t macs[] = {1098752, 221696, 45312};
   for (int i = 0; i < 3; i++) {
-    nbrdf_nn_spec spec;
+    nn_spec spec;
     CHECK_OK(model_layering_spec(names[i], 32, &spec, &err), &err);
-    CHECK_MSG(nbrdf_nn_spec_macs(&spec) == macs[i], "%s: %lld MACs", names[i],
-              (long long)nbrdf_nn_spec_macs(&spec));
+    CHECK_MSG(nn_spec_macs(&spec) == macs[i], "%s: %lld MACs", names[i],
+              (long long)nn_spec_macs(&spec));
     CHECK(!strcmp(model_layering_presets[i], names[i]));
   }
-  nbrdf_nn_spec spec;
+  nn_spec spec;
   CHECK(model_layering_spec("huge", 32, &spec, &err) == NBRDF_ERR_ARGUMENT);
 }
 
@@ -117,5 +117,5 @@ int main(void) {
   RUN(test_layering_presets);
   RUN(test_interpolate);
   RUN(test_table_lookup);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -69,13 +69,13 @@ static void test_sampler_matches_pdf(void) {
   const double sigma = 0.35, w = 0.3;
   vec3 wi = v3_from_spherical(50.0 * M_PI / 180.0, 0.0);
   static double count[NZ][NP];
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 11, 0);
+  core_rng rng;
+  core_rng_init(&rng, 11, 0);
   int invalid = 0;
   for (int k = 0; k < N; k++) {
     vec3 wo;
     double pdf;
-    double u0 = nbrdf_rng_uniform(&rng), u1 = nbrdf_rng_uniform(&rng), u2 = nbrdf_rng_uniform(&rng);
+    double u0 = core_rng_uniform(&rng), u1 = core_rng_uniform(&rng), u2 = core_rng_uniform(&rng);
     if (!model_proxy_sample(sigma, w, wi, u0, u1, u2, &wo, &pdf)) {
       invalid++;
       continue;
@@ -110,22 +110,22 @@ static void test_sampler_matches_pdf(void) {
 }
 
 static void test_limits(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 5, 0);
+  core_rng rng;
+  core_rng_init(&rng, 5, 0);
   vec3 wi = v3_from_spherical(0.6, 1.0), mirror = v3(-wi.x, -wi.y, wi.z);
   /* σ → its floor: every Gaussian sample is (almost) the mirror direction. */
   for (int k = 0; k < 1000; k++) {
     vec3 wo;
     double pdf;
-    int ok = model_proxy_sample(MODEL_PROXY_SIGMA_MIN, 0.0, wi, nbrdf_rng_uniform(&rng),
-                                nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng), &wo, &pdf);
+    int ok = model_proxy_sample(MODEL_PROXY_SIGMA_MIN, 0.0, wi, core_rng_uniform(&rng),
+                                core_rng_uniform(&rng), core_rng_uniform(&rng), &wo, &pdf);
     CHECK(ok);
     CHECK(acos(fmin(1.0, v3_dot(wo, mirror))) < 0.012);
     CHECK(pdf > 1.0); /* far above Lambert's 1/π */
   }
   /* w = 1: exactly Lambert; w = 0: exactly the Gaussian lobe. */
   for (int k = 0; k < 100; k++) {
-    vec3 wo = v3_from_spherical(acos(nbrdf_rng_uniform(&rng)), 2 * M_PI * nbrdf_rng_uniform(&rng));
+    vec3 wo = v3_from_spherical(acos(core_rng_uniform(&rng)), 2 * M_PI * core_rng_uniform(&rng));
     CHECK_REL(model_proxy_pdf(0.2, 1.0, wi, wo), wo.z / M_PI, 1e-14, 0.0);
     CHECK_REL(model_proxy_pdf(0.2, 0.0, wi, wo), model_proxy_gaussian_pdf(0.2, wi, wo), 1e-14, 0.0);
     /* σ → ∞: the projected half vector is uniform on the disk, p(h) = cos θh / π. */
@@ -149,5 +149,5 @@ int main(void) {
   RUN(test_sampler_matches_pdf);
   RUN(test_limits);
   RUN(test_public_wrappers);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

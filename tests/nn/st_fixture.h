@@ -40,16 +40,16 @@ static inline unsigned char *st_build(const char *json, size_t data_size, size_t
 
 /* Opens a hand-built file from memory under the label "t.safetensors". */
 static inline nbrdf_status st_open_json(const char *json, size_t data_size, nbrdf_error *err,
-                                        nbrdf_st_reader **out) {
+                                        nn_st_reader **out) {
   size_t size = 0;
   unsigned char *bytes = st_build(json, data_size, &size);
-  nbrdf_st_reader *r = NULL;
-  nbrdf_status st = nbrdf_st_open_memory(bytes, size, "t.safetensors", &r, err);
+  nn_st_reader *r = NULL;
+  nbrdf_status st = nn_st_open_memory(bytes, size, "t.safetensors", &r, err);
   free(bytes);
   if (out)
     *out = r;
   else
-    nbrdf_st_close(r);
+    nn_st_close(r);
   return st;
 }
 

@@ -54,5 +54,5 @@ static void test_info(void) {
 int main(void) {
   RUN(test_wider_core);
   RUN(test_info);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

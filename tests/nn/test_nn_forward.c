@@ -35,22 +35,22 @@ static void ref_ln(const float *gamma, const float *beta, int w, double *u, int 
   }
 }
 
-static const float *P(const nbrdf_nn *nn, int layer, const char *part) {
+static const float *P(const nn_network *nn, int layer, const char *part) {
   char name[64];
   snprintf(name, sizeof name, "layers.%d.%s", layer, part);
-  const nbrdf_nn_tensor *t = nbrdf_nn_find_tensor(nn, name);
-  return t ? nbrdf_nn_params_const(nn) + t->offset : NULL;
+  const nn_tensor *t = nn_find_tensor(nn, name);
+  return t ? nn_params_const(nn) + t->offset : NULL;
 }
 
-static void ref_forward(const nbrdf_nn *nn, const float *x, double *y) {
-  const nbrdf_nn_spec *s = nbrdf_nn_get_spec(nn);
+static void ref_forward(const nn_network *nn, const float *x, double *y) {
+  const nn_spec *s = nn_get_spec(nn);
   static double act[NBRDF_NN_MAX_LAYERS + 1][MAXW];
   int w[NBRDF_NN_MAX_LAYERS + 1];
   w[0] = s->n_inputs;
   for (int c = 0; c < w[0]; c++)
     act[0][c] = x[c];
   for (int i = 0; i < s->n_layers; i++) {
-    const nbrdf_nn_layer_spec *l = &s->layers[i];
+    const nn_layer_spec *l = &s->layers[i];
     const double *in = act[i];
     double *out = act[i + 1], skip[MAXW] = {0}, h[MAXW];
     int win = w[i];
@@ -104,50 +104,50 @@ static void ref_forward(const nbrdf_nn *nn, const float *x, double *y) {
 /* ---- fixtures ---- */
 
 /* Every block kind, identity and projected skips, widths that are not multiples of 8. */
-static nbrdf_nn *make_mixed(uint64_t seed) {
+static nn_network *make_mixed(uint64_t seed) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
-  nbrdf_nn_spec_init(&s, 13);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_PLAIN, 36);
-  int r = nbrdf_nn_spec_add(&s, NBRDF_NN_RESIDUAL, 0);
-  nbrdf_nn_spec_skip(&s, r, 0);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_LINEAR, 20);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_LAYERNORM, 0);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0);
-  int p = nbrdf_nn_spec_add(&s, NBRDF_NN_PLAIN, 36);
-  nbrdf_nn_spec_skip(&s, p, 2);
-  int o = nbrdf_nn_spec_add(&s, NBRDF_NN_LINEAR, 3);
-  nbrdf_nn_spec_skip(&s, o, 0);
-  nbrdf_nn *nn = NULL;
-  CHECK_OK(nbrdf_nn_create(&s, &nn, err), err);
+  nn_spec s;
+  nn_spec_init(&s, 13);
+  nn_spec_add(&s, NBRDF_NN_PLAIN, 36);
+  int r = nn_spec_add(&s, NBRDF_NN_RESIDUAL, 0);
+  nn_spec_skip(&s, r, 0);
+  nn_spec_add(&s, NBRDF_NN_LINEAR, 20);
+  nn_spec_add(&s, NBRDF_NN_LAYERNORM, 0);
+  nn_spec_add(&s, NBRDF_NN_RELU, 0);
+  int p = nn_spec_add(&s, NBRDF_NN_PLAIN, 36);
+  nn_spec_skip(&s, p, 2);
+  int o = nn_spec_add(&s, NBRDF_NN_LINEAR, 3);
+  nn_spec_skip(&s, o, 0);
+  nn_network *nn = NULL;
+  CHECK_OK(nn_create(&s, &nn, err), err);
   if (!nn) return NULL;
-  nbrdf_nn_init_params(nn, seed);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 5);
-  float *q = nbrdf_nn_params(nn);
-  for (size_t i = 0; i < nbrdf_nn_param_count(nn); i++)
-    q[i] += (float)(0.2 * nbrdf_rng_normal(&rng));
+  nn_init_params(nn, seed);
+  core_rng rng;
+  core_rng_init(&rng, seed, 5);
+  float *q = nn_params(nn);
+  for (size_t i = 0; i < nn_param_count(nn); i++)
+    q[i] += (float)(0.2 * core_rng_normal(&rng));
   return nn;
 }
 
 static float *random_rows(int rows, int w, uint64_t seed) {
   float *x = malloc(sizeof(float) * (size_t)rows * w);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 0);
+  core_rng rng;
+  core_rng_init(&rng, seed, 0);
   for (int i = 0; i < rows * w; i++)
-    x[i] = (float)nbrdf_rng_normal(&rng);
+    x[i] = (float)core_rng_normal(&rng);
   return x;
 }
 
 static void test_matches_reference(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn *nn = make_mixed(3);
+  nn_network *nn = make_mixed(3);
   if (!nn) return;
-  const int rows = 37, in = nbrdf_nn_inputs(nn), out = nbrdf_nn_outputs(nn);
+  const int rows = 37, in = nn_inputs(nn), out = nn_outputs(nn);
   float *x = random_rows(rows, in, 11), y[37 * 3];
-  nbrdf_nn_workspace *ws = NULL;
-  CHECK_OK(nbrdf_nn_workspace_create(nn, rows, NBRDF_NN_TRAIN, &ws, err), err);
-  CHECK_OK(nbrdf_nn_forward(nn, ws, x, rows, y, err), err);
+  nn_workspace *ws = NULL;
+  CHECK_OK(nn_workspace_create(nn, rows, NBRDF_NN_TRAIN, &ws, err), err);
+  CHECK_OK(nn_forward(nn, ws, x, rows, y, err), err);
   /* Float32 rounding through seven layers: about 1e-6 of the outputs' scale. */
   static double ref[37][MAXW];
   double rms = 0, worst = 0;
@@ -164,130 +164,127 @@ static void test_matches_reference(void) {
       if (e > worst) worst = e;
     }
   CHECK_MSG(worst < 1e-5, "forward differs from the reference by %.3g (relative)", worst);
-  nbrdf_nn_workspace_destroy(ws);
+  nn_workspace_destroy(ws);
   free(x);
-  nbrdf_nn_destroy(nn);
+  nn_destroy(nn);
 }
 
 /* Inference (ping-pong buffers, chunks of max_batch, sgemv for one row) agrees with training
  * mode; the same input row gives the same output whatever batch it comes in. */
 static void test_modes_and_chunks(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn *nn = make_mixed(4);
+  nn_network *nn = make_mixed(4);
   if (!nn) return;
-  const int rows = 100, in = nbrdf_nn_inputs(nn), out = nbrdf_nn_outputs(nn);
+  const int rows = 100, in = nn_inputs(nn), out = nn_outputs(nn);
   float *x = random_rows(rows, in, 12), ya[300], yb[300], yc[300];
-  nbrdf_nn_workspace *wt = NULL, *wi = NULL, *w1 = NULL;
-  CHECK_OK(nbrdf_nn_workspace_create(nn, rows, NBRDF_NN_TRAIN, &wt, err), err);
-  CHECK_OK(nbrdf_nn_workspace_create(nn, 7, NBRDF_NN_INFER, &wi, err), err);
-  CHECK_OK(nbrdf_nn_workspace_create(nn, 1, NBRDF_NN_INFER, &w1, err), err);
-  CHECK(nbrdf_nn_workspace_max_batch(wi) == 7);
-  CHECK_OK(nbrdf_nn_forward(nn, wt, x, rows, ya, err), err);
-  CHECK_OK(nbrdf_nn_forward(nn, wi, x, rows, yb, err), err);
-  CHECK_OK(nbrdf_nn_forward(nn, w1, x, rows, yc, err), err);
+  nn_workspace *wt = NULL, *wi = NULL, *w1 = NULL;
+  CHECK_OK(nn_workspace_create(nn, rows, NBRDF_NN_TRAIN, &wt, err), err);
+  CHECK_OK(nn_workspace_create(nn, 7, NBRDF_NN_INFER, &wi, err), err);
+  CHECK_OK(nn_workspace_create(nn, 1, NBRDF_NN_INFER, &w1, err), err);
+  CHECK(nn_workspace_max_batch(wi) == 7);
+  CHECK_OK(nn_forward(nn, wt, x, rows, ya, err), err);
+  CHECK_OK(nn_forward(nn, wi, x, rows, yb, err), err);
+  CHECK_OK(nn_forward(nn, w1, x, rows, yc, err), err);
   for (int i = 0; i < rows * out; i++) {
     CHECK_REL(ya[i], yb[i], 1e-5, 1e-6);
     CHECK_REL(ya[i], yc[i], 1e-5, 1e-6);
   }
   /* Deterministic: the same call twice gives the same bits. */
-  CHECK_OK(nbrdf_nn_forward(nn, wi, x, rows, yc, err), err);
+  CHECK_OK(nn_forward(nn, wi, x, rows, yc, err), err);
   CHECK(memcmp(yb, yc, sizeof(float) * rows * out) == 0);
   /* A batch larger than the inference block (about 2 MiB per buffer: 14560 rows at width 36)
    * is processed block by block, and the workspace does not grow with max_batch. */
-  const nbrdf_nn_spec *spec = nbrdf_nn_get_spec(nn);
-  CHECK(nbrdf_nn_workspace_bytes(spec, 1 << 20, NBRDF_NN_INFER) ==
-        nbrdf_nn_workspace_bytes(spec, 14560, NBRDF_NN_INFER));
-  CHECK(nbrdf_nn_workspace_bytes(spec, 14560, NBRDF_NN_INFER) >
-        nbrdf_nn_workspace_bytes(spec, 14000, NBRDF_NN_INFER));
+  const nn_spec *spec = nn_get_spec(nn);
+  CHECK(nn_workspace_bytes(spec, 1 << 20, NBRDF_NN_INFER) ==
+        nn_workspace_bytes(spec, 14560, NBRDF_NN_INFER));
+  CHECK(nn_workspace_bytes(spec, 14560, NBRDF_NN_INFER) >
+        nn_workspace_bytes(spec, 14000, NBRDF_NN_INFER));
   enum { BIG = 20000 };
   float *xb = random_rows(BIG, in, 14), *yd = malloc(sizeof(float) * BIG * out),
         *ye = malloc(sizeof(float) * BIG * out);
-  nbrdf_nn_workspace *wbig = NULL, *wsmall = NULL;
-  CHECK_OK(nbrdf_nn_workspace_create(nn, 1 << 20, NBRDF_NN_INFER, &wbig, err), err);
-  CHECK_OK(nbrdf_nn_workspace_create(nn, 999, NBRDF_NN_INFER, &wsmall, err), err);
-  CHECK_OK(nbrdf_nn_forward(nn, wbig, xb, BIG, yd, err), err);
-  CHECK_OK(nbrdf_nn_forward(nn, wsmall, xb, BIG, ye, err), err);
+  nn_workspace *wbig = NULL, *wsmall = NULL;
+  CHECK_OK(nn_workspace_create(nn, 1 << 20, NBRDF_NN_INFER, &wbig, err), err);
+  CHECK_OK(nn_workspace_create(nn, 999, NBRDF_NN_INFER, &wsmall, err), err);
+  CHECK_OK(nn_forward(nn, wbig, xb, BIG, yd, err), err);
+  CHECK_OK(nn_forward(nn, wsmall, xb, BIG, ye, err), err);
   int differ = 0;
   for (int i = 0; i < BIG * out; i++)
     differ += !(fabsf(yd[i] - ye[i]) <= 1e-5f * (1.0f + fabsf(ye[i])));
   CHECK_MSG(differ == 0, "%d outputs differ between inference block sizes", differ);
-  nbrdf_nn_workspace_destroy(wbig);
-  nbrdf_nn_workspace_destroy(wsmall);
+  nn_workspace_destroy(wbig);
+  nn_workspace_destroy(wsmall);
   free(xb);
   free(yd);
   free(ye);
-  size_t train = nbrdf_nn_workspace_bytes(nbrdf_nn_get_spec(nn), 1000, NBRDF_NN_TRAIN);
-  size_t infer = nbrdf_nn_workspace_bytes(nbrdf_nn_get_spec(nn), 1000, NBRDF_NN_INFER);
+  size_t train = nn_workspace_bytes(nn_get_spec(nn), 1000, NBRDF_NN_TRAIN);
+  size_t infer = nn_workspace_bytes(nn_get_spec(nn), 1000, NBRDF_NN_INFER);
   CHECK(infer > 0 && train > 2 * infer);
-  nbrdf_nn_workspace_destroy(wt);
-  nbrdf_nn_workspace_destroy(wi);
-  nbrdf_nn_workspace_destroy(w1);
+  nn_workspace_destroy(wt);
+  nn_workspace_destroy(wi);
+  nn_workspace_destroy(w1);
   free(x);
-  nbrdf_nn_destroy(nn);
+  nn_destroy(nn);
 }
 
 /* One network, one workspace per thread, used at the same time: the same numbers as alone. */
 static void test_threads_share_a_network(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn *nn = make_mixed(6);
+  nn_network *nn = make_mixed(6);
   if (!nn) return;
   enum { ROWS = 300, T = 2 };
-  const int in = nbrdf_nn_inputs(nn), out = nbrdf_nn_outputs(nn);
+  const int in = nn_inputs(nn), out = nn_outputs(nn);
   float *x = random_rows(ROWS, in, 13), alone[ROWS * 3], together[T][ROWS * 3];
-  nbrdf_nn_workspace *ws[T] = {NULL, NULL};
+  nn_workspace *ws[T] = {NULL, NULL};
   for (int t = 0; t < T; t++)
-    CHECK_OK(nbrdf_nn_workspace_create(nn, ROWS, NBRDF_NN_TRAIN, &ws[t], err), err);
-  CHECK_OK(nbrdf_nn_forward(nn, ws[0], x, ROWS, alone, err), err);
+    CHECK_OK(nn_workspace_create(nn, ROWS, NBRDF_NN_TRAIN, &ws[t], err), err);
+  CHECK_OK(nn_forward(nn, ws[0], x, ROWS, alone, err), err);
   int failures = 0;
 #pragma omp parallel for num_threads(T) reduction(+ : failures)
   for (int t = 0; t < T; t++)
     for (int rep = 0; rep < 20; rep++)
-      failures += nbrdf_nn_forward(nn, ws[t], x, ROWS, together[t], NULL) != NBRDF_OK;
+      failures += nn_forward(nn, ws[t], x, ROWS, together[t], NULL) != NBRDF_OK;
   CHECK(failures == 0);
   for (int t = 0; t < T; t++)
     CHECK(memcmp(alone, together[t], sizeof(float) * ROWS * out) == 0);
   for (int t = 0; t < T; t++)
-    nbrdf_nn_workspace_destroy(ws[t]);
+    nn_workspace_destroy(ws[t]);
   free(x);
-  nbrdf_nn_destroy(nn);
+  nn_destroy(nn);
 }
 
 static void test_misuse_refused(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn *nn = make_mixed(5);
+  nn_network *nn = make_mixed(5);
   if (!nn) return;
   float x[4 * 13] = {0}, y[4 * 3], g[4 * 3] = {0};
-  nbrdf_nn_workspace *wt = NULL, *wi = NULL, *other = NULL;
-  CHECK_FAILS(nbrdf_nn_workspace_create(nn, 0, NBRDF_NN_TRAIN, &wt, err), NBRDF_ERR_ARGUMENT, err,
+  nn_workspace *wt = NULL, *wi = NULL, *other = NULL;
+  CHECK_FAILS(nn_workspace_create(nn, 0, NBRDF_NN_TRAIN, &wt, err), NBRDF_ERR_ARGUMENT, err,
               "max_batch = 0");
   CHECK(wt == NULL);
-  CHECK_OK(nbrdf_nn_workspace_create(nn, 2, NBRDF_NN_TRAIN, &wt, err), err);
-  CHECK_OK(nbrdf_nn_workspace_create(nn, 2, NBRDF_NN_INFER, &wi, err), err);
-  CHECK_FAILS(nbrdf_nn_backward(nn, wt, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err,
-              "no forward pass");
-  CHECK_FAILS(nbrdf_nn_forward(nn, wt, x, 4, y, err), NBRDF_ERR_ARGUMENT, err, "batch 4 exceeds");
-  CHECK_FAILS(nbrdf_nn_forward(nn, wt, x, 0, y, err), NBRDF_ERR_ARGUMENT, err, "batch = 0");
-  CHECK_FAILS(nbrdf_nn_forward(nn, wt, NULL, 1, y, err), NBRDF_ERR_ARGUMENT, err, "NULL input");
-  CHECK_OK(nbrdf_nn_forward(nn, wi, x, 4, y, err), err); /* inference chunks instead */
-  CHECK_FAILS(nbrdf_nn_backward(nn, wi, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err,
-              "inference only");
-  CHECK_OK(nbrdf_nn_forward(nn, wt, x, 2, y, err), err);
-  CHECK_OK(nbrdf_nn_backward(nn, wt, g, NULL, NULL, err), err);
-  CHECK_FAILS(nbrdf_nn_backward(nn, wt, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_OK(nn_workspace_create(nn, 2, NBRDF_NN_TRAIN, &wt, err), err);
+  CHECK_OK(nn_workspace_create(nn, 2, NBRDF_NN_INFER, &wi, err), err);
+  CHECK_FAILS(nn_backward(nn, wt, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err, "no forward pass");
+  CHECK_FAILS(nn_forward(nn, wt, x, 4, y, err), NBRDF_ERR_ARGUMENT, err, "batch 4 exceeds");
+  CHECK_FAILS(nn_forward(nn, wt, x, 0, y, err), NBRDF_ERR_ARGUMENT, err, "batch = 0");
+  CHECK_FAILS(nn_forward(nn, wt, NULL, 1, y, err), NBRDF_ERR_ARGUMENT, err, "NULL input");
+  CHECK_OK(nn_forward(nn, wi, x, 4, y, err), err); /* inference chunks instead */
+  CHECK_FAILS(nn_backward(nn, wi, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err, "inference only");
+  CHECK_OK(nn_forward(nn, wt, x, 2, y, err), err);
+  CHECK_OK(nn_backward(nn, wt, g, NULL, NULL, err), err);
+  CHECK_FAILS(nn_backward(nn, wt, g, NULL, NULL, err), NBRDF_ERR_ARGUMENT, err,
               "each forward allows one backward");
-  nbrdf_nn_spec s;
-  nbrdf_nn_spec_init(&s, 13);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_LINEAR, 3);
-  nbrdf_nn *small = NULL;
-  CHECK_OK(nbrdf_nn_create(&s, &small, err), err);
-  CHECK_OK(nbrdf_nn_workspace_create(small, 2, NBRDF_NN_INFER, &other, err), err);
-  CHECK_FAILS(nbrdf_nn_forward(nn, other, x, 1, y, err), NBRDF_ERR_MISMATCH, err,
-              "another architecture");
-  nbrdf_nn_workspace_destroy(wt);
-  nbrdf_nn_workspace_destroy(wi);
-  nbrdf_nn_workspace_destroy(other);
-  nbrdf_nn_destroy(small);
-  nbrdf_nn_destroy(nn);
+  nn_spec s;
+  nn_spec_init(&s, 13);
+  nn_spec_add(&s, NBRDF_NN_LINEAR, 3);
+  nn_network *small = NULL;
+  CHECK_OK(nn_create(&s, &small, err), err);
+  CHECK_OK(nn_workspace_create(small, 2, NBRDF_NN_INFER, &other, err), err);
+  CHECK_FAILS(nn_forward(nn, other, x, 1, y, err), NBRDF_ERR_MISMATCH, err, "another architecture");
+  nn_workspace_destroy(wt);
+  nn_workspace_destroy(wi);
+  nn_workspace_destroy(other);
+  nn_destroy(small);
+  nn_destroy(nn);
 }
 
 int main(void) {
@@ -295,5 +292,5 @@ int main(void) {
   RUN(test_modes_and_chunks);
   RUN(test_threads_share_a_network);
   RUN(test_misuse_refused);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -1,4 +1,4 @@
-/* Finite-difference checks of nbrdf_nn_backward: every block kind and whole networks shaped
+/* Finite-difference checks of nn_backward: every block kind and whole networks shaped
  * like the decoder, the layering and the sampling networks, with respect to parameters AND
  * inputs. The loss is L = sum(c * y) with fixed random c, so dL/dy = c. */
 #include <stdlib.h>
@@ -15,15 +15,15 @@
 typedef enum { GC_HONEST, GC_FLIP_TENSOR, GC_ZERO_TENSOR, GC_FLIP_INPUT } gc_sabotage;
 
 typedef struct gc {
-  nbrdf_nn *nn;
-  nbrdf_nn_workspace *ws;
+  nn_network *nn;
+  nn_workspace *ws;
   float x[B * MAX_IN], c[B * MAX_IN], y[B * MAX_IN];
   int in, out;
 } gc;
 
 static double loss(gc *g) {
   nbrdf_error err_s, *err = &err_s;
-  CHECK_OK(nbrdf_nn_forward(g->nn, g->ws, g->x, B, g->y, err), err);
+  CHECK_OK(nn_forward(g->nn, g->ws, g->x, B, g->y, err), err);
   double l = 0;
   for (int i = 0; i < B * g->out; i++)
     l += (double)g->c[i] * g->y[i];
@@ -59,47 +59,47 @@ static int agrees(gc *g, float *v, double analytic, const char *what, int index,
 }
 
 /* Checks the network's gradients; returns the number of coordinates that disagree. */
-static int grad_check(nbrdf_nn *nn, uint64_t seed, gc_sabotage sabotage, int verbose) {
+static int grad_check(nn_network *nn, uint64_t seed, gc_sabotage sabotage, int verbose) {
   nbrdf_error err_s, *err = &err_s;
   static gc g;
   memset(&g, 0, sizeof g);
   g.nn = nn;
-  g.in = nbrdf_nn_inputs(nn);
-  g.out = nbrdf_nn_outputs(nn);
+  g.in = nn_inputs(nn);
+  g.out = nn_outputs(nn);
   CHECK(g.in <= MAX_IN && g.out <= MAX_IN);
-  CHECK_OK(nbrdf_nn_workspace_create(nn, B, NBRDF_NN_TRAIN, &g.ws, err), err);
+  CHECK_OK(nn_workspace_create(nn, B, NBRDF_NN_TRAIN, &g.ws, err), err);
   /* Parameters away from their initial 1/0 values, so that every term of every gradient
    * matters (a missing gamma factor would hide behind gamma = 1). */
-  nbrdf_nn_init_params(nn, seed);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 99);
-  float *p = nbrdf_nn_params(nn);
-  size_t np = nbrdf_nn_param_count(nn);
+  nn_init_params(nn, seed);
+  core_rng rng;
+  core_rng_init(&rng, seed, 99);
+  float *p = nn_params(nn);
+  size_t np = nn_param_count(nn);
   for (size_t i = 0; i < np; i++)
-    p[i] += (float)(0.3 * nbrdf_rng_normal(&rng));
+    p[i] += (float)(0.3 * core_rng_normal(&rng));
   for (int i = 0; i < B * g.in; i++)
-    g.x[i] = (float)nbrdf_rng_normal(&rng);
+    g.x[i] = (float)core_rng_normal(&rng);
   for (int i = 0; i < B * g.out; i++)
-    g.c[i] = (float)(2.0 * nbrdf_rng_uniform(&rng) - 1.0);
+    g.c[i] = (float)(2.0 * core_rng_uniform(&rng) - 1.0);
 
   float *grad = calloc(np, sizeof *grad);
   float dx[B * MAX_IN];
   loss(&g);
-  CHECK_OK(nbrdf_nn_backward(nn, g.ws, g.c, dx, grad, err), err);
-  int victim = nbrdf_nn_tensor_count(nn) > 0 ? (int)(seed % nbrdf_nn_tensor_count(nn)) : -1;
+  CHECK_OK(nn_backward(nn, g.ws, g.c, dx, grad, err), err);
+  int victim = nn_tensor_count(nn) > 0 ? (int)(seed % nn_tensor_count(nn)) : -1;
   if (victim >= 0 && (sabotage == GC_FLIP_TENSOR || sabotage == GC_ZERO_TENSOR)) {
-    const nbrdf_nn_tensor *t = nbrdf_nn_tensor_at(nn, victim);
+    const nn_tensor *t = nn_tensor_at(nn, victim);
     for (size_t i = 0; i < t->count; i++)
       grad[t->offset + i] = sabotage == GC_FLIP_TENSOR ? -grad[t->offset + i] : 0.0f;
   }
   if (sabotage == GC_FLIP_INPUT) dx[0] = -dx[0];
 
   int bad = 0;
-  for (int k = 0; k < nbrdf_nn_tensor_count(nn); k++) {
-    const nbrdf_nn_tensor *t = nbrdf_nn_tensor_at(nn, k);
+  for (int k = 0; k < nn_tensor_count(nn); k++) {
+    const nn_tensor *t = nn_tensor_at(nn, k);
     int n = t->count < 8 ? (int)t->count : 8;
     for (int s = 0; s < n; s++) {
-      size_t i = t->count <= 8 ? (size_t)s : nbrdf_rng_u32(&rng) % t->count;
+      size_t i = t->count <= 8 ? (size_t)s : core_rng_u32(&rng) % t->count;
       /* The victim tensor is checked everywhere, so that sabotage cannot slip through
        * coordinates whose gradient happens to be zero. */
       if (k == victim && sabotage != GC_HONEST && sabotage != GC_FLIP_INPUT) i = (size_t)s;
@@ -114,40 +114,40 @@ static int grad_check(nbrdf_nn *nn, uint64_t seed, gc_sabotage sabotage, int ver
     float *grad2 = calloc(np, sizeof *grad2);
     float dx2[B * MAX_IN];
     loss(&g);
-    CHECK_OK(nbrdf_nn_backward(nn, g.ws, g.c, NULL, grad2, err), err);
+    CHECK_OK(nn_backward(nn, g.ws, g.c, NULL, grad2, err), err);
     CHECK(memcmp(grad, grad2, np * sizeof *grad) == 0);
     loss(&g);
-    CHECK_OK(nbrdf_nn_backward(nn, g.ws, g.c, dx2, NULL, err), err);
+    CHECK_OK(nn_backward(nn, g.ws, g.c, dx2, NULL, err), err);
     CHECK(memcmp(dx, dx2, sizeof(float) * B * g.in) == 0);
     free(grad2);
   }
   free(grad);
-  nbrdf_nn_workspace_destroy(g.ws);
+  nn_workspace_destroy(g.ws);
   return bad;
 }
 
-static nbrdf_nn *make(const nbrdf_nn_spec *spec) {
+static nn_network *make(const nn_spec *spec) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn *nn = NULL;
-  CHECK_OK(nbrdf_nn_create(spec, &nn, err), err);
+  nn_network *nn = NULL;
+  CHECK_OK(nn_create(spec, &nn, err), err);
   return nn;
 }
 
-static void check_spec(const nbrdf_nn_spec *spec, const char *label, uint64_t seed) {
-  nbrdf_nn *nn = make(spec);
+static void check_spec(const nn_spec *spec, const char *label, uint64_t seed) {
+  nn_network *nn = make(spec);
   if (!nn) return;
   int bad = grad_check(nn, seed, GC_HONEST, 1);
   CHECK_MSG(bad == 0, "%s: %d gradient coordinates disagree with finite differences", label, bad);
-  nbrdf_nn_destroy(nn);
+  nn_destroy(nn);
 }
 
-static void one_block(nbrdf_nn_kind kind, int in, int width, int hidden, int skip_from,
+static void one_block(nn_kind kind, int in, int width, int hidden, int skip_from,
                       const char *label) {
-  nbrdf_nn_spec s;
-  nbrdf_nn_spec_init(&s, in);
-  int i = nbrdf_nn_spec_add(&s, kind, width);
+  nn_spec s;
+  nn_spec_init(&s, in);
+  int i = nn_spec_add(&s, kind, width);
   s.layers[i].hidden = hidden;
-  if (skip_from >= 0) nbrdf_nn_spec_skip(&s, i, skip_from);
+  if (skip_from >= 0) nn_spec_skip(&s, i, skip_from);
   check_spec(&s, label, 7 + (uint64_t)kind);
 }
 
@@ -166,54 +166,54 @@ static void test_blocks(void) {
 
 /* Skips between inner activations, identity and projected, and in-place layers in front. */
 static void test_skips_between_layers(void) {
-  nbrdf_nn_spec s;
-  nbrdf_nn_spec_init(&s, 5);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_LAYERNORM, 0); /* in-place layer as layer 0 */
-  nbrdf_nn_spec_add(&s, NBRDF_NN_PLAIN, 8);
-  int r = nbrdf_nn_spec_add(&s, NBRDF_NN_RESIDUAL, 0);
-  nbrdf_nn_spec_skip(&s, r, 2); /* identity from the plain layer's output (= own input) */
-  int p = nbrdf_nn_spec_add(&s, NBRDF_NN_PLAIN, 8);
-  nbrdf_nn_spec_skip(&s, p, 1); /* projected from the normalised input (width 5) */
-  nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0);
-  int o = nbrdf_nn_spec_add(&s, NBRDF_NN_LINEAR, 3);
-  nbrdf_nn_spec_skip(&s, o, 0); /* projected from the raw input */
+  nn_spec s;
+  nn_spec_init(&s, 5);
+  nn_spec_add(&s, NBRDF_NN_LAYERNORM, 0); /* in-place layer as layer 0 */
+  nn_spec_add(&s, NBRDF_NN_PLAIN, 8);
+  int r = nn_spec_add(&s, NBRDF_NN_RESIDUAL, 0);
+  nn_spec_skip(&s, r, 2); /* identity from the plain layer's output (= own input) */
+  int p = nn_spec_add(&s, NBRDF_NN_PLAIN, 8);
+  nn_spec_skip(&s, p, 1); /* projected from the normalised input (width 5) */
+  nn_spec_add(&s, NBRDF_NN_RELU, 0);
+  int o = nn_spec_add(&s, NBRDF_NN_LINEAR, 3);
+  nn_spec_skip(&s, o, 0); /* projected from the raw input */
   check_spec(&s, "skips between layers", 21);
 }
 
 static void test_networks(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
+  nn_spec s;
   /* Decoder-like: latent + directions -> 1 value, residual blocks alternating with plain
    * layers, plus a skip from the network input into the middle. */
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 10, 16, 2, 1, 1, err), err);
-  nbrdf_nn_spec_skip(&s, 3, 0);
+  CHECK_OK(nn_spec_resmlp(&s, 10, 16, 2, 1, 1, err), err);
+  nn_spec_skip(&s, 3, 0);
   check_spec(&s, "decoder-like", 31);
   /* Layering-like: two latents + A + sigma_t -> a latent. */
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 14, 16, 3, 0, 6, err), err);
+  CHECK_OK(nn_spec_resmlp(&s, 14, 16, 3, 0, 6, err), err);
   check_spec(&s, "layering-like", 32);
   /* Sampler-like: latent + direction -> (sigma, w). */
-  nbrdf_nn_spec_init(&s, 9);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_PLAIN, 12);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_PLAIN, 12);
-  nbrdf_nn_spec_add(&s, NBRDF_NN_LINEAR, 2);
+  nn_spec_init(&s, 9);
+  nn_spec_add(&s, NBRDF_NN_PLAIN, 12);
+  nn_spec_add(&s, NBRDF_NN_PLAIN, 12);
+  nn_spec_add(&s, NBRDF_NN_LINEAR, 2);
   check_spec(&s, "sampler-like", 33);
 }
 
 /* The check itself must fail on a wrong sign, a missing term or a wrong input gradient. */
 static void test_check_catches_errors(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 6, 8, 1, 1, 2, err), err);
-  nbrdf_nn *nn = make(&s);
-  int n = nbrdf_nn_tensor_count(nn);
+  nn_spec s;
+  CHECK_OK(nn_spec_resmlp(&s, 6, 8, 1, 1, 2, err), err);
+  nn_network *nn = make(&s);
+  int n = nn_tensor_count(nn);
   for (uint64_t seed = 0; seed < (uint64_t)n; seed++) {
     CHECK_MSG(grad_check(nn, seed, GC_FLIP_TENSOR, 0) > 0, "flipped %s not caught",
-              nbrdf_nn_tensor_at(nn, (int)seed)->name);
+              nn_tensor_at(nn, (int)seed)->name);
     CHECK_MSG(grad_check(nn, seed, GC_ZERO_TENSOR, 0) > 0, "zeroed %s not caught",
-              nbrdf_nn_tensor_at(nn, (int)seed)->name);
+              nn_tensor_at(nn, (int)seed)->name);
   }
   CHECK(grad_check(nn, 1, GC_FLIP_INPUT, 0) > 0);
-  nbrdf_nn_destroy(nn);
+  nn_destroy(nn);
 }
 
 int main(void) {
@@ -221,5 +221,5 @@ int main(void) {
   RUN(test_skips_between_layers);
   RUN(test_networks);
   RUN(test_check_catches_errors);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -8,85 +8,85 @@
 
 static void test_paper_costs(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
+  nn_spec s;
   /* Released decoder: 38 inputs, width 256, 8 residual blocks alternating with 8 plain
    * layers, plain 256 -> 1 output: about 1.06 M multiply-adds (issue 3). */
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 38, 256, 8, 1, 1, err), err);
+  CHECK_OK(nn_spec_resmlp(&s, 38, 256, 8, 1, 1, err), err);
   CHECK(s.n_layers == 18);
-  CHECK(nbrdf_nn_spec_macs(&s) == 38 * 256 + 8 * (2 * 256 * 128) + 8 * 256 * 256 + 256);
-  CHECK(nbrdf_nn_spec_macs(&s) == 1058560);
+  CHECK(nn_spec_macs(&s) == 38 * 256 + 8 * (2 * 256 * 128) + 8 * 256 * 256 + 256);
+  CHECK(nn_spec_macs(&s) == 1058560);
   size_t plain_in = 38 * 256 + 3 * 256, res = 2 * 256 * 128 + 3 * 128 + 3 * 256;
   size_t plain = 256 * 256 + 3 * 256, out = 257;
-  CHECK(nbrdf_nn_spec_param_count(&s) == plain_in + 8 * res + 8 * plain + out);
-  CHECK(nbrdf_nn_spec_outputs(&s) == 1);
+  CHECK(nn_spec_param_count(&s) == plain_in + 8 * res + 8 * plain + out);
+  CHECK(nn_spec_outputs(&s) == 1);
   /* Layering network: 66 inputs, width 512, 4 blocks, 32 outputs. */
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 66, 512, 4, 0, 32, err), err);
-  CHECK(nbrdf_nn_spec_macs(&s) == 66 * 512 + 4 * 2 * 512 * 256 + 512 * 32);
-  CHECK(nbrdf_nn_spec_outputs(&s) == 32);
+  CHECK_OK(nn_spec_resmlp(&s, 66, 512, 4, 0, 32, err), err);
+  CHECK(nn_spec_macs(&s) == 66 * 512 + 4 * 2 * 512 * 256 + 512 * 32);
+  CHECK(nn_spec_outputs(&s) == 32);
   /* A projected skip costs its GEMM; an identity skip costs nothing. */
-  nbrdf_nn_spec t;
-  nbrdf_nn_spec_init(&t, 10);
-  int a = nbrdf_nn_spec_add(&t, NBRDF_NN_PLAIN, 16);
-  int b = nbrdf_nn_spec_add(&t, NBRDF_NN_PLAIN, 16);
-  nbrdf_nn_spec_skip(&t, b, 0);
-  int c = nbrdf_nn_spec_add(&t, NBRDF_NN_RESIDUAL, 0);
-  nbrdf_nn_spec_skip(&t, c, a + 1);
-  CHECK_OK(nbrdf_nn_spec_validate(&t, err), err);
-  CHECK(nbrdf_nn_spec_macs(&t) == 10 * 16 + (16 * 16 + 10 * 16) + 2 * 16 * 8);
+  nn_spec t;
+  nn_spec_init(&t, 10);
+  int a = nn_spec_add(&t, NBRDF_NN_PLAIN, 16);
+  int b = nn_spec_add(&t, NBRDF_NN_PLAIN, 16);
+  nn_spec_skip(&t, b, 0);
+  int c = nn_spec_add(&t, NBRDF_NN_RESIDUAL, 0);
+  nn_spec_skip(&t, c, a + 1);
+  CHECK_OK(nn_spec_validate(&t, err), err);
+  CHECK(nn_spec_macs(&t) == 10 * 16 + (16 * 16 + 10 * 16) + 2 * 16 * 8);
 }
 
 static void test_tensor_layout(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 38, 256, 8, 1, 1, err), err);
-  nbrdf_nn_spec_skip(&s, 5, 0);
-  nbrdf_nn *nn = NULL;
-  CHECK_OK(nbrdf_nn_create(&s, &nn, err), err);
-  CHECK(nbrdf_nn_inputs(nn) == 38 && nbrdf_nn_outputs(nn) == 1);
-  CHECK(nbrdf_nn_param_count(nn) == nbrdf_nn_spec_param_count(&s));
+  nn_spec s;
+  CHECK_OK(nn_spec_resmlp(&s, 38, 256, 8, 1, 1, err), err);
+  nn_spec_skip(&s, 5, 0);
+  nn_network *nn = NULL;
+  CHECK_OK(nn_create(&s, &nn, err), err);
+  CHECK(nn_inputs(nn) == 38 && nn_outputs(nn) == 1);
+  CHECK(nn_param_count(nn) == nn_spec_param_count(&s));
   /* Tensors tile the parameter array in order, without gaps. */
   size_t at = 0;
-  for (int k = 0; k < nbrdf_nn_tensor_count(nn); k++) {
-    const nbrdf_nn_tensor *t = nbrdf_nn_tensor_at(nn, k);
+  for (int k = 0; k < nn_tensor_count(nn); k++) {
+    const nn_tensor *t = nn_tensor_at(nn, k);
     CHECK_MSG(t->offset == at, "%s at %zu, expected %zu", t->name, t->offset, at);
     CHECK(t->count == (size_t)t->rows * (size_t)t->cols);
-    CHECK(nbrdf_nn_find_tensor(nn, t->name) == t);
+    CHECK(nn_find_tensor(nn, t->name) == t);
     at += t->count;
   }
-  CHECK(at == nbrdf_nn_param_count(nn));
-  CHECK(nbrdf_nn_tensor_at(nn, -1) == NULL);
-  CHECK(nbrdf_nn_tensor_at(nn, nbrdf_nn_tensor_count(nn)) == NULL);
-  CHECK(nbrdf_nn_find_tensor(nn, "layers.99.weight") == NULL);
-  const nbrdf_nn_tensor *t = nbrdf_nn_find_tensor(nn, "layers.1.fc1.weight");
+  CHECK(at == nn_param_count(nn));
+  CHECK(nn_tensor_at(nn, -1) == NULL);
+  CHECK(nn_tensor_at(nn, nn_tensor_count(nn)) == NULL);
+  CHECK(nn_find_tensor(nn, "layers.99.weight") == NULL);
+  const nn_tensor *t = nn_find_tensor(nn, "layers.1.fc1.weight");
   CHECK(t && t->rank == 2 && t->rows == 128 && t->cols == 256);
-  t = nbrdf_nn_find_tensor(nn, "layers.1.norm2.bias");
+  t = nn_find_tensor(nn, "layers.1.norm2.bias");
   CHECK(t && t->rank == 1 && t->rows == 256 && t->cols == 1);
-  t = nbrdf_nn_find_tensor(nn, "layers.0.fc.weight");
+  t = nn_find_tensor(nn, "layers.0.fc.weight");
   CHECK(t && t->rows == 256 && t->cols == 38);
-  t = nbrdf_nn_find_tensor(nn, "layers.5.skip.weight"); /* 38 -> 256 needs a projection */
+  t = nn_find_tensor(nn, "layers.5.skip.weight"); /* 38 -> 256 needs a projection */
   CHECK(t && t->rows == 256 && t->cols == 38);
-  t = nbrdf_nn_find_tensor(nn, "layers.17.weight");
+  t = nn_find_tensor(nn, "layers.17.weight");
   CHECK(t && t->rows == 1 && t->cols == 256);
-  CHECK(((uintptr_t)nbrdf_nn_params(nn) & 63) == 0);
-  nbrdf_nn_destroy(nn);
+  CHECK(((uintptr_t)nn_params(nn) & 63) == 0);
+  nn_destroy(nn);
 }
 
 static void test_init(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 20, 64, 2, 1, 3, err), err);
-  nbrdf_nn *a = NULL, *b = NULL;
-  CHECK_OK(nbrdf_nn_create(&s, &a, err), err);
-  CHECK_OK(nbrdf_nn_create(&s, &b, err), err);
-  size_t n = nbrdf_nn_param_count(a);
-  nbrdf_nn_init_params(a, 42);
-  nbrdf_nn_init_params(b, 42);
-  CHECK(memcmp(nbrdf_nn_params(a), nbrdf_nn_params(b), n * sizeof(float)) == 0);
-  nbrdf_nn_init_params(b, 43);
-  CHECK(memcmp(nbrdf_nn_params(a), nbrdf_nn_params(b), n * sizeof(float)) != 0);
-  const float *p = nbrdf_nn_params(a);
-  for (int k = 0; k < nbrdf_nn_tensor_count(a); k++) {
-    const nbrdf_nn_tensor *t = nbrdf_nn_tensor_at(a, k);
+  nn_spec s;
+  CHECK_OK(nn_spec_resmlp(&s, 20, 64, 2, 1, 3, err), err);
+  nn_network *a = NULL, *b = NULL;
+  CHECK_OK(nn_create(&s, &a, err), err);
+  CHECK_OK(nn_create(&s, &b, err), err);
+  size_t n = nn_param_count(a);
+  nn_init_params(a, 42);
+  nn_init_params(b, 42);
+  CHECK(memcmp(nn_params(a), nn_params(b), n * sizeof(float)) == 0);
+  nn_init_params(b, 43);
+  CHECK(memcmp(nn_params(a), nn_params(b), n * sizeof(float)) != 0);
+  const float *p = nn_params(a);
+  for (int k = 0; k < nn_tensor_count(a); k++) {
+    const nn_tensor *t = nn_tensor_at(a, k);
     const float *v = p + t->offset;
     if (t->rank == 1) {
       float want = strstr(t->name, "norm") && strstr(t->name, ".weight") ? 1.0f : 0.0f;
@@ -106,26 +106,26 @@ static void test_init(void) {
     if (t->count >= 1000) CHECK_REL(sd, want, 0.05, 0);
     if (is_output) CHECK_REL(sd, want, 0.3, 0);
   }
-  nbrdf_nn_destroy(a);
-  nbrdf_nn_destroy(b);
+  nn_destroy(a);
+  nn_destroy(b);
 }
 
 static void test_json_round_trip(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s, r;
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 38, 64, 3, 1, 1, err), err);
+  nn_spec s, r;
+  CHECK_OK(nn_spec_resmlp(&s, 38, 64, 3, 1, 1, err), err);
   s.layers[3].hidden = 24;
-  nbrdf_nn_spec_skip(&s, 3, 0);
-  nbrdf_nn_spec_skip(&s, 4, 2);
-  int i = nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0);
+  nn_spec_skip(&s, 3, 0);
+  nn_spec_skip(&s, 4, 2);
+  int i = nn_spec_add(&s, NBRDF_NN_RELU, 0);
   CHECK(i == s.n_layers - 1);
   char *json = NULL, *again = NULL;
-  CHECK_OK(nbrdf_nn_spec_to_json(&s, &json, err), err);
+  CHECK_OK(nn_spec_to_json(&s, &json, err), err);
   CHECK(json && strstr(json, "\"format\":\"nbrdf-nn\""));
   CHECK(json && strstr(json, "{\"kind\":\"residual\",\"hidden\":24,\"skip\":0}"));
-  CHECK_OK(nbrdf_nn_spec_from_json(json, &r, err), err);
+  CHECK_OK(nn_spec_from_json(json, &r, err), err);
   CHECK(memcmp(&s, &r, sizeof s) == 0);
-  CHECK_OK(nbrdf_nn_spec_to_json(&r, &again, err), err);
+  CHECK_OK(nn_spec_to_json(&r, &again, err), err);
   CHECK(json && again && strcmp(json, again) == 0);
   free(json);
   free(again);
@@ -133,15 +133,15 @@ static void test_json_round_trip(void) {
   const char *pretty = "{ \"layers\": [ {\"width\": 8, \"kind\": \"plain\"},\n"
                        "  {\"kind\": \"linear\", \"skip\": 0, \"width\": 2} ],\n"
                        "  \"inputs\": 3, \"version\": 1, \"format\": \"nbrdf-nn\" }";
-  CHECK_OK(nbrdf_nn_spec_from_json(pretty, &r, err), err);
+  CHECK_OK(nn_spec_from_json(pretty, &r, err), err);
   CHECK(r.n_inputs == 3 && r.n_layers == 2 && r.layers[1].has_skip && r.layers[1].width == 2);
 }
 
 static void refused(const char *json, const char *needle) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
-  nbrdf_nn_spec_init(&s, 77);
-  CHECK_FAILS(nbrdf_nn_spec_from_json(json, &s, err), NBRDF_ERR_FORMAT, err, needle);
+  nn_spec s;
+  nn_spec_init(&s, 77);
+  CHECK_FAILS(nn_spec_from_json(json, &s, err), NBRDF_ERR_FORMAT, err, needle);
   CHECK_MSG(s.n_inputs == 77, "spec changed by a refused JSON: %s", json);
 }
 
@@ -183,24 +183,23 @@ static void test_json_invalid(void) {
 
 static void test_validate(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
-  nbrdf_nn_spec_init(&s, 4);
-  CHECK_FAILS(nbrdf_nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "no layers");
+  nn_spec s;
+  nn_spec_init(&s, 4);
+  CHECK_FAILS(nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "no layers");
   for (int i = 0; i < NBRDF_NN_MAX_LAYERS; i++)
-    CHECK(nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0) == i);
-  CHECK_OK(nbrdf_nn_spec_validate(&s, err), err);
-  CHECK(nbrdf_nn_spec_add(&s, NBRDF_NN_RELU, 0) == -1);
-  CHECK_FAILS(nbrdf_nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "more than 64 layers");
-  CHECK_FAILS(nbrdf_nn_spec_resmlp(&s, 4, 8, 40, 1, 1, err), NBRDF_ERR_ARGUMENT, err, "at most 64");
-  nbrdf_nn_spec_init(&s, 4);
-  nbrdf_nn_spec_add(&s, (nbrdf_nn_kind)99, 3);
-  CHECK_FAILS(nbrdf_nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "unknown kind 99");
-  nbrdf_nn *nn = NULL;
-  CHECK_FAILS(nbrdf_nn_create(&s, &nn, err), NBRDF_ERR_ARGUMENT, err, "unknown kind");
+    CHECK(nn_spec_add(&s, NBRDF_NN_RELU, 0) == i);
+  CHECK_OK(nn_spec_validate(&s, err), err);
+  CHECK(nn_spec_add(&s, NBRDF_NN_RELU, 0) == -1);
+  CHECK_FAILS(nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "more than 64 layers");
+  CHECK_FAILS(nn_spec_resmlp(&s, 4, 8, 40, 1, 1, err), NBRDF_ERR_ARGUMENT, err, "at most 64");
+  nn_spec_init(&s, 4);
+  nn_spec_add(&s, (nn_kind)99, 3);
+  CHECK_FAILS(nn_spec_validate(&s, err), NBRDF_ERR_ARGUMENT, err, "unknown kind 99");
+  nn_network *nn = NULL;
+  CHECK_FAILS(nn_create(&s, &nn, err), NBRDF_ERR_ARGUMENT, err, "unknown kind");
   CHECK(nn == NULL);
-  CHECK_FAILS(nbrdf_nn_spec_to_json(&s, &(char *){NULL}, err), NBRDF_ERR_ARGUMENT, err,
-              "unknown kind");
-  CHECK(nbrdf_nn_kind_name((nbrdf_nn_kind)0) == NULL);
+  CHECK_FAILS(nn_spec_to_json(&s, &(char *){NULL}, err), NBRDF_ERR_ARGUMENT, err, "unknown kind");
+  CHECK(nn_kind_name((nn_kind)0) == NULL);
 }
 
 int main(void) {
@@ -210,5 +209,5 @@ int main(void) {
   RUN(test_json_round_trip);
   RUN(test_json_invalid);
   RUN(test_validate);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

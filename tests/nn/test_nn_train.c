@@ -21,9 +21,9 @@ static float target(float hx, float hy) {
   return (float)(a2 / (M_PI * d * d) * sqrt(c2));
 }
 
-static void sample(nbrdf_rng *rng, float *x, float *t, int n) {
+static void sample(core_rng *rng, float *x, float *t, int n) {
   for (int i = 0; i < n; i++) {
-    double r = sqrt(nbrdf_rng_uniform(rng)) * 0.999, phi = 2 * M_PI * nbrdf_rng_uniform(rng);
+    double r = sqrt(core_rng_uniform(rng)) * 0.999, phi = 2 * M_PI * core_rng_uniform(rng);
     x[2 * i] = (float)(r * cos(phi));
     x[2 * i + 1] = (float)(r * sin(phi));
     t[i] = target(x[2 * i], x[2 * i + 1]);
@@ -43,45 +43,45 @@ static double mse(const float *y, const float *t, int n, float *dy) {
 /* Trains from seed; returns the initial and final held-out MSE. */
 static void train(uint64_t seed, double *first, double *last, float *final_params) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 2, 32, 2, 1, 1, err), err);
-  nbrdf_nn *nn = NULL;
-  nbrdf_nn_workspace *ws = NULL, *wi = NULL;
-  nbrdf_adam *adam = NULL;
-  CHECK_OK(nbrdf_nn_create(&s, &nn, err), err);
+  nn_spec s;
+  CHECK_OK(nn_spec_resmlp(&s, 2, 32, 2, 1, 1, err), err);
+  nn_network *nn = NULL;
+  nn_workspace *ws = NULL, *wi = NULL;
+  nn_adam *adam = NULL;
+  CHECK_OK(nn_create(&s, &nn, err), err);
   if (!nn) return;
-  nbrdf_nn_init_params(nn, seed);
-  size_t n = nbrdf_nn_param_count(nn);
-  nbrdf_adam_options o = NBRDF_ADAM_OPTIONS_DEFAULT;
+  nn_init_params(nn, seed);
+  size_t n = nn_param_count(nn);
+  nn_adam_options o = NBRDF_ADAM_OPTIONS_DEFAULT;
   o.lr = 3e-3f;
   o.decay_every = 150;
   o.decay_gamma = 0.5f;
-  CHECK_OK(nbrdf_nn_workspace_create(nn, BATCH, NBRDF_NN_TRAIN, &ws, err), err);
-  CHECK_OK(nbrdf_nn_workspace_create(nn, EVAL, NBRDF_NN_INFER, &wi, err), err);
-  CHECK_OK(nbrdf_adam_create(n, &o, &adam, err), err);
+  CHECK_OK(nn_workspace_create(nn, BATCH, NBRDF_NN_TRAIN, &ws, err), err);
+  CHECK_OK(nn_workspace_create(nn, EVAL, NBRDF_NN_INFER, &wi, err), err);
+  CHECK_OK(nn_adam_create(n, &o, &adam, err), err);
   float *grad = malloc(n * sizeof *grad);
   static float ex[2 * EVAL], et[EVAL], ey[EVAL], x[2 * BATCH], t[BATCH], y[BATCH], dy[BATCH];
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 1000);
+  core_rng rng;
+  core_rng_init(&rng, seed, 1000);
   sample(&rng, ex, et, EVAL);
-  CHECK_OK(nbrdf_nn_forward(nn, wi, ex, EVAL, ey, err), err);
+  CHECK_OK(nn_forward(nn, wi, ex, EVAL, ey, err), err);
   *first = mse(ey, et, EVAL, NULL);
   for (int step = 0; step < STEPS; step++) {
     sample(&rng, x, t, BATCH);
-    CHECK_OK(nbrdf_nn_forward(nn, ws, x, BATCH, y, err), err);
+    CHECK_OK(nn_forward(nn, ws, x, BATCH, y, err), err);
     mse(y, t, BATCH, dy);
     memset(grad, 0, n * sizeof *grad);
-    CHECK_OK(nbrdf_nn_backward(nn, ws, dy, NULL, grad, err), err);
-    CHECK_OK(nbrdf_adam_step(adam, nbrdf_nn_params(nn), grad, err), err);
+    CHECK_OK(nn_backward(nn, ws, dy, NULL, grad, err), err);
+    CHECK_OK(nn_adam_step(adam, nn_params(nn), grad, err), err);
   }
-  CHECK_OK(nbrdf_nn_forward(nn, wi, ex, EVAL, ey, err), err);
+  CHECK_OK(nn_forward(nn, wi, ex, EVAL, ey, err), err);
   *last = mse(ey, et, EVAL, NULL);
-  memcpy(final_params, nbrdf_nn_params(nn), n * sizeof(float));
+  memcpy(final_params, nn_params(nn), n * sizeof(float));
   free(grad);
-  nbrdf_adam_destroy(adam);
-  nbrdf_nn_workspace_destroy(ws);
-  nbrdf_nn_workspace_destroy(wi);
-  nbrdf_nn_destroy(nn);
+  nn_adam_destroy(adam);
+  nn_workspace_destroy(ws);
+  nn_workspace_destroy(wi);
+  nn_destroy(nn);
 }
 
 static void test_loss_falls(void) {
@@ -99,58 +99,58 @@ static void test_loss_falls(void) {
  * Adam through dL/dx, as src/model's projection does with whole latent vectors. */
 static void test_input_optimisation(void) {
   nbrdf_error err_s, *err = &err_s;
-  nbrdf_nn_spec s;
-  CHECK_OK(nbrdf_nn_spec_resmlp(&s, 3, 16, 1, 1, 1, err), err);
-  nbrdf_nn *nn = NULL;
-  nbrdf_nn_workspace *ws = NULL;
-  CHECK_OK(nbrdf_nn_create(&s, &nn, err), err);
+  nn_spec s;
+  CHECK_OK(nn_spec_resmlp(&s, 3, 16, 1, 1, 1, err), err);
+  nn_network *nn = NULL;
+  nn_workspace *ws = NULL;
+  CHECK_OK(nn_create(&s, &nn, err), err);
   if (!nn) return;
-  nbrdf_nn_init_params(nn, 3);
+  nn_init_params(nn, 3);
   enum { R = 64 };
-  CHECK_OK(nbrdf_nn_workspace_create(nn, R, NBRDF_NN_TRAIN, &ws, err), err);
+  CHECK_OK(nn_workspace_create(nn, R, NBRDF_NN_TRAIN, &ws, err), err);
   /* Targets: the network's own outputs at latent z* = 0.7 over random (u, v). */
   float x[3 * R], t[R], y[R], dy[R], dx[3 * R];
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 3, 0);
+  core_rng rng;
+  core_rng_init(&rng, 3, 0);
   for (int i = 0; i < R; i++) {
     x[3 * i] = 0.7f;
-    x[3 * i + 1] = 2 * nbrdf_rng_uniformf(&rng) - 1;
-    x[3 * i + 2] = 2 * nbrdf_rng_uniformf(&rng) - 1;
+    x[3 * i + 1] = 2 * core_rng_uniformf(&rng) - 1;
+    x[3 * i + 2] = 2 * core_rng_uniformf(&rng) - 1;
   }
-  CHECK_OK(nbrdf_nn_forward(nn, ws, x, R, t, err), err);
+  CHECK_OK(nn_forward(nn, ws, x, R, t, err), err);
   float z = -0.5f;
-  nbrdf_adam_options o = NBRDF_ADAM_OPTIONS_DEFAULT;
+  nn_adam_options o = NBRDF_ADAM_OPTIONS_DEFAULT;
   o.lr = 0.05f;
-  nbrdf_adam *adam = NULL;
-  CHECK_OK(nbrdf_adam_create(1, &o, &adam, err), err);
-  size_t n = nbrdf_nn_param_count(nn);
+  nn_adam *adam = NULL;
+  CHECK_OK(nn_adam_create(1, &o, &adam, err), err);
+  size_t n = nn_param_count(nn);
   float *before = malloc(n * sizeof *before);
-  memcpy(before, nbrdf_nn_params(nn), n * sizeof *before);
+  memcpy(before, nn_params(nn), n * sizeof *before);
   double l0 = 0, l = 0;
   for (int step = 0; step < 200; step++) {
     for (int i = 0; i < R; i++)
       x[3 * i] = z;
-    CHECK_OK(nbrdf_nn_forward(nn, ws, x, R, y, err), err);
+    CHECK_OK(nn_forward(nn, ws, x, R, y, err), err);
     l = mse(y, t, R, dy);
     if (step == 0) l0 = l;
-    CHECK_OK(nbrdf_nn_backward(nn, ws, dy, dx, NULL, err), err);
+    CHECK_OK(nn_backward(nn, ws, dy, dx, NULL, err), err);
     float gz = 0;
     for (int i = 0; i < R; i++)
       gz += dx[3 * i];
-    CHECK_OK(nbrdf_adam_step(adam, &z, &gz, err), err);
+    CHECK_OK(nn_adam_step(adam, &z, &gz, err), err);
   }
   printf("  latent -0.5 -> %.4f (target 0.7), loss %.3g -> %.3g\n", z, l0, l);
   CHECK_NEAR(z, 0.7, 0.05);
   CHECK(l < 1e-3 * l0);
-  CHECK(memcmp(before, nbrdf_nn_params(nn), n * sizeof *before) == 0);
+  CHECK(memcmp(before, nn_params(nn), n * sizeof *before) == 0);
   free(before);
-  nbrdf_adam_destroy(adam);
-  nbrdf_nn_workspace_destroy(ws);
-  nbrdf_nn_destroy(nn);
+  nn_adam_destroy(adam);
+  nn_workspace_destroy(ws);
+  nn_destroy(nn);
 }
 
 int main(void) {
   RUN(test_loss_falls);
   RUN(test_input_optimisation);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

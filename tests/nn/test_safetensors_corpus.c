@@ -9,35 +9,35 @@
 #include "nn/safetensors.h"
 #include "testing.h"
 
-static void check_loaded(const nbrdf_st_reader *r, const char *path) {
-  for (size_t i = 0; i < nbrdf_st_tensor_count(r); i++) {
-    const nbrdf_st_tensor *t = nbrdf_st_tensor_at(r, i);
+static void check_loaded(const nn_st_reader *r, const char *path) {
+  for (size_t i = 0; i < nn_st_tensor_count(r); i++) {
+    const nn_st_tensor *t = nn_st_tensor_at(r, i);
     size_t count = 1;
     for (int d = 0; d < t->ndim; d++)
       count *= (size_t)t->shape[d];
-    CHECK_MSG(count == t->count && nbrdf_st_find(r, t->name) == t, "%s: tensor %zu", path, i);
+    CHECK_MSG(count == t->count && nn_st_find(r, t->name) == t, "%s: tensor %zu", path, i);
     double sum = 0; /* every value readable */
     for (size_t k = 0; k < t->count; k++)
       sum += t->data[k];
     (void)sum;
   }
-  for (size_t i = 0; i < nbrdf_st_metadata_count(r); i++)
-    CHECK(nbrdf_st_metadata_get(r, nbrdf_st_metadata_key(r, i)) == nbrdf_st_metadata_value(r, i));
+  for (size_t i = 0; i < nn_st_metadata_count(r); i++)
+    CHECK(nn_st_metadata_get(r, nn_st_metadata_key(r, i)) == nn_st_metadata_value(r, i));
 }
 
 static void test_corpus(void) {
   char dir[512];
-  snprintf(dir, sizeof dir, "%s/tests/nn/safetensors_corpus", nbrdf_test_source_dir());
+  snprintf(dir, sizeof dir, "%s/tests/nn/safetensors_corpus", testing_source_dir());
   size_t n = 0;
-  char **names = nbrdf_test_list_dir(dir, &n); /* sorted: a stable order for the log */
+  char **names = testing_list_dir(dir, &n); /* sorted: a stable order for the log */
   if (!names) return;
   int loaded = 0, refused = 0;
   for (size_t i = 0; i < n; i++) {
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", dir, names[i]);
     nbrdf_error err = {0};
-    nbrdf_st_reader *r = NULL;
-    nbrdf_status st = nbrdf_st_open(path, &r, &err);
+    nn_st_reader *r = NULL;
+    nbrdf_status st = nn_st_open(path, &r, &err);
     if (st == NBRDF_OK) {
       loaded++;
       check_loaded(r, names[i]);
@@ -50,7 +50,7 @@ static void test_corpus(void) {
                     strlen(err.message) > strlen(path) + 10,
                 "%s: message \"%s\" does not name the file and the problem", names[i], err.message);
     }
-    nbrdf_st_close(r);
+    nn_st_close(r);
     free(names[i]);
   }
   free(names);
@@ -61,5 +61,5 @@ static void test_corpus(void) {
 
 int main(void) {
   RUN(test_corpus);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

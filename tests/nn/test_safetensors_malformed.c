@@ -20,16 +20,16 @@
 
 static void test_header_length(void) {
   nbrdf_error err_storage = {0}, *err = &err_storage;
-  nbrdf_st_reader *r = NULL;
+  nn_st_reader *r = NULL;
   size_t size = 0;
   unsigned char *b = st_build_raw(T1, 0, "\0\0\0\0\0\0\0\0", 8, &size);
   /* Beyond the file by one byte, and absurdly large. */
   for (int k = 0; k < 8; k++)
     b[k] = (unsigned char)((size - 8 + 1) >> (8 * k));
-  CHECK_FAILS(nbrdf_st_open_memory(b, size, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
+  CHECK_FAILS(nn_st_open_memory(b, size, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
               "runs past the end of the file");
   memset(b, 0xff, 8);
-  CHECK_FAILS(nbrdf_st_open_memory(b, size, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
+  CHECK_FAILS(nn_st_open_memory(b, size, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
               "header length 18446744073709551615 runs past");
   CHECK(r == NULL);
   free(b);
@@ -41,13 +41,13 @@ static void test_header_length(void) {
     uint64_t n = 100000001;
     for (int k = 0; k < 8; k++)
       huge[k] = (unsigned char)(n >> (8 * k));
-    CHECK_FAILS(nbrdf_st_open_memory(huge, big, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
+    CHECK_FAILS(nn_st_open_memory(huge, big, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
                 "exceeds the format's limit");
     free(huge);
   }
-  CHECK_FAILS(nbrdf_st_open_memory("\x10\0\0", 3, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
+  CHECK_FAILS(nn_st_open_memory("\x10\0\0", 3, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
               "too short for the 8-byte header length");
-  CHECK_FAILS(nbrdf_st_open_memory(NULL, 0, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
+  CHECK_FAILS(nn_st_open_memory(NULL, 0, "t.safetensors", &r, err), NBRDF_ERR_FORMAT, err,
               "too short");
 }
 
@@ -197,16 +197,16 @@ static void test_every_truncation_and_bit_flip(void) {
                               "\"b\":{\"dtype\":\"F16\",\"shape\":[1,3],\"data_offsets\":[8,14]}}",
                               14, &size);
   nbrdf_error err_storage = {0}, *err = &err_storage;
-  nbrdf_st_reader *r = NULL;
-  CHECK_OK(nbrdf_st_open_memory(b, size, "t.safetensors", &r, err), err);
-  CHECK(r && nbrdf_st_tensor_count(r) == 2);
-  nbrdf_st_close(r);
+  nn_st_reader *r = NULL;
+  CHECK_OK(nn_st_open_memory(b, size, "t.safetensors", &r, err), err);
+  CHECK(r && nn_st_tensor_count(r) == 2);
+  nn_st_close(r);
   int refused = 0;
   for (size_t n = 0; n < size; n++) {
     unsigned char *prefix = malloc(n ? n : 1); /* exact size: ASan catches over-reads */
     memcpy(prefix, b, n);
     err->message[0] = '\0';
-    nbrdf_status st = nbrdf_st_open_memory(prefix, n, "t.safetensors", &r, err);
+    nbrdf_status st = nn_st_open_memory(prefix, n, "t.safetensors", &r, err);
     refused += st == NBRDF_ERR_FORMAT && r == NULL &&
                strncmp(err->message, "t.safetensors: ", 15) == 0 && strlen(err->message) > 20;
     free(prefix);
@@ -219,12 +219,12 @@ static void test_every_truncation_and_bit_flip(void) {
       memcpy(m, b, size);
       m[i] ^= (unsigned char)(1u << bit);
       err->message[0] = '\0';
-      nbrdf_status st = nbrdf_st_open_memory(m, size, "t.safetensors", &r, err);
+      nbrdf_status st = nn_st_open_memory(m, size, "t.safetensors", &r, err);
       if (st == NBRDF_OK)
         loaded++, clean++;
       else
         clean += r == NULL && strncmp(err->message, "t.safetensors: ", 15) == 0;
-      nbrdf_st_close(r);
+      nn_st_close(r);
       free(m);
     }
   CHECK(clean == (int)size * 8);
@@ -241,5 +241,5 @@ int main(void) {
   RUN(test_offsets);
   RUN(test_names_and_metadata);
   RUN(test_every_truncation_and_bit_flip);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -127,7 +127,7 @@ static void test_furnace(void) {
 static void neural_albedo(const eval_latent_image *tex, double theta, double rho[3]) {
   enum { NC = 256, NPHI = 256 };
   size_t n = (size_t)NC * NPHI;
-  int D = tex->layout.latent_dim, block = nbrdf_latent_block(&tex->layout);
+  int D = tex->layout.latent_dim, block = texture_latent_block(&tex->layout);
   float *lat = malloc(sizeof(float) * n * 3 * D), *wi = malloc(sizeof(float) * n * 3);
   float *wo = malloc(sizeof(float) * n * 3), *f = malloc(sizeof(float) * n * 3);
   for (size_t k = 0; k < n; k++) {
@@ -152,12 +152,12 @@ static void neural_albedo(const eval_latent_image *tex, double theta, double rho
 
 /* A 1 x 1 RGB texture of the model's latent size with latents a·sin(1.7k + c + b). */
 static void fill_texel(eval_latent_image *tex, double a, double b) {
-  const nbrdf_latent_layout *l = &tex->layout;
+  const texture_latent_layout *l = &tex->layout;
   for (int c = 0; c < 3; c++) {
     for (int k = 0; k < l->latent_dim; k++)
-      tex->data[0][nbrdf_latent_index_latent(l, c, k)] = (float)(a * sin(1.7 * k + c + b));
-    tex->data[0][nbrdf_latent_index_sigma(l, c)] = 0.3f + 0.25f * c;
-    tex->data[0][nbrdf_latent_index_w(l, c)] = 0.4f - 0.15f * c;
+      tex->data[0][texture_latent_index_latent(l, c, k)] = (float)(a * sin(1.7 * k + c + b));
+    tex->data[0][texture_latent_index_sigma(l, c)] = 0.3f + 0.25f * c;
+    tex->data[0][texture_latent_index_w(l, c)] = 0.4f - 0.15f * c;
   }
 }
 
@@ -171,7 +171,7 @@ static void fill_texel(eval_latent_image *tex, double a, double b) {
  * weight or pdf is off by far more. */
 static void test_neural_furnace(void) {
   nbrdf_error err;
-  nbrdf_latent_layout layout = {nbrdf_model_latent_dim(model), NBRDF_COLOUR_RGB, 1};
+  texture_latent_layout layout = {nbrdf_model_latent_dim(model), NBRDF_COLOUR_RGB, 1};
   eval_latent_image *tex = NULL;
   CHECK_OK(eval_latent_image_create(&layout, 1, 1, 1, &tex, &err), &err);
   if (!tex) return;
@@ -184,15 +184,17 @@ static void test_neural_furnace(void) {
   }
   CHECK_MSG(found, "no latent with a decoded albedo in (0.02, 20) on all channels");
   neural_albedo(tex, 5.0 * M_PI / 180.0, r5);
-  nbrdf_latent_meta meta = {nbrdf_model_name(model), nbrdf_model_checksum(model), "", "", NULL, 0, NULL};
-  nbrdf_latent_writer *w = NULL;
-  nbrdf_latent_exr_options eo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_meta meta = {
+      nbrdf_model_name(model), nbrdf_model_checksum(model), "", "", NULL, 0, NULL};
+  texture_latent_writer *w = NULL;
+  texture_latent_exr_options eo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   eo.storage = NBRDF_LATENT_FLOAT;
-  CHECK_OK(nbrdf_latent_writer_create(&w, path("n.exr"), 1, 1, &layout, &meta, &eo, NULL, 0, &err),
-           &err);
+  CHECK_OK(
+      texture_latent_writer_create(&w, path("n.exr"), 1, 1, &layout, &meta, &eo, NULL, 0, &err),
+      &err);
   if (w) {
-    CHECK_OK(nbrdf_latent_writer_write_rows(w, tex->data[0], 1, &err), &err);
-    CHECK_OK(nbrdf_latent_writer_finish(w, &err), &err);
+    CHECK_OK(texture_latent_writer_write_rows(w, tex->data[0], 1, &err), &err);
+    CHECK_OK(texture_latent_writer_finish(w, &err), &err);
   }
   nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
   o.env = NBRDF_ENV_CONSTANT, o.light_intensity = 0.0;
@@ -223,7 +225,7 @@ static void test_lobes(void) {
       &err);
   CHECK(isfinite(e) && e > 0.0);
   /* Three colour channels x four incidences: a tall image of three columns. */
-  CHECK(nbrdf_test_png_size(path("l.png"), &w, &h) && h > 3 * w);
+  CHECK(testing_png_size(path("l.png"), &w, &h) && h > 3 * w);
   CHECK_OK(
       nbrdf_render_lobes(model, path("c.exr"), 0, 0, 0, NULL, 0, 0, 1, path("l1.png"), &e, &err),
       &err);
@@ -269,10 +271,10 @@ static void test_errors(void) {
 
 int main(void) {
   nbrdf_error e;
-  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   CHECK_OK(model_bundle_init_random(path("bundle"), "render-test", 1, "small", &e), &e);
   CHECK_OK(nbrdf_model_load(path("bundle"), &model, &e), &e);
-  if (!model) return nbrdf_test_finish();
+  if (!model) return testing_finish();
   bake_constant(path("c.exr"));
   RUN(test_deterministic);
   RUN(test_furnace);
@@ -280,5 +282,5 @@ int main(void) {
   RUN(test_errors);
   RUN(test_lobes);
   nbrdf_model_destroy(model);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -53,5 +53,5 @@ static void test_plane_lod(void) {
 int main(void) {
   RUN(test_sphere_centre);
   RUN(test_plane_lod);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -13,11 +13,11 @@
 #define NP 24 /* bins in φo */
 
 static void test_power_heuristic(void) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 3, 0);
+  core_rng rng;
+  core_rng_init(&rng, 3, 0);
   for (int k = 0; k < 1000; k++) {
-    double a = nbrdf_rng_uniform(&rng) * pow(10.0, 6.0 * nbrdf_rng_uniform(&rng) - 3.0);
-    double b = nbrdf_rng_uniform(&rng) * pow(10.0, 6.0 * nbrdf_rng_uniform(&rng) - 3.0);
+    double a = core_rng_uniform(&rng) * pow(10.0, 6.0 * core_rng_uniform(&rng) - 3.0);
+    double b = core_rng_uniform(&rng) * pow(10.0, 6.0 * core_rng_uniform(&rng) - 3.0);
     CHECK_NEAR(eval_power_heuristic(a, b) + eval_power_heuristic(b, a), 1.0, 1e-12);
   }
   CHECK(eval_power_heuristic(0.0, 2.0) == 0.0 && eval_power_heuristic(2.0, 0.0) == 1.0);
@@ -59,11 +59,11 @@ static void test_proxy_mixture(void) {
     static double count[NT * NP];
     for (int b = 0; b < NT * NP; b++)
       count[b] = 0;
-    nbrdf_rng rng;
-    nbrdf_rng_init(&rng, 11, (uint64_t)channels);
+    core_rng rng;
+    core_rng_init(&rng, 11, (uint64_t)channels);
     for (int k = 0; k < n; k++) {
-      double u[4] = {nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng),
-                     nbrdf_rng_uniform(&rng)};
+      double u[4] = {core_rng_uniform(&rng), core_rng_uniform(&rng), core_rng_uniform(&rng),
+                     core_rng_uniform(&rng)};
       vec3 wo;
       double pdf;
       if (!eval_proxy_mix_sample(channels, sigma, w, wi, u, &wo, &pdf)) continue;
@@ -101,13 +101,13 @@ static void test_env_sampling(void) {
     nbrdf_error err;
     CHECK_OK(eval_env_create(&o, &env, &err), &err);
     if (!env) return;
-    nbrdf_rng rng;
-    nbrdf_rng_init(&rng, 5, (uint64_t)kind);
+    core_rng rng;
+    core_rng_init(&rng, 5, (uint64_t)kind);
     int n = 200000, pdf_ok = 1;
     double s1 = 0, s1sq = 0, s2 = 0, s2sq = 0;
     for (int k = 0; k < n; k++) {
       vec3 d;
-      double pdf = eval_env_sample(env, nbrdf_rng_uniform(&rng), nbrdf_rng_uniform(&rng), &d);
+      double pdf = eval_env_sample(env, core_rng_uniform(&rng), core_rng_uniform(&rng), &d);
       if (!(pdf > 0.0)) continue;
       if (!(fabs(eval_env_pdf(env, d) - pdf) <= 1e-6 * pdf)) pdf_ok = 0;
       double g1 = 1.0 / pdf, g2 = fmax(d.y, 0.0) / pdf;
@@ -126,5 +126,5 @@ int main(void) {
   RUN(test_power_heuristic);
   RUN(test_proxy_mixture);
   RUN(test_env_sampling);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -13,13 +13,13 @@
 
 /* A unit direction on the upper hemisphere in float: a quarter of them grazing
  * (cos θ in [1e-4, 1e-2]), the rest uniform in cos θ over (0.01, 1]. */
-static inline void fixture_direction(nbrdf_rng *rng, float out[3]) {
-  double u = nbrdf_rng_uniform(rng), z;
+static inline void fixture_direction(core_rng *rng, float out[3]) {
+  double u = core_rng_uniform(rng), z;
   if (u < 0.25)
-    z = 1e-4 + (1e-2 - 1e-4) * nbrdf_rng_uniform(rng);
+    z = 1e-4 + (1e-2 - 1e-4) * core_rng_uniform(rng);
   else
-    z = 0.01 + 0.99 * nbrdf_rng_uniform(rng);
-  double phi = 2.0 * M_PI * nbrdf_rng_uniform(rng), s = sqrt(fmax(0.0, 1.0 - z * z));
+    z = 0.01 + 0.99 * core_rng_uniform(rng);
+  double phi = 2.0 * M_PI * core_rng_uniform(rng), s = sqrt(fmax(0.0, 1.0 - z * z));
   out[0] = (float)(s * cos(phi));
   out[1] = (float)(s * sin(phi));
   out[2] = (float)z;

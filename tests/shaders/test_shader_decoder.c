@@ -32,8 +32,8 @@ typedef struct queries {
 } queries;
 
 static void queries_make(queries *s, size_t n, int dim, uint64_t seed) {
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 9);
+  core_rng rng;
+  core_rng_init(&rng, seed, 9);
   s->n = n;
   s->dim = dim;
   s->q = malloc(sizeof(float) * n * (6 + dim));
@@ -44,7 +44,7 @@ static void queries_make(queries *s, size_t n, int dim, uint64_t seed) {
     fixture_direction(&rng, s->wi + 3 * k);
     fixture_direction(&rng, s->wo + 3 * k);
     for (int i = 0; i < dim; i++)
-      s->latents[k * dim + i] = (float)(3.0 * nbrdf_rng_uniform(&rng) - 1.5);
+      s->latents[k * dim + i] = (float)(3.0 * core_rng_uniform(&rng) - 1.5);
     float *row = s->q + k * (6 + dim);
     memcpy(row, s->wi + 3 * k, 3 * sizeof(float));
     memcpy(row + 3, s->wo + 3 * k, 3 * sizeof(float));
@@ -104,15 +104,15 @@ static void check_config(const char *label, const model_decoder_config *cfg, siz
   float *x = malloc(sizeof(float) * n * in), *raw = malloc(sizeof(float) * n);
   float *f = malloc(sizeof(float) * n), *gpu = malloc(sizeof(float) * 2 * n);
   model_decoder_fill_inputs(dec, n, 1, s.latents, s.wi, s.wo, x);
-  nbrdf_nn_workspace *ws = NULL;
-  CHECK_OK(nbrdf_nn_workspace_create(dec->nn, 1024, NBRDF_NN_INFER, &ws, &err), &err);
-  CHECK_OK(nbrdf_nn_forward(dec->nn, ws, x, (int)n, raw, &err), &err);
+  nn_workspace *ws = NULL;
+  CHECK_OK(nn_workspace_create(dec->nn, 1024, NBRDF_NN_INFER, &ws, &err), &err);
+  CHECK_OK(nn_forward(dec->nn, ws, x, (int)n, raw, &err), &err);
   for (size_t k = 0; k < n; k++)
     f[k] = model_output_to_f(cfg->output, raw[k]);
   int rc = fixture_run_decoder(vk, words, words_n, s.q, n, gpu, NULL);
   CHECK_MSG(rc == 0, "%s: %s", label, vkh_error(vk));
   if (rc == 0) compare(label, &s, gpu, f, raw);
-  nbrdf_nn_workspace_destroy(ws);
+  nn_workspace_destroy(ws);
   free(x), free(raw), free(f), free(gpu), free(words);
   queries_free(&s);
   model_decoder_destroy(dec);
@@ -159,12 +159,12 @@ static void test_skips(void) {
   /* 26 + 6 = 32 inputs = the width: layer 2 (plain) gets an identity skip, layer 4 (plain)
    * and the output (linear, 1 wide) projected ones. */
   CHECK_OK(model_decoder_config_make(26, hd, MODEL_OUTPUT_LOG1P, 32, 2, 1, &cfg, &err), &err);
-  nbrdf_nn_spec_skip(&cfg.spec, 2, 0);
-  nbrdf_nn_spec_skip(&cfg.spec, 5, 0);
-  CHECK_OK(nbrdf_nn_spec_validate(&cfg.spec, &err), &err);
+  nn_spec_skip(&cfg.spec, 2, 0);
+  nn_spec_skip(&cfg.spec, 5, 0);
+  CHECK_OK(nn_spec_validate(&cfg.spec, &err), &err);
   check_config("skips from the input", &cfg, 2048, 31);
 
-  nbrdf_nn_spec_skip(&cfg.spec, 4, 2);
+  nn_spec_skip(&cfg.spec, 4, 2);
   model_decoder *dec = NULL;
   CHECK_OK(model_decoder_create(&cfg, 1, &dec, &err), &err);
   size_t n = 0;
@@ -178,7 +178,7 @@ static void test_skips(void) {
  * nbrdf_gpu_pack_decoder, and nbrdf_model_decode as the reference. */
 static void test_bundle(void) {
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s/bundle", nbrdf_test_tmpdir());
+  snprintf(dir, sizeof dir, "%s/bundle", testing_tmpdir());
   nbrdf_error err = {0};
   CHECK_OK(model_bundle_init_random(dir, "shader-test", 7, "medium", &err), &err);
   nbrdf_model *model = NULL;
@@ -211,8 +211,8 @@ static void test_bundle(void) {
  * nbrdf_model_for_texture's model runs the embedded decoder on the GPU, not the bundle's. */
 static void test_texture_own_decoder(void) {
   char dir[1024], tex[1100];
-  snprintf(dir, sizeof dir, "%s/bundle-own", nbrdf_test_tmpdir());
-  snprintf(tex, sizeof tex, "%s/own.exr", nbrdf_test_tmpdir());
+  snprintf(dir, sizeof dir, "%s/bundle-own", testing_tmpdir());
+  snprintf(tex, sizeof tex, "%s/own.exr", testing_tmpdir());
   nbrdf_error err = {0};
   CHECK_OK(model_bundle_init_random(dir, "shader-own", 7, "medium", &err), &err);
   nbrdf_model *bundle = NULL, *own = NULL, *for_tex = NULL;
@@ -223,8 +223,8 @@ static void test_texture_own_decoder(void) {
   snprintf(file, sizeof file, "%s/decoder.safetensors", dir);
   model_decoder *dec = NULL;
   CHECK_OK(model_decoder_load(file, &dec, &err), &err);
-  size_t n_params = dec ? nbrdf_nn_param_count(dec->nn) : 0;
-  float *params = dec ? nbrdf_nn_params(dec->nn) : NULL;
+  size_t n_params = dec ? nn_param_count(dec->nn) : 0;
+  float *params = dec ? nn_params(dec->nn) : NULL;
   for (size_t k = 0; k < n_params; k += 5)
     params[k] *= 0.7f;
   if (dec) CHECK_OK(model_with_decoder_net(bundle, dec, &own, &err), &err);
@@ -273,7 +273,7 @@ static void test_texture_own_decoder(void) {
  * runs it. */
 static void test_compact_decoder(void) {
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s/bundle-compact", nbrdf_test_tmpdir());
+  snprintf(dir, sizeof dir, "%s/bundle-compact", testing_tmpdir());
   nbrdf_error err = {0};
   CHECK_OK(model_bundle_init_random(dir, "shader-compact", 9, "medium", &err), &err);
   nbrdf_model *bundle = NULL, *compact = NULL;
@@ -312,8 +312,8 @@ static void test_compact_decoder(void) {
 /* The encoding kernel alone against model_encode, so that a mismatch is located. */
 static void test_encoding_kernel(void) {
   const size_t n = 4096;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 5, 1);
+  core_rng rng;
+  core_rng_init(&rng, 5, 1);
   float *wi = malloc(sizeof(float) * 3 * n), *wo = malloc(sizeof(float) * 3 * n);
   float *pairs = malloc(sizeof(float) * 6 * n), *ref = malloc(sizeof(float) * 102 * n);
   for (size_t k = 0; k < n; k++) {
@@ -375,7 +375,7 @@ int main(void) {
   RUN(test_texture_own_decoder);
   RUN(test_compact_decoder);
   vkh_close(vk);
-  return nbrdf_test_finish();
+  return testing_finish();
 }
 #else
 int main(void) {

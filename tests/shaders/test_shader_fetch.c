@@ -21,7 +21,7 @@ static vkh *vk;
 
 /* A random RGB texture with the proxy: latents in [-2, 2], sigma in [0.05, 1], w in [0, 1]. */
 static eval_latent_image *random_image(int width, int height, int dim, uint64_t seed) {
-  nbrdf_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 1};
+  texture_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 1};
   int levels = 1;
   while ((width >> levels) >= 1 || (height >> levels) >= 1)
     levels++;
@@ -29,16 +29,16 @@ static eval_latent_image *random_image(int width, int height, int dim, uint64_t 
   nbrdf_error err = {0};
   CHECK_OK(eval_latent_image_create(&layout, width, height, levels, &img, &err), &err);
   if (!img) return NULL;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 2);
+  core_rng rng;
+  core_rng_init(&rng, seed, 2);
   for (int l = 0; l < img->levels; l++)
     for (size_t t = 0; t < (size_t)img->width[l] * img->height[l]; t++)
       for (int c = 0; c < 3; c++) {
         float *texel = img->data[l] + t * img->channels;
         for (int k = 0; k < dim; k++)
-          texel[nbrdf_latent_index_latent(&layout, c, k)] = 4.0f * nbrdf_rng_uniformf(&rng) - 2.0f;
-        texel[nbrdf_latent_index_sigma(&layout, c)] = 0.05f + 0.95f * nbrdf_rng_uniformf(&rng);
-        texel[nbrdf_latent_index_w(&layout, c)] = nbrdf_rng_uniformf(&rng);
+          texel[texture_latent_index_latent(&layout, c, k)] = 4.0f * core_rng_uniformf(&rng) - 2.0f;
+        texel[texture_latent_index_sigma(&layout, c)] = 0.05f + 0.95f * core_rng_uniformf(&rng);
+        texel[texture_latent_index_w(&layout, c)] = core_rng_uniformf(&rng);
       }
   return img;
 }
@@ -67,15 +67,15 @@ static void test_fetch(void) {
   const size_t n = 4096;
   const int C = img->channels;
   float *q = malloc(sizeof(float) * 4 * n), *ref = malloc(sizeof(float) * C * n);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 8, 1);
+  core_rng rng;
+  core_rng_init(&rng, 8, 1);
   for (size_t k = 0; k < n; k++) {
     float *c = q + 4 * k;
-    c[0] = 4.0f * nbrdf_rng_uniformf(&rng) - 1.5f; /* repeats on both sides */
-    c[1] = 4.0f * nbrdf_rng_uniformf(&rng) - 1.5f;
-    c[2] = (float)(img->levels + 2) * nbrdf_rng_uniformf(&rng) - 1.0f;
+    c[0] = 4.0f * core_rng_uniformf(&rng) - 1.5f; /* repeats on both sides */
+    c[1] = 4.0f * core_rng_uniformf(&rng) - 1.5f;
+    c[2] = (float)(img->levels + 2) * core_rng_uniformf(&rng) - 1.0f;
     if (k % 16 == 0) c[2] = floorf(c[2]); /* exact levels: t = 0 */
-    c[3] = k % 2 ? -1.0f : (float)(nbrdf_rng_u32(&rng) % (uint32_t)img->levels);
+    c[3] = k % 2 ? -1.0f : (float)(core_rng_u32(&rng) % (uint32_t)img->levels);
     if (c[3] >= 0)
       eval_latent_fetch_level(img, (int)c[3], c[0], c[1], ref + k * C);
     else
@@ -135,7 +135,7 @@ static void test_pack_refuses(void) {
 /* fetch + decode of R, G, B + proxy pdf of R, as a renderer's material kernel does. */
 static void test_shade(void) {
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s/bundle", nbrdf_test_tmpdir());
+  snprintf(dir, sizeof dir, "%s/bundle", testing_tmpdir());
   nbrdf_error err = {0};
   CHECK_OK(model_bundle_init_random(dir, "shade-test", 7, "medium", &err), &err);
   nbrdf_model *model = NULL;
@@ -154,13 +154,13 @@ static void test_shade(void) {
   float *lat = malloc(sizeof(float) * 3 * dim * n), *f = malloc(sizeof(float) * 3 * n);
   float *wi = malloc(sizeof(float) * 3 * n), *wo = malloc(sizeof(float) * 3 * n);
   double *pdf = malloc(sizeof(double) * n);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 10, 1);
+  core_rng rng;
+  core_rng_init(&rng, 10, 1);
   for (size_t k = 0; k < n; k++) {
     float *c = q + 9 * k;
-    c[0] = nbrdf_rng_uniformf(&rng);
-    c[1] = nbrdf_rng_uniformf(&rng);
-    c[2] = 5.0f * nbrdf_rng_uniformf(&rng);
+    c[0] = core_rng_uniformf(&rng);
+    c[1] = core_rng_uniformf(&rng);
+    c[2] = 5.0f * core_rng_uniformf(&rng);
     fixture_direction(&rng, c + 3);
     fixture_direction(&rng, c + 6);
     memcpy(wi + 3 * k, c + 3, 12);
@@ -168,10 +168,10 @@ static void test_shade(void) {
     eval_latent_fetch(img, c[0], c[1], c[2], texel);
     for (int ch = 0; ch < 3; ch++)
       for (int i = 0; i < dim; i++)
-        lat[(k * 3 + ch) * dim + i] = texel[nbrdf_latent_index_latent(&img->layout, ch, i)];
+        lat[(k * 3 + ch) * dim + i] = texel[texture_latent_index_latent(&img->layout, ch, i)];
     double dwi[3] = {c[3], c[4], c[5]}, dwo[3] = {c[6], c[7], c[8]};
-    pdf[k] = nbrdf_proxy_pdf(texel[nbrdf_latent_index_sigma(&img->layout, 0)],
-                             texel[nbrdf_latent_index_w(&img->layout, 0)], dwi, dwo);
+    pdf[k] = nbrdf_proxy_pdf(texel[texture_latent_index_sigma(&img->layout, 0)],
+                             texel[texture_latent_index_w(&img->layout, 0)], dwi, dwo);
   }
   CHECK_OK(nbrdf_model_decode(model, n, 3, lat, wi, wo, f, &err), &err);
   uint32_t spec[1] = {wwords[NBRDF_GPU_W_MAX_WIDTH]};
@@ -232,7 +232,7 @@ int main(void) {
   RUN(test_fetch);
   RUN(test_shade);
   vkh_close(vk);
-  return nbrdf_test_finish();
+  return testing_finish();
 }
 #else
 int main(void) {

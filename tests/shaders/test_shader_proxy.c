@@ -22,17 +22,17 @@ static vkh *vk;
 
 static void test_sample_and_pdf(void) {
   const size_t n = 20000;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 77, 3);
+  core_rng rng;
+  core_rng_init(&rng, 77, 3);
   float *cases = calloc(12 * n, sizeof(float));
   for (size_t k = 0; k < n; k++) {
     float *c = cases + 12 * k;
-    c[0] = (float)(1e-3 * pow(4000.0, nbrdf_rng_uniform(&rng)));
-    double uw = nbrdf_rng_uniform(&rng);
-    c[1] = uw < 0.1 ? 0.0f : uw < 0.2 ? 1.0f : (float)nbrdf_rng_uniform(&rng);
+    c[0] = (float)(1e-3 * pow(4000.0, core_rng_uniform(&rng)));
+    double uw = core_rng_uniform(&rng);
+    c[1] = uw < 0.1 ? 0.0f : uw < 0.2 ? 1.0f : (float)core_rng_uniform(&rng);
     fixture_direction(&rng, c + 2);
     for (int j = 0; j < 3; j++)
-      c[5 + j] = nbrdf_rng_uniformf(&rng);
+      c[5 + j] = core_rng_uniformf(&rng);
     fixture_direction(&rng, c + 8);
   }
   vkh_buffer cb, rb;
@@ -122,7 +122,7 @@ int main(void) {
   printf("device: %s\n", vkh_device_name(vk));
   RUN(test_sample_and_pdf);
   vkh_close(vk);
-  return nbrdf_test_finish();
+  return testing_finish();
 }
 #else
 int main(void) {

@@ -13,48 +13,48 @@
 #include "texture/mip_chain.h"
 
 /* Smooth in space plus noise, in [-3, 3]; proxy sigma/w in (0, 1). */
-static inline float *fixture_texels(int W, int H, const nbrdf_latent_layout *layout,
+static inline float *fixture_texels(int W, int H, const texture_latent_layout *layout,
                                     uint64_t seed) {
-  int C = nbrdf_latent_channel_count(layout);
+  int C = texture_latent_channel_count(layout);
   float *t = malloc(sizeof(float) * (size_t)W * H * C);
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, seed, 0);
+  core_rng rng;
+  core_rng_init(&rng, seed, 0);
   for (int y = 0; y < H; y++)
     for (int x = 0; x < W; x++)
       for (int i = 0; i < C; i++) {
-        double u = nbrdf_rng_uniform(&rng);
+        double u = core_rng_uniform(&rng);
         double smooth = sin(0.1 * x + 0.7 * i) * cos(0.13 * y - 0.3 * i);
         t[((size_t)y * W + x) * C + i] = (float)(2.0 * smooth + (u - 0.5));
       }
   if (layout->proxy)
     for (size_t p = 0; p < (size_t)W * H; p++)
-      for (int c = 0; c < nbrdf_latent_colours(layout); c++) {
-        t[p * C + nbrdf_latent_index_sigma(layout, c)] =
-            (float)(0.05 + 0.9 * nbrdf_rng_uniform(&rng));
-        t[p * C + nbrdf_latent_index_w(layout, c)] = (float)nbrdf_rng_uniform(&rng);
+      for (int c = 0; c < texture_latent_colours(layout); c++) {
+        t[p * C + texture_latent_index_sigma(layout, c)] =
+            (float)(0.05 + 0.9 * core_rng_uniform(&rng));
+        t[p * C + texture_latent_index_w(layout, c)] = (float)core_rng_uniform(&rng);
       }
   return t;
 }
 
 /* Writes `texels` in bands of `band` rows (the last band shorter). */
 static inline nbrdf_status fixture_write(const char *path, int W, int H,
-                                         const nbrdf_latent_layout *layout,
-                                         const nbrdf_latent_meta *meta,
-                                         const nbrdf_latent_exr_options *opts, const float *texels,
-                                         int band, nbrdf_error *err) {
-  nbrdf_latent_writer *w = NULL;
-  nbrdf_status st = nbrdf_latent_writer_create(&w, path, W, H, layout, meta, opts, NULL, 0, err);
+                                         const texture_latent_layout *layout,
+                                         const texture_latent_meta *meta,
+                                         const texture_latent_exr_options *opts,
+                                         const float *texels, int band, nbrdf_error *err) {
+  texture_latent_writer *w = NULL;
+  nbrdf_status st = texture_latent_writer_create(&w, path, W, H, layout, meta, opts, NULL, 0, err);
   if (st != NBRDF_OK) return st;
-  size_t row = (size_t)W * nbrdf_latent_channel_count(layout);
+  size_t row = (size_t)W * texture_latent_channel_count(layout);
   for (int y = 0; y < H; y += band) {
     int n = H - y < band ? H - y : band;
-    st = nbrdf_latent_writer_write_rows(w, texels + (size_t)y * row, n, err);
+    st = texture_latent_writer_write_rows(w, texels + (size_t)y * row, n, err);
     if (st != NBRDF_OK) {
-      nbrdf_latent_writer_abort(w);
+      texture_latent_writer_abort(w);
       return st;
     }
   }
-  return nbrdf_latent_writer_finish(w, err);
+  return texture_latent_writer_finish(w, err);
 }
 
 /* Level l by brute force: each texel the mean of level-0 texels over
@@ -83,7 +83,7 @@ static inline float *fixture_level(const float *l0, int W, int H, int C, int l, 
 
 /* Largest |got - want| relative to the storage's precision: <= 1 passes. */
 static inline double fixture_error(const float *got, const float *want, size_t n,
-                                   nbrdf_latent_storage storage) {
+                                   texture_latent_storage storage) {
   /* Half keeps 11 significant bits: round-to-nearest errs by <= 2^-11
    * relative (plus subnormal spacing near zero). Float storage may differ
    * from the test's own double-precision mean by one rounding (2^-23). */

@@ -13,24 +13,24 @@
 #include "texture/param_map.h"
 
 static void corpus_path(char *buf, size_t cap, const char *name) {
-  snprintf(buf, cap, "%s/tests/texture/bad_maps/%s", nbrdf_test_source_dir(), name);
+  snprintf(buf, cap, "%s/tests/texture/bad_maps/%s", testing_source_dir(), name);
 }
 
 /* Opens and reads every row; returns the status, the error in *err. */
-static nbrdf_status open_and_read(const char *path, nbrdf_param_kind kind, nbrdf_error *err) {
-  nbrdf_param_map_options o = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+static nbrdf_status open_and_read(const char *path, texture_param_kind kind, nbrdf_error *err) {
+  texture_param_map_options o = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
   o.kind = kind;
-  nbrdf_param_map *m = NULL;
-  nbrdf_status st = nbrdf_param_map_open(path, &o, &m, err);
+  texture_param_map *m = NULL;
+  nbrdf_status st = texture_param_map_open(path, &o, &m, err);
   if (st != NBRDF_OK) {
     CHECK_MSG(m == NULL, "%s: a map returned with a failure", path);
     return st;
   }
-  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(m);
+  const texture_param_map_info *in = texture_param_map_get_info(m);
   float *rows = malloc(sizeof(float) * (size_t)in->width * in->height * in->channels);
-  st = nbrdf_param_map_read_rows(m, 0, in->height, rows, err);
+  st = texture_param_map_read_rows(m, 0, in->height, rows, err);
   free(rows);
-  nbrdf_param_map_close(m);
+  texture_param_map_close(m);
   return st;
 }
 
@@ -56,7 +56,7 @@ static void test_refused(void) {
     corpus_path(path, sizeof path, cases[i].file);
     for (int kind = 0; kind < 2; kind++) {
       nbrdf_error err = {0};
-      nbrdf_status st = open_and_read(path, (nbrdf_param_kind)kind, &err);
+      nbrdf_status st = open_and_read(path, (texture_param_kind)kind, &err);
       CHECK_MSG(st != NBRDF_OK, "%s was accepted", cases[i].file);
       CHECK_MSG(strstr(err.message, path) && strstr(err.message, cases[i].says),
                 "%s: \"%s\" lacks the path or \"%s\"", cases[i].file, err.message, cases[i].says);
@@ -68,8 +68,8 @@ static void test_refused(void) {
  * never end), saying what they are. */
 static void test_special_files(void) {
   char dir[1024], fifo[1024];
-  snprintf(dir, sizeof dir, "%s/map_dir.png", nbrdf_test_tmpdir());
-  snprintf(fifo, sizeof fifo, "%s/map_fifo.png", nbrdf_test_tmpdir());
+  snprintf(dir, sizeof dir, "%s/map_dir.png", testing_tmpdir());
+  snprintf(fifo, sizeof fifo, "%s/map_fifo.png", testing_tmpdir());
   CHECK(mkdir(dir, 0755) == 0);
   CHECK(mkfifo(fifo, 0644) == 0);
   static const char *const says[] = {"is a directory", "is a FIFO", "is a character device",
@@ -89,15 +89,15 @@ static void test_special_files(void) {
 static void read_first_row(const char *name, float *out, int *channels) {
   char path[1024];
   corpus_path(path, sizeof path, name);
-  nbrdf_param_map *m = NULL;
+  texture_param_map *m = NULL;
   nbrdf_error err = {0};
-  CHECK_OK(nbrdf_param_map_open(path, NULL, &m, &err), &err);
+  CHECK_OK(texture_param_map_open(path, NULL, &m, &err), &err);
   if (!m) return;
-  const nbrdf_param_map_info *in = nbrdf_param_map_get_info(m);
+  const texture_param_map_info *in = texture_param_map_get_info(m);
   *channels = in->channels;
   CHECK(in->width == 2 && in->height == 1);
-  CHECK_OK(nbrdf_param_map_read_rows(m, 0, 1, out, &err), &err);
-  nbrdf_param_map_close(m);
+  CHECK_OK(texture_param_map_read_rows(m, 0, 1, out, &err), &err);
+  texture_param_map_close(m);
 }
 
 /* OpenImageIO multiplies colour by alpha on read unless asked not to; a
@@ -123,5 +123,5 @@ int main(void) {
   RUN(test_refused);
   RUN(test_special_files);
   RUN(test_alpha_ignored);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -11,21 +11,21 @@ static double srgb_to_linear(double v) {
   return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
 }
 
-static float convert(const nbrdf_colour_xform *x, float v) {
+static float convert(const texture_colour_xform *x, float v) {
   nbrdf_error e;
   float rgb[3] = {v, v, v};
-  if (nbrdf_colour_xform_apply_rgb(x, rgb, 1, &e) != NBRDF_OK) return NAN;
+  if (texture_colour_xform_apply_rgb(x, rgb, 1, &e) != NBRDF_OK) return NAN;
   return rgb[1];
 }
 
 static void test_builtin_srgb(void) {
   nbrdf_error e, *err = &e;
-  nbrdf_colour_xform *x = NULL;
+  texture_colour_xform *x = NULL;
   unsetenv("OCIO");
   CHECK_OK(nbrdf_colour_xform_create("sRGB", NULL, &x, err), err);
   if (!x) return;
-  CHECK(!nbrdf_colour_xform_is_identity(x));
-  CHECK(strstr(nbrdf_colour_xform_describe(x), "built in") != NULL);
+  CHECK(!texture_colour_xform_is_identity(x));
+  CHECK(strstr(texture_colour_xform_describe(x), "built in") != NULL);
   CHECK_NEAR(convert(x, 0.5f), 0.2140, 5e-5);
   static const float points[] = {0.0f, 0.01f, 0.04045f, 0.1f, 0.25f, 0.5f, 0.75f, 0.9f, 1.0f};
   for (size_t i = 0; i < sizeof points / sizeof points[0]; i++) {
@@ -37,30 +37,30 @@ static void test_builtin_srgb(void) {
   float rgb[3 * 1000];
   for (int i = 0; i < 3000; i++)
     rgb[i] = (float)(i % 1000) / 999.0f;
-  CHECK_OK(nbrdf_colour_xform_apply_rgb(x, rgb, 1000, err), err);
+  CHECK_OK(texture_colour_xform_apply_rgb(x, rgb, 1000, err), err);
   double worst = 0;
   for (int i = 0; i < 3000; i++)
     worst = fmax(worst, fabs(rgb[i] - srgb_to_linear((i % 1000) / 999.0)));
   CHECK(worst < 1e-6);
   float grey[5] = {0.0f, 0.2f, 0.5f, 0.8f, 1.0f};
-  CHECK_OK(nbrdf_colour_xform_apply_grey(x, grey, 5, err), err);
+  CHECK_OK(texture_colour_xform_apply_grey(x, grey, 5, err), err);
   CHECK_NEAR(grey[2], 0.214041, 1e-5);
   CHECK_NEAR(grey[4], 1.0, 1e-6);
-  nbrdf_colour_xform_free(x);
+  texture_colour_xform_free(x);
 }
 
 static void test_identity_names(void) {
   nbrdf_error e, *err = &e;
   static const char *names[] = {"linear", "raw", "Raw", "data"};
   for (int i = 0; i < 4; i++) {
-    nbrdf_colour_xform *x = NULL;
+    texture_colour_xform *x = NULL;
     CHECK_OK(nbrdf_colour_xform_create(names[i], NULL, &x, err), err);
     if (!x) continue;
-    CHECK(nbrdf_colour_xform_is_identity(x));
+    CHECK(texture_colour_xform_is_identity(x));
     CHECK(convert(x, 0.5f) == 0.5f);
-    nbrdf_colour_xform_free(x);
+    texture_colour_xform_free(x);
   }
-  nbrdf_colour_xform *x = NULL;
+  texture_colour_xform *x = NULL;
   CHECK_FAILS(nbrdf_colour_xform_create("ACEScg", NULL, &x, err), NBRDF_ERR_ARGUMENT, err,
               "unknown colour space 'ACEScg'");
   CHECK_FAILS(nbrdf_colour_xform_create("", NULL, &x, err), NBRDF_ERR_ARGUMENT, err, "empty");
@@ -84,20 +84,20 @@ static void write_config(const char *path) {
 static void test_user_config(void) {
   nbrdf_error e, *err = &e;
   char path[512];
-  snprintf(path, sizeof path, "%s/studio.ocio", nbrdf_test_tmpdir());
+  snprintf(path, sizeof path, "%s/studio.ocio", testing_tmpdir());
   write_config(path);
-  nbrdf_colour_xform *x = NULL;
+  texture_colour_xform *x = NULL;
   CHECK_OK(nbrdf_colour_xform_create("gamma22", path, &x, err), err);
   if (x) {
     CHECK_NEAR(convert(x, 0.5f), pow(0.5, 2.2), 1e-6);
-    CHECK(strstr(nbrdf_colour_xform_describe(x), "studio.ocio") != NULL);
-    nbrdf_colour_xform_free(x);
+    CHECK(strstr(texture_colour_xform_describe(x), "studio.ocio") != NULL);
+    texture_colour_xform_free(x);
     x = NULL;
   }
   /* A name the config lacks falls back to the built-ins, else fails. */
   CHECK_OK(nbrdf_colour_xform_create("srgb", path, &x, err), err);
   if (x) CHECK_NEAR(convert(x, 0.5f), 0.214041, 1e-5);
-  nbrdf_colour_xform_free(x);
+  texture_colour_xform_free(x);
   x = NULL;
   CHECK_FAILS(nbrdf_colour_xform_create("ACEScg", path, &x, err), NBRDF_ERR_ARGUMENT, err,
               "not in the OCIO config");
@@ -105,11 +105,11 @@ static void test_user_config(void) {
   setenv("OCIO", path, 1);
   CHECK_OK(nbrdf_colour_xform_create("gamma22", NULL, &x, err), err);
   if (x) CHECK_NEAR(convert(x, 0.25f), pow(0.25, 2.2), 1e-6);
-  nbrdf_colour_xform_free(x);
+  texture_colour_xform_free(x);
   x = NULL;
   unsetenv("OCIO");
   char bad[600];
-  snprintf(bad, sizeof bad, "%s/missing.ocio", nbrdf_test_tmpdir());
+  snprintf(bad, sizeof bad, "%s/missing.ocio", testing_tmpdir());
   CHECK_FAILS(nbrdf_colour_xform_create("gamma22", bad, &x, err), NBRDF_ERR_ARGUMENT, err,
               "missing.ocio");
   CHECK(x == NULL);
@@ -119,5 +119,5 @@ int main(void) {
   RUN(test_builtin_srgb);
   RUN(test_identity_names);
   RUN(test_user_config);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -9,7 +9,7 @@
 
 typedef struct {
   const char *name, *file;
-  nbrdf_param_kind kind;
+  texture_param_kind kind;
   int channels;
   float lo, hi; /* every value within [lo, hi] (after linearisation) */
 } expected_map;
@@ -17,9 +17,9 @@ typedef struct {
 static void test_example_maps(void) {
   nbrdf_error e, *err = &e;
   char dir[512], cmd[1400];
-  snprintf(dir, sizeof dir, "%s/maps", nbrdf_test_tmpdir());
+  snprintf(dir, sizeof dir, "%s/maps", testing_tmpdir());
   snprintf(cmd, sizeof cmd, "bash '%s/examples/make_maps.sh' '%s' > /dev/null",
-           nbrdf_test_source_dir(), dir);
+           testing_source_dir(), dir);
   CHECK(system(cmd) == 0);
   static const expected_map maps[] = {
       {"alpha1", "alpha1.png", NBRDF_PARAM_DATA, 1, 0.05f, 0.9f},
@@ -29,22 +29,22 @@ static void test_example_maps(void) {
       {"albedo", "albedo.png", NBRDF_PARAM_COLOUR, 3, 0.03f, 0.9f},
       {"sigma_t", "sigma_t.exr", NBRDF_PARAM_DATA, 1, 0.0f, 5.0f},
   };
-  nbrdf_param_source *src[6] = {0};
+  texture_param_source *src[6] = {0};
   for (int i = 0; i < 6; i++) {
     char path[700];
     snprintf(path, sizeof path, "%s/%s", dir, maps[i].file);
-    nbrdf_param_map_options opts = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+    texture_param_map_options opts = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
     opts.kind = maps[i].kind;
-    CHECK_OK(nbrdf_param_source_map(maps[i].name, path, &opts, &src[i], err), err);
+    CHECK_OK(texture_param_source_map(maps[i].name, path, &opts, &src[i], err), err);
     if (!src[i]) continue;
-    CHECK(nbrdf_param_source_channels(src[i]) == maps[i].channels);
-    nbrdf_param_band band;
-    CHECK_OK(nbrdf_param_source_read_band(src[i], 0, 256, &band, err), err);
+    CHECK(texture_param_source_channels(src[i]) == maps[i].channels);
+    texture_param_band band;
+    CHECK_OK(texture_param_source_read_band(src[i], 0, 256, &band, err), err);
     float lo = INFINITY, hi = -INFINITY;
     for (int y = 0; y < 256; y++)
       for (int x = 0; x < 256; x++)
         for (int c = 0; c < maps[i].channels; c++) {
-          float v = nbrdf_param_band_at(&band, x, y, c);
+          float v = texture_param_band_at(&band, x, y, c);
           lo = fminf(lo, v);
           hi = fmaxf(hi, v);
         }
@@ -54,27 +54,27 @@ static void test_example_maps(void) {
   }
   /* sigma_t's four steps; eta's two stripes. */
   if (src[5]) {
-    nbrdf_param_band band;
-    CHECK_OK(nbrdf_param_source_read_band(src[5], 10, 1, &band, err), err);
-    CHECK(nbrdf_param_band_at(&band, 0, 0, 0) == 0.0f &&
-          nbrdf_param_band_at(&band, 70, 0, 0) == 1.0f);
-    CHECK(nbrdf_param_band_at(&band, 130, 0, 0) == 2.0f &&
-          nbrdf_param_band_at(&band, 255, 0, 0) == 5.0f);
+    texture_param_band band;
+    CHECK_OK(texture_param_source_read_band(src[5], 10, 1, &band, err), err);
+    CHECK(texture_param_band_at(&band, 0, 0, 0) == 0.0f &&
+          texture_param_band_at(&band, 70, 0, 0) == 1.0f);
+    CHECK(texture_param_band_at(&band, 130, 0, 0) == 2.0f &&
+          texture_param_band_at(&band, 255, 0, 0) == 5.0f);
   }
   if (src[1]) {
-    nbrdf_param_band band;
-    CHECK_OK(nbrdf_param_source_read_band(src[1], 100, 1, &band, err), err);
-    CHECK(nbrdf_param_band_at(&band, 5, 0, 0) == 1.3f &&
-          nbrdf_param_band_at(&band, 40, 0, 0) == 1.7f);
+    texture_param_band band;
+    CHECK_OK(texture_param_source_read_band(src[1], 100, 1, &band, err), err);
+    CHECK(texture_param_band_at(&band, 5, 0, 0) == 1.3f &&
+          texture_param_band_at(&band, 40, 0, 0) == 1.7f);
   }
   int w = 0, h = 0;
-  CHECK_OK(nbrdf_param_sources_common_size(src, 6, &w, &h, err), err);
+  CHECK_OK(texture_param_sources_common_size(src, 6, &w, &h, err), err);
   CHECK(w == 256 && h == 256);
   for (int i = 0; i < 6; i++)
-    nbrdf_param_source_free(src[i]);
+    texture_param_source_free(src[i]);
 }
 
 int main(void) {
   RUN(test_example_maps);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

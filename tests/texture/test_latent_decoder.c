@@ -58,11 +58,11 @@ static nbrdf_model *perturbed_model(void) {
   model_decoder *dec = NULL;
   nbrdf_error e, *err = &e;
   char file[1024];
-  snprintf(file, sizeof file, "%s/models/default/decoder.safetensors", nbrdf_test_source_dir());
+  snprintf(file, sizeof file, "%s/models/default/decoder.safetensors", testing_source_dir());
   CHECK_OK(model_decoder_load(file, &dec, err), err);
   if (!dec) return NULL;
-  float *p = nbrdf_nn_params(dec->nn);
-  for (size_t k = 0; k < nbrdf_nn_param_count(dec->nn); k += 7)
+  float *p = nn_params(dec->nn);
+  for (size_t k = 0; k < nn_param_count(dec->nn); k += 7)
     p[k] *= 1.25f;
   nbrdf_model *m = NULL;
   CHECK_OK(model_with_decoder_net(bundle, dec, &m, err), err);
@@ -86,14 +86,14 @@ static nbrdf_bake_inputs constant_rgb(void) {
 #define NQ 4
 static void decode_texel(const nbrdf_model *m, const char *tex, float f[NQ * 3]) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, tex, err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, tex, err), err);
   if (!r) return;
-  const nbrdf_latent_info *info = nbrdf_latent_reader_info(r);
+  const texture_latent_info *info = texture_latent_reader_info(r);
   float texel[3 * 34];
   CHECK(info->channels == 3 * 34);
-  CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
-  nbrdf_latent_reader_close(r);
+  CHECK_OK(texture_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
+  texture_latent_reader_close(r);
   float lat[NQ * 3 * 32], wi[NQ * 3], wo[NQ * 3];
   for (int q = 0; q < NQ; q++) {
     float ti = 0.2f + 0.3f * (float)q, to = 0.5f;
@@ -134,18 +134,18 @@ static void test_round_trip(void) {
   CHECK_OK(nbrdf_texture_own_decoder(path("v1.exr"), &t1, err), err);
   CHECK(t2.own && t2.size == di.size && !strcmp(t2.checksum, di.checksum) && !t2.bytes);
   CHECK(!t1.own && t1.size == 0);
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("v2.exr"), err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path("v2.exr"), err), err);
   if (r) {
-    CHECK(nbrdf_latent_reader_info(r)->format_version == 2);
+    CHECK(texture_latent_reader_info(r)->format_version == 2);
     size_t n = 0;
-    const void *b = nbrdf_latent_reader_decoder(r, &n);
+    const void *b = texture_latent_reader_decoder(r, &n);
     CHECK(b && n == di.size && !memcmp(b, di.bytes, n));
-    nbrdf_latent_reader_close(r);
+    texture_latent_reader_close(r);
   }
-  CHECK_OK(nbrdf_latent_reader_open(&r, path("v1.exr"), err), err);
-  if (r) CHECK(nbrdf_latent_reader_info(r)->format_version == 1);
-  nbrdf_latent_reader_close(r);
+  CHECK_OK(texture_latent_reader_open(&r, path("v1.exr"), err), err);
+  if (r) CHECK(texture_latent_reader_info(r)->format_version == 1);
+  texture_latent_reader_close(r);
 
   /* The texture's model decodes as the embedded decoder, not as the bundle's. */
   nbrdf_model *m2 = NULL, *m1 = NULL;
@@ -196,11 +196,11 @@ static void test_round_trip(void) {
 static void test_v1_bytes_unchanged(void) {
   nbrdf_error e, *err = &e;
   char file[1024];
-  snprintf(file, sizeof file, "%s/tests/cli/data/v1_constant_rgb.exr", nbrdf_test_source_dir());
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, file, err), err);
+  snprintf(file, sizeof file, "%s/tests/cli/data/v1_constant_rgb.exr", testing_source_dir());
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, file, err), err);
   if (!r) return;
-  const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+  const texture_latent_info *in = texture_latent_reader_info(r);
   CHECK(in->format_version == 1 && in->decoder_size == 0 && !strcmp(in->decoder_checksum, ""));
   char writer[64];
   snprintf(writer, sizeof writer, "nbrdf %s", nbrdf_version());
@@ -210,16 +210,17 @@ static void test_v1_bytes_unchanged(void) {
             in->writer, writer);
   CHECK(in->width == 1 && in->height == 1 && in->levels == 1);
   float *texel = malloc(sizeof(float) * (size_t)in->channels);
-  CHECK_OK(nbrdf_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
-  nbrdf_latent_meta meta = {in->model_name, in->model_checksum, in->sources, in->settings, NULL, 0, NULL};
-  nbrdf_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
-  nbrdf_latent_writer *w = NULL;
-  CHECK_OK(nbrdf_latent_writer_create(&w, path("rewritten.exr"), 1, 1, &in->layout, &meta, &o, NULL,
-                                      0, err),
+  CHECK_OK(texture_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
+  texture_latent_meta meta = {
+      in->model_name, in->model_checksum, in->sources, in->settings, NULL, 0, NULL};
+  texture_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_writer *w = NULL;
+  CHECK_OK(texture_latent_writer_create(&w, path("rewritten.exr"), 1, 1, &in->layout, &meta, &o,
+                                        NULL, 0, err),
            err);
-  if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, texel, 1, err), err);
-  if (w) CHECK_OK(nbrdf_latent_writer_finish(w, err), err);
-  nbrdf_latent_reader_close(r);
+  if (w) CHECK_OK(texture_latent_writer_write_rows(w, texel, 1, err), err);
+  if (w) CHECK_OK(texture_latent_writer_finish(w, err), err);
+  texture_latent_reader_close(r);
   free(texel);
   size_t na = 0, nb = 0;
   unsigned char *a = read_all(file, &na), *b = read_all(path("rewritten.exr"), &nb);
@@ -239,15 +240,15 @@ static void test_v1_bytes_unchanged(void) {
 /* Writes a 1x1 texture of the bundle whose "decoder" is `bytes`. */
 static void write_with_decoder(const char *p, const void *bytes, size_t size) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
-  nbrdf_latent_meta meta = {nbrdf_model_name(bundle), nbrdf_model_checksum(bundle), "", "",
+  texture_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
+  texture_latent_meta meta = {nbrdf_model_name(bundle), nbrdf_model_checksum(bundle), "", "",
                             bytes, size, NULL};
   float texel[34] = {0};
   texel[32] = 0.5f;
-  nbrdf_latent_writer *w = NULL;
-  CHECK_OK(nbrdf_latent_writer_create(&w, p, 1, 1, &layout, &meta, NULL, NULL, 0, err), err);
-  if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, texel, 1, err), err);
-  if (w) CHECK_OK(nbrdf_latent_writer_finish(w, err), err);
+  texture_latent_writer *w = NULL;
+  CHECK_OK(texture_latent_writer_create(&w, p, 1, 1, &layout, &meta, NULL, NULL, 0, err), err);
+  if (w) CHECK_OK(texture_latent_writer_write_rows(w, texel, 1, err), err);
+  if (w) CHECK_OK(texture_latent_writer_finish(w, err), err);
 }
 
 static void expect_refused(const char *p, const char *needle) {
@@ -262,7 +263,7 @@ static void expect_refused(const char *p, const char *needle) {
 static void test_damaged_decoders(void) {
   nbrdf_error e, *err = &e;
   char file[1024];
-  snprintf(file, sizeof file, "%s/models/default/decoder.safetensors", nbrdf_test_source_dir());
+  snprintf(file, sizeof file, "%s/models/default/decoder.safetensors", testing_source_dir());
   size_t n = 0;
   unsigned char *bytes = read_all(file, &n);
   CHECK(bytes && n > 4096);
@@ -290,7 +291,7 @@ static void test_damaged_decoders(void) {
   /* A layering network where the decoder belongs. */
   char layering[1024];
   snprintf(layering, sizeof layering, "%s/models/default/sampler.safetensors",
-           nbrdf_test_source_dir());
+           testing_source_dir());
   size_t ln = 0;
   unsigned char *lb = read_all(layering, &ln);
   write_with_decoder(path("sampler.exr"), lb, ln);
@@ -313,11 +314,11 @@ static void test_damaged_decoders(void) {
   free(b16);
 
   /* More than 64 MiB is refused before anything is written or read. */
-  nbrdf_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
-  nbrdf_latent_meta big = {"m", "c", "", "", bytes, NBRDF_DECODER_BYTES_MAX + 1, NULL};
-  nbrdf_latent_writer *w = NULL;
+  texture_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
+  texture_latent_meta big = {"m", "c", "", "", bytes, NBRDF_DECODER_BYTES_MAX + 1, NULL};
+  texture_latent_writer *w = NULL;
   CHECK_FAILS(
-      nbrdf_latent_writer_create(&w, path("big.exr"), 1, 1, &layout, &big, NULL, NULL, 0, err),
+      texture_latent_writer_create(&w, path("big.exr"), 1, 1, &layout, &big, NULL, NULL, 0, err),
       NBRDF_ERR_ARGUMENT, err, "it must have 1 byte to 64 MiB");
   struct stat sb;
   CHECK(w == NULL && stat(path("big.exr"), &sb) != 0);
@@ -328,12 +329,12 @@ static void test_damaged_decoders(void) {
   if (huge) {
     huge[12345] = 7;
     write_with_decoder(path("huge.exr"), huge, NBRDF_DECODER_BYTES_MAX);
-    nbrdf_latent_reader *r = NULL;
-    CHECK_OK(nbrdf_latent_reader_open(&r, path("huge.exr"), err), err);
+    texture_latent_reader *r = NULL;
+    CHECK_OK(texture_latent_reader_open(&r, path("huge.exr"), err), err);
     size_t hn = 0;
-    const unsigned char *hb = r ? nbrdf_latent_reader_decoder(r, &hn) : NULL;
+    const unsigned char *hb = r ? texture_latent_reader_decoder(r, &hn) : NULL;
     CHECK(hb && hn == NBRDF_DECODER_BYTES_MAX && hb[12345] == 7 && hb[12346] == 0);
-    nbrdf_latent_reader_close(r);
+    texture_latent_reader_close(r);
     expect_refused(path("huge.exr"), "embedded decoder");
     remove(path("huge.exr"));
     free(huge);
@@ -343,14 +344,14 @@ static void test_damaged_decoders(void) {
 
 int main(void) {
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", nbrdf_test_tmpdir());
+  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char dir[1024];
-  snprintf(dir, sizeof dir, "%s/models/default", nbrdf_test_source_dir());
+  snprintf(dir, sizeof dir, "%s/models/default", testing_source_dir());
   CHECK_OK(nbrdf_model_load(dir, &bundle, err), err);
-  if (!bundle) return nbrdf_test_finish();
+  if (!bundle) return testing_finish();
   RUN(test_round_trip);
   RUN(test_v1_bytes_unchanged);
   RUN(test_damaged_decoders);
   nbrdf_model_destroy(bundle);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

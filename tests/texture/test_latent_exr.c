@@ -12,31 +12,31 @@ typedef struct {
 
 static const size2 sizes[] = {{67, 45}, {300, 200}, {1, 1}, {1, 17}, {129, 64}};
 
-static void round_trip_seeded(int W, int H, nbrdf_latent_layout layout,
-                              nbrdf_latent_storage storage, int tile, nbrdf_latent_compression comp,
-                              int band, uint64_t seed) {
+static void round_trip_seeded(int W, int H, texture_latent_layout layout,
+                              texture_latent_storage storage, int tile,
+                              texture_latent_compression comp, int band, uint64_t seed) {
   nbrdf_error e, *err = &e;
   char path[512];
-  snprintf(path, sizeof path, "%s/rt_%dx%d_%s_%s_%d.exr", nbrdf_test_tmpdir(), W, H,
-           nbrdf_colour_mode_name(layout.colour), nbrdf_latent_storage_name(storage), tile);
+  snprintf(path, sizeof path, "%s/rt_%dx%d_%s_%s_%d.exr", testing_tmpdir(), W, H,
+           texture_colour_mode_name(layout.colour), texture_latent_storage_name(storage), tile);
   float *l0 = fixture_texels(W, H, &layout, seed);
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.storage = storage;
   opts.tile_size = tile;
   opts.compression = comp;
-  nbrdf_latent_meta meta = {"test-model", "abc123", "alpha1=0.5", "samples=1", NULL, 0, NULL};
+  texture_latent_meta meta = {"test-model", "abc123", "alpha1=0.5", "samples=1", NULL, 0, NULL};
   CHECK_OK(fixture_write(path, W, H, &layout, &meta, &opts, l0, band, err), err);
 
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
   if (!r) {
     free(l0);
     return;
   }
-  const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
-  int C = nbrdf_latent_channel_count(&layout);
+  const texture_latent_info *in = texture_latent_reader_info(r);
+  int C = texture_latent_channel_count(&layout);
   CHECK(in->width == W && in->height == H && in->channels == C);
-  CHECK(in->levels == nbrdf_mip_level_count(W, H));
+  CHECK(in->levels == texture_mip_level_count(W, H));
   CHECK(in->layout.latent_dim == layout.latent_dim && in->layout.colour == layout.colour &&
         in->layout.proxy == layout.proxy);
   CHECK(in->storage == storage && in->compression == comp);
@@ -50,9 +50,9 @@ static void round_trip_seeded(int W, int H, nbrdf_latent_layout layout,
     float *want = fixture_level(l0, W, H, C, l, &lw, &lh);
     float *got = malloc(sizeof(float) * (size_t)lw * lh * C);
     int rw = 0, rh = 0;
-    CHECK_OK(nbrdf_latent_reader_level_size(r, l, &rw, &rh, err), err);
+    CHECK_OK(texture_latent_reader_level_size(r, l, &rw, &rh, err), err);
     CHECK(rw == lw && rh == lh);
-    CHECK_OK(nbrdf_latent_reader_read(r, l, 0, 0, lw, lh, got, err), err);
+    CHECK_OK(texture_latent_reader_read(r, l, 0, 0, lw, lh, got, err), err);
     double worst = fixture_error(got, want, (size_t)lw * lh * C, storage);
     CHECK_MSG(worst <= 1.0, "%s level %d (%dx%d): error %.3g x tolerance", path, l, lw, lh, worst);
     if (l == 0 && storage == NBRDF_LATENT_FLOAT)
@@ -61,20 +61,20 @@ static void round_trip_seeded(int W, int H, nbrdf_latent_layout layout,
     free(want);
     free(got);
   }
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   free(l0);
 }
 
-static void round_trip(int W, int H, nbrdf_latent_layout layout, nbrdf_latent_storage storage,
-                       int tile, nbrdf_latent_compression comp, int band) {
+static void round_trip(int W, int H, texture_latent_layout layout, texture_latent_storage storage,
+                       int tile, texture_latent_compression comp, int band) {
   round_trip_seeded(W, H, layout, storage, tile, comp, band, (uint64_t)(W * 7 + H));
 }
 
 static void test_round_trip_every_level(void) {
-  nbrdf_latent_layout rgb = {3, NBRDF_COLOUR_RGB, 1}, mono = {5, NBRDF_COLOUR_MONO, 0};
+  texture_latent_layout rgb = {3, NBRDF_COLOUR_RGB, 1}, mono = {5, NBRDF_COLOUR_MONO, 0};
   for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++)
     for (int s = 0; s < 2; s++) {
-      nbrdf_latent_storage st = s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
+      texture_latent_storage st = s ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
       /* 16-texel tiles give several tiles, and mis-sized edge tiles, at
        * several mip levels of these small sizes. */
       round_trip(sizes[i].W, sizes[i].H, rgb, st, 16, NBRDF_LATENT_PIZ, 7);
@@ -84,8 +84,8 @@ static void test_round_trip_every_level(void) {
 
 static void test_paper_layout_and_compressions(void) {
   /* The paper's 32 latents per RGB channel with the proxy: 102 channels. */
-  nbrdf_latent_layout paper = {32, NBRDF_COLOUR_RGB, 1};
-  static const nbrdf_latent_compression comps[] = {
+  texture_latent_layout paper = {32, NBRDF_COLOUR_RGB, 1};
+  static const texture_latent_compression comps[] = {
       NBRDF_LATENT_ZIP, NBRDF_LATENT_PIZ, NBRDF_LATENT_ZIPS, NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
   for (int c = 0; c < 5; c++)
     round_trip(67, 45, paper, NBRDF_LATENT_HALF, 32, comps[c], 45);
@@ -98,9 +98,9 @@ static void test_paper_layout_and_compressions(void) {
  * with ZIP (a 16x2 tile of level 0 at 75x50, 2x12 of level 4 at 300x200,
  * 4x8 of level 3 at 288x192); the other compressions are checked alike. */
 static void test_incompressible_tiles(void) {
-  nbrdf_latent_layout mono = {3, NBRDF_COLOUR_MONO, 1};
-  static const nbrdf_latent_compression comps[] = {NBRDF_LATENT_ZIP, NBRDF_LATENT_ZIPS,
-                                                   NBRDF_LATENT_PIZ, NBRDF_LATENT_RLE};
+  texture_latent_layout mono = {3, NBRDF_COLOUR_MONO, 1};
+  static const texture_latent_compression comps[] = {NBRDF_LATENT_ZIP, NBRDF_LATENT_ZIPS,
+                                                     NBRDF_LATENT_PIZ, NBRDF_LATENT_RLE};
   static const int odd[][2] = {{75, 50}, {300, 200}, {288, 192}};
   for (int c = 0; c < 4; c++)
     for (int i = 0; i < 3; i++) {
@@ -111,43 +111,43 @@ static void test_incompressible_tiles(void) {
 
 static void test_default_compression(void) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_layout layout = {2, NBRDF_COLOUR_MONO, 0};
+  texture_latent_layout layout = {2, NBRDF_COLOUR_MONO, 0};
   float *l0 = fixture_texels(9, 9, &layout, 2);
   char path[512];
-  snprintf(path, sizeof path, "%s/default.exr", nbrdf_test_tmpdir());
+  snprintf(path, sizeof path, "%s/default.exr", testing_tmpdir());
   CHECK_OK(fixture_write(path, 9, 9, &layout, NULL, NULL, l0, 9, err), err);
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
   if (r) {
-    const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+    const texture_latent_info *in = texture_latent_reader_info(r);
     CHECK(in->compression == NBRDF_LATENT_ZIP && in->storage == NBRDF_LATENT_HALF);
     CHECK(in->tile_width == 64 && in->levels == 4);
   }
-  nbrdf_latent_reader_close(r);
-  nbrdf_latent_compression c;
-  CHECK(nbrdf_latent_compression_parse("piz", &c) && c == NBRDF_LATENT_PIZ);
-  CHECK(strcmp(nbrdf_latent_compression_name(NBRDF_LATENT_ZIPS), "zips") == 0);
-  CHECK(!nbrdf_latent_compression_parse("dwaa", &c));
+  texture_latent_reader_close(r);
+  texture_latent_compression c;
+  CHECK(texture_latent_compression_parse("piz", &c) && c == NBRDF_LATENT_PIZ);
+  CHECK(strcmp(texture_latent_compression_name(NBRDF_LATENT_ZIPS), "zips") == 0);
+  CHECK(!texture_latent_compression_parse("dwaa", &c));
   free(l0);
 }
 
 static void test_read_rectangle_and_channels(void) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_layout layout = {4, NBRDF_COLOUR_RGB, 1};
+  texture_latent_layout layout = {4, NBRDF_COLOUR_RGB, 1};
   char path[512];
-  snprintf(path, sizeof path, "%s/rect.exr", nbrdf_test_tmpdir());
+  snprintf(path, sizeof path, "%s/rect.exr", testing_tmpdir());
   float *l0 = fixture_texels(70, 50, &layout, 5);
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.storage = NBRDF_LATENT_FLOAT;
   opts.tile_size = 16;
   CHECK_OK(fixture_write(path, 70, 50, &layout, NULL, &opts, l0, 50, err), err);
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
   if (!r) return;
-  int C = nbrdf_latent_channel_count(&layout);
+  int C = texture_latent_channel_count(&layout);
   /* A rectangle straddling tile borders equals the same texels of level 0. */
   float rect[13 * 21 * 18];
-  CHECK_OK(nbrdf_latent_reader_read(r, 0, 9, 14, 13, 21, rect, err), err);
+  CHECK_OK(texture_latent_reader_read(r, 0, 9, 14, 13, 21, rect, err), err);
   int same = 1;
   for (int y = 0; y < 21; y++)
     for (int x = 0; x < 13; x++)
@@ -157,41 +157,41 @@ static void test_read_rectangle_and_channels(void) {
   /* Named channels, in the caller's order. */
   const char *names[] = {"proxy.w.B", "latent.L02.G"};
   float two[2 * 3];
-  CHECK_OK(nbrdf_latent_reader_read_channels(r, 0, 68, 49, 2, 1, names, 2, two, err), err);
+  CHECK_OK(texture_latent_reader_read_channels(r, 0, 68, 49, 2, 1, names, 2, two, err), err);
   for (int x = 0; x < 2; x++) {
     const float *t = l0 + ((size_t)49 * 70 + 68 + x) * C;
-    CHECK(two[2 * x] == t[nbrdf_latent_index_w(&layout, 2)]);
-    CHECK(two[2 * x + 1] == t[nbrdf_latent_index_latent(&layout, 1, 2)]);
+    CHECK(two[2 * x] == t[texture_latent_index_w(&layout, 2)]);
+    CHECK(two[2 * x + 1] == t[texture_latent_index_latent(&layout, 1, 2)]);
   }
   const char *bad[] = {"latent.L09.G"}, *dup[] = {"proxy.w.B", "proxy.w.B"};
-  CHECK_FAILS(nbrdf_latent_reader_read_channels(r, 0, 0, 0, 1, 1, bad, 1, two, err),
+  CHECK_FAILS(texture_latent_reader_read_channels(r, 0, 0, 0, 1, 1, bad, 1, two, err),
               NBRDF_ERR_ARGUMENT, err, "no channel 'latent.L09.G'");
-  CHECK_FAILS(nbrdf_latent_reader_read_channels(r, 0, 0, 0, 1, 1, dup, 2, two, err),
+  CHECK_FAILS(texture_latent_reader_read_channels(r, 0, 0, 0, 1, 1, dup, 2, two, err),
               NBRDF_ERR_ARGUMENT, err, "twice");
-  CHECK_FAILS(nbrdf_latent_reader_read(r, 0, 60, 0, 11, 1, rect, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(texture_latent_reader_read(r, 0, 60, 0, 11, 1, rect, err), NBRDF_ERR_ARGUMENT, err,
               "outside level 0");
-  CHECK_FAILS(nbrdf_latent_reader_read(r, 7, 0, 0, 1, 1, rect, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(texture_latent_reader_read(r, 7, 0, 0, 1, 1, rect, err), NBRDF_ERR_ARGUMENT, err,
               "level 7");
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   free(l0);
 }
 
 static void test_single_level_option(void) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_layout layout = {2, NBRDF_COLOUR_MONO, 0};
+  texture_latent_layout layout = {2, NBRDF_COLOUR_MONO, 0};
   char path[512];
-  snprintf(path, sizeof path, "%s/one.exr", nbrdf_test_tmpdir());
+  snprintf(path, sizeof path, "%s/one.exr", testing_tmpdir());
   float *l0 = fixture_texels(40, 30, &layout, 9);
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.mip_levels = 1;
   CHECK_OK(fixture_write(path, 40, 30, &layout, NULL, &opts, l0, 30, err), err);
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
-  if (r) CHECK(nbrdf_latent_reader_info(r)->levels == 1);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
+  if (r) CHECK(texture_latent_reader_info(r)->levels == 1);
+  texture_latent_reader_close(r);
   opts.mip_levels = 3;
-  nbrdf_latent_writer *w = NULL;
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, path, 40, 30, &layout, NULL, &opts, NULL, 0, err),
+  texture_latent_writer *w = NULL;
+  CHECK_FAILS(texture_latent_writer_create(&w, path, 40, 30, &layout, NULL, &opts, NULL, 0, err),
               NBRDF_ERR_ARGUMENT, err, "full chain");
   free(l0);
 }
@@ -209,24 +209,24 @@ static nbrdf_status zero_proxy(void *user, int level, int y, float *row, int wid
 
 static void test_mip_row_hook(void) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_layout layout = {1, NBRDF_COLOUR_MONO, 1};
+  texture_latent_layout layout = {1, NBRDF_COLOUR_MONO, 1};
   char path[512];
-  snprintf(path, sizeof path, "%s/hook.exr", nbrdf_test_tmpdir());
+  snprintf(path, sizeof path, "%s/hook.exr", testing_tmpdir());
   float *l0 = fixture_texels(20, 12, &layout, 3);
   int calls = 0;
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.mip_row = zero_proxy;
   opts.mip_row_user = &calls;
   CHECK_OK(fixture_write(path, 20, 12, &layout, NULL, &opts, l0, 5, err), err);
   CHECK(calls == 6 + 3 + 1 + 1); /* rows of levels 1..4: 10x6, 5x3, 2x1, 1x1 */
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
   float t[3];
   if (r) {
-    CHECK_OK(nbrdf_latent_reader_read(r, 2, 4, 2, 1, 1, t, err), err);
+    CHECK_OK(texture_latent_reader_read(r, 2, 4, 2, 1, 1, t, err), err);
     CHECK(t[1] == 2.0f && t[2] == 2.0f);
   }
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   free(l0);
 }
 
@@ -241,7 +241,7 @@ static void quiet(exr_const_context_t c, exr_result_t code, const char *msg) {
 
 static void test_interleaved_levels_need_random_y(void) {
   char path[512];
-  snprintf(path, sizeof path, "%s/order.exr", nbrdf_test_tmpdir());
+  snprintf(path, sizeof path, "%s/order.exr", testing_tmpdir());
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
   init.error_handler_fn = quiet; /* the refusal below is expected */
   exr_context_t c = NULL;
@@ -262,7 +262,7 @@ static void test_interleaved_levels_need_random_y(void) {
 
   /* Our files declare RANDOM_Y. */
   nbrdf_error e, *err = &e;
-  nbrdf_latent_layout layout = {1, NBRDF_COLOUR_MONO, 0};
+  texture_latent_layout layout = {1, NBRDF_COLOUR_MONO, 0};
   float *l0 = fixture_texels(32, 32, &layout, 1);
   CHECK_OK(fixture_write(path, 32, 32, &layout, NULL, NULL, l0, 32, err), err);
   c = NULL;
@@ -292,12 +292,12 @@ static void test_bytes_independent_of_threads(void) {
   nbrdf_error e, *err = &e;
   /* Rows of tiles of levels 0 and 1 are large enough (> 1 MiB) to be
    * compressed in parallel. */
-  nbrdf_latent_layout layout = {4, NBRDF_COLOUR_RGB, 1};
+  texture_latent_layout layout = {4, NBRDF_COLOUR_RGB, 1};
   float *l0 = fixture_texels(600, 130, &layout, 21);
   char a[512], b[512];
-  snprintf(a, sizeof a, "%s/threads1.exr", nbrdf_test_tmpdir());
-  snprintf(b, sizeof b, "%s/threads3.exr", nbrdf_test_tmpdir());
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  snprintf(a, sizeof a, "%s/threads1.exr", testing_tmpdir());
+  snprintf(b, sizeof b, "%s/threads3.exr", testing_tmpdir());
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.storage = NBRDF_LATENT_FLOAT;
   opts.compression = NBRDF_LATENT_ZIP;
   int saved = omp_get_max_threads();
@@ -324,5 +324,5 @@ int main(void) {
   RUN(test_mip_row_hook);
   RUN(test_interleaved_levels_need_random_y);
   RUN(test_bytes_independent_of_threads);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

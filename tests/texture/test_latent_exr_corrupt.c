@@ -29,29 +29,29 @@ static void spit(const char *path, const unsigned char *buf, size_t n) {
 /* Opens the file and reads every level whole; returns the status and leaves
  * the message in *err. */
 static nbrdf_status read_everything(const char *path, nbrdf_error *err) {
-  nbrdf_latent_reader *r = NULL;
-  nbrdf_status st = nbrdf_latent_reader_open(&r, path, err);
+  texture_latent_reader *r = NULL;
+  nbrdf_status st = texture_latent_reader_open(&r, path, err);
   if (st != NBRDF_OK) return st;
-  const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+  const texture_latent_info *in = texture_latent_reader_info(r);
   float *buf = malloc(sizeof(float) * (size_t)in->width * in->height * in->channels);
   for (int l = 0; st == NBRDF_OK && l < in->levels; l++) {
     int w = 0, h = 0;
-    st = nbrdf_latent_reader_level_size(r, l, &w, &h, err);
-    if (st == NBRDF_OK) st = nbrdf_latent_reader_read(r, l, 0, 0, w, h, buf, err);
+    st = texture_latent_reader_level_size(r, l, &w, &h, err);
+    if (st == NBRDF_OK) st = texture_latent_reader_read(r, l, 0, 0, w, h, buf, err);
   }
   free(buf);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   return st;
 }
 
-static void damage(nbrdf_latent_compression comp, nbrdf_latent_storage storage) {
+static void damage(texture_latent_compression comp, texture_latent_storage storage) {
   nbrdf_error e, *err = &e;
   char good[512], bad[512];
-  snprintf(good, sizeof good, "%s/good_%d_%d.exr", nbrdf_test_tmpdir(), (int)comp, (int)storage);
-  snprintf(bad, sizeof bad, "%s/bad_%d_%d.exr", nbrdf_test_tmpdir(), (int)comp, (int)storage);
-  nbrdf_latent_layout layout = {3, NBRDF_COLOUR_RGB, 1};
+  snprintf(good, sizeof good, "%s/good_%d_%d.exr", testing_tmpdir(), (int)comp, (int)storage);
+  snprintf(bad, sizeof bad, "%s/bad_%d_%d.exr", testing_tmpdir(), (int)comp, (int)storage);
+  texture_latent_layout layout = {3, NBRDF_COLOUR_RGB, 1};
   float *l0 = fixture_texels(37, 29, &layout, 77);
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.compression = comp;
   opts.storage = storage;
   opts.tile_size = 16;
@@ -94,13 +94,13 @@ static void damage(nbrdf_latent_compression comp, nbrdf_latent_storage storage) 
               "flip at %zu: status %s, message \"%s\"", pos, nbrdf_status_name(st), e.message);
   }
   printf("  %s %s: %d/%d truncations refused, %d/%d flips detected\n",
-         nbrdf_latent_compression_name(comp), nbrdf_latent_storage_name(storage), refused, tried,
-         detected, flips);
+         texture_latent_compression_name(comp), texture_latent_storage_name(storage), refused,
+         tried, detected, flips);
   free(bytes);
 }
 
 static void test_truncated_and_flipped(void) {
-  static const nbrdf_latent_compression comps[] = {
+  static const texture_latent_compression comps[] = {
       NBRDF_LATENT_PIZ, NBRDF_LATENT_ZIP, NBRDF_LATENT_ZIPS, NBRDF_LATENT_RLE, NBRDF_LATENT_NONE};
   for (int c = 0; c < 5; c++)
     damage(comps[c], c % 2 ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF);
@@ -109,5 +109,5 @@ static void test_truncated_and_flipped(void) {
 
 int main(void) {
   RUN(test_truncated_and_flipped);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

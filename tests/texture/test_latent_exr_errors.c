@@ -9,7 +9,7 @@
 
 #include "latent_fixture.h"
 
-static const nbrdf_latent_layout mono2 = {2, NBRDF_COLOUR_MONO, 0};
+static const texture_latent_layout mono2 = {2, NBRDF_COLOUR_MONO, 0};
 
 /* Entries of a directory, "." and ".." excluded. */
 static int count_entries(const char *dir) {
@@ -22,7 +22,7 @@ static int count_entries(const char *dir) {
 }
 
 static void fresh_dir(char *buf, size_t n, const char *name) {
-  snprintf(buf, n, "%s/%s", nbrdf_test_tmpdir(), name);
+  snprintf(buf, n, "%s/%s", testing_tmpdir(), name);
   mkdir(buf, 0755);
 }
 
@@ -32,26 +32,26 @@ static void test_abort_and_incomplete_leave_nothing(void) {
   fresh_dir(dir, sizeof dir, "abort");
   snprintf(path, sizeof path, "%s/t.exr", dir);
   float *l0 = fixture_texels(30, 10, &mono2, 1);
-  nbrdf_latent_writer *w = NULL;
-  CHECK_OK(nbrdf_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
+  texture_latent_writer *w = NULL;
+  CHECK_OK(texture_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
   /* The temporary file has no name (O_TMPFILE), or a hidden one where the file system
    * lacks O_TMPFILE. */
   CHECK(count_entries(dir) <= 1);
-  if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, l0, 4, err), err);
-  nbrdf_latent_writer_abort(w);
+  if (w) CHECK_OK(texture_latent_writer_write_rows(w, l0, 4, err), err);
+  texture_latent_writer_abort(w);
   CHECK(count_entries(dir) == 0);
 
-  CHECK_OK(nbrdf_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
-  if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, l0, 3, err), err);
+  CHECK_OK(texture_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
+  if (w) CHECK_OK(texture_latent_writer_write_rows(w, l0, 3, err), err);
   if (w)
-    CHECK_FAILS(nbrdf_latent_writer_finish(w, err), NBRDF_ERR_ARGUMENT, err, "only 3 of 10 rows");
+    CHECK_FAILS(texture_latent_writer_finish(w, err), NBRDF_ERR_ARGUMENT, err, "only 3 of 10 rows");
   CHECK(count_entries(dir) == 0);
 
-  CHECK_OK(nbrdf_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
+  CHECK_OK(texture_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
   if (w)
-    CHECK_FAILS(nbrdf_latent_writer_write_rows(w, l0, 11, err), NBRDF_ERR_ARGUMENT, err,
+    CHECK_FAILS(texture_latent_writer_write_rows(w, l0, 11, err), NBRDF_ERR_ARGUMENT, err,
                 "11 rows after 0 of 10");
-  nbrdf_latent_writer_abort(w);
+  texture_latent_writer_abort(w);
   CHECK(count_entries(dir) == 0);
   free(l0);
 }
@@ -62,26 +62,26 @@ static void test_bad_values_name_the_texel(void) {
   fresh_dir(dir, sizeof dir, "values");
   snprintf(path, sizeof path, "%s/t.exr", dir);
   float *l0 = fixture_texels(30, 10, &mono2, 2);
-  nbrdf_latent_writer *w = NULL;
+  texture_latent_writer *w = NULL;
   l0[(3 * 30 + 7) * 2 + 1] = NAN;
-  CHECK_OK(nbrdf_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
+  CHECK_OK(texture_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
   if (w)
-    CHECK_FAILS(nbrdf_latent_writer_write_rows(w, l0, 10, err), NBRDF_ERR_ARGUMENT, err,
+    CHECK_FAILS(texture_latent_writer_write_rows(w, l0, 10, err), NBRDF_ERR_ARGUMENT, err,
                 "texel (7, 3) latent.L01.Y is NaN");
   CHECK(count_entries(dir) == 0); /* gone at the error, before abort */
   if (w)
-    CHECK_FAILS(nbrdf_latent_writer_write_rows(w, l0, 1, err), NBRDF_ERR_ARGUMENT, err,
+    CHECK_FAILS(texture_latent_writer_write_rows(w, l0, 1, err), NBRDF_ERR_ARGUMENT, err,
                 "already failed");
-  nbrdf_latent_writer_abort(w);
+  texture_latent_writer_abort(w);
 
   l0[(3 * 30 + 7) * 2 + 1] = 1e5f; /* beyond half's 65504 */
-  CHECK_OK(nbrdf_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
+  CHECK_OK(texture_latent_writer_create(&w, path, 30, 10, &mono2, NULL, NULL, NULL, 0, err), err);
   if (w)
-    CHECK_FAILS(nbrdf_latent_writer_write_rows(w, l0, 10, err), NBRDF_ERR_ARGUMENT, err,
+    CHECK_FAILS(texture_latent_writer_write_rows(w, l0, 10, err), NBRDF_ERR_ARGUMENT, err,
                 "exceeds the half range");
-  if (w) CHECK_FAILS(nbrdf_latent_writer_finish(w, err), NBRDF_ERR_ARGUMENT, err, "failed");
+  if (w) CHECK_FAILS(texture_latent_writer_finish(w, err), NBRDF_ERR_ARGUMENT, err, "failed");
   CHECK(count_entries(dir) == 0);
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.storage = NBRDF_LATENT_FLOAT;
   CHECK_OK(fixture_write(path, 30, 10, &mono2, NULL, &opts, l0, 10, err), err);
   CHECK(count_entries(dir) == 1);
@@ -95,36 +95,37 @@ static void test_never_overwrites_an_input(void) {
   snprintf(in, sizeof in, "%s/alpha.exr", dir);
   snprintf(link, sizeof link, "%s/link.exr", dir);
   snprintf(other, sizeof other, "%s/../inputs/./alpha.exr", dir);
-  nbrdf_test_write_text(in, "an input map");
+  testing_write_text(in, "an input map");
   CHECK(symlink(in, link) == 0);
   const char *inputs[] = {"/nonexistent/r0.png", other};
-  nbrdf_latent_writer *w = NULL;
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, in, 8, 8, &mono2, NULL, NULL, inputs, 2, err),
+  texture_latent_writer *w = NULL;
+  CHECK_FAILS(texture_latent_writer_create(&w, in, 8, 8, &mono2, NULL, NULL, inputs, 2, err),
               NBRDF_ERR_ARGUMENT, err, "refusing to overwrite an input");
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, link, 8, 8, &mono2, NULL, NULL, inputs, 2, err),
+  CHECK_FAILS(texture_latent_writer_create(&w, link, 8, 8, &mono2, NULL, NULL, inputs, 2, err),
               NBRDF_ERR_ARGUMENT, err, "refusing to overwrite an input");
-  CHECK(w == NULL && nbrdf_test_file_is(in, "an input map") && count_entries(dir) == 2);
+  CHECK(w == NULL && testing_file_is(in, "an input map") && count_entries(dir) == 2);
 }
 
 static void test_unwritable_destinations(void) {
   nbrdf_error e, *err = &e;
   char dir[512], path[700];
   fresh_dir(dir, sizeof dir, "unwritable");
-  nbrdf_latent_writer *w = NULL;
+  texture_latent_writer *w = NULL;
   snprintf(path, sizeof path, "%s/no/such/dir/t.exr", dir);
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, path, 8, 8, &mono2, NULL, NULL, NULL, 0, err),
+  CHECK_FAILS(texture_latent_writer_create(&w, path, 8, 8, &mono2, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_IO, err, "cannot create a file in");
   CHECK(strstr(e.message, "No such file or directory") != NULL);
   snprintf(path, sizeof path, "%s/file", dir);
-  nbrdf_test_write_text(path, "x");
+  testing_write_text(path, "x");
   snprintf(path, sizeof path, "%s/file/t.exr", dir);
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, path, 8, 8, &mono2, NULL, NULL, NULL, 0, err),
+  CHECK_FAILS(texture_latent_writer_create(&w, path, 8, 8, &mono2, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_IO, err, "Not a directory");
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, dir, 8, 8, &mono2, NULL, NULL, NULL, 0, err),
+  CHECK_FAILS(texture_latent_writer_create(&w, dir, 8, 8, &mono2, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_ARGUMENT, err, "is a directory");
   /* /proc refuses new files even to root. */
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, "/proc/t.exr", 8, 8, &mono2, NULL, NULL, NULL, 0, err),
-              NBRDF_ERR_IO, err, "/proc/t.exr: cannot create a file in '/proc'");
+  CHECK_FAILS(
+      texture_latent_writer_create(&w, "/proc/t.exr", 8, 8, &mono2, NULL, NULL, NULL, 0, err),
+      NBRDF_ERR_IO, err, "/proc/t.exr: cannot create a file in '/proc'");
   CHECK(w == NULL && count_entries(dir) == 1);
 }
 
@@ -133,17 +134,17 @@ static void test_replaces_only_on_success(void) {
   char dir[512], path[600];
   fresh_dir(dir, sizeof dir, "replace");
   snprintf(path, sizeof path, "%s/t.exr", dir);
-  nbrdf_test_write_text(path, "previous bake");
+  testing_write_text(path, "previous bake");
   float *l0 = fixture_texels(16, 16, &mono2, 3);
-  nbrdf_latent_writer *w = NULL;
-  CHECK_OK(nbrdf_latent_writer_create(&w, path, 16, 16, &mono2, NULL, NULL, NULL, 0, err), err);
-  if (w) CHECK_OK(nbrdf_latent_writer_write_rows(w, l0, 8, err), err);
-  nbrdf_latent_writer_abort(w);
-  CHECK(nbrdf_test_file_is(path, "previous bake") && count_entries(dir) == 1);
+  texture_latent_writer *w = NULL;
+  CHECK_OK(texture_latent_writer_create(&w, path, 16, 16, &mono2, NULL, NULL, NULL, 0, err), err);
+  if (w) CHECK_OK(texture_latent_writer_write_rows(w, l0, 8, err), err);
+  texture_latent_writer_abort(w);
+  CHECK(testing_file_is(path, "previous bake") && count_entries(dir) == 1);
   CHECK_OK(fixture_write(path, 16, 16, &mono2, NULL, NULL, l0, 16, err), err);
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
+  texture_latent_reader_close(r);
   CHECK(count_entries(dir) == 1);
   free(l0);
 }
@@ -151,18 +152,18 @@ static void test_replaces_only_on_success(void) {
 static void test_writer_arguments(void) {
   nbrdf_error e, *err = &e;
   char path[512];
-  snprintf(path, sizeof path, "%s/args.exr", nbrdf_test_tmpdir());
-  nbrdf_latent_writer *w = NULL;
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
-  nbrdf_latent_layout zero = {0, NBRDF_COLOUR_RGB, 0}, odd = {4, (nbrdf_colour_mode)2, 0};
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, path, 0, 8, &mono2, NULL, NULL, NULL, 0, err),
+  snprintf(path, sizeof path, "%s/args.exr", testing_tmpdir());
+  texture_latent_writer *w = NULL;
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_layout zero = {0, NBRDF_COLOUR_RGB, 0}, odd = {4, (texture_colour_mode)2, 0};
+  CHECK_FAILS(texture_latent_writer_create(&w, path, 0, 8, &mono2, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_ARGUMENT, err, "size 0x8");
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, path, 8, 8, &zero, NULL, NULL, NULL, 0, err),
+  CHECK_FAILS(texture_latent_writer_create(&w, path, 8, 8, &zero, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_ARGUMENT, err, "latent dimension 0");
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, path, 8, 8, &odd, NULL, NULL, NULL, 0, err),
+  CHECK_FAILS(texture_latent_writer_create(&w, path, 8, 8, &odd, NULL, NULL, NULL, 0, err),
               NBRDF_ERR_ARGUMENT, err, "colour mode 2");
   opts.tile_size = 4;
-  CHECK_FAILS(nbrdf_latent_writer_create(&w, path, 8, 8, &mono2, NULL, &opts, NULL, 0, err),
+  CHECK_FAILS(texture_latent_writer_create(&w, path, 8, 8, &mono2, NULL, &opts, NULL, 0, err),
               NBRDF_ERR_ARGUMENT, err, "tile size 4");
   CHECK(w == NULL && access(path, F_OK) != 0);
 }
@@ -191,14 +192,14 @@ static void test_reader_refusals(void) {
   nbrdf_error e, *err = &e;
   char dir[512], path[600], text[600];
   fresh_dir(dir, sizeof dir, "reader");
-  nbrdf_latent_reader *r = NULL;
+  texture_latent_reader *r = NULL;
   snprintf(path, sizeof path, "%s/missing.exr", dir);
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_IO, err, "cannot open");
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, dir, err), NBRDF_ERR_IO, err,
+  CHECK_FAILS(texture_latent_reader_open(&r, path, err), NBRDF_ERR_IO, err, "cannot open");
+  CHECK_FAILS(texture_latent_reader_open(&r, dir, err), NBRDF_ERR_IO, err,
               "is a directory, not a file");
   snprintf(text, sizeof text, "%s/text.exr", dir);
-  nbrdf_test_write_text(text, "not an image at all");
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, text, err), NBRDF_ERR_FORMAT, err,
+  testing_write_text(text, "not an image at all");
+  CHECK_FAILS(texture_latent_reader_open(&r, text, err), NBRDF_ERR_FORMAT, err,
               "not a readable OpenEXR file");
 
   /* A tiled mip-mapped EXR without nbrdf's attributes. */
@@ -215,42 +216,43 @@ static void test_reader_refusals(void) {
     exr_write_tile_chunk(c, p, 0, 0, 0, 0, tile, sizeof tile);
     exr_finish(&c);
   }
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
+  CHECK_FAILS(texture_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
               "no nbrdf:formatVersion attribute");
 
   snprintf(path, sizeof path, "%s/t.exr", dir);
   float *l0 = fixture_texels(20, 20, &mono2, 4);
-  nbrdf_latent_meta meta = {"model-a", "1111", NULL, NULL, NULL, 0, NULL};
+  texture_latent_meta meta = {"model-a", "1111", NULL, NULL, NULL, 0, NULL};
   CHECK_OK(fixture_write(path, 20, 20, &mono2, &meta, NULL, l0, 20, err), err);
-  CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
   if (r) {
-    const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
-    CHECK_OK(nbrdf_latent_check_model(in, path, "model-a", "1111", err), err);
-    CHECK_FAILS(nbrdf_latent_check_model(in, path, "model-a", "2222", err), NBRDF_ERR_MISMATCH, err,
-                "baked with model 'model-a' (checksum 1111)");
-    CHECK_FAILS(nbrdf_latent_check_model(in, path, "model-b", NULL, err), NBRDF_ERR_MISMATCH, err,
+    const texture_latent_info *in = texture_latent_reader_info(r);
+    CHECK_OK(texture_latent_check_model(in, path, "model-a", "1111", err), err);
+    CHECK_FAILS(texture_latent_check_model(in, path, "model-a", "2222", err), NBRDF_ERR_MISMATCH,
+                err, "baked with model 'model-a' (checksum 1111)");
+    CHECK_FAILS(texture_latent_check_model(in, path, "model-b", NULL, err), NBRDF_ERR_MISMATCH, err,
                 "not 'model-b'");
     CHECK(in->sources[0] == '\0' && in->file_size > 0);
   }
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   CHECK(set_int_attr(path, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_VERSION + 1));
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
+  CHECK_FAILS(texture_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
               "is newer than this nbrdf reads");
   /* Version 2 promises a decoder of its own: without the attribute (what an
    * image tool's copy leaves) the file is refused, saying why. */
   CHECK(set_int_attr(path, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_OWN_DECODER));
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
+  CHECK_FAILS(texture_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
               "the nbrdf:decoder attribute is missing: a tool that copies only the attributes "
               "it knows (oiiotool");
   CHECK(strstr(err->message, path) == err->message);
   CHECK(set_int_attr(path, NBRDF_ATTR_FORMAT_VERSION, NBRDF_LATENT_FORMAT_V1));
   CHECK(set_int_attr(path, NBRDF_ATTR_LATENT_DIM, 3));
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
+  CHECK_FAILS(texture_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
               "missing channel latent.L02.Y");
   CHECK(set_int_attr(path, NBRDF_ATTR_LATENT_DIM, 0));
-  CHECK_FAILS(nbrdf_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err, "latent dimension 0");
+  CHECK_FAILS(texture_latent_reader_open(&r, path, err), NBRDF_ERR_FORMAT, err,
+              "latent dimension 0");
   CHECK(r == NULL);
-  nbrdf_latent_reader_close(r);
+  texture_latent_reader_close(r);
   free(l0);
 }
 
@@ -262,5 +264,5 @@ int main(void) {
   RUN(test_replaces_only_on_success);
   RUN(test_writer_arguments);
   RUN(test_reader_refusals);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -32,14 +32,15 @@ static char *capture(const char *cmd) {
 #define CHECK_HAS(text, needle)                                                                    \
   CHECK_MSG((text) && strstr((text), (needle)), "output lacks \"%s\"", (needle))
 
-static void write_texture(const char *path, int W, int H, nbrdf_latent_layout layout,
-                          nbrdf_latent_storage storage, int tile, float **l0_out) {
+static void write_texture(const char *path, int W, int H, texture_latent_layout layout,
+                          texture_latent_storage storage, int tile, float **l0_out) {
   nbrdf_error e, *err = &e;
   float *l0 = fixture_texels(W, H, &layout, (uint64_t)(W + 31 * H));
-  nbrdf_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options opts = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   opts.storage = storage;
   opts.tile_size = tile;
-  nbrdf_latent_meta meta = {"nbrdf-test", "0123abcd", "alpha1=a.png; eta=1.5", "half; zip", NULL, 0, NULL};
+  texture_latent_meta meta = {
+      "nbrdf-test", "0123abcd", "alpha1=a.png; eta=1.5", "half; zip", NULL, 0, NULL};
   CHECK_OK(fixture_write(path, W, H, &layout, &meta, &opts, l0, 13, err), err);
   *l0_out = l0;
 }
@@ -48,34 +49,34 @@ static void write_texture(const char *path, int W, int H, nbrdf_latent_layout la
  * bit for bit, with OIIO's channels matched to ours by name. */
 static void compare_with_oiio(const char *path) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_reader *r = NULL;
-  nbrdf_image_in *img = NULL;
-  nbrdf_image_info ii;
-  CHECK_OK(nbrdf_latent_reader_open(&r, path, err), err);
-  CHECK_OK(nbrdf_image_open(path, 0, &img, &ii, err), err);
+  texture_latent_reader *r = NULL;
+  texture_image_in *img = NULL;
+  texture_image_info ii;
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
+  CHECK_OK(texture_image_open(path, 0, &img, &ii, err), err);
   if (!r || !img) {
-    nbrdf_latent_reader_close(r);
-    nbrdf_image_close(img);
+    texture_latent_reader_close(r);
+    texture_image_close(img);
     return;
   }
-  const nbrdf_latent_info *in = nbrdf_latent_reader_info(r);
+  const texture_latent_info *in = texture_latent_reader_info(r);
   CHECK(ii.width == in->width && ii.height == in->height && ii.channels == in->channels);
   CHECK(ii.mip_levels == in->levels);
   int C = in->channels, *ours = malloc(sizeof(int) * (size_t)C), mapped = 1;
   for (int k = 0; k < C; k++) {
-    ours[k] = nbrdf_latent_channel_index(&in->layout, nbrdf_image_channel_name(img, k));
+    ours[k] = texture_latent_channel_index(&in->layout, texture_image_channel_name(img, k));
     mapped &= ours[k] >= 0;
   }
   CHECK_MSG(mapped, "%s: OIIO names a channel we do not know", path);
   for (int l = 0; mapped && l < in->levels; l++) {
     int w = 0, h = 0, ow = 0, oh = 0;
-    CHECK_OK(nbrdf_latent_reader_level_size(r, l, &w, &h, err), err);
-    CHECK_OK(nbrdf_image_level_size(img, l, &ow, &oh, err), err);
+    CHECK_OK(texture_latent_reader_level_size(r, l, &w, &h, err), err);
+    CHECK_OK(texture_image_level_size(img, l, &ow, &oh, err), err);
     CHECK(w == ow && h == oh);
     float *a = malloc(sizeof(float) * (size_t)w * h * C),
           *b = malloc(sizeof(float) * (size_t)w * h * C);
-    CHECK_OK(nbrdf_latent_reader_read(r, l, 0, 0, w, h, a, err), err);
-    CHECK_OK(nbrdf_image_read_rows(img, l, 0, h, 0, C, b, err), err);
+    CHECK_OK(texture_latent_reader_read(r, l, 0, 0, w, h, a, err), err);
+    CHECK_OK(texture_image_read_rows(img, l, 0, h, 0, C, b, err), err);
     size_t diff = 0;
     for (size_t p = 0; p < (size_t)w * h; p++)
       for (int k = 0; k < C; k++)
@@ -86,19 +87,19 @@ static void compare_with_oiio(const char *path) {
     free(b);
   }
   free(ours);
-  nbrdf_image_close(img);
-  nbrdf_latent_reader_close(r);
+  texture_image_close(img);
+  texture_latent_reader_close(r);
 }
 
 static void test_openimageio_reads_every_level(void) {
   static const int sizes[][2] = {{67, 45}, {300, 200}, {1, 1}, {1, 17}, {129, 64}};
-  nbrdf_latent_layout rgb = {4, NBRDF_COLOUR_RGB, 1}, mono = {3, NBRDF_COLOUR_MONO, 1};
+  texture_latent_layout rgb = {4, NBRDF_COLOUR_RGB, 1}, mono = {3, NBRDF_COLOUR_MONO, 1};
   for (int i = 0; i < 5; i++)
     for (int s = 0; s < 4; s++) {
       char path[512];
       float *l0 = NULL;
-      nbrdf_latent_storage st = s & 1 ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
-      snprintf(path, sizeof path, "%s/oiio_%d_%d.exr", nbrdf_test_tmpdir(), i, s);
+      texture_latent_storage st = s & 1 ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
+      snprintf(path, sizeof path, "%s/oiio_%d_%d.exr", testing_tmpdir(), i, s);
       write_texture(path, sizes[i][0], sizes[i][1], s & 2 ? mono : rgb, st, 16, &l0);
       compare_with_oiio(path);
       free(l0);
@@ -108,9 +109,9 @@ static void test_openimageio_reads_every_level(void) {
 static void test_iinfo_and_exrheader(void) {
   char path[512], cmd[700];
   float *l0 = NULL;
-  snprintf(path, sizeof path, "%s/tools.exr", nbrdf_test_tmpdir());
-  write_texture(path, 67, 45, (nbrdf_latent_layout){32, NBRDF_COLOUR_RGB, 1}, NBRDF_LATENT_HALF, 64,
-                &l0);
+  snprintf(path, sizeof path, "%s/tools.exr", testing_tmpdir());
+  write_texture(path, 67, 45, (texture_latent_layout){32, NBRDF_COLOUR_RGB, 1}, NBRDF_LATENT_HALF,
+                64, &l0);
   free(l0);
   snprintf(cmd, sizeof cmd, "iinfo -v '%s' 2>&1", path);
   char *out = capture(cmd);
@@ -140,5 +141,5 @@ static void test_iinfo_and_exrheader(void) {
 int main(void) {
   RUN(test_openimageio_reads_every_level);
   RUN(test_iinfo_and_exrheader);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -8,7 +8,7 @@
 #include "testing.h"
 #include "texture/latent_fixture.h"
 
-static const nbrdf_latent_layout layout = {2, NBRDF_COLOUR_MONO, 1}; /* 4 floats per texel */
+static const texture_latent_layout layout = {2, NBRDF_COLOUR_MONO, 1}; /* 4 floats per texel */
 
 /* Texel (i, j) of level l, channel c: a value that names its position. */
 static float val(int l, int i, int j, int c) { return (float)(100 * l + 10 * j + i + 0.25 * c); }
@@ -88,13 +88,13 @@ static void test_hand_mix(void) {
 
 static void test_load(void) {
   nbrdf_error err;
-  const nbrdf_latent_layout lay = {3, NBRDF_COLOUR_RGB, 1};
-  int W = 9, H = 6, C = nbrdf_latent_channel_count(&lay);
+  const texture_latent_layout lay = {3, NBRDF_COLOUR_RGB, 1};
+  int W = 9, H = 6, C = texture_latent_channel_count(&lay);
   float *texels = fixture_texels(W, H, &lay, 5);
   char path[512];
-  snprintf(path, sizeof path, "%s/fetch.exr", nbrdf_test_tmpdir());
-  nbrdf_latent_meta meta = {"m", "0123456789abcdef", "", "", NULL, 0, NULL};
-  nbrdf_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  snprintf(path, sizeof path, "%s/fetch.exr", testing_tmpdir());
+  texture_latent_meta meta = {"m", "0123456789abcdef", "", "", NULL, 0, NULL};
+  texture_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   o.storage = NBRDF_LATENT_FLOAT, o.tile_size = 8;
   CHECK_OK(fixture_write(path, W, H, &lay, &meta, &o, texels, 4, &err), &err);
   eval_latent_image *img = NULL;
@@ -123,5 +123,5 @@ int main(void) {
   RUN(test_texel_centres);
   RUN(test_hand_mix);
   RUN(test_load);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -26,5 +26,5 @@ static void test_keys(void) {
 
 int main(void) {
   RUN(test_keys);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

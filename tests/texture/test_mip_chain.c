@@ -11,27 +11,27 @@
 static void test_level_sizes_match_openexr_round_down(void) {
   /* 67x45: what OpenImageIO reports for an OpenEXR ROUND_DOWN mip-map. */
   static const int w67[] = {67, 33, 16, 8, 4, 2, 1}, h45[] = {45, 22, 11, 5, 2, 1, 1};
-  CHECK(nbrdf_mip_level_count(67, 45) == 7);
+  CHECK(texture_mip_level_count(67, 45) == 7);
   for (int l = 0; l < 7; l++) {
-    CHECK(nbrdf_mip_level_dim(67, l) == w67[l]);
-    CHECK(nbrdf_mip_level_dim(45, l) == h45[l]);
+    CHECK(texture_mip_level_dim(67, l) == w67[l]);
+    CHECK(texture_mip_level_dim(45, l) == h45[l]);
   }
-  CHECK(nbrdf_mip_level_count(1, 1) == 1);
-  CHECK(nbrdf_mip_level_count(1, 17) == 5);
-  CHECK(nbrdf_mip_level_count(129, 64) == 8);
-  CHECK(nbrdf_mip_level_count(8192, 8192) == 14);
-  CHECK(nbrdf_mip_level_dim(17, 4) == 1 && nbrdf_mip_level_dim(1, 4) == 1);
+  CHECK(texture_mip_level_count(1, 1) == 1);
+  CHECK(texture_mip_level_count(1, 17) == 5);
+  CHECK(texture_mip_level_count(129, 64) == 8);
+  CHECK(texture_mip_level_count(8192, 8192) == 14);
+  CHECK(texture_mip_level_dim(17, 4) == 1 && texture_mip_level_dim(1, 4) == 1);
 }
 
 static void test_footprints_partition_level0(void) {
   static const int dims[] = {1, 2, 3, 17, 45, 67, 129, 300};
   for (size_t d = 0; d < sizeof dims / sizeof dims[0]; d++) {
     int n0 = dims[d];
-    for (int l = 0; l < nbrdf_mip_level_count(n0, 1); l++) {
+    for (int l = 0; l < texture_mip_level_count(n0, 1); l++) {
       int next = 0, ok = 1;
-      for (int i = 0; i < nbrdf_mip_level_dim(n0, l); i++) {
+      for (int i = 0; i < texture_mip_level_dim(n0, l); i++) {
         int b, e;
-        nbrdf_mip_footprint(n0, l, i, &b, &e);
+        texture_mip_footprint(n0, l, i, &b, &e);
         ok = ok && b == next && e > b && e - b < (2 << l);
         next = e;
       }
@@ -49,7 +49,7 @@ typedef struct {
 
 static nbrdf_status collect(void *user, int level, int y, float *row, nbrdf_error *err) {
   sink *s = user;
-  int w = nbrdf_mip_level_dim(s->W, level);
+  int w = texture_mip_level_dim(s->W, level);
   if (y != s->rows_seen[level]) s->order_ok = 0;
   s->rows_seen[level]++;
   memcpy(s->got[level] + (size_t)y * w * s->C, row, sizeof(float) * (size_t)w * s->C);
@@ -71,25 +71,25 @@ static double brute_mean(const float *l0, int W, int H, int C, int l, int x, int
 
 static void check_size(int W, int H, int C) {
   nbrdf_error e, *err = &e;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 11, (uint64_t)(W * 1000 + H));
+  core_rng rng;
+  core_rng_init(&rng, 11, (uint64_t)(W * 1000 + H));
   float *l0 = malloc(sizeof(float) * (size_t)W * H * C);
   for (size_t i = 0; i < (size_t)W * H * C; i++)
-    l0[i] = (float)(4 * nbrdf_rng_uniform(&rng) - 2);
-  sink s = {W, H, C, nbrdf_mip_level_count(W, H), {0}, {0}, 1};
+    l0[i] = (float)(4 * core_rng_uniform(&rng) - 2);
+  sink s = {W, H, C, texture_mip_level_count(W, H), {0}, {0}, 1};
   for (int l = 0; l < s.levels; l++)
-    s.got[l] =
-        calloc((size_t)nbrdf_mip_level_dim(W, l) * nbrdf_mip_level_dim(H, l) * C, sizeof(float));
-  nbrdf_mip_builder *b = NULL;
-  CHECK_OK(nbrdf_mip_builder_create(W, H, C, s.levels, collect, &s, &b, err), err);
+    s.got[l] = calloc((size_t)texture_mip_level_dim(W, l) * texture_mip_level_dim(H, l) * C,
+                      sizeof(float));
+  texture_mip_builder *b = NULL;
+  CHECK_OK(texture_mip_builder_create(W, H, C, s.levels, collect, &s, &b, err), err);
   for (int y = 0; b && y < H; y++)
-    CHECK_OK(nbrdf_mip_builder_push_row(b, l0 + (size_t)y * W * C, err), err);
-  if (b) CHECK_FAILS(nbrdf_mip_builder_push_row(b, l0, err), NBRDF_ERR_ARGUMENT, err, "row");
-  nbrdf_mip_builder_free(b);
+    CHECK_OK(texture_mip_builder_push_row(b, l0 + (size_t)y * W * C, err), err);
+  if (b) CHECK_FAILS(texture_mip_builder_push_row(b, l0, err), NBRDF_ERR_ARGUMENT, err, "row");
+  texture_mip_builder_free(b);
   CHECK(s.order_ok);
   double worst = 0;
   for (int l = 0; l < s.levels; l++) {
-    int wl = nbrdf_mip_level_dim(W, l), hl = nbrdf_mip_level_dim(H, l);
+    int wl = texture_mip_level_dim(W, l), hl = texture_mip_level_dim(H, l);
     CHECK_MSG(s.rows_seen[l] == hl, "%dx%d level %d: %d of %d rows", W, H, l, s.rows_seen[l], hl);
     for (int y = 0; y < hl; y++)
       for (int x = 0; x < wl; x++)
@@ -128,11 +128,11 @@ static void test_power_of_two_is_2x2_average(void) {
   float input[16 * 16];
   for (int i = 0; i < 256; i++)
     input[i] = (float)((i * 37) % 101) / 7.0f;
-  nbrdf_mip_builder *b = NULL;
-  CHECK_OK(nbrdf_mip_builder_create(16, 16, 1, 5, keep, levels, &b, err), err);
+  texture_mip_builder *b = NULL;
+  CHECK_OK(texture_mip_builder_create(16, 16, 1, 5, keep, levels, &b, err), err);
   for (int y = 0; b && y < 16; y++)
-    CHECK_OK(nbrdf_mip_builder_push_row(b, input + 16 * y, err), err);
-  nbrdf_mip_builder_free(b);
+    CHECK_OK(texture_mip_builder_push_row(b, input + 16 * y, err), err);
+  texture_mip_builder_free(b);
   for (int l = 1; l < 5; l++) {
     int w = 16 >> l;
     for (int y = 0; y < w; y++)
@@ -148,27 +148,27 @@ static void test_power_of_two_is_2x2_average(void) {
 static nbrdf_status stop_at_level2(void *user, int level, int y, float *row, nbrdf_error *err) {
   (void)user;
   (void)row;
-  if (level == 2) return nbrdf_fail(err, NBRDF_ERR_CANCELLED, "stopped at level 2 row %d", y);
+  if (level == 2) return core_fail(err, NBRDF_ERR_CANCELLED, "stopped at level 2 row %d", y);
   return NBRDF_OK;
 }
 
 static void test_errors(void) {
   nbrdf_error e, *err = &e;
-  nbrdf_mip_builder *b = NULL;
-  CHECK_FAILS(nbrdf_mip_builder_create(0, 4, 1, 1, keep, NULL, &b, err), NBRDF_ERR_ARGUMENT, err,
+  texture_mip_builder *b = NULL;
+  CHECK_FAILS(texture_mip_builder_create(0, 4, 1, 1, keep, NULL, &b, err), NBRDF_ERR_ARGUMENT, err,
               "0x4");
-  CHECK_FAILS(nbrdf_mip_builder_create(8, 8, 1, 5, keep, NULL, &b, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(texture_mip_builder_create(8, 8, 1, 5, keep, NULL, &b, err), NBRDF_ERR_ARGUMENT, err,
               "1 to 4");
   CHECK(b == NULL);
   /* A sink's failure reaches the caller of push_row. */
-  CHECK_OK(nbrdf_mip_builder_create(8, 8, 1, 4, stop_at_level2, NULL, &b, err), err);
+  CHECK_OK(texture_mip_builder_create(8, 8, 1, 4, stop_at_level2, NULL, &b, err), err);
   float row[8] = {0};
   nbrdf_status st = NBRDF_OK;
   int y = 0;
   while (st == NBRDF_OK && y < 8)
-    st = nbrdf_mip_builder_push_row(b, row, err), y++;
+    st = texture_mip_builder_push_row(b, row, err), y++;
   CHECK(st == NBRDF_ERR_CANCELLED && y == 4);
-  nbrdf_mip_builder_free(b);
+  texture_mip_builder_free(b);
 }
 
 int main(void) {
@@ -177,5 +177,5 @@ int main(void) {
   RUN(test_levels_are_footprint_means);
   RUN(test_power_of_two_is_2x2_average);
   RUN(test_errors);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

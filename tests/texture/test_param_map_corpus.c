@@ -26,27 +26,27 @@ static unsigned char *slurp(const char *path, size_t *size) {
 /* 1: opened and read, 0: refused (properly or not, CHECKed). */
 static int replay(const unsigned char *data, size_t size, const char *name) {
   char path[1024];
-  nbrdf_param_map_options o;
-  snprintf(path, sizeof path, "%s/corpus_map.%s", nbrdf_test_tmpdir(),
+  texture_param_map_options o;
+  snprintf(path, sizeof path, "%s/corpus_map.%s", testing_tmpdir(),
            param_map_input_decode(data[0], &o));
   FILE *f = fopen(path, "wb");
   CHECK(f && fwrite(data + 1, 1, size - 1, f) == size - 1);
   if (f) fclose(f);
-  nbrdf_param_map *m = NULL;
+  texture_param_map *m = NULL;
   nbrdf_error err = {0};
-  nbrdf_status st = nbrdf_param_map_open(path, &o, &m, &err);
+  nbrdf_status st = texture_param_map_open(path, &o, &m, &err);
   int opened = st == NBRDF_OK;
   if (!opened) {
     CHECK_MSG(m == NULL && strstr(err.message, path), "%s: \"%s\"", name, err.message);
   } else {
-    const nbrdf_param_map_info *in = nbrdf_param_map_get_info(m);
+    const texture_param_map_info *in = texture_param_map_get_info(m);
     CHECK_MSG(in->width >= 1 && in->height >= 1 && (in->channels == 1 || in->channels == 3),
               "%s: %dx%d, %d channels", name, in->width, in->height, in->channels);
     size_t floats = (size_t)in->width * in->channels;
     int rows = in->height < 16 ? in->height : 16;
     if (floats * rows <= (1u << 22)) {
       float *buf = malloc(sizeof(float) * floats * rows);
-      st = nbrdf_param_map_read_rows(m, 0, rows, buf, &err);
+      st = texture_param_map_read_rows(m, 0, rows, buf, &err);
       if (st != NBRDF_OK)
         CHECK_MSG(strstr(err.message, path), "%s: rows: \"%s\"", name, err.message);
       else
@@ -56,16 +56,16 @@ static int replay(const unsigned char *data, size_t size, const char *name) {
       free(buf);
     }
   }
-  nbrdf_param_map_close(m);
+  texture_param_map_close(m);
   unlink(path);
   return opened;
 }
 
 static void test_corpus(void) {
   char dir[512];
-  snprintf(dir, sizeof dir, "%s/tests/texture/param_map_corpus", nbrdf_test_source_dir());
+  snprintf(dir, sizeof dir, "%s/tests/texture/param_map_corpus", testing_source_dir());
   size_t n = 0;
-  char **names = nbrdf_test_list_dir(dir, &n); /* sorted: a stable order for the log */
+  char **names = testing_list_dir(dir, &n); /* sorted: a stable order for the log */
   if (!names) return;
   int opened = 0, refused = 0;
   for (size_t i = 0; i < n; i++) {
@@ -90,5 +90,5 @@ static void test_corpus(void) {
 
 int main(void) {
   RUN(test_corpus);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -27,7 +27,7 @@ static char *path_of(const char *name) {
   static char buf[4][512];
   static int next;
   char *p = buf[next++ % 4];
-  snprintf(p, 512, "%s/%s", nbrdf_test_tmpdir(), name);
+  snprintf(p, 512, "%s/%s", testing_tmpdir(), name);
   return p;
 }
 
@@ -267,5 +267,5 @@ int main(void) {
   RUN(test_values_agree_with_eval);
   RUN(test_coverage_file);
   RUN(test_bad_settings);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -145,5 +145,5 @@ int main(void) {
   RUN(test_draw_functions);
   RUN(test_determinism_and_families);
   RUN(test_single_mixes_and_creates);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

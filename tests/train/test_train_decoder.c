@@ -21,7 +21,7 @@ static char *path_of(const char *name) {
   static char buf[8][512];
   static int next;
   char *p = buf[next++ % 8];
-  snprintf(p, 512, "%s/%s", nbrdf_test_tmpdir(), name);
+  snprintf(p, 512, "%s/%s", testing_tmpdir(), name);
   return p;
 }
 
@@ -70,9 +70,9 @@ static float *load_params(const char *path, size_t *n) {
   nbrdf_error err;
   CHECK_OK(model_decoder_load(path, &dec, &err), &err);
   if (!dec) return NULL;
-  *n = nbrdf_nn_param_count(dec->nn);
+  *n = nn_param_count(dec->nn);
   float *p = malloc(*n * sizeof *p);
-  memcpy(p, nbrdf_nn_params(dec->nn), *n * sizeof *p);
+  memcpy(p, nn_params(dec->nn), *n * sizeof *p);
   model_decoder_destroy(dec);
   return p;
 }
@@ -121,32 +121,32 @@ static void test_loss_falls_and_resume_is_exact(void) {
 static void make_legacy(const char *path, const char *const *data,
                         const model_decoder_config *arch) {
   nbrdf_error err;
-  nbrdf_st_reader *r = NULL;
-  nbrdf_st_writer *w = NULL;
+  nn_st_reader *r = NULL;
+  nn_st_writer *w = NULL;
   train_samples d;
   char key[1024], *spec = NULL;
   CHECK_OK(train_samples_load(1, data, &d, &err), &err);
   train_checkpoint_data_key(&d, key, sizeof key);
   train_samples_free(&d);
-  CHECK_OK(nbrdf_nn_spec_to_json(&arch->spec, &spec, &err), &err);
-  CHECK_OK(nbrdf_st_open(path, &r, &err), &err);
-  CHECK_OK(nbrdf_st_writer_create(&w, &err), &err);
+  CHECK_OK(nn_spec_to_json(&arch->spec, &spec, &err), &err);
+  CHECK_OK(nn_st_open(path, &r, &err), &err);
+  CHECK_OK(nn_st_writer_create(&w, &err), &err);
   if (!r || !w || !spec) return;
   static const char *const names[] = {"decoder.params", "latents",        "adam.latents.m",
                                       "adam.latents.v", "adam.weights.m", "adam.weights.v"};
   for (size_t k = 0; k < 6; k++) {
-    const nbrdf_st_tensor *t = nbrdf_st_find(r, names[k]);
+    const nn_st_tensor *t = nn_st_find(r, names[k]);
     CHECK(t != NULL);
-    if (t) CHECK_OK(nbrdf_st_writer_add(w, names[k], 1, t->shape, t->data, &err), &err);
+    if (t) CHECK_OK(nn_st_writer_add(w, names[k], 1, t->shape, t->data, &err), &err);
   }
-  nbrdf_st_writer_set_metadata(w, "nbrdf.format", TRAIN_DECODER_CHECKPOINT_FORMAT, &err);
-  nbrdf_st_writer_set_metadata(w, "nbrdf.step", nbrdf_st_metadata_get(r, "nbrdf.step"), &err);
-  nbrdf_st_writer_set_metadata(w, "nbrdf.spec", spec, &err);
-  nbrdf_st_writer_set_metadata(w, "nbrdf.data", key, &err);
-  CHECK(nbrdf_st_metadata_get(r, "nbrdf.options") != NULL);
-  nbrdf_st_close(r);
-  CHECK_OK(nbrdf_st_writer_save(w, path, NULL, &err), &err);
-  nbrdf_st_writer_destroy(w);
+  nn_st_writer_set_metadata(w, "nbrdf.format", TRAIN_DECODER_CHECKPOINT_FORMAT, &err);
+  nn_st_writer_set_metadata(w, "nbrdf.step", nn_st_metadata_get(r, "nbrdf.step"), &err);
+  nn_st_writer_set_metadata(w, "nbrdf.spec", spec, &err);
+  nn_st_writer_set_metadata(w, "nbrdf.data", key, &err);
+  CHECK(nn_st_metadata_get(r, "nbrdf.options") != NULL);
+  nn_st_close(r);
+  CHECK_OK(nn_st_writer_save(w, path, NULL, &err), &err);
+  nn_st_writer_destroy(w);
   free(spec);
 }
 
@@ -288,5 +288,5 @@ int main(void) {
   RUN(test_brdf_weight);
   RUN(test_energy_penalty);
   RUN(test_tables_from_trained_decoder);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -20,7 +20,7 @@ static char *path_of(const char *name) {
   static char buf[8][512];
   static int next;
   char *p = buf[next++ % 8];
-  snprintf(p, 512, "%s/%s", nbrdf_test_tmpdir(), name);
+  snprintf(p, 512, "%s/%s", testing_tmpdir(), name);
   return p;
 }
 
@@ -75,9 +75,9 @@ static void test_decoded(const train_samples *d, model_decoder *dec, const model
   CHECK_OK(train_layering_fit_decoded(d, dec, t, &s, &c, &r, &err), &err);
   CHECK(r.resumed_from == 5 && r.epochs_done == 12);
   if (b && c) {
-    size_t n = nbrdf_nn_param_count(b->nn);
-    CHECK(n == nbrdf_nn_param_count(c->nn) &&
-          !memcmp(nbrdf_nn_params(b->nn), nbrdf_nn_params(c->nn), n * sizeof(float)));
+    size_t n = nn_param_count(b->nn);
+    CHECK(n == nn_param_count(c->nn) &&
+          !memcmp(nn_params(b->nn), nn_params(c->nn), n * sizeof(float)));
   }
   /* Cancelled inside an epoch (the callback is asked after every batch), the
    * run saves the batch it reached and resumes there exactly. */
@@ -90,8 +90,8 @@ static void test_decoded(const train_samples *d, model_decoder *dec, const model
   CHECK_OK(train_layering_fit_decoded(d, dec, t, &s, &d2, &r, &err), &err);
   CHECK(r.resumed_from == 7 && r.epochs_done == 12);
   if (b && d2) {
-    size_t n = nbrdf_nn_param_count(b->nn);
-    CHECK_MSG(!memcmp(nbrdf_nn_params(b->nn), nbrdf_nn_params(d2->nn), n * sizeof(float)),
+    size_t n = nn_param_count(b->nn);
+    CHECK_MSG(!memcmp(nn_params(b->nn), nn_params(d2->nn), n * sizeof(float)),
               "a run resumed inside an epoch differs from one that never stopped");
   }
   model_layering_destroy(d2);
@@ -176,8 +176,8 @@ static void test_layering_chain(void) {
   CHECK_OK(train_layering_fit(&d, lat, dec, t, &ls, &resumed, &lr, &err), &err);
   CHECK(lr.resumed_from == 25 && lr.epochs_done == 60);
   if (net && resumed)
-    CHECK_MSG(!memcmp(nbrdf_nn_params(net->nn), nbrdf_nn_params(resumed->nn),
-                      nbrdf_nn_param_count(net->nn) * sizeof(float)),
+    CHECK_MSG(!memcmp(nn_params(net->nn), nn_params(resumed->nn),
+                      nn_param_count(net->nn) * sizeof(float)),
               "a resumed latent-loss run differs from one that never stopped");
   model_layering_destroy(resumed);
   ls.seed = 2;
@@ -208,8 +208,8 @@ static void test_layering_chain(void) {
   CHECK_OK(train_sampler_fit(dec, d.n_brdfs, lat, &ss, &smp_resumed, &sr1, &err), &err);
   CHECK(sr1.resumed_from == 301);
   if (smp && smp_resumed)
-    CHECK_MSG(!memcmp(nbrdf_nn_params(smp->nn), nbrdf_nn_params(smp_resumed->nn),
-                      nbrdf_nn_param_count(smp->nn) * sizeof(float)),
+    CHECK_MSG(!memcmp(nn_params(smp->nn), nn_params(smp_resumed->nn),
+                      nn_param_count(smp->nn) * sizeof(float)),
               "a resumed sampler run differs from one that never stopped");
   model_sampler_destroy(smp_resumed);
   ss.checkpoint = NULL;
@@ -257,5 +257,5 @@ static void test_layering_chain(void) {
 
 int main(void) {
   RUN(test_layering_chain);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -31,18 +31,18 @@ static double decoded_loss(void *p) {
 
 static void test_decoded_gradient(void) {
   nbrdf_error err_ = {0}, *err = &err_;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 31, 0);
+  core_rng rng;
+  core_rng_init(&rng, 31, 0);
   float wi[NB * PER * 3], wo[NB * PER * 3], f[NB * PER];
   for (int k = 0; k < NB * PER; k++) {
     float *w[2] = {wi + 3 * k, wo + 3 * k};
     for (int j = 0; j < 2; j++) {
-      double z = 0.05 + 0.95 * nbrdf_rng_uniform(&rng), r = sqrt(1 - z * z);
-      double phi = 2 * M_PI * nbrdf_rng_uniform(&rng);
+      double z = 0.05 + 0.95 * core_rng_uniform(&rng), r = sqrt(1 - z * z);
+      double phi = 2 * M_PI * core_rng_uniform(&rng);
       w[j][0] = (float)(r * cos(phi)), w[j][1] = (float)(r * sin(phi)), w[j][2] = (float)z;
     }
     /* Targets far above what fresh networks predict: no residual changes sign. */
-    f[k] = (float)(30.0 + 20.0 * nbrdf_rng_uniform(&rng));
+    f[k] = (float)(30.0 + 20.0 * core_rng_uniform(&rng));
   }
   size_t offsets[NB + 1] = {0, PER, 2 * PER, 3 * PER}, brdf[NB] = {2, 0, 1};
   /* Dim rough conductors (R0 = 0): energy ceilings of a few percent, far
@@ -62,9 +62,9 @@ static void test_decoded_gradient(void) {
   float sig[NB] = {0, 1.5f, 5}, albedo2[NB] = {0, 0.9f, 0}, sig2[NB] = {0, 2.0f, 0};
   unsigned char coats[NB] = {1, 2, 1};
   for (int i = 0; i < NB * D; i++) {
-    top[i] = (float)(0.5 * nbrdf_rng_normal(&rng));
-    bottom[i] = (float)(0.5 * nbrdf_rng_normal(&rng));
-    mid[i] = (float)(0.5 * nbrdf_rng_normal(&rng));
+    top[i] = (float)(0.5 * core_rng_normal(&rng));
+    bottom[i] = (float)(0.5 * core_rng_normal(&rng));
+    mid[i] = (float)(0.5 * core_rng_normal(&rng));
   }
   layering_pairs pairs = {.n = NB,
                           .top = top,
@@ -92,7 +92,7 @@ static void test_decoded_gradient(void) {
                err);
     double l_plain = NAN;
     if (engine && kind == 2) {
-      size_t np0 = nbrdf_nn_param_count(net->nn);
+      size_t np0 = nn_param_count(net->nn);
       float *g0 = calloc(np0, sizeof *g0);
       size_t i3[NB] = {0, 1, 2};
       CHECK_OK(train_layering_decoded_gradient(engine, &pairs, i3, NB, 0, g0, &l_plain, err), err);
@@ -105,7 +105,7 @@ static void test_decoded_gradient(void) {
       model_decoder_destroy(dec), model_layering_destroy(net);
       continue;
     }
-    size_t np = nbrdf_nn_param_count(net->nn);
+    size_t np = nn_param_count(net->nn);
     float *grad = calloc(np, sizeof *grad), *scratch = malloc(np * sizeof *scratch);
     ctx c = {engine, &pairs, {0, 1, 2}, scratch};
     double l0;
@@ -116,9 +116,9 @@ static void test_decoded_gradient(void) {
     for (size_t i = 0; i < np; i++)
       gs = fmax(gs, fabs(grad[i]));
     CHECK(gs > 1e-6); /* the gradient reaches the layering weights */
-    float *weights = nbrdf_nn_params(net->nn);
+    float *weights = nn_params(net->nn);
     for (int t = 0; t < 60; t++) {
-      int i = (int)(nbrdf_rng_uniform(&rng) * (double)np);
+      int i = (int)(core_rng_uniform(&rng) * (double)np);
       fd_check(kind == 2 ? "energy" : model_loss_name(loss), i, weights + i, grad[i], decoded_loss,
                &c, 1e-3, gs);
     }
@@ -135,5 +135,5 @@ static void test_decoded_gradient(void) {
 
 int main(void) {
   RUN(test_decoded_gradient);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -17,7 +17,7 @@ enum { N = 16 };
 
 typedef struct toy {
   float x[N], grad[N], target[N];
-  nbrdf_rng carried; /* state across steps: checkpointed as words */
+  core_rng carried; /* state across steps: checkpointed as words */
   int reports, cancel_at, legacy_calls;
 } toy;
 
@@ -25,18 +25,18 @@ static char *path_of(const char *name) {
   static char buf[4][512];
   static int next;
   char *p = buf[next++ % 4];
-  snprintf(p, 512, "%s/%s", nbrdf_test_tmpdir(), name);
+  snprintf(p, 512, "%s/%s", testing_tmpdir(), name);
   return p;
 }
 
 static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
   (void)err;
   toy *t = user;
-  nbrdf_rng rng;
-  nbrdf_rng_init(&rng, 7, (uint64_t)step);
-  double sum = 0.0, drift = 0.01 * nbrdf_rng_uniform(&t->carried);
+  core_rng rng;
+  core_rng_init(&rng, 7, (uint64_t)step);
+  double sum = 0.0, drift = 0.01 * core_rng_uniform(&t->carried);
   for (int i = 0; i < N; i++) {
-    double e = t->x[i] - t->target[i] + 0.05 * (nbrdf_rng_uniform(&rng) - 0.5) + drift;
+    double e = t->x[i] - t->target[i] + 0.05 * (core_rng_uniform(&rng) - 0.5) + drift;
     sum += e * e;
     t->grad[i] = (float)(2.0 * e / N);
   }
@@ -53,7 +53,7 @@ static nbrdf_status report(void *user, trainer *tr, int64_t done, double loss, i
   return NBRDF_OK;
 }
 
-static nbrdf_status legacy(void *user, const nbrdf_st_reader *r, int64_t *step, nbrdf_error *err) {
+static nbrdf_status legacy(void *user, const nn_st_reader *r, int64_t *step, nbrdf_error *err) {
   (void)r, (void)err;
   toy *t = user;
   t->legacy_calls++;
@@ -65,7 +65,7 @@ static void toy_init(toy *t) {
   memset(t, 0, sizeof *t);
   for (int i = 0; i < N; i++)
     t->target[i] = (float)(i % 5) - 2.0f;
-  nbrdf_rng_init(&t->carried, 3, 9);
+  core_rng_init(&t->carried, 3, 9);
 }
 
 static nbrdf_status toy_run(toy *t, const char *ckpt, const char *log, int64_t steps,
@@ -142,18 +142,18 @@ static void test_resume_is_exact(void) {
 /* A checkpoint without nbrdf.options goes to the fit's legacy hook. */
 static void test_legacy_hook(void) {
   nbrdf_error err;
-  nbrdf_st_writer *w = NULL;
+  nn_st_writer *w = NULL;
   float zero[N] = {0};
   int64_t shape[1] = {N};
-  CHECK_OK(nbrdf_st_writer_create(&w, &err), &err);
-  CHECK_OK(nbrdf_st_writer_set_metadata(w, "nbrdf.format", "toy", &err), &err);
-  CHECK_OK(nbrdf_st_writer_set_metadata(w, "nbrdf.state.carried.state", "5", &err), &err);
-  CHECK_OK(nbrdf_st_writer_set_metadata(w, "nbrdf.state.carried.inc", "7", &err), &err);
+  CHECK_OK(nn_st_writer_create(&w, &err), &err);
+  CHECK_OK(nn_st_writer_set_metadata(w, "nbrdf.format", "toy", &err), &err);
+  CHECK_OK(nn_st_writer_set_metadata(w, "nbrdf.state.carried.state", "5", &err), &err);
+  CHECK_OK(nn_st_writer_set_metadata(w, "nbrdf.state.carried.inc", "7", &err), &err);
   const char *names[3] = {"x", "adam.x.m", "adam.x.v"};
   for (int k = 0; k < 3; k++)
-    CHECK_OK(nbrdf_st_writer_add(w, names[k], 1, shape, zero, &err), &err);
-  CHECK_OK(nbrdf_st_writer_save(w, path_of("old.ckpt"), NULL, &err), &err);
-  nbrdf_st_writer_destroy(w);
+    CHECK_OK(nn_st_writer_add(w, names[k], 1, shape, zero, &err), &err);
+  CHECK_OK(nn_st_writer_save(w, path_of("old.ckpt"), NULL, &err), &err);
+  nn_st_writer_destroy(w);
   toy t;
   toy_init(&t);
   trainer_result r;
@@ -209,5 +209,5 @@ int main(void) {
   RUN(test_resume_is_exact);
   RUN(test_legacy_hook);
   RUN(test_progress_and_cancel);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

@@ -1,5 +1,5 @@
 /* nbrdf_verify on textures baked from an untrained bundle: its figures equal
- * an independent computation (decoded lobe images by nbrdf_lobe_images, the
+ * an independent computation (decoded lobe images by lobe_images, the
  * ground truth with other seeds), mip texels are compared with the mean of
  * their footprint's references, and a texture of another bundle, missing or
  * mismatched inputs and bad options are refused with a message. */
@@ -28,7 +28,7 @@ static void test_figures_match_independent_computation(void) {
   if (!rep) return;
   CHECK(rep->n_texels == 1 && rep->texels[0].footprint == 1 && rep->references == 1);
   CHECK(rep->decoded == 1 && rep->colours == 1 && rep->n_levels == 1);
-  CHECK(rep->decoder_queries == NBRDF_LOBE_N_THETA * nbrdf_lobe_pixels_inside(NBRDF_LOBE_RES));
+  CHECK(rep->decoder_queries == NBRDF_LOBE_N_THETA * lobe_pixels_inside(NBRDF_LOBE_RES));
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     CHECK(rep->texels[0].params[id][0] == fix_tuple[id]);
 
@@ -40,8 +40,8 @@ static void test_figures_match_independent_computation(void) {
   fix_reference_images(fix_tuple, 256, 102, r2);
   for (size_t i = 0; i < FIX_SET; i++)
     ref[i] = 0.5 * (r1[i] + r2[i]);
-  double lobe = nbrdf_lobe_error(FIX_SET, ref, a);
-  double albedo = nbrdf_lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, ref, a, NULL);
+  double lobe = lobe_l1_error(FIX_SET, ref, a);
+  double albedo = lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, ref, a, NULL);
   /* Both references are noisy (verify's: 2 x 128 walks, a few %); the
    * untrained decoder is far off, so the noise moves the error little. */
   const nbrdf_verify_texel *t = &rep->texels[0];
@@ -49,7 +49,7 @@ static void test_figures_match_independent_computation(void) {
   CHECK_REL(t->albedo_error, albedo, 0.05, 1e-3);
   /* Seed-to-seed noise at 128 walks vs 256 walks: of the same size (it
    * falls more slowly than 1/sqrt(walks) at these counts: rare bright walks). */
-  double noise256 = nbrdf_lobe_error(FIX_SET, r1, r2);
+  double noise256 = lobe_l1_error(FIX_SET, r1, r2);
   CHECK_MSG(t->reference_noise > 0.8 * noise256 && t->reference_noise < 2.5 * noise256,
             "noise %g at 128 walks, %g at 256", t->reference_noise, noise256);
   CHECK(rep->overall.median == t->lobe_error && rep->overall.worst == t->lobe_error);
@@ -67,7 +67,7 @@ static void test_mip_footprints(void) {
   float px[16];
   for (int i = 0; i < 16; i++)
     px[i] = i % 4 < 2 ? 0.1f : 0.5f;
-  CHECK_OK(nbrdf_image_write(fix_path("alpha1.exr"), 4, 4, 1, px, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(fix_path("alpha1.exr"), 4, 4, 1, px, NBRDF_PIXEL_FLOAT, err), err);
   nbrdf_bake_inputs in = fix_constants();
   static char map_path[640];
   snprintf(map_path, sizeof map_path, "%s", fix_path("alpha1.exr"));
@@ -102,7 +102,7 @@ static void test_mip_footprints(void) {
   fix_reference_images(tr, 256, 8, right);
   for (size_t i = 0; i < FIX_SET; i++)
     left[i] = 0.5 * (left[i] + right[i]);
-  CHECK_REL(rep->texels[20].lobe_error, nbrdf_lobe_error(FIX_SET, left, a), 0.1, 0);
+  CHECK_REL(rep->texels[20].lobe_error, lobe_l1_error(FIX_SET, left, a), 0.1, 0);
   free(a);
   free(texel);
 
@@ -193,7 +193,7 @@ static void test_cancel_and_outputs(void) {
   CHECK(listed == 2);
   CHECK_OK(nbrdf_verify_write_heatmap(rep, 0, 0.0, fix_path("h.png"), err), err);
   int w = 0, h = 0;
-  CHECK(nbrdf_test_png_size(fix_path("h.png"), &w, &h) && w == 256 && h == 256);
+  CHECK(testing_png_size(fix_path("h.png"), &w, &h) && w == 256 && h == 256);
   CHECK_FAILS(nbrdf_verify_write_heatmap(rep, 5, 0.0, fix_path("h5.png"), err), NBRDF_ERR_ARGUMENT,
               err, "level 5");
   nbrdf_verify_report_free(rep);
@@ -201,11 +201,11 @@ static void test_cancel_and_outputs(void) {
 
 int main(void) {
   fix_load_model();
-  if (!fix_model) return nbrdf_test_finish();
+  if (!fix_model) return testing_finish();
   RUN(test_figures_match_independent_computation);
   RUN(test_mip_footprints);
   RUN(test_refusals);
   RUN(test_cancel_and_outputs);
   nbrdf_model_destroy(fix_model);
-  return nbrdf_test_finish();
+  return testing_finish();
 }

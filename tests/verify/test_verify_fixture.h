@@ -1,6 +1,6 @@
 /* Shared by the verify tests: an untrained bundle, constant inputs, and the
  * lobe images of a latent and of the ground truth computed here, apart from
- * src/verify/verify*.c (through nbrdf_lobe_images and the per-image whole-lobe
+ * src/verify/verify*.c (through lobe_images and the per-image whole-lobe
  * estimator with seeds verify never uses). */
 #ifndef NBRDF_TESTS_TEST_VERIFY_FIXTURE_H
 #define NBRDF_TESTS_TEST_VERIFY_FIXTURE_H
@@ -25,7 +25,7 @@ static inline const char *fix_path(const char *name) {
   static char buf[4][640];
   static int k;
   k = (k + 1) % 4;
-  snprintf(buf[k], sizeof buf[k], "%s/%s", nbrdf_test_tmpdir(), name);
+  snprintf(buf[k], sizeof buf[k], "%s/%s", testing_tmpdir(), name);
   return buf[k];
 }
 
@@ -71,8 +71,8 @@ static inline nbrdf_status fix_decode_fn(void *user, size_t n, const nbrdf_query
 static inline void fix_decoded_images(const float *latent, double *images) {
   nbrdf_error e, *err = &e;
   fix_decode d = {latent};
-  CHECK_OK(nbrdf_lobe_images(fix_decode_fn, &d, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA,
-                             nbrdf_lobe_theta_deg, images, err),
+  CHECK_OK(lobe_images(fix_decode_fn, &d, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg,
+                       images, err),
            err);
 }
 
@@ -88,21 +88,20 @@ static inline void fix_reference_images(const float *t, int walks, uint64_t seed
   if (!b) return;
   const size_t per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES;
   for (int k = 0; k < NBRDF_LOBE_N_THETA; k++)
-    CHECK(layered_lobe_image(&nbrdf_brdf_bsdf(b)->layered, nbrdf_lobe_theta_deg[k] * M_PI / 180,
-                             NBRDF_LOBE_RES, walks, seed * 8 + (uint64_t)k, 0, images + k * per,
-                             NULL));
+    CHECK(layered_lobe_image(&brdf_bsdf(b)->layered, lobe_theta_deg[k] * M_PI / 180, NBRDF_LOBE_RES,
+                             walks, seed * 8 + (uint64_t)k, 0, images + k * per, NULL));
   nbrdf_brdf_destroy(b);
 }
 
 /* Level-0 texel (x, y) of a texture: all channels (caller frees). */
 static inline float *fix_read_texel(const char *file, int level, int x, int y) {
   nbrdf_error e, *err = &e;
-  nbrdf_latent_reader *r = NULL;
-  CHECK_OK(nbrdf_latent_reader_open(&r, file, err), err);
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, file, err), err);
   if (!r) return NULL;
-  float *t = malloc(sizeof(float) * nbrdf_latent_reader_info(r)->channels);
-  CHECK_OK(nbrdf_latent_reader_read(r, level, x, y, 1, 1, t, err), err);
-  nbrdf_latent_reader_close(r);
+  float *t = malloc(sizeof(float) * texture_latent_reader_info(r)->channels);
+  CHECK_OK(texture_latent_reader_read(r, level, x, y, 1, 1, t, err), err);
+  texture_latent_reader_close(r);
   return t;
 }
 

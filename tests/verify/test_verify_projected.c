@@ -18,11 +18,10 @@ static void fitted_latent(float *latent) {
   size_t n = 0, per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES;
   float *wi = malloc(sizeof(float) * FIX_SET * 7), *wo = wi + 3 * FIX_SET, *f = wo + 3 * FIX_SET;
   for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
-    double th = nbrdf_lobe_theta_deg[t] * M_PI / 180;
+    double th = lobe_theta_deg[t] * M_PI / 180;
     for (size_t p = 0; p < per; p++) {
       double o[3];
-      if (!nbrdf_lobe_pixel_wo(NBRDF_LOBE_RES, (int)(p / NBRDF_LOBE_RES), (int)(p % NBRDF_LOBE_RES),
-                               o))
+      if (!lobe_pixel_wo(NBRDF_LOBE_RES, (int)(p / NBRDF_LOBE_RES), (int)(p % NBRDF_LOBE_RES), o))
         continue;
       wi[3 * n] = (float)sin(th), wi[3 * n + 1] = 0, wi[3 * n + 2] = (float)cos(th);
       for (int j = 0; j < 3; j++)
@@ -42,17 +41,17 @@ static void fitted_latent(float *latent) {
 }
 
 static nbrdf_status write_texture(const char *file, const float *texels, nbrdf_error *err) {
-  nbrdf_latent_layout L = {nbrdf_model_latent_dim(fix_model), NBRDF_COLOUR_MONO, 1};
-  nbrdf_latent_meta meta = {nbrdf_model_name(fix_model), nbrdf_model_checksum(fix_model), "test",
+  texture_latent_layout L = {nbrdf_model_latent_dim(fix_model), NBRDF_COLOUR_MONO, 1};
+  texture_latent_meta meta = {nbrdf_model_name(fix_model), nbrdf_model_checksum(fix_model), "test",
                             "roughness=alpha", NULL, 0, NULL};
-  nbrdf_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
+  texture_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   o.storage = NBRDF_LATENT_FLOAT;
   o.mip_levels = 1;
-  nbrdf_latent_writer *w = NULL;
-  nbrdf_status st = nbrdf_latent_writer_create(&w, file, W, H, &L, &meta, &o, NULL, 0, err);
-  if (st == NBRDF_OK) st = nbrdf_latent_writer_write_rows(w, texels, H, err);
-  if (st == NBRDF_OK) return nbrdf_latent_writer_finish(w, err);
-  nbrdf_latent_writer_abort(w);
+  texture_latent_writer *w = NULL;
+  nbrdf_status st = texture_latent_writer_create(&w, file, W, H, &L, &meta, &o, NULL, 0, err);
+  if (st == NBRDF_OK) st = texture_latent_writer_write_rows(w, texels, H, err);
+  if (st == NBRDF_OK) return texture_latent_writer_finish(w, err);
+  texture_latent_writer_abort(w);
   return st;
 }
 
@@ -126,8 +125,8 @@ static void test_fitted_passes_damaged_fails(void) {
 
 int main(void) {
   fix_load_model();
-  if (!fix_model) return nbrdf_test_finish();
+  if (!fix_model) return testing_finish();
   RUN(test_fitted_passes_damaged_fails);
   nbrdf_model_destroy(fix_model);
-  return nbrdf_test_finish();
+  return testing_finish();
 }
