@@ -116,7 +116,7 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
 
 /* Writes a rendered image: a linear float RGB EXR at `exr_path` (may be NULL)
  * and an 8-bit PNG through an OpenColorIO view transform at `png_path` (may
- * be NULL): `display` is a colour space name for nbrdf_colour_xform_create
+ * be NULL): `display` is a colour space name (as the bake's colour maps take)
  * looked up in `ocio_config` (NULL: $OCIO, then the built-in "srgb"), applied
  * in the inverse direction (linear -> display). Both files appear whole or
  * not at all. */

@@ -52,7 +52,7 @@ OCIO::ConstCPUProcessorRcPtr exact_cpu(const OCIO::ConstProcessorRcPtr &p) {
 
 } // namespace
 
-extern "C" nbrdf_status nbrdf_colour_xform_create(const char *colour_space, const char *config_path,
+extern "C" nbrdf_status texture_colour_xform_create(const char *colour_space, const char *config_path,
                                                   texture_colour_xform **out, nbrdf_error *err) {
   *out = nullptr;
   if (!colour_space || !colour_space[0])

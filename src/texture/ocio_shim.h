@@ -22,7 +22,7 @@ extern "C" {
 
 typedef struct texture_colour_xform texture_colour_xform;
 
-nbrdf_status nbrdf_colour_xform_create(const char *colour_space, const char *config_path,
+nbrdf_status texture_colour_xform_create(const char *colour_space, const char *config_path,
                                        texture_colour_xform **out, nbrdf_error *err);
 /* 1 when the conversion does nothing ("linear", "raw"). */
 int texture_colour_xform_is_identity(const texture_colour_xform *x);

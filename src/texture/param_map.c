@@ -32,7 +32,7 @@ static nbrdf_status set_up_colour(texture_param_map *m, nbrdf_error *err) {
   }
   const char *space = m->opts.colour_space;
   if (!space) space = m->integer ? "srgb" : "linear";
-  nbrdf_status st = nbrdf_colour_xform_create(space, m->opts.ocio_config, &m->xform, err);
+  nbrdf_status st = texture_colour_xform_create(space, m->opts.ocio_config, &m->xform, err);
   if (st != NBRDF_OK) {
     core_error_prefix(err, "%s: ", m->path);
     return st;

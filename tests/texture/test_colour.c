@@ -22,7 +22,7 @@ static void test_builtin_srgb(void) {
   nbrdf_error e, *err = &e;
   texture_colour_xform *x = NULL;
   unsetenv("OCIO");
-  CHECK_OK(nbrdf_colour_xform_create("sRGB", NULL, &x, err), err);
+  CHECK_OK(texture_colour_xform_create("sRGB", NULL, &x, err), err);
   if (!x) return;
   CHECK(!texture_colour_xform_is_identity(x));
   CHECK(strstr(texture_colour_xform_describe(x), "built in") != NULL);
@@ -54,16 +54,16 @@ static void test_identity_names(void) {
   static const char *names[] = {"linear", "raw", "Raw", "data"};
   for (int i = 0; i < 4; i++) {
     texture_colour_xform *x = NULL;
-    CHECK_OK(nbrdf_colour_xform_create(names[i], NULL, &x, err), err);
+    CHECK_OK(texture_colour_xform_create(names[i], NULL, &x, err), err);
     if (!x) continue;
     CHECK(texture_colour_xform_is_identity(x));
     CHECK(convert(x, 0.5f) == 0.5f);
     texture_colour_xform_free(x);
   }
   texture_colour_xform *x = NULL;
-  CHECK_FAILS(nbrdf_colour_xform_create("ACEScg", NULL, &x, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(texture_colour_xform_create("ACEScg", NULL, &x, err), NBRDF_ERR_ARGUMENT, err,
               "unknown colour space 'ACEScg'");
-  CHECK_FAILS(nbrdf_colour_xform_create("", NULL, &x, err), NBRDF_ERR_ARGUMENT, err, "empty");
+  CHECK_FAILS(texture_colour_xform_create("", NULL, &x, err), NBRDF_ERR_ARGUMENT, err, "empty");
   CHECK(x == NULL);
 }
 
@@ -87,7 +87,7 @@ static void test_user_config(void) {
   snprintf(path, sizeof path, "%s/studio.ocio", testing_tmpdir());
   write_config(path);
   texture_colour_xform *x = NULL;
-  CHECK_OK(nbrdf_colour_xform_create("gamma22", path, &x, err), err);
+  CHECK_OK(texture_colour_xform_create("gamma22", path, &x, err), err);
   if (x) {
     CHECK_NEAR(convert(x, 0.5f), pow(0.5, 2.2), 1e-6);
     CHECK(strstr(texture_colour_xform_describe(x), "studio.ocio") != NULL);
@@ -95,22 +95,22 @@ static void test_user_config(void) {
     x = NULL;
   }
   /* A name the config lacks falls back to the built-ins, else fails. */
-  CHECK_OK(nbrdf_colour_xform_create("srgb", path, &x, err), err);
+  CHECK_OK(texture_colour_xform_create("srgb", path, &x, err), err);
   if (x) CHECK_NEAR(convert(x, 0.5f), 0.214041, 1e-5);
   texture_colour_xform_free(x);
   x = NULL;
-  CHECK_FAILS(nbrdf_colour_xform_create("ACEScg", path, &x, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(texture_colour_xform_create("ACEScg", path, &x, err), NBRDF_ERR_ARGUMENT, err,
               "not in the OCIO config");
   /* $OCIO when no path is given. */
   setenv("OCIO", path, 1);
-  CHECK_OK(nbrdf_colour_xform_create("gamma22", NULL, &x, err), err);
+  CHECK_OK(texture_colour_xform_create("gamma22", NULL, &x, err), err);
   if (x) CHECK_NEAR(convert(x, 0.25f), pow(0.25, 2.2), 1e-6);
   texture_colour_xform_free(x);
   x = NULL;
   unsetenv("OCIO");
   char bad[600];
   snprintf(bad, sizeof bad, "%s/missing.ocio", testing_tmpdir());
-  CHECK_FAILS(nbrdf_colour_xform_create("gamma22", bad, &x, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(texture_colour_xform_create("gamma22", bad, &x, err), NBRDF_ERR_ARGUMENT, err,
               "missing.ocio");
   CHECK(x == NULL);
 }
