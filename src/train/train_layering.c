@@ -175,17 +175,14 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     trainer_word words[3];
     train_epoch_shuffle_words(&t.shuffle, words);
     trainer_options to = TRAINER_OPTIONS_DEFAULT;
-    to.steps = (int64_t)s->epochs * t.steps_per_epoch;
+    trainer_options_epochs(&to, s->epochs, t.steps_per_epoch);
     to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
     to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
-    to.checkpoint_boundary = t.steps_per_epoch;
     to.format = "nbrdf-train-layering-latent-checkpoint", to.options = options;
     to.log_path = s->log_path, to.log_header = "epoch,train_loss,val_loss,val_decoded,lr";
-    to.log_unit = t.steps_per_epoch;
     /* an epoch of many rows takes seconds: cancel and progress between batches */
     to.stage = "train layering", to.progress = s->progress, to.user = s->user;
     to.cancel = s->cancel;
-    to.progress_unit = (double)t.steps_per_epoch, to.progress_force = t.steps_per_epoch;
     trainer_fit fit = {.user = &t, .gradient = latent_gradient, .report = latent_report};
     trainer_result tr;
     st = trainer_run(&to, &fit, &g, 1, NULL, 0, words, 3, &tr, err);

@@ -197,18 +197,15 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
                        s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
                        s->decay_gamma};
     trainer_options to = TRAINER_OPTIONS_DEFAULT;
-    to.steps = (int64_t)s->epochs * t.steps_per_epoch;
+    trainer_options_epochs(&to, s->epochs, t.steps_per_epoch);
     to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
     to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
-    to.checkpoint_boundary = t.steps_per_epoch;
     to.format = CHECKPOINT_FORMAT, to.options = options;
     to.log_path = s->log_path, to.log_header = "epoch,seconds,train_loss,val_decoded,lr";
-    to.log_unit = t.steps_per_epoch;
     /* Ctrl-C (the callback's answer) is heard after every batch, not only at
      * an epoch's end: an epoch of the shipped recipe takes minutes. */
     to.stage = "train layering", to.progress = s->progress, to.user = s->user;
     to.cancel = s->cancel;
-    to.progress_unit = (double)t.steps_per_epoch, to.progress_force = t.steps_per_epoch;
     trainer_fit fit = {.user = &t, .gradient = gradient, .report = report, .legacy = legacy};
     trainer_result tr;
     st = trainer_run(&to, &fit, &g, 1, NULL, 0, NULL, 0, &tr, err);

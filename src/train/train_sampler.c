@@ -242,16 +242,14 @@ nbrdf_status train_sampler_fit(model_decoder *dec, size_t n, const float *latent
     trainer_word words[3];
     train_epoch_shuffle_words(&t.shuffle, words);
     trainer_options to = TRAINER_OPTIONS_DEFAULT;
-    to.steps = (int64_t)s->epochs * t.steps_per_epoch;
+    trainer_options_epochs(&to, s->epochs, t.steps_per_epoch);
     to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
     to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
-    to.checkpoint_boundary = t.steps_per_epoch;
     to.format = "nbrdf-train-sampler-checkpoint", to.options = options;
     /* Asked after every batch, so Ctrl-C (the callback's answer) is heard
      * within one batch, not one epoch. */
     to.stage = "sampler: network", to.progress = s->progress, to.user = s->user;
     to.cancel = s->cancel;
-    to.progress_unit = (double)t.steps_per_epoch, to.progress_force = t.steps_per_epoch;
     trainer_fit fit = {.user = &t, .gradient = gradient};
     trainer_result tr;
     st = trainer_run(&to, &fit, &g, 1, NULL, 0, words, 3, &tr, err);

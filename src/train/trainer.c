@@ -45,6 +45,14 @@ void trainer_option(char *options, size_t size, const char *key, const char *fmt
   if (n >= 0 && at + (size_t)n + 1 < size) strcat(options + at, "\n");
 }
 
+void trainer_options_epochs(trainer_options *to, int epochs, int64_t steps_per_epoch) {
+  to->steps = (int64_t)epochs * steps_per_epoch;
+  to->checkpoint_boundary = steps_per_epoch;
+  to->log_unit = steps_per_epoch;
+  to->progress_unit = (double)steps_per_epoch;
+  to->progress_force = steps_per_epoch;
+}
+
 const char *trainer_float_text(float x, char buf[32]) {
   for (int digits = 6; digits <= 9; digits++) {
     snprintf(buf, 32, "%.*g", digits, (double)x);

@@ -130,6 +130,11 @@ void trainer_log(trainer *t, const char *fmt, ...) __attribute__((format(printf,
 double trainer_seconds(const trainer *t);
 double trainer_lr(const trainer *t, int group);
 
+/* An epoch-based run: `epochs` epochs of `steps_per_epoch` steps; time-based
+ * checkpoints and log rows only at epoch boundaries, progress counted in epochs
+ * (forced at each epoch's end, ticked between batches so cancel is heard). */
+void trainer_options_epochs(trainer_options *to, int epochs, int64_t steps_per_epoch);
+
 /* The shortest text that reads back as x exactly (options compare as text). */
 const char *trainer_float_text(float x, char buf[32]);
 
