@@ -141,7 +141,7 @@ typedef enum nbrdf_bake_compression {
  *   decoder (latent texture format 2; nbrdf_model_for_texture decodes it).
  * - COMPACT: as SPECIALISED, then the scene's latents are stored in
  *   compact_dim principal coordinates per colour channel (<= 8, against the
- *   bundle's 32) and a small decoder (compact_width wide, about 1,500
+ *   bundle's 32) and a small decoder (compact_width wide, about 1,900
  *   multiply-adds per query at 8 x 32) is distilled for the scene from the
  *   specialised one and the ground truth; the texture carries it. A texture
  *   a renderer decodes fast, at about a third of the channels. */
