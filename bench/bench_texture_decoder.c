@@ -1,8 +1,9 @@
 /* The decoder of each latent texture given, alone: queries per CPU-second
  * through nbrdf_model_decode in batches of 4,096 (a render tile's batch) on
- * the texture's own texels (every colour channel decoded), so that `nbrdf render`'s "queries/s inside the
- * renderer" can be read against the network's own rate (issue 19: compact
- * against universal and specialised textures). Prints a markdown table.
+ * the texture's own texels (every colour channel decoded), so that `nbrdf
+ * render`'s "queries/s inside the renderer" can be read against the network's
+ * own rate (issue 19: compact against universal and specialised textures).
+ * Prints a markdown table.
  *
  *   bench_texture_decoder [--bundle DIR] [--seconds S] TEXTURE.exr ...
  *
