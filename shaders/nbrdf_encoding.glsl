@@ -1,5 +1,6 @@
 // nbrdf shaders: direction encodings (ωi, ωo) -> decoder features (GLSL 450).
-// Mirrors src/model/encoding.c; the kinds are those of the weights' header word
+// Mirrors src/model/encoding.c: first both directions are rotated about the
+// normal so that ωi has azimuth 0; the kinds are those of the weights' header word
 // NBRDF_W_ENCODING:
 //   0 cartesian: (ωi.xyz, ωo.xyz)
 //   1 halfdiff:  Rusinkiewicz 1998: h = normalize(ωi + ωo) and d = ωi in the frame
@@ -15,8 +16,20 @@
 const uint NBRDF_ENCODING_CARTESIAN = 0u;
 const uint NBRDF_ENCODING_HALFDIFF = 1u;
 
+// Both directions rotated about the normal so that ωi has azimuth 0, as
+// src/model/encoding.c does before every encoding (the BRDFs are isotropic and
+// the decoders were trained with ωi in the xz-plane).
+void nbrdf_encode_canonical(inout vec3 wi, inout vec3 wo) {
+  float s = sqrt(wi.x * wi.x + wi.y * wi.y);
+  if (!(s > 1e-12)) return;
+  float c = wi.x / s, sn = wi.y / s;
+  wo.xy = vec2(c * wo.x + sn * wo.y, -sn * wo.x + c * wo.y);
+  wi.xy = vec2(s, 0.0);
+}
+
 // The six base features: a = first three, b = last three.
 void nbrdf_encode_base(uint kind, vec3 wi, vec3 wo, out vec3 a, out vec3 b) {
+  nbrdf_encode_canonical(wi, wo);
   if (kind != NBRDF_ENCODING_HALFDIFF) {
     a = wi;
     b = wo;

@@ -32,7 +32,7 @@
  * its cost per row drawn (a small network is bound by per-row work, not
  * multiply-adds). */
 #define DISTIL_SHARE 0.3
-#define DISTIL_ROWS 64
+#define DISTIL_ROWS 16
 #define DISTIL_BATCH 16384
 #define DISTIL_ROW_COST 2.0e-7
 #define SMALL_MAC_RATE 1.0e10

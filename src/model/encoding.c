@@ -53,11 +53,22 @@ void model_encode_halfdiff(const double wi[3], const double wo[3], double h[3], 
   d[2] = sin_theta * x1 + hz * z1;
 }
 
+void model_encode_canonical(double wi[3], double wo[3]) {
+  double s = sqrt(wi[0] * wi[0] + wi[1] * wi[1]);
+  if (!(s > 1e-12)) return; /* ωi at the normal: every azimuth is its own */
+  double c = wi[0] / s, sn = wi[1] / s, x = wo[0], y = wo[1];
+  /* ωi itself lands on (s, 0, z) exactly (sqrt(x²) = |x| in IEEE arithmetic,
+   * so the training data's ωi stay as they are). */
+  wi[0] = s, wi[1] = 0.0;
+  wo[0] = c * x + sn * y, wo[1] = -sn * x + c * y;
+}
+
 void model_encode(const model_encoding *enc, size_t n, const float *wi, const float *wo, float *out,
                   size_t stride) {
   for (size_t k = 0; k < n; k++) {
     double a[3] = {wi[3 * k], wi[3 * k + 1], wi[3 * k + 2]};
     double b[3] = {wo[3 * k], wo[3 * k + 1], wo[3 * k + 2]};
+    model_encode_canonical(a, b);
     double base[6];
     if (enc->kind == MODEL_ENCODING_HALFDIFF) {
       model_encode_halfdiff(a, b, base, base + 3);

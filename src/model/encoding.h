@@ -1,6 +1,9 @@
 /* Direction encodings: (ωi, ωo) -> the direction features a decoder reads
  * after its latent. Forward only: nothing is trained through the directions.
  *
+ * Both directions are first rotated about the normal so that ωi has azimuth 0
+ * (model_encode_canonical below): the features below are of that pair.
+ *
  * Kinds (each 6 base features, optionally followed by frequency features):
  * - CARTESIAN: (ωi.x, ωi.y, ωi.z, ωo.x, ωo.y, ωo.z), the input of the paper's
  *   released decoder (32 latent + 6 = 38 inputs).
@@ -37,6 +40,14 @@ typedef struct model_encoding {
 } model_encoding;
 
 /* Number of floats one (ωi, ωo) pair becomes: 6 + 12 · octaves. */
+/* Rotates ωi and ωo together about the normal so that ωi has azimuth 0
+ * (ωi.y = 0, ωi.x >= 0); unchanged when ωi is at the normal. Every encoding
+ * starts with it: the BRDFs are isotropic, and the training data have ωi in
+ * the xz-plane (train/dataset.c), so a decoder has only ever seen that
+ * azimuth; a renderer's ωi has any. Training inputs are unchanged bit for bit
+ * (ωi.y = 0 gives the identity rotation exactly). */
+void model_encode_canonical(double wi[3], double wo[3]);
+
 int model_encoding_width(const model_encoding *enc);
 
 /* "cartesian" / "halfdiff"; NULL for an invalid kind. */
