@@ -6,9 +6,9 @@
 #
 #   bash bench/render_paper.sh [BUNDLE] [OUT]      (defaults: models/default, build/render_paper)
 #   SIZE=128 NEURAL_SPP=16 GT_SPP=1024 FIG5_SIZE=256 NBRDF=build/nbrdf  (environment)
-#   LEVELS="fast specialised compact": the bake accuracy levels of the neural images (issue 19;
-#   the texture of each, its decoder's queries/s inside the renderer, and its equal-time
-#   reference). FIG5=0 skips Fig. 5.
+#   LEVELS="fast specialised compact compact:4": the bake accuracy levels of the neural images
+#   (issue 19; compact:K bakes --compact K; the texture of each, its decoder's queries/s
+#   inside the renderer, and its equal-time reference). FIG5=0 skips Fig. 5.
 #
 # The figures mean something only with a trained bundle; with an untrained one
 # (nbrdf bundle init) the script runs end to end and the neural numbers are noise.
@@ -27,7 +27,9 @@ mkdir -p "$OUT"
 params=(--alpha1 0.05 --eta 1.5 --alpha2 0.2 --r0 0.95,0.64,0.54 --albedo 0.9,0.5,0.3 --sigma-t 2)
 LEVELS=${LEVELS:-fast}
 for level in $LEVELS; do
-  "$NBRDF" bake --bundle "$BUNDLE" "${params[@]}" --accuracy "$level" -o "$OUT/material-$level.exr" \
+  acc=(--accuracy "$level")
+  [[ $level == compact:* ]] && acc=(--accuracy compact --compact "${level#compact:}")
+  "$NBRDF" bake --bundle "$BUNDLE" "${params[@]}" "${acc[@]}" -o "$OUT/material-$level.exr" \
     >"$OUT/bake-$level.txt"
 done
 cp "$OUT/material-${LEVELS%% *}.exr" "$OUT/material.exr"
