@@ -330,6 +330,17 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   texture_latent_writer_abort(writer);
   if (st == NBRDF_OK) {
     warn_clamped(&band, o);
+    /* A budget too small for the level can leave it worse than fast (a compact student
+     * of few steps): say so rather than let the texture pass for the better one. */
+    if (o->accuracy != NBRDF_BAKE_FAST && o->warning && acc.heldout_error > acc.heldout_error_fast) {
+      char msg[512];
+      snprintf(msg, sizeof msg,
+               "the %s texture's held-out lobe error (%.2f %%) is above the fast level's "
+               "(%.2f %%) on the same %zu tuples: give it a larger --budget (this one: %g s)",
+               nbrdf_bake_accuracy_name(o->accuracy), 100.0 * acc.heldout_error,
+               100.0 * acc.heldout_error_fast, acc.heldout, acc.budget);
+      o->warning(o->user, msg);
+    }
     char audit_msg[768];
     bake_audit_message(&band.audit, rgb, audit_msg, sizeof audit_msg);
     if (audit_msg[0] && o->warning) o->warning(o->user, audit_msg);
