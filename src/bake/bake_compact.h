@@ -1,19 +1,21 @@
 /* The compact accuracy level (issue 19): a scene's texels span a small family
- * of BRDFs, so its latents are stored in K whitened principal coordinates of
- * the scene's specialised latents (c = P (z - mean), K <= 8 per colour
- * channel) and decoded by a small decoder distilled for the scene.
+ * of BRDFs, so its latents are stored in K coordinates per colour channel
+ * (c = P (z - mean), K <= 8) of the scene's specialised latents z and decoded
+ * by a small decoder distilled for the scene (docs/BAKE.md, "Compact").
  *
- * Why principal coordinates rather than a learned encoder: the map z -> c is
- * linear, so a mip texel (the mean of level-0 texels) is exactly the
- * coordinates of the mean latent, and mip levels stay valid; the proxy of a
- * mip texel is predicted from the reconstructed latent mean + B c. Why
- * whitened: the small decoder then sees inputs of unit scale.
+ * Why a linear map rather than a nonlinear encoder: a mip texel (the mean of
+ * level-0 texels) is then exactly the coordinates of the mean latent, so mip
+ * levels stay valid; the proxy of a mip texel is predicted from the
+ * least-squares reconstruction mean + B c. P starts as the whitened principal
+ * axes of the scene's latents (unit-scale inputs for the small decoder) and
+ * learns together with the student.
  *
- * The student is trained on two kinds of rows, both through model/autodecoder.h
- * with the coordinates frozen: the fitted tuples' layered ground truth (so it
- * is not only a copy of the teacher's error), and the specialised teacher's
- * values on up to BAKE_COMPACT_TEACHER tuples chosen across the scene, at the
- * directions of the nearest fitted tuple's ground truth (where its lobe is). */
+ * The student learns from two kinds of rows through model/autodecoder.h: the
+ * fitted tuples' layered ground truth (so it is not only a copy of the
+ * teacher's error), and the specialised teacher's values on up to
+ * BAKE_COMPACT_TEACHER tuples chosen across the scene, at the directions of
+ * the nearest fitted tuple's ground truth (where its lobe is), at directions
+ * the tuple's proxy draws, and at ωi uniform over the hemisphere. */
 #ifndef NBRDF_BAKE_BAKE_COMPACT_H
 #define NBRDF_BAKE_BAKE_COMPACT_H
 
@@ -35,14 +37,14 @@ typedef struct bake_compact {
   int dim;        /* K */
   int work_dim;   /* D, the bundle's latent dimension */
   float *mean;    /* [D] */
-  float *basis;   /* [D x K]: z = mean + basis c (columns scaled by the sqrt eigenvalues) */
+  float *basis;   /* [D x K]: z ≈ mean + basis c (least squares after the distillation) */
   float *project; /* [K x D]: c = project (z - mean) */
-  double kept;    /* fraction of the scene latents' variance the K coordinates keep */
+  double kept;    /* fraction of the scene latents' variance mean + basis c keeps */
   model_decoder *student;
   double loss_truth, loss_teacher; /* final distillation losses (L1 of log1p) */
 } bake_compact;
 
-/* The K principal coordinates of n latents [n x D]. */
+/* The K whitened principal coordinates of n latents [n x D] (the projection's start). */
 nbrdf_status bake_compact_basis(const float *z, size_t n, int D, int K, bake_compact *c,
                                 nbrdf_error *err);
 void bake_compact_free(bake_compact *c);
@@ -64,11 +66,12 @@ typedef struct bake_compact_settings {
  * residual block, linear output: (K + 6) w + w^2 + w multiply-adds. */
 nbrdf_status bake_compact_config(int dim, int width, model_decoder_config *cfg, nbrdf_error *err);
 
-/* Everything after the specialised fit: basis of the scene's latents, then
- * the student. `model` decodes with the specialised teacher (latent D);
- * fit/n_fit, their truth samples and their fitted latents zfit [n_fit x D];
- * `scene`/n_scene the tuples the teacher speaks for (with the carried
- * correction `corr`). */
+/* Everything after the specialised fit: the scene's latents (network + the
+ * carried correction `corr`, whose decoder is the teacher) of the n_fit fitted
+ * tuples `fit` (their ground truth `truth`, one BRDF each) and of the n_scene
+ * tuples `scene` the teacher speaks for; the principal start of the
+ * projection; the student and the projection learned together (stage
+ * "distil"); the reconstruction basis. */
 nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction *corr,
                                 const bake_tuple *fit, size_t n_fit, const train_samples *truth,
                                 const bake_tuple *scene, size_t n_scene, int dim,
