@@ -99,8 +99,11 @@ int nbrdf_model_files(const nbrdf_model *model, const char *const **paths);
 
 /* `base` with its decoder replaced by the one in `bytes` (`size` bytes of a
  * decoder.safetensors file, docs/MODEL_BUNDLE.md; copied). The decoder must be
- * a valid nbrdf decoder file with the bundle's latent dimension. `label`
- * (e.g. a file name; NULL: "decoder") starts every message. */
+ * a valid nbrdf decoder file whose latent dimension is at most the bundle's:
+ * fewer is a compact texture's decoder (issue 19), and the model then decodes
+ * latents of that size (nbrdf_model_latent_dim) while refusing the calls that
+ * need the bundle's (base latents, layer, proxy) with NBRDF_ERR_UNSUPPORTED.
+ * `label` (e.g. a file name; NULL: "decoder") starts every message. */
 nbrdf_status nbrdf_model_with_decoder(const nbrdf_model *base, const void *bytes, size_t size,
                                       const char *label, nbrdf_model **out, nbrdf_error *err);
 /* The same with the bytes of the file at `path`. */

@@ -297,21 +297,35 @@ static void test_damaged_decoders(void) {
   write_with_decoder(path("sampler.exr"), lb, ln);
   expect_refused(path("sampler.exr"), "embedded decoder");
   free(lb);
-  /* A decoder for latents of another size. */
+  /* A decoder for latents of another size than the texture's: refused. A decoder of
+   * fewer latents than the bundle's is a compact one (issue 19) and makes a model of
+   * that size; one of more is refused. */
   model_decoder_config cfg;
-  model_decoder *d16 = NULL;
-  void *b16 = NULL;
-  size_t n16 = 0;
+  model_decoder *d16 = NULL, *d64 = NULL;
+  void *b16 = NULL, *b64 = NULL;
+  size_t n16 = 0, n64 = 0;
   CHECK_OK(model_decoder_preset("small", 16, &cfg, err), err);
   CHECK_OK(model_decoder_create(&cfg, 3, &d16, err), err);
   CHECK_OK(model_decoder_serialize(d16, &b16, &n16, err), err);
   write_with_decoder(path("dim16.exr"), b16, n16);
-  expect_refused(path("dim16.exr"), "latent dimension 16, the bundle 'default' has 32");
+  expect_refused(path("dim16.exr"), "decodes latents of 16 floats, the texture's have 32");
   nbrdf_model *m = NULL;
-  CHECK_FAILS(nbrdf_model_with_decoder(bundle, b16, n16, "d16.safetensors", &m, err),
-              NBRDF_ERR_MISMATCH, err, "d16.safetensors: the decoder has latent dimension 16");
-  model_decoder_destroy(d16);
-  free(b16);
+  CHECK_OK(nbrdf_model_with_decoder(bundle, b16, n16, "d16.safetensors", &m, err), err);
+  CHECK(m && nbrdf_model_latent_dim(m) == 16);
+  float lat[16] = {0}, sg, wg;
+  if (m)
+    CHECK_FAILS(nbrdf_model_proxy_params(m, 1, lat, &sg, &wg, err), NBRDF_ERR_UNSUPPORTED, err,
+                "compact texture's 16 latent channels");
+  nbrdf_model_destroy(m);
+  m = NULL;
+  CHECK_OK(model_decoder_preset("small", 64, &cfg, err), err);
+  CHECK_OK(model_decoder_create(&cfg, 3, &d64, err), err);
+  CHECK_OK(model_decoder_serialize(d64, &b64, &n64, err), err);
+  CHECK_FAILS(nbrdf_model_with_decoder(bundle, b64, n64, "d64.safetensors", &m, err),
+              NBRDF_ERR_MISMATCH, err,
+              "d64.safetensors: the decoder has latent dimension 64, more than the bundle");
+  model_decoder_destroy(d16), model_decoder_destroy(d64);
+  free(b16), free(b64);
 
   /* More than 64 MiB is refused before anything is written or read. */
   texture_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
