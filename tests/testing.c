@@ -42,6 +42,22 @@ const char *testing_tmpdir(void) {
   return tmpdir_path;
 }
 
+const char *testing_path(const char *name) {
+  static char buf[4][4096 + 256];
+  static int k;
+  k = (k + 1) % 4;
+  snprintf(buf[k], sizeof buf[k], "%s/%s", testing_tmpdir(), name);
+  return buf[k];
+}
+
+void testing_one_blas_thread(int argc, char **argv) {
+  const char *bt = getenv("OPENBLAS_NUM_THREADS");
+  if (argc >= 1 && (!bt || strcmp(bt, "1"))) {
+    setenv("OPENBLAS_NUM_THREADS", "1", 1);
+    execv("/proc/self/exe", argv);
+  }
+}
+
 const char *testing_source_dir(void) {
   const char *s = getenv("NBRDF_SOURCE_DIR");
   return s ? s : ".";

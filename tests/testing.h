@@ -16,6 +16,12 @@ void testing_fail(const char *file, int line, const char *fmt, ...);
 int testing_finish(void);
 /* A scratch directory unique to this test process, created on first use. */
 const char *testing_tmpdir(void);
+/* `name` inside testing_tmpdir(); the last four results stay valid. */
+const char *testing_path(const char *name);
+/* Re-executes the test once with OPENBLAS_NUM_THREADS=1 unless it is set so: tests
+ * of fits run thousands of small GEMM steps, and OpenBLAS's 2-thread pool crawls on a
+ * loaded machine (docs/ARCHITECTURE.md, "Threads under load"). Call first in main(). */
+void testing_one_blas_thread(int argc, char **argv);
 /* The message of an error, or "(no message)" for NULL. A function rather than
  * `(errp) ? ...` in the macros, which GCC rejects (-Waddress) for `&err`. */
 const char *testing_message(const nbrdf_error *err);

@@ -21,15 +21,6 @@
 #include "texture/latent_exr.h"
 
 static nbrdf_model *model;
-static char tmp[512];
-
-static const char *path(const char *name) {
-  static char buf[4][640];
-  static int k;
-  k = (k + 1) % 4;
-  snprintf(buf[k], sizeof buf[k], "%s/%s", tmp, name);
-  return buf[k];
-}
 
 static void test_plan(void) {
   nbrdf_error e, *err = &e;
@@ -154,7 +145,7 @@ static void test_fitted_constant(void) {
   o.accuracy = NBRDF_BAKE_FITTED;
   o.budget = 12.0;
   nbrdf_bake_report rep;
-  CHECK_OK(nbrdf_bake(model, &in, &o, path("fitted.exr"), &rep, err), err);
+  CHECK_OK(nbrdf_bake(model, &in, &o, testing_path("fitted.exr"), &rep, err), err);
   CHECK(rep.accuracy == NBRDF_BAKE_FITTED && rep.fitted_tuples == 1 && rep.heldout_tuples == 1);
   CHECK(rep.distinct == 1 && rep.budget == 12.0);
   CHECK_MSG(rep.heldout_error < 0.85 * rep.heldout_error_fast,
@@ -163,7 +154,7 @@ static void test_fitted_constant(void) {
   printf("  sharp low-IOR coat: held-out lobe error fast %.2f %%, fitted %.2f %%\n",
          100 * rep.heldout_error_fast, 100 * rep.heldout_error);
   texture_latent_reader *r = NULL;
-  CHECK_OK(texture_latent_reader_open(&r, path("fitted.exr"), err), err);
+  CHECK_OK(texture_latent_reader_open(&r, testing_path("fitted.exr"), err), err);
   if (r) {
     const char *acc = texture_latent_reader_info(r)->accuracy;
     CHECK_MSG(strstr(acc, "level=fitted; budget=12;") && strstr(acc, "fitted=1; heldout=1"),
@@ -172,9 +163,9 @@ static void test_fitted_constant(void) {
   }
   /* A fast bake writes no such attribute. */
   o = (nbrdf_bake_options)NBRDF_BAKE_OPTIONS_DEFAULT;
-  CHECK_OK(nbrdf_bake(model, &in, &o, path("fast.exr"), &rep, err), err);
+  CHECK_OK(nbrdf_bake(model, &in, &o, testing_path("fast.exr"), &rep, err), err);
   CHECK(rep.accuracy == NBRDF_BAKE_FAST && rep.fitted_tuples == 0);
-  CHECK_OK(texture_latent_reader_open(&r, path("fast.exr"), err), err);
+  CHECK_OK(texture_latent_reader_open(&r, testing_path("fast.exr"), err), err);
   if (r) {
     CHECK(texture_latent_reader_info(r)->accuracy[0] == 0);
     texture_latent_reader_close(r);
@@ -193,7 +184,7 @@ static void test_specialised_constant(void) {
   o.budget = 4.0;
   o.mip_levels = 1;
   nbrdf_bake_report rep;
-  CHECK_OK(nbrdf_bake(model, &in, &o, path("spec.exr"), &rep, err), err);
+  CHECK_OK(nbrdf_bake(model, &in, &o, testing_path("spec.exr"), &rep, err), err);
   CHECK(rep.accuracy == NBRDF_BAKE_SPECIALISED && rep.fitted_tuples == 1);
   CHECK_MSG(rep.heldout_error < 0.5 * rep.heldout_error_fast,
             "held-out lobe error specialised %.4f vs fast %.4f", rep.heldout_error,
@@ -201,10 +192,10 @@ static void test_specialised_constant(void) {
   printf("  sharp low-IOR coat: held-out lobe error fast %.2f %%, specialised %.2f %%\n",
          100 * rep.heldout_error_fast, 100 * rep.heldout_error);
   nbrdf_decoder_info info;
-  CHECK_OK(nbrdf_texture_own_decoder(path("spec.exr"), &info, err), err);
+  CHECK_OK(nbrdf_texture_own_decoder(testing_path("spec.exr"), &info, err), err);
   CHECK(info.own && info.size > 0);
   texture_latent_reader *r = NULL;
-  CHECK_OK(texture_latent_reader_open(&r, path("spec.exr"), err), err);
+  CHECK_OK(texture_latent_reader_open(&r, testing_path("spec.exr"), err), err);
   if (r) {
     CHECK(texture_latent_reader_info(r)->format_version == 2);
     CHECK(strstr(texture_latent_reader_info(r)->accuracy, "level=specialised;") != NULL);
@@ -229,11 +220,11 @@ static void test_cancel_in_fit(void) {
   o.budget = 8.0;
   o.progress = cancel_in_fit;
   o.user = seen;
-  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("cancel.exr"), NULL, err), NBRDF_ERR_CANCELLED, err,
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, testing_path("cancel.exr"), NULL, err), NBRDF_ERR_CANCELLED, err,
               "cancelled during the fit");
   CHECK(seen[0] >= 1 && seen[1] >= 1);
   struct stat sb;
-  CHECK(stat(path("cancel.exr"), &sb) != 0);
+  CHECK(stat(testing_path("cancel.exr"), &sb) != 0);
 }
 
 static void test_bad_options(void) {
@@ -241,33 +232,24 @@ static void test_bad_options(void) {
   nbrdf_bake_inputs in = sharp_coat();
   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
   o.accuracy = (nbrdf_bake_accuracy)7;
-  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, testing_path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
               "fast, fitted, specialised or compact");
   o.accuracy = NBRDF_BAKE_FITTED;
   o.budget = NAN;
-  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, testing_path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
               "budget");
   o.budget = 0.3;
-  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, testing_path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
               "too small");
   struct stat sb;
-  CHECK(stat(path("bad.exr"), &sb) != 0);
+  CHECK(stat(testing_path("bad.exr"), &sb) != 0);
   CHECK(nbrdf_bake_accuracy_parse("fitted") == NBRDF_BAKE_FITTED);
   CHECK(nbrdf_bake_accuracy_parse("Fitted") == -1);
 }
 
 int main(int argc, char **argv) {
-  /* The fits run thousands of small GEMM steps: OpenBLAS's 2-thread pool
-   * crawls on a loaded machine (docs/ARCHITECTURE.md, "Threads under load"),
-   * so run with one BLAS thread, re-executing once to set it before the
-   * library starts. */
-  const char *bt = getenv("OPENBLAS_NUM_THREADS");
-  if (argc >= 1 && (!bt || strcmp(bt, "1"))) {
-    setenv("OPENBLAS_NUM_THREADS", "1", 1);
-    execv("/proc/self/exe", argv);
-  }
+  testing_one_blas_thread(argc, argv);
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char bundle[1024];
   snprintf(bundle, sizeof bundle, "%s/models/default", testing_source_dir());
   CHECK_OK(nbrdf_model_load(bundle, &model, err), err);

@@ -21,15 +21,6 @@
 #include "testing.h"
 
 static nbrdf_model *model;
-static char tmp[512];
-
-static const char *path(const char *name) {
-  static char buf[4][640];
-  static int k;
-  k = (k + 1) % 4;
-  snprintf(buf[k], sizeof buf[k], "%s/%s", tmp, name);
-  return buf[k];
-}
 
 /* Latents z = m + A u with A [32 x 3] and u random: three coordinates keep
  * all the variance and reconstruct every latent; more are harmless. */
@@ -112,15 +103,15 @@ static nbrdf_bake_inputs small_maps(void) {
       a[y * W + x] = 0.01f + 0.05f * x;
       b[y * W + x] = 0.3f + 0.2f * y;
     }
-  CHECK_OK(texture_image_write(path("alpha1.exr"), W, H, 1, a, NBRDF_PIXEL_FLOAT, err), err);
-  CHECK_OK(texture_image_write(path("albedo.exr"), W, H, 1, b, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(testing_path("alpha1.exr"), W, H, 1, a, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(testing_path("albedo.exr"), W, H, 1, b, NBRDF_PIXEL_FLOAT, err), err);
   nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
   const float v[NBRDF_BAKE_PARAM_COUNT] = {0, 1.1f, 0.4f, 0.9f, 0, 1.0f};
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     nbrdf_bake_param_constant(&in.param[id], v[id]);
-  CHECK_OK(nbrdf_bake_param_parse("alpha1", path("alpha1.exr"), &in.param[NBRDF_BAKE_ALPHA1], err),
+  CHECK_OK(nbrdf_bake_param_parse("alpha1", testing_path("alpha1.exr"), &in.param[NBRDF_BAKE_ALPHA1], err),
            err);
-  CHECK_OK(nbrdf_bake_param_parse("albedo", path("albedo.exr"), &in.param[NBRDF_BAKE_ALBEDO], err),
+  CHECK_OK(nbrdf_bake_param_parse("albedo", testing_path("albedo.exr"), &in.param[NBRDF_BAKE_ALBEDO], err),
            err);
   return in;
 }
@@ -133,7 +124,7 @@ static void test_compact_bake(void) {
   o.compact_dim = 4;
   o.budget = 20.0;
   nbrdf_bake_report rep;
-  CHECK_OK(nbrdf_bake(model, &in, &o, path("compact.exr"), &rep, err), err);
+  CHECK_OK(nbrdf_bake(model, &in, &o, testing_path("compact.exr"), &rep, err), err);
   CHECK(rep.accuracy == NBRDF_BAKE_COMPACT && rep.compact_dim == 4);
   CHECK_MSG(rep.decoder_macs > 0 && rep.decoder_macs <= 2000, "decoder %lld MACs",
             rep.decoder_macs);
@@ -145,7 +136,7 @@ static void test_compact_bake(void) {
          100 * rep.heldout_error_fast, 100 * rep.heldout_error, rep.decoder_macs);
 
   texture_latent_reader *r = NULL;
-  CHECK_OK(texture_latent_reader_open(&r, path("compact.exr"), err), err);
+  CHECK_OK(texture_latent_reader_open(&r, testing_path("compact.exr"), err), err);
   if (!r) return;
   const texture_latent_info *info = texture_latent_reader_info(r);
   CHECK(info->layout.latent_dim == 4 && info->format_version == 2 && info->decoder_size > 0);
@@ -200,7 +191,7 @@ static void test_small_budget_warns(void) {
   o.warning = collect;
   o.user = &warned;
   nbrdf_bake_report rep;
-  CHECK_OK(nbrdf_bake(model, &in, &o, path("small.exr"), &rep, err), err);
+  CHECK_OK(nbrdf_bake(model, &in, &o, testing_path("small.exr"), &rep, err), err);
   printf("  budget 10: held-out compact %.2f %%, fast %.2f %%, warned %d\n",
          100 * rep.heldout_error, 100 * rep.heldout_error_fast, warned);
   CHECK(warned == (rep.heldout_error > rep.heldout_error_fast));
@@ -215,23 +206,17 @@ static void test_bad_options(void) {
   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
   o.accuracy = NBRDF_BAKE_COMPACT;
   o.compact_dim = 12;
-  CHECK_FAILS(nbrdf_bake(model, &in, &o, path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+  CHECK_FAILS(nbrdf_bake(model, &in, &o, testing_path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
               "12 latent channels; 1 to 8");
   struct stat sb;
-  CHECK(stat(path("bad.exr"), &sb) != 0);
+  CHECK(stat(testing_path("bad.exr"), &sb) != 0);
   CHECK(nbrdf_bake_accuracy_parse("compact") == NBRDF_BAKE_COMPACT);
   CHECK(!strcmp(nbrdf_bake_accuracy_name(NBRDF_BAKE_COMPACT), "compact"));
 }
 
 int main(int argc, char **argv) {
-  /* One BLAS thread (as test_bake_accuracy: thousands of small GEMM steps). */
-  const char *bt = getenv("OPENBLAS_NUM_THREADS");
-  if (argc >= 1 && (!bt || strcmp(bt, "1"))) {
-    setenv("OPENBLAS_NUM_THREADS", "1", 1);
-    execv("/proc/self/exe", argv);
-  }
+  testing_one_blas_thread(argc, argv);
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char bundle[1024];
   snprintf(bundle, sizeof bundle, "%s/models/default", testing_source_dir());
   RUN(test_basis);

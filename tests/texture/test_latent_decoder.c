@@ -17,15 +17,6 @@
 #include "texture/latent_exr.h"
 
 static nbrdf_model *bundle;
-static char tmp[512];
-
-static const char *path(const char *name) {
-  static char buf[4][640];
-  static int k;
-  k = (k + 1) % 4;
-  snprintf(buf[k], sizeof buf[k], "%s/%s", tmp, name);
-  return buf[k];
-}
 
 static unsigned char *read_all(const char *p, size_t *n) {
   FILE *f = fopen(p, "rb");
@@ -126,16 +117,16 @@ static void test_round_trip(void) {
   CHECK(!strcmp(nbrdf_model_checksum(own), nbrdf_model_checksum(bundle)));
 
   nbrdf_bake_inputs in = constant_rgb();
-  CHECK_OK(nbrdf_bake(own, &in, NULL, path("v2.exr"), NULL, err), err);
-  CHECK_OK(nbrdf_bake(bundle, &in, NULL, path("v1.exr"), NULL, err), err);
+  CHECK_OK(nbrdf_bake(own, &in, NULL, testing_path("v2.exr"), NULL, err), err);
+  CHECK_OK(nbrdf_bake(bundle, &in, NULL, testing_path("v1.exr"), NULL, err), err);
 
   nbrdf_decoder_info t2, t1;
-  CHECK_OK(nbrdf_texture_own_decoder(path("v2.exr"), &t2, err), err);
-  CHECK_OK(nbrdf_texture_own_decoder(path("v1.exr"), &t1, err), err);
+  CHECK_OK(nbrdf_texture_own_decoder(testing_path("v2.exr"), &t2, err), err);
+  CHECK_OK(nbrdf_texture_own_decoder(testing_path("v1.exr"), &t1, err), err);
   CHECK(t2.own && t2.size == di.size && !strcmp(t2.checksum, di.checksum) && !t2.bytes);
   CHECK(!t1.own && t1.size == 0);
   texture_latent_reader *r = NULL;
-  CHECK_OK(texture_latent_reader_open(&r, path("v2.exr"), err), err);
+  CHECK_OK(texture_latent_reader_open(&r, testing_path("v2.exr"), err), err);
   if (r) {
     CHECK(texture_latent_reader_info(r)->format_version == 2);
     size_t n = 0;
@@ -143,24 +134,24 @@ static void test_round_trip(void) {
     CHECK(b && n == di.size && !memcmp(b, di.bytes, n));
     texture_latent_reader_close(r);
   }
-  CHECK_OK(texture_latent_reader_open(&r, path("v1.exr"), err), err);
+  CHECK_OK(texture_latent_reader_open(&r, testing_path("v1.exr"), err), err);
   if (r) CHECK(texture_latent_reader_info(r)->format_version == 1);
   texture_latent_reader_close(r);
 
   /* The texture's model decodes as the embedded decoder, not as the bundle's. */
   nbrdf_model *m2 = NULL, *m1 = NULL;
-  CHECK_OK(nbrdf_model_for_texture(bundle, path("v2.exr"), &m2, err), err);
-  CHECK_OK(nbrdf_model_for_texture(bundle, path("v1.exr"), &m1, err), err);
+  CHECK_OK(nbrdf_model_for_texture(bundle, testing_path("v2.exr"), &m2, err), err);
+  CHECK_OK(nbrdf_model_for_texture(bundle, testing_path("v1.exr"), &m1, err), err);
   if (!m2 || !m1) return;
   nbrdf_decoder_info i2, i1;
   nbrdf_model_own_decoder(m2, &i2);
   nbrdf_model_own_decoder(m1, &i1);
   CHECK(i2.own && !strcmp(i2.checksum, di.checksum) && !i1.own);
   float f_tex[NQ * 3], f_own[NQ * 3], f_bundle[NQ * 3], f_m1[NQ * 3];
-  decode_texel(m2, path("v2.exr"), f_tex);
-  decode_texel(own, path("v2.exr"), f_own);
-  decode_texel(bundle, path("v2.exr"), f_bundle);
-  decode_texel(m1, path("v2.exr"), f_m1);
+  decode_texel(m2, testing_path("v2.exr"), f_tex);
+  decode_texel(own, testing_path("v2.exr"), f_own);
+  decode_texel(bundle, testing_path("v2.exr"), f_bundle);
+  decode_texel(m1, testing_path("v2.exr"), f_m1);
   double diff = 0;
   for (int k = 0; k < NQ * 3; k++) {
     CHECK(f_tex[k] == f_own[k]);
@@ -178,13 +169,13 @@ static void test_round_trip(void) {
 
   /* A derived model outlives the bundle handle it came from. */
   nbrdf_model *again = NULL;
-  CHECK_OK(nbrdf_model_for_texture(m2, path("v2.exr"), &again, err), err);
+  CHECK_OK(nbrdf_model_for_texture(m2, testing_path("v2.exr"), &again, err), err);
   nbrdf_model_destroy(m2);
   nbrdf_model_destroy(m1);
   nbrdf_model_destroy(own);
   if (again) {
     float f_again[NQ * 3];
-    decode_texel(again, path("v2.exr"), f_again);
+    decode_texel(again, testing_path("v2.exr"), f_again);
     CHECK(!memcmp(f_again, f_tex, sizeof f_tex));
   }
   nbrdf_model_destroy(again);
@@ -215,7 +206,7 @@ static void test_v1_bytes_unchanged(void) {
       in->model_name, in->model_checksum, in->sources, in->settings, NULL, 0, NULL};
   texture_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   texture_latent_writer *w = NULL;
-  CHECK_OK(texture_latent_writer_create(&w, path("rewritten.exr"), 1, 1, &in->layout, &meta, &o,
+  CHECK_OK(texture_latent_writer_create(&w, testing_path("rewritten.exr"), 1, 1, &in->layout, &meta, &o,
                                         NULL, 0, err),
            err);
   if (w) CHECK_OK(texture_latent_writer_write_rows(w, texel, 1, err), err);
@@ -223,7 +214,7 @@ static void test_v1_bytes_unchanged(void) {
   texture_latent_reader_close(r);
   free(texel);
   size_t na = 0, nb = 0;
-  unsigned char *a = read_all(file, &na), *b = read_all(path("rewritten.exr"), &nb);
+  unsigned char *a = read_all(file, &na), *b = read_all(testing_path("rewritten.exr"), &nb);
   CHECK_MSG(a && b && na == nb && !memcmp(a, b, na), "version-1 bytes changed (%zu vs %zu bytes)",
             na, nb);
   free(a), free(b);
@@ -270,32 +261,32 @@ static void test_damaged_decoders(void) {
   if (!bytes) return;
 
   /* A byte changed inside the embedded bytes: the checksum no longer matches. */
-  write_with_decoder(path("good.exr"), bytes, n);
+  write_with_decoder(testing_path("good.exr"), bytes, n);
   size_t fn = 0;
-  unsigned char *tex = read_all(path("good.exr"), &fn);
+  unsigned char *tex = read_all(testing_path("good.exr"), &fn);
   unsigned char *at = tex ? find(tex, fn, bytes + 2048, 64) : NULL;
   CHECK(at != NULL);
   if (at) {
     at[10] ^= 0x40;
-    CHECK(write_all(path("flipped.exr"), tex, fn));
-    expect_refused(path("flipped.exr"), "the embedded decoder is damaged");
+    CHECK(write_all(testing_path("flipped.exr"), tex, fn));
+    expect_refused(testing_path("flipped.exr"), "the embedded decoder is damaged");
     nbrdf_decoder_info i;
-    CHECK_FAILS(nbrdf_texture_own_decoder(path("flipped.exr"), &i, err), NBRDF_ERR_FORMAT, err,
+    CHECK_FAILS(nbrdf_texture_own_decoder(testing_path("flipped.exr"), &i, err), NBRDF_ERR_FORMAT, err,
                 "is damaged");
   }
   free(tex);
 
   /* Right checksum, but not safetensors. */
-  write_with_decoder(path("text.exr"), "this is not a safetensors file", 30);
-  expect_refused(path("text.exr"), "embedded decoder (nbrdf:decoder)");
+  write_with_decoder(testing_path("text.exr"), "this is not a safetensors file", 30);
+  expect_refused(testing_path("text.exr"), "embedded decoder (nbrdf:decoder)");
   /* A layering network where the decoder belongs. */
   char layering[1024];
   snprintf(layering, sizeof layering, "%s/models/default/sampler.safetensors",
            testing_source_dir());
   size_t ln = 0;
   unsigned char *lb = read_all(layering, &ln);
-  write_with_decoder(path("sampler.exr"), lb, ln);
-  expect_refused(path("sampler.exr"), "embedded decoder");
+  write_with_decoder(testing_path("sampler.exr"), lb, ln);
+  expect_refused(testing_path("sampler.exr"), "embedded decoder");
   free(lb);
   /* A decoder for latents of another size than the texture's: refused. A decoder of
    * fewer latents than the bundle's is a compact one (issue 19) and makes a model of
@@ -307,8 +298,8 @@ static void test_damaged_decoders(void) {
   CHECK_OK(model_decoder_preset("small", 16, &cfg, err), err);
   CHECK_OK(model_decoder_create(&cfg, 3, &d16, err), err);
   CHECK_OK(model_decoder_serialize(d16, &b16, &n16, err), err);
-  write_with_decoder(path("dim16.exr"), b16, n16);
-  expect_refused(path("dim16.exr"), "decodes latents of 16 floats, the texture's have 32");
+  write_with_decoder(testing_path("dim16.exr"), b16, n16);
+  expect_refused(testing_path("dim16.exr"), "decodes latents of 16 floats, the texture's have 32");
   nbrdf_model *m = NULL;
   CHECK_OK(nbrdf_model_with_decoder(bundle, b16, n16, "d16.safetensors", &m, err), err);
   CHECK(m && nbrdf_model_latent_dim(m) == 16);
@@ -332,25 +323,25 @@ static void test_damaged_decoders(void) {
   texture_latent_meta big = {"m", "c", "", "", bytes, NBRDF_DECODER_BYTES_MAX + 1, NULL};
   texture_latent_writer *w = NULL;
   CHECK_FAILS(
-      texture_latent_writer_create(&w, path("big.exr"), 1, 1, &layout, &big, NULL, NULL, 0, err),
+      texture_latent_writer_create(&w, testing_path("big.exr"), 1, 1, &layout, &big, NULL, NULL, 0, err),
       NBRDF_ERR_ARGUMENT, err, "it must have 1 byte to 64 MiB");
   struct stat sb;
-  CHECK(w == NULL && stat(path("big.exr"), &sb) != 0);
+  CHECK(w == NULL && stat(testing_path("big.exr"), &sb) != 0);
   CHECK_FAILS(nbrdf_model_with_decoder(bundle, bytes, NBRDF_DECODER_BYTES_MAX + 1, "big", &m, err),
               NBRDF_ERR_ARGUMENT, err, "big: 67108865 bytes, more than the 64 MiB");
   /* Exactly 64 MiB is written and read back (OpenEXR holds attributes that large). */
   unsigned char *huge = calloc(NBRDF_DECODER_BYTES_MAX, 1);
   if (huge) {
     huge[12345] = 7;
-    write_with_decoder(path("huge.exr"), huge, NBRDF_DECODER_BYTES_MAX);
+    write_with_decoder(testing_path("huge.exr"), huge, NBRDF_DECODER_BYTES_MAX);
     texture_latent_reader *r = NULL;
-    CHECK_OK(texture_latent_reader_open(&r, path("huge.exr"), err), err);
+    CHECK_OK(texture_latent_reader_open(&r, testing_path("huge.exr"), err), err);
     size_t hn = 0;
     const unsigned char *hb = r ? texture_latent_reader_decoder(r, &hn) : NULL;
     CHECK(hb && hn == NBRDF_DECODER_BYTES_MAX && hb[12345] == 7 && hb[12346] == 0);
     texture_latent_reader_close(r);
-    expect_refused(path("huge.exr"), "embedded decoder");
-    remove(path("huge.exr"));
+    expect_refused(testing_path("huge.exr"), "embedded decoder");
+    remove(testing_path("huge.exr"));
     free(huge);
   }
   free(bytes);
@@ -358,7 +349,6 @@ static void test_damaged_decoders(void) {
 
 int main(void) {
   nbrdf_error e, *err = &e;
-  snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
   char dir[1024];
   snprintf(dir, sizeof dir, "%s/models/default", testing_source_dir());
   CHECK_OK(nbrdf_model_load(dir, &bundle, err), err);
