@@ -139,7 +139,7 @@ static double luminance(const double c[3]) { return 0.2126 * c[0] + 0.7152 * c[1
 
 static double sky_radiance(void *user, vec3 wi) {
   double rgb[3];
-  eval_env_radiance(user, to_world(wi), rgb);
+  render_env_radiance(user, to_world(wi), rgb);
   return luminance(rgb);
 }
 
@@ -149,7 +149,7 @@ static double furnace_radiance(void *user, vec3 wi) {
 }
 
 /* Azimuth (shading frame) of the brightest sky direction: the sun. */
-static double sun_azimuth(const eval_env *env) {
+static double sun_azimuth(const render_env *env) {
   double best = -1, phi_best = 0;
   for (int i = 0; i < 90; i++)
     for (int j = 0; j < 720; j++) {
@@ -226,8 +226,8 @@ int main(int argc, char **argv) {
     die("latents", &err);
 
   nbrdf_render_options ro = NBRDF_RENDER_OPTIONS_DEFAULT;
-  eval_env *sky = NULL;
-  if (eval_env_create(&ro, &sky, &err)) die("sky", &err);
+  render_env *sky = NULL;
+  if (render_env_create(&ro, &sky, &err)) die("sky", &err);
   const double phi_sun = sun_azimuth(sky);
 
   int n_cases = 0;
@@ -443,7 +443,7 @@ int main(int argc, char **argv) {
     free(cases[e]);
   free(nb.lat), free(nb.dirs), free(nb.f);
   free(p), free(a1), free(top), free(albedo);
-  eval_env_free(sky);
+  render_env_free(sky);
   nbrdf_model_destroy(m);
   return 0;
 }

@@ -23,7 +23,7 @@ static double ggx_pdf(double alpha, vec3 wo, vec3 wi) {
   if (wi.z <= 0.0 || wo.z <= 0.0) return 0.0;
   vec3 m = v3_normalize(v3_add(wo, wi));
   double om = v3_dot(wo, m);
-  return om > 0.0 ? ggx_vndf_pdf(alpha, wo, m) / (4.0 * om) : 0.0;
+  return om > 0.0 ? brdf_ggx_vndf_pdf(alpha, wo, m) / (4.0 * om) : 0.0;
 }
 
 double eval_is_pdf(eval_is_strategy s, const eval_is_lobe *l, vec3 wo, vec3 wi) {
@@ -55,7 +55,7 @@ double eval_is_sample(eval_is_strategy s, const eval_is_lobe *l, vec3 wo, const 
     break;
   case EVAL_IS_GGX: {
     vec3 m;
-    if (!ggx_sample_vndf(l->alpha1, wo, u[1], u[2], &m)) return 0.0;
+    if (!brdf_ggx_sample_vndf(l->alpha1, wo, u[1], u[2], &m)) return 0.0;
     d = v3_sub(v3_scale(m, 2.0 * v3_dot(wo, m)), wo);
     pdf = ggx_pdf(l->alpha1, wo, d);
     break;

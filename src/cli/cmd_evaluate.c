@@ -34,7 +34,7 @@ void cmd_evaluate_usage(FILE *out) {
 int cmd_evaluate(int argc, char **argv) {
   eval_settings s = EVAL_SETTINGS_DEFAULT;
   const char *bundle = NULL, *decoder = NULL, *sets = NULL, *json = NULL, *plots = NULL;
-  train_progress prog = {0, 0};
+  cli_train_progress prog = {0, 0};
   for (int i = 1; i < argc; i++) {
     const char *v;
     long n;
@@ -105,7 +105,7 @@ int cmd_evaluate(int argc, char **argv) {
                    : "rep,single");
   eval_result results[EVAL_SET_COUNT];
   int n_results = 0;
-  s.progress = train_on_progress, s.user = &prog;
+  s.progress = cli_train_on_progress, s.user = &prog;
   cli_cancel_watch();
   for (char *tok = strtok(list, ","); tok && !st; tok = strtok(NULL, ",")) {
     eval_set set;

@@ -17,14 +17,14 @@ int cmd_train_layering(int argc, char **argv) {
   int decoded = 0;
   char *list = NULL;
   int n_data = 0;
-  train_progress prog = {0, 0};
-  train_limits lim = TRAIN_LIMITS_DEFAULT;
+  cli_train_progress prog = {0, 0};
+  cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
     long n;
     double x;
     int code;
-    if (train_limits_option(argc, argv, &i, &lim, &code)) {
+    if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
       if (code) {
         free(list);
         return code;
@@ -32,7 +32,7 @@ int cmd_train_layering(int argc, char **argv) {
     } else if ((v = cli_option_value(argc, argv, &i, "--data"))) {
       free(list);
       list = strdup(v);
-      n_data = list ? train_split_list(list, data, 64) : 0;
+      n_data = list ? cli_train_split_list(list, data, 64) : 0;
     } else if ((v = cli_option_value(argc, argv, &i, "--run")))
       run = v;
     else if ((v = cli_option_value(argc, argv, &i, "--tables")))
@@ -120,13 +120,13 @@ int cmd_train_layering(int argc, char **argv) {
   model_decoder *dec = NULL;
   train_layering_result r = {0};
   nbrdf_status st = train_samples_load(n_data, data, &d, &err);
-  if (!st) st = train_load_tables(tables, t, &err);
+  if (!st) st = cli_train_load_tables(tables, t, &err);
   if (!st) st = model_decoder_load(decoder ? decoder : dec_path, &dec, &err);
-  if (!st && init) st = train_read_net(init, 1, &init_net, NULL, &err);
+  if (!st && init) st = cli_train_read_net(init, 1, &init_net, NULL, &err);
   if (!st && !decoded && !(lat = malloc(d.n_brdfs * 32 * sizeof *lat)))
     st = core_fail(&err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st && !decoded) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
-  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  s.progress = cli_train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   s.init = init_net;
   cli_cancel_watch();
   if (!st)
@@ -135,7 +135,7 @@ int cmd_train_layering(int argc, char **argv) {
   cli_cancel_unwatch();
   if (!st) st = model_layering_save(net, out, NULL, &err);
   if (!prog.json) fputc('\n', stderr);
-  if (s.checkpoint) train_limits_note(s.checkpoint, r.legacy_resume);
+  if (s.checkpoint) cli_train_limits_note(s.checkpoint, r.legacy_resume);
   if (!st && !decoded)
     printf("train layering (latent loss): %zu pairs (%zu held out), train MSE %.5g, validation "
            "MSE %.5g (%.2f %% of the mean squared latent); decoded validation loss %.5g (the "
@@ -196,12 +196,12 @@ int cmd_train_bundle(int argc, char **argv) {
   model_base_table t[2];
   char *card_text = NULL;
   nbrdf_status st = model_decoder_load(decoder, &dec, &err);
-  if (!st) st = train_load_tables(tables, t, &err);
-  if (!st) st = train_read_net(layering, 1, &lay, NULL, &err);
+  if (!st) st = cli_train_load_tables(tables, t, &err);
+  if (!st) st = cli_train_read_net(layering, 1, &lay, NULL, &err);
   /* Without a trained sampler the proxy keeps its initial weights: sampling
    * stays unbiased (MIS), only its variance suffers; the card says so. */
   if (!st)
-    st = sampler ? train_read_net(sampler, 0, NULL, &smp, &err)
+    st = sampler ? cli_train_read_net(sampler, 0, NULL, &smp, &err)
                  : model_sampler_create("default", 32, 1, &smp, &err);
   size_t card_size = 0;
   if (!st && card) st = model_read_file(card, MODEL_JSON_MAX, &card_text, &card_size, &err);

@@ -11,13 +11,13 @@
 int cmd_train_tables(int argc, char **argv) {
   train_table_settings s = TRAIN_TABLE_SETTINGS_DEFAULT;
   const char *decoder = NULL, *out = NULL;
-  train_progress prog = {0, 0};
-  train_limits lim = TRAIN_LIMITS_DEFAULT;
+  cli_train_progress prog = {0, 0};
+  cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
     long n;
     int code;
-    if (train_limits_option(argc, argv, &i, &lim, &code)) {
+    if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
       if (code) return code;
     } else if ((v = cli_option_value(argc, argv, &i, "--decoder"))) {
       decoder = v;
@@ -71,7 +71,7 @@ int cmd_train_tables(int argc, char **argv) {
   model_base_table tables[2];
   memset(tables, 0, sizeof tables);
   nbrdf_status st = model_decoder_load(decoder, &dec, &err);
-  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  s.progress = cli_train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   cli_cancel_watch();
   if (!st) st = train_tables_fit(dec, &s, tables, &err);
   cli_cancel_unwatch();

@@ -65,7 +65,7 @@ static nbrdf_status open_texture(verify_run *v, nbrdf_error *err) {
   v->colours = texture_latent_colours(&v->info->layout);
   if (v->o.roughness == NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE) {
     char value[32];
-    latent_setting(v->info->settings, "roughness", value, sizeof value);
+    texture_latent_setting(v->info->settings, "roughness", value, sizeof value);
     v->roughness =
         !strcmp(value, "perceptual") ? NBRDF_ROUGHNESS_PERCEPTUAL : NBRDF_ROUGHNESS_ALPHA;
   } else
