@@ -17,6 +17,7 @@
 #include "core/input_file.h"
 #include "core/number.h"
 #include "core/vec3.h"
+#include "model/param_conventions.h"
 #include "nbrdf/brdf.h"
 
 enum { MAX_PARAMS = 6, N_ANGLES = 4, MAX_COLUMNS = MAX_PARAMS + N_ANGLES };
@@ -225,10 +226,10 @@ static int parse_args(int argc, char **argv, eval_args *a) {
       a->neural.bundle = a->texture.bundle = v;
       a->neural_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--roughness"))) {
-      if (strcmp(v, "alpha") && strcmp(v, "perceptual"))
+      int convention = model_roughness_parse(v);
+      if (convention < 0)
         return cli_usage_error("eval", "--roughness is 'alpha' or 'perceptual', not '%s'", v);
-      a->neural.roughness =
-          !strcmp(v, "alpha") ? NBRDF_ROUGHNESS_ALPHA : NBRDF_ROUGHNESS_PERCEPTUAL;
+      a->neural.roughness = (nbrdf_roughness)convention;
       a->neural_option = a->model_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--range"))) {
       if (strcmp(v, "clamp") && strcmp(v, "refuse"))

@@ -14,6 +14,7 @@
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
+#include "model/param_conventions.h"
 #include "nbrdf/render.h"
 
 void cmd_render_usage(FILE *out) {
@@ -83,10 +84,10 @@ static int make_reference(const cli_params *p, nbrdf_brdf **brdfs, int *channels
       v[k][c] = q->value[q->channels == 3 ? c : 0];
     if (q->channels == 3) *channels = 3;
   }
-  if (p->roughness == NBRDF_ROUGHNESS_PERCEPTUAL)
-    for (int c = 0; c < 3; c++)
-      v[NBRDF_BAKE_ALPHA1][c] *= v[NBRDF_BAKE_ALPHA1][c],
-          v[NBRDF_BAKE_ALPHA2][c] *= v[NBRDF_BAKE_ALPHA2][c];
+  for (int c = 0; c < 3; c++) {
+    v[NBRDF_BAKE_ALPHA1][c] = model_roughness_alpha(p->roughness, v[NBRDF_BAKE_ALPHA1][c]);
+    v[NBRDF_BAKE_ALPHA2][c] = model_roughness_alpha(p->roughness, v[NBRDF_BAKE_ALPHA2][c]);
+  }
   for (int c = 0; c < *channels; c++) {
     nbrdf_error err = {0};
     nbrdf_brdf *bottom = NULL;
