@@ -1,27 +1,11 @@
-/* What the `nbrdf train` subcommands share: progress, the trainer's flags,
- * list splitting and the readers of trained parts. */
+/* What the `nbrdf train` subcommands share: the trainer's flags, list splitting and
+ * the readers of trained parts. */
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cli/cli.h"
-#include "cli/cli_cancel.h"
-#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "nn/safetensors.h"
-
-int cli_train_on_progress(void *user, const char *stage, double done, double total) {
-  cli_train_progress *p = user;
-  long t = (long)time(NULL);
-  if (t != p->last || done == total) {
-    p->last = t;
-    if (p->json)
-      cli_progress_json(stage, done, total, -1.0, 0.0);
-    else
-      fprintf(stderr, "\r%s: %.0f/%.0f (%.1f %%)  ", stage, done, total, 100.0 * done / total);
-  }
-  return *cli_cancel_flag();
-}
 
 int cli_train_limits_option(int argc, char **argv, int *i, cli_train_limits *l, int *exit_code) {
   const char *v;

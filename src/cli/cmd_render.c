@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
@@ -141,7 +140,7 @@ int cmd_render(int argc, char **argv) {
   cli_params params;
   cli_params_init(&params);
   const char *latent = NULL, *out = NULL, *png = NULL, *bundle = NULL;
-  cli_progress_state ps = {0, 0};
+  cli_progress_state ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
   int lobes[8][3], n_lobes = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = NULL;
@@ -223,8 +222,7 @@ int cmd_render(int argc, char **argv) {
       for (int k = 0; k < 3; k++)
         lobes[n_lobes][k] = (int)xyl[k];
       n_lobes++;
-    } else if (!strcmp(a, "--progress=json")) {
-      ps.json = 1;
+    } else if (cli_progress_flag(a, &ps)) {
     } else if (a[0] != '-' && !latent) {
       latent = a;
     } else {
@@ -270,7 +268,7 @@ int cmd_render(int argc, char **argv) {
   for (int k = 0; rc == CLI_EXIT_OK && k < n_lobes; k++)
     rc = write_lobe(model, latent, out, lobes[k], &o, ps.json);
   if (rc == CLI_EXIT_OK) {
-    ps.bar = !ps.json && isatty(STDERR_FILENO);
+    cli_progress_start(&ps);
     o.progress = cli_progress, o.user = &ps, o.cancel = cli_cancel_flag();
     cli_cancel_watch();
     nbrdf_render_stats stats;

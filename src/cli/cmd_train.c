@@ -7,6 +7,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_outputs.h"
+#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "train/train_decoder.h"
 
@@ -113,7 +114,7 @@ static int train_decoder(int argc, char **argv) {
       {"--energy", 0, 1e6, &energy},
       {"--energy-brdfs", 1, 4096, &energy_brdfs},
   };
-  cli_train_progress prog = {0, 0};
+  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
   for (int i = 2; i < argc; i++) {
     const char *v;
     int matched = 0;
@@ -147,8 +148,7 @@ static int train_decoder(int argc, char **argv) {
     } else if ((v = cli_option_value(argc, argv, &i, "--loss"))) {
       if (!model_loss_parse(v, &s.loss))
         return cli_usage_error("train", "unknown loss '%s' (l1-log1p, l1)", v);
-    } else if (!strcmp(argv[i], "--progress=json")) {
-      prog.json = 1;
+    } else if (cli_progress_flag(argv[i], &prog)) {
     } else if (cli_is_help(argv[i])) {
       cmd_train_usage(stdout);
       free(data_list);
@@ -197,7 +197,8 @@ static int train_decoder(int argc, char **argv) {
   s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval, s.brdf_weight = bweight;
   s.stop_at_step = (int64_t)stop_at;
   s.energy.lambda = (float)energy, s.energy_brdfs = (int)energy_brdfs;
-  s.progress = cli_train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  cli_progress_start(&prog);
+  s.progress = cli_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   cli_cancel_watch();
   train_decoder_result r;
   st = train_decoder_run(&s, &r, &err);

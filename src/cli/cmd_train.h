@@ -2,8 +2,6 @@
 #ifndef NBRDF_CLI_CMD_TRAIN_H
 #define NBRDF_CLI_CMD_TRAIN_H
 
-#include <signal.h>
-
 #include "model/base_table.h"
 #include "model/layering.h"
 #include "model/sampler.h"
@@ -15,14 +13,6 @@ int cmd_train_bundle(int argc, char **argv);
 int cmd_train_sampler(int argc, char **argv);
 
 /* The rest is cli_train_common.c. */
-
-/* Progress on stderr (a line per second, or JSON lines) that also stops on
- * Ctrl-C (SIGINT, SIGTERM, SIGHUP) once cli_cancel_watch() is active. */
-typedef struct cli_train_progress {
-  int json;
-  long last;
-} cli_train_progress;
-int cli_train_on_progress(void *user, const char *stage, double done, double total);
 
 /* The trainer's flags (src/train/trainer.h) every training takes:
  * --checkpoint FILE, --checkpoint-minutes M, --minutes M, --stop-at-step N. */

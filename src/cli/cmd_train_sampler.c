@@ -5,6 +5,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_outputs.h"
+#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "core/error.h"
 #include "train/samples.h"
@@ -44,7 +45,7 @@ int cmd_train_sampler(int argc, char **argv) {
   char *list = NULL;
   int n_data = 0;
   long brdfs = 0, n;
-  cli_train_progress prog = {0, 0};
+  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
   cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
@@ -71,9 +72,8 @@ int cmd_train_sampler(int argc, char **argv) {
       brdfs = n;
     else if ((v = cli_option_value(argc, argv, &i, "--epochs")) && cli_parse_int(v, 1, 100000, &n))
       s.epochs = (int)n;
-    else if (!strcmp(argv[i], "--progress=json"))
-      prog.json = 1;
-    else {
+    else if (cli_progress_flag(argv[i], &prog)) {
+    } else {
       free(list);
       return cli_usage_error("train", "sampler: unexpected or invalid argument '%s'", argv[i]);
     }
@@ -122,7 +122,8 @@ int cmd_train_sampler(int argc, char **argv) {
   size_t from_run = use;
   if (!st && layering) st = add_layered_latents(layering, tables, n_data, data, &lat, &use, &err);
   train_sampler_result res;
-  s.progress = cli_train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  cli_progress_start(&prog);
+  s.progress = cli_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   s.checkpoint = lim.checkpoint, s.checkpoint_seconds = lim.checkpoint_seconds;
   s.max_seconds = lim.max_seconds, s.stop_at_step = lim.stop_at_step;
   cli_cancel_watch();
