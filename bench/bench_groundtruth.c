@@ -144,12 +144,12 @@ static timing lobe_set(const nbrdf_brdf *b, int res, int spp, uint64_t seed, int
  * `walks` walks from ωi contributes to every pixel of its image. */
 static timing lobe_set_whole(const nbrdf_brdf *b, int res, int walks, uint64_t seed, int threads,
                              double *images) {
-  const bsdf_layered *l = &brdf_bsdf(b)->layered;
+  const brdf_bsdf_layered *l = &brdf_handle_bsdf(b)->layered;
   const double t0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
   for (int t = 0; t < N_THETA; t++)
-    if (!layered_lobe_image(l, lobe_theta_deg[t] * (M_PI / 180.0), res, walks,
-                            seed * N_THETA + (uint64_t)t, threads,
-                            images + (size_t)t * (size_t)res * (size_t)res, NULL)) {
+    if (!brdf_layered_lobe_image(l, lobe_theta_deg[t] * (M_PI / 180.0), res, walks,
+                                 seed * N_THETA + (uint64_t)t, threads,
+                                 images + (size_t)t * (size_t)res * (size_t)res, NULL)) {
       fprintf(stderr, "bench_groundtruth: out of memory in the whole-lobe estimator\n");
       exit(1);
     }

@@ -29,7 +29,7 @@ static const char *const ENV_NAMES[N_ENV] = {"sky", "furnace"};
 
 typedef struct config {
   const char *bundle, *out, *plot_prefix;
-  int count, reps, n_counts, counts[EVAL_IS_MAX_N], envs; /* envs: bit 0 sky, bit 1 furnace */
+  int count, reps, n_counts, counts[BENCH_IS_MAX_N], envs; /* envs: bit 0 sky, bit 1 furnace */
   int swap; /* integrate over the decoder's ωo slot instead (a check of reciprocity) */
 } config;
 
@@ -60,8 +60,8 @@ static int parse_args(int argc, char **argv, config *c) {
     } else if (!strcmp(a, "--reps")) {
       c->reps = atoi(v);
     } else if (!strcmp(a, "--n")) {
-      if (!(c->n_counts = bench_parse_counts(v, c->counts, EVAL_IS_MAX_N, 1, 4096, 0))) {
-        fprintf(stderr, "bench_sampling: --n wants 1..%d counts in 1..4096\n", EVAL_IS_MAX_N);
+      if (!(c->n_counts = bench_parse_counts(v, c->counts, BENCH_IS_MAX_N, 1, 4096, 0))) {
+        fprintf(stderr, "bench_sampling: --n wants 1..%d counts in 1..4096\n", BENCH_IS_MAX_N);
         return 0;
       }
     } else if (!strcmp(a, "--env")) {
@@ -139,7 +139,7 @@ static double luminance(const double c[3]) { return 0.2126 * c[0] + 0.7152 * c[1
 
 static double sky_radiance(void *user, vec3 wi) {
   double rgb[3];
-  eval_env_radiance(user, to_world(wi), rgb);
+  render_env_radiance(user, to_world(wi), rgb);
   return luminance(rgb);
 }
 
@@ -149,7 +149,7 @@ static double furnace_radiance(void *user, vec3 wi) {
 }
 
 /* Azimuth (shading frame) of the brightest sky direction: the sun. */
-static double sun_azimuth(const eval_env *env) {
+static double sun_azimuth(const render_env *env) {
   double best = -1, phi_best = 0;
   for (int i = 0; i < 90; i++)
     for (int j = 0; j < 720; j++) {
@@ -180,7 +180,7 @@ static double quantile(const double *v, int n, double q) {
 
 typedef struct case_result {
   int brdf, theta, toward_sun;
-  eval_is_result r;
+  bench_is_result r;
 } case_result;
 
 /* Relative variance var / L² of strategy s at count index k. */
@@ -226,8 +226,8 @@ int main(int argc, char **argv) {
     die("latents", &err);
 
   nbrdf_render_options ro = NBRDF_RENDER_OPTIONS_DEFAULT;
-  eval_env *sky = NULL;
-  if (eval_env_create(&ro, &sky, &err)) die("sky", &err);
+  render_env *sky = NULL;
+  if (render_env_create(&ro, &sky, &err)) die("sky", &err);
   const double phi_sun = sun_azimuth(sky);
 
   int n_cases = 0;
@@ -237,19 +237,19 @@ int main(int argc, char **argv) {
     if (!(c.envs & (1 << e))) continue;
     cases[e] = calloc(n * MAX_CASES, sizeof **cases);
     if (!cases[e]) return 1;
-    eval_is_setup su = {neural_fn,
-                        &nb,
-                        e == 0 ? sky_radiance : furnace_radiance,
-                        sky,
-                        c.reps,
-                        c.n_counts,
-                        {0},
-                        0x5a3b1e + (uint64_t)e};
+    bench_is_setup su = {neural_fn,
+                         &nb,
+                         e == 0 ? sky_radiance : furnace_radiance,
+                         sky,
+                         c.reps,
+                         c.n_counts,
+                         {0},
+                         0x5a3b1e + (uint64_t)e};
     memcpy(su.counts, c.counts, sizeof su.counts);
     n_cases = 0;
     for (size_t i = 0; i < n; i++) {
       nb.latent = lat + i * D;
-      eval_is_lobe lobe = {sigma[i], w[i], p[i].coat[0].alpha};
+      bench_is_lobe lobe = {sigma[i], w[i], p[i].coat[0].alpha};
       for (int t = 0; t < N_THETA; t++)
         for (int s = 0; s < (THETA_O[t] > 0 ? N_PHI : 1); s++) {
           /* Toward the sun: the mirror direction of ωo (azimuth φo + π) has the sun's azimuth. */
@@ -257,7 +257,7 @@ int main(int argc, char **argv) {
           vec3 wo = v3_from_spherical(THETA_O[t] * M_PI / 180, phi);
           case_result *cr = &cases[e][n_cases];
           cr->brdf = (int)i, cr->theta = t, cr->toward_sun = s == 0;
-          if (eval_is_variance(&su, &lobe, wo, (uint64_t)n_cases, &cr->r, &err))
+          if (bench_is_variance(&su, &lobe, wo, (uint64_t)n_cases, &cr->r, &err))
             die("variance", &err);
           n_cases++;
         }
@@ -293,19 +293,19 @@ int main(int argc, char **argv) {
                  "variance lower on |\n|---:|---|---:|---:|---:|---:|\n");
       double *v = malloc((size_t)n_cases * sizeof *v);
       for (int k = 0; k < c.n_counts && v; k++)
-        for (int s = 0; s < EVAL_IS_COUNT; s++) {
+        for (int s = 0; s < BENCH_IS_COUNT; s++) {
           double lost = 0;
           int wins = 0, valid = 0;
           for (int i = 0; i < n_cases; i++) {
             const case_result *cr = &cases[e][i];
             v[i] = relvar(cr, s, k);
             lost += cr->r.lost[s] / n_cases;
-            if (cr->r.radiance > 0) valid++, wins += cr->r.var[EVAL_IS_PROXY][k] < cr->r.var[s][k];
+            if (cr->r.radiance > 0) valid++, wins += cr->r.var[BENCH_IS_PROXY][k] < cr->r.var[s][k];
           }
           char share[32] = "-";
-          if (s != EVAL_IS_PROXY) snprintf(share, sizeof share, "%.1f %%", 100.0 * wins / valid);
+          if (s != BENCH_IS_PROXY) snprintf(share, sizeof share, "%.1f %%", 100.0 * wins / valid);
           fprintf(f, "| %d | %s | %.3g | %.3g | %.1f %% | %s |\n", c.counts[k],
-                  eval_is_strategy_name((eval_is_strategy)s), quantile(v, n_cases, 0.5),
+                  bench_is_strategy_name((bench_is_strategy)s), quantile(v, n_cases, 0.5),
                   quantile(v, n_cases, 0.9), 100 * lost, share);
         }
       fprintf(f,
@@ -315,17 +315,17 @@ int main(int argc, char **argv) {
               c.counts[K]);
       for (int t = 0; t < N_THETA && v; t++)
         for (int s = 1; s >= (THETA_O[t] > 0 ? 0 : 1); s--) {
-          double med[EVAL_IS_COUNT];
+          double med[BENCH_IS_COUNT];
           int nv = 0, win_c = 0, win_g = 0;
-          for (int st = 0; st < EVAL_IS_COUNT; st++) {
+          for (int st = 0; st < BENCH_IS_COUNT; st++) {
             nv = 0;
             for (int i = 0; i < n_cases; i++) {
               const case_result *cr = &cases[e][i];
               if (cr->theta != t || (THETA_O[t] > 0 && cr->toward_sun != s)) continue;
               v[nv++] = relvar(cr, st, K);
               if (st == 0) {
-                win_c += cr->r.var[0][K] < cr->r.var[EVAL_IS_COSINE][K];
-                win_g += cr->r.var[0][K] < cr->r.var[EVAL_IS_GGX][K];
+                win_c += cr->r.var[0][K] < cr->r.var[BENCH_IS_COSINE][K];
+                win_g += cr->r.var[0][K] < cr->r.var[BENCH_IS_GGX][K];
               }
             }
             med[st] = quantile(v, nv, 0.5);
@@ -339,12 +339,12 @@ int main(int argc, char **argv) {
          * the decoded BRDF creates energy (METRICS.md, "Energy"). */
         int over = 0, worst = 0;
         for (int i = 0; i < n_cases; i++) {
-          const eval_is_result *r = &cases[e][i].r;
-          double se = sqrt(r->var[EVAL_IS_PROXY][K] / c.reps);
+          const bench_is_result *r = &cases[e][i].r;
+          double se = sqrt(r->var[BENCH_IS_PROXY][K] / c.reps);
           over += r->radiance > 1.0 + 3.0 * se;
           if (r->radiance > cases[e][worst].r.radiance) worst = i;
         }
-        const eval_is_result *r = &cases[e][worst].r;
+        const bench_is_result *r = &cases[e][worst].r;
         const train_params *q = &p[cases[e][worst].brdf];
         fprintf(f,
                 "\nEnergy: L > 1 (beyond 3 standard errors) on %d of %d cases; the largest, "
@@ -361,7 +361,7 @@ int main(int argc, char **argv) {
               "|---:|---:|---|---|---:|\n",
               c.counts[K]);
       for (int i = 0; i < n_cases && v; i++)
-        v[i] = cases[e][i].r.var[0][K] / cases[e][i].r.var[EVAL_IS_COSINE][K];
+        v[i] = cases[e][i].r.var[0][K] / cases[e][i].r.var[BENCH_IS_COSINE][K];
       for (int rank = 0; rank < 3 && v; rank++) {
         int worst = -1;
         for (int i = 0; i < n_cases; i++)
@@ -384,14 +384,14 @@ int main(int argc, char **argv) {
 
   /* Plots: median relative variance against θo (sky solid, furnace dashed), and the
    * sorted proxy/cosine and proxy/GGX variance ratios. */
-  double xs[N_THETA], ys[N_ENV][EVAL_IS_COUNT][N_THETA];
-  bench_plot_series ser[N_ENV * EVAL_IS_COUNT];
+  double xs[N_THETA], ys[N_ENV][BENCH_IS_COUNT][N_THETA];
+  bench_plot_series ser[N_ENV * BENCH_IS_COUNT];
   int ns = 0;
   double *buf = malloc((size_t)n_cases * sizeof *buf);
   if (!buf) return 1;
   for (int e = 0; e < N_ENV; e++) {
     if (!cases[e]) continue;
-    for (int s = 0; s < EVAL_IS_COUNT; s++) {
+    for (int s = 0; s < BENCH_IS_COUNT; s++) {
       for (int t = 0; t < N_THETA; t++) {
         int nv = 0;
         xs[t] = THETA_O[t];
@@ -399,7 +399,7 @@ int main(int argc, char **argv) {
           if (cases[e][i].theta == t) buf[nv++] = relvar(&cases[e][i], s, K);
         ys[e][s][t] = quantile(buf, nv, 0.5);
       }
-      ser[ns++] = (bench_plot_series){e == 0 ? eval_is_strategy_name((eval_is_strategy)s) : NULL,
+      ser[ns++] = (bench_plot_series){e == 0 ? bench_is_strategy_name((bench_is_strategy)s) : NULL,
                                       N_THETA,
                                       xs,
                                       ys[e][s],
@@ -419,10 +419,10 @@ int main(int argc, char **argv) {
   ry[0] = malloc((size_t)n_cases * sizeof *ry[0]), ry[1] = malloc((size_t)n_cases * sizeof *ry[1]);
   if (!rx || !ry[0] || !ry[1]) return 1;
   for (int i = 0; i < n_cases; i++) {
-    const eval_is_result *r = &cases[e0][i].r;
+    const bench_is_result *r = &cases[e0][i].r;
     rx[i] = 100.0 * (i + 0.5) / n_cases;
-    ry[0][i] = r->var[0][K] / r->var[EVAL_IS_COSINE][K];
-    ry[1][i] = r->var[0][K] / r->var[EVAL_IS_GGX][K];
+    ry[0][i] = r->var[0][K] / r->var[BENCH_IS_COSINE][K];
+    ry[1][i] = r->var[0][K] / r->var[BENCH_IS_GGX][K];
   }
   qsort(ry[0], (size_t)n_cases, sizeof *ry[0], bench_cmp_double);
   qsort(ry[1], (size_t)n_cases, sizeof *ry[1], bench_cmp_double);
@@ -443,7 +443,7 @@ int main(int argc, char **argv) {
     free(cases[e]);
   free(nb.lat), free(nb.dirs), free(nb.f);
   free(p), free(a1), free(top), free(albedo);
-  eval_env_free(sky);
+  render_env_free(sky);
   nbrdf_model_destroy(m);
   return 0;
 }

@@ -97,21 +97,21 @@ static void lobe_per_pixel(const nbrdf_brdf *b, double theta_i, int spp, uint64_
 static void bench_lobe(const char *name, const nbrdf_brdf *b, double seconds, int threads) {
   const double theta_i = 30.0 * M_PI / 180.0;
   static double a[RES * RES], c[RES * RES];
-  const bsdf_layered *l = &brdf_bsdf(b)->layered;
+  const brdf_bsdf_layered *l = &brdf_handle_bsdf(b)->layered;
   /* calibrate both to about `seconds` of CPU time per image */
   double c0 = bench_cpu_seconds();
   lobe_per_pixel(b, theta_i, 8, 1, threads, a);
   int spp = (int)fmax(2.0, 8.0 * seconds / (bench_cpu_seconds() - c0));
   c0 = bench_cpu_seconds();
-  if (!layered_lobe_image(l, theta_i, RES, 8, 1, threads, a, NULL)) exit(1);
+  if (!brdf_layered_lobe_image(l, theta_i, RES, 8, 1, threads, a, NULL)) exit(1);
   int walks = (int)fmax(2.0, 8.0 * seconds / (bench_cpu_seconds() - c0));
   c0 = bench_cpu_seconds();
   lobe_per_pixel(b, theta_i, spp, 2, threads, a);
   lobe_per_pixel(b, theta_i, spp, 3, threads, c);
   double t_pp = (bench_cpu_seconds() - c0) / 2, e_pp = lobe_error(a, c);
   c0 = bench_cpu_seconds();
-  if (!layered_lobe_image(l, theta_i, RES, walks, 2, threads, a, NULL) ||
-      !layered_lobe_image(l, theta_i, RES, walks, 3, threads, c, NULL))
+  if (!brdf_layered_lobe_image(l, theta_i, RES, walks, 2, threads, a, NULL) ||
+      !brdf_layered_lobe_image(l, theta_i, RES, walks, 3, threads, c, NULL))
     exit(1);
   double t_lobe = (bench_cpu_seconds() - c0) / 2, e_lobe = lobe_error(a, c);
   /* errors scale as 1/√time: compare at equal time */

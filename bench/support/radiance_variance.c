@@ -10,10 +10,10 @@
 #include "core/warp.h"
 #include "model/proxy.h"
 
-static const char *const names[EVAL_IS_COUNT] = {"proxy", "cosine", "ggx", "proxy+cosine MIS"};
+static const char *const names[BENCH_IS_COUNT] = {"proxy", "cosine", "ggx", "proxy+cosine MIS"};
 
-const char *eval_is_strategy_name(eval_is_strategy s) {
-  return (unsigned)s < EVAL_IS_COUNT ? names[s] : "?";
+const char *bench_is_strategy_name(bench_is_strategy s) {
+  return (unsigned)s < BENCH_IS_COUNT ? names[s] : "?";
 }
 
 static double cosine_pdf(vec3 wi) { return wi.z > 0.0 ? wi.z / M_PI : 0.0; }
@@ -23,52 +23,52 @@ static double ggx_pdf(double alpha, vec3 wo, vec3 wi) {
   if (wi.z <= 0.0 || wo.z <= 0.0) return 0.0;
   vec3 m = v3_normalize(v3_add(wo, wi));
   double om = v3_dot(wo, m);
-  return om > 0.0 ? ggx_vndf_pdf(alpha, wo, m) / (4.0 * om) : 0.0;
+  return om > 0.0 ? brdf_ggx_vndf_pdf(alpha, wo, m) / (4.0 * om) : 0.0;
 }
 
-double eval_is_pdf(eval_is_strategy s, const eval_is_lobe *l, vec3 wo, vec3 wi) {
+double bench_is_pdf(bench_is_strategy s, const bench_is_lobe *l, vec3 wo, vec3 wi) {
   switch (s) {
-  case EVAL_IS_PROXY:
+  case BENCH_IS_PROXY:
     return model_proxy_pdf(l->sigma, l->w, wo, wi);
-  case EVAL_IS_COSINE:
+  case BENCH_IS_COSINE:
     return cosine_pdf(wi);
-  case EVAL_IS_GGX:
+  case BENCH_IS_GGX:
     return ggx_pdf(l->alpha1, wo, wi);
-  case EVAL_IS_MIX:
+  case BENCH_IS_MIX:
     return 0.5 * (model_proxy_pdf(l->sigma, l->w, wo, wi) + cosine_pdf(wi));
   default:
     return 0.0;
   }
 }
 
-double eval_is_sample(eval_is_strategy s, const eval_is_lobe *l, vec3 wo, const double u[3],
-                      vec3 *wi) {
+double bench_is_sample(bench_is_strategy s, const bench_is_lobe *l, vec3 wo, const double u[3],
+                       vec3 *wi) {
   vec3 d;
   double pdf = 0.0;
   switch (s) {
-  case EVAL_IS_PROXY:
+  case BENCH_IS_PROXY:
     if (!model_proxy_sample(l->sigma, l->w, wo, u[0], u[1], u[2], &d, &pdf)) return 0.0;
     break;
-  case EVAL_IS_COSINE:
+  case BENCH_IS_COSINE:
     d = core_warp_cosine_hemisphere(u[1], u[2]);
     pdf = cosine_pdf(d);
     break;
-  case EVAL_IS_GGX: {
+  case BENCH_IS_GGX: {
     vec3 m;
-    if (!ggx_sample_vndf(l->alpha1, wo, u[1], u[2], &m)) return 0.0;
+    if (!brdf_ggx_sample_vndf(l->alpha1, wo, u[1], u[2], &m)) return 0.0;
     d = v3_sub(v3_scale(m, 2.0 * v3_dot(wo, m)), wo);
     pdf = ggx_pdf(l->alpha1, wo, d);
     break;
   }
-  case EVAL_IS_MIX: {
+  case BENCH_IS_MIX: {
     /* u[0] picks the strategy and is reused, rescaled, by the proxy's own lobe choice. */
     if (u[0] < 0.5) {
       double v[3] = {2.0 * u[0], u[1], u[2]};
-      if (eval_is_sample(EVAL_IS_PROXY, l, wo, v, &d) <= 0.0) return 0.0;
+      if (bench_is_sample(BENCH_IS_PROXY, l, wo, v, &d) <= 0.0) return 0.0;
     } else {
       d = core_warp_cosine_hemisphere(u[1], u[2]);
     }
-    pdf = eval_is_pdf(EVAL_IS_MIX, l, wo, d);
+    pdf = bench_is_pdf(BENCH_IS_MIX, l, wo, d);
     break;
   }
   default:
@@ -94,17 +94,17 @@ static double rep_variance(const double *c, int reps, int stride, int n) {
   return fmax(0.0, (sum2 - reps * mean * mean) / (reps - 1));
 }
 
-nbrdf_status eval_is_variance(const eval_is_setup *su, const eval_is_lobe *lobe, vec3 wo,
-                              uint64_t stream, eval_is_result *out, nbrdf_error *err) {
+nbrdf_status bench_is_variance(const bench_is_setup *su, const bench_is_lobe *lobe, vec3 wo,
+                               uint64_t stream, bench_is_result *out, nbrdf_error *err) {
   int nmax = 0;
   for (int k = 0; k < su->n_counts; k++)
     nmax = su->counts[k] > nmax ? su->counts[k] : nmax;
-  if (su->reps < 2 || su->n_counts < 1 || su->n_counts > EVAL_IS_MAX_N || nmax < 1 ||
+  if (su->reps < 2 || su->n_counts < 1 || su->n_counts > BENCH_IS_MAX_N || nmax < 1 ||
       !(wo.z > 0.0))
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "radiance variance: need reps >= 2, 1..%d sample counts >= 1 and wo above "
                      "the horizon",
-                     EVAL_IS_MAX_N);
+                     BENCH_IS_MAX_N);
   size_t total = (size_t)su->reps * (size_t)nmax;
   double *c = malloc(total * sizeof *c), *f = malloc(total * sizeof *f);
   double *weight = malloc(total * sizeof *weight);
@@ -115,14 +115,14 @@ nbrdf_status eval_is_variance(const eval_is_setup *su, const eval_is_lobe *lobe,
                         : core_fail(err, NBRDF_ERR_MEMORY, "radiance variance: out of memory");
   /* Pooled radiance: inverse-variance weighted; a zero-variance estimator is exact. */
   double wsum = 0.0, wmean = 0.0, exact = -1.0;
-  for (int s = 0; s < EVAL_IS_COUNT && !st; s++) {
+  for (int s = 0; s < BENCH_IS_COUNT && !st; s++) {
     core_rng rng;
     core_rng_init(&rng, su->seed, core_hash64(stream, (uint64_t)s));
     size_t n = 0, lost = 0;
     for (size_t k = 0; k < total; k++) {
       double u[3] = {core_rng_uniform(&rng), core_rng_uniform(&rng), core_rng_uniform(&rng)};
       vec3 wi;
-      double pdf = eval_is_sample((eval_is_strategy)s, lobe, wo, u, &wi);
+      double pdf = bench_is_sample((bench_is_strategy)s, lobe, wo, u, &wi);
       c[k] = 0.0;
       if (pdf <= 0.0) {
         lost++;

@@ -25,56 +25,56 @@
 #include "core/vec3.h"
 #include "lobe/lobe.h"
 
-typedef enum eval_is_strategy {
-  EVAL_IS_PROXY = 0,
-  EVAL_IS_COSINE,
-  EVAL_IS_GGX,
-  EVAL_IS_MIX,
-  EVAL_IS_COUNT
-} eval_is_strategy;
+typedef enum bench_is_strategy {
+  BENCH_IS_PROXY = 0,
+  BENCH_IS_COSINE,
+  BENCH_IS_GGX,
+  BENCH_IS_MIX,
+  BENCH_IS_COUNT
+} bench_is_strategy;
 
 /* What the strategies need to know about a BRDF. */
-typedef struct eval_is_lobe {
+typedef struct bench_is_lobe {
   double sigma, w; /* proxy of Eq. 6 */
   double alpha1;   /* GGX roughness of the top layer */
-} eval_is_lobe;
+} bench_is_lobe;
 
-const char *eval_is_strategy_name(eval_is_strategy s);
+const char *bench_is_strategy_name(bench_is_strategy s);
 
 /* Draws ωi for ωo (z > 0) from u ∈ [0, 1)³; returns its density per unit solid
  * angle, or 0 for a draw at or below the horizon (then *wi is unset). */
-double eval_is_sample(eval_is_strategy s, const eval_is_lobe *lobe, vec3 wo, const double u[3],
-                      vec3 *wi);
-/* The density eval_is_sample draws ωi with (0 at or below the horizon). */
-double eval_is_pdf(eval_is_strategy s, const eval_is_lobe *lobe, vec3 wo, vec3 wi);
+double bench_is_sample(bench_is_strategy s, const bench_is_lobe *lobe, vec3 wo, const double u[3],
+                       vec3 *wi);
+/* The density bench_is_sample draws ωi with (0 at or below the horizon). */
+double bench_is_pdf(bench_is_strategy s, const bench_is_lobe *lobe, vec3 wo, vec3 wi);
 
 /* Radiance arriving from ωi (shading frame, z up). */
-typedef double (*eval_is_radiance_fn)(void *user, vec3 wi);
+typedef double (*bench_is_radiance_fn)(void *user, vec3 wi);
 
-#define EVAL_IS_MAX_N 8
+#define BENCH_IS_MAX_N 8
 
-typedef struct eval_is_setup {
+typedef struct bench_is_setup {
   lobe_fn brdf; /* f(ωi, ωo) without cosine, batched */
   void *brdf_user;
-  eval_is_radiance_fn radiance;
+  bench_is_radiance_fn radiance;
   void *radiance_user;
   int reps;               /* independent repetitions (>= 2) */
-  int n_counts;           /* entries of counts, 1..EVAL_IS_MAX_N */
-  int counts[EVAL_IS_MAX_N]; /* samples per estimate; the largest sets the draws */
+  int n_counts;           /* entries of counts, 1..BENCH_IS_MAX_N */
+  int counts[BENCH_IS_MAX_N]; /* samples per estimate; the largest sets the draws */
   uint64_t seed;
-} eval_is_setup;
+} bench_is_setup;
 
-typedef struct eval_is_result {
-  double mean[EVAL_IS_COUNT];                /* over all reps × max N samples */
-  double var[EVAL_IS_COUNT][EVAL_IS_MAX_N];  /* of the N-sample estimate, per counts[k] */
-  double lost[EVAL_IS_COUNT];                /* fraction of draws below the horizon */
+typedef struct bench_is_result {
+  double mean[BENCH_IS_COUNT];                /* over all reps × max N samples */
+  double var[BENCH_IS_COUNT][BENCH_IS_MAX_N]; /* of the N-sample estimate, per counts[k] */
+  double lost[BENCH_IS_COUNT];                /* fraction of draws below the horizon */
   double radiance;                           /* inverse-variance weighted mean of the means */
-} eval_is_result;
+} bench_is_result;
 
 /* Runs every strategy for one BRDF and ωo; `stream` separates cases (each
  * strategy uses its own PCG32 stream derived from it). One call of the BRDF
  * callback per strategy with all valid draws. */
-nbrdf_status eval_is_variance(const eval_is_setup *setup, const eval_is_lobe *lobe, vec3 wo,
-                              uint64_t stream, eval_is_result *out, nbrdf_error *err);
+nbrdf_status bench_is_variance(const bench_is_setup *setup, const bench_is_lobe *lobe, vec3 wo,
+                               uint64_t stream, bench_is_result *out, nbrdf_error *err);
 
 #endif

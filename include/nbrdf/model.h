@@ -22,7 +22,26 @@
  * equal the files' (docs/MODEL_BUNDLE.md, "Checksums").
  *
  * A loaded model is immutable: any call may run on one model from several
- * threads at once (each call allocates its own scratch buffers). */
+ * threads at once (each call allocates its own scratch buffers).
+ *
+ * A coat of roughness 0.2, IOR 1.5 over a conductor (0.3, R0 0.9), slab A = 0.8,
+ * sigma_t = 1, decoded for one direction pair:
+ * Example (`model` a loaded bundle, nbrdf_model_load; tests/docs compiles it):
+ *   nbrdf_error err;
+ *   int D = nbrdf_model_latent_dim(model);
+ *   float alpha1 = 0.2f, eta = 1.5f, alpha2 = 0.3f, r0 = 0.9f, albedo = 0.8f, sigma_t = 1.0f;
+ *   float top[D], bottom[D], layered[D], f;
+ *   float wi[3] = {0.0f, 0.0f, 1.0f}, wo[3] = {0.6f, 0.0f, 0.8f};
+ *   nbrdf_status st = nbrdf_model_base_latents(model, NBRDF_BASE_DIELECTRIC, 1, &alpha1, &eta,
+ *                                              NBRDF_RANGE_CLAMP, top, NULL, &err);
+ *   if (st == NBRDF_OK)
+ *     st = nbrdf_model_base_latents(model, NBRDF_BASE_CONDUCTOR, 1, &alpha2, &r0,
+ *                                   NBRDF_RANGE_CLAMP, bottom, NULL, &err);
+ *   if (st == NBRDF_OK)
+ *     st = nbrdf_model_layer(model, 1, top, bottom, &albedo, &sigma_t, layered, &err);
+ *   if (st == NBRDF_OK) st = nbrdf_model_decode(model, 1, 1, layered, wi, wo, &f, &err);
+ *   if (st != NBRDF_OK) fprintf(stderr, "model: %s\n", err.message);
+ */
 #ifndef NBRDF_MODEL_H
 #define NBRDF_MODEL_H
 

@@ -24,7 +24,18 @@
  * Results are deterministic for a seed whatever the thread count: pixel p
  * owns PCG32 stream p, tiles are fixed, and each tile's network batches are
  * the same in every run. Calls on different option structs may run in
- * several threads at once; the model and BRDF handles are only read. */
+ * several threads at once; the model and BRDF handles are only read.
+ *
+ * Example (`model` the bundle tex.exr was baked with; tests/docs compiles it):
+ *   nbrdf_error err;
+ *   nbrdf_render_options opts = NBRDF_RENDER_OPTIONS_DEFAULT;
+ *   static float rgb[256 * 256 * 3]; // opts.width x opts.height, RGB
+ *   nbrdf_status st = nbrdf_render(model, "tex.exr", &opts, rgb, NULL, &err);
+ *   if (st == NBRDF_OK)
+ *     st = nbrdf_render_write("preview.exr", "preview.png", opts.width, opts.height, rgb, NULL,
+ *                             NULL, &err);
+ *   if (st != NBRDF_OK) fprintf(stderr, "render: %s\n", err.message);
+ */
 #ifndef NBRDF_RENDER_H
 #define NBRDF_RENDER_H
 

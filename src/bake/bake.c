@@ -12,10 +12,10 @@
 #include "bake/bake_accuracy.h"
 #include "bake/bake_band.h"
 #include "core/error.h"
-#include "model/bundle.h"
-#include "core/progress.h"
 #include "core/number.h"
 #include "core/progress.h"
+#include "model/bundle.h"
+#include "model/param_conventions.h"
 #include "texture/latent_exr.h"
 
 /* Texels per band: big enough that the networks run on full batches, small
@@ -221,8 +221,7 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
            "storage=%s; compression=%s; tile=%d; mipLevels=%s; roughness=%s; range=%s; "
            "proxyMips=predicted; quantise=%s",
            o->storage == NBRDF_BAKE_FLOAT ? "float" : "half", texture_latent_compression_name(comp),
-           o->tile_size, o->mip_levels == 1 ? "1" : "full",
-           o->roughness == NBRDF_ROUGHNESS_PERCEPTUAL ? "perceptual" : "alpha",
+           o->tile_size, o->mip_levels == 1 ? "1" : "full", model_roughness_name(o->roughness),
            o->range == NBRDF_RANGE_REFUSE ? "refuse" : "clamp", quant);
   bake_progress prog = {.height = H};
   core_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);

@@ -53,12 +53,12 @@ static int hook_tick(void *user) {
 /* Runs job(k) for k < n over OpenMP threads with the cancel/progress hook;
  * the first failure (lowest k) is returned. */
 typedef nbrdf_status (*truth_job)(const bake_truth_settings *s, const bake_tuple *t, size_t k,
-                                  const layered_lobe_hook *hook, void *out, nbrdf_error *err);
+                                  const brdf_layered_lobe_hook *hook, void *out, nbrdf_error *err);
 
 static nbrdf_status run_jobs(const bake_tuple *t, size_t n, const bake_truth_settings *s,
                              truth_job job, void *out, nbrdf_error *err) {
   shared_state sh = {s, 0, 0, pthread_self()};
-  layered_lobe_hook hook = {&sh.stop, hook_tick, &sh};
+  brdf_layered_lobe_hook hook = {&sh.stop, hook_tick, &sh};
   nbrdf_status *sts = calloc(n ? n : 1, sizeof *sts);
   nbrdf_error *errs = calloc(n ? n : 1, sizeof *errs);
   if (!sts || !errs) {
@@ -96,7 +96,7 @@ static train_dataset_settings dataset_settings(const bake_truth_settings *s) {
 }
 
 static nbrdf_status sample_job(const bake_truth_settings *s, const bake_tuple *t, size_t k,
-                               const layered_lobe_hook *hook, void *out, nbrdf_error *err) {
+                               const brdf_layered_lobe_hook *hook, void *out, nbrdf_error *err) {
   train_dataset_settings ds = dataset_settings(s);
   train_params p;
   bake_tuple_params(&t[k], &p);
@@ -131,7 +131,7 @@ int bake_lobe_pixel_wo(int res, int row, int col, float wo[3]) {
 }
 
 static nbrdf_status lobe_job(const bake_truth_settings *s, const bake_tuple *t, size_t k,
-                             const layered_lobe_hook *hook, void *out, nbrdf_error *err) {
+                             const brdf_layered_lobe_hook *hook, void *out, nbrdf_error *err) {
   train_params p;
   bake_tuple_params(&t[k], &p);
   nbrdf_brdf *b = NULL;
@@ -141,9 +141,9 @@ static nbrdf_status lobe_job(const bake_truth_settings *s, const bake_tuple *t, 
   double *images = (double *)out + k * BAKE_LOBE_N_THETA * px;
   for (int i = 0; i < BAKE_LOBE_N_THETA && st == NBRDF_OK; i++) {
     uint64_t seed = core_hash64(core_hash64(s->seed, LOBE_TAG), k * BAKE_LOBE_N_THETA + i);
-    int ok =
-        layered_lobe_image_hooked(&brdf_bsdf(b)->layered, bake_lobe_theta_deg[i] * (M_PI / 180.0),
-                                  s->lobe_res, s->lobe_walks, seed, 1, hook, images + i * px, NULL);
+    int ok = brdf_layered_lobe_image_hooked(&brdf_handle_bsdf(b)->layered,
+                                            bake_lobe_theta_deg[i] * (M_PI / 180.0), s->lobe_res,
+                                            s->lobe_walks, seed, 1, hook, images + i * px, NULL);
     if (ok < 0)
       st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled during the ground truth");
     else if (!ok)

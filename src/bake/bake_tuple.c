@@ -6,6 +6,8 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "model/layering.h"
+#include "model/param_conventions.h"
 
 void bake_ranges_init(const nbrdf_model *model, float lo[NBRDF_BAKE_PARAM_COUNT],
                       float hi[NBRDF_BAKE_PARAM_COUNT]) {
@@ -30,9 +32,8 @@ bake_verdict bake_value_prepare_read(const float *lo, const float *hi, int id,
                                      nbrdf_roughness roughness, nbrdf_range_policy range, float *v,
                                      float *read) {
   float x = *v + 0.0f; /* -0 -> +0, so equal tuples have equal bytes */
-  if (roughness == NBRDF_ROUGHNESS_PERCEPTUAL &&
-      (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2))
-    x = x * x;
+  if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2)
+    x = (float)model_roughness_alpha(roughness, x);
   *v = x;
   if (read) *read = x;
   if (!isfinite(x) || x < 0.0f) return BAKE_VALUE_INVALID;
@@ -48,7 +49,7 @@ nbrdf_status bake_value_fail(bake_verdict verdict, const float *lo, const float 
                              nbrdf_error *err) {
   if (roughness == NBRDF_ROUGHNESS_PERCEPTUAL &&
       (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2)) {
-    double a = (double)typed * (double)typed;
+    double a = model_roughness_alpha(roughness, typed);
     if (verdict == BAKE_VALUE_INVALID)
       return core_fail(err, NBRDF_ERR_ARGUMENT,
                        "%s = %g (perceptual roughness r; alpha = r^2 = %g) is not a finite "
@@ -77,7 +78,7 @@ nbrdf_status bake_value_fail(bake_verdict verdict, const float *lo, const float 
  * levels, so quantised values stay inside it. */
 static float warp(int id, float v) {
   if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2) return sqrtf(v);
-  if (id == NBRDF_BAKE_SIGMA_T) return log1pf(v);
+  if (id == NBRDF_BAKE_SIGMA_T) return model_layering_sigma_t_input(v);
   return v;
 }
 

@@ -5,9 +5,9 @@
 #include "brdf/brdf_handle.h"
 #include "core/error.h"
 
-static nbrdf_status new_handle(const bsdf *b, nbrdf_brdf **out, nbrdf_error *err) {
+static nbrdf_status new_handle(const brdf_bsdf *b, nbrdf_brdf **out, nbrdf_error *err) {
   nbrdf_brdf *h = malloc(sizeof *h);
-  if (!h || !bsdf_clone(&h->b, b)) {
+  if (!h || !brdf_bsdf_clone(&h->b, b)) {
     free(h);
     return core_fail(err, NBRDF_ERR_MEMORY, "out of memory creating a BRDF");
   }
@@ -25,7 +25,7 @@ nbrdf_status nbrdf_brdf_create_conductor(double alpha, double r0, nbrdf_brdf **o
     core_error_prefix(err, "conductor: ");
     return st;
   }
-  bsdf b = {.kind = BSDF_CONDUCTOR, .conductor = {alpha, r0}};
+  brdf_bsdf b = {.kind = BSDF_CONDUCTOR, .conductor = {alpha, r0}};
   return new_handle(&b, out, err);
 }
 
@@ -39,7 +39,7 @@ nbrdf_status nbrdf_brdf_create_dielectric(double alpha, double eta, nbrdf_brdf *
     core_error_prefix(err, "dielectric: ");
     return st;
   }
-  bsdf b = {.kind = BSDF_DIELECTRIC, .dielectric = {alpha, eta}};
+  brdf_bsdf b = {.kind = BSDF_DIELECTRIC, .dielectric = {alpha, eta}};
   return new_handle(&b, out, err);
 }
 
@@ -57,24 +57,24 @@ nbrdf_status nbrdf_brdf_create_layered(double alpha1, double eta, double albedo,
     return st;
   }
   if (!bottom) return core_fail(err, NBRDF_ERR_ARGUMENT, "layered: bottom is NULL");
-  /* The bottom is copied by new_handle's deep clone (bsdf_clone), so the
+  /* The bottom is copied by new_handle's deep clone (brdf_bsdf_clone), so the
    * caller may destroy it afterwards. */
-  bsdf b = {.kind = BSDF_LAYERED,
-            .layered = {.top = {alpha1, eta},
-                        .albedo = albedo,
-                        .sigma_t = sigma_t,
-                        .bottom = (bsdf *)&bottom->b}};
+  brdf_bsdf b = {.kind = BSDF_LAYERED,
+                 .layered = {.top = {alpha1, eta},
+                             .albedo = albedo,
+                             .sigma_t = sigma_t,
+                             .bottom = (brdf_bsdf *)&bottom->b}};
   return new_handle(&b, out, err);
 }
 
 void nbrdf_brdf_destroy(nbrdf_brdf *brdf) {
   if (!brdf) return;
-  bsdf_release(&brdf->b);
+  brdf_bsdf_release(&brdf->b);
   free(brdf);
 }
 
 int nbrdf_brdf_is_stochastic(const nbrdf_brdf *brdf) {
-  return brdf && bsdf_is_stochastic(&brdf->b);
+  return brdf && brdf_bsdf_is_stochastic(&brdf->b);
 }
 
 nbrdf_status brdf_check_direction(const double w[3], const char *what, vec3 *out,

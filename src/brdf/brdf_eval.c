@@ -11,19 +11,19 @@
 #include "core/error.h"
 
 /* Mean and standard error of the mean of one query's spp walks (Welford). */
-static void eval_stochastic(const bsdf_layered *l, vec3 wo, vec3 wi, uint64_t seed, uint64_t stream,
-                            int spp, double *f, double *se) {
+static void eval_stochastic(const brdf_bsdf_layered *l, vec3 wo, vec3 wi, uint64_t seed,
+                            uint64_t stream, int spp, double *f, double *se) {
   core_rng rng;
   core_rng_init(&rng, seed, stream);
   double mean = 0.0, m2 = 0.0;
   for (int s = 0; s < spp; s++) {
-    double x = bsdf_layered_walk(l, wo, wi, BSDF_RADIANCE, &rng);
+    double x = brdf_bsdf_layered_walk(l, wo, wi, BSDF_RADIANCE, &rng);
     double d = x - mean;
     mean += d / (s + 1);
     m2 += d * (x - mean);
   }
   /* The top's own reflection is exact: it adds to the mean, not to the error. */
-  *f = bsdf_dielectric_eval(&l->top, wo, wi, BSDF_RADIANCE) + mean;
+  *f = brdf_bsdf_dielectric_eval(&l->top, wo, wi, BSDF_RADIANCE) + mean;
   *se = spp > 1 ? sqrt(m2 / ((double)(spp - 1) * spp)) : INFINITY;
 }
 
@@ -59,10 +59,10 @@ nbrdf_status nbrdf_brdf_eval_many(size_t n, const nbrdf_brdf *const *brdfs,
    * them out in blocks. (Scheduling never changes the results.) */
   int block = 256;
   for (size_t k = 0; k < n && block > 1; k++)
-    if (bsdf_is_stochastic(&brdfs[k]->b)) block = 1;
+    if (brdf_bsdf_is_stochastic(&brdfs[k]->b)) block = 1;
 #pragma omp parallel for num_threads(thread_count(opts.threads)) schedule(dynamic, block)
   for (long long k = 0; k < count; k++) {
-    const bsdf *b = &brdfs[k]->b;
+    const brdf_bsdf *b = &brdfs[k]->b;
     vec3 wi, wo;
     brdf_check_direction(queries[k].wi, "", &wi, NULL);
     brdf_check_direction(queries[k].wo, "", &wo, NULL);
@@ -72,11 +72,11 @@ nbrdf_status nbrdf_brdf_eval_many(size_t n, const nbrdf_brdf *const *brdfs,
     if (b->kind == BSDF_LAYERED)
       eval_stochastic(&b->layered, wo, wi, opts.seed, (uint64_t)k, opts.spp, &value, &se);
     else
-      value = bsdf_eval(b, wo, wi, BSDF_RADIANCE, NULL);
+      value = brdf_bsdf_eval(b, wo, wi, BSDF_RADIANCE, NULL);
     f[k] = value;
     if (f_stderr) f_stderr[k] = se;
     if (!isfinite(value) || isnan(se)) {
-#pragma omp critical(nbrdf_brdf_eval_bad)
+#pragma omp critical(brdf_eval_bad)
       if (bad < 0 || k < bad) bad = k;
     }
   }
@@ -103,12 +103,12 @@ nbrdf_status nbrdf_brdf_eval(const nbrdf_brdf *brdf, size_t n, const nbrdf_query
 }
 
 /* One draw of the public sampler: ωo for ωi from stream (seed, index). */
-static double sample_one(const bsdf *b, vec3 wi, uint64_t seed, uint64_t index, vec3 *wo) {
+static double sample_one(const brdf_bsdf *b, vec3 wi, uint64_t seed, uint64_t index, vec3 *wo) {
   core_rng rng;
   core_rng_init(&rng, seed, index);
-  bsdf_sample s;
+  brdf_bsdf_sample s;
   /* A dielectric as a BRDF is its reflection lobe: sample that lobe only. */
-  if (bsdf_sample_dir(b, wi, BSDF_RADIANCE, BSDF_REFLECTION, &rng, &s) && s.wi.z > 0.0) {
+  if (brdf_bsdf_sample_dir(b, wi, BSDF_RADIANCE, BSDF_REFLECTION, &rng, &s) && s.wi.z > 0.0) {
     *wo = s.wi;
     return s.weight;
   }

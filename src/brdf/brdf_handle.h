@@ -7,10 +7,10 @@
 #include "nbrdf/brdf.h"
 
 struct nbrdf_brdf {
-  bsdf b;
+  brdf_bsdf b;
 };
 
-static inline const bsdf *brdf_bsdf(const nbrdf_brdf *brdf) { return &brdf->b; }
+static inline const brdf_bsdf *brdf_handle_bsdf(const nbrdf_brdf *brdf) { return &brdf->b; }
 
 /* Checks a direction given through the public API: finite, z > 0, unit length
  * within 1e-6; writes it normalised. `what` names it in the message

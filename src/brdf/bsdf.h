@@ -16,9 +16,9 @@
  * wo's side: radiance/η² is invariant across a refraction); importance mode
  * (the adjoint) does not, so f_importance(wo, wi) = f_radiance(wi, wo).
  *
- * Stochastic BSDFs (layered). bsdf_eval returns an unbiased estimate of f
- * (one random walk) and bsdf_sample an unbiased weight: E[weight · g(wi)] =
- * ∫ f(wo, wi) |cos θi| g(wi) dwi for any g. Their "pdf" — bsdf_pdf, and the
+ * Stochastic BSDFs (layered). brdf_bsdf_eval returns an unbiased estimate of f
+ * (one random walk) and brdf_bsdf_sample an unbiased weight: E[weight · g(wi)] =
+ * ∫ f(wo, wi) |cos θi| g(wi) dwi for any g. Their "pdf" — brdf_bsdf_pdf, and the
  * pdf field of a sample — is a deterministic approximation p̃ of the density
  * of the directions the sampler returns, meant ONLY for multiple importance
  * sampling weights. That is sound: a MIS estimator stays unbiased for any
@@ -33,9 +33,9 @@
 #include "core/rng.h"
 #include "core/vec3.h"
 
-typedef enum bsdf_mode { BSDF_RADIANCE = 0, BSDF_IMPORTANCE = 1 } bsdf_mode;
+typedef enum brdf_bsdf_mode { BSDF_RADIANCE = 0, BSDF_IMPORTANCE = 1 } brdf_bsdf_mode;
 
-static inline bsdf_mode bsdf_adjoint(bsdf_mode mode) {
+static inline brdf_bsdf_mode brdf_bsdf_adjoint(brdf_bsdf_mode mode) {
   return mode == BSDF_RADIANCE ? BSDF_IMPORTANCE : BSDF_RADIANCE;
 }
 
@@ -47,71 +47,71 @@ enum {
   BSDF_DELTA = 4 /* sample flag: a Dirac lobe (f and pdf are its weights) */
 };
 
-typedef struct bsdf_sample {
+typedef struct brdf_bsdf_sample {
   vec3 wi;       /* the sampled direction, unit, away from the surface */
   double f;      /* f(wo, wi) (an estimate for stochastic BSDFs) */
   double pdf;    /* density of wi (solid angle); p̃ for stochastic BSDFs */
   double weight; /* f |cos θi| / pdf (unbiased estimate for stochastic BSDFs) */
   int flags;     /* BSDF_REFLECTION or BSDF_TRANSMISSION, maybe | BSDF_DELTA */
-} bsdf_sample;
+} brdf_bsdf_sample;
 
-typedef enum bsdf_kind { BSDF_CONDUCTOR, BSDF_DIELECTRIC, BSDF_LAYERED } bsdf_kind;
+typedef enum brdf_bsdf_kind { BSDF_CONDUCTOR, BSDF_DIELECTRIC, BSDF_LAYERED } brdf_bsdf_kind;
 
-typedef struct bsdf bsdf;
+typedef struct brdf_bsdf brdf_bsdf;
 
 /* GGX rough conductor with Schlick Fresnel; reflects on its upper side only. */
-typedef struct bsdf_conductor {
+typedef struct brdf_bsdf_conductor {
   double alpha, r0;
-} bsdf_conductor;
+} brdf_bsdf_conductor;
 
 /* GGX rough dielectric interface (Walter et al. 2007). The upper side is the
  * outside; eta = η_inside / η_outside ≥ 1. eta == 1 is an index-matched,
  * invisible interface: a Dirac pass-through whatever α. */
-typedef struct bsdf_dielectric {
+typedef struct brdf_bsdf_dielectric {
   double alpha, eta;
-} bsdf_dielectric;
+} brdf_bsdf_dielectric;
 
 /* Paper Fig. 9: dielectric top over a slab of unit thickness (optical depth
  * sigma_t, single-scattering albedo, isotropic phase) over any bottom BSDF,
  * which is owned by the layered BSDF. Reflects on its upper side only. */
-typedef struct bsdf_layered {
-  bsdf_dielectric top;
+typedef struct brdf_bsdf_layered {
+  brdf_bsdf_dielectric top;
   double albedo, sigma_t;
-  bsdf *bottom;
-} bsdf_layered;
+  brdf_bsdf *bottom;
+} brdf_bsdf_layered;
 
-struct bsdf {
-  bsdf_kind kind;
+struct brdf_bsdf {
+  brdf_bsdf_kind kind;
   union {
-    bsdf_conductor conductor;
-    bsdf_dielectric dielectric;
-    bsdf_layered layered;
+    brdf_bsdf_conductor conductor;
+    brdf_bsdf_dielectric dielectric;
+    brdf_bsdf_layered layered;
   };
 };
 
-double bsdf_eval(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, core_rng *rng);
+double brdf_bsdf_eval(const brdf_bsdf *b, vec3 wo, vec3 wi, brdf_bsdf_mode mode, core_rng *rng);
 /* Draws wi given wo among the lobes in `flags`; returns 0 when the draw has no
  * valid direction (absorbed, below the horizon, total internal reflection
  * under BSDF_TRANSMISSION only). */
-int bsdf_sample_dir(const bsdf *b, vec3 wo, bsdf_mode mode, int flags, core_rng *rng,
-                    bsdf_sample *s);
-/* Density with which bsdf_sample_dir(wo, mode, flags) returns wi (0 for Dirac
+int brdf_bsdf_sample_dir(const brdf_bsdf *b, vec3 wo, brdf_bsdf_mode mode, int flags, core_rng *rng,
+                         brdf_bsdf_sample *s);
+/* Density with which brdf_bsdf_sample_dir(wo, mode, flags) returns wi (0 for Dirac
  * lobes); p̃ for stochastic BSDFs (see above). */
-double bsdf_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags);
-/* bsdf_eval and bsdf_pdf at once (shares the half vector and D). */
-double bsdf_eval_pdf(const bsdf *b, vec3 wo, vec3 wi, bsdf_mode mode, int flags, core_rng *rng,
-                     double *pdf);
-int bsdf_is_stochastic(const bsdf *b);
+double brdf_bsdf_pdf(const brdf_bsdf *b, vec3 wo, vec3 wi, brdf_bsdf_mode mode, int flags);
+/* brdf_bsdf_eval and brdf_bsdf_pdf at once (shares the half vector and D). */
+double brdf_bsdf_eval_pdf(const brdf_bsdf *b, vec3 wo, vec3 wi, brdf_bsdf_mode mode, int flags,
+                          core_rng *rng, double *pdf);
+int brdf_bsdf_is_stochastic(const brdf_bsdf *b);
 
 /* Deep copy (the layered bottom chain is duplicated) and release of what a
- * bsdf owns (not the struct itself). bsdf_clone returns 0 on allocation
+ * brdf_bsdf owns (not the struct itself). brdf_bsdf_clone returns 0 on allocation
  * failure, leaving *dst owning nothing. */
-int bsdf_clone(bsdf *dst, const bsdf *src);
-void bsdf_release(bsdf *b);
+int brdf_bsdf_clone(brdf_bsdf *dst, const brdf_bsdf *src);
+void brdf_bsdf_release(brdf_bsdf *b);
 
 /* The power heuristic (β = 2) weight of a strategy with density pa against
  * one with density pb (Veach 1997). */
-static inline double bsdf_mis_power(double pa, double pb) {
+static inline double brdf_bsdf_mis_power(double pa, double pb) {
   if (!(pa > 0.0)) return 0.0;
   if (!(pb > 0.0)) return 1.0;
   /* Ratios rather than squares, so that very peaked pdfs cannot overflow. */

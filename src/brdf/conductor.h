@@ -8,13 +8,15 @@
 
 /* f = D(h) G2(wo, wi) F(wo·h) / (4 cos θo cos θi), h = (wo + wi)/|wo + wi|
  * (Walter et al. 2007, eq. 20). */
-double bsdf_conductor_eval(const bsdf_conductor *c, vec3 wo, vec3 wi);
+double brdf_bsdf_conductor_eval(const brdf_bsdf_conductor *c, vec3 wo, vec3 wi);
 /* Visible-normal sampling: p(wi) = D_wo(h) / (4 wo·h) = G1(wo) D(h) / (4 cos θo). */
-double bsdf_conductor_pdf(const bsdf_conductor *c, vec3 wo, vec3 wi);
+double brdf_bsdf_conductor_pdf(const brdf_bsdf_conductor *c, vec3 wo, vec3 wi);
 /* Both at once (one half vector and one D). */
-double bsdf_conductor_eval_pdf(const bsdf_conductor *c, vec3 wo, vec3 wi, double *pdf);
+double brdf_bsdf_conductor_eval_pdf(const brdf_bsdf_conductor *c, vec3 wo, vec3 wi, double *pdf);
 /* weight = F G2 / G1(wo) ≤ 1. */
-int bsdf_conductor_sample(const bsdf_conductor *c, vec3 wo, double u1, double u2, bsdf_sample *s);
-int bsdf_conductor_sample_rng(const bsdf_conductor *c, vec3 wo, core_rng *rng, bsdf_sample *s);
+int brdf_bsdf_conductor_sample(const brdf_bsdf_conductor *c, vec3 wo, double u1, double u2,
+                               brdf_bsdf_sample *s);
+int brdf_bsdf_conductor_sample_rng(const brdf_bsdf_conductor *c, vec3 wo, core_rng *rng,
+                                   brdf_bsdf_sample *s);
 
 #endif

@@ -9,7 +9,7 @@
 #include "core/vec3.h"
 
 /* Uniform in the open unit disk; *r2 = x² + y² (uniform in [0, 1)). */
-static inline void disk_sample(core_rng *rng, double *x, double *y, double *r2) {
+static inline void brdf_disk_sample(core_rng *rng, double *x, double *y, double *r2) {
   double a, b, s;
   do {
     a = 2.0 * core_rng_uniform(rng) - 1.0;
@@ -22,7 +22,7 @@ static inline void disk_sample(core_rng *rng, double *x, double *y, double *r2) 
 }
 
 /* Uniform on the unit sphere from a uniform disk point (Marsaglia 1972). */
-static inline vec3 disk_to_sphere(double x, double y, double r2) {
+static inline vec3 brdf_disk_to_sphere(double x, double y, double r2) {
   double k = 2.0 * sqrt(1.0 - r2);
   return v3(x * k, y * k, 1.0 - 2.0 * r2);
 }

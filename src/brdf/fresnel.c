@@ -1,6 +1,6 @@
 #include "brdf/fresnel.h"
 
-double fresnel_dielectric(double cos_i, double eta) {
+double brdf_fresnel_dielectric(double cos_i, double eta) {
   cos_i = fmin(1.0, fmax(-1.0, cos_i));
   if (cos_i < 0.0) {
     eta = 1.0 / eta;
@@ -17,7 +17,7 @@ double fresnel_dielectric(double cos_i, double eta) {
   return 0.5 * (a * a + b * b) / (den * den);
 }
 
-int fresnel_refract(vec3 w, vec3 m, double eta, vec3 *wt, double *etap) {
+int brdf_fresnel_refract(vec3 w, vec3 m, double eta, vec3 *wt, double *etap) {
   double cos_i = v3_dot(m, w);
   if (cos_i < 0.0) { /* arriving from the inside: the interface looks like 1/η */
     eta = 1.0 / eta;

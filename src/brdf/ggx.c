@@ -1,6 +1,6 @@
 #include "brdf/ggx.h"
 
-int ggx_sample_vndf_disk(double alpha, vec3 w, double x, double y, double r2, vec3 *m) {
+int brdf_ggx_sample_vndf_disk(double alpha, vec3 w, double x, double y, double r2, vec3 *m) {
   if (w.z < 0.0) w = v3_neg(w);
   /* Stretch ω to the configuration α = 1, where the visible normals of the
    * unit hemisphere are uniform on a spherical cap around ω (Dupuy & Benyoub
@@ -25,7 +25,7 @@ int ggx_sample_vndf_disk(double alpha, vec3 w, double x, double y, double r2, ve
   return 1;
 }
 
-int ggx_sample_vndf(double alpha, vec3 w, double u1, double u2, vec3 *m) {
+int brdf_ggx_sample_vndf(double alpha, vec3 w, double u1, double u2, vec3 *m) {
   double r = sqrt(u2), phi = 2.0 * M_PI * u1;
-  return ggx_sample_vndf_disk(alpha, w, r * cos(phi), r * sin(phi), u2, m);
+  return brdf_ggx_sample_vndf_disk(alpha, w, r * cos(phi), r * sin(phi), u2, m);
 }

@@ -17,24 +17,26 @@
  * top and leaves towards wi: f(wo, wi) minus the top interface's own
  * reflection. Next-event estimation through the exit interface at every
  * medium and bottom vertex, combined by MIS with phase / bottom sampling. */
-double bsdf_layered_walk(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, core_rng *rng);
+double brdf_bsdf_layered_walk(const brdf_bsdf_layered *l, vec3 wo, vec3 wi, brdf_bsdf_mode mode,
+                              core_rng *rng);
 
 /* Unbiased estimate of f(wo, wi): the top's reflection (exact) + one walk. */
-double bsdf_layered_eval(const bsdf_layered *l, vec3 wo, vec3 wi, bsdf_mode mode, core_rng *rng);
+double brdf_bsdf_layered_eval(const brdf_bsdf_layered *l, vec3 wo, vec3 wi, brdf_bsdf_mode mode,
+                              core_rng *rng);
 
 /* Stochastic sampling for renderers: a walk from wo that ends when it leaves
  * through the top (returns 1 with s->weight an unbiased estimate of
  * f |cos θi| / p) or is absorbed (returns 0). s->pdf is p̃ (bsdf.h). */
-int bsdf_layered_sample(const bsdf_layered *l, vec3 wo, bsdf_mode mode, core_rng *rng,
-                        bsdf_sample *s);
+int brdf_bsdf_layered_sample(const brdf_bsdf_layered *l, vec3 wo, brdf_bsdf_mode mode,
+                             core_rng *rng, brdf_bsdf_sample *s);
 
 /* p̃(wo, wi): a deterministic stand-in for the sampler's density, for MIS
  * weights only (see bsdf.h). */
-double bsdf_layered_pdf(const bsdf_layered *l, vec3 wo, vec3 wi);
+double brdf_bsdf_layered_pdf(const brdf_bsdf_layered *l, vec3 wo, vec3 wi);
 
 /* Russian roulette shared by both walks: returns 0 to end the walk, else
  * rescales *beta. `scale` brings beta to the order of the final contribution
  * (η² in radiance mode, where the exit multiplies by η²). */
-int bsdf_layered_roulette(double *beta, double scale, int vertex, core_rng *rng);
+int brdf_bsdf_layered_roulette(double *beta, double scale, int vertex, core_rng *rng);
 
 #endif

@@ -14,7 +14,7 @@
 #define MAX_CHUNKS 64
 
 /* The exit sample of one target direction, drawn once per walk (as in
- * bsdf_layered_walk, here for every ωo_k). */
+ * brdf_bsdf_layered_walk, here for every ωo_k). */
 typedef struct lobe_exit {
   vec3 up;           /* travel direction from a vertex to the exit: −ws */
   double pdf;        /* density of ws given ωo_k (0: no exit sample) */
@@ -25,7 +25,7 @@ typedef struct lobe_exit {
 } lobe_exit;
 
 typedef struct lobe_walker {
-  const bsdf_layered *l;
+  const brdf_bsdf_layered *l;
   size_t n;
   const vec3 *wo;
   lobe_exit *ex;
@@ -38,35 +38,36 @@ typedef struct lobe_walker {
 static void splat_exit(lobe_walker *lw, vec3 w, double p_strategy, double scale) {
   vec3 ws = v3_neg(w);
   for (size_t k = 0; k < lw->n; k++) {
-    double pe, fe = bsdf_dielectric_exit(&lw->l->top, ws, lw->wo[k], BSDF_RADIANCE, &pe);
-    if (fe > 0.0) lw->acc[k] += scale * fe * bsdf_mis_power(p_strategy, pe);
+    double pe, fe = brdf_bsdf_dielectric_exit(&lw->l->top, ws, lw->wo[k], BSDF_RADIANCE, &pe);
+    if (fe > 0.0) lw->acc[k] += scale * fe * brdf_bsdf_mis_power(p_strategy, pe);
   }
 }
 
 static void walk(lobe_walker *lw, vec3 wi, core_rng *rng) {
-  const bsdf_layered *l = lw->l;
-  const bsdf_dielectric *top = &l->top;
+  const brdf_bsdf_layered *l = lw->l;
+  const brdf_bsdf_dielectric *top = &l->top;
   const double sigma_t = l->sigma_t, albedo = l->albedo;
   const int delta_top = top->eta == 1.0;
   const int scattering = sigma_t > 0.0 && albedo > 0.0;
-  const double rr_scale = top->eta * top->eta; /* radiance mode, as bsdf_layered_walk */
+  const double rr_scale = top->eta * top->eta; /* radiance mode, as brdf_bsdf_layered_walk */
   memset(lw->acc, 0, lw->n * sizeof *lw->acc);
 
-  bsdf_sample in;
-  if (!bsdf_dielectric_sample_rng(top, wi, BSDF_RADIANCE, BSDF_TRANSMISSION, rng, &in)) return;
+  brdf_bsdf_sample in;
+  if (!brdf_bsdf_dielectric_sample_rng(top, wi, BSDF_RADIANCE, BSDF_TRANSMISSION, rng, &in)) return;
   double beta = in.weight;
   vec3 w = in.wi;
   for (size_t k = 0; k < lw->n; k++) {
-    bsdf_sample s;
+    brdf_bsdf_sample s;
     lobe_exit *e = &lw->ex[k];
-    if (bsdf_dielectric_sample_rng(top, lw->wo[k], BSDF_IMPORTANCE, BSDF_TRANSMISSION, rng, &s)) {
+    if (brdf_bsdf_dielectric_sample_rng(top, lw->wo[k], BSDF_IMPORTANCE, BSDF_TRANSMISSION, rng,
+                                        &s)) {
       e->up = v3_neg(s.wi);
       e->pdf = s.pdf;
       e->ratio = s.f / s.pdf;
       e->cos = fabs(s.wi.z);
       e->tr_slab = sigma_t > 0.0 ? exp(-sigma_t / e->cos) : 1.0;
       e->nee_medium =
-          albedo * INV_4PI * e->ratio * (delta_top ? 1.0 : bsdf_mis_power(s.pdf, INV_4PI));
+          albedo * INV_4PI * e->ratio * (delta_top ? 1.0 : brdf_bsdf_mis_power(s.pdf, INV_4PI));
     } else {
       e->pdf = 0.0;
     }
@@ -74,7 +75,7 @@ static void walk(lobe_walker *lw, vec3 wi, core_rng *rng) {
 
   double z = 0.0;
   for (int vertex = 0;; vertex++) {
-    if (!bsdf_layered_roulette(&beta, rr_scale, vertex, rng)) break;
+    if (!brdf_bsdf_layered_roulette(&beta, rr_scale, vertex, rng)) break;
     if (scattering) {
       double t = -log(1.0 - core_rng_uniform(rng)) / sigma_t;
       double zn = z - t * w.z;
@@ -86,8 +87,8 @@ static void walk(lobe_walker *lw, vec3 wi, core_rng *rng) {
         }
         beta *= albedo;
         double x, y, r2;
-        disk_sample(rng, &x, &y, &r2);
-        w = disk_to_sphere(x, y, r2);
+        brdf_disk_sample(rng, &x, &y, &r2);
+        w = brdf_disk_to_sphere(x, y, r2);
         if (w.z > 0.0 && !delta_top) splat_exit(lw, w, INV_4PI, beta * exp(-sigma_t * z / w.z));
         continue;
       }
@@ -102,13 +103,13 @@ static void walk(lobe_walker *lw, vec3 wi, core_rng *rng) {
         const lobe_exit *e = &lw->ex[k];
         if (!(e->pdf > 0.0)) continue;
         double pb,
-            fb = bsdf_eval_pdf(l->bottom, wb, e->up, BSDF_RADIANCE, BSDF_REFLECTION, rng, &pb);
+            fb = brdf_bsdf_eval_pdf(l->bottom, wb, e->up, BSDF_RADIANCE, BSDF_REFLECTION, rng, &pb);
         if (!(fb > 0.0)) continue;
-        double wt = delta_top ? 1.0 : bsdf_mis_power(e->pdf, pb);
+        double wt = delta_top ? 1.0 : brdf_bsdf_mis_power(e->pdf, pb);
         lw->acc[k] += beta * fb * e->cos * wt * e->tr_slab * e->ratio;
       }
-      bsdf_sample bs;
-      if (!bsdf_sample_dir(l->bottom, wb, BSDF_RADIANCE, BSDF_REFLECTION, rng, &bs)) break;
+      brdf_bsdf_sample bs;
+      if (!brdf_bsdf_sample_dir(l->bottom, wb, BSDF_RADIANCE, BSDF_REFLECTION, rng, &bs)) break;
       if (!(bs.wi.z > 0.0)) break;
       beta *= bs.weight;
       w = bs.wi;
@@ -116,8 +117,9 @@ static void walk(lobe_walker *lw, vec3 wi, core_rng *rng) {
         splat_exit(lw, w, bs.pdf, beta * (sigma_t > 0.0 ? exp(-sigma_t / w.z) : 1.0));
     } else {
       if (delta_top) break;
-      bsdf_sample bs;
-      if (!bsdf_dielectric_sample_rng(top, v3_neg(w), BSDF_RADIANCE, BSDF_REFLECTION, rng, &bs))
+      brdf_bsdf_sample bs;
+      if (!brdf_bsdf_dielectric_sample_rng(top, v3_neg(w), BSDF_RADIANCE, BSDF_REFLECTION, rng,
+                                           &bs))
         break;
       beta *= bs.weight;
       w = bs.wi;
@@ -126,8 +128,8 @@ static void walk(lobe_walker *lw, vec3 wi, core_rng *rng) {
 }
 
 /* 1: done; 0: out of memory; -1: stopped by the hook. */
-static int lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
-                     uint64_t seed, int threads, const layered_lobe_hook *hook, double *f,
+static int lobe_eval(const brdf_bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
+                     uint64_t seed, int threads, const brdf_layered_lobe_hook *hook, double *f,
                      double *f_se) {
   if (n == 0) return 1;
   if (walks < 1) walks = 1;
@@ -190,7 +192,7 @@ static int lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, i
     }
     double mean = s1 / walks;
     /* The top's own reflection is exact: it moves the mean, not the error. */
-    f[k] = bsdf_dielectric_eval(&l->top, wi, wo[k], BSDF_RADIANCE) + mean;
+    f[k] = brdf_bsdf_dielectric_eval(&l->top, wi, wo[k], BSDF_RADIANCE) + mean;
     if (f_se)
       f_se[k] =
           walks > 1 ? sqrt(fmax(0.0, s2 - s1 * mean) / ((double)(walks - 1) * walks)) : INFINITY;
@@ -199,25 +201,26 @@ static int lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, i
   return 1;
 }
 
-int layered_lobe_eval(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
-                      uint64_t seed, int threads, double *f, double *f_se) {
+int brdf_layered_lobe_eval(const brdf_bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
+                           uint64_t seed, int threads, double *f, double *f_se) {
   return lobe_eval(l, wi, n, wo, walks, seed, threads, NULL, f, f_se);
 }
 
-int layered_lobe_eval_hooked(const bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo, int walks,
-                             uint64_t seed, int threads, const layered_lobe_hook *hook, double *f,
-                             double *f_se) {
+int brdf_layered_lobe_eval_hooked(const brdf_bsdf_layered *l, vec3 wi, size_t n, const vec3 *wo,
+                                  int walks, uint64_t seed, int threads,
+                                  const brdf_layered_lobe_hook *hook, double *f, double *f_se) {
   return lobe_eval(l, wi, n, wo, walks, seed, threads, hook, f, f_se);
 }
 
-int layered_lobe_image(const bsdf_layered *l, double theta_i, int res, int walks, uint64_t seed,
-                       int threads, double *image, double *image_se) {
-  return layered_lobe_image_hooked(l, theta_i, res, walks, seed, threads, NULL, image, image_se);
+int brdf_layered_lobe_image(const brdf_bsdf_layered *l, double theta_i, int res, int walks,
+                            uint64_t seed, int threads, double *image, double *image_se) {
+  return brdf_layered_lobe_image_hooked(l, theta_i, res, walks, seed, threads, NULL, image,
+                                        image_se);
 }
 
-int layered_lobe_image_hooked(const bsdf_layered *l, double theta_i, int res, int walks,
-                              uint64_t seed, int threads, const layered_lobe_hook *hook,
-                              double *image, double *image_se) {
+int brdf_layered_lobe_image_hooked(const brdf_bsdf_layered *l, double theta_i, int res, int walks,
+                                   uint64_t seed, int threads, const brdf_layered_lobe_hook *hook,
+                                   double *image, double *image_se) {
   size_t npix = (size_t)res * res, n = 0;
   vec3 *wo = calloc(npix, sizeof *wo);
   size_t *at = malloc(npix * sizeof *at);

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "model/param_conventions.h"
 
 static const char *const flag_names[NBRDF_BAKE_PARAM_COUNT] = {"--alpha1", "--eta",    "--alpha2",
                                                                "--r0",     "--albedo", "--sigma-t"};
@@ -65,12 +66,10 @@ int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params
       return 1;
     }
   if (!strcmp(a, "--roughness")) {
-    if (!strcmp(v, "alpha"))
-      p->roughness = NBRDF_ROUGHNESS_ALPHA;
-    else if (!strcmp(v, "perceptual"))
-      p->roughness = NBRDF_ROUGHNESS_PERCEPTUAL;
-    else
+    int convention = model_roughness_parse(v);
+    if (convention < 0)
       return cli_usage_error(cmd, "--roughness is 'alpha' or 'perceptual', not '%s'", v), -1;
+    p->roughness = (nbrdf_roughness)convention;
     p->roughness_given = 1;
   } else if (!strcmp(a, "--r0-colourspace")) {
     p->in.param[NBRDF_BAKE_R0].colour_space = v;

@@ -1,29 +1,13 @@
-/* What the `nbrdf train` subcommands share: progress, the trainer's flags,
- * list splitting and the readers of trained parts. */
+/* What the `nbrdf train` subcommands share: the trainer's flags, list splitting and
+ * the readers of trained parts. */
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cli/cli.h"
-#include "cli/cli_cancel.h"
-#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "nn/safetensors.h"
 
-int train_on_progress(void *user, const char *stage, double done, double total) {
-  train_progress *p = user;
-  long t = (long)time(NULL);
-  if (t != p->last || done == total) {
-    p->last = t;
-    if (p->json)
-      cli_progress_json(stage, done, total, -1.0, 0.0);
-    else
-      fprintf(stderr, "\r%s: %.0f/%.0f (%.1f %%)  ", stage, done, total, 100.0 * done / total);
-  }
-  return *cli_cancel_flag();
-}
-
-int train_limits_option(int argc, char **argv, int *i, train_limits *l, int *exit_code) {
+int cli_train_limits_option(int argc, char **argv, int *i, cli_train_limits *l, int *exit_code) {
   const char *v;
   double x;
   long n;
@@ -48,7 +32,7 @@ int train_limits_option(int argc, char **argv, int *i, train_limits *l, int *exi
   return 1;
 }
 
-void train_limits_note(const char *checkpoint, int legacy) {
+void cli_train_limits_note(const char *checkpoint, int legacy) {
   if (legacy)
     fprintf(stderr,
             "note: %s was written before checkpoints recorded their options (nbrdf.options); it "
@@ -56,7 +40,7 @@ void train_limits_note(const char *checkpoint, int legacy) {
             checkpoint);
 }
 
-nbrdf_status train_load_tables(const char *path, model_base_table t[2], nbrdf_error *err) {
+nbrdf_status cli_train_load_tables(const char *path, model_base_table t[2], nbrdf_error *err) {
   nn_st_reader *r = NULL;
   memset(t, 0, 2 * sizeof *t);
   nbrdf_status st = nn_st_open(path, &r, err);
@@ -66,15 +50,15 @@ nbrdf_status train_load_tables(const char *path, model_base_table t[2], nbrdf_er
   return st;
 }
 
-int train_split_list(char *list, const char **out, int max) {
+int cli_train_split_list(char *list, const char **out, int max) {
   int n = 0;
   for (char *tok = strtok(list, ","); tok && n < max; tok = strtok(NULL, ","))
     out[n++] = tok;
   return n;
 }
 
-nbrdf_status train_read_net(const char *path, int layering, model_layering **lay,
-                            model_sampler **smp, nbrdf_error *err) {
+nbrdf_status cli_train_read_net(const char *path, int layering, model_layering **lay,
+                                model_sampler **smp, nbrdf_error *err) {
   nn_st_reader *r = NULL;
   nbrdf_status st = nn_st_open(path, &r, err);
   if (!st) st = layering ? model_layering_read(r, lay, err) : model_sampler_read(r, smp, err);

@@ -5,7 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
@@ -129,7 +128,7 @@ int cmd_bake(int argc, char **argv) {
   cli_params_init(&params);
   nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
   const char *out = NULL, *bundle = NULL, *decoder = NULL;
-  cli_progress_state ps = {0, 0};
+  cli_progress_state ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
   int budget_given = 0, compact_given = 0;
   nbrdf_error err = {0};
   for (int i = 1; i < argc; i++) {
@@ -231,8 +230,7 @@ int cmd_bake(int argc, char **argv) {
       if (!cli_parse_u64(v, &opts.seed))
         return cli_usage_error("bake", "--seed needs an unsigned integer, not '%s'", v);
       i++;
-    } else if (!strcmp(a, "--progress=json")) {
-      ps.json = 1;
+    } else if (cli_progress_flag(a, &ps)) {
     } else {
       return cli_usage_error("bake", "unknown option or missing value: '%s'", a);
     }
@@ -271,7 +269,7 @@ int cmd_bake(int argc, char **argv) {
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", used);
 
-  ps.bar = !ps.json && isatty(STDERR_FILENO);
+  cli_progress_start(&ps);
   opts.progress = cli_progress;
   opts.warning = on_warning;
   opts.user = &ps;

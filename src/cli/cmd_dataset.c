@@ -6,7 +6,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
@@ -41,35 +40,6 @@ void cmd_dataset_usage(FILE *out) {
           "  --threads T      0 = all cores (default)\n"
           "  --progress=json  progress as JSON lines on stdout instead of text on stderr\n"
           "  --check FILE     validate FILE (checksums, parameters, samples); print a summary\n");
-}
-
-typedef struct progress_state {
-  int json;
-  double start, first_done, last_print;
-} progress_state;
-
-static double now_s(void) {
-  struct timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int on_progress(void *user, const char *stage, double done, double total) {
-  progress_state *p = user;
-  double t = now_s() - p->start;
-  if (p->first_done < 0) p->first_done = done;
-  double rate = t > 0 ? (done - p->first_done) / t : 0.0;
-  double eta = rate > 0 ? (total - done) / rate : -1.0;
-  /* the library calls up to ~10 times a second (that is how Ctrl-C is
-   * seen); a line a second is enough to read */
-  if (done < total && t - p->last_print < 1.0 && p->last_print >= 0) return *cli_cancel_flag();
-  p->last_print = t;
-  if (p->json)
-    cli_progress_json(stage, done, total, t, rate);
-  else
-    fprintf(stderr, "%s: %.0f/%.0f BRDFs (%.1f %%), %.3g BRDFs/s, ETA %.0f s\n", stage, done, total,
-            100.0 * done / total, rate, eta);
-  return *cli_cancel_flag();
 }
 
 typedef struct check_stats {
@@ -117,7 +87,7 @@ int cmd_dataset(int argc, char **argv) {
   train_dataset_settings s = TRAIN_DATASET_SETTINGS_DEFAULT;
   const char *out = NULL, *check = NULL;
   int have_kind = 0, have_count = 0, have_seed = 0, have_sampled = 0;
-  progress_state prog = {0, 0.0, -1.0, -1.0};
+  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_RATE, "BRDFs");
   for (int i = 1; i < argc; i++) {
     const char *v;
     long n;
@@ -166,8 +136,7 @@ int cmd_dataset(int argc, char **argv) {
       if (!cli_parse_int(v, 0, 4096, &n))
         return cli_usage_error("dataset", "--threads '%s' is not an integer in [0, 4096]", v);
       s.threads = (int)n;
-    } else if (!strcmp(argv[i], "--progress=json")) {
-      prog.json = 1;
+    } else if (cli_progress_flag(argv[i], &prog)) {
     } else if (cli_is_help(argv[i])) {
       cmd_dataset_usage(stdout);
       return CLI_EXIT_OK;
@@ -188,15 +157,15 @@ int cmd_dataset(int argc, char **argv) {
   cli_inputs none; /* generated, nothing read; the output is still checked */
   cli_inputs_init(&none);
   if (cli_output_check("dataset", &none, out) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
-  s.progress = on_progress, s.user = &prog;
-  prog.start = now_s();
+  s.progress = cli_progress, s.user = &prog;
+  cli_progress_start(&prog);
   cli_cancel_watch();
   uint64_t resumed = 0;
   nbrdf_error err = {0};
   nbrdf_status st = train_dataset_write(out, &s, &resumed, &err);
   cli_cancel_unwatch();
   if (st != NBRDF_OK) return cli_fail_error("dataset", &err);
-  double t = now_s() - prog.start;
+  double t = cli_progress_seconds(&prog);
   uint64_t made = s.count - resumed;
   double per = (double)s.incident * s.outgoing;
   fprintf(stderr,

@@ -17,6 +17,7 @@
 #include "core/input_file.h"
 #include "core/number.h"
 #include "core/vec3.h"
+#include "model/param_conventions.h"
 #include "nbrdf/brdf.h"
 
 enum { MAX_PARAMS = 6, N_ANGLES = 4, MAX_COLUMNS = MAX_PARAMS + N_ANGLES };
@@ -30,7 +31,7 @@ typedef struct column_spec {
 typedef struct model_spec {
   const char *name;
   int stochastic;
-  eval_neural_kind neural; /* EVAL_NEURAL_NONE: the ground truth */
+  cli_eval_neural_kind neural; /* CLI_EVAL_NEURAL_NONE: the ground truth */
   int n_params;
   column_spec params[MAX_PARAMS];
 } model_spec;
@@ -49,12 +50,12 @@ typedef struct model_spec {
   {{"alpha1", ANY}, {"eta", ANY}, {"alpha2", ANY}, {"r0", ANY}, {"albedo", ANY}, {"sigma_t", ANY}}
 // clang-format on
 static const model_spec MODELS[] = {
-    {"layered", 1, EVAL_NEURAL_NONE, 6, LAYERED_COLUMNS},
-    {"conductor", 0, EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
-    {"dielectric", 0, EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
-    {"neural", 0, EVAL_NEURAL_LAYERED, 6, NEURAL_COLUMNS},
-    {"neural-conductor", 0, EVAL_NEURAL_CONDUCTOR, 2, {{"alpha", ANY}, {"r0", ANY}}},
-    {"neural-dielectric", 0, EVAL_NEURAL_DIELECTRIC, 2, {{"alpha", ANY}, {"eta", ANY}}},
+    {"layered", 1, CLI_EVAL_NEURAL_NONE, 6, LAYERED_COLUMNS},
+    {"conductor", 0, CLI_EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"r0", 0, 1, 0}}},
+    {"dielectric", 0, CLI_EVAL_NEURAL_NONE, 2, {{"alpha", ALPHA_RANGE}, {"eta", ETA_RANGE}}},
+    {"neural", 0, CLI_EVAL_NEURAL_LAYERED, 6, NEURAL_COLUMNS},
+    {"neural-conductor", 0, CLI_EVAL_NEURAL_CONDUCTOR, 2, {{"alpha", ANY}, {"r0", ANY}}},
+    {"neural-dielectric", 0, CLI_EVAL_NEURAL_DIELECTRIC, 2, {{"alpha", ANY}, {"eta", ANY}}},
 };
 static const column_spec ANGLES[N_ANGLES] = {
     {"theta_i", 0, 90, 1}, {"phi_i", -360, 360, 0}, {"theta_o", 0, 90, 1}, {"phi_o", -360, 360, 0}};
@@ -184,19 +185,19 @@ void cmd_eval_usage(FILE *out) {
 typedef struct eval_args {
   const model_spec *model;
   nbrdf_eval_options options;
-  eval_neural_options neural;
+  cli_eval_neural_options neural;
   int neural_option; /* an option of the neural models was given */
-  eval_texture_options texture; /* texture.texture != NULL: --texture mode */
+  cli_eval_texture_options texture; /* texture.texture != NULL: --texture mode */
   int level_given, model_option;
   const char *in; /* --in FILE, else stdin */
 } eval_args;
 
 static int parse_args(int argc, char **argv, eval_args *a) {
   a->model = NULL;
-  a->neural = (eval_neural_options){NULL, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP};
+  a->neural = (cli_eval_neural_options){NULL, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP};
   a->neural_option = 0;
   a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
-  a->texture = (eval_texture_options){NULL, NULL, 0};
+  a->texture = (cli_eval_texture_options){NULL, NULL, 0};
   a->level_given = a->model_option = 0;
   a->in = NULL;
   for (int i = 1; i < argc; i++) {
@@ -225,10 +226,10 @@ static int parse_args(int argc, char **argv, eval_args *a) {
       a->neural.bundle = a->texture.bundle = v;
       a->neural_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--roughness"))) {
-      if (strcmp(v, "alpha") && strcmp(v, "perceptual"))
+      int convention = model_roughness_parse(v);
+      if (convention < 0)
         return cli_usage_error("eval", "--roughness is 'alpha' or 'perceptual', not '%s'", v);
-      a->neural.roughness =
-          !strcmp(v, "alpha") ? NBRDF_ROUGHNESS_ALPHA : NBRDF_ROUGHNESS_PERCEPTUAL;
+      a->neural.roughness = (nbrdf_roughness)convention;
       a->neural_option = a->model_option = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--range"))) {
       if (strcmp(v, "clamp") && strcmp(v, "refuse"))
@@ -292,8 +293,8 @@ typedef struct layout {
   size_t index[MAX_COLUMNS];
 } layout;
 
-static int find_columns(const csv_table *t, const model_spec *m, layout *lay) {
-  size_t width = csv_record_width(t, 0);
+static int find_columns(const core_csv_table *t, const model_spec *m, layout *lay) {
+  size_t width = core_csv_record_width(t, 0);
   char name[64];
   lay->n = m->n_params + N_ANGLES;
   for (int c = 0; c < lay->n; c++) {
@@ -301,7 +302,7 @@ static int find_columns(const csv_table *t, const model_spec *m, layout *lay) {
     lay->index[c] = width;
   }
   for (size_t k = 0; k < width; k++) {
-    csv_value(t, 0, k, name, sizeof name);
+    core_csv_value(t, 0, k, name, sizeof name);
     if (!strcmp(name, "f") || !strcmp(name, "f_stderr"))
       return cli_fail("eval", "line %zu: the input already has a column '%s'", t->line[0], name);
     for (int c = 0; c < lay->n; c++) {
@@ -324,15 +325,15 @@ static int find_columns(const csv_table *t, const model_spec *m, layout *lay) {
 }
 
 /* Parses and range-checks the model's columns of one row into v[]. */
-static int parse_row(const csv_table *t, size_t r, const layout *lay, double *v) {
-  size_t width = csv_record_width(t, r), want = csv_record_width(t, 0);
+static int parse_row(const core_csv_table *t, size_t r, const layout *lay, double *v) {
+  size_t width = core_csv_record_width(t, r), want = core_csv_record_width(t, 0);
   if (width != want)
     return cli_fail("eval", "line %zu: %zu fields, but the header has %zu columns", t->line[r],
                     width, want);
   char buf[128], shown[64];
   for (int c = 0; c < lay->n; c++) {
     const column_spec *s = lay->spec[c];
-    size_t len = csv_value(t, r, lay->index[c], buf, sizeof buf);
+    size_t len = core_csv_value(t, r, lay->index[c], buf, sizeof buf);
     if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
     double x = 0;
     core_number_result nr = len < sizeof buf && strlen(buf) == len ? core_parse_number(buf, len, &x)
@@ -382,7 +383,7 @@ static void batch_free(batch *b) {
 
 /* One handle per row, shared by consecutive rows with the same parameters
  * (a lobe scan repeats them), so memory stays linear and small. */
-static int build_batch(const csv_table *t, const eval_args *a, const layout *lay, batch *b) {
+static int build_batch(const core_csv_table *t, const eval_args *a, const layout *lay, batch *b) {
   size_t n = t->n_records - 1;
   b->n = n;
   b->brdfs = calloc(n ? n : 1, sizeof *b->brdfs);
@@ -420,16 +421,16 @@ static int build_batch(const csv_table *t, const eval_args *a, const layout *lay
   return CLI_EXIT_OK;
 }
 
-static void write_row(FILE *out, const csv_table *t, size_t r) {
-  size_t width = csv_record_width(t, r);
+static void write_row(FILE *out, const core_csv_table *t, size_t r) {
+  size_t width = core_csv_record_width(t, r);
   for (size_t c = 0; c < width; c++) {
     if (c) fputc(',', out);
-    csv_write_raw(out, t, r, c);
+    core_csv_write_raw(out, t, r, c);
   }
 }
 
 /* The CSV of --in FILE (a regular file), else of stdin. */
-static int read_input(const char *path, csv_table *t) {
+static int read_input(const char *path, core_csv_table *t) {
   nbrdf_error err = {0};
   FILE *in = stdin;
   if (path) {
@@ -444,11 +445,11 @@ static int read_input(const char *path, csv_table *t) {
   } else if (isatty(STDIN_FILENO)) {
     fprintf(stderr, "nbrdf eval: reading CSV from the terminal (end with Ctrl-D; see --help)\n");
   }
-  nbrdf_status st = csv_read(in, path ? path : "stdin", t, &err);
+  nbrdf_status st = core_csv_read(in, path ? path : "stdin", t, &err);
   if (in != stdin) fclose(in);
   if (st != NBRDF_OK) return cli_fail_error("eval", &err);
   if (t->n_records == 0) {
-    csv_free(t);
+    core_csv_free(t);
     return cli_fail("eval", "%s: no header row (see 'nbrdf eval --help')", path ? path : "stdin");
   }
   return CLI_EXIT_OK;
@@ -459,15 +460,15 @@ int cmd_eval(int argc, char **argv) {
   int rc = parse_args(argc, argv, &a);
   if (rc != CLI_EXIT_OK) return rc < 0 ? CLI_EXIT_OK : rc;
 
-  csv_table t;
+  core_csv_table t;
   nbrdf_error err = {0};
   rc = read_input(a.in, &t);
   if (rc != CLI_EXIT_OK) return rc;
   if (a.texture.texture) {
     static char tbuf[1 << 16];
     setvbuf(stdout, tbuf, _IOFBF, sizeof tbuf);
-    rc = eval_texture(&a.texture, &t, stdout);
-    csv_free(&t);
+    rc = cli_eval_texture(&a.texture, &t, stdout);
+    core_csv_free(&t);
     return rc;
   }
   layout lay;
@@ -478,8 +479,8 @@ int cmd_eval(int argc, char **argv) {
     const char *columns[MAX_PARAMS];
     for (int p = 0; p < a.model->n_params; p++)
       columns[p] = a.model->params[p].name;
-    rc = eval_neural(&a.neural, a.model->neural, b.n, b.params, columns, b.queries, t.line + 1,
-                     b.f);
+    rc = cli_eval_neural(&a.neural, a.model->neural, b.n, b.params, columns, b.queries, t.line + 1,
+                         b.f);
   }
   else if (rc == CLI_EXIT_OK && b.n > 0 &&
            nbrdf_brdf_eval_many(b.n, b.brdfs, b.queries, &a.options, b.f, b.f_stderr, &err) !=
@@ -504,6 +505,6 @@ int cmd_eval(int argc, char **argv) {
     if (fflush(stdout) != 0 || ferror(stdout)) rc = cli_fail("eval", "writing stdout failed");
   }
   batch_free(&b);
-  csv_free(&t);
+  core_csv_free(&t);
   return rc;
 }

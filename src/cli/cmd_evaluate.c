@@ -5,7 +5,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_outputs.h"
-#include "cli/cmd_train.h"
+#include "cli/cli_progress.h"
 #include "eval/evaluate.h"
 #include "model/bundle.h"
 
@@ -34,7 +34,7 @@ void cmd_evaluate_usage(FILE *out) {
 int cmd_evaluate(int argc, char **argv) {
   eval_settings s = EVAL_SETTINGS_DEFAULT;
   const char *bundle = NULL, *decoder = NULL, *sets = NULL, *json = NULL, *plots = NULL;
-  train_progress prog = {0, 0};
+  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
   for (int i = 1; i < argc; i++) {
     const char *v;
     long n;
@@ -66,9 +66,8 @@ int cmd_evaluate(int argc, char **argv) {
       if (!cli_parse_int(v, 1, 1000000, &n))
         return cli_usage_error("evaluate", "--steps '%s': expected 1..1000000", v);
       s.project_steps = (int)n;
-    } else if (!strcmp(argv[i], "--progress=json"))
-      prog.json = 1;
-    else if (cli_is_help(argv[i])) {
+    } else if (cli_progress_flag(argv[i], &prog)) {
+    } else if (cli_is_help(argv[i])) {
       cmd_evaluate_usage(stdout);
       return CLI_EXIT_OK;
     } else
@@ -105,7 +104,8 @@ int cmd_evaluate(int argc, char **argv) {
                    : "rep,single");
   eval_result results[EVAL_SET_COUNT];
   int n_results = 0;
-  s.progress = train_on_progress, s.user = &prog;
+  cli_progress_start(&prog);
+  s.progress = cli_progress, s.user = &prog;
   cli_cancel_watch();
   for (char *tok = strtok(list, ","); tok && !st; tok = strtok(NULL, ",")) {
     eval_set set;

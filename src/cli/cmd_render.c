@@ -7,13 +7,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
+#include "model/param_conventions.h"
 #include "nbrdf/render.h"
 
 void cmd_render_usage(FILE *out) {
@@ -83,10 +83,10 @@ static int make_reference(const cli_params *p, nbrdf_brdf **brdfs, int *channels
       v[k][c] = q->value[q->channels == 3 ? c : 0];
     if (q->channels == 3) *channels = 3;
   }
-  if (p->roughness == NBRDF_ROUGHNESS_PERCEPTUAL)
-    for (int c = 0; c < 3; c++)
-      v[NBRDF_BAKE_ALPHA1][c] *= v[NBRDF_BAKE_ALPHA1][c],
-          v[NBRDF_BAKE_ALPHA2][c] *= v[NBRDF_BAKE_ALPHA2][c];
+  for (int c = 0; c < 3; c++) {
+    v[NBRDF_BAKE_ALPHA1][c] = model_roughness_alpha(p->roughness, v[NBRDF_BAKE_ALPHA1][c]);
+    v[NBRDF_BAKE_ALPHA2][c] = model_roughness_alpha(p->roughness, v[NBRDF_BAKE_ALPHA2][c]);
+  }
   for (int c = 0; c < *channels; c++) {
     nbrdf_error err = {0};
     nbrdf_brdf *bottom = NULL;
@@ -140,7 +140,7 @@ int cmd_render(int argc, char **argv) {
   cli_params params;
   cli_params_init(&params);
   const char *latent = NULL, *out = NULL, *png = NULL, *bundle = NULL;
-  cli_progress_state ps = {0, 0};
+  cli_progress_state ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
   int lobes[8][3], n_lobes = 0;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = NULL;
@@ -222,8 +222,7 @@ int cmd_render(int argc, char **argv) {
       for (int k = 0; k < 3; k++)
         lobes[n_lobes][k] = (int)xyl[k];
       n_lobes++;
-    } else if (!strcmp(a, "--progress=json")) {
-      ps.json = 1;
+    } else if (cli_progress_flag(a, &ps)) {
     } else if (a[0] != '-' && !latent) {
       latent = a;
     } else {
@@ -269,7 +268,7 @@ int cmd_render(int argc, char **argv) {
   for (int k = 0; rc == CLI_EXIT_OK && k < n_lobes; k++)
     rc = write_lobe(model, latent, out, lobes[k], &o, ps.json);
   if (rc == CLI_EXIT_OK) {
-    ps.bar = !ps.json && isatty(STDERR_FILENO);
+    cli_progress_start(&ps);
     o.progress = cli_progress, o.user = &ps, o.cancel = cli_cancel_flag();
     cli_cancel_watch();
     nbrdf_render_stats stats;

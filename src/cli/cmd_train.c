@@ -7,6 +7,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_outputs.h"
+#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "train/train_decoder.h"
 
@@ -55,7 +56,7 @@ void cmd_train_usage(FILE *out) {
       "value is refused, naming the setting and both values.\n"
       "\n"
       "trainer flags (tables, layering, sampler: one trainer runs every fit; a step is\n"
-      "a projection step, a batch of pairs, a batch of latents):\n" TRAIN_LIMITS_HELP "\n"
+      "a projection step, a batch of pairs, a batch of latents):\n" CLI_TRAIN_LIMITS_HELP "\n"
       "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
       "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
       "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
@@ -113,7 +114,7 @@ static int train_decoder(int argc, char **argv) {
       {"--energy", 0, 1e6, &energy},
       {"--energy-brdfs", 1, 4096, &energy_brdfs},
   };
-  train_progress prog = {0, 0};
+  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
   for (int i = 2; i < argc; i++) {
     const char *v;
     int matched = 0;
@@ -129,7 +130,7 @@ static int train_decoder(int argc, char **argv) {
     if ((v = cli_option_value(argc, argv, &i, "--data"))) {
       free(data_list);
       data_list = strdup(v);
-      n_data = data_list ? train_split_list(data_list, data, 64) : 0;
+      n_data = data_list ? cli_train_split_list(data_list, data, 64) : 0;
     } else if ((v = cli_option_value(argc, argv, &i, "--run"))) {
       s.run_dir = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--preset"))) {
@@ -147,8 +148,7 @@ static int train_decoder(int argc, char **argv) {
     } else if ((v = cli_option_value(argc, argv, &i, "--loss"))) {
       if (!model_loss_parse(v, &s.loss))
         return cli_usage_error("train", "unknown loss '%s' (l1-log1p, l1)", v);
-    } else if (!strcmp(argv[i], "--progress=json")) {
-      prog.json = 1;
+    } else if (cli_progress_flag(argv[i], &prog)) {
     } else if (cli_is_help(argv[i])) {
       cmd_train_usage(stdout);
       free(data_list);
@@ -197,13 +197,14 @@ static int train_decoder(int argc, char **argv) {
   s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval, s.brdf_weight = bweight;
   s.stop_at_step = (int64_t)stop_at;
   s.energy.lambda = (float)energy, s.energy_brdfs = (int)energy_brdfs;
-  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  cli_progress_start(&prog);
+  s.progress = cli_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   cli_cancel_watch();
   train_decoder_result r;
   st = train_decoder_run(&s, &r, &err);
   cli_cancel_unwatch();
   if (!prog.json) fputc('\n', stderr);
-  train_limits_note("checkpoint.safetensors", r.legacy_resume);
+  cli_train_limits_note("checkpoint.safetensors", r.legacy_resume);
   free(data_list);
   if (st == NBRDF_ERR_CANCELLED) {
     fprintf(stderr, "train: %s\n", err.message);

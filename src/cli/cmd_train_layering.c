@@ -1,10 +1,11 @@
-/* nbrdf train layering / nbrdf train bundle. */
+/* nbrdf train layering. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_outputs.h"
+#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "core/error.h"
 #include "model/bundle.h"
@@ -17,14 +18,14 @@ int cmd_train_layering(int argc, char **argv) {
   int decoded = 0;
   char *list = NULL;
   int n_data = 0;
-  train_progress prog = {0, 0};
-  train_limits lim = TRAIN_LIMITS_DEFAULT;
+  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
+  cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
     long n;
     double x;
     int code;
-    if (train_limits_option(argc, argv, &i, &lim, &code)) {
+    if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
       if (code) {
         free(list);
         return code;
@@ -32,7 +33,7 @@ int cmd_train_layering(int argc, char **argv) {
     } else if ((v = cli_option_value(argc, argv, &i, "--data"))) {
       free(list);
       list = strdup(v);
-      n_data = list ? train_split_list(list, data, 64) : 0;
+      n_data = list ? cli_train_split_list(list, data, 64) : 0;
     } else if ((v = cli_option_value(argc, argv, &i, "--run")))
       run = v;
     else if ((v = cli_option_value(argc, argv, &i, "--tables")))
@@ -76,9 +77,8 @@ int cmd_train_layering(int argc, char **argv) {
         free(list);
         return cli_usage_error("train", "layering: %s", e2.message);
       }
-    } else if (!strcmp(argv[i], "--progress=json"))
-      prog.json = 1;
-    else {
+    } else if (cli_progress_flag(argv[i], &prog)) {
+    } else {
       free(list);
       return cli_usage_error("train", "layering: unexpected or invalid argument '%s'", argv[i]);
     }
@@ -120,13 +120,14 @@ int cmd_train_layering(int argc, char **argv) {
   model_decoder *dec = NULL;
   train_layering_result r = {0};
   nbrdf_status st = train_samples_load(n_data, data, &d, &err);
-  if (!st) st = train_load_tables(tables, t, &err);
+  if (!st) st = cli_train_load_tables(tables, t, &err);
   if (!st) st = model_decoder_load(decoder ? decoder : dec_path, &dec, &err);
-  if (!st && init) st = train_read_net(init, 1, &init_net, NULL, &err);
+  if (!st && init) st = cli_train_read_net(init, 1, &init_net, NULL, &err);
   if (!st && !decoded && !(lat = malloc(d.n_brdfs * 32 * sizeof *lat)))
     st = core_fail(&err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st && !decoded) st = train_checkpoint_latents(ckpt, d.n_brdfs, 32, lat, &err);
-  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  cli_progress_start(&prog);
+  s.progress = cli_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   s.init = init_net;
   cli_cancel_watch();
   if (!st)
@@ -135,7 +136,7 @@ int cmd_train_layering(int argc, char **argv) {
   cli_cancel_unwatch();
   if (!st) st = model_layering_save(net, out, NULL, &err);
   if (!prog.json) fputc('\n', stderr);
-  if (s.checkpoint) train_limits_note(s.checkpoint, r.legacy_resume);
+  if (s.checkpoint) cli_train_limits_note(s.checkpoint, r.legacy_resume);
   if (!st && !decoded)
     printf("train layering (latent loss): %zu pairs (%zu held out), train MSE %.5g, validation "
            "MSE %.5g (%.2f %% of the mean squared latent); decoded validation loss %.5g (the "
@@ -155,76 +156,4 @@ int cmd_train_layering(int argc, char **argv) {
   free(lat), free(list);
   train_samples_free(&d);
   return st ? cli_fail_error("train", &err) : CLI_EXIT_OK;
-}
-
-int cmd_train_bundle(int argc, char **argv) {
-  const char *out = NULL, *name = "default", *decoder = NULL, *tables = NULL, *layering = NULL,
-             *sampler = NULL, *card = NULL, *note = NULL;
-  for (int i = 2; i < argc; i++) {
-    const char *v;
-    if ((v = cli_option_value(argc, argv, &i, "-o")))
-      out = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--name")))
-      name = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--decoder")))
-      decoder = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--tables")))
-      tables = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--layering")))
-      layering = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--sampler")))
-      sampler = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--card")))
-      card = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--note")))
-      note = v;
-    else
-      return cli_usage_error("train", "bundle: unexpected argument '%s'", argv[i]);
-  }
-  if (!out || !decoder || !tables || !layering)
-    return cli_usage_error("train", "bundle: -o, --decoder, --tables and --layering are required");
-  cli_inputs inputs;
-  cli_inputs_init(&inputs);
-  const char *read[5] = {decoder, tables, layering, sampler, card};
-  for (int k = 0; k < 5; k++)
-    cli_inputs_add(&inputs, read[k]);
-  if (cli_outputs_check_bundle("train", &inputs, out) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
-  nbrdf_error err = {0};
-  model_decoder *dec = NULL;
-  model_layering *lay = NULL;
-  model_sampler *smp = NULL;
-  model_base_table t[2];
-  char *card_text = NULL;
-  nbrdf_status st = model_decoder_load(decoder, &dec, &err);
-  if (!st) st = train_load_tables(tables, t, &err);
-  if (!st) st = train_read_net(layering, 1, &lay, NULL, &err);
-  /* Without a trained sampler the proxy keeps its initial weights: sampling
-   * stays unbiased (MIS), only its variance suffers; the card says so. */
-  if (!st)
-    st = sampler ? train_read_net(sampler, 0, NULL, &smp, &err)
-                 : model_sampler_create("default", 32, 1, &smp, &err);
-  size_t card_size = 0;
-  if (!st && card) st = model_read_file(card, MODEL_JSON_MAX, &card_text, &card_size, &err);
-  uint64_t sum = 0;
-  if (!st) {
-    model_bundle_parts parts = {.name = name,
-                                .trained = 1,
-                                .seed = 1,
-                                .note = note,
-                                .card = card_text,
-                                .decoder = dec,
-                                .layering = lay,
-                                .sampler = smp,
-                                .tables = {&t[0], &t[1]}};
-    st = model_bundle_save(out, &parts, &sum, &err);
-  }
-  model_decoder_destroy(dec);
-  model_layering_destroy(lay);
-  model_sampler_destroy(smp);
-  model_base_table_free(&t[0]);
-  model_base_table_free(&t[1]);
-  free(card_text);
-  if (st) return cli_fail_error("train", &err);
-  printf("train bundle: %s (checksum %016llx)\n", out, (unsigned long long)sum);
-  return CLI_EXIT_OK;
 }

@@ -5,6 +5,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_outputs.h"
+#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "core/error.h"
 #include "train/samples.h"
@@ -19,18 +20,18 @@ static nbrdf_status add_layered_latents(const char *layering, const char *tables
   train_samples d;
   model_base_table t[2];
   model_layering *net = NULL;
-  layering_pairs all = {0}, none = {0};
+  train_layering_pairs all = {0}, none = {0};
   nbrdf_status st = train_samples_load(n_data, data, &d, err);
   if (st) return st;
-  st = train_load_tables(tables, t, err);
-  if (!st) st = train_read_net(layering, 1, &net, NULL, err);
-  if (!st) st = layering_pairs_make(&d, NULL, t, 2, 0, &all, &none, err);
+  st = cli_train_load_tables(tables, t, err);
+  if (!st) st = cli_train_read_net(layering, 1, &net, NULL, err);
+  if (!st) st = train_layering_pairs_make(&d, NULL, t, 2, 0, &all, &none, err);
   float *grown = st ? NULL : realloc(*lat, (*n + all.n) * 32 * sizeof(float));
   if (!st && !grown) st = core_fail(err, NBRDF_ERR_MEMORY, "train sampler: out of memory");
   if (grown) *lat = grown;
   if (!st) st = train_layering_pair_latents(net, &all, *lat + *n * 32, err);
   if (!st) *n += all.n;
-  layering_pairs_free(&all), layering_pairs_free(&none);
+  train_layering_pairs_free(&all), train_layering_pairs_free(&none);
   model_layering_destroy(net);
   model_base_table_free(&t[0]);
   model_base_table_free(&t[1]);
@@ -44,12 +45,12 @@ int cmd_train_sampler(int argc, char **argv) {
   char *list = NULL;
   int n_data = 0;
   long brdfs = 0, n;
-  train_progress prog = {0, 0};
-  train_limits lim = TRAIN_LIMITS_DEFAULT;
+  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
+  cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
     int code;
-    if (train_limits_option(argc, argv, &i, &lim, &code)) {
+    if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
       if (code) {
         free(list);
         return code;
@@ -65,15 +66,14 @@ int cmd_train_sampler(int argc, char **argv) {
     else if ((v = cli_option_value(argc, argv, &i, "--data"))) {
       free(list);
       list = strdup(v);
-      n_data = list ? train_split_list(list, data, 64) : 0;
+      n_data = list ? cli_train_split_list(list, data, 64) : 0;
     } else if ((v = cli_option_value(argc, argv, &i, "--brdfs")) &&
                cli_parse_int(v, 0, 1L << 30, &n))
       brdfs = n;
     else if ((v = cli_option_value(argc, argv, &i, "--epochs")) && cli_parse_int(v, 1, 100000, &n))
       s.epochs = (int)n;
-    else if (!strcmp(argv[i], "--progress=json"))
-      prog.json = 1;
-    else {
+    else if (cli_progress_flag(argv[i], &prog)) {
+    } else {
       free(list);
       return cli_usage_error("train", "sampler: unexpected or invalid argument '%s'", argv[i]);
     }
@@ -122,7 +122,8 @@ int cmd_train_sampler(int argc, char **argv) {
   size_t from_run = use;
   if (!st && layering) st = add_layered_latents(layering, tables, n_data, data, &lat, &use, &err);
   train_sampler_result res;
-  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  cli_progress_start(&prog);
+  s.progress = cli_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   s.checkpoint = lim.checkpoint, s.checkpoint_seconds = lim.checkpoint_seconds;
   s.max_seconds = lim.max_seconds, s.stop_at_step = lim.stop_at_step;
   cli_cancel_watch();

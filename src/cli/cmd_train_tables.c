@@ -4,6 +4,7 @@
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_outputs.h"
+#include "cli/cli_progress.h"
 #include "cli/cmd_train.h"
 #include "model/bundle.h"
 #include "train/table_fit.h"
@@ -11,13 +12,13 @@
 int cmd_train_tables(int argc, char **argv) {
   train_table_settings s = TRAIN_TABLE_SETTINGS_DEFAULT;
   const char *decoder = NULL, *out = NULL;
-  train_progress prog = {0, 0};
-  train_limits lim = TRAIN_LIMITS_DEFAULT;
+  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
+  cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
   for (int i = 2; i < argc; i++) {
     const char *v;
     long n;
     int code;
-    if (train_limits_option(argc, argv, &i, &lim, &code)) {
+    if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
       if (code) return code;
     } else if ((v = cli_option_value(argc, argv, &i, "--decoder"))) {
       decoder = v;
@@ -52,8 +53,7 @@ int cmd_train_tables(int argc, char **argv) {
       if (!cli_parse_int(v, 0, 2147483647, &n))
         return cli_usage_error("train", "--seed '%s': expected 0..2^31-1", v);
       s.seed = (uint64_t)n;
-    } else if (!strcmp(argv[i], "--progress=json")) {
-      prog.json = 1;
+    } else if (cli_progress_flag(argv[i], &prog)) {
     } else {
       return cli_usage_error("train", "unexpected argument '%s'", argv[i]);
     }
@@ -71,7 +71,8 @@ int cmd_train_tables(int argc, char **argv) {
   model_base_table tables[2];
   memset(tables, 0, sizeof tables);
   nbrdf_status st = model_decoder_load(decoder, &dec, &err);
-  s.progress = train_on_progress, s.user = &prog, s.cancel = cli_cancel_flag();
+  cli_progress_start(&prog);
+  s.progress = cli_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   cli_cancel_watch();
   if (!st) st = train_tables_fit(dec, &s, tables, &err);
   cli_cancel_unwatch();

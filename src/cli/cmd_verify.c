@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
@@ -116,8 +115,7 @@ static int parse_option(int argc, char **argv, int *i, verify_args *a) {
   } else if ((v = cli_option_value(argc, argv, i, "--worst"))) {
     if (!cli_parse_int(v, 0, 1000000, &a->worst))
       return cli_usage_error("verify", "--worst needs an integer >= 0, not '%s'", v);
-  } else if (!strcmp(argv[*i], "--progress=json")) {
-    a->ps.json = 1;
+  } else if (cli_progress_flag(argv[*i], &a->ps)) {
     return CLI_EXIT_OK;
   } else {
     return -1;
@@ -216,7 +214,15 @@ static int finish(const verify_args *a, const nbrdf_verify_report *r) {
 int cmd_verify(int argc, char **argv) {
   cli_params params;
   cli_params_init(&params);
-  verify_args a = {NULL, NULL, NULL, NULL, "worst", -1.0, 5, NBRDF_VERIFY_OPTIONS_DEFAULT, {0, 0}};
+  verify_args a = {NULL,
+                   NULL,
+                   NULL,
+                   NULL,
+                   "worst",
+                   -1.0,
+                   5,
+                   NBRDF_VERIFY_OPTIONS_DEFAULT,
+                   cli_progress_init(CLI_PROGRESS_BAR, NULL)};
   for (int i = 1; i < argc; i++) {
     if (cli_is_help(argv[i])) {
       cmd_verify_usage(stdout);
@@ -254,7 +260,7 @@ int cmd_verify(int argc, char **argv) {
   }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n", used);
-  a.ps.bar = !a.ps.json && isatty(STDERR_FILENO);
+  cli_progress_start(&a.ps);
   a.o.progress = cli_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
   cli_cancel_watch();
   nbrdf_verify_report *rep = NULL;

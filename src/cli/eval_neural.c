@@ -21,13 +21,13 @@ static const int DIELECTRIC_IDS[2] = {NBRDF_BAKE_ALPHA1, NBRDF_BAKE_ETA};
 
 /* Row k's parameters through the bake's conventions into t (a full tuple;
  * columns a kind does not have keep a value inside the range). */
-static int prepare_row(const eval_neural_options *o, const float *lo, const float *hi,
-                       eval_neural_kind kind, const double *v, const char *const *columns,
+static int prepare_row(const cli_eval_neural_options *o, const float *lo, const float *hi,
+                       cli_eval_neural_kind kind, const double *v, const char *const *columns,
                        size_t line, bake_tuple *t) {
-  const int *ids = kind == EVAL_NEURAL_LAYERED     ? LAYERED_IDS
-                   : kind == EVAL_NEURAL_CONDUCTOR ? CONDUCTOR_IDS
-                                                   : DIELECTRIC_IDS;
-  int np = kind == EVAL_NEURAL_LAYERED ? 6 : 2;
+  const int *ids = kind == CLI_EVAL_NEURAL_LAYERED     ? LAYERED_IDS
+                   : kind == CLI_EVAL_NEURAL_CONDUCTOR ? CONDUCTOR_IDS
+                                                       : DIELECTRIC_IDS;
+  int np = kind == CLI_EVAL_NEURAL_LAYERED ? 6 : 2;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     t->p[id] = lo[id];
   for (int c = 0; c < np; c++) {
@@ -54,27 +54,27 @@ static int prepare_row(const eval_neural_options *o, const float *lo, const floa
 
 /* f of rows [k0, k0 + m): the bake's tuple evaluation (or, for the base
  * BRDFs alone, its table look-up), then the decoder. */
-static nbrdf_status run_chunk(const nbrdf_model *model, eval_neural_kind kind, const bake_tuple *t,
-                              size_t m, const nbrdf_query *q, float *scratch, double *f,
-                              nbrdf_error *err) {
+static nbrdf_status run_chunk(const nbrdf_model *model, cli_eval_neural_kind kind,
+                              const bake_tuple *t, size_t m, const nbrdf_query *q, float *scratch,
+                              double *f, nbrdf_error *err) {
   const size_t D = (size_t)nbrdf_model_latent_dim(model);
   float *tuple_out = scratch, *lat = tuple_out + m * (D + 2), *wi = lat + m * D, *wo = wi + 3 * m,
         *out = wo + 3 * m;
   float *p0 = malloc(sizeof(float) * 2 * m);
   if (!p0) return core_fail(err, NBRDF_ERR_MEMORY, "eval: out of memory");
   nbrdf_status st = NBRDF_OK;
-  if (kind == EVAL_NEURAL_LAYERED) {
+  if (kind == CLI_EVAL_NEURAL_LAYERED) {
     st = bake_tuples_evaluate(model, t, NULL, m, tuple_out, err);
     for (size_t k = 0; st == NBRDF_OK && k < m; k++)
       memcpy(lat + k * D, tuple_out + k * (D + 2), sizeof(float) * D);
   } else {
-    int a = kind == EVAL_NEURAL_CONDUCTOR ? NBRDF_BAKE_ALPHA2 : NBRDF_BAKE_ALPHA1;
-    int b = kind == EVAL_NEURAL_CONDUCTOR ? NBRDF_BAKE_R0 : NBRDF_BAKE_ETA;
+    int a = kind == CLI_EVAL_NEURAL_CONDUCTOR ? NBRDF_BAKE_ALPHA2 : NBRDF_BAKE_ALPHA1;
+    int b = kind == CLI_EVAL_NEURAL_CONDUCTOR ? NBRDF_BAKE_R0 : NBRDF_BAKE_ETA;
     for (size_t k = 0; k < m; k++)
       p0[k] = t[k].p[a], p0[m + k] = t[k].p[b];
     st = nbrdf_model_base_latents(
-        model, kind == EVAL_NEURAL_CONDUCTOR ? NBRDF_BASE_CONDUCTOR : NBRDF_BASE_DIELECTRIC, m, p0,
-        p0 + m, NBRDF_RANGE_CLAMP, lat, NULL, err);
+        model, kind == CLI_EVAL_NEURAL_CONDUCTOR ? NBRDF_BASE_CONDUCTOR : NBRDF_BASE_DIELECTRIC, m,
+        p0, p0 + m, NBRDF_RANGE_CLAMP, lat, NULL, err);
   }
   for (size_t k = 0; k < m; k++)
     for (int j = 0; j < 3; j++)
@@ -86,8 +86,9 @@ static nbrdf_status run_chunk(const nbrdf_model *model, eval_neural_kind kind, c
   return st;
 }
 
-int eval_neural(const eval_neural_options *o, eval_neural_kind kind, size_t n, const double *params,
-                const char *const *columns, const nbrdf_query *q, const size_t *lines, double *f) {
+int cli_eval_neural(const cli_eval_neural_options *o, cli_eval_neural_kind kind, size_t n,
+                    const double *params, const char *const *columns, const nbrdf_query *q,
+                    const size_t *lines, double *f) {
   char bundle[PATH_MAX];
   nbrdf_error err = {0};
   nbrdf_model *m = NULL;
@@ -97,7 +98,7 @@ int eval_neural(const eval_neural_options *o, eval_neural_kind kind, size_t n, c
     fprintf(stderr, "nbrdf eval: warning: bundle '%s' is untrained (random networks)\n", bundle);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
   bake_ranges_init(m, lo, hi);
-  const size_t D = (size_t)nbrdf_model_latent_dim(m), np = kind == EVAL_NEURAL_LAYERED ? 6 : 2;
+  const size_t D = (size_t)nbrdf_model_latent_dim(m), np = kind == CLI_EVAL_NEURAL_LAYERED ? 6 : 2;
   const size_t chunk = n < EVAL_NEURAL_CHUNK ? n : EVAL_NEURAL_CHUNK;
   bake_tuple *t = malloc(sizeof *t * (n ? n : 1));
   float *scratch = malloc(sizeof(float) * chunk * (2 * D + 2 + 7));

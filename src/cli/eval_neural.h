@@ -12,26 +12,26 @@
 #include "nbrdf/bake.h"
 #include "nbrdf/brdf.h"
 
-typedef enum eval_neural_kind {
-  EVAL_NEURAL_NONE = 0,
-  EVAL_NEURAL_LAYERED,   /* alpha1, eta, alpha2, r0, albedo, sigma_t */
-  EVAL_NEURAL_CONDUCTOR, /* alpha, r0 */
-  EVAL_NEURAL_DIELECTRIC /* alpha, eta */
-} eval_neural_kind;
+typedef enum cli_eval_neural_kind {
+  CLI_EVAL_NEURAL_NONE = 0,
+  CLI_EVAL_NEURAL_LAYERED,   /* alpha1, eta, alpha2, r0, albedo, sigma_t */
+  CLI_EVAL_NEURAL_CONDUCTOR, /* alpha, r0 */
+  CLI_EVAL_NEURAL_DIELECTRIC /* alpha, eta */
+} cli_eval_neural_kind;
 
-typedef struct eval_neural_options {
+typedef struct cli_eval_neural_options {
   const char *bundle; /* NULL: the default bundle (cli_model_load) */
   nbrdf_roughness roughness;
   nbrdf_range_policy range;
-} eval_neural_options;
+} cli_eval_neural_options;
 
 /* Loads the bundle and fills f[k] for n rows of parameters (n × that kind's
  * count, named by `columns`) and queries. A value the bake would clamp is
  * clamped with one warning per value on stderr naming its line (`lines[k]`)
  * in the bake's words; one the bake would refuse stops with an error naming
  * the line and column. Returns a CLI exit status. */
-int eval_neural(const eval_neural_options *o, eval_neural_kind kind, size_t n, const double *params,
-                const char *const *columns, const nbrdf_query *queries, const size_t *lines,
-                double *f);
+int cli_eval_neural(const cli_eval_neural_options *o, cli_eval_neural_kind kind, size_t n,
+                    const double *params, const char *const *columns, const nbrdf_query *queries,
+                    const size_t *lines, double *f);
 
 #endif

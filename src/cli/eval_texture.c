@@ -36,14 +36,14 @@ static const char *printable(const char *s, char *buf, size_t cap) {
   return buf;
 }
 
-static int find_columns(const csv_table *t, int colours, size_t index[N_COLS]) {
-  size_t width = csv_record_width(t, 0);
+static int find_columns(const core_csv_table *t, int colours, size_t index[N_COLS]) {
+  size_t width = core_csv_record_width(t, 0);
   const char *const *outs = colours == 3 ? OUT_RGB : OUT_MONO;
   char name[64];
   for (int c = 0; c < N_COLS; c++)
     index[c] = width;
   for (size_t k = 0; k < width; k++) {
-    csv_value(t, 0, k, name, sizeof name);
+    core_csv_value(t, 0, k, name, sizeof name);
     for (int o = 0; o < colours; o++)
       if (!strcmp(name, outs[o]))
         return cli_fail("eval", "line %zu: the input already has a column '%s'", t->line[0], name);
@@ -62,15 +62,16 @@ static int find_columns(const csv_table *t, int colours, size_t index[N_COLS]) {
   return CLI_EXIT_OK;
 }
 
-static int parse_row(const csv_table *t, size_t r, const size_t index[N_COLS], double v[N_COLS]) {
-  size_t width = csv_record_width(t, r), want = csv_record_width(t, 0);
+static int parse_row(const core_csv_table *t, size_t r, const size_t index[N_COLS],
+                     double v[N_COLS]) {
+  size_t width = core_csv_record_width(t, r), want = core_csv_record_width(t, 0);
   if (width != want)
     return cli_fail("eval", "line %zu: %zu fields, but the header has %zu columns", t->line[r],
                     width, want);
   char buf[128], shown[64];
   for (int c = 0; c < N_COLS; c++) {
     const column *s = &COLUMNS[c];
-    size_t len = csv_value(t, r, index[c], buf, sizeof buf);
+    size_t len = core_csv_value(t, r, index[c], buf, sizeof buf);
     if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
     double x = 0;
     core_number_result nr = len < sizeof buf && strlen(buf) == len ? core_parse_number(buf, len, &x)
@@ -91,11 +92,11 @@ static void direction(double theta_deg, double phi_deg, float *w) {
   w[0] = (float)d.x, w[1] = (float)d.y, w[2] = (float)d.z;
 }
 
-static void write_row(FILE *out, const csv_table *t, size_t r) {
-  size_t width = csv_record_width(t, r);
+static void write_row(FILE *out, const core_csv_table *t, size_t r) {
+  size_t width = core_csv_record_width(t, r);
   for (size_t c = 0; c < width; c++) {
     if (c) fputc(',', out);
-    csv_write_raw(out, t, r, c);
+    core_csv_write_raw(out, t, r, c);
   }
 }
 
@@ -104,15 +105,16 @@ typedef struct buffers {
 } buffers;
 
 /* Parses, fetches and decodes rows [r0, r0 + n) (records r0 + 1 ...) into f. */
-static int decode_chunk(const csv_table *t, const size_t index[N_COLS], const nbrdf_model *model,
-                        const eval_latent_image *img, int level, size_t r0, size_t n, buffers *b) {
+static int decode_chunk(const core_csv_table *t, const size_t index[N_COLS],
+                        const nbrdf_model *model, const texture_latent_image *img, int level,
+                        size_t r0, size_t n, buffers *b) {
   const texture_latent_layout *lay = &img->layout;
   int colours = texture_latent_colours(lay), D = lay->latent_dim;
   for (size_t k = 0; k < n; k++) {
     double v[N_COLS];
     int rc = parse_row(t, r0 + k + 1, index, v);
     if (rc != CLI_EXIT_OK) return rc;
-    eval_latent_fetch_level(img, level, (float)v[COL_U], (float)v[COL_V], b->texel);
+    texture_latent_fetch_level(img, level, (float)v[COL_U], (float)v[COL_V], b->texel);
     for (int c = 0; c < colours; c++)
       memcpy(b->lat + (k * colours + c) * D, b->texel + texture_latent_index_latent(lay, c, 0),
              sizeof(float) * (size_t)D);
@@ -125,14 +127,14 @@ static int decode_chunk(const csv_table *t, const size_t index[N_COLS], const nb
   return CLI_EXIT_OK;
 }
 
-int eval_texture(const eval_texture_options *o, const csv_table *t, FILE *out) {
+int cli_eval_texture(const cli_eval_texture_options *o, const core_csv_table *t, FILE *out) {
   nbrdf_model *bundle = NULL, *model = NULL;
   int rc = cli_model_load("eval", o->bundle, &bundle, NULL, 0);
   if (rc != CLI_EXIT_OK) return rc;
   nbrdf_error err = {0};
-  eval_latent_image *img = NULL;
+  texture_latent_image *img = NULL;
   /* The texture's own decoder when it carries one: as a renderer decodes it. */
-  nbrdf_status st = eval_latent_image_load_model(o->texture, bundle, &img, &model, &err);
+  nbrdf_status st = texture_latent_image_load_model(o->texture, bundle, &img, &model, &err);
   nbrdf_model_destroy(bundle);
   if (st != NBRDF_OK) return cli_fail_error("eval", &err);
   int colours = texture_latent_colours(&img->layout);
@@ -175,7 +177,7 @@ int eval_texture(const eval_texture_options *o, const csv_table *t, FILE *out) {
     if (fflush(out) != 0 || ferror(out)) rc = cli_fail("eval", "writing stdout failed");
   }
   free(b.texel), free(b.lat), free(b.wi), free(b.wo), free(f);
-  eval_latent_image_free(img);
+  texture_latent_image_free(img);
   nbrdf_model_destroy(model);
   return rc;
 }

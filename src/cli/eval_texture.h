@@ -10,16 +10,16 @@
 
 #include "core/csv.h"
 
-typedef struct eval_texture_options {
+typedef struct cli_eval_texture_options {
   const char *texture;
   const char *bundle; /* NULL: the default bundle (cli_model_load) */
   int level;          /* mip level to fetch from */
-} eval_texture_options;
+} cli_eval_texture_options;
 
 /* Reads the columns u, v, theta_i, phi_i, theta_o, phi_o of every row of `t`
  * (a header and the queries), decodes, and writes the rows with f (mono) or
  * f_r, f_g, f_b (RGB) appended to `out`. Errors name the line and column.
  * Returns a CLI exit status. */
-int eval_texture(const eval_texture_options *o, const csv_table *t, FILE *out);
+int cli_eval_texture(const cli_eval_texture_options *o, const core_csv_table *t, FILE *out);
 
 #endif

@@ -20,7 +20,7 @@ static int grow(void **data, size_t *cap, size_t need, size_t elem) {
 
 static int is_blank(char c) { return c == ' ' || c == '\t'; }
 
-void csv_free(csv_table *t) {
+void core_csv_free(core_csv_table *t) {
   if (!t) return;
   free(t->text);
   free(t->first_field);
@@ -30,14 +30,14 @@ void csv_free(csv_table *t) {
 }
 
 /* Counts the physical lines of text[from..to), continuing *line and *line_len
- * (the bytes of the current line so far); 0 once a line exceeds CSV_LINE_MAX. */
+ * (the bytes of the current line so far); 0 once a line exceeds CORE_CSV_LINE_MAX. */
 static int lines_within_bound(const char *text, size_t from, size_t to, size_t *line,
                               size_t *line_len) {
   for (size_t i = from; i < to; i++) {
     if (text[i] == '\n') {
       ++*line;
       *line_len = 0;
-    } else if (++*line_len > CSV_LINE_MAX + (text[i] == '\r')) {
+    } else if (++*line_len > CORE_CSV_LINE_MAX + (text[i] == '\r')) {
       return 0; /* a CR before the LF is part of the line break */
     }
   }
@@ -46,10 +46,10 @@ static int lines_within_bound(const char *text, size_t from, size_t to, size_t *
 
 static nbrdf_status line_too_long(nbrdf_error *err, const char *name, size_t line) {
   return core_fail(err, NBRDF_ERR_FORMAT, "%s: line %zu is longer than %d bytes (the limit)", name,
-                   line, CSV_LINE_MAX);
+                   line, CORE_CSV_LINE_MAX);
 }
 
-nbrdf_status csv_read(FILE *in, const char *name, csv_table *table, nbrdf_error *err) {
+nbrdf_status core_csv_read(FILE *in, const char *name, core_csv_table *table, nbrdf_error *err) {
   memset(table, 0, sizeof *table);
   char *buf = NULL;
   size_t len = 0, cap = 0, line = 1, line_len = 0;
@@ -70,24 +70,24 @@ nbrdf_status csv_read(FILE *in, const char *name, csv_table *table, nbrdf_error 
     free(buf);
     return core_fail(err, NBRDF_ERR_IO, "%s: read error after %zu bytes", name, len);
   }
-  return csv_parse(buf, len, name, table, err);
+  return core_csv_parse(buf, len, name, table, err);
 }
 
 typedef struct parser {
-  csv_table *t;
+  core_csv_table *t;
   size_t cap_fields, cap_first, cap_line;
 } parser;
 
 static int push_field(parser *p, size_t start, size_t len) {
-  csv_table *t = p->t;
+  core_csv_table *t = p->t;
   if (!grow((void **)&t->fields, &p->cap_fields, t->n_fields + 1, sizeof *t->fields)) return 0;
-  t->fields[t->n_fields++] = (csv_span){start, len};
+  t->fields[t->n_fields++] = (core_csv_span){start, len};
   return 1;
 }
 
 /* Opens record n_records (its end is fixed by the next call or by the final one). */
 static int push_record(parser *p, size_t line) {
-  csv_table *t = p->t;
+  core_csv_table *t = p->t;
   size_t need = t->n_records + 2;
   if (!grow((void **)&t->first_field, &p->cap_first, need, sizeof *t->first_field)) return 0;
   if (!grow((void **)&t->line, &p->cap_line, need, sizeof *t->line)) return 0;
@@ -98,8 +98,8 @@ static int push_record(parser *p, size_t line) {
   return 1;
 }
 
-nbrdf_status csv_parse(char *text, size_t len, const char *name, csv_table *table,
-                       nbrdf_error *err) {
+nbrdf_status core_csv_parse(char *text, size_t len, const char *name, core_csv_table *table,
+                            nbrdf_error *err) {
   memset(table, 0, sizeof *table);
   table->text = text;
   table->text_len = len;
@@ -178,12 +178,13 @@ nbrdf_status csv_parse(char *text, size_t len, const char *name, csv_table *tabl
 oom:
   st = core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory on line %zu", name, line);
 fail:
-  csv_free(table);
+  core_csv_free(table);
   return st;
 }
 
-size_t csv_value(const csv_table *t, size_t record, size_t column, char *buf, size_t cap) {
-  csv_span s = csv_field(t, record, column);
+size_t core_csv_value(const core_csv_table *t, size_t record, size_t column, char *buf,
+                      size_t cap) {
+  core_csv_span s = core_csv_field(t, record, column);
   const char *a = t->text + s.start, *b = a + s.len;
   while (a < b && is_blank(*a))
     a++;
@@ -201,7 +202,7 @@ size_t csv_value(const csv_table *t, size_t record, size_t column, char *buf, si
   return n;
 }
 
-void csv_write_raw(FILE *out, const csv_table *t, size_t record, size_t column) {
-  csv_span s = csv_field(t, record, column);
+void core_csv_write_raw(FILE *out, const core_csv_table *t, size_t record, size_t column) {
+  core_csv_span s = core_csv_field(t, record, column);
   fwrite(t->text + s.start, 1, s.len, out);
 }

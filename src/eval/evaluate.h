@@ -108,9 +108,9 @@ nbrdf_status eval_score_latents(model_decoder *dec, size_t n, const float *lat, 
 
 /* Lobe images of one BRDF at n_theta angles (degrees), with `walks` walks per
  * image when it is layered; hook (may be NULL) ticks between chunks. */
-struct layered_lobe_hook;
+struct brdf_layered_lobe_hook;
 nbrdf_status eval_images_of(const train_params *p, uint64_t seed, int walks,
-                            const struct layered_lobe_hook *hook, int n_theta,
+                            const struct brdf_layered_lobe_hook *hook, int n_theta,
                             const double *theta_deg, double *out, nbrdf_error *err);
 
 /* The extra references of one set (evaluate_grazing.c; cached beside the

@@ -52,17 +52,16 @@ static int ref_tick_fn(void *user) {
 }
 
 nbrdf_status eval_images_of(const train_params *p, uint64_t seed, int walks,
-                            const layered_lobe_hook *hook, int n_theta, const double *theta_deg,
-                            double *out, nbrdf_error *err) {
+                            const brdf_layered_lobe_hook *hook, int n_theta,
+                            const double *theta_deg, double *out, nbrdf_error *err) {
   nbrdf_brdf *b = NULL;
   nbrdf_status st = train_params_create(p, &b, err);
   if (st) return st;
   if (nbrdf_brdf_is_stochastic(b)) {
     for (int t = 0; t < n_theta && !st; t++) {
-      int ok = layered_lobe_image_hooked(&brdf_bsdf(b)->layered,
-                                         theta_deg[t] * (M_PI / 180.0), NBRDF_LOBE_RES,
-                                         walks, core_hash64(seed, (uint64_t)t), 0, hook,
-                                         out + t * IMG, NULL);
+      int ok = brdf_layered_lobe_image_hooked(
+          &brdf_handle_bsdf(b)->layered, theta_deg[t] * (M_PI / 180.0), NBRDF_LOBE_RES, walks,
+          core_hash64(seed, (uint64_t)t), 0, hook, out + t * IMG, NULL);
       if (ok < 0)
         st = core_fail(err, NBRDF_ERR_CANCELLED, "evaluate: cancelled");
       else if (!ok)
@@ -139,7 +138,7 @@ nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images
   core_ticker ticker;
   core_ticker_init(&ticker, s->progress, s->user, NULL);
   ref_tick rt = {&ticker, stage, 0.0, s->count};
-  layered_lobe_hook hook = {NULL, ref_tick_fn, &rt};
+  brdf_layered_lobe_hook hook = {NULL, ref_tick_fn, &rt};
   for (int i = 0; i < s->count && !st; i++) {
     train_params p;
     train_params_draw(family, kind, (uint64_t)i, &p);

@@ -9,8 +9,8 @@
  * outgoing-radiance plot of the paper's Figs. 10, 11 and 15: the mirror
  * direction of ωi lies at x = −sin θi, left of the centre. Images are stored
  * row-major, one after the other (image t starts at t·res·res). */
-#ifndef NBRDF_EVAL_LOBE_H
-#define NBRDF_EVAL_LOBE_H
+#ifndef NBRDF_LOBE_LOBE_H
+#define NBRDF_LOBE_LOBE_H
 
 #include <stddef.h>
 

@@ -1,7 +1,7 @@
 /* Lobe images as a PNG for people to look at: one row per θi, with columns
  * reference | approximation | difference. */
-#ifndef NBRDF_EVAL_LOBE_PNG_H
-#define NBRDF_EVAL_LOBE_PNG_H
+#ifndef NBRDF_LOBE_LOBE_PNG_H
+#define NBRDF_LOBE_LOBE_PNG_H
 
 #include "nbrdf/status.h"
 

@@ -1,7 +1,7 @@
 /* Writing 8-bit RGB images as PNG for people to look at (lobe images, plots),
  * through OpenImageIO behind this C header (png_write_shim.cpp). */
-#ifndef NBRDF_EVAL_PNG_WRITE_H
-#define NBRDF_EVAL_PNG_WRITE_H
+#ifndef NBRDF_LOBE_PNG_WRITE_H
+#define NBRDF_LOBE_PNG_WRITE_H
 
 #include "nbrdf/status.h"
 

@@ -30,7 +30,7 @@ static double ggx_reflect_pdf(double alpha, vec3 wi, vec3 wo) {
   h = v3_scale(h, 1.0 / len);
   double wh = v3_dot(wi, h);
   if (wh <= 0.0 || h.z <= 0.0) return 0.0;
-  return ggx_vndf_pdf(alpha, wi, h) / (4.0 * wh);
+  return brdf_ggx_vndf_pdf(alpha, wi, h) / (4.0 * wh);
 }
 
 typedef struct technique {
@@ -56,7 +56,7 @@ static int tech_sample(const technique *t, vec3 wi, double u1, double u2, vec3 *
   }
   if (t->kind == 1) {
     vec3 h;
-    if (!ggx_sample_vndf(t->param, wi, u1, u2, &h)) return 0;
+    if (!brdf_ggx_sample_vndf(t->param, wi, u1, u2, &h)) return 0;
     *wo = v3_sub(v3_scale(h, 2.0 * v3_dot(wi, h)), wi);
     return 1;
   }

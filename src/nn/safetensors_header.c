@@ -199,7 +199,7 @@ static nbrdf_status parse_u64_array(parser *p, const char *what, int max, nbrdf_
   }
 }
 
-static nbrdf_status parse_tensor(parser *p, st_entry *t) {
+static nbrdf_status parse_tensor(parser *p, nn_st_entry *t) {
   char what[320];
   snprintf(what, sizeof what, "tensor '%.200s'", t->name);
   if (peek(p) != '{') return not_a(p, what, "not an object");
@@ -256,7 +256,7 @@ static void *grow(void *array, size_t *cap, size_t count, size_t elem) {
   return a;
 }
 
-static nbrdf_status parse_metadata(parser *p, st_header *h) {
+static nbrdf_status parse_metadata(parser *p, nn_st_header *h) {
   int c = peek(p);
   if (c == 'n' && p->size - p->pos >= 4 && memcmp(p->s + p->pos, "null", 4) == 0)
     return p->pos += 4, NBRDF_OK; /* serde reads null as "no metadata" */
@@ -264,7 +264,7 @@ static nbrdf_status parse_metadata(parser *p, st_header *h) {
   p->pos++;
   for (int first = 1;; first = 0) {
     if (peek(p) == '}' && first) break;
-    st_meta *meta = grow(h->meta, &h->meta_cap, h->meta_count, sizeof *meta);
+    nn_st_meta *meta = grow(h->meta, &h->meta_cap, h->meta_count, sizeof *meta);
     if (!meta) return core_fail(p->err, NBRDF_ERR_MEMORY, "out of memory reading the header");
     h->meta = meta;
     char **key = &h->meta[h->meta_count].key, **value = &h->meta[h->meta_count].value;
@@ -285,7 +285,7 @@ static nbrdf_status parse_metadata(parser *p, st_header *h) {
   return NBRDF_OK;
 }
 
-nbrdf_status nn_st_parse_header(const char *json, size_t size, st_header *h, nbrdf_error *err) {
+nbrdf_status nn_st_parse_header(const char *json, size_t size, nn_st_header *h, nbrdf_error *err) {
   parser p = {(const unsigned char *)json, size, 0, err};
   nbrdf_status st = expect(&p, '{', "at the start of the header");
   int have_metadata = 0;
@@ -300,13 +300,13 @@ nbrdf_status nn_st_parse_header(const char *json, size_t size, st_header *h, nbr
       have_metadata = 1;
       st = parse_metadata(&p, h);
     } else if (!st) {
-      st_entry *entries = grow(h->entries, &h->cap, h->count, sizeof *entries);
+      nn_st_entry *entries = grow(h->entries, &h->cap, h->count, sizeof *entries);
       if (!entries) {
         free(name);
         return core_fail(err, NBRDF_ERR_MEMORY, "out of memory reading the header");
       }
       h->entries = entries;
-      st_entry *t = &h->entries[h->count++];
+      nn_st_entry *t = &h->entries[h->count++];
       memset(t, 0, sizeof *t);
       t->name = name;
       st = parse_tensor(&p, t);
@@ -324,7 +324,7 @@ nbrdf_status nn_st_parse_header(const char *json, size_t size, st_header *h, nbr
   return NBRDF_OK;
 }
 
-void nn_st_header_free(st_header *h) {
+void nn_st_header_free(nn_st_header *h) {
   for (size_t i = 0; i < h->count; i++) {
     free(h->entries[i].name);
     free(h->entries[i].dtype);

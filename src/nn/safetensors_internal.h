@@ -22,7 +22,7 @@ void nn_st_convert(nn_st_dtype dtype, const unsigned char *src, size_t count, fl
 size_t nn_st_utf8_invalid_at(const unsigned char *s, size_t size);
 
 /* a * b into *out; 0 on overflow. */
-static inline int st_mul_u64(uint64_t a, uint64_t b, uint64_t *out) {
+static inline int nn_st_mul_u64(uint64_t a, uint64_t b, uint64_t *out) {
   if (a != 0 && b > UINT64_MAX / a) return 0;
   *out = a * b;
   return 1;
@@ -32,29 +32,29 @@ static inline int st_mul_u64(uint64_t a, uint64_t b, uint64_t *out) {
 void nn_st_format_shape(char *buf, size_t size, int ndim, const uint64_t *shape);
 
 /* One tensor entry of a header, as parsed (nothing checked beyond JSON types). */
-typedef struct st_entry {
+typedef struct nn_st_entry {
   char *name;
   char *dtype;
   int ndim;
   uint64_t shape[NBRDF_ST_MAX_DIMS];
   uint64_t begin, end;
-} st_entry;
+} nn_st_entry;
 
-typedef struct st_meta {
+typedef struct nn_st_meta {
   char *key, *value;
-} st_meta;
+} nn_st_meta;
 
-typedef struct st_header {
-  st_entry *entries;
+typedef struct nn_st_header {
+  nn_st_entry *entries;
   size_t count, cap;
-  st_meta *meta;
+  nn_st_meta *meta;
   size_t meta_count, meta_cap;
-} st_header;
+} nn_st_header;
 
 /* Parses the JSON header (exactly `size` bytes, already checked to be UTF-8) into `out`,
  * which the caller zero-initialises and frees with nn_st_header_free even on failure.
  * Messages carry no file name (the caller prefixes it). */
-nbrdf_status nn_st_parse_header(const char *json, size_t size, st_header *out, nbrdf_error *err);
-void nn_st_header_free(st_header *header);
+nbrdf_status nn_st_parse_header(const char *json, size_t size, nn_st_header *out, nbrdf_error *err);
+void nn_st_header_free(nn_st_header *header);
 
 #endif

@@ -17,7 +17,7 @@
 struct nn_st_reader {
   char *label;
   uint64_t checksum;
-  st_header header;         /* entries sorted by name, metadata by key; owns the strings */
+  nn_st_header header;      /* entries sorted by name, metadata by key; owns the strings */
   nn_st_tensor *tensors;    /* parallel to header.entries */
   float *values;            /* every tensor's converted data, one block */
 };
@@ -25,22 +25,22 @@ struct nn_st_reader {
 typedef unsigned long long ull; /* for printf: uint64_t is not long long everywhere */
 
 static int compare_entry_names(const void *a, const void *b) {
-  return strcmp(((const st_entry *)a)->name, ((const st_entry *)b)->name);
+  return strcmp(((const nn_st_entry *)a)->name, ((const nn_st_entry *)b)->name);
 }
 
 static int compare_meta_keys(const void *a, const void *b) {
-  return strcmp(((const st_meta *)a)->key, ((const st_meta *)b)->key);
+  return strcmp(((const nn_st_meta *)a)->key, ((const nn_st_meta *)b)->key);
 }
 
 static int compare_entry_offsets(const void *a, const void *b) {
-  const st_entry *x = *(const st_entry *const *)a, *y = *(const st_entry *const *)b;
+  const nn_st_entry *x = *(const nn_st_entry *const *)a, *y = *(const nn_st_entry *const *)b;
   if (x->begin != y->begin) return x->begin < y->begin ? -1 : 1;
   if (x->end != y->end) return x->end < y->end ? -1 : 1;
   return 0;
 }
 
 /* The dtype, shape and offsets of one tensor, on their own and against the data size. */
-static nbrdf_status check_entry(const st_entry *e, uint64_t data_size, nn_st_dtype *dtype,
+static nbrdf_status check_entry(const nn_st_entry *e, uint64_t data_size, nn_st_dtype *dtype,
                                 uint64_t *count, nbrdf_error *err) {
   size_t elem = 0;
   int known = nn_st_dtype_lookup(e->dtype, dtype, &elem);
@@ -58,11 +58,11 @@ static nbrdf_status check_entry(const st_entry *e, uint64_t data_size, nn_st_dty
     if (e->shape[d] > (uint64_t)INT64_MAX)
       return core_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has dimension %d of %llu, too large",
                        e->name, d, (ull)e->shape[d]);
-    if (!st_mul_u64(n, e->shape[d], &n))
+    if (!nn_st_mul_u64(n, e->shape[d], &n))
       return core_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has shape %s whose size overflows",
                        e->name, shape);
   }
-  if (!st_mul_u64(n, elem, &bytes))
+  if (!nn_st_mul_u64(n, elem, &bytes))
     return core_fail(err, NBRDF_ERR_FORMAT, "tensor '%s' has shape %s whose size overflows",
                      e->name, shape);
   if (e->begin > e->end)
@@ -86,7 +86,7 @@ static nbrdf_status check_entry(const st_entry *e, uint64_t data_size, nn_st_dty
 }
 
 /* The spec requires the tensors to tile the data buffer exactly. */
-static nbrdf_status check_coverage(const st_header *h, uint64_t data_size, nbrdf_error *err) {
+static nbrdf_status check_coverage(const nn_st_header *h, uint64_t data_size, nbrdf_error *err) {
   if (h->count == 0) {
     if (data_size == 0) return NBRDF_OK;
     return core_fail(err, NBRDF_ERR_FORMAT,
@@ -94,7 +94,7 @@ static nbrdf_status check_coverage(const st_header *h, uint64_t data_size, nbrdf
                      "no tensor",
                      (ull)data_size);
   }
-  const st_entry **order = malloc(h->count * sizeof *order);
+  const nn_st_entry **order = malloc(h->count * sizeof *order);
   if (!order) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory checking offsets");
   for (size_t i = 0; i < h->count; i++)
     order[i] = &h->entries[i];
@@ -102,7 +102,7 @@ static nbrdf_status check_coverage(const st_header *h, uint64_t data_size, nbrdf
   nbrdf_status st = NBRDF_OK;
   uint64_t covered = 0;
   for (size_t i = 0; i < h->count && !st; i++) {
-    const st_entry *e = order[i];
+    const nn_st_entry *e = order[i];
     if (e->begin < covered)
       st = core_fail(err, NBRDF_ERR_FORMAT,
                      "tensors '%s' and '%s' overlap in the data buffer "
@@ -151,7 +151,7 @@ static nbrdf_status load(nn_st_reader *r, const unsigned char *bytes, size_t siz
   size_t bad = nn_st_utf8_invalid_at(json, (size_t)n);
   if (bad < n)
     return core_fail(err, NBRDF_ERR_FORMAT, "header is not valid UTF-8 (at header byte %zu)", bad);
-  st_header *h = &r->header;
+  nn_st_header *h = &r->header;
   nbrdf_status st = nn_st_parse_header((const char *)json, (size_t)n, h, err);
   if (st) return st;
 
@@ -185,7 +185,7 @@ static nbrdf_status load(nn_st_reader *r, const unsigned char *bytes, size_t siz
     return core_fail(err, NBRDF_ERR_MEMORY, "out of memory for %llu values", (ull)total);
   size_t next = 0;
   for (size_t i = 0; i < h->count; i++) {
-    const st_entry *e = &h->entries[i];
+    const nn_st_entry *e = &h->entries[i];
     nn_st_tensor *t = &r->tensors[i];
     size_t elem = 0;
     nn_st_dtype_lookup(e->dtype, &t->dtype, &elem);

@@ -22,7 +22,7 @@ typedef struct wtensor {
 struct nn_st_writer {
   wtensor *tensors;
   size_t count, cap;
-  st_meta *meta;
+  nn_st_meta *meta;
   size_t meta_count, meta_cap;
 };
 
@@ -72,10 +72,10 @@ static nbrdf_status add(nn_st_writer *w, const char *name, int ndim, const int64
     if (shape[d] < 0)
       return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': dimension %d is negative", name, d);
     t.shape[d] = (uint64_t)shape[d];
-    if (!st_mul_u64(count, t.shape[d], &count))
+    if (!nn_st_mul_u64(count, t.shape[d], &count))
       return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': size overflows", name);
   }
-  if (!st_mul_u64(count, sizeof(float), &bytes) || bytes > SIZE_MAX / 2)
+  if (!nn_st_mul_u64(count, sizeof(float), &bytes) || bytes > SIZE_MAX / 2)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': size overflows", name);
   if (count && !data) return core_fail(err, NBRDF_ERR_ARGUMENT, "tensor '%s': data is NULL", name);
   for (size_t i = 0; i < w->count; i++)
@@ -131,7 +131,7 @@ nbrdf_status nn_st_writer_set_metadata(nn_st_writer *w, const char *key, const c
   char *k = strdup(key);
   if (k && w->meta_count == w->meta_cap) {
     size_t cap = w->meta_cap ? 2 * w->meta_cap : 8;
-    st_meta *a = realloc(w->meta, cap * sizeof *a);
+    nn_st_meta *a = realloc(w->meta, cap * sizeof *a);
     if (a) w->meta = a, w->meta_cap = cap;
   }
   if (!k || w->meta_count == w->meta_cap) {
@@ -139,7 +139,7 @@ nbrdf_status nn_st_writer_set_metadata(nn_st_writer *w, const char *key, const c
     free(v);
     return core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   }
-  w->meta[w->meta_count++] = (st_meta){k, v};
+  w->meta[w->meta_count++] = (nn_st_meta){k, v};
   return NBRDF_OK;
 }
 
@@ -192,7 +192,7 @@ static int compare_wtensor_names(const void *a, const void *b) {
 }
 
 static int compare_meta_keys(const void *a, const void *b) {
-  return strcmp((*(const st_meta *const *)a)->key, (*(const st_meta *const *)b)->key);
+  return strcmp((*(const nn_st_meta *const *)a)->key, (*(const nn_st_meta *const *)b)->key);
 }
 
 static void put_le32(unsigned char *o, uint32_t v) {
@@ -206,7 +206,7 @@ nbrdf_status nn_st_writer_serialize(const nn_st_writer *w, void **bytes, size_t 
     return core_fail(err, NBRDF_ERR_ARGUMENT, "nn_st_writer_serialize: NULL argument");
   *bytes = NULL, *size = 0;
   const wtensor **order = malloc((w->count + 1) * sizeof *order);
-  const st_meta **meta = malloc((w->meta_count + 1) * sizeof *meta);
+  const nn_st_meta **meta = malloc((w->meta_count + 1) * sizeof *meta);
   buf h = {0};
   if (!order || !meta) h.failed = 1;
   for (size_t i = 0; !h.failed && i < w->count; i++)

@@ -3,8 +3,8 @@
 
 #include <math.h>
 
-void eval_camera_setup(eval_camera *cam, nbrdf_render_scene scene, int width, int height,
-                       double plane_repeat) {
+void render_camera_setup(render_camera *cam, nbrdf_render_scene scene, int width, int height,
+                         double plane_repeat) {
   vec3 at;
   double fov_deg;
   if (scene == NBRDF_SCENE_PLANE) {
@@ -21,14 +21,14 @@ void eval_camera_setup(eval_camera *cam, nbrdf_render_scene scene, int width, in
   cam->plane_repeat = plane_repeat > 0.0 ? plane_repeat : 1.0;
 }
 
-vec3 eval_camera_ray(const eval_camera *cam, double px, double py) {
+vec3 render_camera_ray(const render_camera *cam, double px, double py) {
   double aspect = (double)cam->width / cam->height;
   double x = (2.0 * px / cam->width - 1.0) * cam->tan_half * aspect;
   double y = (1.0 - 2.0 * py / cam->height) * cam->tan_half;
   return v3_normalize(v3_add(cam->forward, v3_add(v3_scale(cam->right, x), v3_scale(cam->up, y))));
 }
 
-int eval_camera_hit(const eval_camera *cam, vec3 dir, int tex_w, int tex_h, eval_hit *h) {
+int render_camera_hit(const render_camera *cam, vec3 dir, int tex_w, int tex_h, render_hit *h) {
   double t, du, dv;
   /* Pixel cone: a pixel subtends about 2·tan_half / height radians; at
    * distance t its footprint is t times that, stretched by 1/cos on a

@@ -15,7 +15,7 @@
 #define TABLE_W 256
 #define TABLE_H 128
 
-struct eval_env {
+struct render_env {
   nbrdf_env_kind kind;
   double value[3], scale;
   int iw, ih; /* image */
@@ -40,7 +40,7 @@ static void st_of(vec3 d, double *s, double *t) {
   if (*s < 0.0) *s = 0.0;
 }
 
-static void sky(const eval_env *env, vec3 d, double rgb[3]) {
+static void sky(const render_env *env, vec3 d, double rgb[3]) {
   static const double zenith[3] = {0.25, 0.45, 0.95}, horizon[3] = {1.0, 1.0, 1.0};
   static const double ground[3] = {0.30, 0.27, 0.24}, sun[3] = {40.0, 36.0, 30.0};
   if (d.y < 0.0) {
@@ -56,7 +56,7 @@ static void sky(const eval_env *env, vec3 d, double rgb[3]) {
     rgb[c] += sun[c] * g;
 }
 
-static void image_radiance(const eval_env *env, double s, double t, double rgb[3]) {
+static void image_radiance(const render_env *env, double s, double t, double rgb[3]) {
   /* Bilinear, repeating in s, clamped in t. */
   double x = s * env->iw - 0.5, y = t * env->ih - 0.5;
   double xf = floor(x), yf = floor(y), fx = x - xf, fy = y - yf;
@@ -72,7 +72,7 @@ static void image_radiance(const eval_env *env, double s, double t, double rgb[3
              fx * fy * p11[c];
 }
 
-void eval_env_radiance(const eval_env *env, vec3 d, double rgb[3]) {
+void render_env_radiance(const render_env *env, vec3 d, double rgb[3]) {
   if (env->kind == NBRDF_ENV_CONSTANT) {
     memcpy(rgb, env->value, 3 * sizeof(double));
   } else if (env->kind == NBRDF_ENV_SKY) {
@@ -87,7 +87,7 @@ void eval_env_radiance(const eval_env *env, vec3 d, double rgb[3]) {
 }
 
 /* Cell importance: the brightest of a few radiance samples in the cell. */
-static double cell_value(const eval_env *env, int i, int j) {
+static double cell_value(const render_env *env, int i, int j) {
   double best = 0.0, rgb[3];
   if (env->kind == NBRDF_ENV_IMAGE) {
     int x0 = i * env->iw / TABLE_W, x1 = (i + 1) * env->iw / TABLE_W;
@@ -104,13 +104,13 @@ static double cell_value(const eval_env *env, int i, int j) {
   }
   for (int k = 0; k < 4; k++) {
     double s = (i + 0.25 + 0.5 * (k & 1)) / TABLE_W, t = (j + 0.25 + 0.5 * (k >> 1)) / TABLE_H;
-    eval_env_radiance(env, dir_of(s, t), rgb);
+    render_env_radiance(env, dir_of(s, t), rgb);
     best = fmax(best, luminance(rgb));
   }
   return best;
 }
 
-static nbrdf_status build_table(eval_env *env, nbrdf_error *err) {
+static nbrdf_status build_table(render_env *env, nbrdf_error *err) {
   env->cell_prob = malloc(sizeof(double) * TABLE_W * TABLE_H);
   env->cond_cdf = malloc(sizeof(double) * TABLE_H * (TABLE_W + 1));
   env->marg_cdf = malloc(sizeof(double) * (TABLE_H + 1));
@@ -160,14 +160,14 @@ static int find(const double *cdf, int n, double u) {
   return lo;
 }
 
-static double cell_pdf(const eval_env *env, int i, int j, double t) {
+static double cell_pdf(const render_env *env, int i, int j, double t) {
   double sin_t = sin(t * M_PI);
   if (!(sin_t > 1e-9)) return 0.0;
   /* Uniform in (s, t) within the cell; dω = 2π² sin θ ds dt. */
   return env->cell_prob[j * TABLE_W + i] * TABLE_W * TABLE_H / (2.0 * M_PI * M_PI * sin_t);
 }
 
-double eval_env_sample(const eval_env *env, double u1, double u2, vec3 *d) {
+double render_env_sample(const render_env *env, double u1, double u2, vec3 *d) {
   u2 *= env->marg_cdf[TABLE_H];
   int j = find(env->marg_cdf, TABLE_H, u2);
   double pj = env->marg_cdf[j + 1] - env->marg_cdf[j];
@@ -182,7 +182,7 @@ double eval_env_sample(const eval_env *env, double u1, double u2, vec3 *d) {
   return cell_pdf(env, i, j, t);
 }
 
-double eval_env_pdf(const eval_env *env, vec3 d) {
+double render_env_pdf(const render_env *env, vec3 d) {
   double s, t;
   st_of(d, &s, &t);
   int i = (int)(s * TABLE_W), j = (int)(t * TABLE_H);
@@ -191,7 +191,7 @@ double eval_env_pdf(const eval_env *env, vec3 d) {
   return cell_pdf(env, i, j, t);
 }
 
-static nbrdf_status load_image(eval_env *env, const char *path, nbrdf_error *err) {
+static nbrdf_status load_image(render_env *env, const char *path, nbrdf_error *err) {
   texture_image_in *in = NULL;
   texture_image_info info;
   nbrdf_status st = texture_image_open(path, 0, &in, &info, err);
@@ -217,9 +217,10 @@ static nbrdf_status load_image(eval_env *env, const char *path, nbrdf_error *err
   return st;
 }
 
-nbrdf_status eval_env_create(const nbrdf_render_options *opts, eval_env **out, nbrdf_error *err) {
+nbrdf_status render_env_create(const nbrdf_render_options *opts, render_env **out,
+                               nbrdf_error *err) {
   *out = NULL;
-  eval_env *env = calloc(1, sizeof *env);
+  render_env *env = calloc(1, sizeof *env);
   if (!env) return core_fail(err, NBRDF_ERR_MEMORY, "environment: out of memory");
   env->kind = opts->env;
   env->scale = opts->env_scale;
@@ -245,14 +246,14 @@ nbrdf_status eval_env_create(const nbrdf_render_options *opts, eval_env **out, n
   }
   if (st == NBRDF_OK) st = build_table(env, err);
   if (st != NBRDF_OK) {
-    eval_env_free(env);
+    render_env_free(env);
     return st;
   }
   *out = env;
   return NBRDF_OK;
 }
 
-void eval_env_free(eval_env *env) {
+void render_env_free(render_env *env) {
   if (!env) return;
   free(env->image);
   free(env->cond_cdf);

@@ -52,29 +52,29 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   const nbrdf_render_options *o = options ? options : &defaults;
   nbrdf_status st = check_options(model, o, err);
   if (st != NBRDF_OK) return st;
-  eval_latent_image *tex = NULL;
-  eval_env *env = NULL;
+  texture_latent_image *tex = NULL;
+  render_env *env = NULL;
   /* Neural: the texture decoded as it asks, with its own decoder if it has one. */
   nbrdf_model *decoding = NULL;
   if (o->mode == NBRDF_RENDER_NEURAL)
-    st = eval_latent_image_load_model(latent_path, model, &tex, &decoding, err);
+    st = texture_latent_image_load_model(latent_path, model, &tex, &decoding, err);
   else
-    st = eval_latent_image_load(latent_path, &tex, NULL, 0, err);
-  if (st == NBRDF_OK) st = eval_env_create(o, &env, err);
+    st = texture_latent_image_load(latent_path, &tex, NULL, 0, err);
+  if (st == NBRDF_OK) st = render_env_create(o, &env, err);
   if (st != NBRDF_OK) {
-    eval_latent_image_free(tex);
+    texture_latent_image_free(tex);
     nbrdf_model_destroy(decoding);
     return st;
   }
-  eval_render_ctx ctx;
+  render_ctx ctx;
   memset(&ctx, 0, sizeof ctx);
   ctx.opts = o, ctx.model = decoding, ctx.tex = tex, ctx.env = env;
   ctx.colours =
       o->mode == NBRDF_RENDER_NEURAL ? texture_latent_colours(&tex->layout) : o->reference_channels;
-  eval_camera_setup(&ctx.cam, o->scene, o->width, o->height, o->plane_repeat);
+  render_camera_setup(&ctx.cam, o->scene, o->width, o->height, o->plane_repeat);
 
-  int tx = (o->width + EVAL_RENDER_TILE - 1) / EVAL_RENDER_TILE;
-  int ty = (o->height + EVAL_RENDER_TILE - 1) / EVAL_RENDER_TILE;
+  int tx = (o->width + RENDER_TILE - 1) / RENDER_TILE;
+  int ty = (o->height + RENDER_TILE - 1) / RENDER_TILE;
   int tiles = tx * ty, done = 0, stop = 0;
   int threads =
       o->threads ? o->threads : (o->mode == NBRDF_RENDER_NEURAL ? 1 : omp_get_max_threads());
@@ -91,12 +91,12 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
 #pragma omp atomic read
     halt = stop;
     if (halt) continue;
-    int x0 = (t % tx) * EVAL_RENDER_TILE, y0 = (t / tx) * EVAL_RENDER_TILE;
-    int w = o->width - x0 < EVAL_RENDER_TILE ? o->width - x0 : EVAL_RENDER_TILE;
-    int h = o->height - y0 < EVAL_RENDER_TILE ? o->height - y0 : EVAL_RENDER_TILE;
+    int x0 = (t % tx) * RENDER_TILE, y0 = (t / tx) * RENDER_TILE;
+    int w = o->width - x0 < RENDER_TILE ? o->width - x0 : RENDER_TILE;
+    int h = o->height - y0 < RENDER_TILE ? o->height - y0 : RENDER_TILE;
     nbrdf_error e = {NBRDF_OK, ""};
-    nbrdf_status ts = eval_render_tile(&ctx, t, x0, y0, w, h, rgb, &decoded, &decode_s, &evals, &e);
-#pragma omp critical(nbrdf_render_progress)
+    nbrdf_status ts = render_tile(&ctx, t, x0, y0, w, h, rgb, &decoded, &decode_s, &evals, &e);
+#pragma omp critical(render_progress)
     {
       if (ts != NBRDF_OK && first.status == NBRDF_OK) first = e, first.status = ts;
       done++;
@@ -109,13 +109,13 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
       }
     }
   }
-  eval_env_free(env);
+  render_env_free(env);
   if (stats) {
     stats->decoded = decoded, stats->brdf_evals = evals;
     stats->decode_seconds = decode_s;
     stats->colour_channels = ctx.colours, stats->levels = tex->levels;
   }
-  eval_latent_image_free(tex);
+  texture_latent_image_free(tex);
   nbrdf_model_destroy(decoding);
   if (first.status != NBRDF_OK) {
     if (err) *err = first;

@@ -40,9 +40,9 @@ nbrdf_status nbrdf_render_lobes(const nbrdf_model *model, const char *latent_pat
                                 int reference_channels, int spp, uint64_t seed,
                                 const char *png_path, double *lobe_error, nbrdf_error *err) {
   if (lobe_error) *lobe_error = NAN;
-  eval_latent_image *tex = NULL;
+  texture_latent_image *tex = NULL;
   nbrdf_model *decoding = NULL; /* with the texture's own decoder, if it has one */
-  nbrdf_status st = eval_latent_image_load_model(latent_path, model, &tex, &decoding, err);
+  nbrdf_status st = texture_latent_image_load_model(latent_path, model, &tex, &decoding, err);
   if (st != NBRDF_OK) return st;
   int colours = texture_latent_colours(&tex->layout);
   if (level < 0 || level >= tex->levels)
@@ -83,7 +83,7 @@ nbrdf_status nbrdf_render_lobes(const nbrdf_model *model, const char *latent_pat
   if (st == NBRDF_OK && reference && lobe_error)
     *lobe_error = lobe_l1_error(per * colours, ref, dec);
   free(dec), free(ref);
-  eval_latent_image_free(tex);
+  texture_latent_image_free(tex);
   nbrdf_model_destroy(decoding);
   return st;
 }

@@ -3,15 +3,15 @@
 
 #include "nbrdf/model.h"
 
-double eval_proxy_mix_pdf(int channels, const float *sigma, const float *w, vec3 wi, vec3 wo) {
+double render_proxy_mix_pdf(int channels, const float *sigma, const float *w, vec3 wi, vec3 wo) {
   double a[3] = {wi.x, wi.y, wi.z}, b[3] = {wo.x, wo.y, wo.z}, sum = 0.0;
   for (int c = 0; c < channels; c++)
     sum += nbrdf_proxy_pdf(sigma[c], w[c], a, b);
   return sum / channels;
 }
 
-int eval_proxy_mix_sample(int channels, const float *sigma, const float *w, vec3 wi,
-                          const double u[4], vec3 *wo, double *pdf) {
+int render_proxy_mix_sample(int channels, const float *sigma, const float *w, vec3 wi,
+                            const double u[4], vec3 *wo, double *pdf) {
   int c = (int)(u[0] * channels);
   if (c >= channels) c = channels - 1;
   double a[3] = {wi.x, wi.y, wi.z}, b[3], p;
@@ -20,6 +20,6 @@ int eval_proxy_mix_sample(int channels, const float *sigma, const float *w, vec3
     return 0;
   }
   *wo = v3(b[0], b[1], b[2]);
-  *pdf = channels == 1 ? p : eval_proxy_mix_pdf(channels, sigma, w, wi, *wo);
+  *pdf = channels == 1 ? p : render_proxy_mix_pdf(channels, sigma, w, wi, *wo);
   return *pdf > 0.0;
 }

@@ -36,7 +36,7 @@ static void buf_free(tile_buf *b) {
 }
 
 /* Proxy (sigma, w) of texture colour c; a texture without them samples like Lambert. */
-static void texel_proxy(const eval_latent_image *tex, const float *texel, int c, float *s,
+static void texel_proxy(const texture_latent_image *tex, const float *texel, int c, float *s,
                         float *w) {
   if (!tex->layout.proxy) {
     *s = 1.0f, *w = 1.0f;
@@ -51,27 +51,26 @@ static void texel_proxy(const eval_latent_image *tex, const float *texel, int c,
 /* The density the MIS weights give the BRDF strategy of output channel c:
  * the texture's proxy mixture (NEURAL, and REFERENCE with one channel) or
  * channel c's proxy (REFERENCE per channel). */
-static double strategy_pdf(const eval_render_ctx *ctx, const float *texel, int c, vec3 wi,
-                           vec3 wo) {
-  const eval_latent_image *tex = ctx->tex;
+static double strategy_pdf(const render_ctx *ctx, const float *texel, int c, vec3 wi, vec3 wo) {
+  const texture_latent_image *tex = ctx->tex;
   int T = texture_latent_colours(&tex->layout);
   float s[3], w[3];
   for (int k = 0; k < T; k++)
     texel_proxy(tex, texel, k, &s[k], &w[k]);
   if (ctx->opts->mode == NBRDF_RENDER_NEURAL || ctx->colours == 1)
-    return eval_proxy_mix_pdf(T, s, w, wi, wo);
+    return render_proxy_mix_pdf(T, s, w, wi, wo);
   int k = c < T ? c : T - 1;
-  return eval_proxy_mix_pdf(1, &s[k], &w[k], wi, wo);
+  return render_proxy_mix_pdf(1, &s[k], &w[k], wi, wo);
 }
 
 static void set3f(float *d, vec3 v) { d[0] = (float)v.x, d[1] = (float)v.y, d[2] = (float)v.z; }
 
 /* Evaluates every query and adds f · factor to the pixels. */
-static nbrdf_status eval_queries(const eval_render_ctx *ctx, tile_buf *b, int nq,
-                                 const float *tex_buf, uint64_t seed, size_t *decoded,
-                                 double *decode_seconds, size_t *brdf_evals, nbrdf_error *err) {
+static nbrdf_status eval_queries(const render_ctx *ctx, tile_buf *b, int nq, const float *tex_buf,
+                                 uint64_t seed, size_t *decoded, double *decode_seconds,
+                                 size_t *brdf_evals, nbrdf_error *err) {
   if (nq == 0) return NBRDF_OK;
-  const eval_latent_image *tex = ctx->tex;
+  const texture_latent_image *tex = ctx->tex;
   int K = ctx->colours;
   if (ctx->opts->mode == NBRDF_RENDER_NEURAL) {
     int D = tex->layout.latent_dim, block = texture_latent_block(&tex->layout);
@@ -113,7 +112,7 @@ static nbrdf_status eval_queries(const eval_render_ctx *ctx, tile_buf *b, int nq
 
 /* REFERENCE: one sample of the ground truth's own sampler per channel, its
  * weight (f cos / p, unbiased) times radiance and the MIS weight. */
-static nbrdf_status reference_brdf_samples(const eval_render_ctx *ctx, const eval_hit *hit,
+static nbrdf_status reference_brdf_samples(const render_ctx *ctx, const render_hit *hit,
                                            const float *texel, vec3 wi, uint64_t seed,
                                            uint64_t index, double *acc, size_t *brdf_evals,
                                            nbrdf_error *err) {
@@ -125,11 +124,11 @@ static nbrdf_status reference_brdf_samples(const eval_render_ctx *ctx, const eva
     if (st != NBRDF_OK) return st;
     (*brdf_evals)++;
     if (!(weight > 0.0) || !(wo[2] > 0.0)) continue;
-    vec3 lo = v3(wo[0], wo[1], wo[2]), dir = eval_to_world(hit, lo);
+    vec3 lo = v3(wo[0], wo[1], wo[2]), dir = render_to_world(hit, lo);
     double le[3];
-    eval_env_radiance(ctx->env, dir, le);
+    render_env_radiance(ctx->env, dir, le);
     double mis =
-        eval_power_heuristic(strategy_pdf(ctx, texel, c, wi, lo), eval_env_pdf(ctx->env, dir));
+        render_power_heuristic(strategy_pdf(ctx, texel, c, wi, lo), render_env_pdf(ctx->env, dir));
     for (int o = 0; o < 3; o++)
       if (ctx->colours == 1 || o == c) acc[o] += weight * le[o] * mis;
   }
@@ -143,13 +142,13 @@ static int push(tile_buf *b, int *nq, int pix, int slot, vec3 wi, vec3 wo) {
   return *nq - 1;
 }
 
-nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int y0, int w, int h,
-                              float *rgb, size_t *decoded, double *decode_seconds,
-                              size_t *brdf_evals, nbrdf_error *err) {
+nbrdf_status render_tile(const render_ctx *ctx, int tile, int x0, int y0, int w, int h, float *rgb,
+                         size_t *decoded, double *decode_seconds, size_t *brdf_evals,
+                         nbrdf_error *err) {
   const nbrdf_render_options *o = ctx->opts;
-  const eval_latent_image *tex = ctx->tex;
+  const texture_latent_image *tex = ctx->tex;
   int npix = w * h, spp = o->spp, C = tex->channels;
-  int per_chunk = EVAL_RENDER_BATCH / npix > 0 ? EVAL_RENDER_BATCH / npix : 1;
+  int per_chunk = RENDER_BATCH / npix > 0 ? RENDER_BATCH / npix : 1;
   if (per_chunk > spp) per_chunk = spp;
   size_t slots = (size_t)npix * per_chunk, maxq = 3 * slots, K = (size_t)ctx->colours;
   int D = tex->layout.latent_dim;
@@ -192,25 +191,26 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
         double ub[4];
         for (int k = 0; k < 4; k++)
           ub[k] = core_rng_uniform(r);
-        vec3 dir = eval_camera_ray(&ctx->cam, px + jx, py + jy);
-        eval_hit hit;
-        if (!eval_camera_hit(&ctx->cam, dir, tex->width[0], tex->height[0], &hit)) {
+        vec3 dir = render_camera_ray(&ctx->cam, px + jx, py + jy);
+        render_hit hit;
+        if (!render_camera_hit(&ctx->cam, dir, tex->width[0], tex->height[0], &hit)) {
           double le[3];
-          eval_env_radiance(ctx->env, dir, le);
+          render_env_radiance(ctx->env, dir, le);
           for (int k = 0; k < 3; k++)
             b.acc[3 * p + k] += le[k];
           continue;
         }
-        vec3 wi = eval_to_local(&hit, v3_neg(dir));
+        vec3 wi = render_to_local(&hit, v3_neg(dir));
         if (!(wi.z > 1e-4)) continue;
         wi = v3_normalize(wi);
         float *texel = b.texel + (size_t)slot * C;
-        eval_latent_fetch(tex, (float)hit.u, (float)hit.v, o->mip ? (float)hit.lod : 0.0f, texel);
+        texture_latent_fetch(tex, (float)hit.u, (float)hit.v, o->mip ? (float)hit.lod : 0.0f,
+                             texel);
         /* The point light: a delta light, next-event estimation only. */
         if (o->light_intensity > 0.0) {
           vec3 l = v3_sub(v3(o->light_pos[0], o->light_pos[1], o->light_pos[2]), hit.p);
           double d2 = v3_dot(l, l);
-          vec3 lo = eval_to_local(&hit, v3_scale(l, 1.0 / sqrt(d2)));
+          vec3 lo = render_to_local(&hit, v3_scale(l, 1.0 / sqrt(d2)));
           if (lo.z > 1e-4) {
             query *q = &b.q[push(&b, &nq, p, slot, wi, v3_normalize(lo))];
             for (int k = 0; k < 3; k++)
@@ -219,17 +219,17 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
         }
         /* One environment sample, MIS-weighted against the BRDF strategy. */
         vec3 ed;
-        double pl = eval_env_sample(ctx->env, ue[0], ue[1], &ed);
-        vec3 lo = eval_to_local(&hit, ed);
+        double pl = render_env_sample(ctx->env, ue[0], ue[1], &ed);
+        vec3 lo = render_to_local(&hit, ed);
         if (pl > 0.0 && lo.z > 1e-4) {
           lo = v3_normalize(lo);
           double le[3];
-          eval_env_radiance(ctx->env, ed, le);
+          render_env_radiance(ctx->env, ed, le);
           query *q = &b.q[push(&b, &nq, p, slot, wi, lo)];
           for (int k = 0; k < 3; k++) {
             int c = (int)K == 1 ? 0 : k;
             q->factor[k] =
-                le[k] * lo.z * eval_power_heuristic(pl, strategy_pdf(ctx, texel, c, wi, lo)) / pl;
+                le[k] * lo.z * render_power_heuristic(pl, strategy_pdf(ctx, texel, c, wi, lo)) / pl;
           }
         }
         /* One BRDF sample. */
@@ -245,11 +245,11 @@ nbrdf_status eval_render_tile(const eval_render_ctx *ctx, int tile, int x0, int 
           texel_proxy(tex, texel, k, &sg[k], &wg[k]);
         vec3 bo;
         double pb;
-        if (eval_proxy_mix_sample(T, sg, wg, wi, ub, &bo, &pb) && bo.z > 1e-4) {
+        if (render_proxy_mix_sample(T, sg, wg, wi, ub, &bo, &pb) && bo.z > 1e-4) {
           bo = v3_normalize(bo);
-          vec3 bd = eval_to_world(&hit, bo);
-          double le[3], mis = eval_power_heuristic(pb, eval_env_pdf(ctx->env, bd));
-          eval_env_radiance(ctx->env, bd, le);
+          vec3 bd = render_to_world(&hit, bo);
+          double le[3], mis = render_power_heuristic(pb, render_env_pdf(ctx->env, bd));
+          render_env_radiance(ctx->env, bd, le);
           query *q = &b.q[push(&b, &nq, p, slot, wi, bo)];
           for (int k = 0; k < 3; k++)
             q->factor[k] = le[k] * bo.z * mis / pb;

@@ -13,18 +13,18 @@ extern "C" {
 
 namespace OCIO = OCIO_NAMESPACE;
 
-struct eval_view {
+struct render_view {
   std::string description;
   OCIO::ConstCPUProcessorRcPtr cpu;
 };
 
-extern "C" nbrdf_status eval_view_create(const char *config_path, const char *display,
-                                         const char *view, eval_view **out, nbrdf_error *err) {
+extern "C" nbrdf_status render_view_create(const char *config_path, const char *display,
+                                           const char *view, render_view **out, nbrdf_error *err) {
   *out = nullptr;
   const char *config = config_path ? config_path : std::getenv("OCIO");
   if (config && !config[0]) config = nullptr;
   try {
-    std::unique_ptr<eval_view> v(new eval_view);
+    std::unique_ptr<render_view> v(new render_view);
     if (config) {
       OCIO::ConstConfigRcPtr cfg = OCIO::Config::CreateFromFile(config);
       const char *d = display ? display : cfg->getDefaultDisplay();
@@ -58,10 +58,10 @@ extern "C" nbrdf_status eval_view_create(const char *config_path, const char *di
   }
 }
 
-extern "C" const char *eval_view_describe(const eval_view *v) { return v->description.c_str(); }
+extern "C" const char *render_view_describe(const render_view *v) { return v->description.c_str(); }
 
-extern "C" nbrdf_status eval_view_apply(const eval_view *v, float *rgb, size_t n,
-                                        nbrdf_error *err) {
+extern "C" nbrdf_status render_view_apply(const render_view *v, float *rgb, size_t n,
+                                          nbrdf_error *err) {
   try {
     const size_t chunk = 1 << 20; // one row per call keeps the width within OCIO's long
     for (size_t i = 0; i < n; i += chunk) {
@@ -76,4 +76,4 @@ extern "C" nbrdf_status eval_view_apply(const eval_view *v, float *rgb, size_t n
   }
 }
 
-extern "C" void eval_view_free(eval_view *v) { delete v; }
+extern "C" void render_view_free(render_view *v) { delete v; }

@@ -13,8 +13,8 @@
 static nbrdf_status write_png(const char *path, int width, int height, const float *rgb,
                               const char *display, const char *ocio_config, nbrdf_error *err) {
   size_t n = (size_t)width * height;
-  eval_view *view = NULL;
-  nbrdf_status st = eval_view_create(ocio_config, display, NULL, &view, err);
+  render_view *view = NULL;
+  nbrdf_status st = render_view_create(ocio_config, display, NULL, &view, err);
   if (st != NBRDF_OK) return st;
   float *d = malloc(sizeof(float) * 3 * n);
   unsigned char *px = malloc(3 * n);
@@ -23,7 +23,7 @@ static nbrdf_status write_png(const char *path, int width, int height, const flo
     /* Negative or non-finite radiance has no display value: black. */
     for (size_t i = 0; i < 3 * n; i++)
       d[i] = isfinite(rgb[i]) && rgb[i] > 0.0f ? rgb[i] : 0.0f;
-    st = eval_view_apply(view, d, n, err);
+    st = render_view_apply(view, d, n, err);
   }
   if (st == NBRDF_OK) {
     for (size_t i = 0; i < 3 * n; i++) {
@@ -33,7 +33,7 @@ static nbrdf_status write_png(const char *path, int width, int height, const flo
     st = lobe_png_write_rgb8(path, width, height, px, err);
   }
   free(d), free(px);
-  eval_view_free(view);
+  render_view_free(view);
   return st;
 }
 

@@ -9,22 +9,22 @@
 #include "core/error.h"
 #include "texture/latent_exr.h"
 
-void eval_latent_image_free(eval_latent_image *img) {
+void texture_latent_image_free(texture_latent_image *img) {
   if (!img) return;
   for (int l = 0; l < img->levels; l++)
     free(img->data[l]);
   free(img);
 }
 
-nbrdf_status eval_latent_image_create(const texture_latent_layout *layout, int width, int height,
-                                      int levels, eval_latent_image **out, nbrdf_error *err) {
+nbrdf_status texture_latent_image_create(const texture_latent_layout *layout, int width, int height,
+                                         int levels, texture_latent_image **out, nbrdf_error *err) {
   *out = NULL;
   nbrdf_status st = texture_latent_layout_check(layout, err);
   if (st != NBRDF_OK) return st;
-  if (width < 1 || height < 1 || levels < 1 || levels > EVAL_LATENT_MAX_LEVELS)
+  if (width < 1 || height < 1 || levels < 1 || levels > TEXTURE_LATENT_MAX_LEVELS)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "latent image %d x %d with %d levels", width, height,
                      levels);
-  eval_latent_image *img = calloc(1, sizeof *img);
+  texture_latent_image *img = calloc(1, sizeof *img);
   if (!img) return core_fail(err, NBRDF_ERR_MEMORY, "latent image: out of memory");
   img->layout = *layout;
   img->channels = texture_latent_channel_count(layout);
@@ -35,7 +35,7 @@ nbrdf_status eval_latent_image_create(const texture_latent_layout *layout, int w
     img->data[l] = calloc((size_t)img->width[l] * img->height[l] * img->channels, sizeof(float));
     img->levels = l + 1;
     if (!img->data[l]) {
-      eval_latent_image_free(img);
+      texture_latent_image_free(img);
       return core_fail(err, NBRDF_ERR_MEMORY, "latent image level %d: out of memory", l);
     }
   }
@@ -44,16 +44,16 @@ nbrdf_status eval_latent_image_create(const texture_latent_layout *layout, int w
 }
 
 /* Every level of the open texture (closes it). */
-static nbrdf_status load_levels(texture_latent_reader *r, const char *path, eval_latent_image **out,
-                                nbrdf_error *err) {
+static nbrdf_status load_levels(texture_latent_reader *r, const char *path,
+                                texture_latent_image **out, nbrdf_error *err) {
   const texture_latent_info *info = texture_latent_reader_info(r);
-  if (info->levels > EVAL_LATENT_MAX_LEVELS) {
+  if (info->levels > TEXTURE_LATENT_MAX_LEVELS) {
     texture_latent_reader_close(r);
     return core_fail(err, NBRDF_ERR_FORMAT, "%s: %d mip levels", path, info->levels);
   }
-  eval_latent_image *img = NULL;
-  nbrdf_status st =
-      eval_latent_image_create(&info->layout, info->width, info->height, info->levels, &img, err);
+  texture_latent_image *img = NULL;
+  nbrdf_status st = texture_latent_image_create(&info->layout, info->width, info->height,
+                                                info->levels, &img, err);
   for (int l = 0; st == NBRDF_OK && l < img->levels; l++) {
     int w, h;
     st = texture_latent_reader_level_size(r, l, &w, &h, err);
@@ -64,15 +64,16 @@ static nbrdf_status load_levels(texture_latent_reader *r, const char *path, eval
   }
   texture_latent_reader_close(r);
   if (st != NBRDF_OK) {
-    eval_latent_image_free(img);
+    texture_latent_image_free(img);
     return st;
   }
   *out = img;
   return NBRDF_OK;
 }
 
-nbrdf_status eval_latent_image_load(const char *path, eval_latent_image **out, char *model_checksum,
-                                    size_t checksum_size, nbrdf_error *err) {
+nbrdf_status texture_latent_image_load(const char *path, texture_latent_image **out,
+                                       char *model_checksum, size_t checksum_size,
+                                       nbrdf_error *err) {
   *out = NULL;
   texture_latent_reader *r = NULL;
   nbrdf_status st = texture_latent_reader_open(&r, path, err);
@@ -83,9 +84,9 @@ nbrdf_status eval_latent_image_load(const char *path, eval_latent_image **out, c
   return load_levels(r, path, out, err);
 }
 
-nbrdf_status eval_latent_image_load_model(const char *path, const nbrdf_model *bundle,
-                                          eval_latent_image **out, nbrdf_model **model,
-                                          nbrdf_error *err) {
+nbrdf_status texture_latent_image_load_model(const char *path, const nbrdf_model *bundle,
+                                             texture_latent_image **out, nbrdf_model **model,
+                                             nbrdf_error *err) {
   *out = NULL;
   *model = NULL;
   texture_latent_reader *r = NULL;
@@ -109,8 +110,8 @@ static int wrap(int i, int n) {
   return m < 0 ? m + n : m;
 }
 
-void eval_latent_fetch_level(const eval_latent_image *img, int level, float u, float v,
-                             float *out) {
+void texture_latent_fetch_level(const texture_latent_image *img, int level, float u, float v,
+                                float *out) {
   int w = img->width[level], h = img->height[level], C = img->channels;
   float x = u * (float)w - 0.5f, y = v * (float)h - 0.5f;
   float xf = floorf(x), yf = floorf(y);
@@ -128,19 +129,20 @@ void eval_latent_fetch_level(const eval_latent_image *img, int level, float u, f
     out[c] = w00 * t00[c] + w10 * t10[c] + w01 * t01[c] + w11 * t11[c];
 }
 
-void eval_latent_fetch(const eval_latent_image *img, float u, float v, float lod, float *out) {
+void texture_latent_fetch(const texture_latent_image *img, float u, float v, float lod,
+                          float *out) {
   float last = (float)(img->levels - 1);
   if (!(lod > 0.0f)) lod = 0.0f; /* NaN too */
   if (lod > last) lod = last;
   int l0 = (int)floorf(lod);
   float t = lod - (float)l0;
-  eval_latent_fetch_level(img, l0, u, v, out);
+  texture_latent_fetch_level(img, l0, u, v, out);
   if (l0 + 1 >= img->levels || t == 0.0f) return;
   int C = img->channels;
   float tmp[4 * NBRDF_LATENT_MAX_DIM + 8];
   float *b = C <= (int)(sizeof tmp / sizeof tmp[0]) ? tmp : malloc(sizeof(float) * (size_t)C);
   if (!b) return; /* out of memory: level l0 alone, still a valid texel */
-  eval_latent_fetch_level(img, l0 + 1, u, v, b);
+  texture_latent_fetch_level(img, l0 + 1, u, v, b);
   for (int c = 0; c < C; c++)
     out[c] = (1.0f - t) * out[c] + t * b[c];
   if (b != tmp) free(b);

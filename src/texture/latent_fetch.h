@@ -21,43 +21,45 @@
  *  - the renderer's lod is log2 of the pixel footprint in level-0 texels,
  *    the larger of its u and v extents (camera.h, GL's isotropic rule).
  * Arithmetic is in float, in the order written above. */
-#ifndef NBRDF_EVAL_LATENT_FETCH_H
-#define NBRDF_EVAL_LATENT_FETCH_H
+#ifndef NBRDF_TEXTURE_LATENT_FETCH_H
+#define NBRDF_TEXTURE_LATENT_FETCH_H
 
 #include "nbrdf/model.h"
 #include "nbrdf/status.h"
 #include "texture/latent_layout.h"
 
-#define EVAL_LATENT_MAX_LEVELS 32
+#define TEXTURE_LATENT_MAX_LEVELS 32
 
-typedef struct eval_latent_image {
+typedef struct texture_latent_image {
   texture_latent_layout layout;
   int channels; /* floats per texel, logical order (latent_layout.h) */
   int levels;
-  int width[EVAL_LATENT_MAX_LEVELS], height[EVAL_LATENT_MAX_LEVELS];
-  float *data[EVAL_LATENT_MAX_LEVELS]; /* level l: width·height·channels floats, row-major */
-} eval_latent_image;
+  int width[TEXTURE_LATENT_MAX_LEVELS], height[TEXTURE_LATENT_MAX_LEVELS];
+  float *data[TEXTURE_LATENT_MAX_LEVELS]; /* level l: width·height·channels floats, row-major */
+} texture_latent_image;
 
 /* An image with the round-down chain of `levels` levels of a W x H level 0,
  * data zeroed (tests fill it). */
-nbrdf_status eval_latent_image_create(const texture_latent_layout *layout, int width, int height,
-                                      int levels, eval_latent_image **out, nbrdf_error *err);
+nbrdf_status texture_latent_image_create(const texture_latent_layout *layout, int width, int height,
+                                         int levels, texture_latent_image **out, nbrdf_error *err);
 /* Reads every level of the latent texture at `path`. `model_checksum` (may be
  * NULL) receives the bundle checksum recorded in the file, so that a caller
  * can refuse a texture baked with another model. */
-nbrdf_status eval_latent_image_load(const char *path, eval_latent_image **out, char *model_checksum,
-                                    size_t checksum_size, nbrdf_error *err);
+nbrdf_status texture_latent_image_load(const char *path, texture_latent_image **out,
+                                       char *model_checksum, size_t checksum_size,
+                                       nbrdf_error *err);
 /* Reads every level of a texture baked with `bundle` (checksum and latent
  * dimension checked) and gives the model that decodes it: `bundle` with the
  * texture's own decoder, if it has one (nbrdf_model_for_texture). */
-nbrdf_status eval_latent_image_load_model(const char *path, const nbrdf_model *bundle,
-                                          eval_latent_image **out, nbrdf_model **model,
-                                          nbrdf_error *err);
-void eval_latent_image_free(eval_latent_image *img);
+nbrdf_status texture_latent_image_load_model(const char *path, const nbrdf_model *bundle,
+                                             texture_latent_image **out, nbrdf_model **model,
+                                             nbrdf_error *err);
+void texture_latent_image_free(texture_latent_image *img);
 
 /* The filtered texel at (u, v, lod) into out[channels] (see above). */
-void eval_latent_fetch(const eval_latent_image *img, float u, float v, float lod, float *out);
+void texture_latent_fetch(const texture_latent_image *img, float u, float v, float lod, float *out);
 /* Bilinear within one level (lod is not used). */
-void eval_latent_fetch_level(const eval_latent_image *img, int level, float u, float v, float *out);
+void texture_latent_fetch_level(const texture_latent_image *img, int level, float u, float v,
+                                float *out);
 
 #endif

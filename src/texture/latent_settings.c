@@ -2,7 +2,7 @@
 
 #include <string.h>
 
-int latent_setting(const char *settings, const char *key, char *value, size_t size) {
+int texture_latent_setting(const char *settings, const char *key, char *value, size_t size) {
   if (size) value[0] = '\0';
   size_t klen = strlen(key);
   for (const char *p = settings; p && *p;) {

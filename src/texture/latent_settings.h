@@ -8,6 +8,6 @@
 /* The value of `key` in `settings` copied into value[size] (truncated, NUL-terminated):
  * 1 when the key is present, 0 when not (value ""). Keys match whole, so "range" never
  * matches "mip_range". */
-int latent_setting(const char *settings, const char *key, char *value, size_t size);
+int texture_latent_setting(const char *settings, const char *key, char *value, size_t size);
 
 #endif

@@ -74,11 +74,11 @@ static nbrdf_status choose_outgoing(const train_dataset_settings *s, const nbrdf
 
 static nbrdf_status samples_generate(const train_dataset_settings *s, uint64_t family,
                                      uint64_t index, const train_params *params,
-                                     const layered_lobe_hook *hook, float *samples,
+                                     const brdf_layered_lobe_hook *hook, float *samples,
                                      nbrdf_error *err);
 
 nbrdf_status train_dataset_generate_one(const train_dataset_settings *s, uint64_t index,
-                                        const layered_lobe_hook *hook, train_params *params,
+                                        const brdf_layered_lobe_hook *hook, train_params *params,
                                         float *samples, nbrdf_error *err) {
   nbrdf_status st = train_dataset_check_settings(s, err);
   if (st) return st;
@@ -95,14 +95,14 @@ nbrdf_status train_samples_generate(const train_dataset_settings *s, uint64_t fa
 
 nbrdf_status train_samples_generate_hooked(const train_dataset_settings *s, uint64_t family,
                                            uint64_t index, const train_params *params,
-                                           const layered_lobe_hook *hook, float *samples,
+                                           const brdf_layered_lobe_hook *hook, float *samples,
                                            nbrdf_error *err) {
   return samples_generate(s, family, index, params, hook, samples, err);
 }
 
 static nbrdf_status samples_generate(const train_dataset_settings *s, uint64_t family,
                                      uint64_t index, const train_params *params,
-                                     const layered_lobe_hook *hook, float *samples,
+                                     const brdf_layered_lobe_hook *hook, float *samples,
                                      nbrdf_error *err) {
   nbrdf_brdf *b = NULL;
   nbrdf_status st = train_params_create(params, &b, err);
@@ -126,8 +126,8 @@ static nbrdf_status samples_generate(const train_dataset_settings *s, uint64_t f
     st = choose_outgoing(s, b, wi, seed, &rng, wo, err);
     if (st) break;
     if (nbrdf_brdf_is_stochastic(b)) {
-      int ok =
-          layered_lobe_eval_hooked(&brdf_bsdf(b)->layered, wi, m, wo, s->spp, seed, 1, hook, f, se);
+      int ok = brdf_layered_lobe_eval_hooked(&brdf_handle_bsdf(b)->layered, wi, m, wo, s->spp, seed,
+                                             1, hook, f, se);
       if (ok < 0)
         st = core_fail(err, NBRDF_ERR_CANCELLED, "dataset: BRDF %llu stopped",
                        (unsigned long long)index);

@@ -68,7 +68,7 @@ nbrdf_status train_dataset_check_settings(const train_dataset_settings *s, nbrdf
  * layered BRDF's random walks ask `hook` (may be NULL) between chunks, and
  * NBRDF_ERR_CANCELLED is returned (samples undefined) when it says stop. */
 nbrdf_status train_dataset_generate_one(const train_dataset_settings *s, uint64_t index,
-                                        const layered_lobe_hook *hook, train_params *params,
+                                        const brdf_layered_lobe_hook *hook, train_params *params,
                                         float *samples, nbrdf_error *err);
 
 /* The samples of any BRDF `params` (not necessarily a Table 2 draw: base-latent
@@ -82,7 +82,7 @@ nbrdf_status train_samples_generate(const train_dataset_settings *s, uint64_t fa
  * when the walks are stopped (the samples then undefined). */
 nbrdf_status train_samples_generate_hooked(const train_dataset_settings *s, uint64_t family,
                                            uint64_t index, const train_params *params,
-                                           const layered_lobe_hook *hook, float *samples,
+                                           const brdf_layered_lobe_hook *hook, float *samples,
                                            nbrdf_error *err);
 
 /* Writes (or resumes) the data set at `path`. If the file exists, its header

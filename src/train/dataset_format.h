@@ -8,26 +8,28 @@
 
 #include "train/dataset.h"
 
-#define DS_MAGIC "NBRDFDS\0"
-#define DS_FOOTER_MAGIC "NBRDFEND"
-enum { DS_HEADER_BYTES = 64, DS_RECORD_HEAD_BYTES = 104, DS_FOOTER_BYTES = 24 };
+#define TRAIN_DS_MAGIC "NBRDFDS\0"
+#define TRAIN_DS_FOOTER_MAGIC "NBRDFEND"
+enum { TRAIN_DS_HEADER_BYTES = 64, TRAIN_DS_RECORD_HEAD_BYTES = 104, TRAIN_DS_FOOTER_BYTES = 24 };
 
 /* Bytes of one record: head, samples, checksum. */
-size_t ds_record_bytes(const train_dataset_settings *s);
-void ds_encode_header(const train_dataset_settings *s, unsigned char out[DS_HEADER_BYTES]);
+size_t train_ds_record_bytes(const train_dataset_settings *s);
+void train_ds_encode_header(const train_dataset_settings *s,
+                            unsigned char out[TRAIN_DS_HEADER_BYTES]);
 /* Returns 0 and a reason in *why when the header is not a valid one. */
-int ds_decode_header(const unsigned char in[DS_HEADER_BYTES], train_dataset_settings *s,
-                     const char **why);
-/* Encodes record `index` into out[ds_record_bytes(s)], checksum included. */
-void ds_encode_record(const train_dataset_settings *s, uint64_t index, const train_params *p,
-                      const float *samples, unsigned char *out);
-void ds_encode_footer(uint64_t count, uint64_t checksum, unsigned char out[DS_FOOTER_BYTES]);
+int train_ds_decode_header(const unsigned char in[TRAIN_DS_HEADER_BYTES], train_dataset_settings *s,
+                           const char **why);
+/* Encodes record `index` into out[train_ds_record_bytes(s)], checksum included. */
+void train_ds_encode_record(const train_dataset_settings *s, uint64_t index, const train_params *p,
+                            const float *samples, unsigned char *out);
+void train_ds_encode_footer(uint64_t count, uint64_t checksum,
+                            unsigned char out[TRAIN_DS_FOOTER_BYTES]);
 
-void ds_put_u32(unsigned char *p, uint32_t v);
-void ds_put_u64(unsigned char *p, uint64_t v);
-uint32_t ds_get_u32(const unsigned char *p);
-uint64_t ds_get_u64(const unsigned char *p);
-double ds_get_f64(const unsigned char *p);
-float ds_get_f32(const unsigned char *p);
+void train_ds_put_u32(unsigned char *p, uint32_t v);
+void train_ds_put_u64(unsigned char *p, uint64_t v);
+uint32_t train_ds_get_u32(const unsigned char *p);
+uint64_t train_ds_get_u64(const unsigned char *p);
+double train_ds_get_f64(const unsigned char *p);
+float train_ds_get_f32(const unsigned char *p);
 
 #endif

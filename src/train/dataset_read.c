@@ -12,11 +12,11 @@
 
 static void decode_params(const unsigned char *in, train_params *p) {
   memset(p, 0, sizeof *p);
-  p->kind = (train_kind)ds_get_u32(in + 8);
-  p->n_coats = (int)ds_get_u32(in + 12);
+  p->kind = (train_kind)train_ds_get_u32(in + 8);
+  p->n_coats = (int)train_ds_get_u32(in + 12);
   double v[TRAIN_DATASET_PARAMS];
   for (int i = 0; i < TRAIN_DATASET_PARAMS; i++)
-    v[i] = ds_get_f64(in + 16 + 8 * i);
+    v[i] = train_ds_get_f64(in + 16 + 8 * i);
   for (int c = 0; c < 2; c++) {
     p->coat[c].alpha = v[4 * c + 0];
     p->coat[c].eta = v[4 * c + 1];
@@ -32,16 +32,16 @@ static void decode_params(const unsigned char *in, train_params *p) {
 static const char *check_record(const train_dataset_settings *s, uint64_t family, uint64_t i,
                                 const unsigned char *rec, train_params *p, float *samples,
                                 size_t *bad_sample) {
-  if (ds_get_u64(rec) != i) return "wrong index";
+  if (train_ds_get_u64(rec) != i) return "wrong index";
   decode_params(rec, p);
   train_params want;
   train_params_draw_from(family, s->kind, s->draws, i, &want);
   if (memcmp(p, &want, sizeof want) != 0)
     return "parameters differ from those the header's seed draws";
   size_t n = (size_t)s->incident * (size_t)s->outgoing;
-  const unsigned char *q = rec + DS_RECORD_HEAD_BYTES;
+  const unsigned char *q = rec + TRAIN_DS_RECORD_HEAD_BYTES;
   for (size_t j = 0; j < n * TRAIN_DATASET_FLOATS; j++)
-    samples[j] = ds_get_f32(q + 4 * j);
+    samples[j] = train_ds_get_f32(q + 4 * j);
   for (size_t j = 0; j < n; j++) {
     const float *x = samples + TRAIN_DATASET_FLOATS * j;
     *bad_sample = j;
@@ -67,16 +67,16 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
     close(fd);
     return core_fail(err, NBRDF_ERR_IO, "%s: cannot open for reading", path);
   }
-  unsigned char head[DS_HEADER_BYTES];
+  unsigned char head[TRAIN_DS_HEADER_BYTES];
   const char *why = "truncated header";
   if (fread(head, 1, sizeof head, f) != sizeof head ||
-      !ds_decode_header(head, &info->settings, &why)) {
+      !train_ds_decode_header(head, &info->settings, &why)) {
     fclose(f);
     return core_fail(err, NBRDF_ERR_FORMAT, "%s: %s", path, why);
   }
   const train_dataset_settings *s = &info->settings;
   uint64_t family = train_family_seed(s->seed);
-  size_t rb = ds_record_bytes(s), n = (size_t)s->incident * (size_t)s->outgoing;
+  size_t rb = train_ds_record_bytes(s), n = (size_t)s->incident * (size_t)s->outgoing;
   unsigned char *rec = malloc(rb);
   float *samples = malloc(n * TRAIN_DATASET_FLOATS * sizeof *samples);
   if (!rec || !samples) {
@@ -84,7 +84,7 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
     return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for a %zu-byte record", path, rb);
   }
   uint64_t sum = nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, head, sizeof head);
-  info->valid_bytes = DS_HEADER_BYTES;
+  info->valid_bytes = TRAIN_DS_HEADER_BYTES;
   nbrdf_status st = NBRDF_OK;
   why = NULL;
   uint64_t i = 0;
@@ -95,7 +95,7 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
       why = got == 0 ? "missing: the file is unfinished (resume it)" : "truncated";
       break;
     }
-    if (ds_get_u64(rec + rb - 8) != nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, rec, rb - 8)) {
+    if (train_ds_get_u64(rec + rb - 8) != nn_st_fnv1a64(NBRDF_ST_FNV1A64_INIT, rec, rb - 8)) {
       why = "checksum mismatch";
       break;
     }
@@ -116,18 +116,18 @@ nbrdf_status train_dataset_read(const char *path, int strict, train_dataset_info
     st = core_fail(err, NBRDF_ERR_FORMAT, "%s: record %llu of %llu: %s", path,
                    (unsigned long long)i, (unsigned long long)s->count, why);
   if (!st && !why && info->records == s->count) {
-    unsigned char foot[DS_FOOTER_BYTES + 1];
+    unsigned char foot[TRAIN_DS_FOOTER_BYTES + 1];
     size_t got = fread(foot, 1, sizeof foot, f);
-    if (got == DS_FOOTER_BYTES && memcmp(foot, DS_FOOTER_MAGIC, 8) == 0 &&
-        ds_get_u64(foot + 8) == s->count && ds_get_u64(foot + 16) == sum) {
+    if (got == TRAIN_DS_FOOTER_BYTES && memcmp(foot, TRAIN_DS_FOOTER_MAGIC, 8) == 0 &&
+        train_ds_get_u64(foot + 8) == s->count && train_ds_get_u64(foot + 16) == sum) {
       info->complete = 1;
       info->checksum = sum;
     } else if (strict) {
       st = core_fail(err, NBRDF_ERR_FORMAT, "%s: %s", path,
-                     got == 0                ? "footer missing (an unfinished file?)"
-                     : got > DS_FOOTER_BYTES ? "trailing bytes after the footer"
-                     : got < DS_FOOTER_BYTES ? "truncated footer"
-                                             : "footer checksum or count mismatch");
+                     got == 0                      ? "footer missing (an unfinished file?)"
+                     : got > TRAIN_DS_FOOTER_BYTES ? "trailing bytes after the footer"
+                     : got < TRAIN_DS_FOOTER_BYTES ? "truncated footer"
+                                                   : "footer checksum or count mismatch");
     }
   }
   info->prefix_checksum = sum;

@@ -54,8 +54,8 @@ static nbrdf_status open_output(const char *path, const train_dataset_settings *
     }
     return NBRDF_OK;
   }
-  unsigned char head[DS_HEADER_BYTES];
-  ds_encode_header(s, head);
+  unsigned char head[TRAIN_DS_HEADER_BYTES];
+  train_ds_encode_header(s, head);
   *out = fopen(path, "wb");
   if (!*out) return core_fail(err, NBRDF_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
   if (fwrite(head, 1, sizeof head, *out) != sizeof head || fflush(*out) != 0) {
@@ -95,12 +95,12 @@ static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t fir
                                    int threads, unsigned char *recs, float *samples,
                                    size_t per_thread, core_ticker *tk, unsigned char *ok,
                                    int *stopped, nbrdf_error *err) {
-  size_t rb = ds_record_bytes(s);
+  size_t rb = train_ds_record_bytes(s);
   nbrdf_status st = NBRDF_OK;
   volatile sig_atomic_t halt = 0;
   int made = 0;
   batch_tick bt = {tk, s, first, &made, &halt};
-  const layered_lobe_hook caller = {&halt, batch_tick_fn, &bt}, others = {&halt, NULL, NULL};
+  const brdf_layered_lobe_hook caller = {&halt, batch_tick_fn, &bt}, others = {&halt, NULL, NULL};
   memset(ok, 0, (size_t)n);
 #pragma omp parallel for num_threads(threads) schedule(dynamic, 1)
   for (int k = 0; k < n; k++) {
@@ -123,12 +123,12 @@ static nbrdf_status generate_batch(const train_dataset_settings *s, uint64_t fir
     nbrdf_status sk = train_dataset_generate_one(
         s, first + (uint64_t)k, omp_get_thread_num() == 0 ? &caller : &others, &p, mine, &e);
     if (sk == NBRDF_OK) {
-      ds_encode_record(s, first + (uint64_t)k, &p, mine, recs + (size_t)k * rb);
+      train_ds_encode_record(s, first + (uint64_t)k, &p, mine, recs + (size_t)k * rb);
       ok[k] = 1;
 #pragma omp atomic update
       made++;
     }
-#pragma omp critical(nbrdf_dataset_error)
+#pragma omp critical(train_dataset_error)
     if (sk != NBRDF_OK && sk != NBRDF_ERR_CANCELLED && st == NBRDF_OK) {
       st = sk;
       if (err) *err = e;
@@ -153,7 +153,7 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
 
   int threads = s->threads > 0 ? s->threads : omp_get_max_threads();
   int batch = 4 * threads;
-  size_t rb = ds_record_bytes(s);
+  size_t rb = train_ds_record_bytes(s);
   size_t per_thread = (size_t)s->incident * (size_t)s->outgoing * TRAIN_DATASET_FLOATS;
   unsigned char *recs = malloc((size_t)batch * rb), *ok = malloc((size_t)batch);
   float *samples = malloc((size_t)threads * per_thread * sizeof *samples);
@@ -196,8 +196,8 @@ nbrdf_status train_dataset_write(const char *path, const train_dataset_settings 
       goto done;
     }
   }
-  unsigned char foot[DS_FOOTER_BYTES];
-  ds_encode_footer(s->count, sum, foot);
+  unsigned char foot[TRAIN_DS_FOOTER_BYTES];
+  train_ds_encode_footer(s->count, sum, foot);
   if (fwrite(foot, 1, sizeof foot, f) != sizeof foot || fflush(f) != 0)
     st = core_fail(err, NBRDF_ERR_IO, "%s: cannot write the footer", path);
 done:

@@ -5,13 +5,13 @@
 
 #include "core/error.h"
 
-void layering_pairs_free(layering_pairs *p) {
+void train_layering_pairs_free(train_layering_pairs *p) {
   free(p->top), free(p->bottom), free(p->albedo), free(p->sigma_t), free(p->target), free(p->brdf);
   free(p->coats), free(p->mid), free(p->albedo2), free(p->sigma_t2);
   memset(p, 0, sizeof *p);
 }
 
-static nbrdf_status pairs_alloc(layering_pairs *p, size_t n, size_t D, int targets,
+static nbrdf_status pairs_alloc(train_layering_pairs *p, size_t n, size_t D, int targets,
                                 nbrdf_error *err) {
   memset(p, 0, sizeof *p);
   p->top = malloc(n * D * sizeof(float));
@@ -27,7 +27,7 @@ static nbrdf_status pairs_alloc(layering_pairs *p, size_t n, size_t D, int targe
   if (p->top && p->bottom && p->mid && (p->target || !targets) && p->albedo && p->sigma_t &&
       p->albedo2 && p->sigma_t2 && p->coats && p->brdf)
     return NBRDF_OK;
-  layering_pairs_free(p);
+  train_layering_pairs_free(p);
   return core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory for %zu pairs", n);
 }
 
@@ -41,9 +41,10 @@ static nbrdf_status dielectric(const model_base_table *t, const train_coat *c, f
   return model_base_table_lookup(t, 1, &a, &eta, 0, out, NULL, err);
 }
 
-nbrdf_status layering_pairs_make(const train_samples *data, const float *latents,
-                                 const model_base_table t[2], int max_coats, int every,
-                                 layering_pairs *train, layering_pairs *val, nbrdf_error *err) {
+nbrdf_status train_layering_pairs_make(const train_samples *data, const float *latents,
+                                       const model_base_table t[2], int max_coats, int every,
+                                       train_layering_pairs *train, train_layering_pairs *val,
+                                       nbrdf_error *err) {
   size_t D = (size_t)t[0].dim, n = 0, nv = 0;
   memset(train, 0, sizeof *train);
   memset(val, 0, sizeof *val);
@@ -57,14 +58,14 @@ nbrdf_status layering_pairs_make(const train_samples *data, const float *latents
   nbrdf_status st = pairs_alloc(train, n - nv, D, latents != NULL, err);
   if (!st) st = pairs_alloc(val, nv ? nv : 1, D, latents != NULL, err);
   if (st) {
-    layering_pairs_free(train);
+    train_layering_pairs_free(train);
     return st;
   }
   size_t k = 0;
   for (size_t b = 0; b < data->n_brdfs && !st; b++) {
     const train_params *p = &data->params[b];
     if (p->n_coats < 1 || p->n_coats > max_coats) continue;
-    layering_pairs *q = held_out(k++, every) ? val : train;
+    train_layering_pairs *q = held_out(k++, every) ? val : train;
     size_t i = q->n++;
     double a2 = p->base_alpha, r0 = p->base_r0;
     st = dielectric(&t[0], &p->coat[0], q->top + i * D, err);
@@ -80,6 +81,6 @@ nbrdf_status layering_pairs_make(const train_samples *data, const float *latents
     q->brdf[i] = b;
     if (latents) memcpy(q->target + i * D, latents + b * D, D * sizeof(float));
   }
-  if (st) layering_pairs_free(train), layering_pairs_free(val);
+  if (st) train_layering_pairs_free(train), train_layering_pairs_free(val);
   return st;
 }

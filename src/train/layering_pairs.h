@@ -15,7 +15,7 @@
 #include "model/base_table.h"
 #include "train/samples.h"
 
-typedef struct layering_pairs {
+typedef struct train_layering_pairs {
   size_t n;
   float *top, *bottom;     /* [n × D] table latents: outermost coat, conductor */
   float *albedo, *sigma_t; /* [n] outermost coat's medium */
@@ -24,13 +24,14 @@ typedef struct layering_pairs {
   float *albedo2, *sigma_t2;
   float *target; /* [n × D] the decoder run's latents; NULL without latents */
   size_t *brdf;  /* [n] index of the BRDF in the data (its samples) */
-} layering_pairs;
+} train_layering_pairs;
 
 /* Pairs of the BRDFs with 1 .. max_coats coats. `latents` [data->n_brdfs ×
  * D] may be NULL (no targets). */
-nbrdf_status layering_pairs_make(const train_samples *data, const float *latents,
-                                 const model_base_table t[2], int max_coats, int validation_every,
-                                 layering_pairs *train, layering_pairs *val, nbrdf_error *err);
-void layering_pairs_free(layering_pairs *p);
+nbrdf_status train_layering_pairs_make(const train_samples *data, const float *latents,
+                                       const model_base_table t[2], int max_coats,
+                                       int validation_every, train_layering_pairs *train,
+                                       train_layering_pairs *val, nbrdf_error *err);
+void train_layering_pairs_free(train_layering_pairs *p);
 
 #endif

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "core/rng.h"
+#include "model/param_conventions.h"
 
 /* Domain tags of the two seed families (arbitrary, different, never change:
  * changing one silently changes every data set and held-out set). */
@@ -47,7 +48,7 @@ double train_draw_alpha(double u) {
 double train_draw_eta(double u) { return 1.05 + (2.0 - 1.05) * u; }
 double train_draw_albedo(double u) { return 1.0 - u * u; }
 double train_draw_sigma_t(double u) {
-  static const double SIGMA_T[4] = {0.0, 1.0, 2.0, 5.0};
+  static const double SIGMA_T[4] = {0.0, 1.0, 2.0, NBRDF_BAKE_SIGMA_T_MAX};
   int i = (int)(u * 4.0);
   return SIGMA_T[i < 0 ? 0 : i > 3 ? 3 : i];
 }

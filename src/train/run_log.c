@@ -46,8 +46,8 @@ static char *kept_rows(const char *path, int64_t keep) {
   return out;
 }
 
-nbrdf_status run_log_open(run_log *log, const char *path, const char *header, int64_t keep_to_step,
-                          nbrdf_error *err) {
+nbrdf_status train_run_log_open(train_run_log *log, const char *path, const char *header,
+                                int64_t keep_to_step, nbrdf_error *err) {
   log->f = NULL;
   char *rows = keep_to_step > 0 ? kept_rows(path, keep_to_step) : NULL;
   size_t n = strlen(header) + 2 + (rows ? strlen(rows) : 0);
@@ -68,14 +68,14 @@ nbrdf_status run_log_open(run_log *log, const char *path, const char *header, in
   return NBRDF_OK;
 }
 
-void run_log_row(run_log *log, const char *fmt, va_list ap) {
+void train_run_log_row(train_run_log *log, const char *fmt, va_list ap) {
   if (!log->f) return;
   vfprintf(log->f, fmt, ap);
   fputc('\n', log->f);
   fflush(log->f);
 }
 
-void run_log_close(run_log *log) {
+void train_run_log_close(train_run_log *log) {
   if (log->f) fclose(log->f);
   log->f = NULL;
 }

@@ -12,14 +12,15 @@
 
 #include "nbrdf/status.h"
 
-typedef struct run_log {
+typedef struct train_run_log {
   FILE *f;
-} run_log;
+} train_run_log;
 
 /* `header` is the first line (without newline); rows start with the step. */
-nbrdf_status run_log_open(run_log *log, const char *path, const char *header, int64_t keep_to_step,
-                          nbrdf_error *err);
-void run_log_row(run_log *log, const char *fmt, va_list ap) __attribute__((format(printf, 2, 0)));
-void run_log_close(run_log *log);
+nbrdf_status train_run_log_open(train_run_log *log, const char *path, const char *header,
+                                int64_t keep_to_step, nbrdf_error *err);
+void train_run_log_row(train_run_log *log, const char *fmt, va_list ap)
+    __attribute__((format(printf, 2, 0)));
+void train_run_log_close(train_run_log *log);
 
 #endif

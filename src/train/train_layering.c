@@ -11,9 +11,9 @@
 
 /* Mean squared error over pairs [lo, lo + m) in the order `idx`; with
  * `backward`, accumulates the gradient into grad. */
-static nbrdf_status batch_loss(model_layering *net, model_runner *run, const layering_pairs *p,
-                               const size_t *idx, size_t m, float *grad, float *dy, double *loss,
-                               nbrdf_error *err) {
+static nbrdf_status batch_loss(model_layering *net, model_runner *run,
+                               const train_layering_pairs *p, const size_t *idx, size_t m,
+                               float *grad, float *dy, double *loss, nbrdf_error *err) {
   size_t D = (size_t)net->latent_dim, in = 2 * D + 2;
   float *x = run->x;
   for (size_t r = 0; r < m; r++) {
@@ -35,7 +35,7 @@ static nbrdf_status batch_loss(model_layering *net, model_runner *run, const lay
   return st;
 }
 
-static nbrdf_status eval_all(model_layering *net, model_runner *run, const layering_pairs *p,
+static nbrdf_status eval_all(model_layering *net, model_runner *run, const train_layering_pairs *p,
                              size_t *idx, double *loss, double *mean_sq, nbrdf_error *err) {
   size_t D = (size_t)net->latent_dim, B = (size_t)run->max_batch;
   double sum = 0.0, sq = 0.0;
@@ -72,7 +72,7 @@ typedef struct latent_run {
   model_decoder *dec;
   const train_samples *data;
   const train_layering_settings *s;
-  const layering_pairs *train, *val;
+  const train_layering_pairs *train, *val;
   model_runner run;
   train_epoch_shuffle shuffle;
   size_t *eval_idx;
@@ -143,9 +143,9 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   memset(r, 0, sizeof *r);
   r->val_decoded = r->val_decoded_oracle = NAN;
   *out = NULL;
-  layering_pairs train, val;
+  train_layering_pairs train, val;
   nbrdf_status st =
-      layering_pairs_make(data, latents, tables, 1, s->validation_every, &train, &val, err);
+      train_layering_pairs_make(data, latents, tables, 1, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
   size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
@@ -194,7 +194,7 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   model_runner_destroy(&t.run);
   train_epoch_shuffle_free(&t.shuffle);
   free(t.eval_idx), free(t.dy), free(t.grad);
-  layering_pairs_free(&train), layering_pairs_free(&val);
+  train_layering_pairs_free(&train), train_layering_pairs_free(&val);
   if (st) {
     model_layering_destroy(t.net);
     return st;

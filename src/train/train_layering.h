@@ -91,7 +91,7 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
  * latents coming from `net` (or, if net is NULL, from pairs->target). */
 nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decoder *dec,
                                          model_loss_kind loss, const train_samples *data,
-                                         const layering_pairs *pairs, double *mean,
+                                         const train_layering_pairs *pairs, double *mean,
                                          nbrdf_error *err);
 
 /* A hash of both tables' axes and latents (checkpoint options). */
@@ -99,7 +99,7 @@ uint64_t train_layering_tables_hash(const model_base_table tables[2]);
 
 /* The network's latent for every pair (recursive for three layers), out
  * [p->n × D]: what a bake computes for those parameters. */
-nbrdf_status train_layering_pair_latents(const model_layering *net, const layering_pairs *p,
+nbrdf_status train_layering_pair_latents(const model_layering *net, const train_layering_pairs *p,
                                          float *out, nbrdf_error *err);
 
 /* The gradient engine of the decoded loss (the fit's inner step; exposed for
@@ -117,8 +117,9 @@ nbrdf_status train_layering_decoded_set_energy(train_layering_decoded *t,
 /* Loss of m <= batch pairs idx[] of p, `rows` samples each drawn from PCG32
  * stream `step` (a step does not depend on what ran before it), and its
  * gradient with respect to the layering weights ADDED into grad. */
-nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const layering_pairs *p,
-                                             const size_t *idx, int m, int64_t step, float *grad,
-                                             double *loss, nbrdf_error *err);
+nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t,
+                                             const train_layering_pairs *p, const size_t *idx,
+                                             int m, int64_t step, float *grad, double *loss,
+                                             nbrdf_error *err);
 
 #endif

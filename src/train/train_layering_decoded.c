@@ -20,7 +20,7 @@ static void fill_decoder_row(const model_decoder *dec, const train_samples *data
 
 /* The latent of pair i: one application, or two for a three-layer pair. */
 static nbrdf_status pair_latent(const model_layering *net, model_runner *run,
-                                const layering_pairs *p, size_t i, float *inner, float *z,
+                                const train_layering_pairs *p, size_t i, float *inner, float *z,
                                 nbrdf_error *err) {
   size_t D = (size_t)net->latent_dim;
   if (p->coats[i] != 2)
@@ -33,7 +33,7 @@ static nbrdf_status pair_latent(const model_layering *net, model_runner *run,
                                   z, err);
 }
 
-nbrdf_status train_layering_pair_latents(const model_layering *net, const layering_pairs *p,
+nbrdf_status train_layering_pair_latents(const model_layering *net, const train_layering_pairs *p,
                                          float *out, nbrdf_error *err) {
   size_t D = (size_t)net->latent_dim;
   model_runner run = {0};
@@ -49,7 +49,8 @@ nbrdf_status train_layering_pair_latents(const model_layering *net, const layeri
 
 nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decoder *dec,
                                          model_loss_kind loss, const train_samples *data,
-                                         const layering_pairs *p, double *mean, nbrdf_error *err) {
+                                         const train_layering_pairs *p, double *mean,
+                                         nbrdf_error *err) {
   size_t D = (size_t)dec->cfg.latent_dim, in = (size_t)model_decoder_inputs(dec);
   const int B = 4096;
   model_runner lrun = {0}, drun = {0};
@@ -160,9 +161,10 @@ nbrdf_status train_layering_decoded_set_energy(train_layering_decoded *t,
   return train_energy_create(t->dec, t->data, o, brdfs_per_batch, &t->energy, err);
 }
 
-nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t, const layering_pairs *p,
-                                             const size_t *idx, int m, int64_t step, float *grad,
-                                             double *loss, nbrdf_error *err) {
+nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t,
+                                             const train_layering_pairs *p, const size_t *idx,
+                                             int m, int64_t step, float *grad, double *loss,
+                                             nbrdf_error *err) {
   if (m < 1 || m > t->batch)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "train layering: %d pairs in a batch of %d", m,
                      t->batch);

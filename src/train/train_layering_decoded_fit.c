@@ -23,7 +23,7 @@ typedef struct decoded_run {
   const train_layering_settings *s;
   train_layering_decoded *engine;
   float *grad;
-  const layering_pairs *train, *val;
+  const train_layering_pairs *train, *val;
   size_t *idx;
   uint64_t tables_hash;
   int64_t steps_per_epoch;
@@ -171,9 +171,9 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
   memset(r, 0, sizeof *r);
   r->val_loss = r->val_decoded = r->val_decoded_oracle = NAN;
   *out = NULL;
-  layering_pairs train, val;
+  train_layering_pairs train, val;
   nbrdf_status st =
-      layering_pairs_make(data, NULL, tables, 2, s->validation_every, &train, &val, err);
+      train_layering_pairs_make(data, NULL, tables, 2, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
   size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
@@ -217,7 +217,7 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
     st = train_layering_decoded_loss(t.net, dec, s->loss, data, &val, &r->val_decoded, err);
   train_layering_decoded_destroy(t.engine);
   free(t.idx), free(t.grad);
-  layering_pairs_free(&train), layering_pairs_free(&val);
+  train_layering_pairs_free(&train), train_layering_pairs_free(&val);
   if (st) {
     model_layering_destroy(t.net);
     return st;

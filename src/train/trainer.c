@@ -17,14 +17,14 @@ struct trainer {
   const trainer_group *groups;
   int n_groups;
   nn_adam *adam[MAX_GROUPS];
-  run_log log;
+  train_run_log log;
   double t0;
 };
 
 void trainer_log(trainer *t, const char *fmt, ...) {
   va_list ap;
   va_start(ap, fmt);
-  run_log_row(&t->log, fmt, ap);
+  train_run_log_row(&t->log, fmt, ap);
   va_end(ap);
 }
 
@@ -121,7 +121,7 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
     r->resumed_from = step;
   }
   if (!st && o->log_path)
-    st = run_log_open(&t.log, o->log_path, o->log_header, step / o->log_unit, err);
+    st = train_run_log_open(&t.log, o->log_path, o->log_header, step / o->log_unit, err);
   core_ticker own, *tk = o->ticker ? o->ticker : &own;
   if (!o->ticker) core_ticker_init(&own, o->progress, o->user, o->cancel);
   double total = o->progress_total > 0 ? o->progress_total : (double)o->steps / o->progress_unit;
@@ -160,7 +160,7 @@ nbrdf_status trainer_run(const trainer_options *o, const trainer_fit *fit,
   r->finished = !st && step >= o->steps;
   r->seconds = trainer_seconds(&t);
   if (!st && !r->finished) st = stopped(o, step, err);
-  run_log_close(&t.log);
+  train_run_log_close(&t.log);
   for (int g = 0; g < n_groups; g++)
     nn_adam_destroy(t.adam[g]);
   return st;

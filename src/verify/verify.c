@@ -6,10 +6,11 @@
 #include <string.h>
 #include <time.h>
 
-#include "bake/bake_sources.h"
 #include "bake/bake_audit.h"
+#include "bake/bake_sources.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "model/param_conventions.h"
 #include "texture/latent_exr.h"
 #include "texture/latent_settings.h"
 #include "texture/mip_chain.h"
@@ -64,10 +65,18 @@ static nbrdf_status open_texture(verify_run *v, nbrdf_error *err) {
   if (st != NBRDF_OK) return st;
   v->colours = texture_latent_colours(&v->info->layout);
   if (v->o.roughness == NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE) {
-    char value[32];
-    latent_setting(v->info->settings, "roughness", value, sizeof value);
-    v->roughness =
-        !strcmp(value, "perceptual") ? NBRDF_ROUGHNESS_PERCEPTUAL : NBRDF_ROUGHNESS_ALPHA;
+    /* Every bake records roughness=; a texture without it (another writer's)
+     * is read as alpha, the model's own convention. A value this build does
+     * not know would be a guess either way. */
+    char value[64];
+    int convention = NBRDF_ROUGHNESS_ALPHA;
+    if (texture_latent_setting(v->info->settings, "roughness", value, sizeof value) &&
+        (convention = model_roughness_parse(value)) < 0)
+      return core_fail(err, NBRDF_ERR_FORMAT,
+                       "%s: its bake settings have roughness=%s, neither 'alpha' nor "
+                       "'perceptual'; pass --roughness",
+                       v->path, value);
+    v->roughness = (nbrdf_roughness)convention;
   } else
     v->roughness = (nbrdf_roughness)v->o.roughness;
   return NBRDF_OK;
@@ -102,9 +111,8 @@ static nbrdf_status texel_tuple(verify_run *v, int x, int y, int c, verify_tuple
     nbrdf_status st = texture_param_source_read_band(v->src[id], y, 1, &band, err);
     if (st != NBRDF_OK) return st;
     float p = texture_param_band_at(&band, x, 0, c) + 0.0f;
-    if (v->roughness == NBRDF_ROUGHNESS_PERCEPTUAL &&
-        (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2))
-      p = p * p;
+    if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2)
+      p = (float)model_roughness_alpha(v->roughness, p);
     t->p[id] = p;
   }
   return NBRDF_OK;

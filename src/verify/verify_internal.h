@@ -9,8 +9,8 @@
  *   verify_heatmap.c    the error heat-map PNG
  * Lobe image sets follow src/lobe/lobe.h: NBRDF_LOBE_N_THETA images of
  * NBRDF_LOBE_RES² doubles, one colour channel each. */
-#ifndef NBRDF_EVAL_VERIFY_INTERNAL_H
-#define NBRDF_EVAL_VERIFY_INTERNAL_H
+#ifndef NBRDF_VERIFY_VERIFY_INTERNAL_H
+#define NBRDF_VERIFY_VERIFY_INTERNAL_H
 
 #include <signal.h>
 #include <stddef.h>

@@ -32,36 +32,36 @@ static nbrdf_status proxy_shaped_fn(void *user, size_t n, const nbrdf_query *q, 
   return NBRDF_OK;
 }
 
-static eval_is_setup setup_of(lobe_fn fn, void *user) {
-  eval_is_setup s = {fn, user, furnace, NULL, 200, 2, {16, 64}, 7};
+static bench_is_setup setup_of(lobe_fn fn, void *user) {
+  bench_is_setup s = {fn, user, furnace, NULL, 200, 2, {16, 64}, 7};
   return s;
 }
 
 static void test_proxy_shaped_brdf(void) {
   /* A narrow lobe at normal view: no reflection falls below the horizon. */
   proxy_shaped p = {0.08, 0.05};
-  eval_is_lobe lobe = {p.sigma, p.w, 0.3};
-  eval_is_setup s = setup_of(proxy_shaped_fn, &p);
-  eval_is_result r;
+  bench_is_lobe lobe = {p.sigma, p.w, 0.3};
+  bench_is_setup s = setup_of(proxy_shaped_fn, &p);
+  bench_is_result r;
   nbrdf_error err = {0}, *e = &err;
-  CHECK_OK(eval_is_variance(&s, &lobe, v3(0, 0, 1), 1, &r, &err), e);
-  CHECK(r.lost[EVAL_IS_PROXY] == 0.0);
-  CHECK_NEAR(r.mean[EVAL_IS_PROXY], 1.0, 1e-9);
-  CHECK(r.var[EVAL_IS_PROXY][1] < 1e-20);
+  CHECK_OK(bench_is_variance(&s, &lobe, v3(0, 0, 1), 1, &r, &err), e);
+  CHECK(r.lost[BENCH_IS_PROXY] == 0.0);
+  CHECK_NEAR(r.mean[BENCH_IS_PROXY], 1.0, 1e-9);
+  CHECK(r.var[BENCH_IS_PROXY][1] < 1e-20);
   CHECK_NEAR(r.radiance, 1.0, 1e-9);
   for (int k = 0; k < 2; k++) {
     /* A lobe of σ = 0.08 covers ~2 % of the cosine-weighted hemisphere. */
-    CHECK_MSG(r.var[EVAL_IS_COSINE][k] > 0.1, "cosine variance %g at N %d",
-              r.var[EVAL_IS_COSINE][k], s.counts[k]);
-    CHECK(r.var[EVAL_IS_MIX][k] < r.var[EVAL_IS_COSINE][k]);
+    CHECK_MSG(r.var[BENCH_IS_COSINE][k] > 0.1, "cosine variance %g at N %d",
+              r.var[BENCH_IS_COSINE][k], s.counts[k]);
+    CHECK(r.var[BENCH_IS_MIX][k] < r.var[BENCH_IS_COSINE][k]);
   }
   /* Four times the samples, a quarter of the variance. */
-  double ratio = r.var[EVAL_IS_COSINE][1] / r.var[EVAL_IS_COSINE][0];
+  double ratio = r.var[BENCH_IS_COSINE][1] / r.var[BENCH_IS_COSINE][0];
   CHECK_MSG(ratio > 0.15 && ratio < 0.4, "variance ratio N 64 / N 16: %g", ratio);
-  for (int t = 0; t < EVAL_IS_COUNT; t++) {
+  for (int t = 0; t < BENCH_IS_COUNT; t++) {
     double se = sqrt(r.var[t][1] / s.reps);
     CHECK_MSG(fabs(r.mean[t] - 1.0) < 5 * se + 1e-9, "%s: mean %.5f +- %.5f, want 1",
-              eval_is_strategy_name((eval_is_strategy)t), r.mean[t], se);
+              bench_is_strategy_name((bench_is_strategy)t), r.mean[t], se);
   }
 }
 
@@ -71,42 +71,42 @@ static void test_ggx_conductor(void) {
   CHECK_OK(nbrdf_brdf_create_conductor(0.1, 0.9, &b, &err), e);
   if (!b) return;
   lobe_brdf lb = {b, NBRDF_EVAL_OPTIONS_DEFAULT};
-  eval_is_setup s = setup_of(lobe_brdf_fn, &lb);
+  bench_is_setup s = setup_of(lobe_brdf_fn, &lb);
   const double theta = 40.0 * M_PI / 180.0;
-  eval_is_lobe lobe = {0.2, 0.1, 0.1};
-  eval_is_result r;
-  CHECK_OK(eval_is_variance(&s, &lobe, v3(sin(theta), 0, cos(theta)), 2, &r, &err), e);
+  bench_is_lobe lobe = {0.2, 0.1, 0.1};
+  bench_is_result r;
+  CHECK_OK(bench_is_variance(&s, &lobe, v3(sin(theta), 0, cos(theta)), 2, &r, &err), e);
   double rho = 0, rho_se = 0;
   CHECK_OK(nbrdf_brdf_albedo(b, theta, 1 << 18, 3, &rho, &rho_se, &err), e);
-  CHECK_MSG(r.var[EVAL_IS_GGX][1] < 0.1 * r.var[EVAL_IS_COSINE][1], "ggx %g vs cosine %g",
-            r.var[EVAL_IS_GGX][1], r.var[EVAL_IS_COSINE][1]);
-  for (int t = 0; t < EVAL_IS_COUNT; t++) {
+  CHECK_MSG(r.var[BENCH_IS_GGX][1] < 0.1 * r.var[BENCH_IS_COSINE][1], "ggx %g vs cosine %g",
+            r.var[BENCH_IS_GGX][1], r.var[BENCH_IS_COSINE][1]);
+  for (int t = 0; t < BENCH_IS_COUNT; t++) {
     double se = sqrt(r.var[t][1] / s.reps + rho_se * rho_se);
     CHECK_MSG(fabs(r.mean[t] - rho) < 5 * se, "%s: mean %.5f +- %.5f, albedo %.5f",
-              eval_is_strategy_name((eval_is_strategy)t), r.mean[t], se, rho);
+              bench_is_strategy_name((bench_is_strategy)t), r.mean[t], se, rho);
   }
   nbrdf_brdf_destroy(b);
 }
 
 static void test_pdf_matches_sampler(void) {
-  eval_is_lobe lobe = {0.3, 0.25, 0.4};
+  bench_is_lobe lobe = {0.3, 0.25, 0.4};
   vec3 wo = v3_from_spherical(1.1, 0.7);
-  for (int t = 0; t < EVAL_IS_COUNT; t++)
+  for (int t = 0; t < BENCH_IS_COUNT; t++)
     for (int k = 0; k < 200; k++) {
       double u[3] = {(k % 10 + 0.5) / 10, ((k / 10) % 5 + 0.3) / 5, (k / 50 + 0.6) / 4};
       vec3 wi;
-      double pdf = eval_is_sample((eval_is_strategy)t, &lobe, wo, u, &wi);
-      if (pdf > 0.0) CHECK_REL(pdf, eval_is_pdf((eval_is_strategy)t, &lobe, wo, wi), 1e-9, 0.0);
+      double pdf = bench_is_sample((bench_is_strategy)t, &lobe, wo, u, &wi);
+      if (pdf > 0.0) CHECK_REL(pdf, bench_is_pdf((bench_is_strategy)t, &lobe, wo, wi), 1e-9, 0.0);
     }
 }
 
 static void test_bad_arguments(void) {
-  eval_is_setup s = setup_of(proxy_shaped_fn, NULL);
+  bench_is_setup s = setup_of(proxy_shaped_fn, NULL);
   s.reps = 1;
-  eval_is_lobe lobe = {0.3, 0.25, 0.4};
-  eval_is_result r;
+  bench_is_lobe lobe = {0.3, 0.25, 0.4};
+  bench_is_result r;
   nbrdf_error err = {0}, *e = &err;
-  CHECK_FAILS(eval_is_variance(&s, &lobe, v3(0, 0, 1), 0, &r, &err), NBRDF_ERR_ARGUMENT, e,
+  CHECK_FAILS(bench_is_variance(&s, &lobe, v3(0, 0, 1), 0, &r, &err), NBRDF_ERR_ARGUMENT, e,
               "reps");
 }
 

@@ -29,12 +29,12 @@ static inline void check_cell_of(vec3 w, int *i, int *j) {
 }
 
 /* Draws n samples of b from wo and checks, for a deterministic (analytic)
- * BSDF: every sample's pdf equals bsdf_pdf, its f equals bsdf_eval and its
+ * BSDF: every sample's pdf equals brdf_bsdf_pdf, its f equals brdf_bsdf_eval and its
  * weight equals f |cos| / pdf; the histogram over the sphere's cells matches
  * the pdf integrated over each cell (5 standard deviations + quadrature); the
  * pdf integrated over the sphere equals the fraction of successful draws. */
-static void check_sampler(const char *label, const bsdf *b, vec3 wo, bsdf_mode mode, int flags,
-                          int n, uint64_t seed) {
+static void check_sampler(const char *label, const brdf_bsdf *b, vec3 wo, brdf_bsdf_mode mode,
+                          int flags, int n, uint64_t seed) {
   static int hist[CHECK_NC][CHECK_NP];
   for (int i = 0; i < CHECK_NC; i++)
     for (int j = 0; j < CHECK_NP; j++)
@@ -43,11 +43,11 @@ static void check_sampler(const char *label, const bsdf *b, vec3 wo, bsdf_mode m
   core_rng_init(&rng, seed, 0);
   int ok = 0, bad_values = 0;
   for (int s = 0; s < n; s++) {
-    bsdf_sample bs;
-    if (!bsdf_sample_dir(b, wo, mode, flags, &rng, &bs)) continue;
+    brdf_bsdf_sample bs;
+    if (!brdf_bsdf_sample_dir(b, wo, mode, flags, &rng, &bs)) continue;
     ok++;
-    double pdf = bsdf_pdf(b, wo, bs.wi, mode, flags);
-    double f = bsdf_eval(b, wo, bs.wi, mode, NULL);
+    double pdf = brdf_bsdf_pdf(b, wo, bs.wi, mode, flags);
+    double f = brdf_bsdf_eval(b, wo, bs.wi, mode, NULL);
     double w = f * fabs(bs.wi.z) / pdf;
     int good = fabs(v3_length(bs.wi) - 1.0) < 1e-9 && isfinite(bs.weight) && bs.weight >= 0 &&
                fabs(pdf - bs.pdf) <= 1e-7 * pdf && fabs(f - bs.f) <= 1e-7 * f + 1e-300 &&
@@ -69,7 +69,7 @@ static void check_sampler(const char *label, const bsdf *b, vec3 wo, bsdf_mode m
       double integral = 0.0;
       for (int a = 0; a < CHECK_SUB; a++)
         for (int c = 0; c < CHECK_SUB; c++)
-          integral += bsdf_pdf(b, wo, check_cell_dir(i, j, a, c, CHECK_SUB), mode, flags);
+          integral += brdf_bsdf_pdf(b, wo, check_cell_dir(i, j, a, c, CHECK_SUB), mode, flags);
       integral *= (2.0 / CHECK_NC) * (2.0 * M_PI / CHECK_NP) / (CHECK_SUB * CHECK_SUB);
       total += integral;
       double e = n * integral;

@@ -1,27 +1,27 @@
 #include "brdf/dielectric.h"
 #include "bsdf_check.h"
 
-static bsdf dielectric(double alpha, double eta) {
-  return (bsdf){.kind = BSDF_DIELECTRIC, .dielectric = {alpha, eta}};
+static brdf_bsdf dielectric(double alpha, double eta) {
+  return (brdf_bsdf){.kind = BSDF_DIELECTRIC, .dielectric = {alpha, eta}};
 }
 
 static void test_closed_forms(void) {
-  bsdf_dielectric d = {0.5, 1.5};
+  brdf_bsdf_dielectric d = {0.5, 1.5};
   const double D = 1.0 / (M_PI * 0.25); /* D(z) for α = 0.5: 1.2732395 */
   vec3 up = v3(0, 0, 1), down = v3(0, 0, -1);
   /* Reflection at normal incidence: F = (0.5/2.5)² = 0.04, G2 = 1,
    * f = D · 0.04 / 4 = 0.0127324. */
-  CHECK_REL(bsdf_dielectric_eval(&d, up, up, BSDF_RADIANCE), D * 0.04 / 4.0, 1e-12, 0);
+  CHECK_REL(brdf_bsdf_dielectric_eval(&d, up, up, BSDF_RADIANCE), D * 0.04 / 4.0, 1e-12, 0);
   /* Transmission at normal incidence, wo = z outside, wi = −z inside:
    * η' = η_wi/η_wo = 1.5, m = z, (wi·m + wo·m/η')² = (−1 + 1/1.5)² = 1/9,
    * f = D (1 − 0.04) · 1 · 1 / (1/9) = 8.64 D = 11.0008 (importance mode),
    * and 8.64 D / η'² = 3.84 D = 4.88924 in radiance mode. */
-  CHECK_REL(bsdf_dielectric_eval(&d, up, down, BSDF_IMPORTANCE), 8.64 * D, 1e-12, 0);
-  CHECK_REL(bsdf_dielectric_eval(&d, up, down, BSDF_RADIANCE), 3.84 * D, 1e-12, 0);
+  CHECK_REL(brdf_bsdf_dielectric_eval(&d, up, down, BSDF_IMPORTANCE), 8.64 * D, 1e-12, 0);
+  CHECK_REL(brdf_bsdf_dielectric_eval(&d, up, down, BSDF_RADIANCE), 3.84 * D, 1e-12, 0);
   /* From inside, wo = −z, wi = z: η' = 1/1.5, (1 + (−1)·1.5)² = 1/4,
    * f = 0.96 D · 4 = 3.84 D (importance), 3.84 D · 2.25 = 8.64 D (radiance). */
-  CHECK_REL(bsdf_dielectric_eval(&d, down, up, BSDF_IMPORTANCE), 3.84 * D, 1e-12, 0);
-  CHECK_REL(bsdf_dielectric_eval(&d, down, up, BSDF_RADIANCE), 8.64 * D, 1e-12, 0);
+  CHECK_REL(brdf_bsdf_dielectric_eval(&d, down, up, BSDF_IMPORTANCE), 3.84 * D, 1e-12, 0);
+  CHECK_REL(brdf_bsdf_dielectric_eval(&d, down, up, BSDF_RADIANCE), 8.64 * D, 1e-12, 0);
 
   /* Oblique transmission: wo at 45° outside (φ = 0), wi its refraction
    * through the macro normal, so m = z. sin θt = 0.7071068/1.5 = 0.4714045,
@@ -34,12 +34,12 @@ static void test_closed_forms(void) {
    * ÷ 2.25 = 2.962428 (radiance). */
   double st = sqrt(0.5) / 1.5, ct = sqrt(1.0 - st * st);
   vec3 wo = v3(sqrt(0.5), 0, sqrt(0.5)), wi = v3(-st, 0, -ct);
-  CHECK_NEAR(bsdf_dielectric_eval(&d, wo, wi, BSDF_IMPORTANCE), 6.665464, 2e-6);
-  CHECK_NEAR(bsdf_dielectric_eval(&d, wo, wi, BSDF_RADIANCE), 2.962428, 1e-6);
+  CHECK_NEAR(brdf_bsdf_dielectric_eval(&d, wo, wi, BSDF_IMPORTANCE), 6.665464, 2e-6);
+  CHECK_NEAR(brdf_bsdf_dielectric_eval(&d, wo, wi, BSDF_RADIANCE), 2.962428, 1e-6);
   /* Index-matched: no lobe to evaluate. */
-  bsdf_dielectric matched = {0.5, 1.0};
-  CHECK(bsdf_dielectric_eval(&matched, up, down, BSDF_RADIANCE) == 0.0);
-  CHECK(bsdf_dielectric_pdf(&matched, up, down, BSDF_ALL) == 0.0);
+  brdf_bsdf_dielectric matched = {0.5, 1.0};
+  CHECK(brdf_bsdf_dielectric_eval(&matched, up, down, BSDF_RADIANCE) == 0.0);
+  CHECK(brdf_bsdf_dielectric_pdf(&matched, up, down, BSDF_ALL) == 0.0);
 }
 
 /* Generalised reciprocity f(a, b) / η_a² = f(b, a) / η_b² (radiance mode),
@@ -47,15 +47,15 @@ static void test_closed_forms(void) {
 static void test_reciprocity(void) {
   core_rng rng;
   core_rng_init(&rng, 11, 0);
-  bsdf_dielectric d = {0.4, 1.7};
+  brdf_bsdf_dielectric d = {0.4, 1.7};
   int bad = 0, transmissions = 0;
   for (int k = 0; k < 4000; k++) {
     vec3 a = core_warp_uniform_sphere(core_rng_uniform(&rng), core_rng_uniform(&rng));
     vec3 b = core_warp_uniform_sphere(core_rng_uniform(&rng), core_rng_uniform(&rng));
     double eta_a = a.z > 0 ? 1.0 : d.eta, eta_b = b.z > 0 ? 1.0 : d.eta;
-    double fab = bsdf_dielectric_eval(&d, a, b, BSDF_RADIANCE);
-    double fba = bsdf_dielectric_eval(&d, b, a, BSDF_RADIANCE);
-    double adj = bsdf_dielectric_eval(&d, b, a, BSDF_IMPORTANCE);
+    double fab = brdf_bsdf_dielectric_eval(&d, a, b, BSDF_RADIANCE);
+    double fba = brdf_bsdf_dielectric_eval(&d, b, a, BSDF_RADIANCE);
+    double adj = brdf_bsdf_dielectric_eval(&d, b, a, BSDF_IMPORTANCE);
     transmissions += a.z * b.z < 0 && fab > 0;
     if (fabs(fab / (eta_a * eta_a) - fba / (eta_b * eta_b)) > 1e-10 * fab ||
         fabs(adj - fab) > 1e-10 * fab)
@@ -69,7 +69,7 @@ static void test_sampler(void) {
   vec3 above = v3_from_spherical(50 * M_PI / 180, 0.3);
   vec3 below = v3_flip_z(v3_from_spherical(30 * M_PI / 180, 1.3));
   vec3 below_tir = v3_flip_z(v3_from_spherical(60 * M_PI / 180, -2.0));
-  bsdf b = dielectric(0.3, 1.5);
+  brdf_bsdf b = dielectric(0.3, 1.5);
   check_sampler("diel above all", &b, above, BSDF_RADIANCE, BSDF_ALL, 200000, 1);
   check_sampler("diel above T", &b, above, BSDF_IMPORTANCE, BSDF_TRANSMISSION, 100000, 2);
   check_sampler("diel above R", &b, above, BSDF_RADIANCE, BSDF_REFLECTION, 100000, 3);
@@ -86,14 +86,14 @@ static void test_sampler(void) {
  * ≤ 1 — exactly 1 minus the single-scattering masking loss, which is tiny for
  * α = 0.1 at normal incidence and large for α = 1. In radiance mode light
  * entering the coat is divided by η². */
-static double mean_weight(const bsdf *b, vec3 wo, bsdf_mode mode, int n, uint64_t seed,
+static double mean_weight(const brdf_bsdf *b, vec3 wo, brdf_bsdf_mode mode, int n, uint64_t seed,
                           double *se) {
   core_rng rng;
   core_rng_init(&rng, seed, 0);
   double s1 = 0, s2 = 0;
   for (int k = 0; k < n; k++) {
-    bsdf_sample bs;
-    if (!bsdf_sample_dir(b, wo, mode, BSDF_ALL, &rng, &bs)) continue;
+    brdf_bsdf_sample bs;
+    if (!brdf_bsdf_sample_dir(b, wo, mode, BSDF_ALL, &rng, &bs)) continue;
     s1 += bs.weight;
     s2 += bs.weight * bs.weight;
   }
@@ -104,7 +104,7 @@ static double mean_weight(const bsdf *b, vec3 wo, bsdf_mode mode, int n, uint64_
 
 static void test_energy(void) {
   double se;
-  bsdf smooth = dielectric(0.1, 1.5), rough = dielectric(1.0, 1.5);
+  brdf_bsdf smooth = dielectric(0.1, 1.5), rough = dielectric(1.0, 1.5);
   double e = mean_weight(&smooth, v3(0, 0, 1), BSDF_IMPORTANCE, 100000, 1, &se);
   CHECK_MSG(e <= 1.0 + 1e-12 && e > 0.995, "smooth R+T albedo %g", e);
   /* From inside, GGX's long tail matters: at α = 0.1, 1.2 % of the visible
@@ -131,16 +131,16 @@ static void test_energy(void) {
 }
 
 static void test_index_matched(void) {
-  bsdf b = dielectric(0.3, 1.0);
+  brdf_bsdf b = dielectric(0.3, 1.0);
   core_rng rng;
   core_rng_init(&rng, 1, 0);
-  bsdf_sample s;
+  brdf_bsdf_sample s;
   vec3 wo = v3_from_spherical(0.7, 0.2);
-  CHECK(bsdf_sample_dir(&b, wo, BSDF_RADIANCE, BSDF_ALL, &rng, &s));
+  CHECK(brdf_bsdf_sample_dir(&b, wo, BSDF_RADIANCE, BSDF_ALL, &rng, &s));
   CHECK((s.flags & BSDF_DELTA) && (s.flags & BSDF_TRANSMISSION));
   CHECK(s.weight == 1.0 && v3_length(v3_add(s.wi, wo)) == 0.0);
-  CHECK(!bsdf_sample_dir(&b, wo, BSDF_RADIANCE, BSDF_REFLECTION, &rng, &s));
-  CHECK(bsdf_sample_dir(&b, v3_flip_z(wo), BSDF_IMPORTANCE, BSDF_TRANSMISSION, &rng, &s));
+  CHECK(!brdf_bsdf_sample_dir(&b, wo, BSDF_RADIANCE, BSDF_REFLECTION, &rng, &s));
+  CHECK(brdf_bsdf_sample_dir(&b, v3_flip_z(wo), BSDF_IMPORTANCE, BSDF_TRANSMISSION, &rng, &s));
   CHECK(s.weight == 1.0 && s.wi.z > 0.0);
 }
 
@@ -153,16 +153,16 @@ static void test_extremes_finite(void) {
   int bad = 0;
   for (int a = 0; a < 3; a++)
     for (int e = 0; e < 5; e++) {
-      bsdf b = dielectric(alphas[a], etas[e]);
+      brdf_bsdf b = dielectric(alphas[a], etas[e]);
       for (int side = 0; side < 2; side++)
         for (int s = 0; s < 2000; s++) {
           vec3 wo = v3_from_spherical((s % 2 ? 89.9 : 60.0) * M_PI / 180, 0.1 * s);
           if (side) wo = v3_flip_z(wo);
-          bsdf_mode mode = s % 3 ? BSDF_RADIANCE : BSDF_IMPORTANCE;
-          bsdf_sample bs;
-          if (!bsdf_sample_dir(&b, wo, mode, BSDF_ALL, &rng, &bs)) continue;
-          double f = bsdf_eval(&b, wo, bs.wi, mode, NULL);
-          double p = bsdf_pdf(&b, wo, bs.wi, mode, BSDF_ALL);
+          brdf_bsdf_mode mode = s % 3 ? BSDF_RADIANCE : BSDF_IMPORTANCE;
+          brdf_bsdf_sample bs;
+          if (!brdf_bsdf_sample_dir(&b, wo, mode, BSDF_ALL, &rng, &bs)) continue;
+          double f = brdf_bsdf_eval(&b, wo, bs.wi, mode, NULL);
+          double p = brdf_bsdf_pdf(&b, wo, bs.wi, mode, BSDF_ALL);
           if (!(isfinite(f) && isfinite(p) && isfinite(bs.weight) && isfinite(bs.f) &&
                 isfinite(bs.pdf) && v3_is_finite(bs.wi) && bs.weight >= 0.0))
             if (bad++ < 3)

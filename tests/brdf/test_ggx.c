@@ -13,7 +13,7 @@ static void test_d_normalised(void) {
     for (int k = 1; k <= n; k++) {
       double s = (double)k / n, theta = 0.5 * M_PI * s * s * s;
       vec3 m = v3_from_spherical(theta, 0.3);
-      double g = ggx_d(alphas[a], m) * cos(theta) * sin(theta);
+      double g = brdf_ggx_d(alphas[a], m) * cos(theta) * sin(theta);
       sum += 0.5 * (theta - prev_theta) * (g + prev_g);
       prev_theta = theta;
       prev_g = g;
@@ -25,20 +25,20 @@ static void test_d_normalised(void) {
 /* Closed form at the pole and Λ against its textbook form. */
 static void test_d_lambda_values(void) {
   /* D(z) = 1 / (π α²). */
-  CHECK_REL(ggx_d(0.5, v3(0, 0, 1)), 1.0 / (M_PI * 0.25), 1e-14, 0);
+  CHECK_REL(brdf_ggx_d(0.5, v3(0, 0, 1)), 1.0 / (M_PI * 0.25), 1e-14, 0);
   /* θ = 60°: tan² = 3; α = 0.5: Λ = (√(1 + 0.75) − 1) / 2. */
   vec3 w = v3_from_spherical(M_PI / 3.0, 1.0);
-  CHECK_REL(ggx_lambda(0.5, w), (sqrt(1.75) - 1.0) / 2.0, 1e-12, 0);
-  CHECK_REL(ggx_g2(0.5, w, w), 1.0 / (1.0 + (sqrt(1.75) - 1.0)), 1e-12, 0);
+  CHECK_REL(brdf_ggx_lambda(0.5, w), (sqrt(1.75) - 1.0) / 2.0, 1e-12, 0);
+  CHECK_REL(brdf_ggx_g2(0.5, w, w), 1.0 / (1.0 + (sqrt(1.75) - 1.0)), 1e-12, 0);
   /* Seen from below, Λ is the same (the interface is symmetric). */
-  CHECK_REL(ggx_lambda(0.5, v3_flip_z(w)), ggx_lambda(0.5, w), 1e-15, 0);
+  CHECK_REL(brdf_ggx_lambda(0.5, v3_flip_z(w)), brdf_ggx_lambda(0.5, w), 1e-15, 0);
   /* Small α keeps its digits: Λ ≈ α² tan²θ / 4. */
-  CHECK_REL(ggx_lambda(1e-3, w), 1e-6 * 3.0 / 4.0, 1e-6, 0);
+  CHECK_REL(brdf_ggx_lambda(1e-3, w), 1e-6 * 3.0 / 4.0, 1e-6, 0);
   /* Grazing: finite and in (0, 1]. */
   vec3 g = v3_from_spherical(89.9 * M_PI / 180.0, 0.0);
-  double g1 = ggx_g1(0.01, g);
+  double g1 = brdf_ggx_g1(0.01, g);
   CHECK(isfinite(g1) && g1 > 0.0 && g1 <= 1.0);
-  CHECK(ggx_g1(1.0, v3(1, 0, 0)) == 0.0);
+  CHECK(brdf_ggx_g1(1.0, v3(1, 0, 0)) == 0.0);
 }
 
 /* Histogram of sampled visible normals over (θ, φ) cells against the pdf's
@@ -57,7 +57,7 @@ static void check_vndf_histogram(double alpha, vec3 w, uint64_t seed) {
   for (int s = 0; s < n; s++) {
     vec3 m;
     double u1 = core_rng_uniform(&rng), u2 = core_rng_uniform(&rng);
-    if (!ggx_sample_vndf(alpha, w, u1, u2, &m)) {
+    if (!brdf_ggx_sample_vndf(alpha, w, u1, u2, &m)) {
       fails++;
       continue;
     }
@@ -80,7 +80,7 @@ static void check_vndf_histogram(double alpha, vec3 w, uint64_t seed) {
           double phi = -M_PI + 2 * M_PI * (j + (b + 0.5) / SUB) / NP;
           double st = sqrt(fmax(0.0, 1.0 - c * c));
           vec3 m = v3(st * cos(phi), st * sin(phi), c);
-          integral += ggx_vndf_pdf(alpha, w, m);
+          integral += brdf_ggx_vndf_pdf(alpha, w, m);
         }
       integral *= (1.0 / NT) * (2 * M_PI / NP) / (SUB * SUB);
       total += integral;
@@ -113,8 +113,8 @@ static void test_vndf_extremes(void) {
     for (int s = 0; s < 20000; s++) {
       vec3 w = v3_from_spherical(89.9 * M_PI / 180, 0.0), m;
       double u1 = core_rng_uniform(&rng), u2 = core_rng_uniform(&rng);
-      if (!ggx_sample_vndf(alphas[a], w, u1, u2, &m)) continue;
-      double pdf = ggx_vndf_pdf(alphas[a], w, m);
+      if (!brdf_ggx_sample_vndf(alphas[a], w, u1, u2, &m)) continue;
+      double pdf = brdf_ggx_vndf_pdf(alphas[a], w, m);
       if (!(v3_is_finite(m) && fabs(v3_length(m) - 1.0) < 1e-12 && m.z > 0.0 && isfinite(pdf))) {
         CHECK_MSG(0, "alpha %g: bad normal (%g, %g, %g) pdf %g", alphas[a], m.x, m.y, m.z, pdf);
         return;

@@ -50,8 +50,8 @@ static void test_albedo_at_most_one(void) {
  * with the wrong exit pdf (ECOSYSTEM-NOTES.md, pitfall 1: +2 … +30 %). */
 static double albedo_from_eval(const nbrdf_brdf *b, double theta_i, int n, uint64_t seed,
                                double *se) {
-  const bsdf *in = brdf_bsdf(b);
-  const bsdf_dielectric *top = &in->layered.top;
+  const brdf_bsdf *in = brdf_handle_bsdf(b);
+  const brdf_bsdf_dielectric *top = &in->layered.top;
   vec3 wi = v3(sin(theta_i), 0.0, cos(theta_i));
   nbrdf_query *q = malloc((size_t)n * sizeof *q);
   double *pdf = malloc((size_t)n * sizeof *pdf), *f = malloc((size_t)n * sizeof *f);
@@ -61,16 +61,16 @@ static double albedo_from_eval(const nbrdf_brdf *b, double theta_i, int n, uint6
   for (int k = 0; k < n; k++) {
     vec3 w = v3(0, 0, 0); /* stays invalid if the lobe's draw fails */
     double u = core_rng_uniform(&rng), u1 = core_rng_uniform(&rng), u2 = core_rng_uniform(&rng);
-    bsdf_sample s;
+    brdf_bsdf_sample s;
     if (u < c) {
-      if (bsdf_dielectric_sample(top, wi, BSDF_RADIANCE, BSDF_REFLECTION, 0.0, u1, u2, &s))
+      if (brdf_bsdf_dielectric_sample(top, wi, BSDF_RADIANCE, BSDF_REFLECTION, 0.0, u1, u2, &s))
         w = s.wi;
     } else {
       w = core_warp_cosine_hemisphere(u1, u2);
     }
     if (w.z > 0.0) {
       w = v3_normalize(w);
-      pdf[k] = c * bsdf_dielectric_pdf(top, wi, w, BSDF_REFLECTION) + (1 - c) * w.z / M_PI;
+      pdf[k] = c * brdf_bsdf_dielectric_pdf(top, wi, w, BSDF_REFLECTION) + (1 - c) * w.z / M_PI;
     } else {
       w = v3(0, 0, 1); /* a failed draw contributes 0; the query is a placeholder */
       pdf[k] = INFINITY;

@@ -90,8 +90,8 @@ static void test_single_scattering(void) {
         double ti = pairs[p][0] * M_PI / 180, to = pairs[p][1] * M_PI / 180;
         double si = sin(ti) / etas[e], so = sin(to) / etas[e];
         double mi = sqrt(1 - si * si), mo = sqrt(1 - so * so);
-        double transmit = (1 - fresnel_dielectric(cos(ti), etas[e])) *
-                          (1 - fresnel_dielectric(cos(to), etas[e])) / (etas[e] * etas[e]);
+        double transmit = (1 - brdf_fresnel_dielectric(cos(ti), etas[e])) *
+                          (1 - brdf_fresnel_dielectric(cos(to), etas[e])) / (etas[e] * etas[e]);
         double expected = transmit * f_single(albedo, taus[t], mo, mi);
         double se, f = eval1(l, q, 20000, 4, &se);
         CHECK_MSG(fabs(f - expected) <= 4 * se + 0.006 * expected,

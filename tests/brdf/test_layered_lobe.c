@@ -8,9 +8,9 @@
 enum { RES = 12 };
 
 static void compare(const char *label, const nbrdf_brdf *b, double theta_deg, int walks, int spp) {
-  const bsdf_layered *l = &brdf_bsdf(b)->layered;
+  const brdf_bsdf_layered *l = &brdf_handle_bsdf(b)->layered;
   double img[RES * RES], img_se[RES * RES];
-  CHECK(layered_lobe_image(l, theta_deg * M_PI / 180, RES, walks, 21, 0, img, img_se));
+  CHECK(brdf_layered_lobe_image(l, theta_deg * M_PI / 180, RES, walks, 21, 0, img, img_se));
   nbrdf_query q[RES * RES];
   int pix[RES * RES], n = 0;
   for (int row = 0; row < RES; row++)
@@ -66,10 +66,10 @@ static void test_agrees_with_per_pixel_eval(void) {
 
 static void test_deterministic_and_oriented(void) {
   nbrdf_brdf *b = layered2(0.05, 1.5, 0.3, 0.9, 0.5, 1.0);
-  const bsdf_layered *l = &brdf_bsdf(b)->layered;
+  const brdf_bsdf_layered *l = &brdf_handle_bsdf(b)->layered;
   double a[RES * RES], sa[RES * RES], c[RES * RES], sc[RES * RES];
-  CHECK(layered_lobe_image(l, 0.7, RES, 100, 5, 1, a, sa));
-  CHECK(layered_lobe_image(l, 0.7, RES, 100, 5, 2, c, sc));
+  CHECK(brdf_layered_lobe_image(l, 0.7, RES, 100, 5, 1, a, sa));
+  CHECK(brdf_layered_lobe_image(l, 0.7, RES, 100, 5, 2, c, sc));
   CHECK(memcmp(a, c, sizeof a) == 0 && memcmp(sa, sc, sizeof sa) == 0);
   /* The coat's mirror lobe is at ωo = (−sin θi, 0, cos θi): the brightest
    * pixel is left of the centre, on the middle rows. */

@@ -88,14 +88,14 @@ static int run_eval(const char *tex, int level, const query *q, int n, double *f
 }
 
 /* The library's decode of the bilinear fetch at each query, with `m`. */
-static void reference(const nbrdf_model *m, const eval_latent_image *img, int level, const query *q,
-                      int n, float *f) {
+static void reference(const nbrdf_model *m, const texture_latent_image *img, int level,
+                      const query *q, int n, float *f) {
   nbrdf_error err = {0};
   float texel[3 * 34];
   CHECK(img->channels == 3 * 34);
   for (int k = 0; k < n; k++) {
     float lat[3 * 32], wi[3], wo[3];
-    eval_latent_fetch_level(img, level, (float)q[k].u, (float)q[k].v, texel);
+    texture_latent_fetch_level(img, level, (float)q[k].u, (float)q[k].v, texel);
     for (int c = 0; c < 3; c++)
       memcpy(lat + 32 * c, texel + texture_latent_index_latent(&img->layout, c, 0),
              32 * sizeof(float));
@@ -131,8 +131,8 @@ static void test_own_decoder(void) {
   CHECK_MSG(system(cmd) == 0, "bake failed: %s", cmd);
 
   nbrdf_model *m = NULL;
-  eval_latent_image *img = NULL;
-  CHECK_OK(eval_latent_image_load_model(path("v2.exr"), bundle, &img, &m, err), err);
+  texture_latent_image *img = NULL;
+  CHECK_OK(texture_latent_image_load_model(path("v2.exr"), bundle, &img, &m, err), err);
   if (!img) {
     model_decoder_destroy(dec);
     return;
@@ -197,7 +197,7 @@ static void test_own_decoder(void) {
   free(words);
   model_decoder_destroy(dec);
   nbrdf_model_destroy(m);
-  eval_latent_image_free(img);
+  texture_latent_image_free(img);
 }
 
 /* The committed version-1 texture: decoded with the bundle's decoder. */
@@ -206,8 +206,8 @@ static void test_v1(void) {
   char file[1024];
   snprintf(file, sizeof file, "%s/tests/cli/data/v1_constant_rgb.exr", testing_source_dir());
   nbrdf_model *m = NULL;
-  eval_latent_image *img = NULL;
-  CHECK_OK(eval_latent_image_load_model(file, bundle, &img, &m, err), err);
+  texture_latent_image *img = NULL;
+  CHECK_OK(texture_latent_image_load_model(file, bundle, &img, &m, err), err);
   if (!img) return;
   nbrdf_decoder_info info;
   nbrdf_model_own_decoder(m, &info);
@@ -223,7 +223,7 @@ static void test_v1(void) {
     CHECK_MSG(close_to(f[k], want[k]), "query %d channel %d: eval %.9g, library %.9g", k / 3, k % 3,
               f[k], (double)want[k]);
   nbrdf_model_destroy(m);
-  eval_latent_image_free(img);
+  texture_latent_image_free(img);
 }
 
 int main(void) {

@@ -1,6 +1,6 @@
 /* Regression test over the minimised fuzzing corpus of the CSV reader
  * (tests/core/csv_corpus/, made by fuzz/fuzz_csv): every file parses into a
- * consistent table, the same in memory (csv_parse) and streamed (csv_read),
+ * consistent table, the same in memory (core_csv_parse) and streamed (core_csv_read),
  * or is refused the same way by both, naming a line; every field's value
  * reads and parses as a number or is refused. */
 #include <math.h>
@@ -19,10 +19,10 @@ static int replay(const char *path, const char *name) {
   char *text = malloc(1 << 16);
   size_t len = fread(text, 1, 1 << 16, f);
   rewind(f);
-  csv_table a, b;
+  core_csv_table a, b;
   nbrdf_error ea = {0}, eb = {0};
-  nbrdf_status sa = csv_parse(text, len, name, &a, &ea);
-  nbrdf_status sb = csv_read(f, name, &b, &eb);
+  nbrdf_status sa = core_csv_parse(text, len, name, &a, &ea);
+  nbrdf_status sb = core_csv_read(f, name, &b, &eb);
   fclose(f);
   CHECK_MSG((sa == NBRDF_OK) == (sb == NBRDF_OK), "%s: parse %s, read %s", name,
             nbrdf_status_name(sa), nbrdf_status_name(sb));
@@ -33,19 +33,19 @@ static int replay(const char *path, const char *name) {
     CHECK_MSG(a.n_records == b.n_records && a.n_fields == b.n_fields, "%s: tables differ", name);
     for (size_t r = 0; r < a.n_records; r++) {
       CHECK(a.line[r] >= 1 && (r == 0 || a.line[r] >= a.line[r - 1]));
-      for (size_t c = 0; c < csv_record_width(&a, r); c++) {
-        csv_span s = csv_field(&a, r, c);
+      for (size_t c = 0; c < core_csv_record_width(&a, r); c++) {
+        core_csv_span s = core_csv_field(&a, r, c);
         CHECK(s.start + s.len <= a.text_len);
         char buf[256];
-        size_t n = csv_value(&a, r, c, buf, sizeof buf);
+        size_t n = core_csv_value(&a, r, c, buf, sizeof buf);
         double x;
         if (n < sizeof buf && core_parse_number(buf, n, &x) == NBRDF_NUMBER_OK)
           CHECK_MSG(isfinite(x), "%s: '%s' read as %g", name, buf, x);
       }
     }
   }
-  csv_free(&a);
-  csv_free(&b);
+  core_csv_free(&a);
+  core_csv_free(&b);
   return sa == NBRDF_OK;
 }
 

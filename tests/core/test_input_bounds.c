@@ -47,37 +47,37 @@ static void test_special_files(void) {
   rmdir(dir), unlink(fifo), unlink(file), unlink(link);
 }
 
-static nbrdf_status parse_copy(const char *text, size_t len, csv_table *t, nbrdf_error *err) {
+static nbrdf_status parse_copy(const char *text, size_t len, core_csv_table *t, nbrdf_error *err) {
   char *copy = malloc(len ? len : 1);
   memcpy(copy, text, len);
-  return csv_parse(copy, len, "in.csv", t, err);
+  return core_csv_parse(copy, len, "in.csv", t, err);
 }
 
 static void test_csv_line_bound(void) {
-  size_t n = CSV_LINE_MAX + 8;
+  size_t n = CORE_CSV_LINE_MAX + 8;
   char *text = malloc(2 * n + 16);
-  /* "a\n" then a line of exactly CSV_LINE_MAX bytes (CRLF): accepted */
+  /* "a\n" then a line of exactly CORE_CSV_LINE_MAX bytes (CRLF): accepted */
   strcpy(text, "a\n");
-  memset(text + 2, 'x', CSV_LINE_MAX);
-  memcpy(text + 2 + CSV_LINE_MAX, "\r\n", 2);
-  size_t len = 4 + CSV_LINE_MAX;
-  csv_table t;
+  memset(text + 2, 'x', CORE_CSV_LINE_MAX);
+  memcpy(text + 2 + CORE_CSV_LINE_MAX, "\r\n", 2);
+  size_t len = 4 + CORE_CSV_LINE_MAX;
+  core_csv_table t;
   nbrdf_error err = {0};
   CHECK_OK(parse_copy(text, len, &t, &err), &err);
   CHECK(t.n_records == 2);
-  csv_free(&t);
+  core_csv_free(&t);
   FILE *f = fmemopen(text, len, "rb");
-  CHECK_OK(csv_read(f, "stdin", &t, &err), &err);
+  CHECK_OK(core_csv_read(f, "stdin", &t, &err), &err);
   fclose(f);
-  csv_free(&t);
+  core_csv_free(&t);
   /* one byte more on line 2: refused, naming line 2, in memory and streamed */
-  text[2 + CSV_LINE_MAX] = 'x';
-  memcpy(text + 3 + CSV_LINE_MAX, "\nb\n", 3);
-  len = 6 + CSV_LINE_MAX;
+  text[2 + CORE_CSV_LINE_MAX] = 'x';
+  memcpy(text + 3 + CORE_CSV_LINE_MAX, "\nb\n", 3);
+  len = 6 + CORE_CSV_LINE_MAX;
   CHECK_FAILS(parse_copy(text, len, &t, &err), NBRDF_ERR_FORMAT, &err,
               "in.csv: line 2 is longer than 65536 bytes");
   f = fmemopen(text, len, "rb");
-  CHECK_FAILS(csv_read(f, "stdin", &t, &err), NBRDF_ERR_FORMAT, &err,
+  CHECK_FAILS(core_csv_read(f, "stdin", &t, &err), NBRDF_ERR_FORMAT, &err,
               "stdin: line 2 is longer than 65536 bytes");
   fclose(f);
   free(text);
@@ -85,7 +85,8 @@ static void test_csv_line_bound(void) {
   f = fopen("/dev/zero", "rb");
   CHECK(f != NULL);
   if (f) {
-    CHECK_FAILS(csv_read(f, "stdin", &t, &err), NBRDF_ERR_FORMAT, &err, "stdin: line 1 is longer");
+    CHECK_FAILS(core_csv_read(f, "stdin", &t, &err), NBRDF_ERR_FORMAT, &err,
+                "stdin: line 1 is longer");
     fclose(f);
   }
 }

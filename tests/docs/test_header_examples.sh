@@ -3,6 +3,7 @@
 # opened by a comment line " * Example (...):" and made of the lines " *   code" that follow.
 # It is compiled as the body of a function given `model` (a loaded bundle) and `in` (bake
 # inputs), warnings as errors, so a renamed call or a wrong argument count fails here.
+# The headers a user starts from must carry one.
 set -u
 source "$NBRDF_SOURCE_DIR/tests/cli/lib.sh"
 inc="$NBRDF_SOURCE_DIR/include"
@@ -21,6 +22,7 @@ for h in "$inc"/nbrdf/*.h; do
       echo '#include <stdio.h>'
       echo "#include \"nbrdf/$name\""
       echo '#include "nbrdf/nbrdf.h"'
+      echo '#include "nbrdf/bake.h"'
       echo 'void header_example(const nbrdf_model *model, nbrdf_bake_inputs in);'
       echo 'void header_example(const nbrdf_model *model, nbrdf_bake_inputs in) {'
       echo '  (void)model, (void)in;'
@@ -33,5 +35,8 @@ for h in "$inc"/nbrdf/*.h; do
       "$cc" -std=c11 -Wall -Wextra -Werror -fsyntax-only -I "$inc" "$body.c"
   done
 done
-check "headers carry examples (found $found)" test "$found" -ge 2
+check "headers carry examples (found $found)" test "$found" -ge 5
+for name in bake.h verify.h model.h render.h brdf.h; do
+  check "$name has an example" test -e "$TMP/$name.1.body"
+done
 finish

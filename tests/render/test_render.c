@@ -124,7 +124,7 @@ static void test_furnace(void) {
 
 /* ρ(θi) of the texture's decoded BRDF, channel by channel, by a midpoint rule
  * over (cos θo, φo): ∫ f cos θo dω = ∫∫ f cos θo d(cos θo) dφo. */
-static void neural_albedo(const eval_latent_image *tex, double theta, double rho[3]) {
+static void neural_albedo(const texture_latent_image *tex, double theta, double rho[3]) {
   enum { NC = 256, NPHI = 256 };
   size_t n = (size_t)NC * NPHI;
   int D = tex->layout.latent_dim, block = texture_latent_block(&tex->layout);
@@ -151,7 +151,7 @@ static void neural_albedo(const eval_latent_image *tex, double theta, double rho
 }
 
 /* A 1 x 1 RGB texture of the model's latent size with latents a·sin(1.7k + c + b). */
-static void fill_texel(eval_latent_image *tex, double a, double b) {
+static void fill_texel(texture_latent_image *tex, double a, double b) {
   const texture_latent_layout *l = &tex->layout;
   for (int c = 0; c < 3; c++) {
     for (int k = 0; k < l->latent_dim; k++)
@@ -172,8 +172,8 @@ static void fill_texel(eval_latent_image *tex, double a, double b) {
 static void test_neural_furnace(void) {
   nbrdf_error err;
   texture_latent_layout layout = {nbrdf_model_latent_dim(model), NBRDF_COLOUR_RGB, 1};
-  eval_latent_image *tex = NULL;
-  CHECK_OK(eval_latent_image_create(&layout, 1, 1, 1, &tex, &err), &err);
+  texture_latent_image *tex = NULL;
+  CHECK_OK(texture_latent_image_create(&layout, 1, 1, 1, &tex, &err), &err);
   if (!tex) return;
   double r0[3] = {0}, r5[3] = {0};
   int found = 0;
@@ -210,7 +210,7 @@ static void test_neural_furnace(void) {
               "neural furnace channel %d: pixel %g outside [%g, %g]", k, rgb[centre + k], lo, hi);
   }
   free(rgb);
-  eval_latent_image_free(tex);
+  texture_latent_image_free(tex);
 }
 
 static void test_lobes(void) {

@@ -4,13 +4,13 @@
 #include "testing.h"
 
 static void test_sphere_centre(void) {
-  eval_camera cam;
-  eval_camera_setup(&cam, NBRDF_SCENE_SPHERE, 256, 256, 1.0);
-  vec3 d = eval_camera_ray(&cam, 128.0, 128.0);
+  render_camera cam;
+  render_camera_setup(&cam, NBRDF_SCENE_SPHERE, 256, 256, 1.0);
+  vec3 d = render_camera_ray(&cam, 128.0, 128.0);
   CHECK_NEAR(d.x, 0.0, 1e-12);
   CHECK_NEAR(d.z, -1.0, 1e-12);
-  eval_hit h;
-  CHECK(eval_camera_hit(&cam, d, 1024, 1024, &h));
+  render_hit h;
+  CHECK(render_camera_hit(&cam, d, 1024, 1024, &h));
   /* Hit at (0, 0, 1): distance 2.2, the equator facing +z, u = v = 1/2. */
   CHECK_NEAR(h.p.z, 1.0, 1e-12);
   CHECK_NEAR(h.n.z, 1.0, 1e-12);
@@ -26,18 +26,18 @@ static void test_sphere_centre(void) {
   vec3 c = v3_cross(h.t, h.b);
   CHECK_NEAR(v3_dot(c, h.n), 1.0, 1e-12);
   /* A corner ray misses. */
-  CHECK(!eval_camera_hit(&cam, eval_camera_ray(&cam, 0.5, 0.5), 1024, 1024, &h));
+  CHECK(!render_camera_hit(&cam, render_camera_ray(&cam, 0.5, 0.5), 1024, 1024, &h));
 }
 
 static void test_plane_lod(void) {
-  eval_camera cam;
-  eval_camera_setup(&cam, NBRDF_SCENE_PLANE, 64, 64, 0.5);
-  eval_hit h;
+  render_camera cam;
+  render_camera_setup(&cam, NBRDF_SCENE_PLANE, 64, 64, 0.5);
+  render_hit h;
   double last = -1.0;
   int hits = 0, monotone = 1;
   /* From the bottom row towards the horizon the footprint only grows. */
   for (int row = 63; row >= 0; row--) {
-    if (!eval_camera_hit(&cam, eval_camera_ray(&cam, 32.0, row + 0.5), 256, 256, &h)) break;
+    if (!render_camera_hit(&cam, render_camera_ray(&cam, 32.0, row + 0.5), 256, 256, &h)) break;
     hits++;
     CHECK_NEAR(h.p.y, 0.0, 1e-9);
     if (!(h.lod >= last)) monotone = 0;

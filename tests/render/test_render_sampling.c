@@ -18,12 +18,13 @@ static void test_power_heuristic(void) {
   for (int k = 0; k < 1000; k++) {
     double a = core_rng_uniform(&rng) * pow(10.0, 6.0 * core_rng_uniform(&rng) - 3.0);
     double b = core_rng_uniform(&rng) * pow(10.0, 6.0 * core_rng_uniform(&rng) - 3.0);
-    CHECK_NEAR(eval_power_heuristic(a, b) + eval_power_heuristic(b, a), 1.0, 1e-12);
+    CHECK_NEAR(render_power_heuristic(a, b) + render_power_heuristic(b, a), 1.0, 1e-12);
   }
-  CHECK(eval_power_heuristic(0.0, 2.0) == 0.0 && eval_power_heuristic(2.0, 0.0) == 1.0);
-  CHECK(eval_power_heuristic(0.0, 0.0) == 0.0);
-  CHECK(eval_power_heuristic(INFINITY, 1.0) == 1.0 && eval_power_heuristic(1.0, INFINITY) == 0.0);
-  CHECK_NEAR(eval_power_heuristic(1e200, 1e200), 0.5, 0.0);
+  CHECK(render_power_heuristic(0.0, 2.0) == 0.0 && render_power_heuristic(2.0, 0.0) == 1.0);
+  CHECK(render_power_heuristic(0.0, 0.0) == 0.0);
+  CHECK(render_power_heuristic(INFINITY, 1.0) == 1.0 &&
+        render_power_heuristic(1.0, INFINITY) == 0.0);
+  CHECK_NEAR(render_power_heuristic(1e200, 1e200), 0.5, 0.0);
 }
 
 /* Bin of a direction on the upper hemisphere, by (cos θ, φ). */
@@ -50,7 +51,7 @@ static void test_proxy_mixture(void) {
           double c = (t + (i + 0.5) / 16.0) / NT;
           double phi = (p + (j + 0.5) / 16.0) / NP * 2.0 * M_PI - M_PI;
           vec3 wo = v3(sqrt(1 - c * c) * cos(phi), sqrt(1 - c * c) * sin(phi), c);
-          m += eval_proxy_mix_pdf(channels, sigma, w, wi, wo);
+          m += render_proxy_mix_pdf(channels, sigma, w, wi, wo);
         }
       expect[b] = m / 256.0 * (1.0 / NT) * (2.0 * M_PI / NP);
       total += expect[b];
@@ -66,13 +67,13 @@ static void test_proxy_mixture(void) {
                      core_rng_uniform(&rng)};
       vec3 wo;
       double pdf;
-      if (!eval_proxy_mix_sample(channels, sigma, w, wi, u, &wo, &pdf)) continue;
+      if (!render_proxy_mix_sample(channels, sigma, w, wi, u, &wo, &pdf)) continue;
       valid++;
-      double want = eval_proxy_mix_pdf(channels, sigma, w, wi, wo);
+      double want = render_proxy_mix_pdf(channels, sigma, w, wi, wo);
       if (!(fabs(pdf - want) <= 1e-9 * want)) pdf_ok = 0;
       count[bin_of(wo)]++;
     }
-    CHECK_MSG(pdf_ok, "%d channels: the sampler's pdf differs from eval_proxy_mix_pdf", channels);
+    CHECK_MSG(pdf_ok, "%d channels: the sampler's pdf differs from render_proxy_mix_pdf", channels);
     /* The lost mass (reflections below the horizon) is the pdf's missing mass. */
     CHECK_NEAR((double)valid / n, total, 4e-3);
     double chi2 = 0.0;
@@ -92,14 +93,14 @@ static void test_proxy_mixture(void) {
 }
 
 /* E[g / pdf] over the environment's samples equals ∫ g dω, and the pdf of
- * a sampled direction is what eval_env_pdf reports. */
+ * a sampled direction is what render_env_pdf reports. */
 static void test_env_sampling(void) {
   nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
   for (int kind = 0; kind < 2; kind++) {
     o.env = kind == 0 ? NBRDF_ENV_SKY : NBRDF_ENV_CONSTANT;
-    eval_env *env = NULL;
+    render_env *env = NULL;
     nbrdf_error err;
-    CHECK_OK(eval_env_create(&o, &env, &err), &err);
+    CHECK_OK(render_env_create(&o, &env, &err), &err);
     if (!env) return;
     core_rng rng;
     core_rng_init(&rng, 5, (uint64_t)kind);
@@ -107,9 +108,9 @@ static void test_env_sampling(void) {
     double s1 = 0, s1sq = 0, s2 = 0, s2sq = 0;
     for (int k = 0; k < n; k++) {
       vec3 d;
-      double pdf = eval_env_sample(env, core_rng_uniform(&rng), core_rng_uniform(&rng), &d);
+      double pdf = render_env_sample(env, core_rng_uniform(&rng), core_rng_uniform(&rng), &d);
       if (!(pdf > 0.0)) continue;
-      if (!(fabs(eval_env_pdf(env, d) - pdf) <= 1e-6 * pdf)) pdf_ok = 0;
+      if (!(fabs(render_env_pdf(env, d) - pdf) <= 1e-6 * pdf)) pdf_ok = 0;
       double g1 = 1.0 / pdf, g2 = fmax(d.y, 0.0) / pdf;
       s1 += g1, s1sq += g1 * g1, s2 += g2, s2sq += g2 * g2;
     }
@@ -118,7 +119,7 @@ static void test_env_sampling(void) {
     double e1 = sqrt((s1sq / n - m1 * m1) / n), e2 = sqrt((s2sq / n - m2 * m2) / n);
     CHECK_MSG(fabs(m1 - 4.0 * M_PI) < 5.0 * e1 + 1e-3, "env %d: ∫ dω = %g ± %g", kind, m1, e1);
     CHECK_MSG(fabs(m2 - M_PI) < 5.0 * e2 + 1e-3, "env %d: ∫ cos⁺ dω = %g ± %g", kind, m2, e2);
-    eval_env_free(env);
+    render_env_free(env);
   }
 }
 

@@ -2,7 +2,7 @@
  * bilinear within a level and trilinear across levels, GL_REPEAT wrapping, an odd-sized
  * mip chain (67 x 45, 7 levels), lods below 0 and past the last level. Then the whole
  * shading kernel (shaders/nbrdf_shade.comp: fetch + decode per colour + proxy pdf) against
- * eval_latent_fetch + nbrdf_model_decode + nbrdf_proxy_pdf on an untrained bundle.
+ * texture_latent_fetch + nbrdf_model_decode + nbrdf_proxy_pdf on an untrained bundle.
  *
  * Tolerances: the fetch does the C code's float operations in its order (`precise`), so
  * texels agree within 2e-6 absolute (values in [-2, 2]); shading within the decoder's 1e-4
@@ -20,14 +20,14 @@
 static vkh *vk;
 
 /* A random RGB texture with the proxy: latents in [-2, 2], sigma in [0.05, 1], w in [0, 1]. */
-static eval_latent_image *random_image(int width, int height, int dim, uint64_t seed) {
+static texture_latent_image *random_image(int width, int height, int dim, uint64_t seed) {
   texture_latent_layout layout = {dim, NBRDF_COLOUR_RGB, 1};
   int levels = 1;
   while ((width >> levels) >= 1 || (height >> levels) >= 1)
     levels++;
-  eval_latent_image *img = NULL;
+  texture_latent_image *img = NULL;
   nbrdf_error err = {0};
-  CHECK_OK(eval_latent_image_create(&layout, width, height, levels, &img, &err), &err);
+  CHECK_OK(texture_latent_image_create(&layout, width, height, levels, &img, &err), &err);
   if (!img) return NULL;
   core_rng rng;
   core_rng_init(&rng, seed, 2);
@@ -43,9 +43,9 @@ static eval_latent_image *random_image(int width, int height, int dim, uint64_t 
   return img;
 }
 
-static uint32_t *pack(const eval_latent_image *img, size_t *n_words) {
+static uint32_t *pack(const texture_latent_image *img, size_t *n_words) {
   nbrdf_error err = {0};
-  const float *data[EVAL_LATENT_MAX_LEVELS];
+  const float *data[TEXTURE_LATENT_MAX_LEVELS];
   for (int l = 0; l < img->levels; l++)
     data[l] = img->data[l];
   CHECK_OK(nbrdf_gpu_pack_latents(img->levels, img->width, img->height, img->channels,
@@ -59,7 +59,7 @@ static uint32_t *pack(const eval_latent_image *img, size_t *n_words) {
 }
 
 static void test_fetch(void) {
-  eval_latent_image *img = random_image(67, 45, 8, 4);
+  texture_latent_image *img = random_image(67, 45, 8, 4);
   if (!img) return;
   CHECK(img->levels == 7);
   size_t n_words = 0;
@@ -77,9 +77,9 @@ static void test_fetch(void) {
     if (k % 16 == 0) c[2] = floorf(c[2]); /* exact levels: t = 0 */
     c[3] = k % 2 ? -1.0f : (float)(core_rng_u32(&rng) % (uint32_t)img->levels);
     if (c[3] >= 0)
-      eval_latent_fetch_level(img, (int)c[3], c[0], c[1], ref + k * C);
+      texture_latent_fetch_level(img, (int)c[3], c[0], c[1], ref + k * C);
     else
-      eval_latent_fetch(img, c[0], c[1], c[2], ref + k * C);
+      texture_latent_fetch(img, c[0], c[1], c[2], ref + k * C);
   }
   vkh_buffer qb, lb, rb;
   vkh_kernel kern;
@@ -114,7 +114,7 @@ static void test_fetch(void) {
   vkh_buffer_destroy(vk, &lb);
   vkh_buffer_destroy(vk, &rb);
   free(q), free(ref), free(words);
-  eval_latent_image_free(img);
+  texture_latent_image_free(img);
 }
 
 static void test_pack_refuses(void) {
@@ -142,7 +142,7 @@ static void test_shade(void) {
   CHECK_OK(nbrdf_model_load(dir, &model, &err), &err);
   if (!model) return;
   int dim = nbrdf_model_latent_dim(model);
-  eval_latent_image *img = random_image(16, 12, dim, 6);
+  texture_latent_image *img = random_image(16, 12, dim, 6);
   size_t nl = 0, nw = 0;
   uint32_t *lwords = pack(img, &nl);
   CHECK_OK(nbrdf_gpu_pack_decoder(model, NULL, 0, &nw, &err), &err);
@@ -165,7 +165,7 @@ static void test_shade(void) {
     fixture_direction(&rng, c + 6);
     memcpy(wi + 3 * k, c + 3, 12);
     memcpy(wo + 3 * k, c + 6, 12);
-    eval_latent_fetch(img, c[0], c[1], c[2], texel);
+    texture_latent_fetch(img, c[0], c[1], c[2], texel);
     for (int ch = 0; ch < 3; ch++)
       for (int i = 0; i < dim; i++)
         lat[(k * 3 + ch) * dim + i] = texel[texture_latent_index_latent(&img->layout, ch, i)];
@@ -217,7 +217,7 @@ static void test_shade(void) {
   vkh_buffer_destroy(vk, &rb);
   free(q), free(texel), free(lat), free(f), free(wi), free(wo), free(pdf), free(lwords),
       free(wwords);
-  eval_latent_image_free(img);
+  texture_latent_image_free(img);
   nbrdf_model_destroy(model);
 }
 

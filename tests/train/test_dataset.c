@@ -44,7 +44,7 @@ static unsigned char *slurp(const char *path, long *n) {
 }
 
 static int same_file(const char *a, const char *b) {
-  long na, nb;
+  long na = 0, nb = 0; /* slurp leaves them unset when it cannot open the file */
   unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
   int same = x && y && na == nb && na > 0 && memcmp(x, y, (size_t)na) == 0;
   free(x), free(y);

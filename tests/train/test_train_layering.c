@@ -44,9 +44,9 @@ static void test_decoded(const train_samples *d, model_decoder *dec, const model
   model_layering *a = NULL, *b = NULL, *c = NULL, *fresh = NULL;
   train_layering_result r;
   /* The objective on all samples of the training pairs, before and after. */
-  layering_pairs tp, vp;
+  train_layering_pairs tp, vp;
   double before = NAN, after = NAN, from_latent = NAN;
-  CHECK_OK(layering_pairs_make(d, NULL, t, 2, s.validation_every, &tp, &vp, &err), &err);
+  CHECK_OK(train_layering_pairs_make(d, NULL, t, 2, s.validation_every, &tp, &vp, &err), &err);
   CHECK_OK(model_layering_create(s.preset, 32, s.seed, &fresh, &err), &err);
   CHECK_OK(train_layering_decoded_loss(fresh, dec, s.loss, d, &tp, &before, &err), &err);
   CHECK_OK(train_layering_fit_decoded(d, dec, t, &s, &a, &r, &err), &err);
@@ -63,7 +63,7 @@ static void test_decoded(const train_samples *d, model_decoder *dec, const model
   if (a) CHECK_OK(train_layering_decoded_loss(a, dec, s.loss, d, &tp, &after, &err), &err);
   CHECK_MSG(after < from_latent, "decoded loss from the latent-trained net %g -> %g", from_latent,
             after);
-  layering_pairs_free(&tp), layering_pairs_free(&vp);
+  train_layering_pairs_free(&tp), train_layering_pairs_free(&vp);
   model_layering_destroy(fresh);
 
   s.log_path = NULL, s.epochs = 12, s.init = NULL;

@@ -15,7 +15,7 @@ enum { NB = 3, PER = 7, D = 8, ROWS = 5 };
 
 typedef struct ctx {
   train_layering_decoded *engine;
-  const layering_pairs *pairs;
+  const train_layering_pairs *pairs;
   size_t idx[NB];
   float *scratch;
 } ctx;
@@ -66,16 +66,16 @@ static void test_decoded_gradient(void) {
     bottom[i] = (float)(0.5 * core_rng_normal(&rng));
     mid[i] = (float)(0.5 * core_rng_normal(&rng));
   }
-  layering_pairs pairs = {.n = NB,
-                          .top = top,
-                          .bottom = bottom,
-                          .albedo = albedo,
-                          .sigma_t = sig,
-                          .coats = coats,
-                          .mid = mid,
-                          .albedo2 = albedo2,
-                          .sigma_t2 = sig2,
-                          .brdf = brdf};
+  train_layering_pairs pairs = {.n = NB,
+                                .top = top,
+                                .bottom = bottom,
+                                .albedo = albedo,
+                                .sigma_t = sig,
+                                .coats = coats,
+                                .mid = mid,
+                                .albedo2 = albedo2,
+                                .sigma_t2 = sig2,
+                                .brdf = brdf};
   /* kind 0, 1: the two losses; 2: l1-log1p with the energy penalty. */
   for (int kind = 0; kind < 3; kind++) {
     model_loss_kind loss = kind == 1 ? MODEL_LOSS_L1 : MODEL_LOSS_L1_LOG1P;

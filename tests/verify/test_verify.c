@@ -154,6 +154,33 @@ static void test_refusals(void) {
   CHECK(rep == NULL);
 }
 
+/* A texture whose settings name a roughness convention this build does not
+ * know is refused, naming the file and the value: guessing alpha would compare
+ * against another BRDF. */
+static void test_unknown_roughness_setting(void) {
+  nbrdf_error e, *err = &e;
+  nbrdf_bake_inputs in = fix_constants();
+  nbrdf_verify_report *rep = NULL;
+  FILE *f = fopen(fix_path("const.exr"), "rb");
+  CHECK(f != NULL);
+  if (!f) return;
+  static char bytes[1 << 20];
+  size_t n = fread(bytes, 1, sizeof bytes, f);
+  fclose(f);
+  char *at = NULL;
+  for (size_t k = 0; k + 15 <= n && !at; k++)
+    if (!memcmp(bytes + k, "roughness=alpha", 15)) at = bytes + k;
+  CHECK(at != NULL);
+  if (!at) return;
+  at[14] = 'z'; /* same length: the header's offsets stay valid */
+  f = fopen(fix_path("odd-roughness.exr"), "wb");
+  CHECK(f && fwrite(bytes, 1, n, f) == n);
+  if (f) fclose(f);
+  CHECK_FAILS(nbrdf_verify(fix_model, fix_path("odd-roughness.exr"), &in, NULL, &rep, err),
+              NBRDF_ERR_FORMAT, err, "odd-roughness.exr: its bake settings have roughness=alphz");
+  CHECK(rep == NULL);
+}
+
 static int cancel_at_two(void *user, const char *stage, double done, double total) {
   (void)stage, (void)total;
   ++*(int *)user;
@@ -205,6 +232,7 @@ int main(void) {
   RUN(test_figures_match_independent_computation);
   RUN(test_mip_footprints);
   RUN(test_refusals);
+  RUN(test_unknown_roughness_setting);
   RUN(test_cancel_and_outputs);
   nbrdf_model_destroy(fix_model);
   return testing_finish();

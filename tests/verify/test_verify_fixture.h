@@ -88,8 +88,9 @@ static inline void fix_reference_images(const float *t, int walks, uint64_t seed
   if (!b) return;
   const size_t per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES;
   for (int k = 0; k < NBRDF_LOBE_N_THETA; k++)
-    CHECK(layered_lobe_image(&brdf_bsdf(b)->layered, lobe_theta_deg[k] * M_PI / 180, NBRDF_LOBE_RES,
-                             walks, seed * 8 + (uint64_t)k, 0, images + k * per, NULL));
+    CHECK(brdf_layered_lobe_image(&brdf_handle_bsdf(b)->layered, lobe_theta_deg[k] * M_PI / 180,
+                                  NBRDF_LOBE_RES, walks, seed * 8 + (uint64_t)k, 0,
+                                  images + k * per, NULL));
   nbrdf_brdf_destroy(b);
 }
 

@@ -4,10 +4,16 @@
 # Each run then: nbrdf train bundle (those parts + the run's layering) and
 # nbrdf evaluate --sets layer --count 100 --walks 2000 --cache data/evalcache.
 set -euo pipefail
+here=$PWD
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
+# A path the caller gives ($NBRDF, the output folder) is relative to where it ran.
+abs() { case $1 in /*) echo "$1" ;; *) echo "$here/$1" ;; esac; }
 export OPENBLAS_NUM_THREADS=1
-n=${NBRDF:-build/nbrdf}
+n=build/nbrdf
+case ${NBRDF:-} in "") ;; */*) n=$(abs "$NBRDF") ;; *) n=$NBRDF ;; esac # a bare name: on PATH
 D="--decoder models/default/decoder.safetensors --tables models/default/base_tables.safetensors"
-w=${1:-runs/lay-dec}
+w=runs/lay-dec
+if [ $# -ge 1 ]; then w=$(abs "$1"); fi
 mkdir -p "$w"
 # latent loss on the decoder run's pairs, 80 epochs: models/default's network (bit-identical)
 $n train layering --loss latent --data data/single.nbds:3000,data/layered2.nbds:1700 \
