@@ -12,8 +12,8 @@
  * auto-decoder; 0 = none), and back-propagate into the latent part of the
  * input (and the weights when lr_weights > 0).
  *
- * No optimiser here: the loops (src/train/trainer.h, and the public
- * projection's few lines in model_api.c) own Adam, its schedule, checkpoints. */
+ * No optimiser here: the one loop (src/train/trainer.h; every fit runs in it,
+ * the public projection included) owns Adam, its schedule, checkpoints. */
 #ifndef NBRDF_MODEL_AUTODECODER_H
 #define NBRDF_MODEL_AUTODECODER_H
 

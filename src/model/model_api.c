@@ -1,15 +1,15 @@
 /* The public calls of include/nbrdf/model.h on a loaded bundle: argument
  * checks, scratch buffers per call (a model is shared between threads), and
- * the internal networks. */
+ * the internal networks. Projection fits latents, so it runs in the trainer:
+ * nbrdf_model_project is in src/train/project_api.c, with these checks
+ * (model/api_checks.h). */
 #include <math.h>
 #include <stdlib.h>
 
 #include "core/error.h"
-#include "model/autodecoder.h"
+#include "model/api_checks.h"
 #include "model/bundle.h"
 #include "model/proxy.h"
-
-#define API_BATCH 4096
 
 /* A model decoding a compact texture (issue 19) reads fewer latents than the
  * bundle's tables, layering and sampling networks write. */
@@ -33,7 +33,7 @@ static nbrdf_status check_direction(const float *w, const char *name, size_t k, 
   return NBRDF_OK;
 }
 
-static nbrdf_status check_directions(size_t n, const float *wi, const float *wo, nbrdf_error *err) {
+nbrdf_status model_check_directions(size_t n, const float *wi, const float *wo, nbrdf_error *err) {
   for (size_t k = 0; k < n; k++) {
     nbrdf_status st = check_direction(wi + 3 * k, "wi", k, err);
     if (st == NBRDF_OK) st = check_direction(wo + 3 * k, "wo", k, err);
@@ -42,15 +42,15 @@ static nbrdf_status check_directions(size_t n, const float *wi, const float *wo,
   return NBRDF_OK;
 }
 
-static nbrdf_status check_finite(const float *x, size_t count, const char *what, nbrdf_error *err) {
+nbrdf_status model_check_finite(const float *x, size_t count, const char *what, nbrdf_error *err) {
   for (size_t k = 0; k < count; k++)
     if (!isfinite(x[k]))
       return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: value %zu is not finite", what, k);
   return NBRDF_OK;
 }
 
-static int batch_for(size_t rows, int multiple) {
-  size_t b = rows < API_BATCH ? rows : API_BATCH;
+int model_batch_for(size_t rows, int multiple) {
+  size_t b = rows < MODEL_API_BATCH ? rows : MODEL_API_BATCH;
   if (b < (size_t)multiple) b = (size_t)multiple;
   return (int)b;
 }
@@ -60,12 +60,13 @@ nbrdf_status nbrdf_model_decode(const nbrdf_model *m, size_t n, int channels, co
   if (channels < 1 || channels > 64)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "decode: %d channels, expected 1..64", channels);
   if (n == 0) return NBRDF_OK;
-  nbrdf_status st = check_directions(n, wi, wo, err);
+  nbrdf_status st = model_check_directions(n, wi, wo, err);
   if (st == NBRDF_OK)
-    st = check_finite(latents, n * (size_t)channels * (size_t)m->latent_dim, "decode latents", err);
+    st = model_check_finite(latents, n * (size_t)channels * (size_t)m->latent_dim, "decode latents",
+                            err);
   if (st != NBRDF_OK) return st;
   model_runner runner;
-  st = model_runner_create(m->decoder->nn, batch_for(n * (size_t)channels, channels),
+  st = model_runner_create(m->decoder->nn, model_batch_for(n * (size_t)channels, channels),
                            NBRDF_NN_INFER, &runner, err);
   if (st == NBRDF_OK)
     st = model_decoder_eval(m->decoder, &runner, n, channels, latents, wi, wo, f, err);
@@ -112,11 +113,11 @@ nbrdf_status nbrdf_model_layer(const nbrdf_model *m, size_t n, const float *top,
                        "layer: sigma_t = %g (query %zu) is not finite and >= 0", sigma_t[k], k);
   }
   size_t count = n * (size_t)m->latent_dim;
-  nbrdf_status st = check_finite(top, count, "layer: top latents", err);
-  if (st == NBRDF_OK) st = check_finite(bottom, count, "layer: bottom latents", err);
+  nbrdf_status st = model_check_finite(top, count, "layer: top latents", err);
+  if (st == NBRDF_OK) st = model_check_finite(bottom, count, "layer: bottom latents", err);
   if (st != NBRDF_OK) return st;
   model_runner runner;
-  st = model_runner_create(m->layering->nn, batch_for(n, 1), NBRDF_NN_INFER, &runner, err);
+  st = model_runner_create(m->layering->nn, model_batch_for(n, 1), NBRDF_NN_INFER, &runner, err);
   if (st == NBRDF_OK)
     st = model_layering_eval(m->layering, &runner, n, top, bottom, albedo, sigma_t, out, err);
   model_runner_destroy(&runner);
@@ -127,10 +128,10 @@ nbrdf_status nbrdf_model_proxy_params(const nbrdf_model *m, size_t n, const floa
                                       float *sigma, float *w, nbrdf_error *err) {
   nbrdf_status st = check_full_latents(m, "proxy", err);
   if (st != NBRDF_OK || n == 0) return st;
-  st = check_finite(latents, n * (size_t)m->latent_dim, "proxy: latents", err);
+  st = model_check_finite(latents, n * (size_t)m->latent_dim, "proxy: latents", err);
   if (st != NBRDF_OK) return st;
   model_runner runner;
-  st = model_runner_create(m->sampler->nn, batch_for(n, 1), NBRDF_NN_INFER, &runner, err);
+  st = model_runner_create(m->sampler->nn, model_batch_for(n, 1), NBRDF_NN_INFER, &runner, err);
   if (st == NBRDF_OK) st = model_sampler_eval(m->sampler, &runner, n, latents, sigma, w, err);
   model_runner_destroy(&runner);
   return st;
@@ -146,75 +147,4 @@ int nbrdf_proxy_sample(double sigma, double w, const double wi[3], const double 
   int ok = model_proxy_sample(sigma, w, v3(wi[0], wi[1], wi[2]), u[0], u[1], u[2], &d, pdf);
   wo[0] = d.x, wo[1] = d.y, wo[2] = d.z;
   return ok;
-}
-
-static nbrdf_status check_projection(size_t n_brdfs, const size_t *offsets, const float *wi,
-                                     const float *wo, const float *f,
-                                     const nbrdf_project_options *o, nbrdf_error *err) {
-  if (n_brdfs < 1) return core_fail(err, NBRDF_ERR_ARGUMENT, "project: no BRDF given");
-  if (offsets[0] != 0)
-    return core_fail(err, NBRDF_ERR_ARGUMENT, "project: offsets[0] = %zu, expected 0", offsets[0]);
-  for (size_t b = 0; b < n_brdfs; b++)
-    if (offsets[b + 1] <= offsets[b])
-      return core_fail(err, NBRDF_ERR_ARGUMENT, "project: BRDF %zu has no samples", b);
-  size_t rows = offsets[n_brdfs];
-  nbrdf_status st = check_directions(rows, wi, wo, err);
-  if (st != NBRDF_OK) {
-    core_error_prefix(err, "project: ");
-    return st;
-  }
-  for (size_t r = 0; r < rows; r++)
-    if (!(f[r] >= 0.0f) || !isfinite(f[r]))
-      return core_fail(err, NBRDF_ERR_ARGUMENT,
-                       "project: f of sample %zu = %g is not finite and >= 0", r, f[r]);
-  if (o->steps < 0 || o->rows_per_brdf < 1 || !(o->learning_rate > 0.0f) ||
-      !isfinite(o->learning_rate) || (o->loss != NBRDF_LOSS_L1 && o->loss != NBRDF_LOSS_L1_LOG1P))
-    return core_fail(err, NBRDF_ERR_ARGUMENT,
-                     "project: options need steps >= 0, rows_per_brdf >= 1, a learning rate > 0 "
-                     "and a known loss");
-  return NBRDF_OK;
-}
-
-nbrdf_status nbrdf_model_project(const nbrdf_model *m, size_t n_brdfs, const size_t *offsets,
-                                 const float *wi, const float *wo, const float *f,
-                                 const nbrdf_project_options *options, float *out,
-                                 double *final_loss, nbrdf_error *err) {
-  nbrdf_project_options defaults = NBRDF_PROJECT_OPTIONS_DEFAULT;
-  const nbrdf_project_options *o = options ? options : &defaults;
-  nbrdf_status st = check_projection(n_brdfs, offsets, wi, wo, f, o, err);
-  if (st != NBRDF_OK) return st;
-  size_t count = n_brdfs * (size_t)m->latent_dim;
-  if (o->init_from_out) {
-    st = check_finite(out, count, "project: initial latents", err);
-    if (st != NBRDF_OK) return st;
-  } else {
-    for (size_t k = 0; k < count; k++)
-      out[k] = 0.0f;
-  }
-  model_fit_options fo = MODEL_FIT_OPTIONS_DEFAULT;
-  fo.loss = o->loss == NBRDF_LOSS_L1 ? MODEL_LOSS_L1 : MODEL_LOSS_L1_LOG1P;
-  fo.rows_per_brdf = o->rows_per_brdf;
-  fo.lr_latent = o->learning_rate;
-  fo.lr_weights = 0.0f; /* frozen: the fit never writes the decoder, so sharing it is safe */
-  fo.seed = o->seed;
-  fo.max_batch = batch_for(n_brdfs * (size_t)o->rows_per_brdf, 1);
-  model_samples samples = {n_brdfs, offsets, wi, wo, f, NULL};
-  model_fit *fit = NULL;
-  nn_adam *adam = NULL;
-  /* The smallest loop over the gradient engine: in memory, no schedule, no
-   * checkpoint (src/train/trainer.h is the loop with all of them; the model
-   * layer cannot call up into train/). */
-  nn_adam_options ao = NBRDF_ADAM_OPTIONS_DEFAULT;
-  ao.lr = o->learning_rate;
-  st = model_fit_create(m->decoder, n_brdfs, out, &fo, &fit, err);
-  if (st == NBRDF_OK) st = nn_adam_create(count, &ao, &adam, err);
-  for (int s = 0; st == NBRDF_OK && s < o->steps; s++) {
-    st = model_fit_gradient(fit, &samples, s, NULL, err);
-    if (st == NBRDF_OK) st = nn_adam_step(adam, out, model_fit_grad_latent(fit), err);
-  }
-  if (st == NBRDF_OK && final_loss) st = model_fit_eval_loss(fit, &samples, final_loss, NULL, err);
-  nn_adam_destroy(adam);
-  model_fit_destroy(fit);
-  if (st != NBRDF_OK) core_error_prefix(err, "project: ");
-  return st;
 }

@@ -16,6 +16,7 @@ void train_project_defaults(int steps, uint64_t seed, train_projection *p) {
   p->decay_gamma = 0.5f;
   p->seed = seed;
   p->steps = steps;
+  p->max_batch = 0;
 }
 
 nbrdf_status train_project_params(model_decoder *dec, size_t n, const train_params *params,

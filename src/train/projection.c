@@ -33,6 +33,17 @@ static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error
   return NBRDF_OK;
 }
 
+/* The gradient engine's options for p (the decoder frozen: lr_weights 0). */
+static model_fit_options fit_options(const train_projection *p) {
+  model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
+  o.loss = p->loss;
+  o.rows_per_brdf = p->rows_per_brdf;
+  o.lr_latent = p->lr;
+  o.seed = p->seed;
+  if (p->max_batch > 0) o.max_batch = p->max_batch;
+  return o;
+}
+
 nbrdf_status train_project_sets(model_decoder *dec, int n_sets, const model_samples *sets,
                                 float *const *latents, const train_projection *p,
                                 const trainer_options *base, trainer_result *r, nbrdf_error *err) {
@@ -45,11 +56,7 @@ nbrdf_status train_project_sets(model_decoder *dec, int n_sets, const model_samp
     return core_fail(err, NBRDF_ERR_ARGUMENT, "projection: 1..%d sets", TRAIN_PROJECTION_MAX_SETS);
   projection pr = {.n = n_sets, .sets = sets};
   trainer_group groups[TRAIN_PROJECTION_MAX_SETS];
-  model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
-  o.loss = p->loss;
-  o.rows_per_brdf = p->rows_per_brdf;
-  o.lr_latent = p->lr;
-  o.seed = p->seed;
+  model_fit_options o = fit_options(p);
   nbrdf_status st = NBRDF_OK;
   for (int i = 0; i < n_sets && !st; i++) {
     st = model_fit_create(dec, sets[i].n_brdfs, latents[i], &o, &pr.fit[i], err);
@@ -73,6 +80,8 @@ nbrdf_status train_project_sets(model_decoder *dec, int n_sets, const model_samp
                  "loss %s, rows %d, lr %.9g, decay %d x %.9g, seed %llu", model_loss_name(p->loss),
                  p->rows_per_brdf, (double)p->lr, p->decay_every, (double)p->decay_gamma,
                  (unsigned long long)p->seed);
+  if (p->max_batch > 0) /* absent at the default: checkpoints from before it still match */
+    trainer_option(options, sizeof options, "batch", "%d", p->max_batch);
   for (int i = 0; i < n_sets; i++)
     trainer_option(options, sizeof options, names[i][0], "%zu BRDFs", sets[i].n_brdfs);
   to.options = options;
@@ -82,5 +91,16 @@ nbrdf_status train_project_sets(model_decoder *dec, int n_sets, const model_samp
   if (!st) st = trainer_run(&to, &fit, groups, n_sets, NULL, 0, NULL, 0, r ? r : &own, err);
   for (int i = 0; i < n_sets; i++)
     model_fit_destroy(pr.fit[i]);
+  return st;
+}
+
+nbrdf_status train_projection_loss(model_decoder *dec, const model_samples *set, float *latents,
+                                   const train_projection *p, double *per_brdf, double *mean,
+                                   nbrdf_error *err) {
+  model_fit_options o = fit_options(p);
+  model_fit *fit = NULL;
+  nbrdf_status st = model_fit_create(dec, set->n_brdfs, latents, &o, &fit, err);
+  if (!st) st = model_fit_eval_loss(fit, set, per_brdf, mean, err);
+  model_fit_destroy(fit);
   return st;
 }

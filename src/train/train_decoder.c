@@ -40,7 +40,7 @@ static nbrdf_status validate(model_decoder *dec, const train_decoder_settings *s
   size_t nl = val->n_brdfs * (size_t)dec->cfg.latent_dim;
   float *lat = calloc(nl, sizeof *lat);
   if (!lat) return core_fail(err, NBRDF_ERR_MEMORY, "validation: out of memory");
-  train_projection p = {s->loss, 256, 2e-2f, 100, 0.5f, s->seed, 300};
+  train_projection p = {s->loss, 256, 2e-2f, 100, 0.5f, s->seed, 300, 0};
   model_samples view = train_samples_view(val);
   nbrdf_status st = train_project_sets(dec, 1, &view, &lat, &p, NULL, NULL, err);
   model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
