@@ -4,6 +4,10 @@ from collections import namedtuple
 
 Param = namedtuple("Param", "key flag label colour default soft_max description")
 
+# The trained optical-depth maximum: NBRDF_BAKE_SIGMA_T_MAX of include/nbrdf/bake.h
+# (tests/blender/test_conventions.sh keeps the two equal).
+SIGMA_T_MAX = 5.0
+
 PARAMS = (
     Param("alpha1", "--alpha1", "Coat Roughness", False, 0.1, 1.0,
           "Top coat GGX roughness (see Roughness convention)"),
@@ -15,7 +19,7 @@ PARAMS = (
           "Bottom conductor Schlick reflectance at normal incidence (colour)"),
     Param("albedo", "--albedo", "Slab Albedo", True, (0.8, 0.8, 0.8), 1.0,
           "Single-scattering albedo of the slab between the interfaces (colour)"),
-    Param("sigma_t", "--sigma-t", "Slab Optical Depth", False, 1.0, 5.0,
+    Param("sigma_t", "--sigma-t", "Slab Optical Depth", False, 1.0, SIGMA_T_MAX,
           "Optical depth of the slab (unit thickness); 8-bit maps map [0, 1] to its range"),
 )
 

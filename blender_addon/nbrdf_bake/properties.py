@@ -6,7 +6,7 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorPro
                        StringProperty)
 
 from . import principled
-from .params import PARAMS
+from .params import PARAMS, SIGMA_T_MAX
 
 
 def _param_annotations():
@@ -54,7 +54,7 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
             name="IOR Range", size=2, default=(1.0, 2.0), min=1.0,
             description="8-bit IOR maps: 0 and 1 map to these IORs"),
         sigma_t_range=FloatVectorProperty(
-            name="Optical Depth Range", size=2, default=(0.0, 5.0), min=0.0,
+            name="Optical Depth Range", size=2, default=(0.0, SIGMA_T_MAX), min=0.0,
             description="8-bit optical depth maps: 0 and 1 map to these depths"),
         range_policy=EnumProperty(
             name="Out of Range", default="CLAMP",
