@@ -8,7 +8,7 @@
 #
 #   bench/ladder_trade.sh [BUILD_DIR] [WORK_DIR]
 # Environment: LEVELS ("fast fitted"), CONSTANTS (held-out indices, "6 14 0 1 2 3"),
-# MAPS (1: include the maps), SPP (verify walks, 256), TEXELS (64), BUDGET (empty: default).
+# MAPS (1: include the maps), MAPS_SIZE (256; another size resizes them with oiiotool), SPP (verify walks, 256), TEXELS (64), BUDGET (empty: default).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$(cd "${1:-$root/build}" && pwd)"
@@ -16,7 +16,7 @@ work="${2:-$(mktemp -d)}"
 mkdir -p "$work"
 nbrdf="$build/nbrdf"
 levels=${LEVELS:-"fast fitted"}
-constants=${CONSTANTS:-"6 14 0 1 2 3"}
+constants=${CONSTANTS-"6 14 0 1 2 3"} # CONSTANTS="" runs none
 spp=${SPP:-256}
 texels=${TEXELS:-64}
 export OPENBLAS_NUM_THREADS=1 # measured: faster on the loaded 2-core machine (ARCHITECTURE.md)
@@ -53,9 +53,18 @@ echo "|---|---|---|---|---|---|---|---|---|---|"
 if [ "${MAPS:-1}" = 1 ]; then
   bash "$root/examples/make_maps.sh" "$work/maps" >/dev/null
   m="$work/maps"
+  if [ "${MAPS_SIZE:-256}" != 256 ]; then
+    # The same maps at another size (bilinear: gradients gain distinct values, as a
+    # painted map of that size would have).
+    mkdir -p "$work/maps$MAPS_SIZE"
+    for f in alpha1.png eta.exr alpha2.png r0.png albedo.png sigma_t.exr; do
+      oiiotool "$m/$f" --resize:filter=triangle "${MAPS_SIZE}x$MAPS_SIZE" -o "$work/maps$MAPS_SIZE/$f"
+    done
+    m="$work/maps$MAPS_SIZE"
+  fi
   maps=(--alpha1 "$m/alpha1.png" --eta "$m/eta.exr" --alpha2 "$m/alpha2.png" --r0 "$m/r0.png"
     --albedo "$m/albedo.png" --sigma-t "$m/sigma_t.exr")
-  for level in $levels; do run maps "$level" "${maps[@]}"; done
+  for level in $levels; do run "maps${MAPS_SIZE:+ ${MAPS_SIZE}²}" "$level" "${maps[@]}"; done
 fi
 "$build/bench/bench_heldout_params" 50 >"$work/heldout_params.txt"
 for k in $constants; do
