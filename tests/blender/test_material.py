@@ -228,8 +228,10 @@ print("cancel honoured after %.2f s" % elapsed)
 t.check("cancelled: %s" % state, state == "cancelled")
 t.check("stopped inside the band (%.3f)" % session.bake.progress, session.bake.progress < 1.0)
 # The promise is 1 s (the issue asks for 2 s of the request); far below the
-# ~20 s of a CLI that finishes its band first.
-t.check("cancel honoured within 2 s (%.2f s)" % elapsed, elapsed < 2.0)
+# ~20 s of a CLI that finishes its band first. A sanitizer build scales the bound
+# (NBRDF_TEST_TIME_SCALE, tests/CMakeLists.txt): it checks memory, not latency.
+bound = 2.0 * float(os.environ.get("NBRDF_TEST_TIME_SCALE", "1"))
+t.check("cancel honoured within %g s (%.2f s)" % (bound, elapsed), elapsed < bound)
 t.check("cancelled: no file", not os.path.exists(b.output))
 
 t.disable()
