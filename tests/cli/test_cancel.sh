@@ -19,6 +19,11 @@ now() { date +%s.%N; }
 # DELAY, sends SIGINT and checks the exit status and the time to exit.
 cancel_within() {
   local what=$1 pattern=$2 delay=$3; shift 3
+  # Emptied here, not only by the job's own redirection: the job's shell may not have
+  # opened the file yet when the wait below first reads it, and the previous case's
+  # "progress" lines would send SIGINT before the command watches for it (a background
+  # job of a script starts with SIGINT ignored, so it would be lost).
+  : >"$TMP/run.log"
   "$@" >"$TMP/run.log" 2>&1 </dev/null &
   local pid=$! waited=0
   while ! grep -Eq -- "$pattern" "$TMP/run.log" 2>/dev/null && kill -0 "$pid" 2>/dev/null &&
