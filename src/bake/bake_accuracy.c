@@ -157,7 +157,7 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
   int64_t student_macs = 0;
   if (compact) {
     model_decoder_config cfg;
-    nbrdf_status cs = bake_compact_config(K, width, &cfg, err);
+    nbrdf_status cs = model_decoder_compact_config(K, width, &cfg, err);
     if (cs != NBRDF_OK) return cs;
     student_macs = nn_spec_macs(&cfg.spec);
   }

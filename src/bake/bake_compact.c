@@ -151,18 +151,6 @@ void bake_compact_expand(const bake_compact *c, const float *coords, float *z) {
   }
 }
 
-nbrdf_status bake_compact_config(int dim, int width, model_decoder_config *cfg, nbrdf_error *err) {
-  if (dim < 1 || dim > BAKE_COMPACT_MAX_DIM)
-    return core_fail(err, NBRDF_ERR_ARGUMENT, "compact: %d latent channels; 1 to %d", dim,
-                     BAKE_COMPACT_MAX_DIM);
-  if (width < 4 || width > 256)
-    return core_fail(err, NBRDF_ERR_ARGUMENT, "compact: decoder width %d; 4 to 256", width);
-  model_encoding hd = {MODEL_ENCODING_HALFDIFF, 1};
-  nbrdf_status st = model_decoder_config_make(dim, hd, MODEL_OUTPUT_LOG1P, width, 1, 0, cfg, err);
-  if (st == NBRDF_OK) snprintf(cfg->preset, sizeof cfg->preset, "compact");
-  return st;
-}
-
 /* The teacher's rows of tuple k: the directions of its nearest fitted
  * tuple's ground truth (where the family's lobes are), then PROXY_ROWS more
  * whose ωo the tuple's own pdf proxy draws around its lobe (its incident
@@ -418,7 +406,7 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
     memcpy(f + truth->n_rows, teach.f, sizeof(float) * teach.n_rows);
   }
   model_decoder_config cfg;
-  if (st == NBRDF_OK) st = bake_compact_config(dim, s->width, &cfg, err);
+  if (st == NBRDF_OK) st = model_decoder_compact_config(dim, s->width, &cfg, err);
   if (st == NBRDF_OK) st = model_decoder_create(&cfg, s->seed, &c->student, err);
   /* The latents minus the mean, for the projection's gradient. */
   float *zc = st == NBRDF_OK ? malloc(sizeof(float) * n_all * D) : NULL;

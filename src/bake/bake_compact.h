@@ -28,7 +28,7 @@
 #include "texture/latent_layout.h"
 #include "train/samples.h"
 
-#define BAKE_COMPACT_MAX_DIM 8
+#define BAKE_COMPACT_MAX_DIM MODEL_COMPACT_MAX_DIM
 #define BAKE_COMPACT_DEFAULT_DIM 8
 #define BAKE_COMPACT_DEFAULT_WIDTH 32
 #define BAKE_COMPACT_TEACHER 512
@@ -61,10 +61,6 @@ typedef struct bake_compact_settings {
   core_ticker *ticker; /* stage "distil", done/total in steps; may be NULL */
   volatile sig_atomic_t *cancel;
 } bake_compact_settings;
-
-/* The student's configuration: halfdiff, log1p output, PLAIN(width), one
- * residual block, linear output: (K + 6) w + w^2 + w multiply-adds. */
-nbrdf_status bake_compact_config(int dim, int width, model_decoder_config *cfg, nbrdf_error *err);
 
 /* Everything after the specialised fit: the scene's latents (network + the
  * carried correction `corr`, whose decoder is the teacher) of the n_fit fitted

@@ -232,3 +232,15 @@ nbrdf_status model_decoder_load(const char *path, model_decoder **out, nbrdf_err
   nn_st_close(r);
   return st;
 }
+
+nbrdf_status model_decoder_compact_config(int dim, int width, model_decoder_config *cfg, nbrdf_error *err) {
+  if (dim < 1 || dim > MODEL_COMPACT_MAX_DIM)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "compact: %d latent channels; 1 to %d", dim,
+                     MODEL_COMPACT_MAX_DIM);
+  if (width < 4 || width > 256)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "compact: decoder width %d; 4 to 256", width);
+  model_encoding hd = {MODEL_ENCODING_HALFDIFF, 1};
+  nbrdf_status st = model_decoder_config_make(dim, hd, MODEL_OUTPUT_LOG1P, width, 1, 0, cfg, err);
+  if (st == NBRDF_OK) snprintf(cfg->preset, sizeof cfg->preset, "compact");
+  return st;
+}

@@ -53,6 +53,14 @@ nbrdf_status model_decoder_config_make(int latent_dim, model_encoding encoding, 
                                        int width, int blocks, int interleave_plain,
                                        model_decoder_config *cfg, nbrdf_error *err);
 
+/* The compact decoder of `nbrdf bake --compact K[,WIDTH]`: halfdiff, log1p output,
+ * PLAIN(width), one residual block, linear output: (K + 6) w + w^2 + w multiply-adds.
+ * Here rather than in bake/ so that tools which only evaluate it (bench_shader on a GPU
+ * machine) link the model layer alone. */
+#define MODEL_COMPACT_MAX_DIM 8
+nbrdf_status model_decoder_compact_config(int dim, int width, model_decoder_config *cfg,
+                                          nbrdf_error *err);
+
 /* Builds the network, initialised deterministically from `seed`. */
 nbrdf_status model_decoder_create(const model_decoder_config *cfg, uint64_t seed,
                                   model_decoder **out, nbrdf_error *err);

@@ -83,13 +83,13 @@ static void test_basis(void) {
 static void test_config(void) {
   nbrdf_error e, *err = &e;
   model_decoder_config cfg;
-  CHECK_OK(bake_compact_config(BAKE_COMPACT_DEFAULT_DIM, BAKE_COMPACT_DEFAULT_WIDTH, &cfg, err),
+  CHECK_OK(model_decoder_compact_config(BAKE_COMPACT_DEFAULT_DIM, BAKE_COMPACT_DEFAULT_WIDTH, &cfg, err),
            err);
   int64_t macs = nn_spec_macs(&cfg.spec);
   CHECK_MSG(macs <= 2000, "the default compact decoder costs %lld multiply-adds", (long long)macs);
   CHECK(cfg.latent_dim == 8 && !strcmp(cfg.preset, "compact"));
-  CHECK_FAILS(bake_compact_config(9, 32, &cfg, err), NBRDF_ERR_ARGUMENT, err, "1 to 8");
-  CHECK_FAILS(bake_compact_config(4, 2, &cfg, err), NBRDF_ERR_ARGUMENT, err, "width");
+  CHECK_FAILS(model_decoder_compact_config(9, 32, &cfg, err), NBRDF_ERR_ARGUMENT, err, "1 to 8");
+  CHECK_FAILS(model_decoder_compact_config(4, 2, &cfg, err), NBRDF_ERR_ARGUMENT, err, "width");
 }
 
 enum { W = 8, H = 4 };

@@ -283,7 +283,7 @@ static void test_compact_decoder(void) {
   if (!bundle) return;
   model_decoder_config cfg;
   model_decoder *dec = NULL;
-  CHECK_OK(bake_compact_config(BAKE_COMPACT_DEFAULT_DIM, BAKE_COMPACT_DEFAULT_WIDTH, &cfg, &err),
+  CHECK_OK(model_decoder_compact_config(BAKE_COMPACT_DEFAULT_DIM, BAKE_COMPACT_DEFAULT_WIDTH, &cfg, &err),
            &err);
   CHECK_OK(model_decoder_create(&cfg, 5, &dec, &err), &err);
   if (dec) CHECK_OK(model_with_decoder_net(bundle, dec, &compact, &err), &err);
