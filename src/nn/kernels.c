@@ -3,7 +3,7 @@
  * terms) keep 16 independent float partial sums combined pairwise: vectorisable without
  * -ffast-math, two AVX registers deep, and bit-reproducible; LayerNorm's variance is two-pass.
  * Sums over the batch (bias, gamma and beta gradients) are kept in double because they run
- * over up to 65536 rows. */
+ * over up to 65536 rows (LayerNorm's add blocks of 16 rows in float first). */
 #include <cblas.h>
 #include <math.h>
 #include <string.h>
@@ -187,39 +187,83 @@ NN_HOT void nn_ln_forward(int rows, int w, float *restrict u_all, const float *r
   }
 }
 
+/* Rows whose column sums (dgamma, dbeta, dbias) add up in float before they join the double
+ * accumulators: the per-element double conversion and add cost as much as the rest of the
+ * backward pass, and 16 float terms lose nothing the double sum over the batch keeps. */
+#define SUM_BLOCK 16
+
+/* One row of LayerNorm backward (after the ReLU mask): dL/dy in gr on entry, dL/du on return.
+ * With `sums`, adds the row's dL/dy, dL/dy * xhat and dL/du to sb, sg and sd. */
+NN_INLINE void ln_backward_row(int w, float *restrict gr, const float *restrict xr, float rs,
+                               const float *restrict gamma, float *restrict dxh, int sums,
+                               float *restrict sg, float *restrict sb, float *restrict sd) {
+  /* dL/du = rstd * (dxh - mean(dxh) - xhat * mean(dxh * xhat)); both means in one pass, with
+   * the lane layout of sum_lanes and dot_lanes. */
+  float p1[LANES] = {0}, p2[LANES] = {0};
+  int c = 0;
+  for (; c + LANES <= w; c += LANES)
+    for (int k = 0; k < LANES; k++) {
+      int i = c + k;
+      float gv = gr[i], xv = xr[i], d = gv * gamma[i];
+      dxh[i] = d;
+      p1[k] += d;
+      p2[k] += d * xv;
+      if (sums) sb[i] += gv, sg[i] += gv * xv;
+    }
+  float s1 = reduce_lanes(p1), s2 = reduce_lanes(p2);
+  for (; c < w; c++) {
+    float gv = gr[c], xv = xr[c], d = gv * gamma[c];
+    dxh[c] = d;
+    s1 += d;
+    s2 += d * xv;
+    if (sums) sb[c] += gv, sg[c] += gv * xv;
+  }
+  float m1 = s1 / (float)w, m2 = s2 / (float)w;
+  for (c = 0; c < w; c++) {
+    float v = rs * (dxh[c] - m1 - xr[c] * m2);
+    gr[c] = v;
+    if (sums) sd[c] += v;
+  }
+}
+
 /* In place: g = dL/dy on entry, dL/du on return (u the pre-normalisation sum). With y_relu,
  * y_relu is the layer's output and the ReLU's mask is y > 0. dgamma, dbeta and dbias (any may
- * be NULL) accumulate the column sums of dL/dy * xhat, dL/dy and dL/du. */
+ * be NULL; all NULL for a frozen network) accumulate the column sums of dL/dy * xhat, dL/dy and
+ * dL/du. */
 NN_HOT void nn_ln_backward(int rows, int w, float *restrict g, const float *restrict y_relu,
                            const float *restrict xhat, const float *restrict rstd,
                            const float *restrict gamma, double *restrict dgamma,
                            double *restrict dbeta, double *restrict dbias) {
-  float dxh[NBRDF_NN_MAX_WIDTH];
-  for (int r = 0; r < rows; r++) {
-    float *restrict gr = g + (size_t)r * w;
-    const float *restrict xr = xhat + (size_t)r * w;
-    if (y_relu) {
-      const float *restrict yr = y_relu + (size_t)r * w;
+  float dxh[NBRDF_NN_MAX_WIDTH], sg[NBRDF_NN_MAX_WIDTH], sb[NBRDF_NN_MAX_WIDTH],
+      sd[NBRDF_NN_MAX_WIDTH];
+  int sums = dgamma || dbeta || dbias;
+  for (int r0 = 0; r0 < rows; r0 += SUM_BLOCK) {
+    int r1 = rows - r0 < SUM_BLOCK ? rows : r0 + SUM_BLOCK;
+    if (sums)
       for (int c = 0; c < w; c++)
-        gr[c] = yr[c] > 0.0f ? gr[c] : 0.0f;
+        sg[c] = 0.0f, sb[c] = 0.0f, sd[c] = 0.0f;
+    for (int r = r0; r < r1; r++) {
+      float *restrict gr = g + (size_t)r * w;
+      const float *restrict xr = xhat + (size_t)r * w;
+      if (y_relu) {
+        const float *restrict yr = y_relu + (size_t)r * w;
+        for (int c = 0; c < w; c++)
+          gr[c] = yr[c] > 0.0f ? gr[c] : 0.0f;
+      }
+      if (sums)
+        ln_backward_row(w, gr, xr, rstd[r], gamma, dxh, 1, sg, sb, sd);
+      else
+        ln_backward_row(w, gr, xr, rstd[r], gamma, dxh, 0, NULL, NULL, NULL);
     }
-    if (dbeta)
-      for (int c = 0; c < w; c++)
-        dbeta[c] += gr[c];
     if (dgamma)
       for (int c = 0; c < w; c++)
-        dgamma[c] += (double)(gr[c] * xr[c]);
-    for (int c = 0; c < w; c++)
-      dxh[c] = gr[c] * gamma[c];
-    /* dL/du = rstd * (dxh - mean(dxh) - xhat * mean(dxh * xhat)) */
-    float m1 = sum_lanes(dxh, w) / (float)w;
-    float m2 = dot_lanes(dxh, xr, w) / (float)w;
-    float rs = rstd[r];
-    for (int c = 0; c < w; c++)
-      gr[c] = rs * (dxh[c] - m1 - xr[c] * m2);
+        dgamma[c] += sg[c];
+    if (dbeta)
+      for (int c = 0; c < w; c++)
+        dbeta[c] += sb[c];
     if (dbias)
       for (int c = 0; c < w; c++)
-        dbias[c] += gr[c];
+        dbias[c] += sd[c];
   }
 }
 
