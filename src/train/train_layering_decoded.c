@@ -87,15 +87,22 @@ nbrdf_status train_layering_decoded_loss(const model_layering *net, model_decode
   return st;
 }
 
+/* Decoder rows per forward/backward pass, rounded down to whole pairs (at least one). One pass
+ * over a whole batch (128 pairs x 64 rows) kept ~40 MB of buffers out of cache; at 128 rows
+ * they stay in L2 and OpenBLAS's SkylakeX kernels take their small-matrix path (see
+ * TRAIN_DECODER_GEMM_ROWS in train_decoder.c). */
+#define DECODER_PASS_ROWS 128
+
 struct train_layering_decoded {
   model_layering *net;
   model_decoder *dec;
   const train_samples *data;
   int batch, rows;
+  int chunk; /* pairs per pass of the decoder */
   model_loss_kind loss;
   uint64_t seed;
   /* TRAIN mode: layering outer and inner (the recursion of three-layer pairs)
-   * applications (batch pairs each), decoder (batch × rows) */
+   * applications (batch pairs each), decoder (chunk × rows) */
   model_runner lrun, lrun2, drun;
   float *dz, *f, *dy, *dx;
   float *dxl, *dzi; /* outer layering input gradient [batch × (2D+2)], inner's output [batch × D] */
@@ -130,15 +137,17 @@ nbrdf_status train_layering_decoded_create(model_layering *net, model_decoder *d
   if (!t) return core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   t->net = net, t->dec = dec, t->data = data, t->batch = batch, t->rows = rows;
   t->loss = loss, t->seed = seed;
-  size_t B = (size_t)batch, R = (size_t)rows, D = (size_t)net->latent_dim;
+  t->chunk = rows < DECODER_PASS_ROWS ? DECODER_PASS_ROWS / rows : 1;
+  if (t->chunk > batch) t->chunk = batch;
+  size_t B = (size_t)batch, R = (size_t)rows, D = (size_t)net->latent_dim, C = (size_t)t->chunk;
   nbrdf_status st = model_runner_create(net->nn, batch, NBRDF_NN_TRAIN, &t->lrun, err);
   if (!st) st = model_runner_create(net->nn, batch, NBRDF_NN_TRAIN, &t->lrun2, err);
-  if (!st) st = model_runner_create(dec->nn, batch * rows, NBRDF_NN_TRAIN, &t->drun, err);
+  if (!st) st = model_runner_create(dec->nn, t->chunk * rows, NBRDF_NN_TRAIN, &t->drun, err);
   if (!st) {
     t->dz = malloc(B * D * sizeof(float));
-    t->f = malloc(B * R * sizeof(float));
-    t->dy = malloc(B * R * sizeof(float));
-    t->dx = malloc(B * R * (size_t)model_decoder_inputs(dec) * sizeof(float));
+    t->f = malloc(C * R * sizeof(float));
+    t->dy = malloc(C * R * sizeof(float));
+    t->dx = malloc(C * R * (size_t)model_decoder_inputs(dec) * sizeof(float));
     t->dxl = malloc(B * (2 * D + 2) * sizeof(float));
     t->dzi = malloc(B * D * sizeof(float));
     t->inner_row = malloc(B * sizeof(int));
@@ -192,33 +201,41 @@ nbrdf_status train_layering_decoded_gradient(train_layering_decoded *t,
   if (st) return st;
   core_rng rng;
   core_rng_init(&rng, t->seed, (uint64_t)step);
-  for (int r = 0; r < m; r++) {
-    size_t b = p->brdf[idx[r]], begin = t->data->offsets[b];
-    size_t count = t->data->offsets[b + 1] - begin;
-    for (size_t j = 0; j < R; j++) {
-      size_t k = begin + (size_t)(core_rng_uniform(&rng) * (double)count), row = (size_t)r * R + j;
-      fill_decoder_row(dec, t->data, t->lrun.y + (size_t)r * D, k, t->drun.x + row * in);
-      t->f[row] = t->data->f[k];
-    }
-  }
   int rows = m * (int)R;
-  st = nn_forward(dec->nn, t->drun.ws, t->drun.x, rows, t->drun.y, err);
-  if (st) return st;
-  double sum = model_loss_sum(t->loss, dec->cfg.output, (size_t)rows, t->drun.y, t->f, NULL,
-                              (float)(1.0 / rows), t->dy);
-  *loss = sum / rows;
-  st = nn_backward(dec->nn, t->drun.ws, t->dy, t->dx, NULL, err);
-  if (st) return st;
-  /* Each pair's latent feeds all its rows: its gradient is their sum. */
-  for (int r = 0; r < m; r++) {
-    float *g = t->dz + (size_t)r * D;
-    memset(g, 0, D * sizeof *g);
-    for (size_t j = 0; j < R; j++) {
-      const float *d = t->dx + ((size_t)r * R + j) * in;
-      for (size_t q = 0; q < D; q++)
-        g[q] += d[q];
+  double sum = 0.0;
+  /* The decoder sees the pairs a chunk at a time (its buffers stay in cache); the rows are
+   * drawn in the same order as for one pass over all pairs. */
+  for (int r0 = 0; r0 < m; r0 += t->chunk) {
+    int n = m - r0 < t->chunk ? m - r0 : t->chunk;
+    for (int r = 0; r < n; r++) {
+      size_t b = p->brdf[idx[r0 + r]], begin = t->data->offsets[b];
+      size_t count = t->data->offsets[b + 1] - begin;
+      for (size_t j = 0; j < R; j++) {
+        size_t k = begin + (size_t)(core_rng_uniform(&rng) * (double)count);
+        size_t row = (size_t)r * R + j;
+        fill_decoder_row(dec, t->data, t->lrun.y + (size_t)(r0 + r) * D, k, t->drun.x + row * in);
+        t->f[row] = t->data->f[k];
+      }
+    }
+    int crows = n * (int)R;
+    st = nn_forward(dec->nn, t->drun.ws, t->drun.x, crows, t->drun.y, err);
+    if (st) return st;
+    sum += model_loss_sum(t->loss, dec->cfg.output, (size_t)crows, t->drun.y, t->f, NULL,
+                          (float)(1.0 / rows), t->dy);
+    st = nn_backward(dec->nn, t->drun.ws, t->dy, t->dx, NULL, err);
+    if (st) return st;
+    /* Each pair's latent feeds all its rows: its gradient is their sum. */
+    for (int r = 0; r < n; r++) {
+      float *g = t->dz + (size_t)(r0 + r) * D;
+      memset(g, 0, D * sizeof *g);
+      for (size_t j = 0; j < R; j++) {
+        const float *d = t->dx + ((size_t)r * R + j) * in;
+        for (size_t q = 0; q < D; q++)
+          g[q] += d[q];
+      }
     }
   }
+  *loss = sum / rows;
   double penalty = 0.0;
   st =
       train_energy_pairs(t->energy, (size_t)m, idx, p->brdf, t->lrun.y, step, t->dz, &penalty, err);
