@@ -12,8 +12,8 @@
 # know, Haswell on most AVX2/AVX-512 machines); the others are forced through
 # NBRDF_BLAS_CORETYPE (src/cli/cli_blas.c). AVX-512 families are skipped on CPUs without it.
 # Data: generated sets of 1,024 single BRDFs (a decoder step draws 16 rows of each) and
-# (pairs per second count all 48 pairs of the file, a tenth of which the trainer holds out)
-# 48 two-layer BRDFs in a temporary folder; the layering network is
+# 48 two-layer BRDFs (pairs per second count all 48, a tenth of which the trainer holds out)
+# in a temporary folder; the layering network is
 # trained with models/default's decoder and tables, paper preset, decoded loss.
 set -euo pipefail
 cd "$(dirname "$0")/.."
