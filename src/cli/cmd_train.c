@@ -29,6 +29,7 @@ void cmd_train_usage(FILE *out) {
       "                          [--layering F --tables T --data FILE[,...]] [trainer flags]\n"
       "       nbrdf train bundle -o DIR --decoder F --tables F --layering F [--sampler F]\n"
       "                          [--name NAME] [--card MODEL_CARD.md] [--note TEXT]\n"
+      "                          [--reads-textures-of OLD_DIR]\n"
       "\n"
       "Auto-decoder training (paper §3.2): decoder weights and one latent per training\n"
       "BRDF learned together. DIR holds checkpoint.safetensors (resume: run the same\n"
@@ -74,7 +75,10 @@ void cmd_train_usage(FILE *out) {
       "--layering, the latents that network gives the data's layered BRDFs join the\n"
       "run's: they are what a bake feeds the sampler.\n"
       "bundle: assembles a model bundle; without --sampler the proxy network keeps its\n"
-      "initial weights (and the card must say so).\n");
+      "initial weights (and the card must say so). --reads-textures-of OLD_DIR: the new\n"
+      "bundle also reads textures baked with OLD_DIR (and those OLD_DIR reads); refused\n"
+      "unless both decoder.safetensors are the same bytes (a texture decodes with its\n"
+      "bundle's decoder, so a retrained layering network or tables keep old textures).\n");
 }
 
 typedef struct num_option {

@@ -9,12 +9,17 @@
  *    "sampler": {"preset", "macs", "params", "sigma_min"},
  *    "base_tables": {"dielectric": {"alpha1": [..], "eta": [..]},
  *                    "conductor": {"alpha2": [..], "r0": [..]}},
- *    "note": "..."}
+ *    "note": "...",
+ *    "reads_textures_of": [{"name": "...", "checksum": "<16 hex>"}, ...]}   (optional)
  * Load reads name, trained and latent_dim from it (latent_dim must agree with
  * every file); the safetensors files are the truth, and every other value it
  * states about the networks and tables must equal theirs (bundle_check.c).
  * The checksum is required, and one that differs from the files' is refused
- * (a file was damaged or replaced without rewriting model.json). */
+ * (a file was damaged or replaced without rewriting model.json).
+ * "reads_textures_of" names earlier bundles whose decoder is byte for byte this one's
+ * (`nbrdf train bundle --reads-textures-of DIR` checks that when it writes the list), so
+ * textures baked with them decode here: a retrained layering network or tables need not
+ * orphan the textures users already have. */
 #ifndef NBRDF_MODEL_BUNDLE_H
 #define NBRDF_MODEL_BUNDLE_H
 
@@ -30,6 +35,13 @@
 
 #define MODEL_BUNDLE_FORMAT "nbrdf-model"
 #define MODEL_BUNDLE_VERSION 1
+
+/* An earlier bundle whose textures this one reads (its decoder is this one's). */
+#define MODEL_READS_MAX 8
+typedef struct model_bundle_ref {
+  char name[64];
+  char checksum_hex[17];
+} model_bundle_ref;
 
 /* The four weight files, in checksum order. */
 extern const char *const model_bundle_files[4];
@@ -55,6 +67,8 @@ struct nbrdf_model {
   unsigned char *decoder_bytes; /* own decoder: its safetensors bytes (a bake embeds them) */
   size_t decoder_size;
   char decoder_checksum_hex[17]; /* FNV-1a 64 of decoder_bytes */
+  model_bundle_ref reads[MODEL_READS_MAX]; /* model.json's "reads_textures_of" */
+  int n_reads;
 };
 
 /* A derived model of `base` (or of base's parent): with `bytes` (size
@@ -82,6 +96,8 @@ typedef struct model_bundle_parts {
   const model_layering *layering;
   const model_sampler *sampler;
   const model_base_table *tables[2];
+  const model_bundle_ref *reads; /* "reads_textures_of"; n_reads may be 0 */
+  int n_reads;
 } model_bundle_parts;
 
 /* Writes a bundle into `dir` (created if missing): each file atomically; the

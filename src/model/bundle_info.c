@@ -26,6 +26,9 @@ void model_bundle_describe(const nbrdf_model *m, FILE *out) {
   fprintf(out, "trained:   %s\n",
           m->trained ? "yes" : "NO (random initial weights: values are meaningless)");
   fprintf(out, "checksum:  %s\n", m->checksum_hex);
+  for (int k = 0; k < m->n_reads; k++)
+    fprintf(out, "reads textures of: %s (checksum %s; the same decoder)\n", m->reads[k].name,
+            m->reads[k].checksum_hex);
   fprintf(out, "latent:    %d floats per colour channel\n", m->latent_dim);
   net_line(out, "decoder:", dc->preset, m->decoder->nn);
   fprintf(out, "           encoding %s, %d octaves; output %s\n",

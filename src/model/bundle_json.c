@@ -31,6 +31,40 @@ nbrdf_status model_bundle_parse_json(const char *dir, char path[4096], cJSON **r
   return NBRDF_OK;
 }
 
+static int is_checksum_hex(const char *s) {
+  return strlen(s) == 16 && strspn(s, "0123456789abcdef") == 16;
+}
+
+/* The optional "reads_textures_of" list into m->reads. */
+static nbrdf_status read_reads(const cJSON *root, const char *path, nbrdf_model *m,
+                               nbrdf_error *err) {
+  const cJSON *list = cJSON_GetObjectItemCaseSensitive(root, "reads_textures_of");
+  m->n_reads = 0;
+  if (!list) return NBRDF_OK;
+  if (!cJSON_IsArray(list) || cJSON_GetArraySize(list) > MODEL_READS_MAX)
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "%s: \"reads_textures_of\" must be a list of at most %d {\"name\", "
+                     "\"checksum\"} objects",
+                     path, MODEL_READS_MAX);
+  const cJSON *e;
+  cJSON_ArrayForEach(e, list) {
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(e, "name");
+    const cJSON *sum = cJSON_GetObjectItemCaseSensitive(e, "checksum");
+    model_bundle_ref *r = &m->reads[m->n_reads];
+    if (!cJSON_IsString(name) || !name->valuestring[0] ||
+        strlen(name->valuestring) >= sizeof r->name || !cJSON_IsString(sum) ||
+        !is_checksum_hex(sum->valuestring))
+      return core_fail(err, NBRDF_ERR_FORMAT,
+                       "%s: \"reads_textures_of\" entry %d needs a \"name\" of 1..%zu "
+                       "characters and a \"checksum\" of 16 lower-case hex digits",
+                       path, m->n_reads + 1, sizeof r->name - 1);
+    snprintf(r->name, sizeof r->name, "%s", name->valuestring);
+    snprintf(r->checksum_hex, sizeof r->checksum_hex, "%s", sum->valuestring);
+    m->n_reads++;
+  }
+  return NBRDF_OK;
+}
+
 nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checksum[17],
                                     nbrdf_error *err) {
   char path[4096];
@@ -67,10 +101,10 @@ nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checks
                    "[--card F] [--note TEXT]`, which writes model.json with it "
                    "(docs/MODEL_BUNDLE.md, \"Checksums\")",
                    path);
-  else if (!cJSON_IsString(sum) || strlen(sum->valuestring) != 16 ||
-           strspn(sum->valuestring, "0123456789abcdef") != 16)
+  else if (!cJSON_IsString(sum) || !is_checksum_hex(sum->valuestring))
     st =
         core_fail(err, NBRDF_ERR_FORMAT, "%s: \"checksum\" must be 16 lower-case hex digits", path);
+  if (st == NBRDF_OK) st = read_reads(root, path, m, err);
   if (st == NBRDF_OK) {
     snprintf(m->name, sizeof m->name, "%s", name->valuestring);
     m->trained = cJSON_IsTrue(trained);
@@ -143,6 +177,15 @@ nbrdf_status model_bundle_write_json(const char *dir, const model_bundle_parts *
   }
   cJSON_AddItemToObject(root, "base_tables", tables);
   if (p->note) cJSON_AddStringToObject(root, "note", p->note);
+  if (p->n_reads > 0) {
+    cJSON *list = cJSON_AddArrayToObject(root, "reads_textures_of");
+    for (int k = 0; list && k < p->n_reads; k++) {
+      cJSON *o = cJSON_CreateObject();
+      cJSON_AddStringToObject(o, "name", p->reads[k].name);
+      cJSON_AddStringToObject(o, "checksum", p->reads[k].checksum_hex);
+      cJSON_AddItemToArray(list, o);
+    }
+  }
   char *text = cJSON_Print(root);
   cJSON_Delete(root);
   if (!text) return core_fail(err, NBRDF_ERR_MEMORY, "%s/model.json: out of memory", dir);

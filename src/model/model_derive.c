@@ -67,6 +67,8 @@ nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t siz
   m->latent_dim = dec ? dec->cfg.latent_dim : root->latent_dim;
   m->checksum = root->checksum;
   memcpy(m->checksum_hex, root->checksum_hex, sizeof m->checksum_hex);
+  memcpy(m->reads, root->reads, sizeof m->reads);
+  m->n_reads = root->n_reads;
   m->layering = root->layering;
   m->sampler = root->sampler;
   m->tables[0] = root->tables[0];

@@ -11,8 +11,14 @@ nbrdf_status texture_latent_reader_model(const texture_latent_reader *r, const n
                                          nbrdf_model **out, nbrdf_error *err) {
   const texture_latent_info *info = texture_latent_reader_info(r);
   const char *path = texture_latent_reader_path(r);
-  nbrdf_status st = texture_latent_check_model(info, path, nbrdf_model_name(bundle),
-                                               nbrdf_model_checksum(bundle), err);
+  const char *name = nbrdf_model_name(bundle), *sum = nbrdf_model_checksum(bundle);
+  /* A texture of an earlier bundle that shares this one's decoder (model.json's
+   * "reads_textures_of") decodes here exactly as with its own bundle. */
+  for (int k = 0; k < bundle->n_reads; k++)
+    if (!strcmp(info->model_checksum, bundle->reads[k].checksum_hex) &&
+        !strcmp(info->model_name, bundle->reads[k].name))
+      name = bundle->reads[k].name, sum = bundle->reads[k].checksum_hex;
+  nbrdf_status st = texture_latent_check_model(info, path, name, sum, err);
   if (st != NBRDF_OK) return st;
   size_t size = 0;
   const void *bytes = texture_latent_reader_decoder(r, &size);

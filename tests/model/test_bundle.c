@@ -200,9 +200,13 @@ static void test_bundle_round_trip(void) {
   check_same_outputs(ma, mb);
 
   /* Saving a loaded model again reproduces the files: same checksum. */
-  model_bundle_parts parts = {"test-d",     0,           5,
-                              NULL,         NULL,        ma->decoder,
-                              ma->layering, ma->sampler, {&ma->tables[0], &ma->tables[1]}};
+  model_bundle_parts parts = {.name = "test-d",
+                              .trained = 0,
+                              .seed = 5,
+                              .decoder = ma->decoder,
+                              .layering = ma->layering,
+                              .sampler = ma->sampler,
+                              .tables = {&ma->tables[0], &ma->tables[1]}};
   uint64_t sum = 0;
   CHECK_OK(model_bundle_save(d, &parts, &sum, err), err);
   nbrdf_model *md = NULL;
