@@ -76,7 +76,12 @@ int cmd_train_bundle(int argc, char **argv) {
   const char *read[5] = {decoder, tables, layering, sampler, card};
   for (int k = 0; k < 5; k++)
     cli_inputs_add(&inputs, read[k]);
-  if (cli_outputs_check_bundle("train", &inputs, out) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
+  /* The old bundle is read too: writing the new one over it would leave no bundle that
+   * the list could name truthfully. */
+  cli_inputs_add_bundle_dir(&inputs, reads_dir);
+  int refused = cli_outputs_check_bundle("train", &inputs, out) != CLI_EXIT_OK;
+  cli_inputs_free(&inputs);
+  if (refused) return CLI_EXIT_FAILURE;
   nbrdf_error err = {0};
   model_decoder *dec = NULL;
   model_layering *lay = NULL;

@@ -46,6 +46,13 @@ expect_exit 1 "$NBRDF" train bundle -o other --name other --decoder rnd/decoder.
 check "another decoder is refused naming the files" grep -Fq "is not byte for byte" "$TMP/err"
 check "nothing is written" test ! -e other
 
+# The old bundle is an input: writing the new one over it is refused, and it stays intact.
+cp -r "$D" old
+expect_exit 1 "$NBRDF" train bundle -o old --name next --decoder "$D/decoder.safetensors" \
+  --tables "$D/base_tables.safetensors" --layering rnd/layering.safetensors --reads-textures-of old
+check "writing over the old bundle is refused" grep -Fq "old/" "$TMP/err"
+check "the old bundle is intact" cmp -s old/layering.safetensors "$D/layering.safetensors"
+
 # A damaged list: refused at load, naming the key.
 cp -r next broken
 sed -i 's/"checksum":	"'"$sum"'"/"checksum":	"xyz"/' broken/model.json
