@@ -10,6 +10,10 @@
 #
 #   bash scripts/train-default.sh [WORK_DIR] [BUNDLE_DIR]
 #   (defaults: data/ and models/default; NBRDF=path/to/nbrdf to use another build)
+#   Recipe knobs (environment): DRAWS=coverage|table2, ENERGY (penalty weight), L2_COUNT
+#   (two-layer BRDFs, 3000), L2B_COUNT (200), L3_COUNT (three-layer, 300), DECODER_STEPS.
+#   models/v3's data and recipe, with its own decoder retrained:
+#   DRAWS=table2 ENERGY=0 L2_COUNT=7000 L3_COUNT=1500 bash scripts/train-default.sh data models/v3b
 set -euo pipefail
 cd "$(dirname "$0")/.."
 work=${1:-data}
@@ -26,6 +30,7 @@ stage() { echo "== $(date -u +%H:%M:%S) $*"; }
 #    The decoder learned from the first 1,700 two-layer BRDFs; the layering network from all
 #    layered data (a record is a pure function of its seed and index, so FILE:N of a longer
 #    file is the N-record file).
+L2=${L2_COUNT:-3000}
 L2B=${L2B_COUNT:-200}
 L3=${L3_COUNT:-300}
 # Parameter draws (issue 18): "coverage" adds low-IOR coats (eta = 1 5 %, [1, 1.2] 20 %) and
@@ -33,8 +38,8 @@ L3=${L3_COUNT:-300}
 D=${DRAWS:-coverage}
 stage "data: 3000 single BRDFs ($D draws)"
 "$nbrdf" dataset --out "$work/single-$D.nbds" --kind single --count 3000 --seed 1 --draws "$D"
-stage "data: 3000 two-layer BRDFs (~16 min on 2 quiet cores)"
-"$nbrdf" dataset --out "$work/layered2-$D.nbds" --kind layered2 --count 3000 --seed 1 --draws "$D"
+stage "data: $L2 two-layer BRDFs (~16 min per 3,000 on 2 quiet cores)"
+"$nbrdf" dataset --out "$work/layered2-$D.nbds" --kind layered2 --count "$L2" --seed 1 --draws "$D"
 stage "data: $L2B more two-layer BRDFs (seed 2), $L3 three-layer BRDFs (seed 3) (~15 min on 2 quiet cores)"
 "$nbrdf" dataset --out "$work/layered2b-$D.nbds" --kind layered2 --count "$L2B" --seed 2 --draws "$D"
 "$nbrdf" dataset --out "$work/layered3-$D.nbds" --kind layered3 --count "$L3" --seed 3 --draws "$D"
