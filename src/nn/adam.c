@@ -9,16 +9,10 @@
 #include "nn/internal.h"
 
 /* The layering network steps ~1.1 M parameters per batch of a few dozen pairs, so this loop
- * was a fifth of its training time, scalar (sqrtf keeps errno at -O2/-O3 by default, which
- * blocks vectorisation). Element-wise IEEE operations without contraction (-ffp-contract=off)
- * give the same bits on every clone. */
+ * was a fifth of its training time while it stayed scalar (NN_HOT, nn/internal.h, says what
+ * vectorises it). */
 #if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("O3", "no-math-errno")
-#endif
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define ADAM_HOT __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define ADAM_HOT
+#pragma GCC optimize("O3")
 #endif
 
 #define MAX_GROUPS 65535
@@ -161,7 +155,7 @@ void nn_adam_reset(nn_adam *adam) {
 }
 
 /* The update of one run of parameters sharing lr and weight decay. */
-ADAM_HOT static void step_run(nn_adam *a, float *p, const float *g, size_t from, size_t to,
+NN_HOT static void step_run(nn_adam *a, float *p, const float *g, size_t from, size_t to,
                      const adam_group *grp, double sched, double bc1, double bc2) {
   const float b1 = a->opts.beta1, b2 = a->opts.beta2, eps = a->opts.eps;
   /* Folding the bias corrections into the step size and eps (Kingma & Ba, end of Sec. 2). */
@@ -181,7 +175,7 @@ ADAM_HOT static void step_run(nn_adam *a, float *p, const float *g, size_t from,
 
 /* Index of the first gradient that is Inf or NaN, or n. The scan is a branch-free OR of the
  * exponent bits per block (vectorised); only a block that has one is searched again. */
-ADAM_HOT static size_t first_non_finite(const float *g, size_t n) {
+NN_HOT static size_t first_non_finite(const float *g, size_t n) {
   const uint32_t exp = 0x7f800000u;
   for (size_t i0 = 0; i0 < n; i0 += 4096) {
     size_t i1 = n - i0 < 4096 ? n : i0 + 4096;

@@ -6,6 +6,17 @@
 
 #include "nn/nn.h"
 
+/* The element-wise hot loops of src/nn (kernels.c, adam.c): AVX-512 and AVX2 clones picked at
+ * run time, the CPU's full vector width. Every lane computes the same IEEE operations (no
+ * contraction), so the results are identical bit for bit on every path. Those files also
+ * build with -O3 (a pragma) and -fno-math-errno (src/CMakeLists.txt: a pragma cannot lift
+ * errno, and sqrtf that may set it stays scalar). */
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
+#define NN_HOT __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define NN_HOT
+#endif
+
 #define NN_NONE ((size_t)-1)
 /* Every buffer starts on a cache line, so that rows of 16 floats stay aligned for SIMD. */
 #define NN_ALIGN 64

@@ -11,17 +11,10 @@
 #include "nn/internal.h"
 
 /* The project builds at -O2, where GCC 12 vectorises almost nothing; these loops are the
- * whole cost of a network outside the GEMMs (bench/bench_nn.c measures it). AVX-512 and AVX2
- * clones are picked at run time (the CPU's full vector width: 16 partial sums are one AVX-512
- * register); every lane computes the same IEEE operations, so the results are
- * identical bit for bit on every path. */
+ * whole cost of a network outside the GEMMs (bench/bench_nn.c measures it). NN_HOT
+ * (nn/internal.h) clones them per vector width: 16 partial sums are one AVX-512 register. */
 #if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("O3", "no-math-errno")
-#endif
-#if defined(__GNUC__) && defined(__x86_64__) && !defined(__SANITIZE_ADDRESS__)
-#define NN_HOT __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define NN_HOT
+#pragma GCC optimize("O3")
 #endif
 
 #define LN_EPS 1e-5f
