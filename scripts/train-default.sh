@@ -11,7 +11,10 @@
 #   bash scripts/train-default.sh [WORK_DIR] [BUNDLE_DIR]
 #   (defaults: data/ and models/default; NBRDF=path/to/nbrdf to use another build)
 #   Recipe knobs (environment): DRAWS=coverage|table2, ENERGY (penalty weight), L2_COUNT
-#   (two-layer BRDFs, 3000), L2B_COUNT (200), L3_COUNT (three-layer, 300), DECODER_STEPS.
+#   (two-layer BRDFs, 3000), L2B_COUNT (200), L3_COUNT (three-layer, 300), DECODER_STEPS;
+#   the decoder's data and shape: DECODER_L2 (first two-layer BRDFs it learns, 1700),
+#   DECODER_L3 (first three-layer ones, 0), DECODER_ROWS (samples of each BRDF per step, 16),
+#   DECODER_ARCH ("--preset medium"); BUNDLE_NAME (default); EVAL_WALKS (2000).
 #   models/v3's data and recipe, with its own decoder retrained:
 #   DRAWS=table2 ENERGY=0 L2_COUNT=7000 L3_COUNT=1500 bash scripts/train-default.sh data models/v3b
 set -euo pipefail
@@ -43,14 +46,16 @@ stage "data: $L2 two-layer BRDFs (~16 min per 3,000 on 2 quiet cores)"
 stage "data: $L2B more two-layer BRDFs (seed 2), $L3 three-layer BRDFs (seed 3) (~15 min on 2 quiet cores)"
 "$nbrdf" dataset --out "$work/layered2b-$D.nbds" --kind layered2 --count "$L2B" --seed 2 --draws "$D"
 "$nbrdf" dataset --out "$work/layered3-$D.nbds" --kind layered3 --count "$L3" --seed 3 --draws "$D"
-data="$work/single-$D.nbds,$work/layered2-$D.nbds:1700"
+data="$work/single-$D.nbds,$work/layered2-$D.nbds:${DECODER_L2:-1700}"
+[ "${DECODER_L3:-0}" = 0 ] || data+=",$work/layered3-$D.nbds:$DECODER_L3"
+read -r -a arch <<<"${DECODER_ARCH:---preset medium}"
 
 # 2. Decoder: auto-decoder training, checkpointed every 5 minutes.
 stage "decoder (medium preset; resumable)"
 #    --energy: the hinge penalty on decoded directional albedo above the ground truth's,
 #    θi up to 89° (issue 18; docs/TRAINING.md, "Energy penalty").
-"$nbrdf" train decoder --data "$data" --run "$run" --preset medium --steps "${DECODER_STEPS:-14342}" \
-  --decay-every 5000 --seed 1 --energy "${ENERGY:-1}"
+"$nbrdf" train decoder --data "$data" --run "$run" "${arch[@]}" --steps "${DECODER_STEPS:-14342}" \
+  --rows-per-brdf "${DECODER_ROWS:-16}" --decay-every 5000 --seed 1 --energy "${ENERGY:-1}"
 
 # 3. Base-latent tables by projection with the decoder frozen.
 if [ ! -f "$work/base_tables.safetensors" ]; then
@@ -91,15 +96,15 @@ fi
 
 # 6. The bundle; its card is docs/MODEL_CARD_DEFAULT.md (the shipped model's figures).
 stage "bundle -> $bundle"
-"$nbrdf" train bundle -o "$bundle" --name default --decoder "$run/decoder.safetensors" \
+"$nbrdf" train bundle -o "$bundle" --name "${BUNDLE_NAME:-default}" --decoder "$run/decoder.safetensors" \
   --tables "$work/base_tables.safetensors" --layering "$work/layering.safetensors" \
   --sampler "$work/sampler.safetensors" --card docs/MODEL_CARD_DEFAULT.md \
-  --note "trained by scripts/train-default.sh (decoder 14342 steps; layering paper preset, decoded loss, 300 + 150 epochs); measured figures in MODEL_CARD.md"
+  --note "trained by scripts/train-default.sh (decoder ${DECODER_STEPS:-14342} steps; layering paper preset, decoded loss, 300 + 150 epochs); measured figures in MODEL_CARD.md"
 
 # 7. Model quality on the held-out sets (references cached in $work/evalcache; about 2.5 hours
 #    of references on a fresh machine). NBRDF_EVALUATE=0 stops before it.
 [ "${NBRDF_EVALUATE:-1}" = 1 ] || { stage "done (NBRDF_EVALUATE=0: not evaluated)"; exit 0; }
 stage "evaluation on the held-out sets"
-"$nbrdf" evaluate --bundle "$bundle" --sets rep,single,layer,layer3 --count 100 --walks 2000 \
+"$nbrdf" evaluate --bundle "$bundle" --sets rep,single,layer,layer3 --count 100 --walks "${EVAL_WALKS:-2000}" \
   --cache "$work/evalcache" --json "$work/evaluation.json" --plots "$work/eval-plots"
 stage "done"
