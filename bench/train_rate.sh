@@ -14,7 +14,8 @@
 # Data: generated sets of 1,024 single BRDFs (a decoder step draws 16 rows of each) and
 # 48 two-layer BRDFs (pairs per second count all 48, a tenth of which the trainer holds out)
 # in a temporary folder; the layering network is
-# trained with models/default's decoder and tables, paper preset, decoded loss.
+# trained with models/v1's decoder and tables (the bundle the published rates used), paper
+# preset, decoded loss.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 B=${1:-build}
@@ -53,8 +54,8 @@ for core in $CORES; do
     --run "$T/run" --preset medium --steps "$STEPS" --validation 4 --checkpoint-minutes 60)
   rm -f "$T/l.ckpt" "$T/l.safetensors"
   read -r lc lw < <(NBRDF_BLAS_CORETYPE=$core cpu_wall $N train layering --loss decoded \
-    --preset paper --decoder models/default/decoder.safetensors \
-    --tables models/default/base_tables.safetensors --data "$T/layered2.nbds" \
+    --preset paper --decoder models/v1/decoder.safetensors \
+    --tables models/v1/base_tables.safetensors --data "$T/layered2.nbds" \
     --epochs "$EPOCHS" --checkpoint "$T/l.ckpt" -o "$T/l.safetensors" --log "$T/l.csv")
   dl=$(loop_rate "$T/run/log.csv") ll=$(loop_rate "$T/l.csv")
   awk -v c="$core" -v b="$blas" -v s="$STEPS" -v e="$EPOCHS" -v dc="$dc" -v dw="$dw" \

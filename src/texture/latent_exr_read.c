@@ -448,8 +448,9 @@ nbrdf_status texture_latent_check_model(const texture_latent_info *info, const c
                                         nbrdf_error *err) {
   if (model_checksum && strcmp(info->model_checksum, model_checksum) != 0)
     return core_fail(err, NBRDF_ERR_MISMATCH,
-                     "%s: baked with model '%s' (checksum %s), not with '%s' (checksum %s)", path,
-                     info->model_name, info->model_checksum, model_name ? model_name : "?",
+                     "%s: baked with model '%s' (checksum %s), not with '%s' (checksum %s): decode it "
+                     "with the bundle of that checksum (`nbrdf bundle info DIR` prints one's)",
+                     path, info->model_name, info->model_checksum, model_name ? model_name : "?",
                      model_checksum);
   if (model_name && strcmp(info->model_name, model_name) != 0)
     return core_fail(err, NBRDF_ERR_MISMATCH, "%s: baked with model '%s', not '%s'", path,

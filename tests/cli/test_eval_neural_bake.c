@@ -1,6 +1,6 @@
 /* `nbrdf eval --model neural` computes what a bake computes (issue 15, item
  * 9): for parameter tuples inside and outside the trained ranges (sigma_t
- * 1000, eta 1, alpha 0.001, r0 1), eval's f equals the decode of the texel of
+ * 1000, eta 1 and 2.5, alpha 0.001, r0 1), eval's f equals the decode of the texel of
  * a --float bake of the same constants at the same directions, within float
  * rounding (the networks run in batches of other shapes), and eval warns
  * about exactly the parameters the bake warns about, with the same range. */
@@ -143,6 +143,14 @@ static void check_warns(const char *param, const char *expect) {
   free(e);
 }
 
+static void check_quiet(const char *param, const char *absent) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/eval.err", testing_tmpdir());
+  char *e = slurp(path);
+  CHECK_MSG(strstr(e, absent) == NULL, "%s: eval warns '%s': %s", param, absent, e);
+  free(e);
+}
+
 int main(void) {
   char dir[4096];
   snprintf(dir, sizeof dir, "%s/models/default", testing_source_dir());
@@ -155,9 +163,13 @@ int main(void) {
   const char *thick[6] = {"0.1", "1.5", "0.3", "0.9", "0.8", "1000"};
   check_tuple(m, thick, "alpha");
   check_warns("sigma_t 1000", "sigma_t: 1000 outside the model's trained range [0, 5]");
+  /* eta = 1 (no coat) is inside the tables since models/v1 (whose grid began at 1.05). */
   const char *matched[6] = {"0.1", "1", "0.3", "0.9", "0.8", "1"};
   check_tuple(m, matched, "alpha");
-  check_warns("eta 1", "eta: 1 outside the model's trained range [1.05, 2]");
+  check_quiet("eta 1", "eta:");
+  const char *dense[6] = {"0.1", "2.5", "0.3", "0.9", "0.8", "1"};
+  check_tuple(m, dense, "alpha");
+  check_warns("eta 2.5", "eta: 2.5 outside the model's trained range [1, 2]");
   const char *smooth[6] = {"0.001", "1.5", "0.001", "1", "0.8", "1"};
   check_tuple(m, smooth, "alpha");
   check_warns("alpha 0.001", "alpha2: 0.001 outside the model's trained range [0.01, 1]");

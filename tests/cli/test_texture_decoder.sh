@@ -24,9 +24,16 @@ expect_exit 0 "$NBRDF" bake "${P[@]}" --decoder rnd/decoder.safetensors -o v2.ex
 # The energy audit (on by default) adds the optional nbrdf:maxAlbedo attribute,
 # which version-1 readers ignore; without it the bytes are exactly version 1's.
 expect_exit 0 "$NBRDF" bake "${P[@]}" --energy-audit 0 -o v1.exr
-# The networks' kernels give the same bits on every CPU path (src/nn), so a
+# The fixture was baked with models/v1 (the default until 2026-11-26). The
+# networks' kernels give the same bits on every CPU path (src/nn), so a
 # difference here means the version-1 bytes changed.
-check "a bake without --decoder or audit is the committed v1 file byte for byte" cmp -s v1.exr "$V1"
+expect_exit 0 "$NBRDF" bake "${P[@]}" --bundle "$NBRDF_SOURCE_DIR/models/v1" --energy-audit 0 -o old.exr
+check "a models/v1 bake without --decoder or audit is the committed v1 file byte for byte" \
+  cmp -s old.exr "$V1"
+printf 'id,u,v,theta_i,phi_i,theta_o,phi_o\nq,0.5,0.5,30,0,30,180\n' >q0.csv
+expect_exit 1 "$NBRDF" eval --texture "$V1" --bundle "$BUNDLE" --in q0.csv
+check "today's default refuses the fixture, naming its bundle" \
+  grep -Fq "baked with model 'default' (checksum 0ab22d273b6be904)" "$TMP/err"
 expect_exit 0 "$NBRDF" bake "${P[@]}" -o v1audit.exr
 expect_exit 0 "$NBRDF" info v1audit.exr
 check "an audited bake without --decoder is still format version 1" \

@@ -25,6 +25,7 @@ fi
 for f in bin/nbrdf "$libdir/libnbrdf.a" "$libdir/libnbrdf.so" "$libdir/cmake/nbrdf/nbrdfConfig.cmake" \
   "$libdir/cmake/nbrdf/nbrdfConfigVersion.cmake" "$libdir/pkgconfig/nbrdf.pc" \
   share/nbrdf/models/default/model.json share/nbrdf/models/default/decoder.safetensors \
+  share/nbrdf/models/v1/model.json \
   share/nbrdf/shaders/nbrdf_shade.comp share/nbrdf/shaders/nbrdf_decoder.glsl \
   share/nbrdf/blender_addon/nbrdf_bake/__init__.py share/doc/nbrdf/README.md \
   share/doc/nbrdf/MODEL_BUNDLE.md share/doc/nbrdf/examples/install_consumer/main.c; do

@@ -2,7 +2,7 @@
  * the weights' checksum, a flipped weight byte is refused with or without
  * it, and model.json's statements about the networks and the tables (grids,
  * architecture) must match the weight files; descriptive fields (note) may
- * be edited. models/default keeps the checksum its textures record. */
+ * be edited. The shipped bundles keep the checksums their textures record. */
 #include <cjson/cJSON.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -185,15 +185,22 @@ static void test_grid_edits(void) {
   loads(dir);
 }
 
-/* The shipped bundle passes every check and keeps the checksum recorded in
- * the textures baked with it (docs/MODEL_CARD_DEFAULT.md). */
-static void test_default_bundle(void) {
+/* The shipped bundles pass every check and keep the checksums recorded in
+ * the textures baked with them (docs/MODEL_CARD_DEFAULT.md): models/default,
+ * and models/v1, the default until 2026-11-26, kept for its textures. */
+static void test_shipped_bundles(void) {
+  static const char *const dirs[2][2] = {{"models/default", "4ba239f7ac35f1d8"},
+                                         {"models/v1", "0ab22d273b6be904"}};
   const char *src = testing_source_dir();
-  nbrdf_error err = {0};
-  nbrdf_model *m = NULL;
-  CHECK_OK(nbrdf_model_load(path_in(src, "models/default"), &m, &err), &err);
-  if (m) CHECK(!strcmp(nbrdf_model_checksum(m), "0ab22d273b6be904"));
-  nbrdf_model_destroy(m);
+  for (int k = 0; k < 2; k++) {
+    nbrdf_error err = {0};
+    nbrdf_model *m = NULL;
+    CHECK_OK(nbrdf_model_load(path_in(src, dirs[k][0]), &m, &err), &err);
+    if (m)
+      CHECK_MSG(!strcmp(nbrdf_model_checksum(m), dirs[k][1]), "%s: checksum %s, expected %s",
+                dirs[k][0], nbrdf_model_checksum(m), dirs[k][1]);
+    nbrdf_model_destroy(m);
+  }
 }
 
 int main(void) {
@@ -208,7 +215,7 @@ int main(void) {
   RUN(test_checksum_required);
   RUN(test_architecture_edits);
   RUN(test_grid_edits);
-  RUN(test_default_bundle);
+  RUN(test_shipped_bundles);
   free(saved_json);
   return testing_finish();
 }

@@ -182,7 +182,7 @@ static void test_round_trip(void) {
 }
 
 /* Version 1 is written exactly as before version 2 existed: the committed
- * texture (a bake of constant_rgb() with models/default by nbrdf 0.1.0, before
+ * texture (a bake of constant_rgb() with models/default, now models/v1, by nbrdf 0.1.0, before
  * version 2) rewritten through the writer without a decoder gives its bytes. */
 static void test_v1_bytes_unchanged(void) {
   nbrdf_error e, *err = &e;
@@ -219,13 +219,23 @@ static void test_v1_bytes_unchanged(void) {
             na, nb);
   free(a), free(b);
 
-  /* And the bundle reads it with its own decoder, as before. */
-  nbrdf_model *m = NULL;
-  CHECK_OK(nbrdf_model_for_texture(bundle, file, &m, err), err);
+  /* And its bundle (models/v1, the default until 2026-11-26) reads it with
+   * the bundle's decoder, as before; today's default refuses it, naming both. */
+  char dir[1024];
+  snprintf(dir, sizeof dir, "%s/models/v1", testing_source_dir());
+  nbrdf_model *v1 = NULL, *m = NULL;
+  CHECK_OK(nbrdf_model_load(dir, &v1, err), err);
+  if (v1) CHECK_OK(nbrdf_model_for_texture(v1, file, &m, err), err);
   nbrdf_decoder_info i;
-  nbrdf_model_own_decoder(m, &i);
+  if (m) nbrdf_model_own_decoder(m, &i);
   CHECK(m && !i.own);
   nbrdf_model_destroy(m);
+  nbrdf_model_destroy(v1);
+  m = NULL;
+  CHECK(nbrdf_model_for_texture(bundle, file, &m, err) == NBRDF_ERR_MISMATCH && !m);
+  CHECK_MSG(strstr(err->message, "baked with model 'default' (checksum 0ab22d273b6be904)") &&
+                strstr(err->message, "with the bundle of that checksum"),
+            "%s", err->message);
 }
 
 /* Writes a 1x1 texture of the bundle whose "decoder" is `bytes`. */
