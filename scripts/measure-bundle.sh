@@ -24,6 +24,11 @@ stages=${STAGES-evaluate sampling neural_vs_mc render bake bake_half quantise la
 nbrdf=$build/nbrdf
 [ -x "$nbrdf" ] || bash scripts/build.sh "$build" >/dev/null
 export OPENBLAS_NUM_THREADS=1 OMP_WAIT_POLICY=passive
+# The benches link OpenBLAS directly and keep the kernels it picks, which on some AVX-512 CPUs
+# are narrower than the ones the CLI re-executes itself with (README, "Speed"): measure
+# everything with the CLI's.
+core=$("$nbrdf" --version | sed -n 's/.*chosen by nbrdf: OPENBLAS_CORETYPE=\([A-Za-z0-9]*\).*/\1/p')
+[ -z "$core" ] || export OPENBLAS_CORETYPE=$core
 mkdir -p "$out" "$cache"
 "$nbrdf" bundle info "$bundle" >"$out/bundle-info.txt"
 

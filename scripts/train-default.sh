@@ -92,16 +92,17 @@ fi
 # 4b. A short fine-tune with the energy penalty alone switched on (ENERGY_TUNE, its weight):
 #     it removes the few grazing excesses the decoded loss leaves (issue 18) at less cost in
 #     lobe error than the penalty through the whole training (docs/TRAINING.md).
-if [ "${ENERGY_TUNE:-0.1}" != 0 ] && [ ! -f "$work/layering-energy.safetensors" ]; then
+energy_tune=${ENERGY_TUNE:-0.1}
+if [ "$energy_tune" != 0 ] && [ ! -f "$work/layering-energy.safetensors" ]; then
   stage "layering network, energy fine-tune (resumable)"
-  "$nbrdf" train layering "${net_args[@]}" --energy "$ENERGY_TUNE" \
+  "$nbrdf" train layering "${net_args[@]}" --energy "$energy_tune" \
     --init "$work/layering.safetensors" \
     --data "$work/layered2-$D.nbds,$work/layered2b-$D.nbds,$work/layered3-$D.nbds" \
     --epochs 50 --lr 2.5e-4 --decay-every 25 --checkpoint "$work/layering-energy.ckpt" \
     -o "$work/layering-energy.safetensors" --log "$work/layering-energy.csv"
 fi
 final_layering="$work/layering.safetensors"
-[ "${ENERGY_TUNE:-0.1}" = 0 ] || final_layering="$work/layering-energy.safetensors"
+[ "$energy_tune" = 0 ] || final_layering="$work/layering-energy.safetensors"
 
 # 5. Sampling network: per-latent proxy fits over the run's latents and those the layering
 #    network gives the layered data (what a bake feeds it), then regression.
@@ -117,7 +118,7 @@ stage "bundle -> $bundle"
 "$nbrdf" train bundle -o "$bundle" --name "${BUNDLE_NAME:-default}" --decoder "$run/decoder.safetensors" \
   --tables "$work/base_tables.safetensors" --layering "$final_layering" \
   --sampler "$work/sampler.safetensors" --card docs/MODEL_CARD_DEFAULT.md \
-  --note "trained by scripts/train-default.sh (decoder ${DECODER_STEPS:-14342} steps; layering paper preset, decoded loss, 300 + 150 epochs, energy fine-tune ${ENERGY_TUNE:-0.1}); measured figures in MODEL_CARD.md"
+  --note "trained by scripts/train-default.sh (decoder ${DECODER_STEPS:-14342} steps; layering paper preset, decoded loss, 300 + 150 epochs, energy fine-tune $energy_tune); measured figures in MODEL_CARD.md"
 
 # 7. Model quality on the held-out sets (references cached in $work/evalcache; about 2.5 hours
 #    of references on a fresh machine). NBRDF_EVALUATE=0 stops before it.
