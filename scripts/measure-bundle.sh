@@ -68,6 +68,7 @@ render() {
 }
 stage render "$out/render.md" render
 # BAKE.md: bake time and memory at 2048^2, half floats, quantisation.
+mkdir -p "$out/bake-tmp"
 stage bake "$out/bake.md" "$build/bench/bench_bake" --bundle "$bundle" --sizes 2048 --big 0 \
   --no-compression --dir "$out/bake-tmp"
 case " $stages " in *" bake_half "*) [ -d "$out/maps" ] || bash examples/make_maps.sh "$out/maps" >/dev/null ;; esac
