@@ -27,8 +27,10 @@ file(RELATIVE_PATH NBRDF_PC_TO_PREFIX /p/${CMAKE_INSTALL_LIBDIR}/pkgconfig /p)
 configure_file(${PROJECT_SOURCE_DIR}/cmake/install/nbrdf.pc.in ${PROJECT_BINARY_DIR}/nbrdf.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/nbrdf.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
-# models/v1, the default until 2026-11-26, decodes the textures baked with it.
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/models/default ${PROJECT_SOURCE_DIR}/models/v1
+# models/medium decodes at half the default's cost; models/v1, the default until 2026-11-26,
+# decodes the textures baked with it.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/models/default ${PROJECT_SOURCE_DIR}/models/medium
+  ${PROJECT_SOURCE_DIR}/models/v1
   DESTINATION ${CMAKE_INSTALL_DATADIR}/nbrdf/models)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/shaders/ DESTINATION ${CMAKE_INSTALL_DATADIR}/nbrdf/shaders
   FILES_MATCHING PATTERN "*.glsl" PATTERN "*.comp" PATTERN "README.md")

@@ -15,8 +15,9 @@
 #   energy fine-tune of the layering network, 0.1), L2_COUNT (two-layer BRDFs, 7000), L2B_COUNT
 #   (200), L3_COUNT (three-layer, 1500), DECODER_STEPS (14342); the decoder's data and shape:
 #   DECODER_L2 (first two-layer BRDFs it learns, 4000), DECODER_L3 (first three-layer ones,
-#   1000), DECODER_ROWS (samples of each BRDF per step, 8), DECODER_ARCH ("--width 64 --blocks 3
+#   1000), DECODER_ROWS (samples of each BRDF per step, 8), DECODER_ARCH ("--width 96 --blocks 3
 #   --encoding cartesian"); BUNDLE_NAME (default); EVAL_WALKS (2000).
+#   models/medium: DECODER_ARCH="--width 64 --blocks 3 --encoding cartesian" BUNDLE_NAME=medium.
 #   models/v1 (the default until 2026-11-26): DRAWS=table2 ENERGY=0 ENERGY_TUNE=0 L2_COUNT=3000
 #   L3_COUNT=300 DECODER_L2=1700 DECODER_L3=0 DECODER_ROWS=16 DECODER_ARCH="--preset medium",
 #   ETA_MIN=1.05 (the eta grid's first node; 1 by default, so eta = 1 bakes unclamped).
@@ -51,10 +52,10 @@ stage "data: $L2B more two-layer BRDFs (seed 2), $L3 three-layer BRDFs (seed 3) 
 "$nbrdf" dataset --out "$work/layered3-$D.nbds" --kind layered3 --count "$L3" --seed 3 --draws "$D"
 data="$work/single-$D.nbds,$work/layered2-$D.nbds:${DECODER_L2:-4000}"
 [ "${DECODER_L3:-1000}" = 0 ] || data+=",$work/layered3-$D.nbds:${DECODER_L3:-1000}"
-read -r -a arch <<<"${DECODER_ARCH:---width 64 --blocks 3 --encoding cartesian}"
+read -r -a arch <<<"${DECODER_ARCH:---width 96 --blocks 3 --encoding cartesian}"
 
 # 2. Decoder: auto-decoder training, checkpointed every 5 minutes.
-stage "decoder (${DECODER_ARCH:---width 64 --blocks 3 --encoding cartesian}; resumable)"
+stage "decoder (${DECODER_ARCH:---width 96 --blocks 3 --encoding cartesian}; resumable)"
 #    --energy: the hinge penalty on decoded directional albedo above the ground truth's,
 #    θi up to 89° (issue 18; docs/TRAINING.md, "Energy penalty").
 "$nbrdf" train decoder --data "$data" --run "$run" "${arch[@]}" --steps "${DECODER_STEPS:-14342}" \
