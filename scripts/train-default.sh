@@ -35,8 +35,8 @@ stage() { echo "== $(date -u +%H:%M:%S) $*"; }
 
 # 1. Ground-truth data (docs/DATASET.md); the counts are the recipe of the shipped model.
 #    The decoder learns from the single BRDFs and the first DECODER_L2 two-layer and DECODER_L3
-#    three-layer ones; the layering network from all layered data (a record is a pure function of its seed and index, so FILE:N of a longer
-#    file is the N-record file).
+#    three-layer ones; the layering network from all layered data (a record is a pure function
+#    of its seed and index, so FILE:N of a longer file is the N-record file).
 L2=${L2_COUNT:-7000}
 L2B=${L2B_COUNT:-200}
 L3=${L3_COUNT:-1500}
@@ -51,11 +51,13 @@ stage "data: $L2B more two-layer BRDFs (seed 2), $L3 three-layer BRDFs (seed 3) 
 "$nbrdf" dataset --out "$work/layered2b-$D.nbds" --kind layered2 --count "$L2B" --seed 2 --draws "$D"
 "$nbrdf" dataset --out "$work/layered3-$D.nbds" --kind layered3 --count "$L3" --seed 3 --draws "$D"
 data="$work/single-$D.nbds,$work/layered2-$D.nbds:${DECODER_L2:-4000}"
-[ "${DECODER_L3:-1000}" = 0 ] || data+=",$work/layered3-$D.nbds:${DECODER_L3:-1000}"
-read -r -a arch <<<"${DECODER_ARCH:---width 96 --blocks 3 --encoding cartesian}"
+dec_l3=${DECODER_L3:-1000}
+[ "$dec_l3" = 0 ] || data+=",$work/layered3-$D.nbds:$dec_l3"
+dec_arch=${DECODER_ARCH:---width 96 --blocks 3 --encoding cartesian}
+read -r -a arch <<<"$dec_arch"
 
 # 2. Decoder: auto-decoder training, checkpointed every 5 minutes.
-stage "decoder (${DECODER_ARCH:---width 96 --blocks 3 --encoding cartesian}; resumable)"
+stage "decoder ($dec_arch; resumable)"
 #    --energy: the hinge penalty on decoded directional albedo above the ground truth's,
 #    θi up to 89° (issue 18; docs/TRAINING.md, "Energy penalty").
 "$nbrdf" train decoder --data "$data" --run "$run" "${arch[@]}" --steps "${DECODER_STEPS:-14342}" \
