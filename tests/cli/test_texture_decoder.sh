@@ -24,12 +24,20 @@ expect_exit 0 "$NBRDF" bake "${P[@]}" --decoder rnd/decoder.safetensors -o v2.ex
 # The energy audit (on by default) adds the optional nbrdf:maxAlbedo attribute,
 # which version-1 readers ignore; without it the bytes are exactly version 1's.
 expect_exit 0 "$NBRDF" bake "${P[@]}" --energy-audit 0 -o v1.exr
-# The fixture was baked with models/v1 (the default until 2026-11-26). The
-# networks' kernels give the same bits on every CPU path (src/nn), so a
-# difference here means the version-1 bytes changed.
+# The fixture was baked with models/v1 (the default until 2026-11-26) on another machine.
+# Its bytes cannot be promised here: the networks agree across CPUs and OpenBLAS kernels
+# within float rounding only (docs/RELIABILITY.md, "Determinism"), and a value that close
+# to a half's rounding boundary rounds to the neighbouring half. So the header (format
+# version, channels, tiles, every attribute) must be the fixture's exactly and each value
+# within two half ulps (2^-9 relative; idiff fails a value only past both the relative and
+# the 1e-6 absolute bound, which covers values under 1e-3 whose half step is smaller).
+# The writer's bytes for given values are checked in tests/texture/test_latent_decoder.c.
 expect_exit 0 "$NBRDF" bake "${P[@]}" --bundle "$NBRDF_SOURCE_DIR/models/v1" --energy-audit 0 -o old.exr
-check "a models/v1 bake without --decoder or audit is the committed v1 file byte for byte" \
-  cmp -s old.exr "$V1"
+header() { oiiotool --info -v "$1" | sed -e 1d -e '2s/^.* : //'; }
+check "a models/v1 bake without --decoder or audit has the committed v1 file's header" \
+  test "$(header old.exr)" = "$(header "$V1")" -a -n "$(header old.exr)"
+check "... and its values within half rounding" \
+  idiff -q -a -fail 1e-6 -failrelative 2e-3 -warn 1e-6 -warnrelative 2e-3 old.exr "$V1"
 printf 'id,u,v,theta_i,phi_i,theta_o,phi_o\nq,0.5,0.5,30,0,30,180\n' >q0.csv
 expect_exit 1 "$NBRDF" eval --texture "$V1" --bundle "$BUNDLE" --in q0.csv
 check "today's default refuses the fixture, naming its bundle" \
