@@ -1,5 +1,9 @@
 /* A minimal test harness: each tests/<layer>/test_*.c has a main() that calls
- * RUN(fn) for each test function and returns testing_finish(). */
+ * RUN(fn) for each test function and returns testing_finish().
+ * Bytes, or values tighter than 1e-6 relative, may be compared only where the BLAS gets
+ * identical inputs in identical shapes (same machine, batch composition, BLAS thread count)
+ * or no network is involved; otherwise within float rounding, the bound and its reason in a
+ * comment (tests/README.md). */
 #ifndef NBRDF_TESTING_H
 #define NBRDF_TESTING_H
 
