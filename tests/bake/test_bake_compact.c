@@ -129,11 +129,15 @@ static void test_compact_bake(void) {
   CHECK_MSG(rep.decoder_macs > 0 && rep.decoder_macs <= 2000, "decoder %lld MACs",
             rep.decoder_macs);
   CHECK_MSG(rep.compact_kept > 0.5 && rep.compact_kept <= 1.0 + 1e-9, "kept %g", rep.compact_kept);
-  /* Within 15 % of the universal networks' held-out error: with models/v1 a
+  /* Within 60 % of the universal networks' held-out error: with models/v1 a
    * 20-second compact fit beat them here; today's default starts closer to
-   * the truth (fast 6.2 %, compact 6.6 % on this CPU), while a student that
-   * did not learn lands far above (68 % at budget 10, below). */
-  CHECK_MSG(rep.heldout_error < 1.15 * rep.heldout_error_fast,
+   * the truth. The distillation is thousands of float steps, so its end point
+   * depends on the BLAS kernels' rounding: fast 6.16 %, compact 6.62 % on
+   * OpenBLAS's Prescott kernels (the figures the old 1.15x bound quoted), 6.85 %
+   * SkylakeX, 6.94 % Haswell, 7.02 % Sandybridge, 8.81 % Cooperlake (1.43x,
+   * this machine's default). A student that did not learn lands far above
+   * (28 % to 118 % at budget 10, below: 4.5x fast and more). */
+  CHECK_MSG(rep.heldout_error < 1.6 * rep.heldout_error_fast,
             "held-out lobe error compact %.4f vs fast %.4f", rep.heldout_error,
             rep.heldout_error_fast);
   printf("  8x4 maps: held-out lobe error fast %.2f %%, compact(4) %.2f %%; %lld MACs\n",
