@@ -18,6 +18,12 @@ static void on_error(exr_const_context_t ctxt, exr_result_t code, const char *ms
 static int64_t read_fn(exr_const_context_t ctxt, void *user, void *buffer, uint64_t sz,
                        uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
   texture_exr_stream *s = user;
+  if (s->mem) {
+    uint64_t n = offset < s->mem_size ? s->mem_size - offset : 0;
+    if (n > sz) n = sz;
+    if (n) memcpy(buffer, s->mem + offset, n);
+    return (int64_t)n;
+  }
   uint64_t done = 0;
   while (done < sz) {
     ssize_t r = pread(s->fd, (char *)buffer + done, sz - done, (off_t)(offset + done));
@@ -35,6 +41,7 @@ static int64_t read_fn(exr_const_context_t ctxt, void *user, void *buffer, uint6
 static int64_t size_fn(exr_const_context_t ctxt, void *user) {
   (void)ctxt;
   texture_exr_stream *s = user;
+  if (s->mem) return (int64_t)s->mem_size;
   struct stat st;
   return fstat(s->fd, &st) == 0 ? (int64_t)st.st_size : -1;
 }
