@@ -119,13 +119,17 @@ nbrdf_status finish_open(std::unique_ptr<texture_image_in> img, uint64_t size,
   // asked for: a 21-byte file claiming 13000x13000 texels allocated 676 MB
   // (fuzz_param_map). Run-length packets hold at most 128 texels for one
   // header byte and one texel, which bounds what a file of `size` can hold.
-  if (!std::strcmp(img->in->format_name(), "targa")) {
+  // OpenImageIO's BMP reader does the same (a 54-byte file claiming 1048579x3 texels
+  // allocated 805 MB); its run-length packets hold at most 255 texels for two bytes.
+  const bool targa = !std::strcmp(img->in->format_name(), "targa");
+  const bool bmp = !std::strcmp(img->in->format_name(), "bmp");
+  if (targa || bmp) {
     double texel_bytes = (double)s.nchannels * (double)s.format.size();
-    double most = 128.0 * (double)size / (1.0 + texel_bytes);
+    double most = bmp ? 128.0 * (double)size : 128.0 * (double)size / (1.0 + texel_bytes);
     if ((double)s.width * (double)s.height > most)
       return core_fail(err, NBRDF_ERR_FORMAT,
-                       "%s: a Targa image of %dx%d texels cannot fit in %llu bytes", path,
-                       s.width, s.height, (unsigned long long)size);
+                       "%s: a %s image of %dx%d texels cannot fit in %llu bytes", path,
+                       targa ? "Targa" : "BMP", s.width, s.height, (unsigned long long)size);
   }
   std::memset(info, 0, sizeof *info);
   info->width = s.width;

@@ -43,7 +43,8 @@ static nbrdf_status open_memory(const char *path, nbrdf_error *err) {
   const char *dot = strrchr(path, '.');
   texture_param_map *m = NULL;
   nbrdf_status st = texture_param_map_open_memory(
-      path, dot && !strcmp(dot, ".png") ? "png" : "openexr", buf, n, NULL, &m, err);
+      path, dot && !strcmp(dot, ".png") ? "png" : dot && !strcmp(dot, ".bmp") ? "bmp" : "openexr",
+      buf, n, NULL, &m, err);
   texture_param_map_close(m);
   free(buf);
   return st;
@@ -61,6 +62,7 @@ static void test_refused(void) {
       {"truncated.exr", "claims"},
       {"attr_length.exr", "OpenEXR attribute 'channels' claims"},
       {"damaged_chunk.exr", "damaged scanline chunk at row 0"},
+      {"huge.bmp", "a BMP image of 1048579x3 texels cannot fit in 54 bytes"},
       {"box2i_size.exr", "attribute 'dataWindow' of type box2i declares 7 bytes, expected 16"},
       {"two_channels.exr", "2 channels"},
       {"five_channels.exr", "5 channels"},
