@@ -208,6 +208,52 @@ static nbrdf_status check_exr_core(const char *path, const void *data, size_t si
   return st;
 }
 
+static uint16_t le16(const unsigned char *b) { return (uint16_t)(b[1] << 8 | b[0]); }
+
+/* BMP: the file header, an info header OpenImageIO's reader knows, and the combinations of
+ * bit depth and compression the format defines, with the palette and (uncompressed) pixels
+ * inside the file. OpenImageIO 2.4's reader trusts them: a 75-byte file declaring 24-bit
+ * texels with 8-bit run-length compression crashed it (SIGSEGV, fuzz_param_map). */
+static nbrdf_status check_bmp(FILE *f, const char *path, uint64_t size, nbrdf_error *err) {
+  unsigned char h[54];
+  if (fseek(f, 0, SEEK_SET) != 0 || fread(h, 1, sizeof h, f) != sizeof h)
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: truncated BMP header", path);
+  uint32_t offset = le32(h + 10), info = le32(h + 14), compression = le32(h + 30);
+  int32_t width = (int32_t)le32(h + 18), height = (int32_t)le32(h + 22);
+  unsigned planes = le16(h + 26), bpp = le16(h + 28);
+  uint64_t colours = le32(h + 46);
+  if (info != 40 && info != 52 && info != 56 && info != 108 && info != 124)
+    return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: BMP info header of %u bytes", path, info);
+  if (width < 1 || height == 0 || height == INT32_MIN || planes != 1)
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: BMP of %dx%d texels and %u planes", path, width,
+                     height, planes);
+  int ok = (compression == 0 && (bpp == 1 || bpp == 4 || bpp == 8 || bpp == 16 || bpp == 24 ||
+                                 bpp == 32)) ||
+           (compression == 1 && bpp == 8) || (compression == 2 && bpp == 4) ||
+           (compression == 3 && (bpp == 16 || bpp == 32));
+  if (!ok)
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "%s: BMP of %u bits per texel with compression %u (not a valid pair)", path,
+                     bpp, compression);
+  uint64_t palette = bpp <= 8 ? (colours ? colours : 1ull << bpp) : 0;
+  if (bpp <= 8 && colours > (1ull << bpp))
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: BMP palette of %llu colours for %u bits", path,
+                     (unsigned long long)colours, bpp);
+  if (offset > size || 14ull + info + 4 * palette > offset)
+    return core_fail(err, NBRDF_ERR_FORMAT,
+                     "%s: BMP texels at byte %u overlap its headers or lie past the end (%llu bytes)",
+                     path, offset, (unsigned long long)size);
+  if (compression == 0 || compression == 3) {
+    uint64_t stride = ((uint64_t)width * bpp + 31) / 32 * 4;
+    uint64_t rows = height < 0 ? (uint64_t)(-(int64_t)height) : (uint64_t)height;
+    if (stride * rows > size - offset)
+      return core_fail(err, NBRDF_ERR_FORMAT, "%s: BMP of %dx%d texels needs %llu bytes; %llu follow",
+                       path, width, height, (unsigned long long)(stride * rows),
+                       (unsigned long long)(size - offset));
+  }
+  return NBRDF_OK;
+}
+
 /* `data` NULL: the file at `path`, else `size` bytes at `data` (`path` labels them). */
 static nbrdf_status check(const char *path, const void *data, uint64_t size, nbrdf_error *err) {
   if (size == 0) return core_fail(err, NBRDF_ERR_FORMAT, "%s: is empty (0 bytes)", path);
@@ -220,6 +266,8 @@ static nbrdf_status check(const char *path, const void *data, uint64_t size, nbr
     st = check_png(f, path, size, err);
   else if (got == 8 && !memcmp(magic, "\x76\x2f\x31\x01", 4))
     st = check_exr(f, path, size, le32(magic + 4), err);
+  else if (got >= 2 && !memcmp(magic, "BM", 2))
+    st = check_bmp(f, path, size, err);
   fclose(f);
   if (st == NBRDF_OK && got == 8 && !memcmp(magic, "\x76\x2f\x31\x01", 4))
     st = check_exr_core(path, data, (size_t)size, err);

@@ -2,8 +2,8 @@
  * opens them: libpng and OpenEXR's C++ header reader allocate whatever a
  * chunk or attribute claims (fuzz_param_map found 200-byte files that make
  * them ask for 1 to 2 GB) before finding the file too short. Here every
- * chunk or header attribute must fit in the file. Other formats pass
- * unchecked. */
+ * chunk or header attribute must fit in the file; BMP headers must describe a
+ * valid file (OpenImageIO's reader trusts them). Other formats pass unchecked. */
 #ifndef NBRDF_TEXTURE_IMAGE_CHECK_H
 #define NBRDF_TEXTURE_IMAGE_CHECK_H
 
