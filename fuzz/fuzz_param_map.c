@@ -5,9 +5,14 @@
  * OpenImageIO and the codecs under it are the system's and not instrumented:
  * the coverage that guides the fuzzer is nbrdf's own.
  *
- * The first byte of an input chooses the file name's extension (OpenImageIO
- * tries the format it names first), whether the map is colour data (sRGB ->
- * linear) and whether integer samples are remapped; the rest is the file.
+ * The first byte of an input chooses the format (the reader OpenImageIO
+ * uses, by name, with no probing of others), whether the map is colour data
+ * (sRGB -> linear) and whether integer samples are remapped; the rest is the
+ * file's bytes, read from memory (texture_param_map_open_memory: OIIO's
+ * IOMemReader, and the structure walk over the same bytes), so an execution
+ * costs no file system calls. The corpus replay (tests/texture/
+ * test_param_map_corpus.c) reads each input both from memory and as a file, as
+ * `nbrdf bake` does, and checks the two agree.
  *
  * Properties checked on every input, beyond "no crash, no sanitizer report":
  * - a refusal returns no map and a message that names the file;
@@ -21,7 +26,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "param_map_input.h"
 #include "texture/param_map.h"
@@ -74,30 +78,21 @@ static void read_map(texture_param_map *m, const char *path) {
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   if (size < 1) return 0;
-  static char dir[200];
-  if (!dir[0]) {
-    const char *tmp = getenv("TMPDIR");
-    snprintf(dir, sizeof dir, "%s", tmp && *tmp ? tmp : "/tmp");
-  }
-  char path[256];
   texture_param_map_options o;
   const char *ext = param_map_input_decode(data[0], &o);
-  snprintf(path, sizeof path, "%s/fuzz_param_map.%ld.%s", dir, (long)getpid(), ext);
-  FILE *f = fopen(path, "wb");
-  REQUIRE(f != NULL);
-  REQUIRE(fwrite(data + 1, 1, size - 1, f) == size - 1);
-  REQUIRE(fclose(f) == 0);
+  char label[64];
+  snprintf(label, sizeof label, "fuzz_param_map.%s", ext);
   texture_param_map *m = NULL;
   nbrdf_error err = {0};
-  nbrdf_status st = texture_param_map_open(path, &o, &m, &err);
+  nbrdf_status st = texture_param_map_open_memory(label, param_map_input_format(data[0]),
+                                                  data + 1, size - 1, &o, &m, &err);
   if (st == NBRDF_OK) {
     REQUIRE(m != NULL);
-    read_map(m, path);
+    read_map(m, label);
   } else {
     REQUIRE(m == NULL);
-    check_refusal(st, &err, path);
+    check_refusal(st, &err, label);
   }
   texture_param_map_close(m);
-  unlink(path);
   return 0;
 }

@@ -17,4 +17,11 @@ static inline const char *param_map_input_decode(unsigned char tag, texture_para
   return extensions[tag & 7];
 }
 
+/* OpenImageIO's name of the reader for extensions[tag & 7], for the in-memory harness. */
+static inline const char *param_map_input_format(unsigned char tag) {
+  static const char *const formats[8] = {"png",   "openexr", "tiff", "hdr",
+                                         "targa", "bmp",     "pnm",  "jpeg"};
+  return formats[tag & 7];
+}
+
 #endif

@@ -13,7 +13,9 @@
 
 /* The user data of every context we create. */
 typedef struct texture_exr_stream {
-  int fd;                 /* reading: the file; -1 when writing */
+  int fd;                 /* reading: the file; -1 when writing or reading memory */
+  const unsigned char *mem; /* reading memory (fd = -1): mem_size bytes */
+  uint64_t mem_size;
   core_output_file *out;  /* writing: the temporary file */
   char message[400];      /* the library's last error message */
 } texture_exr_stream;

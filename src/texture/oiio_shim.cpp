@@ -2,9 +2,12 @@
 // and turns OIIO's error strings into nbrdf_error messages naming the file.
 #include "texture/oiio_shim.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -26,6 +29,8 @@ using OIIO::TypeDesc;
 
 struct texture_image_in {
   std::string path;
+  // Declared before `in`, so the reader is destroyed before the proxy it reads.
+  std::unique_ptr<OIIO::Filesystem::IOProxy> proxy;
   std::unique_ptr<ImageInput> in;
   ImageSpec spec;
 };
@@ -91,6 +96,68 @@ extern "C" const char *texture_pixel_format_name(texture_pixel_format format) {
   return "other";
 }
 
+namespace {
+
+// Everything after OpenImageIO has opened the image, for a file or a buffer:
+// the checks that keep a forged header from costing gigabytes, and the info.
+nbrdf_status finish_open(std::unique_ptr<texture_image_in> img, uint64_t size,
+                         texture_image_in **out, texture_image_info *info, nbrdf_error *err) {
+  const char *path = img->path.c_str();
+  img->spec = img->in->spec();
+  const ImageSpec &s = img->spec;
+  if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
+    return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
+                     path, s.width, s.height, s.depth, s.nchannels);
+  // OpenImageIO reads a whole tile (as floats) to deliver any row of it: a
+  // forged tile size would make it allocate gigabytes for a small image.
+  if (s.tile_width > 0 && s.tile_height > 0 &&
+      (double)s.tile_width * s.tile_height * s.nchannels * 4.0 > kTileBytesMax)
+    return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                     "%s: tiles of %dx%d texels and %d channels (at most %d MiB a tile)", path,
+                     s.tile_width, s.tile_height, s.nchannels, (int)(kTileBytesMax >> 20));
+  // OpenImageIO's Targa reader decodes the whole image when the first row is
+  // asked for: a 21-byte file claiming 13000x13000 texels allocated 676 MB
+  // (fuzz_param_map). Run-length packets hold at most 128 texels for one
+  // header byte and one texel, which bounds what a file of `size` can hold.
+  // OpenImageIO's BMP reader does the same (a 54-byte file claiming 1048579x3 texels
+  // allocated 805 MB); its run-length packets hold at most 255 texels for two bytes.
+  const bool targa = !std::strcmp(img->in->format_name(), "targa");
+  const bool bmp = !std::strcmp(img->in->format_name(), "bmp");
+  if (targa || bmp) {
+    double texel_bytes = (double)s.nchannels * (double)s.format.size();
+    double most = bmp ? 128.0 * (double)size : 128.0 * (double)size / (1.0 + texel_bytes);
+    if ((double)s.width * (double)s.height > most)
+      return core_fail(err, NBRDF_ERR_FORMAT,
+                       "%s: a %s image of %dx%d texels cannot fit in %llu bytes", path,
+                       targa ? "Targa" : "BMP", s.width, s.height, (unsigned long long)size);
+  }
+  std::memset(info, 0, sizeof *info);
+  info->width = s.width;
+  info->height = s.height;
+  info->channels = s.nchannels;
+  info->alpha_channel = s.alpha_channel;
+  info->format = classify(s.format);
+  info->bits_per_sample = s.get_int_attribute("oiio:BitsPerSample", (int)s.format.size() * 8);
+  copy_string(info->format_name, sizeof info->format_name, s.format.c_str());
+  copy_string(info->file_format, sizeof info->file_format, img->in->format_name());
+  copy_string(info->colour_space, sizeof info->colour_space,
+              s.get_string_attribute("oiio:ColorSpace"));
+  int levels = 1;
+  while (levels < 32 && img->in->spec_dimensions(0, levels).width > 0)
+    levels++;
+  info->mip_levels = levels;
+  *out = img.release();
+  return NBRDF_OK;
+}
+
+ImageSpec open_config(int flags) {
+  ImageSpec config;
+  if (flags & NBRDF_IMAGE_UNASSOCIATED_ALPHA) config.attribute("oiio:UnassociatedAlpha", 1);
+  return config;
+}
+
+} // namespace
+
 extern "C" nbrdf_status texture_image_open(const char *path, int flags, texture_image_in **out,
                                            texture_image_info *info, nbrdf_error *err) {
   *out = nullptr;
@@ -103,57 +170,52 @@ extern "C" nbrdf_status texture_image_open(const char *path, int flags, texture_
   try {
     std::unique_ptr<texture_image_in> img(new texture_image_in);
     img->path = path;
-    ImageSpec config;
-    if (flags & NBRDF_IMAGE_UNASSOCIATED_ALPHA) config.attribute("oiio:UnassociatedAlpha", 1);
+    ImageSpec config = open_config(flags);
     img->in = ImageInput::open(path, &config);
     if (!img->in)
       return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path,
                        first_line(OIIO::geterror()).c_str());
-    img->spec = img->in->spec();
-    const ImageSpec &s = img->spec;
-    if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
-      return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
-                       path, s.width, s.height, s.depth, s.nchannels);
-    // OpenImageIO reads a whole tile (as floats) to deliver any row of it: a
-    // forged tile size would make it allocate gigabytes for a small image.
-    if (s.tile_width > 0 && s.tile_height > 0 &&
-        (double)s.tile_width * s.tile_height * s.nchannels * 4.0 > kTileBytesMax)
-      return core_fail(err, NBRDF_ERR_UNSUPPORTED,
-                       "%s: tiles of %dx%d texels and %d channels (at most %d MiB a tile)", path,
-                       s.tile_width, s.tile_height, s.nchannels, (int)(kTileBytesMax >> 20));
-    // OpenImageIO's Targa reader decodes the whole image when the first row is
-    // asked for: a 21-byte file claiming 13000x13000 texels allocated 676 MB
-    // (fuzz_param_map). Run-length packets hold at most 128 texels for one
-    // header byte and one texel, which bounds what a file of `size` can hold.
-    if (!std::strcmp(img->in->format_name(), "targa")) {
-      double texel_bytes = (double)s.nchannels * (double)s.format.size();
-      double most = 128.0 * (double)size / (1.0 + texel_bytes);
-      if ((double)s.width * (double)s.height > most)
-        return core_fail(err, NBRDF_ERR_FORMAT,
-                         "%s: a Targa image of %dx%d texels cannot fit in %llu bytes", path,
-                         s.width, s.height, (unsigned long long)size);
-    }
-    std::memset(info, 0, sizeof *info);
-    info->width = s.width;
-    info->height = s.height;
-    info->channels = s.nchannels;
-    info->alpha_channel = s.alpha_channel;
-    info->format = classify(s.format);
-    info->bits_per_sample = s.get_int_attribute("oiio:BitsPerSample", (int)s.format.size() * 8);
-    copy_string(info->format_name, sizeof info->format_name, s.format.c_str());
-    copy_string(info->file_format, sizeof info->file_format, img->in->format_name());
-    copy_string(info->colour_space, sizeof info->colour_space,
-                s.get_string_attribute("oiio:ColorSpace"));
-    int levels = 1;
-    while (levels < 32 && img->in->spec_dimensions(0, levels).width > 0)
-      levels++;
-    info->mip_levels = levels;
-    *out = img.release();
-    return NBRDF_OK;
+    return finish_open(std::move(img), size, out, info, err);
   } catch (const std::exception &e) {
     return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path, e.what());
   } catch (...) {
     return core_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", path);
+  }
+}
+
+extern "C" nbrdf_status texture_image_open_memory(const char *label, const char *format,
+                                                  const void *data, size_t size, int flags,
+                                                  texture_image_in **out,
+                                                  texture_image_info *info, nbrdf_error *err) {
+  *out = nullptr;
+  if (!label || !format || (!data && size))
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "image in memory: NULL %s",
+                     !label ? "label" : !format ? "format" : "data");
+  nbrdf_status st = texture_image_check_memory(label, data, size, err);
+  if (st != NBRDF_OK) return st;
+  try {
+    std::unique_ptr<texture_image_in> img(new texture_image_in);
+    img->path = label;
+    img->proxy.reset(new OIIO::Filesystem::IOMemReader(data, size));
+    // The format is named, so OpenImageIO probes no other reader.
+    img->in = ImageInput::create(format, false, nullptr, img->proxy.get());
+    if (!img->in)
+      return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: no %s reader: %s", label, format,
+                       first_line(OIIO::geterror()).c_str());
+    if (!img->in->supports("ioproxy"))
+      return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: the %s reader cannot read from memory",
+                       label, format);
+    ImageSpec config = open_config(flags), spec;
+    OIIO::Filesystem::IOProxy *proxy = img->proxy.get();
+    config.attribute("oiio:ioproxy", TypeDesc::PTR, &proxy);
+    if (!img->in->open(label, spec, config))
+      return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", label,
+                       first_line(img->in->geterror()).c_str());
+    return finish_open(std::move(img), size, out, info, err);
+  } catch (const std::exception &e) {
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", label, e.what());
+  } catch (...) {
+    return core_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", label);
   }
 }
 
@@ -193,7 +255,7 @@ extern "C" nbrdf_status texture_image_read_rows(texture_image_in *img, int level
       int th = s.tile_height, ty0 = y0 / th * th, ty1 = (y1 + th - 1) / th * th;
       if (ty1 > s.height) ty1 = s.height;
       size_t row = (size_t)s.width * (size_t)(c1 - c0);
-      std::vector<float> band((size_t)(ty1 - ty0) * row);
+      std::vector<float> band((size_t)(ty1 - ty0) * row, std::numeric_limits<float>::quiet_NaN());
       ok = img->in->read_tiles(0, level, s.x, s.x + s.width, s.y + ty0, s.y + ty1, s.z,
                                s.z + (s.depth > 0 ? s.depth : 1), c0, c1, TypeDesc::FLOAT,
                                band.data());
@@ -201,6 +263,10 @@ extern "C" nbrdf_status texture_image_read_rows(texture_image_in *img, int level
         std::memcpy(out, band.data() + (size_t)(y0 - ty0) * row,
                     (size_t)(y1 - y0) * row * sizeof(float));
     } else {
+      // A damaged file can decode to fewer bytes than the rows hold and leave the rest
+      // unwritten: NaN there is refused by every caller, where stale memory would be baked.
+      std::fill(out, out + (size_t)(y1 - y0) * (size_t)s.width * (size_t)(c1 - c0),
+                std::numeric_limits<float>::quiet_NaN());
       ok = img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT, out);
     }
     if (!ok)

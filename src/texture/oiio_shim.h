@@ -46,6 +46,14 @@ enum { NBRDF_IMAGE_UNASSOCIATED_ALPHA = 1 };
  * sees it. */
 nbrdf_status texture_image_open(const char *path, int flags, texture_image_in **out,
                                 texture_image_info *info, nbrdf_error *err);
+/* The same for an image held in memory (`size` bytes at `data`, which must stay
+ * valid until texture_image_close), read by the OpenImageIO reader that
+ * `format` names ("png", "openexr", "tiff", ...) without probing others;
+ * `label` stands for the file name in messages. Formats whose reader cannot read
+ * from memory are refused (NBRDF_ERR_UNSUPPORTED). */
+nbrdf_status texture_image_open_memory(const char *label, const char *format, const void *data,
+                                       size_t size, int flags, texture_image_in **out,
+                                       texture_image_info *info, nbrdf_error *err);
 /* The name of channel c ("R", "latent.L00.R", ...). */
 const char *texture_image_channel_name(const texture_image_in *img, int c);
 /* Size of a mip level; NBRDF_ERR_ARGUMENT if the file has no such level. */

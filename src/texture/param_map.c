@@ -45,50 +45,37 @@ static nbrdf_status set_up_colour(texture_param_map *m, nbrdf_error *err) {
   return NBRDF_OK;
 }
 
-nbrdf_status texture_param_map_open(const char *path, const texture_param_map_options *opts,
-                                    texture_param_map **out, nbrdf_error *err) {
-  *out = NULL;
-  const texture_param_map_options defaults = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
-  if (!opts) opts = &defaults;
-  if (opts->remap && !(isfinite(opts->lo) && isfinite(opts->hi) && opts->lo >= 0.0f))
-    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: remap range [%g, %g] is not finite and >= 0",
-                     path ? path : "(null)", (double)opts->lo, (double)opts->hi);
-  texture_param_map *m = calloc(1, sizeof *m);
-  if (!m || !path || !(m->path = strdup(path))) {
-    free(m);
-    return core_fail(err, path ? NBRDF_ERR_MEMORY : NBRDF_ERR_ARGUMENT, "%s: cannot open map",
-                     path ? path : "(null)");
-  }
-  m->opts = *opts;
-  texture_image_info ii;
-  /* Alpha is coverage, not a parameter: read the colour as stored (not
-   * multiplied by alpha, which zeroes texels under alpha = 0) and drop it. */
-  nbrdf_status st = texture_image_open(path, NBRDF_IMAGE_UNASSOCIATED_ALPHA, &m->img, &ii, err);
+/* A map whose image is `img` (NULL: `open_failed` says why): channels, colour, remap. */
+static nbrdf_status set_up(texture_param_map *m, nbrdf_status st, const texture_image_info *ii,
+                           texture_param_map **out, nbrdf_error *err) {
+  const char *path = m->path;
+  const texture_param_map_options *opts = &m->opts;
   if (st == NBRDF_OK) {
     texture_param_map_info *in = &m->info;
-    in->width = ii.width;
-    in->height = ii.height;
-    in->file_channels = ii.channels;
-    in->format = ii.format;
-    in->bits_per_sample = ii.bits_per_sample;
-    memcpy(in->format_name, ii.format_name, sizeof in->format_name);
-    memcpy(in->file_format, ii.file_format, sizeof in->file_format);
-    memcpy(in->reported_colour_space, ii.colour_space, sizeof in->reported_colour_space);
-    m->integer = is_integer(ii.format, ii.format_name);
+    in->width = ii->width;
+    in->height = ii->height;
+    in->file_channels = ii->channels;
+    in->format = ii->format;
+    in->bits_per_sample = ii->bits_per_sample;
+    memcpy(in->format_name, ii->format_name, sizeof in->format_name);
+    memcpy(in->file_format, ii->file_format, sizeof in->file_format);
+    memcpy(in->reported_colour_space, ii->colour_space, sizeof in->reported_colour_space);
+    m->integer = is_integer(ii->format, ii->format_name);
     /* Grey + alpha and RGB + alpha (alpha first or last; a 4th channel not
      * marked as alpha is ignored the same way). */
-    int alpha = ii.alpha_channel;
-    if (ii.channels == 4 && alpha != 0) alpha = 3;
-    if (ii.channels == 1 || ii.channels == 3) {
-      in->channels = ii.channels;
-    } else if ((ii.channels == 2 || ii.channels == 4) && (alpha == 0 || alpha == ii.channels - 1)) {
-      in->channels = ii.channels - 1;
+    int alpha = ii->alpha_channel;
+    if (ii->channels == 4 && alpha != 0) alpha = 3;
+    if (ii->channels == 1 || ii->channels == 3) {
+      in->channels = ii->channels;
+    } else if ((ii->channels == 2 || ii->channels == 4) &&
+               (alpha == 0 || alpha == ii->channels - 1)) {
+      in->channels = ii->channels - 1;
       m->first_channel = alpha == 0 ? 1 : 0;
     } else {
       st = core_fail(err, NBRDF_ERR_UNSUPPORTED,
                      "%s: %d channels; a parameter map has 1 (grey), 3 (RGB), or either plus "
                      "alpha (ignored)",
-                     path, ii.channels);
+                     path, ii->channels);
     }
   }
   if (st == NBRDF_OK) st = set_up_colour(m, err);
@@ -103,6 +90,56 @@ nbrdf_status texture_param_map_open(const char *path, const texture_param_map_op
   }
   *out = m;
   return NBRDF_OK;
+}
+
+/* A map with no image yet, or NULL with the reason in err. */
+static texture_param_map *create(const char *path, const texture_param_map_options **opts,
+                                 nbrdf_status *st, nbrdf_error *err) {
+  static const texture_param_map_options defaults = NBRDF_PARAM_MAP_OPTIONS_DEFAULT;
+  if (!*opts) *opts = &defaults;
+  const texture_param_map_options *o = *opts;
+  if (o->remap && !(isfinite(o->lo) && isfinite(o->hi) && o->lo >= 0.0f)) {
+    *st = core_fail(err, NBRDF_ERR_ARGUMENT, "%s: remap range [%g, %g] is not finite and >= 0",
+                    path ? path : "(null)", (double)o->lo, (double)o->hi);
+    return NULL;
+  }
+  texture_param_map *m = calloc(1, sizeof *m);
+  if (!m || !path || !(m->path = strdup(path))) {
+    free(m);
+    *st = core_fail(err, path ? NBRDF_ERR_MEMORY : NBRDF_ERR_ARGUMENT, "%s: cannot open map",
+                    path ? path : "(null)");
+    return NULL;
+  }
+  m->opts = *o;
+  *st = NBRDF_OK;
+  return m;
+}
+
+nbrdf_status texture_param_map_open(const char *path, const texture_param_map_options *opts,
+                                    texture_param_map **out, nbrdf_error *err) {
+  *out = NULL;
+  nbrdf_status st;
+  texture_param_map *m = create(path, &opts, &st, err);
+  if (!m) return st;
+  texture_image_info ii;
+  /* Alpha is coverage, not a parameter: read the colour as stored (not
+   * multiplied by alpha, which zeroes texels under alpha = 0) and drop it. */
+  st = texture_image_open(path, NBRDF_IMAGE_UNASSOCIATED_ALPHA, &m->img, &ii, err);
+  return set_up(m, st, &ii, out, err);
+}
+
+nbrdf_status texture_param_map_open_memory(const char *label, const char *format,
+                                           const void *data, size_t size,
+                                           const texture_param_map_options *opts,
+                                           texture_param_map **out, nbrdf_error *err) {
+  *out = NULL;
+  nbrdf_status st;
+  texture_param_map *m = create(label, &opts, &st, err);
+  if (!m) return st;
+  texture_image_info ii;
+  st = texture_image_open_memory(label, format, data, size, NBRDF_IMAGE_UNASSOCIATED_ALPHA,
+                                 &m->img, &ii, err);
+  return set_up(m, st, &ii, out, err);
 }
 
 const texture_param_map_info *texture_param_map_get_info(const texture_param_map *m) {

@@ -53,6 +53,13 @@ typedef struct texture_param_map texture_param_map;
 
 nbrdf_status texture_param_map_open(const char *path, const texture_param_map_options *opts,
                                     texture_param_map **out, nbrdf_error *err);
+/* The same for an image in memory (texture_image_open_memory: `data` stays valid until
+ * texture_param_map_close; `format` is OpenImageIO's name; `label` names it in messages):
+ * for hosts that hold their maps in memory, and for fuzzing without a file per input. */
+nbrdf_status texture_param_map_open_memory(const char *label, const char *format,
+                                           const void *data, size_t size,
+                                           const texture_param_map_options *opts,
+                                           texture_param_map **out, nbrdf_error *err);
 const texture_param_map_info *texture_param_map_get_info(const texture_param_map *m);
 const char *texture_param_map_path(const texture_param_map *m);
 /* Rows [y0, y0 + rows): rows * width * channels floats. Fails naming the

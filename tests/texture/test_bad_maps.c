@@ -34,6 +34,22 @@ static nbrdf_status open_and_read(const char *path, texture_param_kind kind, nbr
   return st;
 }
 
+/* The same file through the in-memory reader (what the fuzzer drives). */
+static nbrdf_status open_memory(const char *path, nbrdf_error *err) {
+  FILE *f = fopen(path, "rb");
+  unsigned char *buf = malloc(1 << 16);
+  size_t n = f && buf ? fread(buf, 1, 1 << 16, f) : 0;
+  if (f) fclose(f);
+  const char *dot = strrchr(path, '.');
+  texture_param_map *m = NULL;
+  nbrdf_status st = texture_param_map_open_memory(
+      path, dot && !strcmp(dot, ".png") ? "png" : dot && !strcmp(dot, ".bmp") ? "bmp" : "openexr",
+      buf, n, NULL, &m, err);
+  texture_param_map_close(m);
+  free(buf);
+  return st;
+}
+
 static void test_refused(void) {
   static const struct {
     const char *file, *says;
@@ -45,6 +61,10 @@ static void test_refused(void) {
       {"text.png", "Not a PNG file"},
       {"truncated.exr", "claims"},
       {"attr_length.exr", "OpenEXR attribute 'channels' claims"},
+      {"damaged_chunk.exr", "damaged scanline chunk at row 0"},
+      {"huge.bmp", "BMP texels at byte 0 overlap its headers or lie past the end"},
+      {"rle8_24bit.bmp", "BMP of 24 bits per texel with compression 1 (not a valid pair)"},
+      {"box2i_size.exr", "attribute 'dataWindow' of type box2i declares 7 bytes, expected 16"},
       {"two_channels.exr", "2 channels"},
       {"five_channels.exr", "5 channels"},
       {"nan.exr", "texel (1, 1) is NaN"},
@@ -60,6 +80,11 @@ static void test_refused(void) {
       CHECK_MSG(st != NBRDF_OK, "%s was accepted", cases[i].file);
       CHECK_MSG(strstr(err.message, path) && strstr(err.message, cases[i].says),
                 "%s: \"%s\" lacks the path or \"%s\"", cases[i].file, err.message, cases[i].says);
+    }
+    /* Refused from memory too where the header is at fault (texels are checked on read). */
+    if (!strstr(cases[i].says, "texel") && !strstr(cases[i].says, "rows")) {
+      nbrdf_error err = {0};
+      CHECK_MSG(open_memory(path, &err) != NBRDF_OK, "%s accepted from memory", cases[i].file);
     }
   }
 }

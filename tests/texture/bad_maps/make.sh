@@ -46,7 +46,17 @@ exr = bytearray(open(t + "/grey.exr", "rb").read())
 i = exr.index(b"channels\0chlist\0") + len("channels\0chlist\0")
 exr[i:i + 4] = struct.pack("<I", 0x69726F00)
 open("attr_length.exr", "wb").write(exr)
+# A box2i attribute that declares 7 bytes: OpenEXR's C++ reader reads 16 anyway and takes
+# the next attribute's size from the wrong bytes (fuzz_param_map: a 1.9 GB allocation).
+exr = bytearray(open(t + "/grey.exr", "rb").read())
+i = exr.index(b"dataWindow\0box2i\0") + len("dataWindow\0box2i\0")
+exr[i:i + 4] = struct.pack("<I", 7)
+open("box2i_size.exr", "wb").write(exr)
 PY
 oiiotool --pattern constant:color=0.2,0.4 2x2 2 --chnames U,V -d half -o two_channels.exr
 oiiotool --pattern constant:color=0.1,0.2,0.3,0.4,0.5 2x2 5 -d half -o five_channels.exr
 ls -l
+# huge.bmp (54 bytes, claims 1048579x3 texels: OpenImageIO's reader allocated 805 MB),
+# rle8_24bit.bmp (24-bit texels with 8-bit run-length compression: OpenImageIO crashed) and
+# damaged_chunk.exr are not made here: fuzz_param_map found it (a ZIP chunk OpenEXR's C++
+# reader decodes partly, leaving texels of uninitialised memory); kept as found.
