@@ -39,6 +39,9 @@ namespace {
 
 // The largest tile read (floats): real maps use tiles of 64x64 to 512x512.
 constexpr size_t kTileBytesMax = size_t(64) << 20;
+// NBRDF_BAKE_SIZE_MAX: the largest latent texture, and so the largest map worth reading.
+constexpr int kMapSideMax = 65536;
+constexpr double kTexelsPerByteMax = 16384.0;
 
 std::string first_line(std::string s) {
   size_t nl = s.find('\n');
@@ -108,6 +111,18 @@ nbrdf_status finish_open(std::unique_ptr<texture_image_in> img, uint64_t size,
   if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
     return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
                      path, s.width, s.height, s.depth, s.nchannels);
+  // No map is larger than the largest latent texture; and no format compresses more than
+  // about 11,000 texels into a byte (LZW on 1-bit texels; deflate: 8 x 1,032), so a
+  // header claiming more lies: OpenImageIO's readers allocate for the claim before finding
+  // the data short (fuzz_param_map: an 18-byte PGM claiming 2222224x3 texels, 569 MB).
+  // OpenEXR is exempt: every chunk was decoded by OpenEXRCore first (image_check.c).
+  if (s.width > kMapSideMax || s.height > kMapSideMax)
+    return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: %dx%d texels; a map is at most %d a side",
+                     path, s.width, s.height, kMapSideMax);
+  if (std::strcmp(img->in->format_name(), "openexr") &&
+      (double)s.width * (double)s.height > kTexelsPerByteMax * (double)size)
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: a %s image of %dx%d texels cannot come from %llu bytes",
+                     path, img->in->format_name(), s.width, s.height, (unsigned long long)size);
   // OpenImageIO reads a whole tile (as floats) to deliver any row of it: a
   // forged tile size would make it allocate gigabytes for a small image.
   if (s.tile_width > 0 && s.tile_height > 0 &&

@@ -43,7 +43,8 @@ static nbrdf_status open_memory(const char *path, nbrdf_error *err) {
   const char *dot = strrchr(path, '.');
   texture_param_map *m = NULL;
   nbrdf_status st = texture_param_map_open_memory(
-      path, dot && !strcmp(dot, ".png") ? "png" : dot && !strcmp(dot, ".bmp") ? "bmp" : "openexr",
+      path, dot && !strcmp(dot, ".png") ? "png" : dot && !strcmp(dot, ".bmp") ? "bmp"
+                                                  : dot && !strcmp(dot, ".pgm") ? "pnm" : "openexr",
       buf, n, NULL, &m, err);
   texture_param_map_close(m);
   free(buf);
@@ -63,6 +64,8 @@ static void test_refused(void) {
       {"attr_length.exr", "OpenEXR attribute 'channels' claims"},
       {"damaged_chunk.exr", "damaged scanline chunk at row 0"},
       {"huge.bmp", "BMP texels at byte 0 overlap its headers or lie past the end"},
+      {"huge.pgm", "2222224x3 texels; a map is at most 65536 a side"},
+      {"dense.pgm", "a pnm image of 60000x60000 texels cannot come from 22 bytes"},
       {"rle8_24bit.bmp", "BMP of 24 bits per texel with compression 1 (not a valid pair)"},
       {"box2i_size.exr", "attribute 'dataWindow' of type box2i declares 7 bytes, expected 16"},
       {"two_channels.exr", "2 channels"},

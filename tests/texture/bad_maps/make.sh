@@ -55,8 +55,10 @@ open("box2i_size.exr", "wb").write(exr)
 PY
 oiiotool --pattern constant:color=0.2,0.4 2x2 2 --chnames U,V -d half -o two_channels.exr
 oiiotool --pattern constant:color=0.1,0.2,0.3,0.4,0.5 2x2 5 -d half -o five_channels.exr
+# A PGM header claiming 60000x60000 texels over 3 bytes of data.
+printf 'P5 60000 60000 255\n\001\002\003' >dense.pgm
 ls -l
 # huge.bmp (54 bytes, claims 1048579x3 texels: OpenImageIO's reader allocated 805 MB),
-# rle8_24bit.bmp (24-bit texels with 8-bit run-length compression: OpenImageIO crashed) and
+# huge.pgm (18 bytes claiming 2222224x3 texels: 569 MB), rle8_24bit.bmp (24-bit texels with 8-bit run-length compression: OpenImageIO crashed) and
 # damaged_chunk.exr are not made here: fuzz_param_map found it (a ZIP chunk OpenEXR's C++
 # reader decodes partly, leaving texels of uninitialised memory); kept as found.
