@@ -15,11 +15,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #ifdef NBRDF_TILED_COOP
+#ifndef NBRDF_COOP_EMU
 #extension GL_NV_cooperative_matrix : require
+#extension GL_KHR_memory_scope_semantics : require
+#endif
 #extension GL_EXT_shader_explicit_arithmetic_types_float16 : require
 #extension GL_KHR_shader_subgroup_basic : require
-#extension GL_KHR_shader_subgroup_clustered : require
-#extension GL_KHR_memory_scope_semantics : require
+#extension GL_KHR_shader_subgroup_quad : require
 #endif
 layout(local_size_x_id = 1) in;
 

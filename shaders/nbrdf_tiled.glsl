@@ -195,7 +195,17 @@ float nbrdf_tile_output_raw(int r) { return nbrdf_t_get(NBRDF_T_X, 0, r); }
 shared float nbrdf_s_f32[NBRDF_T_ROWS * (NBRDF_T_XW + NBRDF_T_HW + NBRDF_T_INW)];
 shared float16_t nbrdf_s_f16[NBRDF_T_ROWS * (NBRDF_T_BPT + NBRDF_T_INW + 16) + NBRDF_T_WCH];
 #define NBRDF_C_TPS 4 // 16x16 output tiles per subgroup at most (nbrdf_tiled.h)
+#ifndef NBRDF_COOP_EMU
 fcoopmatNV<32, gl_ScopeSubgroup, 16, 16> nbrdf_cacc[NBRDF_C_TPS];
+#else
+// NBRDF_COOP_EMU (tests only, nbrdf_*_coopemu.spv): the same kernel with the three matrix
+// operations done by plain arithmetic, so that lavapipe checks every offset, stride,
+// padding and pass of the tensor-core kernel. Lane l of a subgroup holds elements
+// l + m * subgroupSize (row-major in the 16 x 16 tile) of each accumulator.
+float nbrdf_cacc[NBRDF_C_TPS][32];
+int nbrdf_e_count() { return 256 / int(gl_SubgroupSize); }
+int nbrdf_e_at(int m) { return int(gl_SubgroupInvocationID) + m * int(gl_SubgroupSize); }
+#endif
 
 const int NBRDF_T_X = 0;
 int nbrdf_t_h() { return NBRDF_T_ROWS * NBRDF_T_XW; }
@@ -212,7 +222,51 @@ float16_t nbrdf_t_half(float v) { return float16_t(clamp(v, -65504.0, 65504.0));
 
 void nbrdf_t_gemm_zero() {
   for (int j = 0; j < NBRDF_C_TPS; j++)
+#ifndef NBRDF_COOP_EMU
     nbrdf_cacc[j] = fcoopmatNV<32, gl_ScopeSubgroup, 16, 16>(0.0);
+#else
+    for (int m = 0; m < 32; m++) nbrdf_cacc[j][m] = 0.0;
+#endif
+}
+
+// coopMatLoadNV / coopMatStoreNV of accumulator j, row-major fp32 at `at`, `stride`.
+void nbrdf_t_acc_load(int j, int at, int stride) {
+#ifndef NBRDF_COOP_EMU
+  coopMatLoadNV(nbrdf_cacc[j], nbrdf_s_f32, uint(at), uint(stride), false);
+#else
+  for (int m = 0; m < nbrdf_e_count(); m++) {
+    int e = nbrdf_e_at(m);
+    nbrdf_cacc[j][m] = nbrdf_s_f32[at + (e >> 4) * stride + (e & 15)];
+  }
+#endif
+}
+void nbrdf_t_acc_store(int j, int at, int stride) {
+#ifndef NBRDF_COOP_EMU
+  coopMatStoreNV(nbrdf_cacc[j], nbrdf_s_f32, uint(at), uint(stride), false);
+#else
+  for (int m = 0; m < nbrdf_e_count(); m++) {
+    int e = nbrdf_e_at(m);
+    nbrdf_s_f32[at + (e >> 4) * stride + (e & 15)] = nbrdf_cacc[j][m];
+  }
+#endif
+}
+// acc j += A B: A 16 x 16 fp16 row-major at `a` (stride as), B 16 x 16 fp16 column-major
+// at `b` (stride bs).
+void nbrdf_t_acc_mma(int j, int a, int as, int b, int bs) {
+#ifndef NBRDF_COOP_EMU
+  fcoopmatNV<16, gl_ScopeSubgroup, 16, 16> ma, mb;
+  coopMatLoadNV(ma, nbrdf_s_f16, uint(a), uint(as), false);
+  coopMatLoadNV(mb, nbrdf_s_f16, uint(b), uint(bs), true);
+  nbrdf_cacc[j] = coopMatMulAddNV(ma, mb, nbrdf_cacc[j]);
+#else
+  for (int m = 0; m < nbrdf_e_count(); m++) {
+    int e = nbrdf_e_at(m), row = e >> 4, col = e & 15;
+    float s = 0.0;
+    for (int k = 0; k < 16; k++)
+      s += float(nbrdf_s_f16[a + row * as + k]) * float(nbrdf_s_f16[b + col * bs + k]);
+    nbrdf_cacc[j][m] += s;
+  }
+#endif
 }
 
 int nbrdf_t_tiles(int N) { return (NBRDF_T_ROWS / 16) * (((N + 15) & ~15) / 16); }
@@ -224,8 +278,7 @@ void nbrdf_t_gemm_load(int dst, int N) {
     int t = int(gl_SubgroupID) + j * int(gl_NumSubgroups);
     if (t < tiles) {
       int mt = t % mtn, nt16 = t / mtn;
-      coopMatLoadNV(nbrdf_cacc[j], nbrdf_s_f32, uint(dst + mt * 16 * stride + nt16 * 16),
-                    uint(stride), false);
+      nbrdf_t_acc_load(j, dst + mt * 16 * stride + nt16 * 16, stride);
     }
   }
 }
@@ -250,11 +303,8 @@ void nbrdf_t_gemm16(uint w, int srca, int astride, int K, int N) {
       if (t < tiles) {
         int mt = t % mtn, nt16 = t / mtn;
         for (int kt = 0; kt < kn; kt += 16) {
-          fcoopmatNV<16, gl_ScopeSubgroup, 16, 16> a, b;
-          coopMatLoadNV(a, nbrdf_s_f16, uint(srca + mt * 16 * astride + k0 + kt), uint(astride),
-                        false);
-          coopMatLoadNV(b, nbrdf_s_f16, uint(wh + nt16 * 16 * kn + kt), uint(kn), true);
-          nbrdf_cacc[j] = coopMatMulAddNV(a, b, nbrdf_cacc[j]);
+          nbrdf_t_acc_mma(j, srca + mt * 16 * astride + k0 + kt, astride,
+                          wh + nt16 * 16 * kn + kt, kn);
         }
       }
     }
@@ -275,14 +325,19 @@ void nbrdf_t_gemm_store(int dst, int N, bool add) {
     int t = int(gl_SubgroupID) + j * int(gl_NumSubgroups);
     if (t < tiles) {
       int mt = t % mtn, nt16 = t / mtn;
-      coopMatStoreNV(nbrdf_cacc[j], nbrdf_s_f32, uint(dst + mt * 16 * stride + nt16 * 16),
-                     uint(stride), false);
+      nbrdf_t_acc_store(j, dst + mt * 16 * stride + nt16 * 16, stride);
     }
   }
   barrier();
 }
 
-// Four invocations per row (columns q, q + 4, ...), sums over the 4 with clustered adds.
+// Sum over the quad (4 consecutive invocations of a subgroup): the same value in all 4.
+float nbrdf_t_sum4(float x) {
+  x += subgroupQuadSwapHorizontal(x);
+  return x + subgroupQuadSwapVertical(x);
+}
+
+// Four invocations per row (columns q, q + 4, ...: a quad), sums over the 4 by quad swaps.
 void nbrdf_t_post(uint base, int buf, int N, uint bias, int add, uint g, uint be, int mode) {
   int tid = nbrdf_t_tid(), nt = nbrdf_t_threads();
   int stride = nbrdf_t_stride(buf), np = (N + 15) & ~15;
@@ -298,13 +353,13 @@ void nbrdf_t_post(uint base, int buf, int N, uint bias, int add, uint g, uint be
     }
     float mean = 0.0, rs = 1.0;
     if ((mode & NBRDF_T_LN) != 0) {
-      mean = subgroupClusteredAdd(sum, 4u) / float(N);
+      mean = nbrdf_t_sum4(sum) / float(N);
       float ss = 0.0;
       for (int c = q; c < N; c += 4) {
         float d = nbrdf_s_f32[at + c] - mean;
         ss += d * d;
       }
-      rs = 1.0 / sqrt(subgroupClusteredAdd(ss, 4u) / float(N) + 1e-5);
+      rs = 1.0 / sqrt(nbrdf_t_sum4(ss) / float(N) + 1e-5);
     }
     for (int c = q; c < N; c += 4) {
       float v = nbrdf_s_f32[at + c];

@@ -54,15 +54,16 @@ static inline int fixture_run_decoder(vkh *vk, const uint32_t *words, size_t n_w
   return rc;
 }
 
-/* The same with a tiled kernel: nbrdf_decode_tiled.spv (coop = 0) or the tensor-core
- * nbrdf_decode_coop.spv (coop = 1), tile sized for this device (shaders/nbrdf_tiled.h). */
+/* The same with a tiled kernel: nbrdf_decode_tiled.spv (coop = 0), the tensor-core
+ * nbrdf_decode_coop.spv (coop = 1) or its emulation nbrdf_decode_coopemu.spv (coop = 2),
+ * tile sized for this device (shaders/nbrdf_tiled.h). -2 when no tile fits the device. */
 static inline int fixture_run_tiled(vkh *vk, const uint32_t *words, size_t n_words,
                                     const float *queries, size_t n, float *out, int coop,
                                     nbrdf_tile_config *used) {
   int dim = (int)words[NBRDF_GPU_W_LATENT_DIM];
   nbrdf_tile_config cfg;
-  if (nbrdf_tile_config_make(words, vkh_max_shared(vk), vkh_max_invocations(vk), coop, &cfg))
-    return -1;
+  if (nbrdf_tile_config_make(words, vkh_max_shared(vk), vkh_max_invocations(vk), coop != 0, &cfg))
+    return -2; /* no tile fits this device's shared memory */
   if (used) *used = cfg;
   vkh_buffer wb, qb, ob;
   vkh_kernel k;
@@ -70,8 +71,11 @@ static inline int fixture_run_tiled(vkh *vk, const uint32_t *words, size_t n_wor
   if (!rc) rc = vkh_buffer_create(vk, n * (6 + dim) * sizeof(float), &qb);
   if (!rc) rc = vkh_buffer_create(vk, n * 2 * sizeof(float), &ob);
   if (!rc)
-    rc = vkh_kernel_create(vk, coop ? "nbrdf_decode_coop.spv" : "nbrdf_decode_tiled.spv", 3, 4, 7,
-                           cfg.spec, &k);
+    rc = vkh_kernel_create(vk,
+                           coop == 2   ? "nbrdf_decode_coopemu.spv"
+                           : coop == 1 ? "nbrdf_decode_coop.spv"
+                                       : "nbrdf_decode_tiled.spv",
+                           3, 4, 7, cfg.spec, &k);
   if (rc) return -1;
   memcpy(wb.map, words, n_words * 4);
   memcpy(qb.map, queries, n * (6 + dim) * sizeof(float));

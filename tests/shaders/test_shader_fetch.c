@@ -4,7 +4,8 @@
  * shading kernel (shaders/nbrdf_shade.comp: fetch + decode per colour + proxy pdf) against
  * texture_latent_fetch + nbrdf_model_decode + nbrdf_proxy_pdf on an untrained bundle, for
  * the per-invocation kernel, the tiled fp32 one (within 1e-5) and, where the device has
- * tensor cores (not lavapipe: skipped with a message), the fp16 cooperative-matrix one.
+ * tensor cores (not lavapipe: skipped with a message), the fp16 cooperative-matrix one, and
+ * that kernel with its matrix operations emulated (nbrdf_shade_coopemu.spv, lavapipe).
  *
  * Tolerances: the fetch does the C code's float operations in its order (`precise`), so
  * texels agree within 2e-6 absolute (values in [-2, 2]); shading within the decoder's 1e-4
@@ -184,21 +185,26 @@ static void test_shade(void) {
   if (!rc) rc = vkh_buffer_create(vk, 36 * n, &qb);
   if (!rc) rc = vkh_buffer_create(vk, 16 * n, &rb);
   CHECK_MSG(rc == 0, "buffers: %s", vkh_error(vk));
-  for (int kind = 0; kind < 3 && !rc; kind++) {
-    const char *names[3] = {"nbrdf_shade.spv", "nbrdf_shade_tiled.spv", "nbrdf_shade_coop.spv"};
+  for (int kind = 0; kind < 4 && !rc; kind++) {
+    const char *names[4] = {"nbrdf_shade.spv", "nbrdf_shade_tiled.spv", "nbrdf_shade_coop.spv",
+                            "nbrdf_shade_coopemu.spv"};
     /* fp32: the tiled kernel sums each output in input order like the per-invocation one;
      * fp16 tensor cores: inputs and weights rounded to 11 bits (docs/SHADERS.md). */
-    const double tol[3] = {1e-4, 1e-5, 5e-2};
+    const double tol[4] = {1e-4, 1e-5, 0.25, 0.25};
     if (kind == 2 && !vkh_has_coop(vk)) {
       printf("  nbrdf_shade_coop.spv skipped: %s has no VK_NV_cooperative_matrix (fp16 16x16x16)\n",
              vkh_device_name(vk));
+      continue;
+    }
+    if (kind == 3 && !vkh_has_f16(vk)) {
+      printf("  nbrdf_shade_coopemu.spv skipped: no shaderFloat16 / quad operations\n");
       continue;
     }
     uint32_t spec[7] = {wwords[NBRDF_GPU_W_MAX_WIDTH]};
     uint32_t rows = 64, per = 1, n_spec = 1;
     nbrdf_tile_config cfg = {{0}, 64, 64, 0};
     if (kind > 0) {
-      CHECK(nbrdf_tile_config_make(wwords, vkh_max_shared(vk), vkh_max_invocations(vk), kind == 2,
+      CHECK(nbrdf_tile_config_make(wwords, vkh_max_shared(vk), vkh_max_invocations(vk), kind >= 2,
                                    &cfg) == 0);
       memcpy(spec, cfg.spec, sizeof cfg.spec);
       rows = cfg.rows, per = 3, n_spec = 7;

@@ -3,14 +3,18 @@
  * octaves, both output transforms, skip connections, a compact decoder, the shipped
  * models/medium and models/default), and the fp16 tensor-core kernel nbrdf_decode_coop.spv
  * where the device has VK_NV_cooperative_matrix (skipped with a message elsewhere: lavapipe
- * cannot load its SPIR-V).
+ * cannot load its SPIR-V), and that kernel with its three matrix operations emulated in
+ * plain arithmetic (nbrdf_decode_coopemu.spv: the tensor-core kernel's tiles, strides,
+ * padding, fp16 rounding and passes, on lavapipe).
  *
  * Tolerance of the fp32 kernel: raw output o within 1e-5 (1 + |o|) and f within
  * 1e-5 (1 + f) (the C side sums in sgemm's blocked order, the shader in input order);
  * 5e-5 with 4 or 6 frequency octaves, where both shaders inherit the encoding's float
  * error: sin(2^k pi x) amplifies the rounding of x by 2^k pi (test_shader_decoder.c;
- * measured 1.1e-5 and 2.3e-5 here). No shipped decoder uses more than 1 octave. fp16 kernel: |log(1 + f) - log(1 + f_C)| <= 0.05, a guard
- * against a wrong kernel, not a precision claim (bench_shader measures its error). */
+ * measured 1.1e-5 and 2.3e-5 here). No shipped decoder uses more than 1 octave.
+ * fp16 kernels (tensor cores, emulated): median |log(1 + f) - log(1 + f_C)| <= 0.02 and every query within 0.25: a
+ * guard against a wrong kernel (which is off by O(1)), not a precision claim
+ * (bench_shader measures its error). */
 #include "testing.h"
 
 #ifdef NBRDF_HAVE_VULKAN
@@ -23,6 +27,11 @@
 #include "shader_fixture.h"
 
 static vkh *vk;
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y;
+}
 
 /* Random queries (a quarter grazing) and the C reference of `dec` on them, then the tiled
  * kernel(s); prints the errors. */
@@ -52,23 +61,36 @@ static void check_decoder(const char *label, const model_decoder *dec, size_t n,
   nn_workspace *ws = NULL;
   CHECK_OK(nn_workspace_create(dec->nn, 1024, NBRDF_NN_INFER, &ws, &err), &err);
   CHECK_OK(nn_forward(dec->nn, ws, x, (int)n, raw, &err), &err);
-  for (int coop = 0; coop < 2; coop++) {
-    if (coop && !vkh_has_coop(vk)) {
+  for (int coop = 0; coop < 3; coop++) {
+    if (coop == 1 && !vkh_has_coop(vk)) {
       printf("  %-34s nbrdf_decode_coop.spv skipped (no VK_NV_cooperative_matrix)\n", label);
+      continue;
+    }
+    if (coop == 2 && !vkh_has_f16(vk)) {
+      printf("  %-34s nbrdf_decode_coopemu.spv skipped (no shaderFloat16 / quad operations)\n",
+             label);
       continue;
     }
     nbrdf_tile_config cfg = {{0}, 0, 0, 0};
     int rc = fixture_run_tiled(vk, words, nw, q, n, gpu, coop, &cfg);
-    CHECK_MSG(rc == 0, "%s (%s): %s", label, coop ? "coop" : "tiled", vkh_error(vk));
+    if (rc == -2) {
+      printf("  %-34s %s: no tile fits %u B of shared memory (skipped)\n", label,
+             coop == 2 ? "emu  " : coop ? "coop " : "tiled", vkh_max_shared(vk));
+      CHECK_MSG(coop != 0, "%s: the fp32 tile must fit every device", label);
+      continue;
+    }
+    CHECK_MSG(rc == 0, "%s (%s): %s", label, coop == 2 ? "emu" : coop ? "coop" : "tiled",
+              vkh_error(vk));
     if (rc) continue;
-    double worst_f = 0, worst_o = 0, worst_l = 0;
+    double worst_f = 0, worst_o = 0, worst_l = 0, *logs = malloc(sizeof(double) * n);
     size_t bad = 0, positive = 0;
     for (size_t k = 0; k < n; k++) {
       double f = model_output_to_f(dec->cfg.output, raw[k]);
       double ef = fabs(gpu[2 * k] - f) / (1.0 + fabs(f));
       double eo = fabs(gpu[2 * k + 1] - raw[k]) / (1.0 + fabs(raw[k]));
       double el = fabs(log1p(fmax(gpu[2 * k], 0.0)) - log1p(fmax(f, 0.0)));
-      int ok = coop ? el <= 0.05 : ef <= tol && eo <= tol;
+      int ok = coop ? el <= 0.25 : ef <= tol && eo <= tol;
+      if (coop) logs[k] = el != el ? 1e30 : el;
       if (!ok && bad++ < 3)
         printf("    query %zu: f %.9g vs %.9g, o %.9g vs %.9g\n", k, gpu[2 * k], f, gpu[2 * k + 1],
                raw[k]);
@@ -77,10 +99,20 @@ static void check_decoder(const char *label, const model_decoder *dec, size_t n,
       if (!(el <= worst_l)) worst_l = el;
       positive += fabsf(raw[k]) > 1e-3f;
     }
+    double median = 0;
+    if (coop) {
+      qsort(logs, n, sizeof(double), cmp_double);
+      median = logs[n / 2];
+    }
+    free(logs);
     printf("  %-34s %s %3u rows x %3u threads, %5u B shared: %zu queries, max error f %.2e, raw "
-           "%.2e, log1p f %.2e\n",
-           label, coop ? "coop " : "tiled", cfg.rows, cfg.threads, cfg.shared_bytes, n, worst_f,
+           "%.2e, log1p f %.2e",
+           label, coop == 2 ? "emu  " : coop ? "coop " : "tiled", cfg.rows, cfg.threads, cfg.shared_bytes, n, worst_f,
            worst_o, worst_l);
+    if (coop) printf(" (median %.2e)", median);
+    printf("\n");
+    if (coop)
+      CHECK_MSG(median <= 0.02, "%s (coop): median log1p error %.3g > 0.02", label, median);
     CHECK_MSG(bad == 0, "%s (%s): %zu of %zu queries beyond the tolerance", label,
               coop ? "coop" : "tiled", bad, n);
     CHECK_MSG(positive > n / 10, "%s: only %zu of %zu raw outputs away from 0", label, positive, n);

@@ -38,6 +38,7 @@ struct vkh {
   VkFence fence;
   VkQueryPool timestamps; /* 2 queries, when the queue family has timestamps */
   uint32_t subgroup_size;
+  int f16;  /* shaderFloat16 enabled, quad subgroup operations: the emulated kernels run */
   int coop; /* VK_NV_cooperative_matrix enabled with a 16x16x16 fp16/fp32 subgroup shape */
   char msg[512];
 };
@@ -58,6 +59,7 @@ uint32_t vkh_max_invocations(const vkh *ctx) {
 }
 uint32_t vkh_subgroup_size(const vkh *ctx) { return ctx->subgroup_size; }
 int vkh_has_coop(const vkh *ctx) { return ctx->coop; }
+int vkh_has_f16(const vkh *ctx) { return ctx->f16; }
 int vkh_device_is_cpu(const vkh *ctx) {
   return ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
 }
@@ -108,6 +110,26 @@ static int has_extension(const vkh *ctx, const char *name) {
   return found;
 }
 
+/* shaderFloat16 (VK_KHR_shader_float16_int8) and quad subgroup operations: what the
+ * emulated tensor-core kernels (nbrdf_*_coopemu.spv) need. */
+static int f16_capable(vkh *ctx) {
+  VkPhysicalDeviceSubgroupProperties sub = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  p2.pNext = &sub;
+  vkGetPhysicalDeviceProperties2(ctx->physical, &p2);
+  if (!has_extension(ctx, VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME) ||
+      !(sub.supportedOperations & VK_SUBGROUP_FEATURE_QUAD_BIT) || sub.subgroupSize < 8 ||
+      sub.subgroupSize > 64)
+    return 0;
+  VkPhysicalDeviceShaderFloat16Int8FeaturesKHR f16 = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES_KHR};
+  VkPhysicalDeviceFeatures2 f2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2.pNext = &f16;
+  vkGetPhysicalDeviceFeatures2(ctx->physical, &f2);
+  return f16.shaderFloat16 == VK_TRUE;
+}
+
 /* Subgroup size, and whether the tensor-core kernels (nbrdf_*_coop.spv) can run: the
  * extensions, the features and a 16x16x16 fp16 x fp16 + fp32 subgroup shape.
  * NBRDF_VK_NO_COOP=1 pretends they cannot (to compare on one device). */
@@ -120,7 +142,7 @@ static int coop_capable(vkh *ctx) {
   ctx->subgroup_size = sub.subgroupSize;
   const char *off = getenv("NBRDF_VK_NO_COOP");
   if ((off && *off && strcmp(off, "0")) || sub.subgroupSize != 32 ||
-      !(sub.supportedOperations & VK_SUBGROUP_FEATURE_CLUSTERED_BIT) ||
+      !(sub.supportedOperations & VK_SUBGROUP_FEATURE_QUAD_BIT) ||
       !has_extension(ctx, VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME) ||
       !has_extension(ctx, VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME) ||
       !has_extension(ctx, VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME))
@@ -191,8 +213,8 @@ int vkh_open(vkh **out, char *msg, size_t msg_size) {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_MEMORY_MODEL_FEATURES_KHR};
     VkPhysicalDeviceFeatures2 feats = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     if (coop_capable(ctx)) {
-      exts[0] = VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME;
-      exts[1] = VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME;
+      exts[0] = VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME;
+      exts[1] = VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME;
       exts[2] = VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME;
       coop.cooperativeMatrix = VK_TRUE;
       f16.shaderFloat16 = VK_TRUE;
@@ -203,7 +225,15 @@ int vkh_open(vkh **out, char *msg, size_t msg_size) {
       dci.pNext = &feats;
       dci.enabledExtensionCount = 3;
       dci.ppEnabledExtensionNames = exts;
-      ctx->coop = 1;
+      ctx->coop = ctx->f16 = 1;
+    } else if (f16_capable(ctx)) {
+      exts[0] = VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME;
+      f16.shaderFloat16 = VK_TRUE;
+      feats.pNext = &f16;
+      dci.pNext = &feats;
+      dci.enabledExtensionCount = 1;
+      dci.ppEnabledExtensionNames = exts;
+      ctx->f16 = 1;
     }
     if (vkCreateDevice(ctx->physical, &dci, NULL, &ctx->device) != VK_SUCCESS)
       rc = fail(ctx, "vkCreateDevice failed on %s", ctx->props.deviceName);

@@ -48,6 +48,9 @@ uint32_t vkh_max_shared(const vkh *ctx);
 uint32_t vkh_max_invocations(const vkh *ctx);
 uint32_t vkh_subgroup_size(const vkh *ctx);
 int vkh_has_coop(const vkh *ctx);
+/* shaderFloat16 enabled and quad subgroup operations: the emulated tensor-core kernels
+ * (nbrdf_*_coopemu.spv, tests only) can run (lavapipe can). */
+int vkh_has_f16(const vkh *ctx);
 /* The last failure's message. */
 const char *vkh_error(const vkh *ctx);
 
