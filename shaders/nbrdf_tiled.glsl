@@ -58,9 +58,10 @@ const int NBRDF_T_LN = 1, NBRDF_T_RELU = 2;
 // consecutive addresses. Buffers: X (block input/output, in place) at 0, H (a residual
 // block's hidden layer) at ROWS * XW, IN (the network input, kept for skips) after H.
 shared vec4 nbrdf_s_act[NBRDF_T_ROWS * (NBRDF_T_XW + NBRDF_T_HW + NBRDF_T_INW) / 4];
-// One K-chunk of a layer's weights, [output][k] with an odd row stride (no bank conflicts
-// between the 2 output blocks a subgroup of 32 touches).
-shared float nbrdf_s_w[NBRDF_T_WCH];
+// One K-chunk of a layer's weights, transposed: [k][output], a vec4 = the 4 outputs of a
+// block (one load for the 4 x 4 block's 16 FMAs); row stride np + 4 when np is a multiple
+// of 8, so that the staging stores (consecutive k) hit 8 banks, not 1.
+shared vec4 nbrdf_s_w[NBRDF_T_WCH / 4];
 // Accumulators: block j of this invocation, row q: nbrdf_acc[4 j + q] = 4 outputs.
 vec4 nbrdf_acc[NBRDF_T_BPT * 4];
 
@@ -84,28 +85,27 @@ void nbrdf_t_gemm_zero() {
 // acc += src[rows x K] W^T, W row-major [N x K] at word `w` of the weights buffer.
 void nbrdf_t_gemm(uint w, int src, int K, int N) {
   int tid = nbrdf_t_tid(), nt = nbrdf_t_threads();
-  int np = (N + 3) & ~3;
-  int kc = max(1, min(K, NBRDF_T_WCH / np - 1));
+  int np = (N + 3) & ~3, npp = (np & 7) == 0 ? np + 4 : np;
+  int kc = max(1, min(K, (NBRDF_T_WCH & ~3) / npp));
   int rbn = NBRDF_T_ROWS / 4, nb = rbn * (np / 4);
   for (int k0 = 0; k0 < K; k0 += kc) {
-    int kn = min(kc, K - k0), kcs = kn | 1;
+    int kn = min(kc, K - k0);
     barrier(); // the previous chunk's readers are done
-    for (int i = tid; i < np * kn; i += nt) {
-      int n = i / kn, kk = i - n * kn;
-      nbrdf_s_w[n * kcs + kk] = n < N ? nbrdf_wf(w + uint(n * K + k0 + kk)) : 0.0;
+    for (int i = tid; i < np * kn; i += nt) { // consecutive k: coalesced reads of W's rows
+      int n = i / kn, kk = i - n * kn, at = kk * npp + n;
+      nbrdf_s_w[at >> 2][at & 3] = n < N ? nbrdf_wf(w + uint(n * K + k0 + kk)) : 0.0;
     }
     barrier();
     for (int j = 0; j < NBRDF_T_BPT; j++) {
       int b = tid + j * nt;
       if (b < nb) {
         int rb = b % rbn, cb = b / rbn;
-        int a = (src + k0 * NBRDF_T_ROWS) / 4 + rb, wp = 4 * cb * kcs;
+        int a = (src + k0 * NBRDF_T_ROWS) / 4 + rb;
         vec4 c0 = nbrdf_acc[4 * j], c1 = nbrdf_acc[4 * j + 1], c2 = nbrdf_acc[4 * j + 2],
              c3 = nbrdf_acc[4 * j + 3];
         for (int kk = 0; kk < kn; kk++) {
           vec4 x = nbrdf_s_act[a + kk * (NBRDF_T_ROWS / 4)];
-          vec4 wv = vec4(nbrdf_s_w[wp + kk], nbrdf_s_w[wp + kcs + kk],
-                         nbrdf_s_w[wp + 2 * kcs + kk], nbrdf_s_w[wp + 3 * kcs + kk]);
+          vec4 wv = nbrdf_s_w[cb + kk * (npp / 4)];
           c0 += x.x * wv;
           c1 += x.y * wv;
           c2 += x.z * wv;

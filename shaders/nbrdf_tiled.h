@@ -53,8 +53,10 @@ static inline int nbrdf_tile_config_make(const uint32_t *words, uint32_t max_sha
     for (int t = 0; t < 6; t++) {
       uint32_t T = tiles[t], act = T * (XW + HW + INW);
       if (4 * act >= max_shared) continue;
-      uint32_t room = max_shared / 4 - act, full = np * ((kmax | 1u) + 1u);
-      uint32_t need = np * (kmax + 2 < 18 ? kmax + 2 : 18);
+      /* weights [k][npp]: npp = np + 4 where np is a multiple of 8 (nbrdf_tiled.glsl) */
+      uint32_t npp = np % 8 == 0 ? np + 4 : np;
+      uint32_t room = (max_shared / 4 - act) & ~3u, full = npp * kmax;
+      uint32_t need = npp * (kmax < 16 ? kmax : 16);
       uint32_t wch = room < full ? room : full;
       if (wch < need) continue;
       uint32_t threads = 2 * T < 64 ? 64 : 2 * T;
