@@ -74,7 +74,8 @@ static texture_latent_image *make_texture(int dim, int colours, unsigned seed) {
 static void pack_texture(vkh *vk, const texture_latent_image *img, int colours, vkh_buffer *b) {
   nbrdf_error err = {0};
   const float *data[TEXTURE_LATENT_MAX_LEVELS];
-  for (int l = 0; l < img->levels; l++) data[l] = img->data[l];
+  for (int l = 0; l < img->levels; l++)
+    data[l] = img->data[l];
   size_t n = 0;
   if (nbrdf_gpu_pack_latents(img->levels, img->width, img->height, img->channels,
                              img->layout.latent_dim, colours, 1, data, NULL, 0, &n, &err))
@@ -202,7 +203,8 @@ int main(int argc, char **argv) {
   /* The sample the errors are measured on. */
   size_t S = P < (quick ? 2048u : 16384u) ? P : (quick ? 2048u : 16384u);
   size_t *pix = malloc(sizeof(size_t) * S);
-  for (size_t i = 0; i < S; i++) pix[i] = i * (P / S);
+  for (size_t i = 0; i < S; i++)
+    pix[i] = i * (P / S);
 
   printf("frame: %zu pixels%s; %d timed dispatches after a warm-up; errors on %zu pixels x 3 "
          "channels\n\n",

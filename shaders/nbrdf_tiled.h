@@ -45,7 +45,8 @@ static inline int nbrdf_tile_config_make(const uint32_t *words, uint32_t max_sha
     }
     if (r[4] != 0xffffffffu) keep = 1;
   }
-  for (int i = 0; i < 7; i++) c->spec[i] = 0;
+  for (int i = 0; i < 7; i++)
+    c->spec[i] = 0;
   if (!coop) {
     const uint32_t tiles[6] = {128, 64, 32, 16, 8, 4};
     uint32_t XW = nbrdf_tile_round_(xw, 4), HW = nbrdf_tile_round_(hw, 4);
@@ -82,7 +83,8 @@ static inline int nbrdf_tile_config_make(const uint32_t *words, uint32_t max_sha
     uint32_t wch = room < full ? room : full;
     if (wch < np * 16) continue;
     uint32_t ntiles = (T / 16) * (np / 16), sg = (ntiles + 3) / 4, threads = 128;
-    while (threads < 32 * sg) threads *= 2;
+    while (threads < 32 * sg)
+      threads *= 2;
     if (threads > max_threads) continue;
     c->spec[0] = XS, c->spec[1] = threads, c->spec[2] = T, c->spec[3] = HS;
     c->spec[4] = INW, c->spec[5] = wch, c->spec[6] = AS;

@@ -12,8 +12,8 @@
  * 5e-5 with 4 or 6 frequency octaves, where both shaders inherit the encoding's float
  * error: sin(2^k pi x) amplifies the rounding of x by 2^k pi (test_shader_decoder.c;
  * measured 1.1e-5 and 2.3e-5 here). No shipped decoder uses more than 1 octave.
- * fp16 kernels (tensor cores, emulated): median |log(1 + f) - log(1 + f_C)| <= 0.02 and every query within 0.25: a
- * guard against a wrong kernel (which is off by O(1)), not a precision claim
+ * fp16 kernels (tensor cores, emulated): median |log(1 + f) - log(1 + f_C)| <= 0.02 and every query
+ * within 0.25: a guard against a wrong kernel (which is off by O(1)), not a precision claim
  * (bench_shader measures its error). */
 #include "testing.h"
 
@@ -51,7 +51,8 @@ static void check_decoder(const char *label, const model_decoder *dec, size_t n,
   for (size_t k = 0; k < n; k++) {
     fixture_direction(&rng, wi + 3 * k);
     fixture_direction(&rng, wo + 3 * k);
-    for (int i = 0; i < dim; i++) lat[k * dim + i] = (float)(3.0 * core_rng_uniform(&rng) - 1.5);
+    for (int i = 0; i < dim; i++)
+      lat[k * dim + i] = (float)(3.0 * core_rng_uniform(&rng) - 1.5);
     float *row = q + k * (6 + dim);
     memcpy(row, wi + 3 * k, 12);
     memcpy(row + 3, wo + 3 * k, 12);
@@ -75,11 +76,17 @@ static void check_decoder(const char *label, const model_decoder *dec, size_t n,
     int rc = fixture_run_tiled(vk, words, nw, q, n, gpu, coop, &cfg);
     if (rc == -2) {
       printf("  %-34s %s: no tile fits %u B of shared memory (skipped)\n", label,
-             coop == 2 ? "emu  " : coop ? "coop " : "tiled", vkh_max_shared(vk));
+             coop == 2 ? "emu  "
+             : coop    ? "coop "
+                       : "tiled",
+             vkh_max_shared(vk));
       CHECK_MSG(coop != 0, "%s: the fp32 tile must fit every device", label);
       continue;
     }
-    CHECK_MSG(rc == 0, "%s (%s): %s", label, coop == 2 ? "emu" : coop ? "coop" : "tiled",
+    CHECK_MSG(rc == 0, "%s (%s): %s", label,
+              coop == 2 ? "emu"
+              : coop    ? "coop"
+                        : "tiled",
               vkh_error(vk));
     if (rc) continue;
     double worst_f = 0, worst_o = 0, worst_l = 0, *logs = malloc(sizeof(double) * n);
@@ -107,12 +114,14 @@ static void check_decoder(const char *label, const model_decoder *dec, size_t n,
     free(logs);
     printf("  %-34s %s %3u rows x %3u threads, %5u B shared: %zu queries, max error f %.2e, raw "
            "%.2e, log1p f %.2e",
-           label, coop == 2 ? "emu  " : coop ? "coop " : "tiled", cfg.rows, cfg.threads, cfg.shared_bytes, n, worst_f,
-           worst_o, worst_l);
+           label,
+           coop == 2 ? "emu  "
+           : coop    ? "coop "
+                     : "tiled",
+           cfg.rows, cfg.threads, cfg.shared_bytes, n, worst_f, worst_o, worst_l);
     if (coop) printf(" (median %.2e)", median);
     printf("\n");
-    if (coop)
-      CHECK_MSG(median <= 0.02, "%s (coop): median log1p error %.3g > 0.02", label, median);
+    if (coop) CHECK_MSG(median <= 0.02, "%s (coop): median log1p error %.3g > 0.02", label, median);
     CHECK_MSG(bad == 0, "%s (%s): %zu of %zu queries beyond the tolerance", label,
               coop ? "coop" : "tiled", bad, n);
     CHECK_MSG(positive > n / 10, "%s: only %zu of %zu raw outputs away from 0", label, positive, n);
@@ -150,10 +159,11 @@ static void test_encodings_and_outputs(void) {
     model_output output;
     const char *label;
     double tol;
-  } cases[] = {{MODEL_ENCODING_HALFDIFF, 4, MODEL_OUTPUT_LOG1P, "halfdiff, 4 octaves, log1p", 5e-5},
-               {MODEL_ENCODING_HALFDIFF, 6, MODEL_OUTPUT_F, "halfdiff, 6 octaves, f", 5e-5},
-               {MODEL_ENCODING_CARTESIAN, 2, MODEL_OUTPUT_LOG1P, "cartesian, 2 octaves, log1p", 1e-5},
-               {MODEL_ENCODING_CARTESIAN, 0, MODEL_OUTPUT_F, "cartesian, f", 1e-5}};
+  } cases[] = {
+      {MODEL_ENCODING_HALFDIFF, 4, MODEL_OUTPUT_LOG1P, "halfdiff, 4 octaves, log1p", 5e-5},
+      {MODEL_ENCODING_HALFDIFF, 6, MODEL_OUTPUT_F, "halfdiff, 6 octaves, f", 5e-5},
+      {MODEL_ENCODING_CARTESIAN, 2, MODEL_OUTPUT_LOG1P, "cartesian, 2 octaves, log1p", 1e-5},
+      {MODEL_ENCODING_CARTESIAN, 0, MODEL_OUTPUT_F, "cartesian, f", 1e-5}};
   for (int c = 0; c < 4; c++) {
     model_decoder_config cfg;
     nbrdf_error err = {0};
