@@ -221,10 +221,14 @@ int main(int argc, char **argv) {
     int64_t macs = model_decoder_macs(dec);
     size_t nw = 0;
     model_gpu_pack_decoder(dec, NULL, 0, &nw, &err);
-    vkh_buffer wb, lrgb, lmono;
+    vkh_buffer wb, wb16, lrgb, lmono;
     if (vkh_buffer_create(vk, nw * 4, &wb)) die("buffer", vkh_error(vk));
     if (model_gpu_pack_decoder(dec, wb.map, nw, NULL, &err)) die(rows[p].label, err.message);
     const uint32_t *words = wb.map;
+    /* the fp16 kernels' buffer: the words and the weights' fp16 copy (nbrdf_tiled.h) */
+    if (vkh_buffer_create(vk, nbrdf_tile_f16_words(words, nw) * 4, &wb16))
+      die("buffer", vkh_error(vk));
+    nbrdf_tile_f16_pack(words, nw, wb16.map);
     texture_latent_image *rgb = make_texture(dim, 3, 777u + (unsigned)p);
     texture_latent_image *mono = make_texture(dim, 1, 999u + (unsigned)p);
     pack_texture(vk, rgb, 3, &lrgb);
@@ -286,7 +290,7 @@ int main(int argc, char **argv) {
       int failed = 0;
       for (int tex = 0; tex < 2 && !failed; tex++) {
         int colours = tex == 0 ? 3 : 1;
-        vkh_buffer *bind[4] = {&wb, tex == 0 ? &lrgb : &lmono, &qb, &rb};
+        vkh_buffer *bind[4] = {kind >= 2 ? &wb16 : &wb, tex == 0 ? &lrgb : &lmono, &qb, &rb};
         vkh_kernel_bind(vk, &k, bind);
         uint32_t n = (uint32_t)P;
         uint64_t work = tiled ? (uint64_t)P * colours : P;
@@ -313,7 +317,8 @@ int main(int argc, char **argv) {
     }
     free(lat), free(wi), free(wo), free(ref), free(texel);
     texture_latent_image_free(rgb), texture_latent_image_free(mono);
-    vkh_buffer_destroy(vk, &wb), vkh_buffer_destroy(vk, &lrgb), vkh_buffer_destroy(vk, &lmono);
+    vkh_buffer_destroy(vk, &wb), vkh_buffer_destroy(vk, &wb16);
+    vkh_buffer_destroy(vk, &lrgb), vkh_buffer_destroy(vk, &lmono);
     model_decoder_destroy(dec);
   }
   printf("\ntimes from %s\n", timestamps ? "GPU timestamps (vkCmdWriteTimestamp x timestampPeriod)"

@@ -83,7 +83,7 @@ void nbrdf_t_gemm_zero() {
 }
 
 // acc += src[rows x K] W^T, W row-major [N x K] at word `w` of the weights buffer.
-void nbrdf_t_gemm(uint w, int src, int K, int N) {
+void nbrdf_t_gemm(uint w, uint wh, int src, int K, int N) {
   int tid = nbrdf_t_tid(), nt = nbrdf_t_threads();
   int np = (N + 3) & ~3, npp = (np & 7) == 0 ? np + 4 : np;
   int kc = max(1, min(K, (NBRDF_T_WCH & ~3) / npp));
@@ -216,7 +216,6 @@ int nbrdf_t_stride(int buf) {
 const int NBRDF_T_AH = 0;
 int nbrdf_t_inh() { return NBRDF_T_ROWS * NBRDF_T_BPT; }
 int nbrdf_t_inh_stride() { return NBRDF_T_INW + 16; }
-int nbrdf_t_wh() { return NBRDF_T_ROWS * (NBRDF_T_BPT + NBRDF_T_INW + 16); }
 
 float16_t nbrdf_t_half(float v) { return float16_t(clamp(v, -65504.0, 65504.0)); }
 
@@ -250,24 +249,37 @@ void nbrdf_t_acc_store(int j, int at, int stride) {
   }
 #endif
 }
-// acc j += A B: A 16 x 16 fp16 row-major at `a` (stride as), B 16 x 16 fp16 column-major
-// at `b` (stride bs).
-void nbrdf_t_acc_mma(int j, int a, int as, int b, int bs) {
+// acc j += A B: A 16 x 16 fp16 row-major in shared memory at `a` (stride as), loaded once
+// by nbrdf_t_a_load for every tile of the subgroup that shares it; B 16 x 16 fp16
+// column-major in the weights buffer (the host's fp16 copy, nbrdf_tile_f16_pack): column
+// n of B = row n of W, from word `b`, `bs` words (2 halfs each) between columns.
 #ifndef NBRDF_COOP_EMU
-  fcoopmatNV<16, gl_ScopeSubgroup, 16, 16> ma, mb;
-  coopMatLoadNV(ma, nbrdf_s_f16, uint(a), uint(as), false);
-  coopMatLoadNV(mb, nbrdf_s_f16, uint(b), uint(bs), true);
-  nbrdf_cacc[j] = coopMatMulAddNV(ma, mb, nbrdf_cacc[j]);
+fcoopmatNV<16, gl_ScopeSubgroup, 16, 16> nbrdf_ca;
+void nbrdf_t_a_load(int a, int as) {
+  coopMatLoadNV(nbrdf_ca, nbrdf_s_f16, uint(a), uint(as), false);
+}
+void nbrdf_t_acc_mma(int j, uint b, uint bs) {
+  fcoopmatNV<16, gl_ScopeSubgroup, 16, 16> mb;
+  coopMatLoadNV(mb, nbrdf_w, b, bs, true);
+  nbrdf_cacc[j] = coopMatMulAddNV(nbrdf_ca, mb, nbrdf_cacc[j]);
+}
 #else
+int nbrdf_ea, nbrdf_eas;
+void nbrdf_t_a_load(int a, int as) { nbrdf_ea = a, nbrdf_eas = as; }
+float nbrdf_t_wh(uint b, uint bs, int col, int k) {
+  uint i = 2u * (b + uint(col) * bs) + uint(k);
+  return unpackHalf2x16(nbrdf_w[i >> 1])[i & 1u];
+}
+void nbrdf_t_acc_mma(int j, uint b, uint bs) {
   for (int m = 0; m < nbrdf_e_count(); m++) {
     int e = nbrdf_e_at(m), row = e >> 4, col = e & 15;
     float s = 0.0;
     for (int k = 0; k < 16; k++)
-      s += float(nbrdf_s_f16[a + row * as + k]) * float(nbrdf_s_f16[b + col * bs + k]);
+      s += float(nbrdf_s_f16[nbrdf_ea + row * nbrdf_eas + k]) * nbrdf_t_wh(b, bs, col, k);
     nbrdf_cacc[j][m] += s;
   }
-#endif
 }
+#endif
 
 int nbrdf_t_tiles(int N) { return (NBRDF_T_ROWS / 16) * (((N + 15) & ~15) / 16); }
 
@@ -283,39 +295,32 @@ void nbrdf_t_gemm_load(int dst, int N) {
   }
 }
 
-// acc += A[rows x K] W^T; A is the fp16 copy at half offset `srca` (stride astride).
-void nbrdf_t_gemm16(uint w, int srca, int astride, int K, int N) {
-  int tid = nbrdf_t_tid(), nt = nbrdf_t_threads();
-  int np = (N + 15) & ~15, kp = (K + 15) & ~15;
-  int kc = max(16, min(kp, (NBRDF_T_WCH / np) & ~15));
-  int mtn = NBRDF_T_ROWS / 16, tiles = nbrdf_t_tiles(N), wh = nbrdf_t_wh();
-  for (int k0 = 0; k0 < kp; k0 += kc) {
-    int kn = min(kc, kp - k0);
-    barrier();
-    for (int i = tid; i < np * kn; i += nt) {
-      int n = i / kn, kk = i - n * kn, k = k0 + kk;
-      nbrdf_s_f16[wh + i] =
-          n < N && k < K ? nbrdf_t_half(nbrdf_wf(w + uint(n * K + k))) : float16_t(0.0);
-    }
-    barrier();
+// acc += A[rows x K] W^T; A is the fp16 copy at half offset `srca` (stride astride), W's
+// fp16 copy at word `wh` of the buffer ([round16(N)][round16(K)] halfs, zero-padded): no
+// staging, no barriers; every workgroup reads the same few KB (L1/L2 resident).
+void nbrdf_t_gemm16(uint wh, int srca, int astride, int K, int N) {
+  int kp = (K + 15) & ~15, mtn = NBRDF_T_ROWS / 16, tiles = nbrdf_t_tiles(N);
+  int sg = int(gl_SubgroupID), nsg = int(gl_NumSubgroups);
+  if (sg >= tiles) return;
+  uint bs = uint(kp / 2);
+  for (int kt = 0; kt < kp; kt += 16) {
+    int amt = -1;
     for (int j = 0; j < NBRDF_C_TPS; j++) {
-      int t = int(gl_SubgroupID) + j * int(gl_NumSubgroups);
+      int t = sg + j * nsg;
       if (t < tiles) {
         int mt = t % mtn, nt16 = t / mtn;
-        for (int kt = 0; kt < kn; kt += 16) {
-          nbrdf_t_acc_mma(j, srca + mt * 16 * astride + k0 + kt, astride,
-                          wh + nt16 * 16 * kn + kt, kn);
-        }
+        if (mt != amt) nbrdf_t_a_load(srca + mt * 16 * astride + kt, astride), amt = mt;
+        nbrdf_t_acc_mma(j, wh + uint(nt16 * 16) * bs + uint(kt / 2), bs);
       }
     }
   }
 }
 
-void nbrdf_t_gemm(uint w, int src, int K, int N) {
+void nbrdf_t_gemm(uint w, uint wh, int src, int K, int N) {
   if (src == nbrdf_t_in())
-    nbrdf_t_gemm16(w, nbrdf_t_inh(), nbrdf_t_inh_stride(), K, N);
+    nbrdf_t_gemm16(wh, nbrdf_t_inh(), nbrdf_t_inh_stride(), K, N);
   else
-    nbrdf_t_gemm16(w, NBRDF_T_AH, NBRDF_T_BPT, K, N);
+    nbrdf_t_gemm16(wh, NBRDF_T_AH, NBRDF_T_BPT, K, N);
 }
 
 void nbrdf_t_gemm_store(int dst, int N, bool add) {
@@ -431,32 +436,38 @@ void nbrdf_tile_forward() {
          be2 = nbrdf_w[r + 13u], wskip = nbrdf_w[r + 14u];
     bool projected = has_skip && wskip != NBRDF_NONE;
     int skip_add = has_skip && !projected ? IN : -1;
+    // The fp16 copies (coop kernels, nbrdf_tile_f16_pack): w1, then w2, then wskip.
+    int n1 = kind == NBRDF_RESIDUAL ? hidden : n_out;
+    uint h1 = nbrdf_w[r + 15u];
+    uint h2 = h1 + uint(((n1 + 15) & ~15) * ((n_in + 15) & ~15) / 2);
+    uint hs = kind == NBRDF_RESIDUAL ? h2 + uint(((n_out + 15) & ~15) * ((hidden + 15) & ~15) / 2)
+                                     : h2;
     if (kind == NBRDF_LAYERNORM) {
       nbrdf_t_post(base, X, n_out, NBRDF_NONE, -1, g1, be1, NBRDF_T_LN);
     } else if (kind == NBRDF_RELU) {
       nbrdf_t_post(base, X, n_out, NBRDF_NONE, -1, NBRDF_NONE, NBRDF_NONE, NBRDF_T_RELU);
     } else if (kind == NBRDF_LINEAR || kind == NBRDF_PLAIN) {
       nbrdf_t_gemm_zero();
-      nbrdf_t_gemm(base + w1, X, n_in, n_out);
-      if (projected) nbrdf_t_gemm(base + wskip, IN, skip_width, n_out);
+      nbrdf_t_gemm(base + w1, h1, X, n_in, n_out);
+      if (projected) nbrdf_t_gemm(base + wskip, hs, IN, skip_width, n_out);
       nbrdf_t_gemm_store(X, n_out, false);
       nbrdf_t_post(base, X, n_out, b1, skip_add, g1, be1,
                    kind == NBRDF_PLAIN ? NBRDF_T_LN | NBRDF_T_RELU : 0);
     } else if (kind == NBRDF_RESIDUAL) {
       nbrdf_t_gemm_zero();
-      nbrdf_t_gemm(base + w1, X, n_in, hidden);
+      nbrdf_t_gemm(base + w1, h1, X, n_in, hidden);
       nbrdf_t_gemm_store(H, hidden, false);
       nbrdf_t_post(base, H, hidden, b1, -1, g1, be1, NBRDF_T_LN | NBRDF_T_RELU);
       // y = ReLU(LN2(h W2^T + b2 + x (+ skip))): x is added in place.
 #ifdef NBRDF_TILED_COOP
       nbrdf_t_gemm_load(X, n_out);
-      nbrdf_t_gemm(base + w2, H, hidden, n_out);
-      if (projected) nbrdf_t_gemm(base + wskip, IN, skip_width, n_out);
+      nbrdf_t_gemm(base + w2, h2, H, hidden, n_out);
+      if (projected) nbrdf_t_gemm(base + wskip, hs, IN, skip_width, n_out);
       nbrdf_t_gemm_store(X, n_out, false);
 #else
       nbrdf_t_gemm_zero();
-      nbrdf_t_gemm(base + w2, H, hidden, n_out);
-      if (projected) nbrdf_t_gemm(base + wskip, IN, skip_width, n_out);
+      nbrdf_t_gemm(base + w2, h2, H, hidden, n_out);
+      if (projected) nbrdf_t_gemm(base + wskip, hs, IN, skip_width, n_out);
       nbrdf_t_gemm_store(X, n_out, true);
 #endif
       nbrdf_t_post(base, X, n_out, b2, skip_add, g2, be2, NBRDF_T_LN | NBRDF_T_RELU);

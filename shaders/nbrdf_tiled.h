@@ -17,6 +17,7 @@
 #ifndef NBRDF_SHADERS_TILED_H
 #define NBRDF_SHADERS_TILED_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct nbrdf_tile_config {
@@ -79,19 +80,98 @@ static inline int nbrdf_tile_config_make(const uint32_t *words, uint32_t max_sha
     uint32_t T = tiles[t];
     uint32_t f32 = 4 * T * (XS + HS + INW), f16 = 2 * T * (AS + INW + 16);
     if (f32 + f16 >= max_shared) continue;
-    uint32_t room = (max_shared - f32 - f16) / 2, full = np * kp;
-    uint32_t wch = room < full ? room : full;
-    if (wch < np * 16) continue;
+    (void)kp; /* the weights are read from the buffer's fp16 copy: nothing staged */
     uint32_t ntiles = (T / 16) * (np / 16), sg = (ntiles + 3) / 4, threads = 128;
     while (threads < 32 * sg)
       threads *= 2;
     if (threads > max_threads) continue;
     c->spec[0] = XS, c->spec[1] = threads, c->spec[2] = T, c->spec[3] = HS;
-    c->spec[4] = INW, c->spec[5] = wch, c->spec[6] = AS;
-    c->rows = T, c->threads = threads, c->shared_bytes = f32 + f16 + 2 * wch;
+    c->spec[4] = INW, c->spec[5] = 0, c->spec[6] = AS;
+    c->rows = T, c->threads = threads, c->shared_bytes = f32 + f16;
     return 0;
   }
   return -1;
+}
+
+/* The fp16 copy of the weights the tensor-core kernels read (nbrdf_{decode,shade}_coop.spv
+ * and _coopemu.spv; the fp32 kernels ignore it): the packed words, then, 64-byte aligned,
+ * per layer the GEMM matrices w1, w2 (residual) and wskip (a projected skip) as fp16 (round
+ * to nearest even, clamped to +-65504), each [round16(N)][round16(K)] halfs, zero-padded,
+ * row n = output n (the column-major B = W^T coopMatLoadNV reads; two halfs a word, the
+ * first in the low bits). Word 15 of a layer's record = the word offset of its first
+ * matrix (0: the layer has none). Pack once per decoder, upload that buffer instead:
+ *   n = nbrdf_tile_f16_words(words, n_words); out = malloc(4 * n);
+ *   nbrdf_tile_f16_pack(words, n_words, out); */
+static inline uint16_t nbrdf_tile_half_(float f) {
+  union {
+    float f;
+    uint32_t u;
+  } v;
+  v.f = f > 65504.0f ? 65504.0f : f < -65504.0f ? -65504.0f : f;
+  uint32_t x = v.u & 0x7fffffffu, sign = (v.u >> 16) & 0x8000u;
+  if (x >= 0x38800000u) { /* a normal half: round the mantissa to 10 bits, rebias */
+    x += 0xfffu + ((x >> 13) & 1u);
+    return (uint16_t)(sign | ((x - 0x38000000u) >> 13));
+  }
+  if (x < 0x33000000u) return (uint16_t)sign; /* below half of the smallest subnormal */
+  uint32_t e = x >> 23, m = (x & 0x7fffffu) | 0x800000u, shift = 126u - e;
+  uint32_t h = m >> shift, rem = m & ((1u << shift) - 1u), half = 1u << (shift - 1u);
+  if (rem > half || (rem == half && (h & 1u))) h++;
+  return (uint16_t)(sign | h);
+}
+
+/* The GEMM matrices of layer record r, in the kernel's order: (parameter offset, K, N)
+ * triples in shapes; returns their count (0..3). */
+static inline uint32_t nbrdf_tile_f16_layer_(const uint32_t *r, uint32_t *shapes) {
+  uint32_t n = 0, kind = r[0], in = r[1], out = r[2], hidden = r[3];
+  if (kind == 1u || kind == 4u || kind == 5u) { /* linear, plain, residual */
+    shapes[3 * n] = r[6], shapes[3 * n + 1] = in, shapes[3 * n + 2] = kind == 5u ? hidden : out;
+    n++;
+    if (kind == 5u)
+      shapes[3 * n] = r[10], shapes[3 * n + 1] = hidden, shapes[3 * n + 2] = out, n++;
+    if (r[4] != 0xffffffffu && r[14] != 0xffffffffu)
+      shapes[3 * n] = r[14], shapes[3 * n + 1] = r[5], shapes[3 * n + 2] = out, n++;
+  }
+  return n;
+}
+
+static inline size_t nbrdf_tile_f16_words(const uint32_t *words, size_t n_words) {
+  size_t total = nbrdf_tile_round_((uint32_t)n_words, 16);
+  for (uint32_t l = 0; l < words[3]; l++) {
+    uint32_t shapes[9], n = nbrdf_tile_f16_layer_(words + 16 + 16 * l, shapes);
+    for (uint32_t i = 0; i < n; i++)
+      total += nbrdf_tile_round_(shapes[3 * i + 1], 16) * nbrdf_tile_round_(shapes[3 * i + 2], 16) / 2;
+  }
+  return total;
+}
+
+static inline void nbrdf_tile_f16_pack(const uint32_t *words, size_t n_words, uint32_t *out) {
+  size_t at = nbrdf_tile_round_((uint32_t)n_words, 16), base = words[10];
+  for (size_t i = 0; i < at; i++)
+    out[i] = i < n_words ? words[i] : 0u;
+  for (uint32_t l = 0; l < words[3]; l++) {
+    uint32_t shapes[9], n = nbrdf_tile_f16_layer_(words + 16 + 16 * l, shapes);
+    out[16 + 16 * l + 15] = n ? (uint32_t)at : 0u;
+    for (uint32_t i = 0; i < n; i++) {
+      uint32_t K = shapes[3 * i + 1], N = shapes[3 * i + 2];
+      uint32_t kp = nbrdf_tile_round_(K, 16), np = nbrdf_tile_round_(N, 16);
+      const uint32_t *w = words + base + shapes[3 * i];
+      for (uint32_t o = 0; o < np; o++)
+        for (uint32_t k = 0; k < kp; k += 2) {
+          uint32_t h[2] = {0, 0};
+          for (uint32_t d = 0; d < 2; d++)
+            if (o < N && k + d < K) {
+              union {
+                uint32_t u;
+                float f;
+              } v;
+              v.u = w[o * K + k + d];
+              h[d] = nbrdf_tile_half_(v.f);
+            }
+          out[at++] = h[0] | h[1] << 16;
+        }
+    }
+  }
 }
 
 #endif

@@ -67,7 +67,9 @@ static inline int fixture_run_tiled(vkh *vk, const uint32_t *words, size_t n_wor
   if (used) *used = cfg;
   vkh_buffer wb, qb, ob;
   vkh_kernel k;
-  int rc = vkh_buffer_create(vk, n_words * 4, &wb);
+  /* the fp16 kernels read the weights' fp16 copy appended to the words */
+  size_t wn = coop ? nbrdf_tile_f16_words(words, n_words) : n_words;
+  int rc = vkh_buffer_create(vk, wn * 4, &wb);
   if (!rc) rc = vkh_buffer_create(vk, n * (6 + dim) * sizeof(float), &qb);
   if (!rc) rc = vkh_buffer_create(vk, n * 2 * sizeof(float), &ob);
   if (!rc)
@@ -77,7 +79,10 @@ static inline int fixture_run_tiled(vkh *vk, const uint32_t *words, size_t n_wor
                                        : "nbrdf_decode_tiled.spv",
                            3, 4, 7, cfg.spec, &k);
   if (rc) return -1;
-  memcpy(wb.map, words, n_words * 4);
+  if (coop)
+    nbrdf_tile_f16_pack(words, n_words, wb.map);
+  else
+    memcpy(wb.map, words, n_words * 4);
   memcpy(qb.map, queries, n * (6 + dim) * sizeof(float));
   vkh_buffer *bind[3] = {&wb, &qb, &ob};
   vkh_kernel_bind(vk, &k, bind);

@@ -180,7 +180,8 @@ static void test_shade(void) {
   /* The per-invocation kernel, the tiled fp32 one and (on a device with
    * VK_NV_cooperative_matrix) the tensor-core one, on the same buffers. */
   vkh_buffer wb, lb, qb, rb;
-  int rc = vkh_buffer_create(vk, nw * 4, &wb);
+  /* room for the fp16 kernels' weights: the words and their fp16 copy (nbrdf_tiled.h) */
+  int rc = vkh_buffer_create(vk, nbrdf_tile_f16_words(wwords, nw) * 4, &wb);
   if (!rc) rc = vkh_buffer_create(vk, nl * 4, &lb);
   if (!rc) rc = vkh_buffer_create(vk, 36 * n, &qb);
   if (!rc) rc = vkh_buffer_create(vk, 16 * n, &rb);
@@ -213,7 +214,10 @@ static void test_shade(void) {
     int krc = vkh_kernel_create(vk, names[kind], 4, 4, (int)n_spec, spec, &kern);
     CHECK_MSG(krc == 0, "%s: %s", names[kind], vkh_error(vk));
     if (krc) continue;
-    memcpy(wb.map, wwords, nw * 4);
+    if (kind >= 2)
+      nbrdf_tile_f16_pack(wwords, nw, wb.map);
+    else
+      memcpy(wb.map, wwords, nw * 4);
     memcpy(lb.map, lwords, nl * 4);
     memcpy(qb.map, q, 36 * n);
     memset(rb.map, 0xff, 16 * n); /* NaN: a value the kernel does not write fails */
