@@ -325,7 +325,10 @@ void nbrdf_t_gemm(uint w, uint wh, int src, int K, int N) {
 
 void nbrdf_t_gemm_store(int dst, int N, bool add) {
   int stride = nbrdf_t_stride(dst), mtn = NBRDF_T_ROWS / 16, tiles = nbrdf_t_tiles(N);
-  barrier(); // AH may be rewritten by the pass after this store
+  // No barrier before the store: the GEMMs read only the fp16 copies (AH, INH) and the
+  // buffer, and each subgroup stores the tiles it computed (and, for a residual block,
+  // loaded from dst itself). The barrier after it keeps the post pass, which rewrites AH,
+  // behind every subgroup's GEMM.
   for (int j = 0; j < NBRDF_C_TPS; j++) {
     int t = int(gl_SubgroupID) + j * int(gl_NumSubgroups);
     if (t < tiles) {
