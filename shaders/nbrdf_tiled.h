@@ -127,8 +127,7 @@ static inline uint32_t nbrdf_tile_f16_layer_(const uint32_t *r, uint32_t *shapes
   if (kind == 1u || kind == 4u || kind == 5u) { /* linear, plain, residual */
     shapes[3 * n] = r[6], shapes[3 * n + 1] = in, shapes[3 * n + 2] = kind == 5u ? hidden : out;
     n++;
-    if (kind == 5u)
-      shapes[3 * n] = r[10], shapes[3 * n + 1] = hidden, shapes[3 * n + 2] = out, n++;
+    if (kind == 5u) shapes[3 * n] = r[10], shapes[3 * n + 1] = hidden, shapes[3 * n + 2] = out, n++;
     if (r[4] != 0xffffffffu && r[14] != 0xffffffffu)
       shapes[3 * n] = r[14], shapes[3 * n + 1] = r[5], shapes[3 * n + 2] = out, n++;
   }
@@ -140,7 +139,8 @@ static inline size_t nbrdf_tile_f16_words(const uint32_t *words, size_t n_words)
   for (uint32_t l = 0; l < words[3]; l++) {
     uint32_t shapes[9], n = nbrdf_tile_f16_layer_(words + 16 + 16 * l, shapes);
     for (uint32_t i = 0; i < n; i++)
-      total += nbrdf_tile_round_(shapes[3 * i + 1], 16) * nbrdf_tile_round_(shapes[3 * i + 2], 16) / 2;
+      total +=
+          nbrdf_tile_round_(shapes[3 * i + 1], 16) * nbrdf_tile_round_(shapes[3 * i + 2], 16) / 2;
   }
   return total;
 }
