@@ -9,7 +9,8 @@
  *     kind (1 linear, 2 layernorm, 3 relu, 4 plain, 5 residual), in, out, hidden,
  *     skip_from (0 = network input, NBRDF_GPU_NONE = none), skip_width,
  *     w1, b1, g1, be1, w2, b2, g2, be2, wskip (offsets in floats from the parameter
- *     start, NBRDF_GPU_NONE when absent), 0;
+ *     start, NBRDF_GPU_NONE when absent), 0 (the tensor-core kernels' buffer puts the
+ *     offset of the layer's fp16 weights there: shaders/nbrdf_tiled.h, nbrdf_tile_f16_pack);
  *   then the parameters, exactly the network's parameter array (the safetensors
  *   tensors in file order: weights [out x in] row-major, PyTorch's layout).
  * The shader is generic over this description; the only thing a pipeline must set is

@@ -2,7 +2,10 @@
  * bilinear within a level and trilinear across levels, GL_REPEAT wrapping, an odd-sized
  * mip chain (67 x 45, 7 levels), lods below 0 and past the last level. Then the whole
  * shading kernel (shaders/nbrdf_shade.comp: fetch + decode per colour + proxy pdf) against
- * texture_latent_fetch + nbrdf_model_decode + nbrdf_proxy_pdf on an untrained bundle.
+ * texture_latent_fetch + nbrdf_model_decode + nbrdf_proxy_pdf on an untrained bundle, for
+ * the per-invocation kernel, the tiled fp32 one (within 1e-5) and, where the device has
+ * tensor cores (not lavapipe: skipped with a message), the fp16 cooperative-matrix one, and
+ * that kernel with its matrix operations emulated (nbrdf_shade_coopemu.spv, lavapipe).
  *
  * Tolerances: the fetch does the C code's float operations in its order (`precise`), so
  * texels agree within 2e-6 absolute (values in [-2, 2]); shading within the decoder's 1e-4
@@ -174,23 +177,54 @@ static void test_shade(void) {
                              texel[texture_latent_index_w(&img->layout, 0)], dwi, dwo);
   }
   CHECK_OK(nbrdf_model_decode(model, n, 3, lat, wi, wo, f, &err), &err);
-  uint32_t spec[1] = {wwords[NBRDF_GPU_W_MAX_WIDTH]};
+  /* The per-invocation kernel, the tiled fp32 one and (on a device with
+   * VK_NV_cooperative_matrix) the tensor-core one, on the same buffers. */
   vkh_buffer wb, lb, qb, rb;
-  vkh_kernel kern;
-  int rc = vkh_buffer_create(vk, nw * 4, &wb);
+  /* room for the fp16 kernels' weights: the words and their fp16 copy (nbrdf_tiled.h) */
+  int rc = vkh_buffer_create(vk, nbrdf_tile_f16_words(wwords, nw) * 4, &wb);
   if (!rc) rc = vkh_buffer_create(vk, nl * 4, &lb);
   if (!rc) rc = vkh_buffer_create(vk, 36 * n, &qb);
   if (!rc) rc = vkh_buffer_create(vk, 16 * n, &rb);
-  if (!rc) rc = vkh_kernel_create(vk, "nbrdf_shade.spv", 4, 4, 1, spec, &kern);
-  CHECK_MSG(rc == 0, "shade kernel: %s", vkh_error(vk));
-  if (!rc) {
-    memcpy(wb.map, wwords, nw * 4);
+  CHECK_MSG(rc == 0, "buffers: %s", vkh_error(vk));
+  for (int kind = 0; kind < 4 && !rc; kind++) {
+    const char *names[4] = {"nbrdf_shade.spv", "nbrdf_shade_tiled.spv", "nbrdf_shade_coop.spv",
+                            "nbrdf_shade_coopemu.spv"};
+    /* fp32: the tiled kernel sums each output in input order like the per-invocation one;
+     * fp16 tensor cores: inputs and weights rounded to 11 bits (docs/SHADERS.md). */
+    const double tol[4] = {1e-4, 1e-5, 0.25, 0.25};
+    if (kind == 2 && !vkh_has_coop(vk)) {
+      printf("  nbrdf_shade_coop.spv skipped: %s has no VK_NV_cooperative_matrix (fp16 16x16x16)\n",
+             vkh_device_name(vk));
+      continue;
+    }
+    if (kind == 3 && !vkh_has_f16(vk)) {
+      printf("  nbrdf_shade_coopemu.spv skipped: no shaderFloat16 / quad operations\n");
+      continue;
+    }
+    uint32_t spec[7] = {wwords[NBRDF_GPU_W_MAX_WIDTH]};
+    uint32_t rows = 64, per = 1, n_spec = 1;
+    nbrdf_tile_config cfg = {{0}, 64, 64, 0};
+    if (kind > 0) {
+      CHECK(nbrdf_tile_config_make(wwords, vkh_max_shared(vk), vkh_max_invocations(vk), kind >= 2,
+                                   &cfg) == 0);
+      memcpy(spec, cfg.spec, sizeof cfg.spec);
+      rows = cfg.rows, per = 3, n_spec = 7;
+    }
+    vkh_kernel kern;
+    int krc = vkh_kernel_create(vk, names[kind], 4, 4, (int)n_spec, spec, &kern);
+    CHECK_MSG(krc == 0, "%s: %s", names[kind], vkh_error(vk));
+    if (krc) continue;
+    if (kind >= 2)
+      nbrdf_tile_f16_pack(wwords, nw, wb.map);
+    else
+      memcpy(wb.map, wwords, nw * 4);
     memcpy(lb.map, lwords, nl * 4);
     memcpy(qb.map, q, 36 * n);
+    memset(rb.map, 0xff, 16 * n); /* NaN: a value the kernel does not write fails */
     vkh_buffer *bind[4] = {&wb, &lb, &qb, &rb};
     vkh_kernel_bind(vk, &kern, bind);
     uint32_t count = (uint32_t)n;
-    CHECK(vkh_run(vk, &kern, &count, (uint32_t)((n + 63) / 64), NULL) == 0);
+    CHECK(vkh_run(vk, &kern, &count, (uint32_t)((n * per + rows - 1) / rows), NULL) == 0);
     const float *g = rb.map;
     double worst_f = 0, worst_p = 0;
     size_t bad = 0, positive = 0;
@@ -198,17 +232,17 @@ static void test_shade(void) {
       for (int ch = 0; ch < 3; ch++) {
         double e = fabs(g[4 * k + ch] - f[3 * k + ch]) / (1.0 + f[3 * k + ch]);
         if (!(e <= worst_f)) worst_f = e;
-        bad += !(e <= 1e-4);
+        bad += !(e <= tol[kind]);
         positive += f[3 * k + ch] > 1e-3f;
       }
       double ep = fabs(g[4 * k + 3] - pdf[k]) / fmax(pdf[k], 1e-30);
       if (!(ep <= worst_p)) worst_p = ep;
       bad += !(ep <= 1e-3);
     }
-    printf("  %zu shading queries: max error f %.2e, pdf %.2e; %zu of %zu f > 1e-3\n", n, worst_f,
-           worst_p, positive, 3 * n);
+    printf("  %-22s %zu shading queries: max error f %.2e, pdf %.2e; %zu of %zu f > 1e-3\n",
+           names[kind], n, worst_f, worst_p, positive, 3 * n);
     CHECK_MSG(positive > n / 4, "only %zu values are positive", positive);
-    CHECK_MSG(bad == 0, "%zu shaded values differ", bad);
+    CHECK_MSG(bad == 0, "%s: %zu shaded values differ", names[kind], bad);
     vkh_kernel_destroy(vk, &kern);
   }
   vkh_buffer_destroy(vk, &wb);

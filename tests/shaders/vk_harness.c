@@ -36,6 +36,10 @@ struct vkh {
   VkCommandPool pool;
   VkCommandBuffer cmd;
   VkFence fence;
+  VkQueryPool timestamps; /* 2 queries, when the queue family has timestamps */
+  uint32_t subgroup_size;
+  int f16;  /* shaderFloat16 enabled, quad subgroup operations: the emulated kernels run */
+  int coop; /* VK_NV_cooperative_matrix enabled with a 16x16x16 fp16/fp32 subgroup shape */
   char msg[512];
 };
 
@@ -49,6 +53,13 @@ static int fail(vkh *ctx, const char *fmt, ...) {
 
 const char *vkh_error(const vkh *ctx) { return ctx->msg; }
 const char *vkh_device_name(const vkh *ctx) { return ctx->props.deviceName; }
+uint32_t vkh_max_shared(const vkh *ctx) { return ctx->props.limits.maxComputeSharedMemorySize; }
+uint32_t vkh_max_invocations(const vkh *ctx) {
+  return ctx->props.limits.maxComputeWorkGroupInvocations;
+}
+uint32_t vkh_subgroup_size(const vkh *ctx) { return ctx->subgroup_size; }
+int vkh_has_coop(const vkh *ctx) { return ctx->coop; }
+int vkh_has_f16(const vkh *ctx) { return ctx->f16; }
 int vkh_device_is_cpu(const vkh *ctx) {
   return ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
 }
@@ -88,6 +99,84 @@ static int pick_device(vkh *ctx) {
   return fail(ctx, "%s has no compute queue", ctx->props.deviceName);
 }
 
+static int has_extension(const vkh *ctx, const char *name) {
+  uint32_t n = 0;
+  if (vkEnumerateDeviceExtensionProperties(ctx->physical, NULL, &n, NULL) != VK_SUCCESS) return 0;
+  VkExtensionProperties *e = calloc(n ? n : 1, sizeof *e);
+  int found = 0;
+  if (e && vkEnumerateDeviceExtensionProperties(ctx->physical, NULL, &n, e) == VK_SUCCESS)
+    for (uint32_t i = 0; i < n && !found; i++) found = !strcmp(e[i].extensionName, name);
+  free(e);
+  return found;
+}
+
+/* shaderFloat16 (VK_KHR_shader_float16_int8) and quad subgroup operations: what the
+ * emulated tensor-core kernels (nbrdf_*_coopemu.spv) need. */
+static int f16_capable(vkh *ctx) {
+  VkPhysicalDeviceSubgroupProperties sub = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  p2.pNext = &sub;
+  vkGetPhysicalDeviceProperties2(ctx->physical, &p2);
+  if (!has_extension(ctx, VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME) ||
+      !(sub.supportedOperations & VK_SUBGROUP_FEATURE_QUAD_BIT) || sub.subgroupSize < 8 ||
+      sub.subgroupSize > 64)
+    return 0;
+  VkPhysicalDeviceShaderFloat16Int8FeaturesKHR f16 = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES_KHR};
+  VkPhysicalDeviceFeatures2 f2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2.pNext = &f16;
+  vkGetPhysicalDeviceFeatures2(ctx->physical, &f2);
+  return f16.shaderFloat16 == VK_TRUE;
+}
+
+/* Subgroup size, and whether the tensor-core kernels (nbrdf_*_coop.spv) can run: the
+ * extensions, the features and a 16x16x16 fp16 x fp16 + fp32 subgroup shape.
+ * NBRDF_VK_NO_COOP=1 pretends they cannot (to compare on one device). */
+static int coop_capable(vkh *ctx) {
+  VkPhysicalDeviceSubgroupProperties sub = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceProperties2 p2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  p2.pNext = &sub;
+  vkGetPhysicalDeviceProperties2(ctx->physical, &p2);
+  ctx->subgroup_size = sub.subgroupSize;
+  const char *off = getenv("NBRDF_VK_NO_COOP");
+  if ((off && *off && strcmp(off, "0")) || sub.subgroupSize != 32 ||
+      !(sub.supportedOperations & VK_SUBGROUP_FEATURE_QUAD_BIT) ||
+      !has_extension(ctx, VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME) ||
+      !has_extension(ctx, VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME) ||
+      !has_extension(ctx, VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME))
+    return 0;
+  VkPhysicalDeviceCooperativeMatrixFeaturesNV coop = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_COOPERATIVE_MATRIX_FEATURES_NV};
+  VkPhysicalDeviceShaderFloat16Int8FeaturesKHR f16 = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES_KHR};
+  VkPhysicalDeviceVulkanMemoryModelFeaturesKHR vmm = {
+      .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_MEMORY_MODEL_FEATURES_KHR};
+  VkPhysicalDeviceFeatures2 f2 = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2.pNext = &coop;
+  coop.pNext = &f16;
+  f16.pNext = &vmm;
+  vkGetPhysicalDeviceFeatures2(ctx->physical, &f2);
+  if (!coop.cooperativeMatrix || !f16.shaderFloat16 || !vmm.vulkanMemoryModel) return 0;
+  PFN_vkGetPhysicalDeviceCooperativeMatrixPropertiesNV get =
+      (PFN_vkGetPhysicalDeviceCooperativeMatrixPropertiesNV)vkGetInstanceProcAddr(
+          ctx->instance, "vkGetPhysicalDeviceCooperativeMatrixPropertiesNV");
+  uint32_t n = 0;
+  if (!get || get(ctx->physical, &n, NULL) != VK_SUCCESS || n == 0) return 0;
+  VkCooperativeMatrixPropertiesNV *p = calloc(n, sizeof *p);
+  int ok = 0;
+  for (uint32_t i = 0; p && i < n; i++) p[i].sType = VK_STRUCTURE_TYPE_COOPERATIVE_MATRIX_PROPERTIES_NV;
+  if (p && get(ctx->physical, &n, p) == VK_SUCCESS)
+    for (uint32_t i = 0; i < n && !ok; i++)
+      ok = p[i].MSize == 16 && p[i].NSize == 16 && p[i].KSize == 16 &&
+           p[i].AType == VK_COMPONENT_TYPE_FLOAT16_NV && p[i].BType == VK_COMPONENT_TYPE_FLOAT16_NV &&
+           p[i].CType == VK_COMPONENT_TYPE_FLOAT32_NV && p[i].DType == VK_COMPONENT_TYPE_FLOAT32_NV &&
+           p[i].scope == VK_SCOPE_SUBGROUP_NV;
+  free(p);
+  return ok;
+}
+
 int vkh_open(vkh **out, char *msg, size_t msg_size) {
   *out = NULL;
   vkh *ctx = calloc(1, sizeof *ctx);
@@ -115,6 +204,37 @@ int vkh_open(vkh **out, char *msg, size_t msg_size) {
     VkDeviceCreateInfo dci = {.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     dci.queueCreateInfoCount = 1;
     dci.pQueueCreateInfos = &qci;
+    const char *exts[3];
+    VkPhysicalDeviceCooperativeMatrixFeaturesNV coop = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_COOPERATIVE_MATRIX_FEATURES_NV};
+    VkPhysicalDeviceShaderFloat16Int8FeaturesKHR f16 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_FLOAT16_INT8_FEATURES_KHR};
+    VkPhysicalDeviceVulkanMemoryModelFeaturesKHR vmm = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_MEMORY_MODEL_FEATURES_KHR};
+    VkPhysicalDeviceFeatures2 feats = {.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    if (coop_capable(ctx)) {
+      exts[0] = VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME;
+      exts[1] = VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME;
+      exts[2] = VK_KHR_VULKAN_MEMORY_MODEL_EXTENSION_NAME;
+      coop.cooperativeMatrix = VK_TRUE;
+      f16.shaderFloat16 = VK_TRUE;
+      vmm.vulkanMemoryModel = VK_TRUE;
+      coop.pNext = &f16;
+      f16.pNext = &vmm;
+      feats.pNext = &coop;
+      dci.pNext = &feats;
+      dci.enabledExtensionCount = 3;
+      dci.ppEnabledExtensionNames = exts;
+      ctx->coop = ctx->f16 = 1;
+    } else if (f16_capable(ctx)) {
+      exts[0] = VK_KHR_SHADER_FLOAT16_INT8_EXTENSION_NAME;
+      f16.shaderFloat16 = VK_TRUE;
+      feats.pNext = &f16;
+      dci.pNext = &feats;
+      dci.enabledExtensionCount = 1;
+      dci.ppEnabledExtensionNames = exts;
+      ctx->f16 = 1;
+    }
     if (vkCreateDevice(ctx->physical, &dci, NULL, &ctx->device) != VK_SUCCESS)
       rc = fail(ctx, "vkCreateDevice failed on %s", ctx->props.deviceName);
   }
@@ -133,6 +253,19 @@ int vkh_open(vkh **out, char *msg, size_t msg_size) {
         vkCreateFence(ctx->device, &fci, NULL, &ctx->fence) != VK_SUCCESS)
       rc = fail(ctx, "command pool / fence creation failed");
   }
+  if (!rc) {
+    uint32_t nf = 0;
+    VkQueueFamilyProperties fam[16];
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &nf, NULL);
+    if (nf > 16) nf = 16;
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical, &nf, fam);
+    VkQueryPoolCreateInfo qpi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qpi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qpi.queryCount = 2;
+    if (fam[ctx->family].timestampValidBits > 0 && ctx->props.limits.timestampPeriod > 0 &&
+        vkCreateQueryPool(ctx->device, &qpi, NULL, &ctx->timestamps) != VK_SUCCESS)
+      ctx->timestamps = VK_NULL_HANDLE;
+  }
   if (rc) {
     snprintf(msg, msg_size, "%s", ctx->msg);
     vkh_close(ctx);
@@ -147,6 +280,7 @@ void vkh_close(vkh *ctx) {
   if (ctx->device) {
     vkDeviceWaitIdle(ctx->device);
     if (ctx->fence) vkDestroyFence(ctx->device, ctx->fence, NULL);
+    if (ctx->timestamps) vkDestroyQueryPool(ctx->device, ctx->timestamps, NULL);
     if (ctx->pool) vkDestroyCommandPool(ctx->device, ctx->pool, NULL);
     vkDestroyDevice(ctx->device, NULL);
   }
@@ -325,11 +459,17 @@ static double now(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-int vkh_run(vkh *ctx, vkh_kernel *k, const void *push, uint32_t groups, double *seconds) {
+/* Records `reps` dispatches of `groups` workgroups (serialised by barriers), between two
+ * timestamps when the device has them. */
+static int record(vkh *ctx, vkh_kernel *k, const void *push, uint32_t groups, int reps) {
   VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   vkResetCommandBuffer(ctx->cmd, 0);
   if (vkBeginCommandBuffer(ctx->cmd, &bi) != VK_SUCCESS) return fail(ctx, "vkBeginCommandBuffer");
+  if (ctx->timestamps) {
+    vkCmdResetQueryPool(ctx->cmd, ctx->timestamps, 0, 2);
+    vkCmdWriteTimestamp(ctx->cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, ctx->timestamps, 0);
+  }
   vkCmdBindPipeline(ctx->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, k->pipeline);
   vkCmdBindDescriptorSets(ctx->cmd, VK_PIPELINE_BIND_POINT_COMPUTE, k->layout, 0, 1, &k->set, 0,
                           NULL);
@@ -337,16 +477,31 @@ int vkh_run(vkh *ctx, vkh_kernel *k, const void *push, uint32_t groups, double *
     vkCmdPushConstants(ctx->cmd, k->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, k->push_bytes, push);
   /* Large batches go as several dispatches with a base group (Vulkan 1.1). */
   uint32_t limit = ctx->props.limits.maxComputeWorkGroupCount[0];
-  for (uint32_t g0 = 0; g0 < groups; g0 += limit) {
-    uint32_t g = groups - g0 < limit ? groups - g0 : limit;
-    vkCmdDispatchBase(ctx->cmd, g0, 0, 0, g, 1, 1);
+  for (int r = 0; r < reps; r++) {
+    if (r > 0) {
+      VkMemoryBarrier cb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+      cb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+      cb.dstAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT;
+      vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &cb, 0, NULL, 0, NULL);
+    }
+    for (uint32_t g0 = 0; g0 < groups; g0 += limit) {
+      uint32_t g = groups - g0 < limit ? groups - g0 : limit;
+      vkCmdDispatchBase(ctx->cmd, g0, 0, 0, g, 1, 1);
+    }
   }
+  if (ctx->timestamps)
+    vkCmdWriteTimestamp(ctx->cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, ctx->timestamps, 1);
   VkMemoryBarrier mb = {.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER};
   mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
   mb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
   vkCmdPipelineBarrier(ctx->cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                        0, 1, &mb, 0, NULL, 0, NULL);
   if (vkEndCommandBuffer(ctx->cmd) != VK_SUCCESS) return fail(ctx, "vkEndCommandBuffer");
+  return 0;
+}
+
+static int submit(vkh *ctx, double *seconds) {
   VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &ctx->cmd;
@@ -356,4 +511,27 @@ int vkh_run(vkh *ctx, vkh_kernel *k, const void *push, uint32_t groups, double *
   if (r == VK_SUCCESS) r = vkWaitForFences(ctx->device, 1, &ctx->fence, VK_TRUE, UINT64_MAX);
   if (seconds) *seconds = now() - t0;
   return r == VK_SUCCESS ? 0 : fail(ctx, "submit/wait failed (%d)", (int)r);
+}
+
+int vkh_run(vkh *ctx, vkh_kernel *k, const void *push, uint32_t groups, double *seconds) {
+  if (record(ctx, k, push, groups, 1)) return -1;
+  return submit(ctx, seconds);
+}
+
+int vkh_time(vkh *ctx, vkh_kernel *k, const void *push, uint32_t groups, int reps,
+             double *seconds, int *from_timestamps) {
+  double wall = 0;
+  if (reps < 1) reps = 1;
+  if (record(ctx, k, push, groups, reps) || submit(ctx, &wall)) return -1;
+  *seconds = wall / reps;
+  *from_timestamps = 0;
+  uint64_t ts[2];
+  if (ctx->timestamps &&
+      vkGetQueryPoolResults(ctx->device, ctx->timestamps, 0, 2, sizeof ts, ts, sizeof ts[0],
+                            VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT) == VK_SUCCESS &&
+      ts[1] > ts[0]) {
+    *seconds = (double)(ts[1] - ts[0]) * ctx->props.limits.timestampPeriod * 1e-9 / reps;
+    *from_timestamps = 1;
+  }
+  return 0;
 }

@@ -40,6 +40,17 @@ int vkh_open(vkh **out, char *msg, size_t msg_size);
 void vkh_close(vkh *ctx);
 const char *vkh_device_name(const vkh *ctx);
 int vkh_device_is_cpu(const vkh *ctx);
+/* Limits the tiled kernels are sized by (shaders/nbrdf_tiled.h), the subgroup size, and
+ * whether the cooperative-matrix kernels (nbrdf_*_coop.spv) can be loaded: the device has
+ * VK_NV_cooperative_matrix with a 16x16x16 fp16 x fp16 + fp32 subgroup shape, shaderFloat16
+ * and vulkanMemoryModel (enabled at vkh_open), and subgroups of 32. Lavapipe has none. */
+uint32_t vkh_max_shared(const vkh *ctx);
+uint32_t vkh_max_invocations(const vkh *ctx);
+uint32_t vkh_subgroup_size(const vkh *ctx);
+int vkh_has_coop(const vkh *ctx);
+/* shaderFloat16 enabled and quad subgroup operations: the emulated tensor-core kernels
+ * (nbrdf_*_coopemu.spv, tests only) can run (lavapipe can). */
+int vkh_has_f16(const vkh *ctx);
 /* The last failure's message. */
 const char *vkh_error(const vkh *ctx);
 
@@ -57,5 +68,10 @@ void vkh_kernel_bind(vkh *ctx, vkh_kernel *k, vkh_buffer *const *buffers);
 /* Dispatches `groups` workgroups along x (split into several dispatches above the
  * device's limit) and waits; *seconds (may be NULL) gets the wall time of submit + wait. */
 int vkh_run(vkh *ctx, vkh_kernel *k, const void *push, uint32_t groups, double *seconds);
+/* `reps` dispatches in one submission, serialised by barriers; *seconds = the time per
+ * dispatch from GPU timestamps (vkCmdWriteTimestamp x timestampPeriod; *from_timestamps =
+ * 1), else the wall time of submit + wait / reps (*from_timestamps = 0). */
+int vkh_time(vkh *ctx, vkh_kernel *k, const void *push, uint32_t groups, int reps,
+             double *seconds, int *from_timestamps);
 
 #endif
