@@ -106,6 +106,19 @@ oiiotool --pattern constant:color=0.3 65537x1 1 -d uint8 -o wide.png
 expect_clean_error 1 "alpha1: wide.png is 65537x1" "$NBRDF" bake --bundle bundle \
   --alpha1 wide.png "${rest[@]}" -o out.exr
 
+# A path of ~4000 bytes (16 components of 250) does not push a message's reason out of the
+# 512-byte error buffer: the path's middle gives way to an ellipsis (issue 30, 4.3).
+long=ln
+for k in $(seq 16); do long="$long/$(printf '%0250d' "$k")"; done
+mkdir -p "$long"
+echo hello >"$long/x.exr"
+expect_clean_error 1 "/x.exr: not a readable OpenEXR file: Unable to read magic" "$NBRDF" info \
+  "$long/x.exr"
+expect_clean_error 1 "/nodir': No such file or directory" "$NBRDF" bake --bundle bundle \
+  --alpha1 0.2 "${rest[@]}" -o "$long/nodir/x.exr"
+check "long path: elided with an ellipsis" grep -Fq "…" "$TMP/err"
+rm -rf ln
+
 # Damaged textures (made here from a bake, deterministically): truncated and
 # bit-flipped files through info, render and verify end in exit 0 or 1, never
 # a crash; a refusal names the file.
