@@ -48,7 +48,10 @@ void cmd_bake_usage(FILE *out) {
       "  --decoder FILE        a decoder.safetensors of the bundle's latent size (a fine-\n"
       "                        tuned copy, say) that the texture carries and is decoded\n"
       "                        with (format version 2, docs/LATENT-TEXTURE.md); default:\n"
-      "                        none, the bundle's decoder (a version-1 texture)\n"
+      "                        none, the bundle's decoder (a version-1 texture). It takes\n"
+      "                        the bundle decoder's place in every stage: specialised\n"
+      "                        carries it fine-tuned to the scene, compact the small\n"
+      "                        decoder distilled from that fine-tuned copy\n"
       "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
       "                        warning (default) or stop naming the file and texel\n"
       "  --quantise BITS       round every parameter to 2^BITS levels over its trained\n"
@@ -320,6 +323,14 @@ int cmd_bake(int argc, char **argv) {
       printf("compact: %d latent channels per colour channel (%.2f %% of the scene's latent "
              "variance), decoder %lld multiply-adds per query\n",
              rep.compact_dim, 100.0 * rep.compact_kept, rep.decoder_macs);
+    /* Above fitted the texture does not carry --decoder itself: say what became of it. */
+    if (decoder && rep.compact_dim)
+      printf("decoder: %s, fine-tuned to the scene, taught the compact decoder the texture "
+             "carries\n",
+             decoder);
+    else if (decoder && rep.accuracy == NBRDF_BAKE_SPECIALISED)
+      printf("decoder: %s, fine-tuned to the scene, is the decoder the texture carries\n",
+             decoder);
   }
   return CLI_EXIT_OK;
 }
