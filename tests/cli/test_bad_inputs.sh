@@ -106,6 +106,33 @@ oiiotool --pattern constant:color=0.3 65537x1 1 -d uint8 -o wide.png
 expect_clean_error 1 "alpha1: wide.png is 65537x1" "$NBRDF" bake --bundle bundle \
   --alpha1 wide.png "${rest[@]}" -o out.exr
 
+# Mip levels and texels the texture lacks (issue 30, 4.7): one message whatever the number's
+# size, naming the texture's levels; --lobe says what each field is.
+expect_exit 0 "$NBRDF" bake --bundle bundle --alpha1 0.2 "${rest[@]}" --size 64x64 -o l64.exr
+vrest=(--bundle bundle --alpha1 0.2 "${rest[@]}" --texels 1 --spp 2)
+for l in 7 32 99 99999999999999999999; do
+  expect_clean_error 2 "--level: l64.exr has 7 mip levels (0..6); there is no level $l" \
+    "$NBRDF" verify l64.exr "${vrest[@]}" --level "$l"
+done
+expect_clean_error 2 "--level is a mip level (an integer, 0 the full size) or 'all', not '-1'" \
+  "$NBRDF" verify l64.exr "${vrest[@]}" --level -1
+printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,30,0,30,180\n' >q.csv
+expect_clean_error 2 "--level: l64.exr has 7 mip levels (0..6); there is no level 99" \
+  "$NBRDF" eval --texture l64.exr --bundle bundle --level 99 --in q.csv
+rr=(l64.exr -o r.exr --bundle bundle --width 4 --height 4 --spp 1)
+expect_clean_error 2 "--lobe 1,1,99: l64.exr has 7 mip levels (0..6); there is no level 99" \
+  "$NBRDF" render "${rr[@]}" --lobe 1,1,99
+expect_clean_error 2 "--lobe 1,1,99999999999999999999: l64.exr has 7 mip levels (0..6)" \
+  "$NBRDF" render "${rr[@]}" --lobe 1,1,99999999999999999999
+expect_clean_error 2 \
+  "--lobe 64,1: level 0 of l64.exr is 64 x 64 texels (X 0..63, Y 0..63); there is no texel (64, 1)" \
+  "$NBRDF" render "${rr[@]}" --lobe 64,1
+expect_clean_error 2 "level 2 of l64.exr is 16 x 16 texels (X 0..15, Y 0..15)" \
+  "$NBRDF" render "${rr[@]}" --lobe 3,16,2
+expect_clean_error 2 "the column X and row Y of a texel of mip level LEVEL" \
+  "$NBRDF" render "${rr[@]}" --lobe 1,-1
+check "no render after bad --lobe" test ! -e r.exr
+
 # A path of ~4000 bytes (16 components of 250) does not push a message's reason out of the
 # 512-byte error buffer: the path's middle gives way to an ellipsis (issue 30, 4.3).
 long=ln

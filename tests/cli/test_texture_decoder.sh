@@ -132,8 +132,8 @@ check "output column present" grep -Fq "the input already has a column 'f_g'" "$
 printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,30,0\n' >bad.csv
 expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
 check "short row" grep -Fq "line 2: 4 fields, but the header has 6 columns" "$TMP/err"
-expect_exit 1 "$NBRDF" "${E[@]}" --level 1 --in q.csv
-check "no such level" grep -Fq 'v2.exr has 1 mip level(s); there is no level 1' "$TMP/err"
+expect_exit 2 "$NBRDF" "${E[@]}" --level 1 --in q.csv
+check "no such level" grep -Fq 'v2.exr has 1 mip level (0..0); there is no level 1' "$TMP/err"
 expect_exit 1 "$NBRDF" "${E[@]}" --in nothere.csv
 check "missing --in named" grep -Fq 'nothere.csv' "$TMP/err"
 expect_exit 2 "$NBRDF" "${E[@]}" --model neural --in q.csv
