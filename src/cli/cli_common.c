@@ -31,7 +31,12 @@ int cli_fail(const char *cmd, const char *fmt, ...) {
 }
 
 int cli_fail_error(const char *cmd, const nbrdf_error *err) {
-  return cli_fail(cmd, "%s", err->message[0] ? err->message : nbrdf_status_name(err->status));
+  const char *m = err->message[0] ? err->message : nbrdf_status_name(err->status);
+  /* The library names its call ("bake: cancelled ..."), which the CLI's own prefix already
+   * says: "nbrdf bake: bake: ..." reads as a stutter. */
+  size_t n = strlen(cmd);
+  if (!strncmp(m, cmd, n) && !strncmp(m + n, ": ", 2)) m += n + 2;
+  return cli_fail(cmd, "%s", m);
 }
 
 int cli_parse_double(const char *text, double *out) {

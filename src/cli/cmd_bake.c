@@ -269,6 +269,14 @@ int cmd_bake(int argc, char **argv) {
     nbrdf_model_destroy(model);
     return CLI_EXIT_FAILURE;
   }
+  /* The options against the model (a budget too small for the level and this decoder): a bad
+   * option is a usage error, whereas nbrdf_bake's own failures are the inputs'. */
+  if (nbrdf_bake_options_check(model, &opts, &err) != NBRDF_OK) {
+    nbrdf_model_destroy(model);
+    cli_inputs_free(&inputs);
+    return cli_usage_error("bake", "%s%s", budget_given ? "--budget: " : "",
+                           strncmp(err.message, "bake: ", 6) ? err.message : err.message + 6);
+  }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", used);
 

@@ -133,6 +133,13 @@ expect_clean_error 2 "the column X and row Y of a texel of mip level LEVEL" \
   "$NBRDF" render "${rr[@]}" --lobe 1,-1
 check "no render after bad --lobe" test ! -e r.exr
 
+# --budget below the level's smallest plan is a bad option (exit 2), said once: not
+# "nbrdf bake: bake: ..." (issue 30, 4.7).
+expect_clean_error 2 "nbrdf bake: --budget: a budget of 1e-300 s is too small for 'compact'" \
+  "$NBRDF" bake --bundle bundle --alpha1 0.2 "${rest[@]}" --accuracy compact --budget 1e-300 \
+  -o out.exr
+check "budget: no doubled prefix" bash -c "! grep -Fq 'bake: bake:' '$TMP/err'"
+
 # A path of ~4000 bytes (16 components of 250) does not push a message's reason out of the
 # 512-byte error buffer: the path's middle gives way to an ellipsis (issue 30, 4.3).
 long=ln
