@@ -4,12 +4,14 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include <sys/mman.h>
 #include <unistd.h>
 
 extern "C" {
@@ -73,7 +75,72 @@ void copy_string(char *dst, size_t n, const std::string &src) {
   std::snprintf(dst, n, "%s", src.c_str());
 }
 
+std::atomic<int> g_capture_stderr{0};
+
+// Sends fd 2 to an in-memory file for its lifetime (texture_image_capture_stderr);
+// text() restores fd 2 and returns what was written meanwhile. Inactive (and a
+// no-op) when capturing is off or a descriptor cannot be had.
+class StderrCapture {
+public:
+  StderrCapture() {
+    if (!g_capture_stderr.load()) return;
+    std::fflush(stderr);
+    mem_ = memfd_create("nbrdf-stderr", MFD_CLOEXEC);
+    if (mem_ >= 0) saved_ = dup(2);
+    if (saved_ < 0 || dup2(mem_, 2) < 0) release();
+  }
+  ~StderrCapture() { pass_on(); }
+  StderrCapture(const StderrCapture &) = delete;
+  StderrCapture &operator=(const StderrCapture &) = delete;
+
+  std::string text() {
+    std::string s;
+    if (mem_ < 0) return s;
+    std::fflush(stderr);
+    dup2(saved_, 2);
+    char buf[4096];
+    ssize_t n = pread(mem_, buf, sizeof buf, 0);
+    if (n > 0) s.assign(buf, (size_t)n);
+    release();
+    return s;
+  }
+  // A success: what the libraries said (warnings) reaches stderr as it would have.
+  void pass_on() {
+    std::string s = text();
+    if (!s.empty() && write(2, s.data(), s.size()) < 0) {
+    }
+  }
+
+private:
+  void release() {
+    if (saved_ >= 0) {
+      dup2(saved_, 2);
+      close(saved_);
+    }
+    if (mem_ >= 0) close(mem_);
+    saved_ = mem_ = -1;
+  }
+  int mem_ = -1, saved_ = -1;
+};
+
+// OpenImageIO's reason, with what the libraries printed that it does not already say
+// ("libpng error: X" adds X unless the reason holds it).
+std::string with_captured(std::string why, const std::string &captured) {
+  size_t at = 0;
+  while (at < captured.size()) {
+    size_t nl = captured.find('\n', at);
+    std::string line = captured.substr(at, nl == std::string::npos ? std::string::npos : nl - at);
+    at = nl == std::string::npos ? captured.size() : nl + 1;
+    for (const char *lib : {"libpng error: ", "libpng warning: "})
+      if (line.compare(0, std::strlen(lib), lib) == 0) line.erase(0, std::strlen(lib));
+    if (!line.empty() && why.find(line) == std::string::npos) why += "; " + line;
+  }
+  return why;
+}
+
 } // namespace
+
+extern "C" void texture_image_capture_stderr(int on) { g_capture_stderr.store(on != 0); }
 
 extern "C" const char *texture_pixel_format_name(texture_pixel_format format) {
   switch (format) {
@@ -105,10 +172,14 @@ extern "C" nbrdf_status texture_image_open(const char *path, int flags, texture_
     img->path = path;
     ImageSpec config;
     if (flags & NBRDF_IMAGE_UNASSOCIATED_ALPHA) config.attribute("oiio:UnassociatedAlpha", 1);
+    StderrCapture capture;
     img->in = ImageInput::open(path, &config);
-    if (!img->in)
+    if (!img->in) {
+      std::string why = first_line(OIIO::geterror());
       return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path,
-                       first_line(OIIO::geterror()).c_str());
+                       with_captured(why, capture.text()).c_str());
+    }
+    capture.pass_on();
     img->spec = img->in->spec();
     const ImageSpec &s = img->spec;
     if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
@@ -187,6 +258,7 @@ extern "C" nbrdf_status texture_image_read_rows(texture_image_in *img, int level
       return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows [%d, %d) channels [%d, %d) of %dx%d",
                        path, y0, y1, c0, c1, s.width, s.height);
     bool ok;
+    StderrCapture capture;
     if (s.tile_width > 0 && s.tile_height > 0) {
       // OIIO 2.4.7's read_scanlines dies of SIGFPE on tiled files: read the
       // tile rows that cover [y0, y1) instead and copy the rows asked for.
@@ -203,9 +275,11 @@ extern "C" nbrdf_status texture_image_read_rows(texture_image_in *img, int level
     } else {
       ok = img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT, out);
     }
-    if (!ok)
+    if (!ok) {
+      std::string why = first_line(img->in->geterror());
       return core_fail(err, NBRDF_ERR_IO, "%s: cannot read rows %d..%d: %s", path, y0, y1 - 1,
-                       first_line(img->in->geterror()).c_str());
+                       with_captured(why, capture.text()).c_str());
+    }
     return NBRDF_OK;
   } catch (const std::exception &e) {
     return core_fail(err, NBRDF_ERR_IO, "%s: %s", path, e.what());

@@ -34,6 +34,11 @@ for f in truncated.png bitflip.png chunk_length.png empty.png text.png truncated
     --alpha2 0.3 --r0 "$bad/$f" --albedo 0.7 --sigma-t 2 -o out.exr
 done
 check "no output after bad maps" test ! -e out.exr
+# libpng prints its own "libpng error: ..." line on stderr; the CLI folds it into its one
+# message, which carries libpng's reason (issue 30, 4.7).
+expect_clean_error 1 "bitflip.png: cannot read rows 0..7: PNG read error: IDAT: invalid distance" \
+  "$NBRDF" bake --bundle bundle --alpha1 "$bad/bitflip.png" "${rest[@]}" -o out.exr
+check "only nbrdf's lines on stderr: $(cat "$TMP/err")" bash -c "! grep -v '^nbrdf ' '$TMP/err'"
 
 # Special files as maps: refused at once, saying what they are.
 mkdir dir.png
