@@ -5,6 +5,7 @@
 
 #include "cli/cli.h"
 #include "model/param_conventions.h"
+#include "texture/param_source.h"
 
 static const char *const flag_names[NBRDF_BAKE_PARAM_COUNT] = {"--alpha1", "--eta",    "--alpha2",
                                                                "--r0",     "--albedo", "--sigma-t"};
@@ -93,6 +94,14 @@ int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params
   }
   ++*i;
   return 1;
+}
+
+void cli_params_explain(nbrdf_error *err) {
+  static const char advice[] = TEXTURE_RESAMPLE_ADVICE;
+  size_t n = strlen(err->message), a = sizeof advice - 1;
+  if (err->status != NBRDF_ERR_MISMATCH || n < a || strcmp(err->message + n - a, advice)) return;
+  snprintf(err->message + n - a, sizeof err->message - (n - a),
+           "; pass --resample bilinear to resample the maps to one size");
 }
 
 int cli_params_require(const char *cmd, const cli_params *p) {

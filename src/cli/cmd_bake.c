@@ -291,6 +291,7 @@ int cmd_bake(int argc, char **argv) {
   cli_cancel_unwatch();
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) {
+    cli_params_explain(&err);
     if (ps.bar) fputc('\n', stderr);
     if (ps.json) {
       printf("{\"event\":\"error\",\"status\":\"%s\",\"message\":", nbrdf_status_name(st));

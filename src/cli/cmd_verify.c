@@ -281,6 +281,7 @@ int cmd_verify(int argc, char **argv) {
   nbrdf_status st = nbrdf_verify(model, a.texture, &params.in, &a.o, &rep, &err);
   cli_cancel_unwatch();
   nbrdf_model_destroy(model);
+  cli_params_explain(&err);
   if (st != NBRDF_OK) return cli_fail_error("verify", &err);
   if (!a.ps.json) print_report(&a, rep);
   if (st == NBRDF_OK && a.json) st = nbrdf_verify_write_json(rep, a.texture, 0, a.json, &err);
