@@ -38,6 +38,10 @@ int cli_model_load(const char *cmd, const char *bundle, nbrdf_model **out, char 
  * number, white space around it allowed; no hex, inf or nan; overflow and
  * underflow refused. An int has no fraction or exponent. */
 int cli_parse_double(const char *text, double *out);
+/* The same for a value the library keeps as a float: beyond FLT_MAX, or a
+ * non-zero value below FLT_MIN, is refused here (a usage error) rather than
+ * turned into inf or 0 for the library to refuse later (exit 1). */
+int cli_parse_float(const char *text, float *out);
 int cli_parse_int(const char *text, long lo, long hi, long *out);
 /* Decimal digits only, the whole of 0..2^64-1 (seeds, counts). */
 int cli_parse_u64(const char *text, uint64_t *out);

@@ -43,6 +43,10 @@ int cli_parse_double(const char *text, double *out) {
   return text && core_parse_number(text, strlen(text), out) == NBRDF_NUMBER_OK;
 }
 
+int cli_parse_float(const char *text, float *out) {
+  return text && core_parse_float(text, strlen(text), out) == NBRDF_NUMBER_OK;
+}
+
 int cli_parse_int(const char *text, long lo, long hi, long *out) {
   /* Decimal digits only (strtol would take "0x10" with base 0, and "12abc"
    * up to the letters), white space around them allowed as for numbers. */

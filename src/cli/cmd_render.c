@@ -201,9 +201,11 @@ int cmd_render(int argc, char **argv) {
                                 : (!strcmp(v, "white") ? NBRDF_ENV_CONSTANT : NBRDF_ENV_IMAGE);
       o.env_path = o.env == NBRDF_ENV_IMAGE ? v : NULL;
     } else if ((v = cli_option_value(argc, argv, &i, "--env-scale"))) {
-      if (!cli_parse_double(v, &d[0]) || d[0] < 0.0)
-        return cli_usage_error("render", "--env-scale needs a number >= 0, not '%s'", v);
-      o.env_scale = (float)d[0];
+      float s;
+      if (!cli_parse_float(v, &s) || s < 0.0f)
+        return cli_usage_error("render", "--env-scale needs a number in [0, 3.4e38], not '%s'",
+                               v);
+      o.env_scale = s;
     } else if ((v = cli_option_value(argc, argv, &i, "--light"))) {
       if (!strcmp(v, "none")) {
         o.light_intensity = 0.0;

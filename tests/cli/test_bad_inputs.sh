@@ -145,6 +145,23 @@ expect_clean_error 2 "nbrdf bake: --budget: a budget of 1e-300 s is too small fo
   -o out.exr
 check "budget: no doubled prefix" bash -c "! grep -Fq 'bake: bake:' '$TMP/err'"
 
+# Numeric options out of their range are usage errors (exit 2), caught by the CLI rather
+# than refused later by the library (exit 1) (issue 30, 4.7).
+oiiotool --pattern constant:color=0.5 4x4 1 -d uint8 -o eta8.png
+expect_clean_error 2 "--eta-range needs LO,HI, numbers with 0 <= LO < HI, not '-1,2'" \
+  "$NBRDF" bake --bundle bundle --alpha1 0.2 --eta eta8.png --alpha2 0.3 --r0 0.9 --albedo 0.7 \
+  --sigma-t 2 --eta-range -1,2 -o out.exr
+expect_clean_error 2 "--sigma-t-range needs LO,HI" "$NBRDF" bake --bundle bundle --alpha1 0.2 \
+  "${rest[@]}" --sigma-t-range 0,1e39 -o out.exr
+expect_clean_error 2 "--r0 '0.9,1.5,0.5': 1.5 is above 1 (not physical); expected a reflectance" \
+  "$NBRDF" bake --bundle bundle --alpha1 0.2 --eta 1.5 --alpha2 0.3 --r0 0.9,1.5,0.5 \
+  --albedo 0.7 --sigma-t 2 -o out.exr
+expect_clean_error 2 "--alpha1 '-0.2': -0.2 is negative; expected a value >= 0" "$NBRDF" bake \
+  --bundle bundle --alpha1 -0.2 "${rest[@]}" -o out.exr
+expect_clean_error 2 "--env-scale needs a number in [0, 3.4e38], not '1e39'" "$NBRDF" render \
+  spaced.exr -o r.exr --bundle bundle --env-scale 1e39
+check "no output after bad numeric options" test ! -e out.exr
+
 # A path of ~4000 bytes (16 components of 250) does not push a message's reason out of the
 # 512-byte error buffer: the path's middle gives way to an ellipsis (issue 30, 4.3).
 long=ln
