@@ -435,13 +435,14 @@ static void write_row(FILE *out, const core_csv_table *t, size_t r) {
   }
 }
 
-/* The CSV of --in FILE (a regular file), else of stdin. */
+/* The CSV of --in FILE, else of stdin. Read once from start to end, so FILE may be a FIFO or
+ * a pipe (`--in <(cmd)`) as stdin may; the reader bounds each line. */
 static int read_input(const char *path, core_csv_table *t) {
   nbrdf_error err = {0};
   FILE *in = stdin;
   if (path) {
     int fd = -1;
-    if (core_input_open(path, NBRDF_INPUT_ANY_SIZE, &fd, NULL, &err) != NBRDF_OK)
+    if (core_input_open_stream(path, &fd, &err) != NBRDF_OK)
       return cli_fail_error("eval", &err);
     in = fdopen(fd, "rb");
     if (!in) {

@@ -86,6 +86,27 @@ for v in 0x10 1e400 nan; do
   fi
 done
 
+# eval --in reads its CSV once, from start to end, as it reads stdin: a pipe (process
+# substitution) and a named FIFO are accepted; devices and directories are not (issue 30, 4.7).
+checks=$((checks + 1))
+timeout 60 "$NBRDF" eval --model conductor --in <(cat ok.csv) >"$TMP/out" 2>"$TMP/err"
+if [ $? != 0 ] || ! grep -q '^0.3,0.9, 30 ,0,30,180,' "$TMP/out"; then
+  echo "FAIL: eval --in <(cat ok.csv): $(head -c 300 "$TMP/err")" >&2
+  failures=$((failures + 1))
+fi
+mkfifo in.fifo
+(sleep 1; cat ok.csv >in.fifo) &
+checks=$((checks + 1))
+timeout 60 "$NBRDF" eval --model conductor --in in.fifo >"$TMP/out" 2>"$TMP/err"
+if [ $? != 0 ] || ! grep -q '^0.3,0.9, 30 ,0,30,180,' "$TMP/out"; then
+  echo "FAIL: eval --in a named FIFO written later: $(head -c 300 "$TMP/err")" >&2
+  failures=$((failures + 1))
+fi
+wait
+expect_clean_error 1 "/dev/zero: is a character device" "$NBRDF" eval --model conductor \
+  --in /dev/zero
+expect_clean_error 1 "dir.png: is a directory" "$NBRDF" eval --model conductor --in dir.png
+
 # Parameter values: a number with white space around it is a number; hex,
 # inf and nan are not numbers; out of a float's range is an error naming the
 # parameter; a file named like a hex number that exists is a map.
