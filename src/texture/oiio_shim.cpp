@@ -185,6 +185,20 @@ extern "C" nbrdf_status texture_image_open(const char *path, int flags, texture_
     if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
       return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
                        path, s.width, s.height, s.depth, s.nchannels);
+    // OpenEXR's data window may be smaller (or larger, or shifted) than its display window;
+    // the texels read are the data window's, so such a map would bake at another size, and
+    // an environment map would be misplaced, without a word. Which of the two the author
+    // meant cannot be told: refuse, and say how to make them one.
+    if (s.full_width > 0 && s.full_height > 0 &&
+        (s.x != s.full_x || s.y != s.full_y || s.width != s.full_width ||
+         s.height != s.full_height))
+      return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                       "%s: data window %dx%d at (%d, %d), display window %dx%d at (%d, %d); "
+                       "expected texels filling the display window (`oiiotool IN --croptofull "
+                       "-o OUT` pads it with zeros, `--fullpixels` makes the data window the "
+                       "image)",
+                       path, s.width, s.height, s.x, s.y, s.full_width, s.full_height, s.full_x,
+                       s.full_y);
     // OpenImageIO reads a whole tile (as floats) to deliver any row of it: a
     // forged tile size would make it allocate gigabytes for a small image.
     if (s.tile_width > 0 && s.tile_height > 0 &&

@@ -125,6 +125,22 @@ cp "$bad/grey_alpha0.png" 0x10
 expect_exit 0 "$NBRDF" bake --bundle bundle --alpha1 0x10 "${rest[@]}" -o hexfile.exr
 check "no output after bad values" test ! -e out.exr
 
+# An OpenEXR map whose data window is not its display window (made here: smaller, then shifted)
+# is refused naming both windows, not baked at the data window's size (issue 30, 4.7).
+oiiotool --pattern constant:color=0.3 8x8 1 -d half --fullsize 16x16+0+0 -o window.exr
+expect_clean_error 1 \
+  "alpha1: window.exr: data window 8x8 at (0, 0), display window 16x16 at (0, 0); expected" \
+  "$NBRDF" bake --bundle bundle --alpha1 window.exr "${rest[@]}" -o out.exr
+oiiotool --pattern constant:color=0.3 8x8 1 -d half --origin +2+2 --fullsize 8x8+0+0 \
+  -o shifted.exr
+expect_clean_error 1 "shifted.exr: data window 8x8 at (2, 2), display window 8x8 at (0, 0)" \
+  "$NBRDF" bake --bundle bundle --alpha1 shifted.exr "${rest[@]}" -o out.exr
+oiiotool window.exr --croptofull -o full.exr
+expect_exit 0 "$NBRDF" bake --bundle bundle --alpha1 full.exr "${rest[@]}" -o full-lat.exr
+check "the padded map bakes at the display window's size" grep -q "wrote full-lat.exr: 16 x 16" \
+  "$TMP/out"
+check "no output after a windowed map" test ! -e out.exr
+
 # Messages name the right file: --png equal to the input, a map too large.
 expect_clean_error 1 "spaced.exr: the output is the input 'spaced.exr'" "$NBRDF" render spaced.exr -o r.exr --png spaced.exr \
   --bundle bundle
