@@ -260,6 +260,13 @@ typedef struct nbrdf_bake_report {
  * input a constant) 1 x 1. The texture is mono when every source has one channel,
  * else RGB (each channel its own BRDF; a grey source serves all three).
  * `options` NULL means defaults; `report` may be NULL. */
+/* The checks nbrdf_bake makes of `options` before it reads any input, with
+ * this model (its decoder's cost): NBRDF_ERR_ARGUMENT naming the option, e.g.
+ * a budget too small for the accuracy level's smallest plan. A tool calls it
+ * to tell a bad option (a usage error) from a failure of the inputs. */
+nbrdf_status nbrdf_bake_options_check(const nbrdf_model *model, const nbrdf_bake_options *options,
+                                      nbrdf_error *err);
+
 nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *inputs,
                         const nbrdf_bake_options *options, const char *out_path,
                         nbrdf_bake_report *report, nbrdf_error *err);

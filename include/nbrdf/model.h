@@ -90,9 +90,10 @@ int nbrdf_model_is_trained(const nbrdf_model *model);
 /* Multiply-adds per decoder query (one channel) and per layering evaluation. */
 int64_t nbrdf_model_decoder_macs(const nbrdf_model *model);
 int64_t nbrdf_model_layering_macs(const nbrdf_model *model);
-/* The files the model was read from (model.json, then the four .safetensors), as
- * "DIR/name": a command passes them as inputs no output may overwrite. Returns
- * their count; the strings live as long as the model. */
+/* The bundle's files, as "DIR/name": model.json, the four .safetensors the
+ * model was read from, then MODEL_CARD.md (not read, but part of the bundle).
+ * A command passes them as inputs no output may overwrite. Returns their count
+ * (6); the strings live as long as the model. */
 int nbrdf_model_files(const nbrdf_model *model, const char *const **paths);
 
 /* ----------------------------------------------------------- own decoders */

@@ -24,6 +24,8 @@ typedef enum nbrdf_status {
   NBRDF_ERR_INTERNAL     /* a bug in nbrdf: please report it with the message */
 } nbrdf_status;
 
+/* A longer message (a path may be 4096 bytes) keeps its start, its end and its
+ * reason: the middle of its longest paths is replaced by "…" (UTF-8). */
 #define NBRDF_ERROR_MESSAGE_MAX 512
 
 typedef struct nbrdf_error {

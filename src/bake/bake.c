@@ -380,11 +380,9 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   return st;
 }
 
-nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *inputs,
-                        const nbrdf_bake_options *options, const char *out_path,
-                        nbrdf_bake_report *report, nbrdf_error *err) {
-  if (!model || !inputs || !out_path || !*out_path)
-    return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: model, inputs and output path are required");
+nbrdf_status nbrdf_bake_options_check(const nbrdf_model *model, const nbrdf_bake_options *options,
+                                      nbrdf_error *err) {
+  if (!model) return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: the model is required");
   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
   if (options) o = *options;
   if (o.mip_levels != 0 && o.mip_levels != 1)
@@ -404,9 +402,23 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "bake: budget is a number of seconds > 0 (0: the level's default), not %g",
                      o.budget);
+  if (o.accuracy != NBRDF_BAKE_FAST) return bake_accuracy_check(model, &o, err);
+  return NBRDF_OK;
+}
+
+nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *inputs,
+                        const nbrdf_bake_options *options, const char *out_path,
+                        nbrdf_bake_report *report, nbrdf_error *err) {
+  if (!model || !inputs || !out_path || !*out_path)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: model, inputs and output path are required");
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  if (options) o = *options;
+  /* Options first: a budget too small is refused before the maps are read. */
+  nbrdf_status st = nbrdf_bake_options_check(model, &o, err);
+  if (st != NBRDF_OK) return st;
   if (report) memset(report, 0, sizeof *report);
   texture_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
-  nbrdf_status st = bake_open_sources(inputs, src, err);
+  st = bake_open_sources(inputs, src, err);
   if (st == NBRDF_OK) st = run(model, src, inputs, &o, out_path, report, err);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     texture_param_source_free(src[id]);

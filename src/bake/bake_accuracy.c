@@ -67,7 +67,7 @@ static nbrdf_status plan_fit(nbrdf_bake_accuracy level, double share, double bud
     if (joint && budget >= fitted_min)
       snprintf(also, sizeof also, "; within %g s 'fitted' fits", budget / share);
     return core_fail(err, NBRDF_ERR_ARGUMENT,
-                      "bake: a budget of %g s is too small for '%s': its smallest plan (1 tuple "
+                      "a budget of %g s is too small for '%s': its smallest plan (1 tuple "
                       "fitted, 1 held out, %d fit steps) costs %.1f s; give a budget of %.0f s "
                       "or more, or use 'fast'%s",
                       budget / share, nbrdf_bake_accuracy_name(level), MIN_STEPS,
@@ -141,26 +141,51 @@ void bake_accuracy_free(bake_accuracy_result *r) {
   memset(r, 0, sizeof *r);
 }
 
+static double budget_of(const nbrdf_bake_options *o) {
+  return o->budget > 0.0                         ? o->budget
+         : o->accuracy == NBRDF_BAKE_COMPACT     ? NBRDF_BAKE_BUDGET_COMPACT
+         : o->accuracy == NBRDF_BAKE_SPECIALISED ? NBRDF_BAKE_BUDGET_SPECIALISED
+                                                 : NBRDF_BAKE_BUDGET_FITTED;
+}
+
+/* COMPACT: the small decoder's multiply-adds per query (0 for the other levels). */
+static nbrdf_status student_macs_of(const nbrdf_bake_options *o, int64_t *macs,
+                                    nbrdf_error *err) {
+  *macs = 0;
+  if (o->accuracy != NBRDF_BAKE_COMPACT) return NBRDF_OK;
+  const int K = o->compact_dim > 0 ? o->compact_dim : BAKE_COMPACT_DEFAULT_DIM;
+  const int width = o->compact_width > 0 ? o->compact_width : BAKE_COMPACT_DEFAULT_WIDTH;
+  model_decoder_config cfg;
+  nbrdf_status st = model_decoder_compact_config(K, width, &cfg, err);
+  if (st == NBRDF_OK) *macs = nn_spec_macs(&cfg.spec);
+  return st;
+}
+
+nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_options *o,
+                                 nbrdf_error *err) {
+  int64_t student_macs;
+  nbrdf_status st = student_macs_of(o, &student_macs, err);
+  bake_plan plan;
+  /* One tuple: the smallest plan, whose cost alone decides whether the budget suffices. */
+  if (st == NBRDF_OK)
+    st = bake_plan_make(o->accuracy, budget_of(o), 1, nbrdf_model_decoder_macs(model),
+                        student_macs, &plan, err);
+  return st;
+}
+
 nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *scene,
                                    const nbrdf_bake_options *o, core_ticker *ticker,
                                    bake_accuracy_result *r, nbrdf_error *err) {
   memset(r, 0, sizeof *r);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
   bake_ranges_init(model, lo, hi);
-  r->budget = o->budget > 0.0                         ? o->budget
-              : o->accuracy == NBRDF_BAKE_COMPACT     ? NBRDF_BAKE_BUDGET_COMPACT
-              : o->accuracy == NBRDF_BAKE_SPECIALISED ? NBRDF_BAKE_BUDGET_SPECIALISED
-                                                      : NBRDF_BAKE_BUDGET_FITTED;
+  r->budget = budget_of(o);
   const int compact = o->accuracy == NBRDF_BAKE_COMPACT;
   const int K = o->compact_dim > 0 ? o->compact_dim : BAKE_COMPACT_DEFAULT_DIM;
   const int width = o->compact_width > 0 ? o->compact_width : BAKE_COMPACT_DEFAULT_WIDTH;
-  int64_t student_macs = 0;
-  if (compact) {
-    model_decoder_config cfg;
-    nbrdf_status cs = model_decoder_compact_config(K, width, &cfg, err);
-    if (cs != NBRDF_OK) return cs;
-    student_macs = nn_spec_macs(&cfg.spec);
-  }
+  int64_t student_macs;
+  nbrdf_status sm = student_macs_of(o, &student_macs, err);
+  if (sm != NBRDF_OK) return sm;
   bake_gather_settings gs = {scene->width, scene->height, scene->colours, lo, hi,
                              o->roughness,  o->range,     o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;

@@ -33,6 +33,12 @@ nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t dis
                             int64_t decoder_macs, int64_t student_macs, bake_plan *plan,
                             nbrdf_error *err);
 
+/* The budget of o->accuracy (not FAST) with this model's decoder: o->budget or
+ * the level's default; NBRDF_ERR_ARGUMENT when even the smallest plan does not
+ * fit it. Needs no input: the smallest plan's cost does not depend on them. */
+nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_options *o,
+                                 nbrdf_error *err);
+
 typedef struct bake_accuracy_result {
   bake_correction correction;
   bake_compact compact; /* COMPACT: the basis and the student (else zero) */

@@ -34,8 +34,7 @@ static nbrdf_status resize(const nbrdf_bake_inputs *in, texture_param_source **s
     if (!m || (w == W && h == H)) continue;
     if (in->resample != NBRDF_RESAMPLE_BILINEAR)
       return core_fail(err, NBRDF_ERR_MISMATCH,
-                       "%s: %s is %dx%d but the output size is %dx%d: pass --resample bilinear "
-                       "(nbrdf_bake_inputs.resample) to resample the maps to it",
+                       "%s: %s is %dx%d but the output size is %dx%d" TEXTURE_RESAMPLE_ADVICE,
                        nbrdf_bake_param_name((nbrdf_bake_param_id)id), texture_param_map_path(m), w,
                        h, W, H);
     nbrdf_status st = texture_param_source_resample(src[id], W, H, err);

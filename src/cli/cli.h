@@ -38,9 +38,25 @@ int cli_model_load(const char *cmd, const char *bundle, nbrdf_model **out, char 
  * number, white space around it allowed; no hex, inf or nan; overflow and
  * underflow refused. An int has no fraction or exponent. */
 int cli_parse_double(const char *text, double *out);
+/* The same for a value the library keeps as a float: beyond FLT_MAX, or a
+ * non-zero value below FLT_MIN, is refused here (a usage error) rather than
+ * turned into inf or 0 for the library to refuse later (exit 1). */
+int cli_parse_float(const char *text, float *out);
 int cli_parse_int(const char *text, long lo, long hi, long *out);
 /* Decimal digits only, the whole of 0..2^64-1 (seeds, counts). */
 int cli_parse_u64(const char *text, uint64_t *out);
+/* An index (a mip level, a texel's column): decimal digits only; a value beyond
+ * 2^64-1 reads as UINT64_MAX, so that it is refused as out of range, like any
+ * other too large index, rather than as "not a number". */
+int cli_parse_index(const char *text, uint64_t *out);
+/* The mip level count of latent texture `path`, and level `level`'s size in
+ * *width, *height (when level < the count). 0 when the file cannot be read as
+ * a latent texture: the command's own reading then says why. */
+int cli_texture_levels(const char *path, int level, int *width, int *height);
+/* The usage error of a mip level the texture lacks: "nbrdf CMD: OPTION: TEXTURE
+ * has N mip levels (0..N-1); there is no level LEVEL". Returns CLI_EXIT_USAGE. */
+int cli_level_error(const char *cmd, const char *option, const char *texture, int levels,
+                    const char *level);
 /* Matches argv[*i] against option `name` in the forms "--name value" and
  * "--name=value": returns the value (advancing *i past a separate value), ""
  * when the value is missing, or NULL when argv[*i] is another option. */

@@ -8,6 +8,7 @@
 
 #include "cli/cli.h"
 #include "core/number.h"
+#include "texture/latent_exr.h"
 
 int cli_usage_error(const char *cmd, const char *fmt, ...) {
   va_list ap;
@@ -30,11 +31,20 @@ int cli_fail(const char *cmd, const char *fmt, ...) {
 }
 
 int cli_fail_error(const char *cmd, const nbrdf_error *err) {
-  return cli_fail(cmd, "%s", err->message[0] ? err->message : nbrdf_status_name(err->status));
+  const char *m = err->message[0] ? err->message : nbrdf_status_name(err->status);
+  /* The library names its call ("bake: cancelled ..."), which the CLI's own prefix already
+   * says: "nbrdf bake: bake: ..." reads as a stutter. */
+  size_t n = strlen(cmd);
+  if (!strncmp(m, cmd, n) && !strncmp(m + n, ": ", 2)) m += n + 2;
+  return cli_fail(cmd, "%s", m);
 }
 
 int cli_parse_double(const char *text, double *out) {
   return text && core_parse_number(text, strlen(text), out) == NBRDF_NUMBER_OK;
+}
+
+int cli_parse_float(const char *text, float *out) {
+  return text && core_parse_float(text, strlen(text), out) == NBRDF_NUMBER_OK;
 }
 
 int cli_parse_int(const char *text, long lo, long hi, long *out) {
@@ -57,6 +67,32 @@ int cli_parse_u64(const char *text, uint64_t *out) {
   if (*end || errno == ERANGE) return 0;
   *out = (uint64_t)v;
   return 1;
+}
+
+int cli_parse_index(const char *text, uint64_t *out) {
+  if (!text || !text[0]) return 0;
+  for (const char *c = text; *c; c++)
+    if (!isdigit((unsigned char)*c)) return 0;
+  if (!cli_parse_u64(text, out)) *out = UINT64_MAX;
+  return 1;
+}
+
+int cli_texture_levels(const char *path, int level, int *width, int *height) {
+  nbrdf_error err = {0};
+  texture_latent_reader *r = NULL;
+  if (texture_latent_reader_open(&r, path, &err) != NBRDF_OK) return 0;
+  int levels = texture_latent_reader_info(r)->levels;
+  if (level >= 0 && level < levels &&
+      texture_latent_reader_level_size(r, level, width, height, &err) != NBRDF_OK)
+    levels = 0;
+  texture_latent_reader_close(r);
+  return levels;
+}
+
+int cli_level_error(const char *cmd, const char *option, const char *texture, int levels,
+                    const char *level) {
+  return cli_usage_error(cmd, "%s: %s has %d mip level%s (0..%d); there is no level %s", option,
+                         texture, levels, levels == 1 ? "" : "s", levels - 1, level);
 }
 
 int cli_is_help(const char *arg) { return !strcmp(arg, "-h") || !strcmp(arg, "--help"); }

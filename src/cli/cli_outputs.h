@@ -26,7 +26,7 @@ void cli_inputs_free(cli_inputs *in);
 void cli_inputs_add(cli_inputs *in, const char *path);
 /* The six parameters' maps and the OCIO config. */
 void cli_inputs_add_params(cli_inputs *in, const cli_params *p);
-/* The files a loaded model was read from (nbrdf_model_files). */
+/* The files of a loaded model's bundle (nbrdf_model_files, the card included). */
 void cli_inputs_add_model(cli_inputs *in, const nbrdf_model *model);
 /* A bundle folder's files, before (or without) loading it. */
 void cli_inputs_add_bundle_dir(cli_inputs *in, const char *dir);

@@ -5,6 +5,7 @@
 
 #include "cli/cli.h"
 #include "model/param_conventions.h"
+#include "texture/param_source.h"
 
 static const char *const flag_names[NBRDF_BAKE_PARAM_COUNT] = {"--alpha1", "--eta",    "--alpha2",
                                                                "--r0",     "--albedo", "--sigma-t"};
@@ -39,14 +40,18 @@ void cli_params_usage(FILE *out) {
                "                        the output size, else the largest width and height\n");
 }
 
+/* LO,HI: floats with 0 <= LO < HI, as the map reader requires (a parameter is >= 0): a bad
+ * range is the command line's fault, whether or not a map uses it. */
 static int parse_range(const char *text, nbrdf_bake_param *p) {
-  double lo, hi;
+  float lo, hi;
   char a[64], *comma;
+  if (strlen(text) >= sizeof a) return 0;
   snprintf(a, sizeof a, "%s", text);
   if (!(comma = strchr(a, ','))) return 0;
   *comma = '\0';
-  if (!cli_parse_double(a, &lo) || !cli_parse_double(comma + 1, &hi) || !(lo < hi)) return 0;
-  p->remap = 1, p->lo = (float)lo, p->hi = (float)hi;
+  if (!cli_parse_float(a, &lo) || !cli_parse_float(comma + 1, &hi) || !(lo >= 0.0f && lo < hi))
+    return 0;
+  p->remap = 1, p->lo = lo, p->hi = hi;
   return 1;
 }
 
@@ -62,6 +67,17 @@ int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params
         cli_usage_error(cmd, "%s", err.message);
         return -1;
       }
+      /* What nbrdf_bake would refuse of a constant (texture_param_source_constant,
+       * bake_tuple.c) is a bad option here, before anything is loaded. */
+      const nbrdf_bake_param *q = &p->in.param[id];
+      int colour = id == NBRDF_BAKE_R0 || id == NBRDF_BAKE_ALBEDO;
+      for (int c = 0; !q->path && c < q->channels; c++)
+        if (q->value[c] < 0.0f || (colour && q->value[c] > 1.0f)) {
+          cli_usage_error(cmd, "%s '%s': %g is %s; expected %s", a, v, (double)q->value[c],
+                          q->value[c] < 0.0f ? "negative" : "above 1 (not physical)",
+                          colour ? "a reflectance in [0, 1]" : "a value >= 0");
+          return -1;
+        }
       p->given[id] = 1, ++*i;
       return 1;
     }
@@ -87,12 +103,21 @@ int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params
   } else if (!strcmp(a, "--eta-range") || !strcmp(a, "--sigma-t-range")) {
     int eta = a[2] == 'e';
     if (!parse_range(v, &p->in.param[eta ? NBRDF_BAKE_ETA : NBRDF_BAKE_SIGMA_T]))
-      return cli_usage_error(cmd, "%s needs LO,HI with LO < HI, not '%s'", a, v), -1;
+      return cli_usage_error(cmd, "%s needs LO,HI, numbers with 0 <= LO < HI, not '%s'", a, v),
+             -1;
   } else {
     return 0;
   }
   ++*i;
   return 1;
+}
+
+void cli_params_explain(nbrdf_error *err) {
+  static const char advice[] = TEXTURE_RESAMPLE_ADVICE;
+  size_t n = strlen(err->message), a = sizeof advice - 1;
+  if (err->status != NBRDF_ERR_MISMATCH || n < a || strcmp(err->message + n - a, advice)) return;
+  snprintf(err->message + n - a, sizeof err->message - (n - a),
+           "; pass --resample bilinear to resample the maps to one size");
 }
 
 int cli_params_require(const char *cmd, const cli_params *p) {

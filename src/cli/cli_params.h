@@ -24,6 +24,10 @@ void cli_params_init(cli_params *p);
 int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params *p);
 /* CLI_EXIT_OK when all six parameters were given, else a usage error naming one. */
 int cli_params_require(const char *cmd, const cli_params *p);
+/* Says a failure of the maps in the options' words: a size mismatch's neutral
+ * advice (TEXTURE_RESAMPLE_ADVICE) becomes "pass --resample bilinear". In place,
+ * so that the JSON error event says the same. */
+void cli_params_explain(nbrdf_error *err);
 /* The help lines of the options above. */
 void cli_params_usage(FILE *out);
 

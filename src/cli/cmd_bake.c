@@ -48,7 +48,10 @@ void cmd_bake_usage(FILE *out) {
       "  --decoder FILE        a decoder.safetensors of the bundle's latent size (a fine-\n"
       "                        tuned copy, say) that the texture carries and is decoded\n"
       "                        with (format version 2, docs/LATENT-TEXTURE.md); default:\n"
-      "                        none, the bundle's decoder (a version-1 texture)\n"
+      "                        none, the bundle's decoder (a version-1 texture). It takes\n"
+      "                        the bundle decoder's place in every stage: specialised\n"
+      "                        carries it fine-tuned to the scene, compact the small\n"
+      "                        decoder distilled from that fine-tuned copy\n"
       "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
       "                        warning (default) or stop naming the file and texel\n"
       "  --quantise BITS       round every parameter to 2^BITS levels over its trained\n"
@@ -266,6 +269,14 @@ int cmd_bake(int argc, char **argv) {
     nbrdf_model_destroy(model);
     return CLI_EXIT_FAILURE;
   }
+  /* The options against the model (a budget too small for the level and this decoder): a bad
+   * option is a usage error, whereas nbrdf_bake's own failures are the inputs'. */
+  if (nbrdf_bake_options_check(model, &opts, &err) != NBRDF_OK) {
+    nbrdf_model_destroy(model);
+    cli_inputs_free(&inputs);
+    return cli_usage_error("bake", "%s%s", budget_given ? "--budget: " : "",
+                           strncmp(err.message, "bake: ", 6) ? err.message : err.message + 6);
+  }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", used);
 
@@ -280,6 +291,7 @@ int cmd_bake(int argc, char **argv) {
   cli_cancel_unwatch();
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) {
+    cli_params_explain(&err);
     if (ps.bar) fputc('\n', stderr);
     if (ps.json) {
       printf("{\"event\":\"error\",\"status\":\"%s\",\"message\":", nbrdf_status_name(st));
@@ -320,6 +332,14 @@ int cmd_bake(int argc, char **argv) {
       printf("compact: %d latent channels per colour channel (%.2f %% of the scene's latent "
              "variance), decoder %lld multiply-adds per query\n",
              rep.compact_dim, 100.0 * rep.compact_kept, rep.decoder_macs);
+    /* Above fitted the texture does not carry --decoder itself: say what became of it. */
+    if (decoder && rep.compact_dim)
+      printf("decoder: %s, fine-tuned to the scene, taught the compact decoder the texture "
+             "carries\n",
+             decoder);
+    else if (decoder && rep.accuracy == NBRDF_BAKE_SPECIALISED)
+      printf("decoder: %s, fine-tuned to the scene, is the decoder the texture carries\n",
+             decoder);
   }
   return CLI_EXIT_OK;
 }

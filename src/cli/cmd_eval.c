@@ -4,6 +4,7 @@
  * cmd_eval_usage(). */
 #include <ctype.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -197,7 +198,7 @@ static int parse_args(int argc, char **argv, eval_args *a) {
   a->neural = (cli_eval_neural_options){NULL, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP};
   a->neural_option = 0;
   a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
-  a->texture = (cli_eval_texture_options){NULL, NULL, 0};
+  a->texture = (cli_eval_texture_options){NULL, NULL, 0, NULL};
   a->level_given = a->model_option = 0;
   a->in = NULL;
   for (int i = 1; i < argc; i++) {
@@ -215,9 +216,14 @@ static int parse_args(int argc, char **argv, eval_args *a) {
       if (!*v) return cli_usage_error("eval", "--texture needs a file");
       a->texture.texture = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--level"))) {
-      if (!cli_parse_int(v, 0, 31, &n))
-        return cli_usage_error("eval", "--level '%s' is not an integer in [0, 31]", v);
-      a->texture.level = (int)n;
+      uint64_t level;
+      if (!cli_parse_index(v, &level))
+        return cli_usage_error("eval", "--level is a mip level (an integer, 0 the full size), "
+                                       "not '%s'",
+                               v);
+      /* Which levels exist is the texture's to say, whatever the number's size. */
+      a->texture.level = level > INT_MAX ? INT_MAX : (int)level;
+      a->texture.level_text = v;
       a->level_given = 1;
     } else if ((v = cli_option_value(argc, argv, &i, "--in"))) {
       if (!*v) return cli_usage_error("eval", "--in needs a file");
@@ -429,13 +435,14 @@ static void write_row(FILE *out, const core_csv_table *t, size_t r) {
   }
 }
 
-/* The CSV of --in FILE (a regular file), else of stdin. */
+/* The CSV of --in FILE, else of stdin. Read once from start to end, so FILE may be a FIFO or
+ * a pipe (`--in <(cmd)`) as stdin may; the reader bounds each line. */
 static int read_input(const char *path, core_csv_table *t) {
   nbrdf_error err = {0};
   FILE *in = stdin;
   if (path) {
     int fd = -1;
-    if (core_input_open(path, NBRDF_INPUT_ANY_SIZE, &fd, NULL, &err) != NBRDF_OK)
+    if (core_input_open_stream(path, &fd, &err) != NBRDF_OK)
       return cli_fail_error("eval", &err);
     in = fdopen(fd, "rb");
     if (!in) {

@@ -70,6 +70,33 @@ static int parse_numbers(const char *text, double *v, int n) {
   return 1;
 }
 
+/* --lobe X,Y[,LEVEL]: two or three indices (digits only). field[k], len[k]: each as typed. */
+static int parse_lobe(const char *text, uint64_t xyl[3], const char *field[3], int len[3]) {
+  const char *s = text;
+  int n = 0;
+  xyl[2] = 0, field[2] = "0", len[2] = 1;
+  for (;;) {
+    const char *comma = strchr(s, ',');
+    size_t l = comma ? (size_t)(comma - s) : strlen(s);
+    char buf[32];
+    if (n == 3 || l == 0 || l >= sizeof buf) {
+      /* More digits than fit: an index no texture has, refused as out of range below. */
+      if (n < 3 && l >= sizeof buf && strspn(s, "0123456789") == l)
+        xyl[n] = UINT64_MAX;
+      else
+        return 0;
+    } else {
+      memcpy(buf, s, l);
+      buf[l] = '\0';
+      if (!cli_parse_index(buf, &xyl[n])) return 0;
+    }
+    field[n] = s, len[n] = (int)l, n++;
+    if (!comma) break;
+    s = comma + 1;
+  }
+  return n >= 2;
+}
+
 /* Ground-truth BRDFs of constant parameters, one per colour channel. */
 static int make_reference(const cli_params *p, nbrdf_brdf **brdfs, int *channels) {
   double v[NBRDF_BAKE_PARAM_COUNT][3];
@@ -142,6 +169,9 @@ int cmd_render(int argc, char **argv) {
   const char *latent = NULL, *out = NULL, *png = NULL, *bundle = NULL;
   cli_progress_state ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
   int lobes[8][3], n_lobes = 0;
+  const char *lobe_field[8][3]; /* as typed, for messages */
+  int lobe_len[8][3];
+  const char *lobe_text[8];
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i], *v = NULL;
     long n;
@@ -171,9 +201,11 @@ int cmd_render(int argc, char **argv) {
                                 : (!strcmp(v, "white") ? NBRDF_ENV_CONSTANT : NBRDF_ENV_IMAGE);
       o.env_path = o.env == NBRDF_ENV_IMAGE ? v : NULL;
     } else if ((v = cli_option_value(argc, argv, &i, "--env-scale"))) {
-      if (!cli_parse_double(v, &d[0]) || d[0] < 0.0)
-        return cli_usage_error("render", "--env-scale needs a number >= 0, not '%s'", v);
-      o.env_scale = (float)d[0];
+      float s;
+      if (!cli_parse_float(v, &s) || s < 0.0f)
+        return cli_usage_error("render", "--env-scale needs a number in [0, 3.4e38], not '%s'",
+                               v);
+      o.env_scale = s;
     } else if ((v = cli_option_value(argc, argv, &i, "--light"))) {
       if (!strcmp(v, "none")) {
         o.light_intensity = 0.0;
@@ -212,16 +244,18 @@ int cmd_render(int argc, char **argv) {
     } else if ((v = cli_option_value(argc, argv, &i, "--bundle"))) {
       bundle = v;
     } else if ((v = cli_option_value(argc, argv, &i, "--lobe"))) {
-      double xyl[3] = {0, 0, 0};
+      uint64_t xyl[3];
       if (n_lobes == 8) return cli_usage_error("render", "at most 8 --lobe options");
-      if (!(parse_numbers(v, xyl, 2) || parse_numbers(v, xyl, 3)) || xyl[0] < 0 || xyl[1] < 0 ||
-          xyl[2] < 0 || xyl[0] != floor(xyl[0]) || xyl[1] != floor(xyl[1]) ||
-          xyl[2] != floor(xyl[2]) || xyl[0] > 1e6 || xyl[1] > 1e6 || xyl[2] > 64)
-        return cli_usage_error("render", "--lobe needs X,Y or X,Y,LEVEL (integers >= 0), not '%s'",
+      if (!parse_lobe(v, xyl, lobe_field[n_lobes], lobe_len[n_lobes]))
+        return cli_usage_error("render",
+                               "--lobe needs X,Y or X,Y,LEVEL: the column X and row Y of a texel "
+                               "of mip level LEVEL (0, the default, is the full size), each an "
+                               "integer from 0; not '%s'",
                                v);
+      /* Sizes and levels are the texture's: checked against it below. */
       for (int k = 0; k < 3; k++)
-        lobes[n_lobes][k] = (int)xyl[k];
-      n_lobes++;
+        lobes[n_lobes][k] = xyl[k] > INT_MAX ? INT_MAX : (int)xyl[k];
+      lobe_text[n_lobes++] = v;
     } else if (cli_progress_flag(a, &ps)) {
     } else if (a[0] != '-' && !latent) {
       latent = a;
@@ -232,6 +266,26 @@ int cmd_render(int argc, char **argv) {
   }
   if (!latent) return cli_usage_error("render", "the latent texture LATENT.exr is required");
   if (!out) return cli_usage_error("render", "-o OUT.exr is required");
+  /* A --lobe the texture lacks is a bad option: name the field and the texture's range. An
+   * unreadable texture is left to the render, which says why. */
+  for (int k = 0; k < n_lobes; k++) {
+    int w = 0, h = 0, levels = cli_texture_levels(latent, lobes[k][2], &w, &h);
+    const int *xyl = lobes[k], *len = lobe_len[k];
+    const char *const *f = lobe_field[k];
+    char option[96];
+    snprintf(option, sizeof option, "--lobe %.80s", lobe_text[k]);
+    if (levels > 0 && xyl[2] >= levels) {
+      char level[96];
+      snprintf(level, sizeof level, "%.*s", len[2] < 80 ? len[2] : 80, f[2]);
+      return cli_level_error("render", option, latent, levels, level);
+    }
+    if (levels > 0 && (xyl[0] >= w || xyl[1] >= h))
+      return cli_usage_error("render",
+                             "%s: level %d of %s is %d x %d texels (X 0..%d, Y 0..%d); there is "
+                             "no texel (%.*s, %.*s)",
+                             option, xyl[2], latent, w, h, w - 1, h - 1, len[0] < 32 ? len[0] : 32,
+                             f[0], len[1] < 32 ? len[1] : 32, f[1]);
+  }
   nbrdf_brdf *ref[3] = {NULL, NULL, NULL};
   nbrdf_model *model = NULL;
   nbrdf_error err = {0};

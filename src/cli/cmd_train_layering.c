@@ -24,6 +24,7 @@ int cmd_train_layering(int argc, char **argv) {
     const char *v;
     long n;
     double x;
+    float f;
     int code;
     if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
       if (code) {
@@ -63,8 +64,8 @@ int cmd_train_layering(int argc, char **argv) {
     else if ((v = cli_option_value(argc, argv, &i, "--seed")) &&
              cli_parse_int(v, 0, 2147483647, &n))
       s.seed = (uint64_t)n;
-    else if ((v = cli_option_value(argc, argv, &i, "--lr")) && cli_parse_double(v, &x) && x > 0)
-      s.lr = (float)x;
+    else if ((v = cli_option_value(argc, argv, &i, "--lr")) && cli_parse_float(v, &f) && f > 0)
+      s.lr = f;
     else if ((v = cli_option_value(argc, argv, &i, "--energy")) && cli_parse_double(v, &x) &&
              x >= 0 && x <= 1e6)
       s.energy.lambda = (float)x;

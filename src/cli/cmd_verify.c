@@ -57,6 +57,7 @@ void cmd_verify_usage(FILE *out) {
 
 typedef struct verify_args {
   const char *texture, *bundle, *json, *heatmap, *gate;
+  const char *level; /* --level as typed, for messages */
   double max_error; /* percent; < 0: none */
   long worst;
   nbrdf_verify_options o;
@@ -76,12 +77,17 @@ static int parse_option(int argc, char **argv, int *i, verify_args *a) {
       return cli_usage_error("verify", "--texels needs an integer >= 1, not '%s'", v);
     a->o.texels = (int)n;
   } else if ((v = cli_option_value(argc, argv, i, "--level"))) {
+    uint64_t level;
     if (!strcmp(v, "all"))
       a->o.level = NBRDF_VERIFY_ALL_LEVELS;
-    else if (cli_parse_int(v, 0, 64, &n))
-      a->o.level = (int)n;
-    else
-      return cli_usage_error("verify", "--level is a level number or 'all', not '%s'", v);
+    else if (cli_parse_index(v, &level))
+      a->o.level = level > INT_MAX ? INT_MAX : (int)level; /* the texture says which exist */
+    else if (*v)
+      return cli_usage_error("verify",
+                             "--level is a mip level (an integer, 0 the full size) or 'all', "
+                             "not '%s'",
+                             v);
+    a->level = v;
   } else if ((v = cli_option_value(argc, argv, i, "--spp"))) {
     if (!cli_parse_int(v, 1, 100000000, &n))
       return cli_usage_error("verify", "--spp needs an integer >= 1, not '%s'", v);
@@ -219,6 +225,7 @@ int cmd_verify(int argc, char **argv) {
                    NULL,
                    NULL,
                    "worst",
+                   NULL,
                    -1.0,
                    5,
                    NBRDF_VERIFY_OPTIONS_DEFAULT,
@@ -242,6 +249,13 @@ int cmd_verify(int argc, char **argv) {
   if (!a.texture) return cli_usage_error("verify", "which texture? (nbrdf verify LATENT.exr ...)");
   int missing = cli_params_require("verify", &params);
   if (missing != CLI_EXIT_OK) return missing;
+  /* A level the texture lacks is a bad option whatever its size (7 or 10^20): say which levels
+   * there are. An unreadable texture is left to nbrdf_verify, which says why. */
+  if (a.o.level != NBRDF_VERIFY_ALL_LEVELS) {
+    int levels = cli_texture_levels(a.texture, -1, NULL, NULL);
+    if (levels > 0 && a.o.level >= levels)
+      return cli_level_error("verify", "--level", a.texture, levels, a.level);
+  }
   if (params.roughness_given) a.o.roughness = (int)params.roughness;
   nbrdf_error err = {0};
   nbrdf_model *model = NULL;
@@ -267,6 +281,7 @@ int cmd_verify(int argc, char **argv) {
   nbrdf_status st = nbrdf_verify(model, a.texture, &params.in, &a.o, &rep, &err);
   cli_cancel_unwatch();
   nbrdf_model_destroy(model);
+  cli_params_explain(&err);
   if (st != NBRDF_OK) return cli_fail_error("verify", &err);
   if (!a.ps.json) print_report(&a, rep);
   if (st == NBRDF_OK && a.json) st = nbrdf_verify_write_json(rep, a.texture, 0, a.json, &err);

@@ -141,8 +141,8 @@ int cli_eval_texture(const cli_eval_texture_options *o, const core_csv_table *t,
   size_t index[N_COLS];
   buffers b = {0};
   if (o->level >= img->levels)
-    rc = cli_fail("eval", "%s has %d mip level(s); there is no level %d", o->texture, img->levels,
-                  o->level);
+    rc = cli_level_error("eval", "--level", o->texture, img->levels,
+                         o->level_text ? o->level_text : "0");
   if (rc == CLI_EXIT_OK) rc = find_columns(t, colours, index);
   size_t n = t->n_records - 1, chunk = n < CHUNK ? n : CHUNK;
   float *f = NULL;

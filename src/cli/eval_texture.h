@@ -14,6 +14,7 @@ typedef struct cli_eval_texture_options {
   const char *texture;
   const char *bundle; /* NULL: the default bundle (cli_model_load) */
   int level;          /* mip level to fetch from */
+  const char *level_text; /* --level as typed (NULL: "0"), for messages */
 } cli_eval_texture_options;
 
 /* Reads the columns u, v, theta_i, phi_i, theta_o, phi_o of every row of `t`

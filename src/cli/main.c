@@ -5,10 +5,13 @@
 #include "cli/cli_blas.h"
 #include "cli/cli_cancel.h"
 #include "nbrdf/nbrdf.h"
+#include "texture/oiio_shim.h"
 
 int main(int argc, char **argv) {
   cli_blas_prefer_wide(argv);
   cli_signals_setup();
+  /* One message per failure, nbrdf's: libpng's own stderr line is folded into it. */
+  texture_image_capture_stderr(1);
   if (argc < 2) {
     cli_commands[0].run(1, argv); /* the overview of 'help' */
     return CLI_EXIT_USAGE;

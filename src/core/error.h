@@ -11,11 +11,15 @@
 #endif
 
 /* Records a failure and returns `status`, so callers can write
- * `return core_fail(err, NBRDF_ERR_ARGUMENT, "alpha is %g", a);` */
+ * `return core_fail(err, NBRDF_ERR_ARGUMENT, "alpha is %g", a);`
+ * A message longer than the buffer (NBRDF_ERROR_MESSAGE_MAX - 1 bytes) keeps
+ * its reason: the middles of its longest words (paths of up to PATH_MAX
+ * bytes) give way to an ellipsis, "ln/0000/…/nodir/x.exr: cannot create ...". */
 nbrdf_status core_fail(nbrdf_error *err, nbrdf_status status, const char *fmt, ...)
     NBRDF_PRINTF(3, 4);
 
-/* Puts context in front of an existing message ("r0.png: " + message). */
+/* Puts context in front of an existing message ("r0.png: " + message),
+ * shortened the same way. */
 void core_error_prefix(nbrdf_error *err, const char *fmt, ...) NBRDF_PRINTF(2, 3);
 
 void core_error_clear(nbrdf_error *err);

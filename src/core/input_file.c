@@ -39,6 +39,25 @@ nbrdf_status core_input_check(const char *path, uint64_t max_bytes, uint64_t *si
   return check_stat(path, &sb, max_bytes, size, err);
 }
 
+nbrdf_status core_input_open_stream(const char *path, int *fd, nbrdf_error *err) {
+  *fd = -1;
+  if (!path) return core_fail(err, NBRDF_ERR_ARGUMENT, "input path is NULL");
+  struct stat sb;
+  if (stat(path, &sb) != 0)
+    return core_fail(err, NBRDF_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  if (!S_ISFIFO(sb.st_mode)) return core_input_open(path, NBRDF_INPUT_ANY_SIZE, fd, NULL, err);
+  /* Blocking: a non-blocking open of a FIFO without a writer yet would read as empty. */
+  int f = open(path, O_RDONLY | O_CLOEXEC | O_NOCTTY);
+  if (f < 0) return core_fail(err, NBRDF_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+  /* What was opened, not what stat saw: the name may have been replaced meanwhile. */
+  if (fstat(f, &sb) != 0 || !S_ISFIFO(sb.st_mode)) {
+    close(f);
+    return core_input_open(path, NBRDF_INPUT_ANY_SIZE, fd, NULL, err);
+  }
+  *fd = f;
+  return NBRDF_OK;
+}
+
 nbrdf_status core_input_open(const char *path, uint64_t max_bytes, int *fd, uint64_t *size,
                              nbrdf_error *err) {
   if (fd) *fd = -1;

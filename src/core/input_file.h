@@ -21,6 +21,14 @@
 nbrdf_status core_input_open(const char *path, uint64_t max_bytes, int *fd, uint64_t *size,
                              nbrdf_error *err);
 
+/* For an input read once, from start to end, and never sought or re-read (the
+ * CSV of `eval --in`): a regular file as above, or a FIFO or pipe (`--in
+ * <(cmd)`, a named FIFO), which is opened blocking: like `cat`, it waits for a
+ * writer. Directories and devices stay refused (a device never ends). Inputs
+ * that are sought, re-read, sized before reading or opened by a library by name
+ * (maps, textures, bundle files, data sets) keep core_input_open. */
+nbrdf_status core_input_open_stream(const char *path, int *fd, nbrdf_error *err);
+
 /* The same refusals for readers that open the file by name themselves
  * (OpenImageIO): stat(2) only, nothing is opened. */
 nbrdf_status core_input_check(const char *path, uint64_t max_bytes, uint64_t *size,

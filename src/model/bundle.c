@@ -105,16 +105,18 @@ static nbrdf_status load_part(const char *dir, int i, nbrdf_model *m, uint64_t *
   return st;
 }
 
-/* The paths nbrdf_model_files reports, in one allocation. */
+/* The paths nbrdf_model_files reports, in one allocation. The card is not read, but it is
+ * one of the bundle's files: an output over it would damage the bundle all the same. */
 static nbrdf_status remember_files(const char *dir, nbrdf_model *m, nbrdf_error *err) {
-  const char *names[5] = {"model.json", model_bundle_files[0], model_bundle_files[1],
-                          model_bundle_files[2], model_bundle_files[3]};
+  const char *names[MODEL_FILES] = {"model.json",          model_bundle_files[0],
+                                    model_bundle_files[1], model_bundle_files[2],
+                                    model_bundle_files[3], "MODEL_CARD.md"};
   size_t total = 0;
-  for (int i = 0; i < 5; i++)
+  for (int i = 0; i < MODEL_FILES; i++)
     total += strlen(dir) + strlen(names[i]) + 2;
   char *p = m->files_text = malloc(total);
   if (!p) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", dir);
-  for (int i = 0; i < 5; i++) {
+  for (int i = 0; i < MODEL_FILES; i++) {
     m->files[i] = p;
     p += sprintf(p, "%s/%s", dir, names[i]) + 1;
   }
@@ -156,7 +158,7 @@ int nbrdf_model_latent_dim(const nbrdf_model *m) { return m->latent_dim; }
 int nbrdf_model_is_trained(const nbrdf_model *m) { return m->trained; }
 int nbrdf_model_files(const nbrdf_model *m, const char *const **paths) {
   *paths = m->files;
-  return 5;
+  return MODEL_FILES;
 }
 int64_t nbrdf_model_decoder_macs(const nbrdf_model *m) { return model_decoder_macs(m->decoder); }
 int64_t nbrdf_model_layering_macs(const nbrdf_model *m) {

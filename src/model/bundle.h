@@ -45,6 +45,8 @@ typedef struct model_bundle_ref {
 
 /* The four weight files, in checksum order. */
 extern const char *const model_bundle_files[4];
+/* model.json, the four model_bundle_files and MODEL_CARD.md (nbrdf_model_files). */
+enum { MODEL_FILES = 6 };
 
 struct nbrdf_model {
   char name[64];
@@ -56,7 +58,7 @@ struct nbrdf_model {
   model_layering *layering;
   model_sampler *sampler;
   model_base_table tables[2]; /* indexed by nbrdf_base_kind */
-  const char *files[5];       /* nbrdf_model_files: model.json and model_bundle_files */
+  const char *files[MODEL_FILES]; /* nbrdf_model_files: model.json, model_bundle_files, card */
   char *files_text;           /* owns the strings of files[] */
   /* A derived model (model_derive.c) shares everything above but its
    * decoder with `parent`, a loaded bundle it holds a reference to; it owns

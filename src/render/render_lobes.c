@@ -46,8 +46,8 @@ nbrdf_status nbrdf_render_lobes(const nbrdf_model *model, const char *latent_pat
   if (st != NBRDF_OK) return st;
   int colours = texture_latent_colours(&tex->layout);
   if (level < 0 || level >= tex->levels)
-    st = core_fail(err, NBRDF_ERR_ARGUMENT, "%s: no mip level %d (the texture has %d)", latent_path,
-                   level, tex->levels);
+    st = core_fail(err, NBRDF_ERR_ARGUMENT, "%s has %d mip level%s (0..%d); there is no level %d",
+                   latent_path, tex->levels, tex->levels == 1 ? "" : "s", tex->levels - 1, level);
   else if (x < 0 || y < 0 || x >= tex->width[level] || y >= tex->height[level])
     st = core_fail(err, NBRDF_ERR_ARGUMENT, "%s: texel (%d, %d) is outside level %d (%d x %d)",
                    latent_path, x, y, level, tex->width[level], tex->height[level]);

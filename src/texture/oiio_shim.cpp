@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <limits>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/mman.h>
 #include <unistd.h>
 
 extern "C" {
@@ -39,8 +41,9 @@ namespace {
 
 // The largest tile read (floats): real maps use tiles of 64x64 to 512x512.
 constexpr size_t kTileBytesMax = size_t(64) << 20;
-// NBRDF_BAKE_SIZE_MAX: the largest latent texture, and so the largest map worth reading.
-constexpr int kMapSideMax = 65536;
+// 16 x NBRDF_BAKE_SIZE_MAX (a larger map resamples to the largest texture); beyond it a
+// row alone would cost OpenImageIO's readers gigabytes.
+constexpr int kMapSideMax = 1 << 20;
 constexpr double kTexelsPerByteMax = 16384.0;
 
 std::string first_line(std::string s) {
@@ -81,7 +84,72 @@ void copy_string(char *dst, size_t n, const std::string &src) {
   std::snprintf(dst, n, "%s", src.c_str());
 }
 
+std::atomic<int> g_capture_stderr{0};
+
+// Sends fd 2 to an in-memory file for its lifetime (texture_image_capture_stderr);
+// text() restores fd 2 and returns what was written meanwhile. Inactive (and a
+// no-op) when capturing is off or a descriptor cannot be had.
+class StderrCapture {
+public:
+  StderrCapture() {
+    if (!g_capture_stderr.load()) return;
+    std::fflush(stderr);
+    mem_ = memfd_create("nbrdf-stderr", MFD_CLOEXEC);
+    if (mem_ >= 0) saved_ = dup(2);
+    if (saved_ < 0 || dup2(mem_, 2) < 0) release();
+  }
+  ~StderrCapture() { pass_on(); }
+  StderrCapture(const StderrCapture &) = delete;
+  StderrCapture &operator=(const StderrCapture &) = delete;
+
+  std::string text() {
+    std::string s;
+    if (mem_ < 0) return s;
+    std::fflush(stderr);
+    dup2(saved_, 2);
+    char buf[4096];
+    ssize_t n = pread(mem_, buf, sizeof buf, 0);
+    if (n > 0) s.assign(buf, (size_t)n);
+    release();
+    return s;
+  }
+  // A success: what the libraries said (warnings) reaches stderr as it would have.
+  void pass_on() {
+    std::string s = text();
+    if (!s.empty() && write(2, s.data(), s.size()) < 0) {
+    }
+  }
+
+private:
+  void release() {
+    if (saved_ >= 0) {
+      dup2(saved_, 2);
+      close(saved_);
+    }
+    if (mem_ >= 0) close(mem_);
+    saved_ = mem_ = -1;
+  }
+  int mem_ = -1, saved_ = -1;
+};
+
+// OpenImageIO's reason, with what the libraries printed that it does not already say
+// ("libpng error: X" adds X unless the reason holds it).
+std::string with_captured(std::string why, const std::string &captured) {
+  size_t at = 0;
+  while (at < captured.size()) {
+    size_t nl = captured.find('\n', at);
+    std::string line = captured.substr(at, nl == std::string::npos ? std::string::npos : nl - at);
+    at = nl == std::string::npos ? captured.size() : nl + 1;
+    for (const char *lib : {"libpng error: ", "libpng warning: "})
+      if (line.compare(0, std::strlen(lib), lib) == 0) line.erase(0, std::strlen(lib));
+    if (!line.empty() && why.find(line) == std::string::npos) why += "; " + line;
+  }
+  return why;
+}
+
 } // namespace
+
+extern "C" void texture_image_capture_stderr(int on) { g_capture_stderr.store(on != 0); }
 
 extern "C" const char *texture_pixel_format_name(texture_pixel_format format) {
   switch (format) {
@@ -111,7 +179,21 @@ nbrdf_status finish_open(std::unique_ptr<texture_image_in> img, uint64_t size,
   if (s.width < 1 || s.height < 1 || s.nchannels < 1 || s.depth > 1)
     return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: not a 2D image (%dx%dx%d, %d channels)",
                      path, s.width, s.height, s.depth, s.nchannels);
-  // No map is larger than the largest latent texture; and no format compresses more than
+  // OpenEXR's data window may be smaller (or larger, or shifted) than its display window;
+  // the texels read are the data window's, so such a map would bake at another size, and
+  // an environment map would be misplaced, without a word. Which of the two the author
+  // meant cannot be told: refuse, and say how to make them one.
+  if (s.full_width > 0 && s.full_height > 0 &&
+      (s.x != s.full_x || s.y != s.full_y || s.width != s.full_width ||
+       s.height != s.full_height))
+    return core_fail(err, NBRDF_ERR_UNSUPPORTED,
+                     "%s: data window %dx%d at (%d, %d), display window %dx%d at (%d, %d); "
+                     "expected texels filling the display window (`oiiotool IN --croptofull "
+                     "-o OUT` pads it with zeros, `--fullpixels` makes the data window the "
+                     "image)",
+                     path, s.width, s.height, s.x, s.y, s.full_width, s.full_height, s.full_x,
+                     s.full_y);
+  // No map is much larger than the largest latent texture; and no format compresses more than
   // about 11,000 texels into a byte (LZW on 1-bit texels; deflate: 8 x 1,032), so a
   // header claiming more lies: OpenImageIO's readers allocate for the claim before finding
   // the data short (fuzz_param_map: an 18-byte PGM claiming 2222224x3 texels, 569 MB).
@@ -186,10 +268,14 @@ extern "C" nbrdf_status texture_image_open(const char *path, int flags, texture_
     std::unique_ptr<texture_image_in> img(new texture_image_in);
     img->path = path;
     ImageSpec config = open_config(flags);
+    StderrCapture capture;
     img->in = ImageInput::open(path, &config);
-    if (!img->in)
+    if (!img->in) {
+      std::string why = first_line(OIIO::geterror());
       return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path,
-                       first_line(OIIO::geterror()).c_str());
+                       with_captured(why, capture.text()).c_str());
+    }
+    capture.pass_on();
     return finish_open(std::move(img), size, out, info, err);
   } catch (const std::exception &e) {
     return core_fail(err, NBRDF_ERR_IO, "%s: cannot read image: %s", path, e.what());
@@ -264,6 +350,7 @@ extern "C" nbrdf_status texture_image_read_rows(texture_image_in *img, int level
       return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: rows [%d, %d) channels [%d, %d) of %dx%d",
                        path, y0, y1, c0, c1, s.width, s.height);
     bool ok;
+    StderrCapture capture;
     if (s.tile_width > 0 && s.tile_height > 0) {
       // OIIO 2.4.7's read_scanlines dies of SIGFPE on tiled files: read the
       // tile rows that cover [y0, y1) instead and copy the rows asked for.
@@ -284,9 +371,11 @@ extern "C" nbrdf_status texture_image_read_rows(texture_image_in *img, int level
                 std::numeric_limits<float>::quiet_NaN());
       ok = img->in->read_scanlines(0, level, s.y + y0, s.y + y1, s.z, c0, c1, TypeDesc::FLOAT, out);
     }
-    if (!ok)
+    if (!ok) {
+      std::string why = first_line(img->in->geterror());
       return core_fail(err, NBRDF_ERR_IO, "%s: cannot read rows %d..%d: %s", path, y0, y1 - 1,
-                       first_line(img->in->geterror()).c_str());
+                       with_captured(why, capture.text()).c_str());
+    }
     return NBRDF_OK;
   } catch (const std::exception &e) {
     return core_fail(err, NBRDF_ERR_IO, "%s: %s", path, e.what());

@@ -75,6 +75,14 @@ nbrdf_status texture_image_write(const char *path, int width, int height, int ch
 
 const char *texture_pixel_format_name(texture_pixel_format format);
 
+/* On (non-zero): what the image libraries print on stderr themselves while a
+ * file is opened or read (libpng prints "libpng error: IDAT: ..." before
+ * OpenImageIO returns the same reason) is held back: a failure's message
+ * carries it instead, and a success passes it on to stderr unchanged. The
+ * CLI turns it on; by default a library leaves the process's stderr alone.
+ * Not for programs that write to stderr from other threads meanwhile. */
+void texture_image_capture_stderr(int on);
+
 #ifdef __cplusplus
 }
 #endif

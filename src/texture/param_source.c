@@ -271,8 +271,7 @@ nbrdf_status texture_param_sources_common_size(texture_param_source *const *sour
       *height = h;
     } else if (w != *width || h != *height) {
       return core_fail(err, NBRDF_ERR_MISMATCH,
-                       "%s: %s is %dx%d, but %s: %s is %dx%d (maps must share one size "
-                       "unless resampling is asked for)",
+                       "%s: %s is %dx%d, but %s: %s is %dx%d" TEXTURE_RESAMPLE_ADVICE,
                        s->name, texture_param_map_path(s->map), w, h, first->name,
                        texture_param_map_path(first->map), *width, *height);
     }

@@ -63,6 +63,11 @@ nbrdf_status texture_param_source_read_band(texture_param_source *s, int y0, int
                                             texture_param_band *band, nbrdf_error *err);
 void texture_param_source_free(texture_param_source *s);
 
+/* The end of every "maps differ in size" message (NBRDF_ERR_MISMATCH), in
+ * the library's neutral words; a caller with its own name for the option
+ * replaces it (the CLI: "; pass --resample bilinear ..."). */
+#define TEXTURE_RESAMPLE_ADVICE "; maps are resampled to one size only when asked (bilinear)"
+
 /* All maps among `n` sources share one size (constants fit anything); the
  * error names both disagreeing maps. Sets *width, *height to that size, or
  * to 0 x 0 if every source is a constant. */

@@ -230,8 +230,8 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   if (st != NBRDF_OK) return st;
   const int levels = v->info->levels;
   if (v->o.level >= levels)
-    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s has %d mip level(s); there is no level %d",
-                     v->path, levels, v->o.level);
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "%s has %d mip level%s (0..%d); there is no level %d",
+                     v->path, levels, levels == 1 ? "" : "s", levels - 1, v->o.level);
   int first = v->o.level == NBRDF_VERIFY_ALL_LEVELS ? 0 : v->o.level;
   int last = v->o.level == NBRDF_VERIFY_ALL_LEVELS ? levels - 1 : v->o.level;
   const size_t S = VERIFY_SET * (size_t)v->colours;

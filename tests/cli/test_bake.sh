@@ -34,6 +34,8 @@ check "info: settings" grep -Fq 'roughness=perceptual' info.txt
 # Bad input: exit 1, a message naming the file, no output.
 expect_exit 1 "$NBRDF" bake "${base[@]}" --r0 r0.png -o bad.exr
 check "mismatch names r0.png: $(cat "$TMP/err")" grep -Fq "r0.png" "$TMP/err"
+check "mismatch says the CLI's option (issue 30, 4.7)" grep -Fq \
+  "; pass --resample bilinear to resample the maps to one size" "$TMP/err"
 # ... unless resampling is asked for: r0.png (8x8) is enlarged to 16x16.
 expect_exit 0 "$NBRDF" bake "${base[@]}" --r0 r0.png --resample bilinear -o resampled.exr
 check "resampled bake" test -s resampled.exr

@@ -24,7 +24,7 @@ for b in 0 -3 abc nan 1e9; do
 done
 expect_exit 2 "$NBRDF" bake "${base[@]}" --budget 10 -o bad.exr
 check "--budget without a level" grep -Fq "applies to --accuracy fitted, specialised or compact" "$TMP/err"
-expect_exit 1 "$NBRDF" bake "${base[@]}" --accuracy fitted --budget 0.2 -o bad.exr
+expect_exit 2 "$NBRDF" bake "${base[@]}" --accuracy fitted --budget 0.2 -o bad.exr
 check "too small a budget says what fits" grep -Fq "too small for 'fitted'" "$TMP/err"
 check "no file after refusals" test ! -e bad.exr
 

@@ -23,7 +23,7 @@ check "--compact with another level" grep -Fq -- "--compact goes with --accuracy
 expect_exit 2 "$NBRDF" bake "${base[@]}" --compact 8 --accuracy specialised -o bad.exr
 check "another level after --compact" grep -Fq -- "--compact goes with --accuracy compact" \
   "$TMP/err"
-expect_exit 1 "$NBRDF" bake "${base[@]}" --compact 8 --budget 0.5 -o bad.exr
+expect_exit 2 "$NBRDF" bake "${base[@]}" --compact 8 --budget 0.5 -o bad.exr
 check "too small a budget says what fits" grep -Fq "too small for 'compact'" "$TMP/err"
 check "no file after refusals" test ! -e bad.exr
 

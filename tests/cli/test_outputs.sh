@@ -39,6 +39,8 @@ mkdir sub
 refused "bake -o bundle weights" b/decoder.safetensors \
   "$NBRDF" bake "${base[@]}" -o b/decoder.safetensors
 refused "bake -o model.json" b/model.json "$NBRDF" bake "${base[@]}" -o b/model.json
+# The card is not read but belongs to the bundle (issue 30, 4.5).
+refused "bake -o MODEL_CARD.md" b/MODEL_CARD.md "$NBRDF" bake "${base[@]}" -o b/MODEL_CARD.md
 refused "bake -o tables via ../" sub/../b/base_tables.safetensors \
   "$NBRDF" bake "${base[@]}" -o sub/../b/base_tables.safetensors
 refused "bake -o symlink to weights" weights-link "$NBRDF" bake "${base[@]}" -o weights-link
@@ -55,6 +57,8 @@ refused "verify --json map" hard.png "$NBRDF" verify "${vbase[@]}" --json hard.p
 refused "verify --heatmap model.json" b/model.json \
   "$NBRDF" verify "${vbase[@]}" --heatmap b/model.json
 refused "verify --json weights" weights-link "$NBRDF" verify "${vbase[@]}" --json weights-link
+refused "verify --json MODEL_CARD.md" b/MODEL_CARD.md \
+  "$NBRDF" verify "${vbase[@]}" --json b/MODEL_CARD.md
 
 # render: -o / --png against the texture, the env map, the bundle.
 rbase=(lat.exr --bundle b --width 8 --height 8 --spp 1)

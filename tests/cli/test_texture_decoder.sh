@@ -102,6 +102,16 @@ check "damaged: named" grep -Fq 'damaged.exr: the embedded decoder is damaged' "
 expect_exit 1 "$NBRDF" verify damaged.exr "${P[@]}" "${fast[@]}"
 check "verify damaged: named" grep -Fq 'damaged.exr: the embedded decoder is damaged' "$TMP/err"
 
+# --decoder with --accuracy compact (issue 30, 4.6): it is the decoder the scene's latents are
+# fitted with and whose fine-tuned copy teaches the compact decoder; the texture carries the
+# compact one, so the bake says what became of --decoder, and the result is not the bundle's.
+expect_exit 0 "$NBRDF" bake "${P[@]}" --decoder rnd/decoder.safetensors --accuracy compact \
+  --budget 2 -o cdec.exr
+check "compact --decoder: the summary says what became of it: $(cat "$TMP/out")" grep -Fq \
+  "decoder: rnd/decoder.safetensors, fine-tuned to the scene, taught the compact decoder" "$TMP/out"
+expect_exit 0 "$NBRDF" bake "${P[@]}" --accuracy compact --budget 2 -o cbundle.exr
+check "compact --decoder: a different texture than the bundle decoder's" differ cdec.exr cbundle.exr
+
 # bake --decoder refusals name the file.
 expect_exit 1 "$NBRDF" bake "${P[@]}" --decoder missing.safetensors -o x.exr
 check "missing decoder named" grep -Fq 'missing.safetensors' "$TMP/err"
@@ -130,8 +140,8 @@ check "output column present" grep -Fq "the input already has a column 'f_g'" "$
 printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,30,0\n' >bad.csv
 expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
 check "short row" grep -Fq "line 2: 4 fields, but the header has 6 columns" "$TMP/err"
-expect_exit 1 "$NBRDF" "${E[@]}" --level 1 --in q.csv
-check "no such level" grep -Fq 'v2.exr has 1 mip level(s); there is no level 1' "$TMP/err"
+expect_exit 2 "$NBRDF" "${E[@]}" --level 1 --in q.csv
+check "no such level" grep -Fq 'v2.exr has 1 mip level (0..0); there is no level 1' "$TMP/err"
 expect_exit 1 "$NBRDF" "${E[@]}" --in nothere.csv
 check "missing --in named" grep -Fq 'nothere.csv' "$TMP/err"
 expect_exit 2 "$NBRDF" "${E[@]}" --model neural --in q.csv
