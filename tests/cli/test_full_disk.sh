@@ -25,6 +25,12 @@ mkdir tfs/out
 # fill KEEP: leaves about KEEP bytes free on the tmpfs (its own file, outside out/).
 fill() {
   rm -f tfs/filler
+  # Never fill anything but our own small tmpfs (were it unmounted under us, the folder
+  # would be on the real disk).
+  if [ "$(stat -f -c %T tfs)" != tmpfs ] || [ "$(df --output=size -k tfs | tail -1)" -gt 1024 ]; then
+    echo "FAIL: tfs is no longer the 700 KB tmpfs; stopping" >&2
+    exit 1
+  fi
   local avail
   avail=$(df --output=avail -B1 tfs | tail -1)
   fallocate -l $((avail - $1)) tfs/filler 2>/dev/null ||
