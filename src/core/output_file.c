@@ -60,18 +60,20 @@ static nbrdf_status check_place(const char *path, nbrdf_error *err) {
   const char *slash = strrchr(path, '/');
   const char *base = slash ? slash + 1 : path;
   nbrdf_status st = NBRDF_OK;
+  /* Worded as the creation's own failure would be (core_output_file_open). */
   struct stat sb;
+  int e = 0;
   if (stat(dir, &sb) != 0)
-    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot write into the folder '%s': %s", path, dir,
-                   strerror(errno));
+    e = errno;
   else if (!S_ISDIR(sb.st_mode))
-    st = core_fail(err, NBRDF_ERR_IO, "%s: '%s' is not a folder", path, dir);
+    e = ENOTDIR;
   else if (read_only_fs(dir))
-    st = core_fail(err, NBRDF_ERR_IO, "%s: the file system is read-only (%s)", path,
-                   strerror(EROFS));
+    e = EROFS;
   else if (access(dir, W_OK | X_OK) != 0)
-    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot create files in the folder '%s': %s", path, dir,
-                   strerror(errno));
+    e = errno;
+  if (e)
+    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot create a file in '%s': %s", path, dir,
+                   strerror(e));
   if (st == NBRDF_OK) {
     long name_max = pathconf(dir, _PC_NAME_MAX);
     if (name_max <= 0) name_max = NAME_MAX;
