@@ -130,7 +130,7 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
  * be NULL): `display` is a colour space name (as the bake's colour maps take)
  * looked up in `ocio_config` (NULL: $OCIO, then the built-in "srgb"), applied
  * in the inverse direction (linear -> display). Both files appear whole or
- * not at all. */
+ * not at all, and together: when either cannot be written, neither is. */
 nbrdf_status nbrdf_render_write(const char *exr_path, const char *png_path, int width, int height,
                                 const float *rgb, const char *display, const char *ocio_config,
                                 nbrdf_error *err);

@@ -1,5 +1,6 @@
 #include "cli/cli_outputs.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -81,8 +82,37 @@ int cli_output_check(const char *cmd, const cli_inputs *in, const char *output) 
   return cli_outputs_check(cmd, in, &output, 1);
 }
 
+/* A folder the command will create (mkdir -p) holds no input and no file to replace: its
+ * first missing component must be creatable where it goes. Sets *missing. */
+static int check_new_folder(const char *cmd, const char *dir, int *missing) {
+  char path[4096], first[4096];
+  int n = snprintf(path, sizeof path, "%s", dir);
+  if (n < 0 || n >= (int)sizeof path) return cli_fail(cmd, "%s: path too long", dir);
+  *missing = 0;
+  struct stat sb;
+  while (path[0] && stat(path, &sb) != 0 && errno == ENOENT) {
+    *missing = 1;
+    memcpy(first, path, (size_t)n + 1);
+    char *slash = strrchr(path, '/');
+    while (slash && slash > path && slash[1] == '\0') { /* "a/b/" */
+      *slash = '\0';
+      slash = strrchr(path, '/');
+    }
+    if (!slash) break;
+    *slash = '\0';
+    n = (int)(slash - path);
+  }
+  if (!*missing) return CLI_EXIT_OK;
+  nbrdf_error err = {0};
+  if (core_output_check(first, NULL, 0, &err) != NBRDF_OK) return cli_fail_error(cmd, &err);
+  return CLI_EXIT_OK;
+}
+
 int cli_outputs_check_in(const char *cmd, const cli_inputs *in, const char *dir,
                          const char *const *names) {
+  int missing = 0;
+  if (check_new_folder(cmd, dir, &missing) != CLI_EXIT_OK) return CLI_EXIT_FAILURE;
+  if (missing) return CLI_EXIT_OK;
   for (int i = 0; names[i]; i++) {
     char path[4096];
     int n = snprintf(path, sizeof path, "%s/%s", dir, names[i]);

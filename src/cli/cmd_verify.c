@@ -13,7 +13,9 @@
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
+#include "core/output_file.h"
 #include "nbrdf/verify.h"
+#include "verify/verify_write.h"
 
 void cmd_verify_usage(FILE *out) {
   fprintf(out, "usage: nbrdf verify LATENT.exr --alpha1 V --eta V --alpha2 V --r0 V --albedo V\n"
@@ -284,9 +286,21 @@ int cmd_verify(int argc, char **argv) {
   cli_params_explain(&err);
   if (st != NBRDF_OK) return cli_fail_error("verify", &err);
   if (!a.ps.json) print_report(&a, rep);
-  if (st == NBRDF_OK && a.json) st = nbrdf_verify_write_json(rep, a.texture, 0, a.json, &err);
-  if (st == NBRDF_OK && a.heatmap)
-    st = nbrdf_verify_write_heatmap(rep, rep->per_level[0].level, 0.0, a.heatmap, &err);
+  /* Both outputs or neither: a report without its heat-map looks like a finished run. */
+  core_output_file files[2];
+  int n = 0;
+  const char *texture[1] = {a.texture}; /* the model's paths went with it; checked above */
+  if (a.json && (st = core_output_file_open(&files[n], a.json, texture, 1, &err)) == NBRDF_OK)
+    st = verify_write_json_to(rep, a.texture, 0, &files[n++], &err);
+  if (st == NBRDF_OK && a.heatmap &&
+      (st = core_output_file_open(&files[n], a.heatmap, texture, 1, &err)) == NBRDF_OK)
+    st = verify_write_heatmap_to(rep, rep->per_level[0].level, 0.0, &files[n++], &err);
+  if (st == NBRDF_OK) {
+    st = core_output_file_commit_all(files, n, &err);
+  } else {
+    for (int i = 0; i < n; i++)
+      core_output_file_abort(&files[i]);
+  }
   int code = st != NBRDF_OK ? cli_fail_error("verify", &err) : finish(&a, rep);
   nbrdf_verify_report_free(rep);
   return code;

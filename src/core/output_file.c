@@ -4,12 +4,14 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -17,6 +19,9 @@
 
 #define TEMP_SUFFIX ".tmp"
 #define TEMP_HEX 8
+/* The longest part of the destination's name a temporary name repeats: ".", that part,
+ * ".XXXXXXXX.tmp" fit NAME_MAX, so a destination of up to NAME_MAX bytes can be replaced. */
+#define TEMP_BASE_MAX (NAME_MAX - 2 - TEMP_HEX - (int)(sizeof TEMP_SUFFIX - 1))
 
 static void release(core_output_file *f) {
   free(f->path);
@@ -33,11 +38,65 @@ static int read_only(const char *path, const struct stat *sb) {
   return (sb->st_mode & 0222) == 0 || access(path, W_OK) != 0;
 }
 
+/* The directory part of `path` ("." when none) in a new string. */
+static char *dir_of(const char *path) {
+  const char *slash = strrchr(path, '/');
+  if (!slash) return strdup(".");
+  if (slash == path) return strdup("/");
+  return strndup(path, (size_t)(slash - path));
+}
+
+static int read_only_fs(const char *path) {
+  struct statvfs vfs;
+  return statvfs(path, &vfs) == 0 && (vfs.f_flag & ST_RDONLY);
+}
+
+/* Whether a file can be put at `path` at all: its folder exists, takes new files (a rename
+ * or link needs that, also over an existing file) and its name fits. Checked before a
+ * command's work, so that a typo in a folder costs nothing (it used to fail after it). */
+static nbrdf_status check_place(const char *path, nbrdf_error *err) {
+  char *dir = dir_of(path);
+  if (!dir) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
+  const char *slash = strrchr(path, '/');
+  const char *base = slash ? slash + 1 : path;
+  nbrdf_status st = NBRDF_OK;
+  /* Worded as the creation's own failure would be (core_output_file_open). */
+  struct stat sb;
+  int e = 0;
+  if (stat(dir, &sb) != 0)
+    e = errno;
+  else if (!S_ISDIR(sb.st_mode))
+    e = ENOTDIR;
+  else if (read_only_fs(dir))
+    e = EROFS;
+  else if (access(dir, W_OK | X_OK) != 0)
+    e = errno;
+  if (e)
+    st = core_fail(err, NBRDF_ERR_IO, "%s: cannot create a file in '%s': %s", path, dir,
+                   strerror(e));
+  if (st == NBRDF_OK) {
+    long name_max = pathconf(dir, _PC_NAME_MAX);
+    if (name_max <= 0) name_max = NAME_MAX;
+    if ((long)strlen(base) > name_max)
+      st = core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "%s: the name is %zu bytes long; this file system allows %ld (%s)", path,
+                     strlen(base), name_max, strerror(ENAMETOOLONG));
+  }
+  free(dir);
+  return st;
+}
+
 nbrdf_status core_output_check(const char *path, const char *const *inputs, int n_inputs,
                                nbrdf_error *err) {
   if (!path || !path[0]) return core_fail(err, NBRDF_ERR_ARGUMENT, "output path is empty");
   struct stat out;
-  if (stat(path, &out) != 0) return NBRDF_OK; /* a new file cannot be an input */
+  if (stat(path, &out) != 0) { /* a new file cannot be an input */
+    int e = errno;
+    nbrdf_status st = check_place(path, err);
+    if (st == NBRDF_OK && e != ENOENT) /* ELOOP, EACCES, ENOTDIR and such */
+      st = core_fail(err, NBRDF_ERR_IO, "%s: %s", path, strerror(e));
+    return st;
+  }
   if (S_ISDIR(out.st_mode)) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: is a directory", path);
   for (int i = 0; i < n_inputs; i++) {
     struct stat in;
@@ -52,12 +111,16 @@ nbrdf_status core_output_check(const char *path, const char *const *inputs, int 
                      "%s: exists and is not a regular file (a device, FIFO or socket); refusing "
                      "to replace it",
                      path);
+  /* Before the mode bits: on a read-only mount "make it writable" cannot help. */
+  if (read_only_fs(path))
+    return core_fail(err, NBRDF_ERR_IO, "%s: the file system is read-only (%s)", path,
+                     strerror(EROFS));
   if (read_only(path, &out))
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "%s: exists and is read-only; refusing to replace it (make it writable or "
                      "remove it first)",
                      path);
-  return NBRDF_OK;
+  return check_place(path, err);
 }
 
 /* Seconds since the epoch at which this process started: now less the time since its start
@@ -133,8 +196,8 @@ static void remove_stale_temps(const char *dir) {
  * the clock, the process and the caller's address: no shared counter between threads. */
 static void temp_name(char *out, size_t cap, const char *dir, const char *base, uint64_t *seed) {
   *seed = *seed * 6364136223846793005ULL + 1442695040888963407ULL;
-  snprintf(out, cap, "%s/.%s.%08x" TEMP_SUFFIX, strcmp(dir, "/") == 0 ? "" : dir, base,
-           (unsigned)(*seed >> 32));
+  snprintf(out, cap, "%s/.%.*s.%08x" TEMP_SUFFIX, strcmp(dir, "/") == 0 ? "" : dir, TEMP_BASE_MAX,
+           base, (unsigned)(*seed >> 32));
 }
 
 static uint64_t temp_seed(const void *salt) {
@@ -142,14 +205,6 @@ static uint64_t temp_seed(const void *salt) {
   clock_gettime(CLOCK_REALTIME, &ts);
   return (uint64_t)ts.tv_nsec ^ ((uint64_t)ts.tv_sec << 30) ^ ((uint64_t)getpid() << 16) ^
          (uint64_t)(uintptr_t)salt;
-}
-
-/* The directory part of `path` ("." when none) in a new string. */
-static char *dir_of(const char *path) {
-  const char *slash = strrchr(path, '/');
-  if (!slash) return strdup(".");
-  if (slash == path) return strdup("/");
-  return strndup(path, (size_t)(slash - path));
 }
 
 /* The destination exists: its mode bits (and owner where allowed) go to the temporary file. */
@@ -316,6 +371,42 @@ nbrdf_status core_output_file_commit(core_output_file *f, nbrdf_error *err) {
   f->fd = -1;
   if (st != NBRDF_OK && f->temp_path) unlink(f->temp_path);
   release(f);
+  return st;
+}
+
+nbrdf_status core_output_file_commit_all(core_output_file *files, int n, nbrdf_error *err) {
+  nbrdf_status st = NBRDF_OK;
+  /* Everything that can fail for one file and not another comes first, while every
+   * destination is still as it was. */
+  for (int i = 0; st == NBRDF_OK && i < n; i++) {
+    if (files[i].fd < 0)
+      st = core_fail(err, NBRDF_ERR_ARGUMENT, "output: commit without an open file");
+    else if (fsync(files[i].fd) != 0 && errno != EINVAL)
+      st = core_fail(err, NBRDF_ERR_IO, "%s: cannot flush to disk: %s", files[i].path,
+                     strerror(errno));
+    else
+      st = core_output_check(files[i].path, NULL, 0, err);
+  }
+  int placed = 0;
+  char **fresh = calloc((size_t)(n > 0 ? n : 1), sizeof *fresh); /* new files placed so far */
+  if (st == NBRDF_OK && !fresh) st = core_fail(err, NBRDF_ERR_MEMORY, "output: out of memory");
+  for (; st == NBRDF_OK && placed < n; placed++) {
+    char *path = files[placed].keep_mode ? NULL : strdup(files[placed].path);
+    st = core_output_file_commit(&files[placed], err);
+    if (st == NBRDF_OK) fresh[placed] = path;
+    else free(path);
+  }
+  if (st != NBRDF_OK) {
+    for (int i = 0; i < n; i++)
+      core_output_file_abort(&files[i]);
+    /* A rename failing after others succeeded (rare: the checks above passed) takes the new
+     * files back; a replaced file's old bytes are gone and cannot be. */
+    for (int i = 0; fresh && i < placed; i++)
+      if (fresh[i]) unlink(fresh[i]);
+  }
+  for (int i = 0; fresh && i < n; i++)
+    free(fresh[i]);
+  free(fresh);
   return st;
 }
 

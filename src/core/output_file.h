@@ -7,6 +7,9 @@
  *   temporary file is named ".<name>.<8 hex>.tmp" and held under flock(); a
  *   later output into the same directory removes such files of ours that are
  *   unlocked and older than the process by 2 s (what a killed writer left).
+ * - a place that can take it: an output's folder must exist and be writable (on a
+ *   read-only file system that is what is said) and its name fit NAME_MAX, checked by
+ *   core_output_check before any work.
  * - never an input: a destination that is the same file (device and inode,
  *   so symlinks, "../" and hard links are caught) as one of the given inputs
  *   is refused, as is a directory.
@@ -63,6 +66,11 @@ nbrdf_status core_output_file_pwrite(core_output_file *f, const void *data, size
  * (checked again: it may have become a special file meanwhile). On failure the
  * temporary file is removed. Either way `f` is released. */
 nbrdf_status core_output_file_commit(core_output_file *f, nbrdf_error *err);
+/* The outputs of one command, all or none: every file is flushed and its destination
+ * checked before the first is put in place; on any failure every temporary file is removed
+ * (and a new file already placed, in the rare case of a later rename failing). Either way
+ * every `files[i]` is released. */
+nbrdf_status core_output_file_commit_all(core_output_file *files, int n, nbrdf_error *err);
 /* Closes and removes the temporary file and releases `f`. Safe to call on a
  * file that was never opened, or already committed or aborted. */
 void core_output_file_abort(core_output_file *f);

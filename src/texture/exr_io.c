@@ -15,10 +15,11 @@ static void on_error(exr_const_context_t ctxt, exr_result_t code, const char *ms
   snprintf(s->message, sizeof s->message, "%s", msg ? msg : exr_get_default_error_message(code));
 }
 
-/* A writing context reports errors with its lock held, and exr_get_user_data takes that
- * lock: on_error would wait forever (seen on a full disk, in test_install). Writers keep
- * the message write_fn stores itself and otherwise the status's default text. */
-static void on_error_writing(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
+/* A writing context reports errors from inside calls that hold its lock (exr_write_header
+ * among them), and exr_get_user_data takes that lock: on_error deadlocked on the first failed
+ * write (a full disk). write_fn records its own message instead; the library's other write
+ * errors fall back to the message of their code. */
+static void on_write_error(exr_const_context_t ctxt, exr_result_t code, const char *msg) {
   (void)ctxt, (void)code, (void)msg;
 }
 
@@ -57,9 +58,9 @@ static int64_t write_fn(exr_const_context_t ctxt, void *user, const void *buffer
                         uint64_t offset, exr_stream_error_func_ptr_t error_cb) {
   texture_exr_stream *s = user;
   nbrdf_error e;
-  (void)ctxt, (void)error_cb;
   if (core_output_file_pwrite(s->out, buffer, sz, (long long)offset, &e) != NBRDF_OK) {
-    snprintf(s->message, sizeof s->message, "%.*s", (int)sizeof s->message - 1, e.message);
+    if (!s->message[0]) snprintf(s->message, sizeof s->message, "%.399s", e.message);
+    error_cb(ctxt, EXR_ERR_WRITE_IO, "%s", e.message);
     return -1;
   }
   return (int64_t)sz;
@@ -67,9 +68,10 @@ static int64_t write_fn(exr_const_context_t ctxt, void *user, const void *buffer
 
 exr_context_initializer_t texture_exr_initializer(texture_exr_stream *stream, int for_write) {
   exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-  init.error_handler_fn = for_write ? on_error_writing : on_error;
+  init.error_handler_fn = on_error;
   init.user_data = stream;
   if (for_write) {
+    init.error_handler_fn = on_write_error;
     init.write_fn = write_fn;
   } else {
     init.read_fn = read_fn;

@@ -20,9 +20,9 @@
 extern "C" {
 #include "core/error.h"
 #include "core/input_file.h"
-#include "core/output_file.h"
 #include "texture/image_check.h"
 }
+#include "texture/oiio_output_proxy.hpp"
 
 using OIIO::ImageInput;
 using OIIO::ImageOutput;
@@ -393,36 +393,62 @@ extern "C" void texture_image_close(texture_image_in *img) {
   delete img;
 }
 
-extern "C" nbrdf_status texture_image_write(const char *path, int width, int height, int channels,
-                                            const float *pixels, texture_pixel_format format,
-                                            nbrdf_error *err) {
+static nbrdf_status check_image(const char *path, int width, int height, int channels,
+                                const float *pixels, nbrdf_error *err) {
   if (!path || width < 1 || height < 1 || channels < 1 || channels > 16 || !pixels)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: cannot write a %dx%d image of %d channels",
                      path ? path : "(null)", width, height, channels);
-  core_output_file f;
-  nbrdf_status st = core_output_file_open(&f, path, nullptr, 0, err);
+  return NBRDF_OK;
+}
+
+extern "C" nbrdf_status texture_image_write_to(core_output_file *f, int width, int height,
+                                               int channels, const float *pixels,
+                                               texture_pixel_format format, nbrdf_error *err) {
+  const char *path = f ? f->path : nullptr;
+  nbrdf_status st = check_image(path, width, height, channels, pixels, err);
   if (st != NBRDF_OK) return st;
-  /* OpenImageIO opens the file by name: "/proc/self/fd/N" reaches the unnamed temporary file. */
+  /* Declared before `out`: an ImageOutput closes (and may write) when destroyed. */
+  nbrdf_oiio::OutputFileProxy proxy(f);
   try {
     std::unique_ptr<ImageOutput> out = ImageOutput::create(path);
-    if (!out) {
-      core_output_file_abort(&f);
+    if (!out)
       return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s: no image format for this name: %s", path,
                        first_line(OIIO::geterror()).c_str());
-    }
     ImageSpec spec(width, height, channels, to_type(format));
     if (channels == 4) spec.alpha_channel = 3;
-    bool ok =
-        out->open(core_output_file_name(&f), spec) && out->write_image(TypeDesc::FLOAT, pixels);
+    /* The bytes go through the proxy where the format takes one (PNG and OpenEXR do): a
+     * failed write is then reported with `path` and its errno, which some plugins drop.
+     * Others open "/proc/self/fd/N" (the unnamed temporary file) by name. */
+    bool ok = out->supports("ioproxy") ? out->set_ioproxy(&proxy) && out->open(path, spec)
+                                       : out->open(core_output_file_name(f), spec);
+    ok = ok && out->write_image(TypeDesc::FLOAT, pixels);
     std::string why = ok ? std::string() : first_line(out->geterror());
     ok = out->close() && ok;
-    if (!ok) {
-      core_output_file_abort(&f);
-      return core_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, why.c_str());
+    if (proxy.status() != NBRDF_OK) {
+      if (err) *err = *proxy.failure();
+      return proxy.status();
     }
+    if (!ok) return core_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, why.c_str());
   } catch (const std::exception &e) {
-    core_output_file_abort(&f);
     return core_fail(err, NBRDF_ERR_IO, "%s: cannot write image: %s", path, e.what());
+  } catch (...) {
+    return core_fail(err, NBRDF_ERR_INTERNAL, "%s: unknown exception in OpenImageIO", path);
+  }
+  return NBRDF_OK;
+}
+
+extern "C" nbrdf_status texture_image_write(const char *path, int width, int height, int channels,
+                                            const float *pixels, texture_pixel_format format,
+                                            nbrdf_error *err) {
+  nbrdf_status st = check_image(path, width, height, channels, pixels, err);
+  if (st != NBRDF_OK) return st;
+  core_output_file f;
+  st = core_output_file_open(&f, path, nullptr, 0, err);
+  if (st != NBRDF_OK) return st;
+  st = texture_image_write_to(&f, width, height, channels, pixels, format, err);
+  if (st != NBRDF_OK) {
+    core_output_file_abort(&f);
+    return st;
   }
   return core_output_file_commit(&f, err);
 }

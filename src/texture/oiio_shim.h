@@ -12,6 +12,8 @@
 extern "C" {
 #endif
 
+#include "core/output_file.h" /* C linkage for the C++ shim too */
+
 /* How samples are stored in a file. Integer formats read as [0, 1]. */
 typedef enum texture_pixel_format {
   NBRDF_PIXEL_U8,
@@ -72,6 +74,12 @@ void texture_image_close(texture_image_in *img);
 nbrdf_status texture_image_write(const char *path, int width, int height, int channels,
                                  const float *pixels, texture_pixel_format format,
                                  nbrdf_error *err);
+/* The same into the open temporary file `f` (its destination's name selects the format),
+ * which the caller commits (with a command's other outputs: core_output_file_commit_all)
+ * or aborts. */
+nbrdf_status texture_image_write_to(core_output_file *f, int width, int height, int channels,
+                                    const float *pixels, texture_pixel_format format,
+                                    nbrdf_error *err);
 
 const char *texture_pixel_format_name(texture_pixel_format format);
 

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "lobe/png_write.h"
 #include "verify/verify_internal.h"
+#include "verify/verify_write.h"
 #include "texture/mip_chain.h"
 
 /* Dark blue -> yellow -> red for t in [0, 1]. */
@@ -18,8 +19,9 @@ static void colour(double t, unsigned char rgb[3]) {
     rgb[c] = (unsigned char)lround(255 * (stops[i][c] + f * (stops[i + 1][c] - stops[i][c])));
 }
 
-nbrdf_status nbrdf_verify_write_heatmap(const nbrdf_verify_report *report, int level, double scale,
-                                        const char *path, nbrdf_error *err) {
+nbrdf_status verify_write_heatmap_to(const nbrdf_verify_report *report, int level, double scale,
+                                   core_output_file *f, nbrdf_error *err) {
+  const char *path = f->path;
   if (!report || !path || level < 0 || level >= report->levels)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "verify heat-map: no level %d", level);
   const int w = texture_mip_level_dim(report->width, level);
@@ -51,7 +53,20 @@ nbrdf_status nbrdf_verify_write_heatmap(const nbrdf_verify_report *report, int l
         for (int j = 0; j < 3; j++)
           rgb[((size_t)y * W + x) * 3 + j] = c[j];
   }
-  nbrdf_status st = lobe_png_write_rgb8(path, W, H, rgb, err);
+  nbrdf_status st = lobe_png_write_rgb8_to(f, W, H, rgb, err);
   free(rgb);
   return st;
+}
+
+nbrdf_status nbrdf_verify_write_heatmap(const nbrdf_verify_report *report, int level, double scale,
+                                        const char *path, nbrdf_error *err) {
+  core_output_file f;
+  nbrdf_status st = core_output_file_open(&f, path, NULL, 0, err);
+  if (st != NBRDF_OK) return st;
+  st = verify_write_heatmap_to(report, level, scale, &f, err);
+  if (st != NBRDF_OK) {
+    core_output_file_abort(&f);
+    return st;
+  }
+  return core_output_file_commit(&f, err);
 }

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/output_file.h"
 #include "verify/verify_internal.h"
+#include "verify/verify_write.h"
 
 static void number(cJSON *o, const char *key, double v) {
   if (isfinite(v))
@@ -105,8 +106,9 @@ static cJSON *build(const nbrdf_verify_report *r, const char *texture, size_t wo
   return root;
 }
 
-nbrdf_status nbrdf_verify_write_json(const nbrdf_verify_report *report, const char *texture,
-                                     size_t worst, const char *path, nbrdf_error *err) {
+nbrdf_status verify_write_json_to(const nbrdf_verify_report *report, const char *texture,
+                                 size_t worst, core_output_file *f, nbrdf_error *err) {
+  const char *path = f->path;
   if (!report || !texture || !path)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "verify json: report, texture and path required");
   cJSON *root = build(report, texture, worst);
@@ -115,16 +117,23 @@ nbrdf_status nbrdf_verify_write_json(const nbrdf_verify_report *report, const ch
   if (!text) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory for the JSON", path);
   size_t len = strlen(text);
   text[len] = '\n'; /* replaces the terminator: written by length */
+  nbrdf_status st = core_output_file_pwrite(f, text, len + 1, 0, err);
+  free(text);
+  return st;
+}
+
+nbrdf_status nbrdf_verify_write_json(const nbrdf_verify_report *report, const char *texture,
+                                     size_t worst, const char *path, nbrdf_error *err) {
+  if (!report || !texture || !path)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "verify json: report, texture and path required");
   core_output_file f;
   const char *inputs[1] = {texture};
   nbrdf_status st = core_output_file_open(&f, path, inputs, 1, err);
-  if (st == NBRDF_OK) {
-    st = core_output_file_pwrite(&f, text, len + 1, 0, err);
-    if (st == NBRDF_OK)
-      st = core_output_file_commit(&f, err);
-    else
-      core_output_file_abort(&f);
+  if (st != NBRDF_OK) return st;
+  st = verify_write_json_to(report, texture, worst, &f, err);
+  if (st != NBRDF_OK) {
+    core_output_file_abort(&f);
+    return st;
   }
-  free(text);
-  return st;
+  return core_output_file_commit(&f, err);
 }

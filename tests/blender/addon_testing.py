@@ -1,4 +1,4 @@
-"""Shared by tests/blender/test_*.py (run inside Blender by test_blender.sh).
+"""Shared by tests/blender/test_*.py (run inside Blender by run_blender.sh).
 
 Environment: NBRDF (the CLI), NBRDF_BUNDLE (an untrained bundle), NBRDF_SOURCE_DIR.
 A failed check is printed and counted; finish() raises so Blender exits 1

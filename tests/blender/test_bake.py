@@ -197,8 +197,9 @@ big.nbrdf_bake.alpha2_source = "IMAGE"
 big.nbrdf_bake.alpha2_image = generated("noise", rgba(noise), True)
 big.nbrdf_bake.output = os.path.join(work, "cancelled.exr")
 session = Session.start(bpy.context, big)
-deadline = time.monotonic() + 60
-while session.poll() and session.bake.progress_events == 0 and time.monotonic() < deadline:
+# No deadline: the CLI ends either way (a loaded machine is only slower), and ctest's
+# timeout bounds a hang.
+while session.poll() and session.bake.progress_events == 0:
     time.sleep(0.01)
 session.cancel()
 t.check("cancelling: the panel's state says so", session.cancelling or not session.poll())

@@ -1,7 +1,7 @@
 """The zip from scripts/package-blender-addon.sh (with nbrdf in bin/ and a bundle in
 models/default) installs through Blender's add-on installer, finds both with no setting,
 and bakes constants with the operator. Needs $NBRDF_ADDON_ZIP and $BLENDER_USER_SCRIPTS
-(set by test_blender.sh); the add-on comes from the zip, not from the source tree."""
+(set by run_blender.sh); the add-on comes from the zip, not from the source tree."""
 
 import os
 import sys

@@ -7,6 +7,8 @@ and whose cancel is honoured inside it."""
 
 import filecmp
 import os
+import resource
+import signal
 import subprocess
 import sys
 import time
@@ -201,7 +203,32 @@ t.check("UV-baked input named in the sources", "alpha2=alpha2_nbrdf_Lacquered_Co
         in info)
 
 # 5. One band of 256 x 256 distinct texels: progress arrives inside the band, and a cancel
-# is honoured inside it (the CLI used to finish the band first: about 20 s).
+# is honoured inside it (the CLI used to finish the band first: about 20 s). Measured in
+# work, not seconds (issue 30, part 3): the CLI's CPU time after the cancel, against this
+# run's CPU cost of the band's progress, so a loaded machine cannot fail it.
+def cpu_seconds(pid):
+    """User + system CPU seconds of all of pid's threads so far."""
+    with open("/proc/%d/stat" % pid) as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def freeze(pid):
+    """SIGSTOP, then waits until every thread has stopped (kill returns before)."""
+    os.kill(pid, signal.SIGSTOP)
+    while True:
+        states = []
+        for task in os.listdir("/proc/%d/task" % pid):
+            try:
+                with open("/proc/%d/task/%s/stat" % (pid, task)) as f:
+                    states.append(f.read().rsplit(")", 1)[1].split()[0])
+            except OSError:
+                pass
+        if all(s in "TtZX" for s in states):
+            return
+        time.sleep(0.01)
+
+
 big = bpy.data.materials.new("One Band")
 b = big.nbrdf_bake
 noise = np.random.default_rng(3).random((256, 256), dtype=np.float32) * 0.5 + 0.1
@@ -212,26 +239,39 @@ im.pixels.foreach_set(rgba.ravel())
 b.alpha2_source, b.alpha2_image = "IMAGE", im
 b.output = os.path.join(work, "one_band.exr")
 b.preview = False
+children_before = resource.getrusage(resource.RUSAGE_CHILDREN)
 session = Session.start(bpy.context, big)
-deadline = time.monotonic() + 120
-while session.poll() and session.bake.progress_events < 3 and time.monotonic() < deadline:
+pid = session.bake._proc.pid
+# No deadline: the CLI ends either way, and ctest's timeout bounds a hang.
+while session.poll() and session.bake.progress_events < 1:
+    time.sleep(0.01)
+cpu_first, done_first = cpu_seconds(pid), session.bake.progress
+while session.poll() and (session.bake.progress_events < 3 or session.bake.progress <= done_first):
     time.sleep(0.01)
 inside = session.bake.progress
 t.check("progress inside the band: %d events, %.3f done" % (session.bake.progress_events, inside),
         session.bake.progress_events >= 3 and 0.0 < inside < 1.0)
-start = time.monotonic()
+# Frozen while the cost so far is read and the signal sent: it arrives at a known point.
+freeze(pid)
+session.poll()
+cpu_cancel, done_cancel = cpu_seconds(pid), session.bake.progress
 session.cancel()
 t.check("Cancelling state", session.cancelling)
+os.kill(pid, signal.SIGCONT)
 state = session.wait(0.01)
-elapsed = time.monotonic() - start
-print("cancel honoured after %.2f s" % elapsed)
+children = resource.getrusage(resource.RUSAGE_CHILDREN)
+total = (children.ru_utime + children.ru_stime) - (children_before.ru_utime +
+                                                   children_before.ru_stime)
+after = total - cpu_cancel
+band = (cpu_cancel - cpu_first) / max(done_cancel - done_first, 1e-9)  # CPU-s per whole band
+print("cancel honoured after %.3f CPU-s: %.3f of the band (a band: %.2f CPU-s)" %
+      (after, after / band, band))
 t.check("cancelled: %s" % state, state == "cancelled")
 t.check("stopped inside the band (%.3f)" % session.bake.progress, session.bake.progress < 1.0)
-# The promise is 1 s (the issue asks for 2 s of the request); far below the
-# ~20 s of a CLI that finishes its band first. A sanitizer build scales the bound
-# (NBRDF_TEST_TIME_SCALE, tests/CMakeLists.txt): it checks memory, not latency.
-bound = 2.0 * float(os.environ.get("NBRDF_TEST_TIME_SCALE", "1"))
-t.check("cancel honoured within %g s (%.2f s)" % (bound, elapsed), elapsed < bound)
+# At most 1/8 of the band after the signal (its network chunks are 1/32), and what the
+# CLI spent before its first progress line (loading the bundle; exiting costs no more).
+t.check("cancel honoured within 1/8 of the band: %.3f CPU-s, %.3f of the band" % (after, after / band),
+        after <= band / 8 + cpu_first + 0.02)
 t.check("cancelled: no file", not os.path.exists(b.output))
 
 t.disable()
