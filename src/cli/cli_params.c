@@ -103,7 +103,8 @@ int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params
   } else if (!strcmp(a, "--eta-range") || !strcmp(a, "--sigma-t-range")) {
     int eta = a[2] == 'e';
     if (!parse_range(v, &p->in.param[eta ? NBRDF_BAKE_ETA : NBRDF_BAKE_SIGMA_T]))
-      return cli_usage_error(cmd, "%s needs LO,HI, numbers with 0 <= LO < HI, not '%s'", a, v),
+      return cli_usage_error(cmd, "%s needs LO,HI with LO < HI (numbers, LO >= 0), not '%s'", a,
+                             v),
              -1;
   } else {
     return 0;

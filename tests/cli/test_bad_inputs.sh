@@ -185,7 +185,7 @@ check "budget: no doubled prefix" bash -c "! grep -Fq 'bake: bake:' '$TMP/err'"
 # Numeric options out of their range are usage errors (exit 2), caught by the CLI rather
 # than refused later by the library (exit 1) (issue 30, 4.7).
 oiiotool --pattern constant:color=0.5 4x4 1 -d uint8 -o eta8.png
-expect_clean_error 2 "--eta-range needs LO,HI, numbers with 0 <= LO < HI, not '-1,2'" \
+expect_clean_error 2 "--eta-range needs LO,HI with LO < HI (numbers, LO >= 0), not '-1,2'" \
   "$NBRDF" bake --bundle bundle --alpha1 0.2 --eta eta8.png --alpha2 0.3 --r0 0.9 --albedo 0.7 \
   --sigma-t 2 --eta-range -1,2 -o out.exr
 expect_clean_error 2 "--sigma-t-range needs LO,HI" "$NBRDF" bake --bundle bundle --alpha1 0.2 \
