@@ -152,9 +152,9 @@ int main(int argc, char **argv) {
   }
   const gpu_limits *l = gpu_context_limits(ctx);
   printf("device: %s%s; shared memory %u bytes, device memory %.1f GiB; cooperative matrix "
-         "(fp16 16x16x16): %s\n",
+         "(fp16 16x16x16, tensor cores): %s\n",
          gpu_context_name(ctx), gpu_context_is_cpu(ctx) ? " (CPU)" : "", l->shared_bytes,
-         (double)l->device_bytes / (1 << 30), l->coop_matrix ? "yes" : "no");
+         (double)l->device_bytes / (1 << 30), l->coop_note);
   printf("cblas_sgemm 4096x256x256: %.1f GFLOP/s (same run, CPU)\n\n",
          bench_sgemm_gflops(4096, 256, 256, 1.0, 0));
   printf("| network | MACs/row | path | rows | rows/s | TFLOP/s | max err vs CPU | median rel "

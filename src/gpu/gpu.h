@@ -40,6 +40,7 @@ typedef struct gpu_limits {
   uint64_t max_buffer_bytes; /* maxStorageBufferRange */
   uint64_t device_bytes;     /* the largest device-local heap */
   int coop_matrix;           /* VK_NV_cooperative_matrix with fp16 16x16x16 -> fp32, enabled */
+  char coop_note[160];       /* why not (or "enabled"), for reports */
 } gpu_limits;
 
 /* 1 when this build has the Vulkan backend (whether or not a device exists). */

@@ -98,10 +98,17 @@ static int has_extension(gpu_context *c, const char *name) {
 
 /* VK_NV_cooperative_matrix with an fp16 x fp16 + fp32 16x16x16 subgroup shape. */
 static int coop_shape(gpu_context *c) {
+  char *note = c->limits.coop_note;
+  size_t cap = sizeof c->limits.coop_note;
   if (!c->vk.vkGetPhysicalDeviceCooperativeMatrixPropertiesNV || !c->vk.vkGetPhysicalDeviceFeatures2 ||
-      !has_extension(c, VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME) ||
-      !has_extension(c, "VK_KHR_shader_float16_int8") || !has_extension(c, "VK_KHR_16bit_storage"))
+      !has_extension(c, VK_NV_COOPERATIVE_MATRIX_EXTENSION_NAME)) {
+    snprintf(note, cap, "no VK_NV_cooperative_matrix");
     return 0;
+  }
+  if (!has_extension(c, "VK_KHR_shader_float16_int8") || !has_extension(c, "VK_KHR_16bit_storage")) {
+    snprintf(note, cap, "no VK_KHR_shader_float16_int8 or VK_KHR_16bit_storage");
+    return 0;
+  }
   uint32_t n = 0;
   c->vk.vkGetPhysicalDeviceCooperativeMatrixPropertiesNV(c->physical, &n, NULL);
   VkCooperativeMatrixPropertiesNV props[64];
@@ -117,6 +124,7 @@ static int coop_shape(gpu_context *c) {
         p->DType == VK_COMPONENT_TYPE_FLOAT32_NV && p->scope == VK_SCOPE_SUBGROUP_NV)
       return 1;
   }
+  snprintf(note, cap, "no fp16 x fp16 + fp32 16x16x16 subgroup shape among %u", n);
   return 0;
 }
 
@@ -153,11 +161,17 @@ static nbrdf_status create_device(gpu_context *c, nbrdf_error *err) {
       dci.enabledExtensionCount = 3;
       dci.ppEnabledExtensionNames = ext;
       c->limits.coop_matrix = 1;
-    }
+      snprintf(c->limits.coop_note, sizeof c->limits.coop_note, "enabled");
+    } else
+      snprintf(c->limits.coop_note, sizeof c->limits.coop_note,
+               "the device does not enable cooperativeMatrix, shaderFloat16 or 16-bit storage");
   }
   VkResult r = c->vk.vkCreateDevice(c->physical, &dci, NULL, &c->device);
   if (r != VK_SUCCESS && c->limits.coop_matrix) { /* retry without the tensor-core features */
     c->limits.coop_matrix = 0;
+    snprintf(c->limits.coop_note, sizeof c->limits.coop_note,
+             "vkCreateDevice with the cooperative-matrix features failed (%s)",
+             gpu_vk_result_name(r));
     dci.pNext = NULL;
     dci.enabledExtensionCount = 0;
     r = c->vk.vkCreateDevice(c->physical, &dci, NULL, &c->device);

@@ -3,6 +3,7 @@
 #include "gpu/gpu.h"
 
 #if NBRDF_HAVE_GPU
+#include <stdio.h>
 #include <string.h>
 
 #include "core/error.h"
@@ -12,12 +13,14 @@
 #include "gpu_spv_nn_gemm_coop.h"
 #include "gpu_spv_nn_rownorm.h"
 
-/* GEMM tiles from the device's limits: 64 x 64 x 16 (8 KiB of shared memory, 4 x 4 outputs per
- * invocation) fits every Vulkan device (the minimum is 16 KiB; lavapipe has 32 KiB); a GPU
- * with 32 KiB or more gets 128 x 64 x 32 (24 KiB, 8 x 4 per invocation). */
+/* GEMM tiles from the device's limits (shared memory: 4 BK (BM + BN + 2) bytes, the staged
+ * tiles' rows padded by one word): 64 x 64 x 16 (8.3 KiB, 4 x 4 outputs per invocation) fits
+ * every Vulkan device (the minimum is 16 KiB; lavapipe has 32 KiB); a GPU with room gets
+ * 128 x 64 x 32 (24.8 KiB, 8 x 4 per invocation: twice the reuse of each staged word). */
 static void choose_tiles(gpu_context *c) {
   c->bm = 64, c->bn = 64, c->bk = 16, c->tm = 4, c->tn = 4;
-  if (!gpu_context_is_cpu(c) && c->limits.shared_bytes >= 32768 && c->limits.max_invocations >= 256)
+  uint32_t big = 4u * 32u * (128u + 64u + 2u);
+  if (!gpu_context_is_cpu(c) && c->limits.shared_bytes >= big && c->limits.max_invocations >= 256)
     c->bm = 128, c->bk = 32, c->tm = 8;
 }
 
@@ -80,8 +83,10 @@ nbrdf_status gpu_pipelines_create(gpu_context *c, nbrdf_error *err) {
   if (st == NBRDF_OK && c->limits.coop_matrix) {
     nbrdf_error coop_err;
     if (make_pipeline(c, gpu_spv_nn_gemm_coop, sizeof gpu_spv_nn_gemm_coop, NULL, 0,
-                      &c->pipe[GPU_K_GEMM_COOP], "nn_gemm_coop", &coop_err) != NBRDF_OK)
+                      &c->pipe[GPU_K_GEMM_COOP], "nn_gemm_coop", &coop_err) != NBRDF_OK) {
       c->limits.coop_matrix = 0;
+      snprintf(c->limits.coop_note, sizeof c->limits.coop_note, "%.150s", coop_err.message);
+    }
   }
   return st;
 }

@@ -184,7 +184,7 @@ int main(void) {
   }
   printf("device: %s%s; tensor-core path: %s\n", gpu_context_name(ctx),
          gpu_context_is_cpu(ctx) ? " (CPU)" : "",
-         gpu_context_limits(ctx)->coop_matrix ? "checked" : "not available (skipped)");
+         gpu_context_limits(ctx)->coop_matrix ? "checked" : gpu_context_limits(ctx)->coop_note);
   RUN(test_skips);
   RUN(test_layering_sampler);
   RUN(test_decoders);

@@ -25,8 +25,11 @@ layout(push_constant) uniform PC {
 
 const uint ACCUMULATE = 1u, ADD1 = 2u, ADD2 = 4u, BIAS = 8u;
 
-shared float As[BK * BM]; // As[k * BM + m] = x[m0 + m][k0 + k]
-shared float Bs[BK * BN]; // Bs[k * BN + n] = W[n0 + n][k0 + k]
+// Rows of the staged tiles are padded by one word: the loads write consecutive k from
+// consecutive invocations, which would otherwise all hit one shared-memory bank.
+const int SA = BM + 1, SB = BN + 1;
+shared float As[BK * SA]; // As[k * SA + m] = x[m0 + m][k0 + k]
+shared float Bs[BK * SB]; // Bs[k * SB + n] = W[n0 + n][k0 + k]
 
 void main() {
   const int MT = BM / TM, NT = BN / TN, T = MT * NT;
@@ -40,18 +43,18 @@ void main() {
     for (int e = tid; e < BM * BK; e += T) {
       int m = e / BK, k = e % BK;
       uint r = m0 + uint(m), kk = k0 + uint(k);
-      As[k * BM + m] = (r < pc.rows && kk < K) ? x[r * K + kk] : 0.0;
+      As[k * SA + m] = (r < pc.rows && kk < K) ? x[r * K + kk] : 0.0;
     }
     for (int e = tid; e < BN * BK; e += T) {
       int n = e / BK, k = e % BK;
       uint c = n0 + uint(n), kk = k0 + uint(k);
-      Bs[k * BN + n] = (c < pc.N && kk < K) ? p[pc.w_off + c * K + kk] : 0.0;
+      Bs[k * SB + n] = (c < pc.N && kk < K) ? p[pc.w_off + c * K + kk] : 0.0;
     }
     barrier();
     for (int k = 0; k < BK; k++) {
       float a[TM], b[TN];
-      for (int i = 0; i < TM; i++) a[i] = As[k * BM + tm + i * MT];
-      for (int j = 0; j < TN; j++) b[j] = Bs[k * BN + tn + j * NT];
+      for (int i = 0; i < TM; i++) a[i] = As[k * SA + tm + i * MT];
+      for (int j = 0; j < TN; j++) b[j] = Bs[k * SB + tn + j * NT];
       for (int i = 0; i < TM; i++)
         for (int j = 0; j < TN; j++) acc[i * TN + j] += a[i] * b[j];
     }
