@@ -62,10 +62,8 @@ static nbrdf_status pick_device(gpu_context *c, gpu_choice choice, nbrdf_error *
                      "no Vulkan device name contains NBRDF_VK_DEVICE=\"%s\" (devices: %s)", want,
                      seen);
   if (chosen < 0)
-    return core_fail(err, NBRDF_ERR_UNSUPPORTED,
-                     "no GPU among the Vulkan devices (%s); set NBRDF_VK_DEVICE=llvmpipe to use "
-                     "lavapipe",
-                     seen);
+    return core_fail(err, NBRDF_ERR_UNSUPPORTED, "no GPU among the Vulkan devices (%s)%s", seen,
+                     choice == GPU_CHOICE_GPU ? "; NBRDF_VK_DEVICE=llvmpipe takes lavapipe" : "");
   c->physical = devs[chosen];
   c->vk.vkGetPhysicalDeviceProperties(c->physical, &c->props);
   c->vk.vkGetPhysicalDeviceMemoryProperties(c->physical, &c->mem);
