@@ -244,8 +244,7 @@ int gpu_context_is_cpu(const gpu_context *c) {
 }
 const gpu_limits *gpu_context_limits(const gpu_context *c) { return &c->limits; }
 
-nbrdf_status gpu_submit_wait(gpu_context *c, VkCommandBuffer cmd, VkFence fence,
-                             nbrdf_error *err) {
+nbrdf_status gpu_submit(gpu_context *c, VkCommandBuffer cmd, VkFence fence, nbrdf_error *err) {
   VkSubmitInfo si = {.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd;
@@ -253,9 +252,16 @@ nbrdf_status gpu_submit_wait(gpu_context *c, VkCommandBuffer cmd, VkFence fence,
   pthread_mutex_lock(&c->queue_lock);
   VkResult r = c->vk.vkQueueSubmit(c->queue, 1, &si, fence);
   pthread_mutex_unlock(&c->queue_lock);
-  if (r == VK_SUCCESS) r = c->vk.vkWaitForFences(c->device, 1, &fence, VK_TRUE, UINT64_MAX);
   if (r != VK_SUCCESS)
     return core_fail(err, NBRDF_ERR_INTERNAL, "GPU %s: submission failed (%s)",
+                     c->props.deviceName, gpu_vk_result_name(r));
+  return NBRDF_OK;
+}
+
+nbrdf_status gpu_wait(gpu_context *c, VkFence fence, nbrdf_error *err) {
+  VkResult r = c->vk.vkWaitForFences(c->device, 1, &fence, VK_TRUE, UINT64_MAX);
+  if (r != VK_SUCCESS)
+    return core_fail(err, NBRDF_ERR_INTERNAL, "GPU %s: waiting for a submission failed (%s)",
                      c->props.deviceName, gpu_vk_result_name(r));
   return NBRDF_OK;
 }

@@ -51,9 +51,10 @@ void gpu_buffer_invalidate(gpu_context *ctx, gpu_buffer *b);
 nbrdf_status gpu_pipelines_create(gpu_context *ctx, nbrdf_error *err);
 void gpu_pipelines_destroy(gpu_context *ctx);
 
-/* Submits one recorded command buffer and waits for it (the queue lock held while submitting). */
-nbrdf_status gpu_submit_wait(gpu_context *ctx, VkCommandBuffer cmd, VkFence fence,
-                             nbrdf_error *err);
+/* Submits one recorded command buffer signalling `fence` (the queue lock held while
+ * submitting); gpu_wait waits for the fence. */
+nbrdf_status gpu_submit(gpu_context *ctx, VkCommandBuffer cmd, VkFence fence, nbrdf_error *err);
+nbrdf_status gpu_wait(gpu_context *ctx, VkFence fence, nbrdf_error *err);
 
 
 #endif

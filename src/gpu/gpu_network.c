@@ -17,13 +17,16 @@ struct gpu_network {
   gpu_precision precision;
   int in, out, chunk;
   gpu_plan plan;
-  gpu_buffer params, stage_in, stage_out;
+  gpu_buffer params;
+  /* Two slots: while the device runs chunk k from one, the host fills the other with chunk
+   * k + 1 (and reads chunk k - 1's results out of it). */
+  gpu_buffer stage_in[2], stage_out[2];
   gpu_buffer buf[GPU_PLAN_MAX_BUFFERS];
   VkDescriptorPool pool;
   VkDescriptorSet sets[GPU_PLAN_MAX_STEPS];
   VkCommandPool cmd_pool;
-  VkCommandBuffer cmd;
-  VkFence fence;
+  VkCommandBuffer cmd[2];
+  VkFence fence[2];
 };
 
 /* Rows per chunk: the activations of a chunk take at most ~1/4 of the device's memory
@@ -100,12 +103,13 @@ static nbrdf_status upload_params(gpu_network *g, const nn_network *nn, nbrdf_er
   gpu_buffer_flush(c, &stage);
   VkCommandBufferBeginInfo bi = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  c->vk.vkResetCommandBuffer(g->cmd, 0);
-  c->vk.vkBeginCommandBuffer(g->cmd, &bi);
+  c->vk.vkResetCommandBuffer(g->cmd[0], 0);
+  c->vk.vkBeginCommandBuffer(g->cmd[0], &bi);
   VkBufferCopy region = {0, 0, bytes ? bytes : 16};
-  c->vk.vkCmdCopyBuffer(g->cmd, stage.buffer, g->params.buffer, 1, &region);
-  c->vk.vkEndCommandBuffer(g->cmd);
-  st = gpu_submit_wait(c, g->cmd, g->fence, err);
+  c->vk.vkCmdCopyBuffer(g->cmd[0], stage.buffer, g->params.buffer, 1, &region);
+  c->vk.vkEndCommandBuffer(g->cmd[0]);
+  st = gpu_submit(c, g->cmd[0], g->fence[0], err);
+  if (st == NBRDF_OK) st = gpu_wait(c, g->fence[0], err);
   gpu_buffer_destroy(c, &stage);
   return st;
 }
@@ -132,21 +136,25 @@ nbrdf_status gpu_network_create(gpu_context *c, const nn_network *nn, gpu_precis
     VkFenceCreateInfo fi = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     VkCommandBufferAllocateInfo ai = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    ai.commandBufferCount = 1;
+    ai.commandBufferCount = 2;
     if (c->vk.vkCreateCommandPool(c->device, &cp, NULL, &g->cmd_pool) != VK_SUCCESS ||
         (ai.commandPool = g->cmd_pool,
-         c->vk.vkAllocateCommandBuffers(c->device, &ai, &g->cmd) != VK_SUCCESS) ||
-        c->vk.vkCreateFence(c->device, &fi, NULL, &g->fence) != VK_SUCCESS)
+         c->vk.vkAllocateCommandBuffers(c->device, &ai, g->cmd) != VK_SUCCESS) ||
+        c->vk.vkCreateFence(c->device, &fi, NULL, &g->fence[0]) != VK_SUCCESS ||
+        c->vk.vkCreateFence(c->device, &fi, NULL, &g->fence[1]) != VK_SUCCESS)
       st = core_fail(err, NBRDF_ERR_INTERNAL, "GPU: cannot create a command buffer");
   }
   for (int b = 0; st == NBRDF_OK && b < g->plan.n_buffers; b++)
     st = gpu_buffer_create(c, sizeof(float) * (VkDeviceSize)g->chunk * g->plan.buffer_width[b], 0,
                            &g->buf[b], err);
-  if (st == NBRDF_OK)
-    st = gpu_buffer_create(c, sizeof(float) * (VkDeviceSize)g->chunk * g->in, 1, &g->stage_in, err);
-  if (st == NBRDF_OK)
-    st = gpu_buffer_create(c, sizeof(float) * (VkDeviceSize)g->chunk * g->out, 1, &g->stage_out,
-                           err);
+  for (int s = 0; s < 2; s++) {
+    if (st == NBRDF_OK)
+      st = gpu_buffer_create(c, sizeof(float) * (VkDeviceSize)g->chunk * g->in, 1, &g->stage_in[s],
+                             err);
+    if (st == NBRDF_OK)
+      st = gpu_buffer_create(c, sizeof(float) * (VkDeviceSize)g->chunk * g->out, 1,
+                             &g->stage_out[s], err);
+  }
   if (st == NBRDF_OK) st = upload_params(g, nn, err);
   if (st == NBRDF_OK) st = create_sets(g, err);
   if (st != NBRDF_OK) {
@@ -164,10 +172,12 @@ void gpu_network_destroy(gpu_network *g) {
   for (int b = 0; b < GPU_PLAN_MAX_BUFFERS; b++)
     gpu_buffer_destroy(c, &g->buf[b]);
   gpu_buffer_destroy(c, &g->params);
-  gpu_buffer_destroy(c, &g->stage_in);
-  gpu_buffer_destroy(c, &g->stage_out);
+  for (int s = 0; s < 2; s++) {
+    gpu_buffer_destroy(c, &g->stage_in[s]);
+    gpu_buffer_destroy(c, &g->stage_out[s]);
+    if (g->fence[s]) c->vk.vkDestroyFence(c->device, g->fence[s], NULL);
+  }
   if (g->pool) c->vk.vkDestroyDescriptorPool(c->device, g->pool, NULL);
-  if (g->fence) c->vk.vkDestroyFence(c->device, g->fence, NULL);
   if (g->cmd_pool) c->vk.vkDestroyCommandPool(c->device, g->cmd_pool, NULL);
   free(g);
 }
@@ -178,10 +188,10 @@ int gpu_network_outputs(const gpu_network *g) { return g->out; }
 
 static uint32_t ceil_div(uint32_t a, uint32_t b) { return (a + b - 1) / b; }
 
-/* Records the whole forward pass of `rows` rows. */
-static void record(gpu_network *g, uint32_t rows) {
+/* Records the whole forward pass of `rows` rows from/to staging slot `slot`. */
+static void record(gpu_network *g, int slot, uint32_t rows) {
   gpu_context *c = g->ctx;
-  VkCommandBuffer cmd = g->cmd;
+  VkCommandBuffer cmd = g->cmd[slot];
   const VkPipelineStageFlags any = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
                                    VK_PIPELINE_STAGE_TRANSFER_BIT;
   const VkAccessFlags rw = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
@@ -190,8 +200,11 @@ static void record(gpu_network *g, uint32_t rows) {
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   c->vk.vkResetCommandBuffer(cmd, 0);
   c->vk.vkBeginCommandBuffer(cmd, &bi);
+  /* The previous chunk (earlier in submission order) is done with the shared activation
+   * buffers before this one overwrites them. */
+  barrier(c, cmd, any, rw);
   VkBufferCopy in = {0, 0, sizeof(float) * (VkDeviceSize)rows * g->in};
-  c->vk.vkCmdCopyBuffer(cmd, g->stage_in.buffer, g->buf[g->plan.input].buffer, 1, &in);
+  c->vk.vkCmdCopyBuffer(cmd, g->stage_in[slot].buffer, g->buf[g->plan.input].buffer, 1, &in);
   barrier(c, cmd, any, rw);
   const int coop = g->precision == GPU_FP16_COOP;
   const uint32_t bm = coop ? 64u : (uint32_t)c->bm, bn = coop ? 64u : (uint32_t)c->bn;
@@ -218,9 +231,20 @@ static void record(gpu_network *g, uint32_t rows) {
     barrier(c, cmd, any, rw);
   }
   VkBufferCopy out = {0, 0, sizeof(float) * (VkDeviceSize)rows * g->out};
-  c->vk.vkCmdCopyBuffer(cmd, g->buf[g->plan.output].buffer, g->stage_out.buffer, 1, &out);
+  c->vk.vkCmdCopyBuffer(cmd, g->buf[g->plan.output].buffer, g->stage_out[slot].buffer, 1,
+                        &out);
   barrier(c, cmd, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
   c->vk.vkEndCommandBuffer(cmd);
+}
+
+/* Waits for slot s's chunk (rows [done, done + m)) and copies its results out. */
+static nbrdf_status drain(gpu_network *g, int s, size_t done, size_t m, float *y,
+                          nbrdf_error *err) {
+  nbrdf_status st = gpu_wait(g->ctx, g->fence[s], err);
+  if (st != NBRDF_OK) return st;
+  gpu_buffer_invalidate(g->ctx, &g->stage_out[s]);
+  memcpy(y + done * (size_t)g->out, g->stage_out[s].map, sizeof(float) * m * (size_t)g->out);
+  return NBRDF_OK;
 }
 
 nbrdf_status gpu_network_forward(gpu_network *g, const float *x, size_t rows, float *y,
@@ -228,17 +252,30 @@ nbrdf_status gpu_network_forward(gpu_network *g, const float *x, size_t rows, fl
   if (!g || (rows && (!x || !y)))
     return core_fail(err, NBRDF_ERR_ARGUMENT, "GPU forward: NULL %s",
                      !g ? "network" : !x ? "input" : "output");
-  for (size_t done = 0; done < rows; done += (size_t)g->chunk) {
-    size_t m = rows - done < (size_t)g->chunk ? rows - done : (size_t)g->chunk;
-    memcpy(g->stage_in.map, x + done * (size_t)g->in, sizeof(float) * m * (size_t)g->in);
-    gpu_buffer_flush(g->ctx, &g->stage_in);
-    record(g, (uint32_t)m);
-    nbrdf_status st = gpu_submit_wait(g->ctx, g->cmd, g->fence, err);
-    if (st != NBRDF_OK) return st;
-    gpu_buffer_invalidate(g->ctx, &g->stage_out);
-    memcpy(y + done * (size_t)g->out, g->stage_out.map, sizeof(float) * m * (size_t)g->out);
+  const size_t chunk = (size_t)g->chunk;
+  size_t pending_at[2] = {0, 0}, pending_m[2] = {0, 0}; /* m = 0: nothing in flight */
+  nbrdf_status st = NBRDF_OK;
+  for (size_t done = 0, k = 0; st == NBRDF_OK && done < rows; done += chunk, k++) {
+    const int s = (int)(k & 1);
+    size_t m = rows - done < chunk ? rows - done : chunk;
+    if (pending_m[s]) st = drain(g, s, pending_at[s], pending_m[s], y, err);
+    pending_m[s] = 0;
+    if (st != NBRDF_OK) break;
+    memcpy(g->stage_in[s].map, x + done * (size_t)g->in, sizeof(float) * m * (size_t)g->in);
+    gpu_buffer_flush(g->ctx, &g->stage_in[s]);
+    record(g, s, (uint32_t)m);
+    st = gpu_submit(g->ctx, g->cmd[s], g->fence[s], err);
+    if (st == NBRDF_OK) pending_at[s] = done, pending_m[s] = m;
   }
-  return NBRDF_OK;
+  /* In submission order: the older slot first. */
+  size_t k_last = rows ? (rows - 1) / chunk : 0;
+  for (int t = 0; t < 2; t++) {
+    int s = (int)((k_last + 1 + (size_t)t) & 1);
+    if (!pending_m[s]) continue;
+    nbrdf_status d = drain(g, s, pending_at[s], pending_m[s], y, err);
+    if (st == NBRDF_OK) st = d;
+  }
+  return st;
 }
 #else
 typedef int gpu_network_unused;
