@@ -11,6 +11,7 @@
 #include "testing.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -171,6 +172,67 @@ static void test_skips(void) {
   nn_destroy(nn);
 }
 
+/* Two networks of one context, each driven by its own thread at the same time (the queue is
+ * shared; submissions are serialised by the context): both give the CPU's results. */
+typedef struct job {
+  nn_network *nn;
+  int rows;
+  double err;
+  int ok;
+} job;
+
+static void *run_job(void *arg) {
+  job *j = arg;
+  const int in = nn_inputs(j->nn), out = nn_outputs(j->nn);
+  float *x = malloc(sizeof(float) * (size_t)j->rows * in);
+  float *yc = malloc(sizeof(float) * (size_t)j->rows * out);
+  float *yg = malloc(sizeof(float) * (size_t)j->rows * out);
+  core_rng rng;
+  core_rng_init(&rng, 99, (uint64_t)in);
+  for (size_t k = 0; k < (size_t)j->rows * in; k++)
+    x[k] = (float)(2.0 * core_rng_uniform(&rng) - 1.0);
+  nbrdf_error err;
+  nn_workspace *ws = NULL;
+  gpu_network *g = NULL;
+  j->ok = nn_workspace_create(j->nn, 512, NBRDF_NN_INFER, &ws, &err) == NBRDF_OK &&
+          nn_forward(j->nn, ws, x, j->rows, yc, &err) == NBRDF_OK &&
+          gpu_network_create(ctx, j->nn, GPU_FP32, 256, &g, &err) == NBRDF_OK;
+  for (int rep = 0; j->ok && rep < 3; rep++)
+    j->ok = gpu_network_forward(g, x, (size_t)j->rows, yg, &err) == NBRDF_OK;
+  j->err = 0.0;
+  for (size_t k = 0; j->ok && k < (size_t)j->rows * out; k++) {
+    double d = fabs((double)yg[k] - yc[k]) / fmax(fabs((double)yc[k]), 1.0);
+    if (!(d <= j->err)) j->err = d;
+  }
+  gpu_network_destroy(g);
+  nn_workspace_destroy(ws);
+  free(x), free(yc), free(yg);
+  return NULL;
+}
+
+static void test_threads(void) {
+  nbrdf_error err;
+  model_sampler *s = NULL;
+  model_decoder_config cfg;
+  model_decoder *dec = NULL;
+  CHECK(model_sampler_create("default", 32, 41, &s, &err) == NBRDF_OK);
+  CHECK(model_decoder_preset("small", 32, &cfg, &err) == NBRDF_OK);
+  CHECK(model_decoder_create(&cfg, 42, &dec, &err) == NBRDF_OK);
+  if (!s || !dec) return;
+  job jobs[2] = {{s->nn, 1500, 0.0, 0}, {dec->nn, 1200, 0.0, 0}};
+  pthread_t t[2];
+  for (int i = 0; i < 2; i++)
+    CHECK(pthread_create(&t[i], NULL, run_job, &jobs[i]) == 0);
+  for (int i = 0; i < 2; i++) {
+    pthread_join(t[i], NULL);
+    CHECK_MSG(jobs[i].ok && jobs[i].err <= TOL, "thread %d: ok %d, max error %.3g", i, jobs[i].ok,
+              jobs[i].err);
+  }
+  printf("two threads, two networks: max err %.2e, %.2e\n", jobs[0].err, jobs[1].err);
+  model_sampler_destroy(s);
+  model_decoder_destroy(dec);
+}
+
 int main(void) {
   if (!gpu_built()) {
     printf("skipped: built without GPU support\n");
@@ -186,6 +248,7 @@ int main(void) {
          gpu_context_is_cpu(ctx) ? " (CPU)" : "",
          gpu_context_limits(ctx)->coop_matrix ? "checked" : gpu_context_limits(ctx)->coop_note);
   RUN(test_skips);
+  RUN(test_threads);
   RUN(test_layering_sampler);
   RUN(test_decoders);
   RUN(test_trained_default);
