@@ -35,8 +35,9 @@ static nbrdf_status open_gpu(const nbrdf_model *m, const nbrdf_model *dm, nbrdf_
   if (!g) return core_fail(err, NBRDF_ERR_MEMORY, "GPU: out of memory");
   nbrdf_status st = gpu_context_open(device == NBRDF_DEVICE_GPU ? GPU_CHOICE_GPU : GPU_CHOICE_AUTO,
                                      &g->ctx, err);
-  /* A CPU device (lavapipe, asked for by name) gets small chunks: it runs ~1e3 rows/s. */
-  int cap = st == NBRDF_OK && gpu_context_is_cpu(g->ctx) ? 256 : 0;
+  /* A CPU device (lavapipe, asked for by name) gets small chunks: it runs the layering
+   * network at ~200 rows/s, and cancel is seen between chunks. */
+  int cap = st == NBRDF_OK && gpu_context_is_cpu(g->ctx) ? 128 : 0;
   if (st == NBRDF_OK && (nets & MODEL_GPU_LAYERING))
     st = gpu_network_create(g->ctx, m->layering->nn, GPU_FP32, cap, &g->layering, err);
   if (st == NBRDF_OK && (nets & MODEL_GPU_SAMPLER))
