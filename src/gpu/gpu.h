@@ -73,5 +73,8 @@ int gpu_network_outputs(const gpu_network *net);
 /* y[rows x outputs] = network(x[rows x inputs]), in chunks (one submission each). */
 nbrdf_status gpu_network_forward(gpu_network *net, const float *x, size_t rows, float *y,
                                  nbrdf_error *err);
+/* Seconds the device spent in the last forward's kernels (GPU timestamps around the layers
+ * of each chunk, the host copies and uploads excluded); < 0 where the queue has none. */
+double gpu_network_device_seconds(const gpu_network *net);
 
 #endif

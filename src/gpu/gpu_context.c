@@ -75,6 +75,7 @@ static nbrdf_status pick_device(gpu_context *c, gpu_choice choice, nbrdf_error *
   for (uint32_t f = 0; f < nf; f++)
     if (fam[f].queueFlags & VK_QUEUE_COMPUTE_BIT) {
       c->family = f;
+      c->timestamp_ns = fam[f].timestampValidBits ? (double)c->props.limits.timestampPeriod : 0.0;
       return NBRDF_OK;
     }
   return core_fail(err, NBRDF_ERR_UNSUPPORTED, "%s has no compute queue", c->props.deviceName);

@@ -27,6 +27,8 @@ struct gpu_context {
   VkPipeline pipe[GPU_K_COUNT];
   /* GEMM tiles the fp32 pipeline was specialised with */
   int bm, bn, bk, tm, tn;
+  /* nanoseconds per timestamp tick; 0 where the compute queue has no timestamps */
+  double timestamp_ns;
   gpu_limits limits;
 };
 

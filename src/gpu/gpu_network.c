@@ -27,6 +27,8 @@ struct gpu_network {
   VkCommandPool cmd_pool;
   VkCommandBuffer cmd[2];
   VkFence fence[2];
+  VkQueryPool timestamps; /* 2 per slot: before the first layer, after the last */
+  double device_s;        /* of the last forward; < 0: no timestamps */
 };
 
 /* Rows per chunk: the activations of a chunk take at most ~1/4 of the device's memory
@@ -155,6 +157,13 @@ nbrdf_status gpu_network_create(gpu_context *c, const nn_network *nn, gpu_precis
       st = gpu_buffer_create(c, sizeof(float) * (VkDeviceSize)g->chunk * g->out, 1,
                              &g->stage_out[s], err);
   }
+  if (st == NBRDF_OK && c->timestamp_ns > 0.0) {
+    VkQueryPoolCreateInfo qi = {.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qi.queryCount = 4;
+    if (c->vk.vkCreateQueryPool(c->device, &qi, NULL, &g->timestamps) != VK_SUCCESS)
+      g->timestamps = VK_NULL_HANDLE; /* timing only: go on without */
+  }
   if (st == NBRDF_OK) st = upload_params(g, nn, err);
   if (st == NBRDF_OK) st = create_sets(g, err);
   if (st != NBRDF_OK) {
@@ -178,11 +187,13 @@ void gpu_network_destroy(gpu_network *g) {
     if (g->fence[s]) c->vk.vkDestroyFence(c->device, g->fence[s], NULL);
   }
   if (g->pool) c->vk.vkDestroyDescriptorPool(c->device, g->pool, NULL);
+  if (g->timestamps) c->vk.vkDestroyQueryPool(c->device, g->timestamps, NULL);
   if (g->cmd_pool) c->vk.vkDestroyCommandPool(c->device, g->cmd_pool, NULL);
   free(g);
 }
 
 int gpu_network_chunk_rows(const gpu_network *g) { return g->chunk; }
+double gpu_network_device_seconds(const gpu_network *g) { return g->device_s; }
 int gpu_network_inputs(const gpu_network *g) { return g->in; }
 int gpu_network_outputs(const gpu_network *g) { return g->out; }
 
@@ -200,12 +211,16 @@ static void record(gpu_network *g, int slot, uint32_t rows) {
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   c->vk.vkResetCommandBuffer(cmd, 0);
   c->vk.vkBeginCommandBuffer(cmd, &bi);
+  if (g->timestamps) c->vk.vkCmdResetQueryPool(cmd, g->timestamps, 2u * (uint32_t)slot, 2);
   /* The previous chunk (earlier in submission order) is done with the shared activation
    * buffers before this one overwrites them. */
   barrier(c, cmd, any, rw);
   VkBufferCopy in = {0, 0, sizeof(float) * (VkDeviceSize)rows * g->in};
   c->vk.vkCmdCopyBuffer(cmd, g->stage_in[slot].buffer, g->buf[g->plan.input].buffer, 1, &in);
   barrier(c, cmd, any, rw);
+  if (g->timestamps)
+    c->vk.vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps,
+                              2u * (uint32_t)slot);
   const int coop = g->precision == GPU_FP16_COOP;
   const uint32_t bm = coop ? 64u : (uint32_t)c->bm, bn = coop ? 64u : (uint32_t)c->bn;
   for (int s = 0; s < g->plan.n_steps; s++) {
@@ -230,6 +245,9 @@ static void record(gpu_network *g, int slot, uint32_t rows) {
     }
     barrier(c, cmd, any, rw);
   }
+  if (g->timestamps)
+    c->vk.vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, g->timestamps,
+                              2u * (uint32_t)slot + 1u);
   VkBufferCopy out = {0, 0, sizeof(float) * (VkDeviceSize)rows * g->out};
   c->vk.vkCmdCopyBuffer(cmd, g->buf[g->plan.output].buffer, g->stage_out[slot].buffer, 1,
                         &out);
@@ -242,6 +260,12 @@ static nbrdf_status drain(gpu_network *g, int s, size_t done, size_t m, float *y
                           nbrdf_error *err) {
   nbrdf_status st = gpu_wait(g->ctx, g->fence[s], err);
   if (st != NBRDF_OK) return st;
+  uint64_t t[2];
+  if (g->timestamps &&
+      g->ctx->vk.vkGetQueryPoolResults(g->ctx->device, g->timestamps, 2u * (uint32_t)s, 2, sizeof t,
+                                       t, sizeof t[0], VK_QUERY_RESULT_64_BIT) == VK_SUCCESS &&
+      t[1] >= t[0])
+    g->device_s += (double)(t[1] - t[0]) * g->ctx->timestamp_ns * 1e-9;
   gpu_buffer_invalidate(g->ctx, &g->stage_out[s]);
   memcpy(y + done * (size_t)g->out, g->stage_out[s].map, sizeof(float) * m * (size_t)g->out);
   return NBRDF_OK;
@@ -253,6 +277,7 @@ nbrdf_status gpu_network_forward(gpu_network *g, const float *x, size_t rows, fl
     return core_fail(err, NBRDF_ERR_ARGUMENT, "GPU forward: NULL %s",
                      !g ? "network" : !x ? "input" : "output");
   const size_t chunk = (size_t)g->chunk;
+  g->device_s = g->timestamps ? 0.0 : -1.0;
   size_t pending_at[2] = {0, 0}, pending_m[2] = {0, 0}; /* m = 0: nothing in flight */
   nbrdf_status st = NBRDF_OK;
   for (size_t done = 0, k = 0; st == NBRDF_OK && done < rows; done += chunk, k++) {

@@ -25,6 +25,7 @@ void gpu_network_destroy(gpu_network *net) { (void)net; }
 int gpu_network_chunk_rows(const gpu_network *net) { return 0; }
 int gpu_network_inputs(const gpu_network *net) { return 0; }
 int gpu_network_outputs(const gpu_network *net) { return 0; }
+double gpu_network_device_seconds(const gpu_network *net) { return -1.0; }
 nbrdf_status gpu_network_forward(gpu_network *net, const float *x, size_t rows, float *y,
                                  nbrdf_error *err) {
   return core_fail(err, NBRDF_ERR_UNSUPPORTED, "this nbrdf was built without GPU support");

@@ -63,7 +63,12 @@
   X(vkDestroyFence)                                                                                \
   X(vkWaitForFences)                                                                               \
   X(vkResetFences)                                                                                 \
-  X(vkDeviceWaitIdle)
+  X(vkDeviceWaitIdle)                                                                              \
+  X(vkCreateQueryPool)                                                                             \
+  X(vkDestroyQueryPool)                                                                            \
+  X(vkCmdResetQueryPool)                                                                           \
+  X(vkCmdWriteTimestamp)                                                                           \
+  X(vkGetQueryPoolResults)
 
 #define GPU_VK_MEMBER(name) PFN_##name name;
 
