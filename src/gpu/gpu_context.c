@@ -150,8 +150,7 @@ static nbrdf_status create_device(gpu_context *c, nbrdf_error *err) {
   if (coop_shape(c)) {
     c->vk.vkGetPhysicalDeviceFeatures2(c->physical, &feat);
     if (coop.cooperativeMatrix && f16.shaderFloat16 && s16.storageBuffer16BitAccess) {
-      VkPhysicalDeviceCooperativeMatrixFeaturesNV *want = &coop;
-      want->cooperativeMatrixRobustBufferAccess = VK_FALSE;
+      coop.cooperativeMatrixRobustBufferAccess = VK_FALSE; /* only what the kernel needs */
       f16.shaderInt8 = VK_FALSE;
       s16.uniformAndStorageBuffer16BitAccess = VK_FALSE;
       s16.storagePushConstant16 = VK_FALSE;
