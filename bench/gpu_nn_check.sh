@@ -10,7 +10,7 @@
 #    tensor-core path (limit 2e-2) against the CPU;
 # 2. bench/bench_gpu_nn: layering, decoder, sampler over 1 M rows, fp32 and fp16, vs the CPU;
 # 3. where bench_bake was carried: a 2048^2 all-distinct RGB bake with --device gpu.
-# Each step has its own time limit; every output goes to OUT_DIR (default: $OUT or .).
+# Each step has its own time limit (90 + 200 + 200 s at most, under a 10-minute command); every output goes to OUT_DIR (default: $OUT or .).
 set -u
 build=${1:-build}
 out=${2:-${OUT:-.}}
@@ -20,12 +20,12 @@ mkdir -p "$out"
 { nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader 2>/dev/null
   date -u; } | tee "$out/gpu_nn_machine.txt"
 echo "== test_gpu_nn"
-timeout 120 "$build/tests/gpu_test_gpu_nn" 2>&1 | tee "$out/gpu_nn_test.txt"
+timeout 90 "$build/tests/gpu_test_gpu_nn" 2>&1 | tee "$out/gpu_nn_test.txt"
 echo "== bench_gpu_nn"
-timeout 240 "$build/bench/bench_gpu_nn" --rows 1048576 --sample 4096 --reps 3 2>&1 |
+timeout 200 "$build/bench/bench_gpu_nn" --rows 1048576 --sample 4096 --reps 3 2>&1 |
   tee "$out/gpu_nn_bench.md"
 if [ -x "$build/bench/bench_bake" ]; then
   echo "== bench_bake --device gpu (2048^2)"
-  timeout 240 "$build/bench/bench_bake" --sizes 2048 --big 0 --no-compression --no-layering \
+  timeout 200 "$build/bench/bench_bake" --sizes 2048 --big 0 --no-compression --no-layering \
     --device gpu 2>&1 | tee "$out/gpu_nn_bake.md"
 fi
