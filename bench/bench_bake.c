@@ -11,7 +11,7 @@
  * the last section, which loads the model itself.
  *
  *   bench_bake [--bundle DIR] [--sizes 1024,4096] [--big 8192] [--dir TMP]
- *              [--cache N] [--no-compression] [--no-layering]
+ *              [--cache N] [--device cpu|auto|gpu] [--no-compression] [--no-layering]
  *
  * --big 0 skips the memory check; --cache sets nbrdf_bake_options.tuple_cache.
  * CPU seconds are process CPU time (all threads); wall seconds are printed
@@ -37,6 +37,7 @@
 typedef struct bench_cfg {
   const char *bundle, *dir;
   long cache; /* -1: the library's default */
+  nbrdf_device device; /* --device: where the networks run (docs/GPU.md) */
 } bench_cfg;
 
 /* What a bake child reports through its pipe. */
@@ -203,6 +204,11 @@ typedef struct bake_arg {
   nbrdf_bake_storage storage;
 } bake_arg;
 
+static void print_note(void *user, const char *message) {
+  (void)user;
+  fprintf(stderr, "bench_bake: note: %s\n", message);
+}
+
 static void bake_child(const void *arg, case_result *out) {
   const bake_arg *b = arg;
   nbrdf_error err = {0};
@@ -217,6 +223,8 @@ static void bake_child(const void *arg, case_result *out) {
   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
   o.storage = b->storage;
   if (b->cfg->cache >= 0) o.tuple_cache = (size_t)b->cfg->cache;
+  o.device = b->cfg->device;
+  o.note = print_note;
   nbrdf_bake_report rep;
   double w0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
   nbrdf_status st = nbrdf_bake(model, &in, &o, b->out, &rep, &err);
@@ -481,7 +489,7 @@ int main(int argc, char **argv) {
 }
 
 static int bench_main(int argc, char **argv) {
-  bench_cfg cfg = {"models/default", NULL, -1};
+  bench_cfg cfg = {"models/default", NULL, -1, NBRDF_DEVICE_CPU};
   char sizes[128] = "1024";
   int big = 8192, compression = 1, layering = 1;
   for (int i = 1; i < argc; i++) {
@@ -496,13 +504,15 @@ static int bench_main(int argc, char **argv) {
       cfg.dir = v, i++;
     else if (!strcmp(argv[i], "--cache") && v)
       cfg.cache = atol(v), i++;
+    else if (!strcmp(argv[i], "--device") && v && nbrdf_device_parse(v) >= 0)
+      cfg.device = (nbrdf_device)nbrdf_device_parse(v), i++;
     else if (!strcmp(argv[i], "--no-compression"))
       compression = 0;
     else if (!strcmp(argv[i], "--no-layering"))
       layering = 0;
     else {
       fprintf(stderr, "usage: bench_bake [--bundle DIR] [--sizes 1024,4096] [--big 8192] "
-                      "[--dir TMP] [--cache N] [--no-compression] [--no-layering] "
+                      "[--dir TMP] [--cache N] [--device cpu|auto|gpu] [--no-compression] [--no-layering] "
                       "[--kernels OPENBLAS_CORE]\n");
       return 2;
     }
@@ -514,9 +524,9 @@ static int bench_main(int argc, char **argv) {
   }
   const char *blas = getenv("OPENBLAS_NUM_THREADS"), *omp = getenv("OMP_NUM_THREADS");
   printf("bench_bake: bundle %s, maps in %s, OPENBLAS_NUM_THREADS=%s OMP_NUM_THREADS=%s, "
-         "tuple cache %s\n\n",
+         "tuple cache %s, device %s\n\n",
          cfg.bundle, cfg.dir, blas ? blas : "(unset)", omp ? omp : "(unset)",
-         cfg.cache < 0 ? "default" : (cfg.cache ? "on" : "off"));
+         cfg.cache < 0 ? "default" : (cfg.cache ? "on" : "off"), nbrdf_device_name(cfg.device));
   printf("| size | content | colour | BRDFs | evaluated | wall s | CPU s | texels/wall-s | "
          "texels/CPU-s | peak RSS MiB | file MiB | maps s | load (1, 5, 15 min) |\n");
   printf("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n");

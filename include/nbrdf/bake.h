@@ -216,6 +216,14 @@ typedef struct nbrdf_bake_options {
   /* COMPACT: latent channels per colour channel (1..8; 0: 8) and the small
    * decoder's width (4..256; 0: 32). */
   int compact_dim, compact_width;
+  /* Where the networks run (docs/GPU.md): CPU (default), AUTO (a GPU where there is one) or
+   * GPU (an error without one). On a GPU the bake hands the layering and sampling networks
+   * and the energy audit's decoder batches of ~1e5 tuples; the texels agree with the CPU's
+   * within float rounding (not bit for bit). */
+  nbrdf_device device;
+  /* Receives one line saying where the networks run (AUTO and GPU only; e.g. "no GPU for
+   * the networks (...): they run on the CPU"). May be NULL. */
+  void (*note)(void *user, const char *message);
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
@@ -226,7 +234,7 @@ typedef struct nbrdf_bake_options {
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,         \
-        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0                                                              \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL                                      \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
@@ -252,6 +260,7 @@ typedef struct nbrdf_bake_report {
   int compact_dim;
   long long decoder_macs;
   double compact_kept;
+  char device[128]; /* where the networks ran: "cpu" or the GPU's name */
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

@@ -73,6 +73,21 @@ void nbrdf_model_destroy(nbrdf_model *model); /* NULL is allowed */
  *   4. models/default in the current directory.
  * Writes the folder into `path` (NUL-terminated, `size` bytes at most). When nothing is
  * found, fails with NBRDF_ERR_IO and a message listing every place tried. */
+/* Where the networks run (docs/GPU.md): the CPU (OpenBLAS), or a GPU through Vulkan compute
+ * (the Vulkan loader is loaded at run time; no GPU, no loader or a build without GPU support
+ * means the CPU). The options of nbrdf_bake take one; the CLI's --device and $NBRDF_DEVICE. */
+typedef enum nbrdf_device {
+  NBRDF_DEVICE_CPU = 0,  /* OpenBLAS: the library's default */
+  NBRDF_DEVICE_AUTO = 1, /* a discrete or integrated GPU where there is one (never lavapipe
+                            unless $NBRDF_VK_DEVICE names it), else the CPU, with a note */
+  NBRDF_DEVICE_GPU = 2   /* the device $NBRDF_VK_DEVICE names (a substring of its name;
+                            "llvmpipe" is lavapipe), else the first GPU; an error when none */
+} nbrdf_device;
+
+/* "cpu", "auto", "gpu"; parse returns -1 for anything else. */
+const char *nbrdf_device_name(nbrdf_device device);
+int nbrdf_device_parse(const char *name);
+
 nbrdf_status nbrdf_default_bundle_path(char *path, size_t size, nbrdf_error *err);
 /* nbrdf_default_bundle_path, then nbrdf_model_load. `path_used` (may be NULL) receives the
  * folder; a load error names it. */

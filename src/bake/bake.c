@@ -11,6 +11,7 @@
 
 #include "bake/bake_accuracy.h"
 #include "bake/bake_band.h"
+#include "bake/bake_device.h"
 #include "core/error.h"
 #include "core/number.h"
 #include "core/progress.h"
@@ -299,6 +300,10 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   bake_audit_init(&band.audit, o->energy_audit);
   if (compact) band.audit_model = compact, band.audit.compact = &acc.compact;
   if (o->accuracy != NBRDF_BAKE_FAST) band.correct = &acc.correction;
+  model_gpu *gpu = NULL;
+  if (st == NBRDF_OK) st = bake_device_open(model, compact ? compact : model, o, &gpu, err);
+  band.gpu = gpu;
+  band.audit.gpu_decoder = gpu ? gpu->decoder : NULL;
   for (int y = 0; st == NBRDF_OK && y < H; y += band_rows) {
     int rows = H - y < band_rows ? H - y : band_rows;
     prog.y = y, prog.rows = rows, prog.fraction = 0.0;
@@ -347,6 +352,7 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
       rep->width = W, rep->height = H;
       rep->colour_channels = rgb ? 3 : 1;
       rep->brdfs = (size_t)W * H * (rgb ? 3 : 1);
+      snprintf(rep->device, sizeof rep->device, "%s", gpu ? gpu_context_name(gpu->ctx) : "cpu");
       rep->evaluated = band.evaluated;
       rep->reused = band.reused;
       rep->audited = band.audit.audited;
@@ -372,6 +378,7 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   }
   bake_accuracy_free(&acc);
   bake_band_free(&band);
+  model_gpu_close(gpu);
   nbrdf_model_destroy(specialised);
   nbrdf_model_destroy(compact);
   if (out != texels) free(out);
@@ -398,6 +405,9 @@ nbrdf_status nbrdf_bake_options_check(const nbrdf_model *model, const nbrdf_bake
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "bake: accuracy is fast, fitted, specialised or compact (0 to 3), not %d",
                      (int)o.accuracy);
+  if ((unsigned)o.device > NBRDF_DEVICE_GPU)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: device is cpu, auto or gpu (0 to 2), not %d",
+                     (int)o.device);
   if (!isfinite(o.budget) || o.budget < 0.0)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "bake: budget is a number of seconds > 0 (0: the level's default), not %g",

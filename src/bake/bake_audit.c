@@ -10,18 +10,21 @@
 #include "core/error.h"
 #include "model/albedo_quad.h"
 #include "model/bundle.h"
+#include "model/model_gpu.h"
 
 const double bake_audit_theta_deg[BAKE_AUDIT_N_THETA] = {0.0, 30.0, 60.0, 80.0, 85.0, 89.0};
 
 #define AUDIT_SEED UINT64_C(0x6175646974)
 
-nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *latents,
-                             const float *sigma, double *maxv, int *theta_index, nbrdf_error *err) {
+static nbrdf_status albedo_max(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
+                               const float *latents, const float *sigma, double *maxv,
+                               int *theta_index, nbrdf_error *err) {
   if (n == 0) return NBRDF_OK;
   double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
   if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   model_runner runner;
-  nbrdf_status st = model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
+                        : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
   if (!st)
     st = model_albedo_decoded(model->decoder, &runner, n, latents, sigma, BAKE_AUDIT_N_THETA,
                               bake_audit_theta_deg, BAKE_AUDIT_SAMPLES, AUDIT_SEED, rho, NULL, err);
@@ -50,6 +53,11 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
   return st;
 }
 
+nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *latents,
+                             const float *sigma, double *maxv, int *theta_index, nbrdf_error *err) {
+  return albedo_max(model, NULL, n, latents, sigma, maxv, theta_index, err);
+}
+
 void bake_audit_init(bake_audit *a, size_t cap) {
   memset(a, 0, sizeof *a);
   a->cap = cap;
@@ -59,8 +67,10 @@ void bake_audit_init(bake_audit *a, size_t cap) {
 void bake_audit_free(bake_audit *a) {
   free(a->lat), free(a->sigma), free(a->maxv), free(a->theta);
   size_t cap = a->cap;
+  struct gpu_network *gpu = a->gpu_decoder;
   memset(a, 0, sizeof *a);
   a->cap = cap;
+  a->gpu_decoder = gpu;
 }
 
 nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const float *out,
@@ -91,7 +101,7 @@ nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const fl
       memcpy(a->lat + k * D, o, D * sizeof *a->lat);
     a->sigma[k] = o[stored];
   }
-  nbrdf_status st = bake_albedo_max(model, n, a->lat, a->sigma, a->maxv, a->theta, err);
+  nbrdf_status st = albedo_max(model, a->gpu_decoder, n, a->lat, a->sigma, a->maxv, a->theta, err);
   if (st) return st;
   a->audited += n;
   for (size_t k = 0; k < n; k++) {

@@ -43,6 +43,8 @@ typedef struct bake_audit {
   /* COMPACT (issue 19): the evaluated latents are the bundle's; the audit
    * decodes their compact coordinates with the model it is given. */
   const struct bake_compact *compact;
+  /* Optional (borrowed): the audited model's decoder on a GPU (model_gpu.h). */
+  struct gpu_network *gpu_decoder;
   /* scratch */
   float *lat, *sigma;
   double *maxv;

@@ -57,6 +57,9 @@ typedef struct bake_band {
   /* Optional: the model the energy audit decodes with (COMPACT: the
    * student, with audit.compact set); NULL: `model`. */
   const nbrdf_model *audit_model;
+  /* Optional (borrowed): the networks on a GPU (model_gpu.h); the band then hands them
+   * gpu->batch tuples per call. NULL: the CPU, EVAL_CHUNK tuples per call. */
+  const struct model_gpu *gpu;
   /* totals over bands */
   size_t evaluated, reused, clamped[NBRDF_BAKE_PARAM_COUNT];
   /* energy audit of the evaluated tuples (bake_audit.h); set up by the

@@ -6,7 +6,10 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "model/bundle.h"
 #include "model/layering.h"
+#include "model/model_gpu.h"
+#include "model/sampler.h"
 #include "model/param_conventions.h"
 
 void bake_ranges_init(const nbrdf_model *model, float lo[NBRDF_BAKE_PARAM_COUNT],
@@ -109,8 +112,31 @@ void bake_clamp_warning(char *buf, size_t cap, const char *name, const float *lo
            (double)lo[id], (double)hi[id], plural ? "were" : "was");
 }
 
+/* Layering then sampling network on the GPU: the values are prepared (finite, in range),
+ * so nbrdf_model_layer's and nbrdf_model_proxy_params's checks have nothing to find. */
+static nbrdf_status networks_gpu(const nbrdf_model *m, const model_gpu *gpu, size_t n,
+                                 const float *top, const float *bottom, const float *albedo,
+                                 const float *sigma_t, float *layered, float *sigma, float *w,
+                                 nbrdf_error *err) {
+  model_runner r;
+  nbrdf_status st = model_gpu_runner(gpu->layering, (int)n, &r, err);
+  if (st == NBRDF_OK)
+    st = model_layering_eval(m->layering, &r, n, top, bottom, albedo, sigma_t, layered, err);
+  model_runner_destroy(&r);
+  if (st == NBRDF_OK) st = model_gpu_runner(gpu->sampler, (int)n, &r, err);
+  if (st == NBRDF_OK) st = model_sampler_eval(m->sampler, &r, n, layered, sigma, w, err);
+  model_runner_destroy(&r);
+  return st;
+}
+
 nbrdf_status bake_tuples_evaluate(const nbrdf_model *model, const bake_tuple *t, const size_t *idx,
                                   size_t n, float *out, nbrdf_error *err) {
+  return bake_tuples_evaluate_on(model, NULL, t, idx, n, out, err);
+}
+
+nbrdf_status bake_tuples_evaluate_on(const nbrdf_model *model, const model_gpu *gpu,
+                                     const bake_tuple *t, const size_t *idx, size_t n, float *out,
+                                     nbrdf_error *err) {
   const size_t D = (size_t)nbrdf_model_latent_dim(model);
   float *p0 = malloc(sizeof(float) * n * 4);
   float *lat = malloc(sizeof(float) * n * (D * 3 + 4));
@@ -134,8 +160,12 @@ nbrdf_status bake_tuples_evaluate(const nbrdf_model *model, const bake_tuple *t,
   if (st == NBRDF_OK)
     st = nbrdf_model_base_latents(model, NBRDF_BASE_CONDUCTOR, n, q0, q1, NBRDF_RANGE_CLAMP, bottom,
                                   NULL, err);
-  if (st == NBRDF_OK) st = nbrdf_model_layer(model, n, top, bottom, albedo, sigma_t, layered, err);
-  if (st == NBRDF_OK) st = nbrdf_model_proxy_params(model, n, layered, sigma, w, err);
+  if (st == NBRDF_OK && gpu)
+    st = networks_gpu(model, gpu, n, top, bottom, albedo, sigma_t, layered, sigma, w, err);
+  else if (st == NBRDF_OK) {
+    st = nbrdf_model_layer(model, n, top, bottom, albedo, sigma_t, layered, err);
+    if (st == NBRDF_OK) st = nbrdf_model_proxy_params(model, n, layered, sigma, w, err);
+  }
   if (st == NBRDF_OK) {
     for (size_t k = 0; k < n; k++) {
       float *o = out + (idx ? idx[k] : k) * (D + 2);

@@ -72,5 +72,11 @@ void bake_clamp_warning(char *buf, size_t cap, const char *name, const float *lo
  * out + k * (D + 2)). */
 nbrdf_status bake_tuples_evaluate(const nbrdf_model *model, const bake_tuple *t, const size_t *idx,
                                   size_t n, float *out, nbrdf_error *err);
+/* The same with the layering and sampling networks on `gpu` (its layering and sampler
+ * uploaded; NULL: the CPU, as bake_tuples_evaluate). */
+struct model_gpu;
+nbrdf_status bake_tuples_evaluate_on(const nbrdf_model *model, const struct model_gpu *gpu,
+                                     const bake_tuple *t, const size_t *idx, size_t n, float *out,
+                                     nbrdf_error *err);
 
 #endif

@@ -8,6 +8,7 @@
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
+#include "cli/cli_device.h"
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
@@ -78,6 +79,7 @@ void cmd_bake_usage(FILE *out) {
       "                        about the wall time on one free core; the result does\n"
       "                        not depend on the machine or its load)\n"
       "  --seed S              above fast: random walks and tuple selection (1)\n"
+      CLI_DEVICE_USAGE
       "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
       "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
@@ -108,6 +110,12 @@ static void on_warning(void *user, const char *message) {
   fprintf(stderr, "nbrdf bake: warning: %s\n", message);
 }
 
+/* Where the networks run: one line on stderr (the user is the progress state, as warnings'). */
+static void on_note(void *user, const char *message) {
+  (void)user;
+  cli_device_note("bake", message);
+}
+
 /* "WxH" or "N" (square), each 1..NBRDF_BAKE_SIZE_MAX. */
 static int parse_size(const char *text, int *w, int *h) {
   char a[64], *x;
@@ -134,12 +142,16 @@ int cmd_bake(int argc, char **argv) {
   cli_progress_state ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
   int budget_given = 0, compact_given = 0;
   nbrdf_error err = {0};
+  if (cli_device_default("bake", &opts.device) < 0) return CLI_EXIT_USAGE;
   for (int i = 1; i < argc; i++) {
     const char *a = argv[i];
     const char *v = i + 1 < argc ? argv[i + 1] : NULL;
     int used = cli_params_option("bake", argc, argv, &i, &params);
     if (used < 0) return CLI_EXIT_USAGE;
     if (used) continue;
+    int dev = cli_device_option("bake", argc, argv, &i, &opts.device);
+    if (dev < 0) return CLI_EXIT_USAGE;
+    if (dev) continue;
     if (cli_is_help(a)) {
       cmd_bake_usage(stdout);
       return CLI_EXIT_OK;
@@ -283,6 +295,7 @@ int cmd_bake(int argc, char **argv) {
   cli_progress_start(&ps);
   opts.progress = cli_progress;
   opts.warning = on_warning;
+  opts.note = on_note;
   opts.user = &ps;
   opts.cancel = cli_cancel_flag();
   cli_cancel_watch();
@@ -307,6 +320,8 @@ int cmd_bake(int argc, char **argv) {
     json_string(out);
     printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu", rep.width,
            rep.height, rep.colour_channels, rep.evaluated);
+    printf(",\"device\":");
+    json_string(rep.device);
     if (rep.accuracy != NBRDF_BAKE_FAST)
       printf(",\"accuracy\":\"%s\",\"budget\":%g,\"distinct\":%zu,\"fitted_tuples\":%zu,"
              "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",

@@ -13,6 +13,7 @@
 
 #include "cli/cli.h"
 #include "cli/eval_neural.h"
+#include "cli/cli_device.h"
 #include "cli/eval_texture.h"
 #include "core/csv.h"
 #include "core/input_file.h"
@@ -92,6 +93,9 @@ void cmd_eval_usage(FILE *out) {
           "               texture's own decoder when it carries one (format version 2,\n"
           "               docs/LATENT-TEXTURE.md), else the bundle's\n"
           "  --level K    --texture: the mip level to fetch from (default 0)\n"
+          "  --device auto|cpu|gpu  --texture: the decoder's device (default $NBRDF_DEVICE,\n"
+          "               else auto: a GPU where Vulkan has one, else the CPU with a note;\n"
+          "               docs/GPU.md)\n"
           "  --in FILE    read the CSV from FILE instead of stdin\n"
           "\n"
           "input: a header row naming the columns, then one query per row. Columns "
@@ -189,7 +193,7 @@ typedef struct eval_args {
   cli_eval_neural_options neural;
   int neural_option; /* an option of the neural models was given */
   cli_eval_texture_options texture; /* texture.texture != NULL: --texture mode */
-  int level_given, model_option;
+  int level_given, model_option, device_given;
   const char *in; /* --in FILE, else stdin */
 } eval_args;
 
@@ -198,12 +202,19 @@ static int parse_args(int argc, char **argv, eval_args *a) {
   a->neural = (cli_eval_neural_options){NULL, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP};
   a->neural_option = 0;
   a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
-  a->texture = (cli_eval_texture_options){NULL, NULL, 0, NULL};
-  a->level_given = a->model_option = 0;
+  a->texture = (cli_eval_texture_options){NULL, NULL, 0, NULL, NBRDF_DEVICE_AUTO};
+  a->level_given = a->model_option = a->device_given = 0;
+  if (cli_device_default("eval", &a->texture.device) < 0) return CLI_EXIT_USAGE;
   a->in = NULL;
   for (int i = 1; i < argc; i++) {
     const char *v;
     long n;
+    int dev = cli_device_option("eval", argc, argv, &i, &a->texture.device);
+    if (dev < 0) return CLI_EXIT_USAGE;
+    if (dev) {
+      a->device_given = 1;
+      continue;
+    }
     if ((v = cli_option_value(argc, argv, &i, "--model"))) {
       for (size_t m = 0; m < sizeof MODELS / sizeof MODELS[0]; m++)
         if (!strcmp(v, MODELS[m].name)) a->model = &MODELS[m];
@@ -275,6 +286,7 @@ static int parse_args(int argc, char **argv, eval_args *a) {
     return CLI_EXIT_OK;
   }
   if (a->level_given) return cli_usage_error("eval", "--level applies to --texture only");
+  if (a->device_given) return cli_usage_error("eval", "--device applies to --texture only");
   if (!a->model) return cli_usage_error("eval", "--model or --texture is required");
   if (a->neural_option && !a->model->neural)
     return cli_usage_error("eval",

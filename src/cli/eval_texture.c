@@ -6,8 +6,10 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/cli_device.h"
 #include "core/number.h"
 #include "core/vec3.h"
+#include "model/model_gpu.h"
 #include "texture/latent_fetch.h"
 
 enum { COL_U, COL_V, COL_THETA_I, COL_PHI_I, COL_THETA_O, COL_PHI_O, N_COLS };
@@ -106,8 +108,9 @@ typedef struct buffers {
 
 /* Parses, fetches and decodes rows [r0, r0 + n) (records r0 + 1 ...) into f. */
 static int decode_chunk(const core_csv_table *t, const size_t index[N_COLS],
-                        const nbrdf_model *model, const texture_latent_image *img, int level,
-                        size_t r0, size_t n, buffers *b) {
+                        const nbrdf_model *model, gpu_network *gpu,
+                        const texture_latent_image *img, int level, size_t r0, size_t n,
+                        buffers *b) {
   const texture_latent_layout *lay = &img->layout;
   int colours = texture_latent_colours(lay), D = lay->latent_dim;
   for (size_t k = 0; k < n; k++) {
@@ -122,7 +125,7 @@ static int decode_chunk(const core_csv_table *t, const size_t index[N_COLS],
     direction(v[COL_THETA_O], v[COL_PHI_O], b->wo + 3 * k);
   }
   nbrdf_error err = {0};
-  if (nbrdf_model_decode(model, n, colours, b->lat, b->wi, b->wo, b->f, &err) != NBRDF_OK)
+  if (model_decode_on(model, gpu, n, colours, b->lat, b->wi, b->wo, b->f, &err) != NBRDF_OK)
     return cli_fail("eval", "lines %zu to %zu: %s", t->line[r0 + 1], t->line[r0 + n], err.message);
   return CLI_EXIT_OK;
 }
@@ -138,13 +141,23 @@ int cli_eval_texture(const cli_eval_texture_options *o, const core_csv_table *t,
   nbrdf_model_destroy(bundle);
   if (st != NBRDF_OK) return cli_fail_error("eval", &err);
   int colours = texture_latent_colours(&img->layout);
+  model_gpu *gpu = NULL;
+  char note[512];
+  if (model_gpu_open(model, NULL, o->device, MODEL_GPU_DECODER, &gpu, note, sizeof note, &err) !=
+      NBRDF_OK) {
+    texture_latent_image_free(img);
+    nbrdf_model_destroy(model);
+    return cli_fail_error("eval", &err);
+  }
+  if (note[0]) cli_device_note("eval", note);
   size_t index[N_COLS];
   buffers b = {0};
   if (o->level >= img->levels)
     rc = cli_level_error("eval", "--level", o->texture, img->levels,
                          o->level_text ? o->level_text : "0");
   if (rc == CLI_EXIT_OK) rc = find_columns(t, colours, index);
-  size_t n = t->n_records - 1, chunk = n < CHUNK ? n : CHUNK;
+  /* A GPU gets every row in one call (it streams them in its own chunks). */
+  size_t n = t->n_records - 1, chunk = n < CHUNK || gpu ? n : CHUNK;
   float *f = NULL;
   if (rc == CLI_EXIT_OK && n > 0) {
     size_t lat = chunk * (size_t)colours * (size_t)img->layout.latent_dim;
@@ -160,7 +173,8 @@ int cli_eval_texture(const cli_eval_texture_options *o, const core_csv_table *t,
    * leaves stdout empty, as for the other models. */
   for (size_t r0 = 0; rc == CLI_EXIT_OK && r0 < n; r0 += chunk) {
     b.f = f + r0 * (size_t)colours;
-    rc = decode_chunk(t, index, model, img, o->level, r0, n - r0 < chunk ? n - r0 : chunk, &b);
+    rc = decode_chunk(t, index, model, gpu ? gpu->decoder : NULL, img, o->level, r0,
+                      n - r0 < chunk ? n - r0 : chunk, &b);
   }
   if (rc == CLI_EXIT_OK) {
     const char *const *outs = colours == 3 ? OUT_RGB : OUT_MONO;
@@ -177,6 +191,7 @@ int cli_eval_texture(const cli_eval_texture_options *o, const core_csv_table *t,
     if (fflush(out) != 0 || ferror(out)) rc = cli_fail("eval", "writing stdout failed");
   }
   free(b.texel), free(b.lat), free(b.wi), free(b.wo), free(f);
+  model_gpu_close(gpu);
   texture_latent_image_free(img);
   nbrdf_model_destroy(model);
   return rc;

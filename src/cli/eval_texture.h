@@ -9,12 +9,14 @@
 #include <stdio.h>
 
 #include "core/csv.h"
+#include "nbrdf/model.h"
 
 typedef struct cli_eval_texture_options {
   const char *texture;
   const char *bundle; /* NULL: the default bundle (cli_model_load) */
   int level;          /* mip level to fetch from */
   const char *level_text; /* --level as typed (NULL: "0"), for messages */
+  nbrdf_device device;    /* where the decoder runs (docs/GPU.md) */
 } cli_eval_texture_options;
 
 /* Reads the columns u, v, theta_i, phi_i, theta_o, phi_o of every row of `t`

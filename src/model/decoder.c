@@ -140,7 +140,7 @@ nbrdf_status model_decoder_eval(const model_decoder *dec, model_runner *runner, 
     model_decoder_fill_inputs(dec, m, channels, latents + k0 * channels * dim, wi + 3 * k0,
                               wo + 3 * k0, runner->x);
     int rows = (int)(m * channels);
-    nbrdf_status st = nn_forward(dec->nn, runner->ws, runner->x, rows, runner->y, err);
+    nbrdf_status st = model_runner_forward(dec->nn, runner, runner->x, rows, runner->y, err);
     if (st != NBRDF_OK) return st;
     for (int r = 0; r < rows; r++)
       f[k0 * channels + r] = model_output_to_f(dec->cfg.output, runner->y[r]);

@@ -81,7 +81,7 @@ nbrdf_status model_layering_eval(const model_layering *net, model_runner *runner
     size_t m = n - k0 < chunk ? n - k0 : chunk;
     model_layering_fill_inputs(net, m, top + k0 * d, bottom + k0 * d, albedo + k0, sigma_t + k0,
                                runner->x);
-    nbrdf_status st = nn_forward(net->nn, runner->ws, runner->x, (int)m, out + k0 * d, err);
+    nbrdf_status st = model_runner_forward(net->nn, runner, runner->x, (int)m, out + k0 * d, err);
     if (st != NBRDF_OK) return st;
   }
   return NBRDF_OK;

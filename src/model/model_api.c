@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "model/api_checks.h"
 #include "model/bundle.h"
+#include "model/model_gpu.h"
 #include "model/proxy.h"
 
 /* A model decoding a compact texture (issue 19) reads fewer latents than the
@@ -57,6 +58,12 @@ int model_batch_for(size_t rows, int multiple) {
 
 nbrdf_status nbrdf_model_decode(const nbrdf_model *m, size_t n, int channels, const float *latents,
                                 const float *wi, const float *wo, float *f, nbrdf_error *err) {
+  return model_decode_on(m, NULL, n, channels, latents, wi, wo, f, err);
+}
+
+nbrdf_status model_decode_on(const nbrdf_model *m, struct gpu_network *gpu, size_t n, int channels,
+                             const float *latents, const float *wi, const float *wo, float *f,
+                             nbrdf_error *err) {
   if (channels < 1 || channels > 64)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "decode: %d channels, expected 1..64", channels);
   if (n == 0) return NBRDF_OK;
@@ -66,8 +73,11 @@ nbrdf_status nbrdf_model_decode(const nbrdf_model *m, size_t n, int channels, co
                             err);
   if (st != NBRDF_OK) return st;
   model_runner runner;
-  st = model_runner_create(m->decoder->nn, model_batch_for(n * (size_t)channels, channels),
-                           NBRDF_NN_INFER, &runner, err);
+  /* A GPU takes the whole call in one batch (it streams its own chunks). */
+  size_t rows = n * (size_t)channels;
+  st = gpu ? model_gpu_runner(gpu, rows < (1u << 20) ? (int)rows : (1 << 20), &runner, err)
+           : model_runner_create(m->decoder->nn, model_batch_for(rows, channels), NBRDF_NN_INFER,
+                                 &runner, err);
   if (st == NBRDF_OK)
     st = model_decoder_eval(m->decoder, &runner, n, channels, latents, wi, wo, f, err);
   model_runner_destroy(&runner);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "gpu/gpu.h"
 
 nbrdf_status model_runner_create(const nn_network *nn, int max_batch, nn_mode mode,
                                  model_runner *runner, nbrdf_error *err) {
@@ -28,6 +29,12 @@ void model_runner_destroy(model_runner *runner) {
   free(runner->x);
   free(runner->y);
   memset(runner, 0, sizeof *runner);
+}
+
+nbrdf_status model_runner_forward(const nn_network *nn, model_runner *runner, const float *x,
+                                  int rows, float *y, nbrdf_error *err) {
+  if (runner->gpu) return gpu_network_forward(runner->gpu, x, (size_t)rows, y, err);
+  return nn_forward(nn, runner->ws, x, rows, y, err);
 }
 
 nbrdf_status model_net_writer(const nn_network *nn, const char *network, int latent_dim,

@@ -22,6 +22,9 @@
 
 typedef struct model_runner {
   nn_workspace *ws;
+  /* Optional (borrowed): the same network uploaded to a GPU (src/gpu); model_runner_forward
+   * then runs there. NULL: the CPU (nn_forward on ws). */
+  struct gpu_network *gpu;
   float *x; /* [max_batch × inputs] */
   float *y; /* [max_batch × outputs] */
   int max_batch;
@@ -30,6 +33,9 @@ typedef struct model_runner {
 nbrdf_status model_runner_create(const nn_network *nn, int max_batch, nn_mode mode,
                                  model_runner *runner, nbrdf_error *err);
 void model_runner_destroy(model_runner *runner); /* zeroes it; a zeroed runner is fine */
+/* y = nn(x) for `rows` rows (INFER mode): on runner->gpu when set, else nn_forward. */
+nbrdf_status model_runner_forward(const nn_network *nn, model_runner *runner, const float *x,
+                                  int rows, float *y, nbrdf_error *err);
 
 /* Starts a writer holding every tensor of `nn` (borrowed: keep nn alive until
  * the save) and the common metadata. */

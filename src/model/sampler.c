@@ -69,7 +69,7 @@ nbrdf_status model_sampler_eval(const model_sampler *net, model_runner *runner, 
   size_t d = (size_t)net->latent_dim, chunk = (size_t)runner->max_batch;
   for (size_t k0 = 0; k0 < n; k0 += chunk) {
     size_t m = n - k0 < chunk ? n - k0 : chunk;
-    nbrdf_status st = nn_forward(net->nn, runner->ws, latents + k0 * d, (int)m, runner->y, err);
+    nbrdf_status st = model_runner_forward(net->nn, runner, latents + k0 * d, (int)m, runner->y, err);
     if (st != NBRDF_OK) return st;
     for (size_t k = 0; k < m; k++)
       model_sampler_transform(runner->y + 2 * k, sigma + k0 + k, w + k0 + k, NULL, NULL);
