@@ -23,7 +23,7 @@
 #include "nbrdf/model.h"
 
 static void usage(FILE *f) {
-  fprintf(f, "usage: bench_gpu_nn [--rows N] [--sample S] [--reps R] [--bundle DIR]\n"
+  fprintf(f, "usage: bench_gpu_nn [--rows N] [--sample S] [--reps R] [--bundle DIR] [--gemm-tile 128x128]\n"
              "  NBRDF_VK_DEVICE=<substring of the device name> picks the device (llvmpipe:\n"
              "  lavapipe); without it the first GPU.\n");
 }
@@ -133,6 +133,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(a, "--sample")) sample = strtol(v, NULL, 10);
     else if (!strcmp(a, "--reps")) reps = strtol(v, NULL, 10);
     else if (!strcmp(a, "--bundle")) bundle = v;
+    else if (!strcmp(a, "--gemm-tile")) setenv("NBRDF_GPU_GEMM_TILE", v, 1);
     else {
       usage(stderr);
       return 2;

@@ -4,6 +4,7 @@
 
 #if NBRDF_HAVE_GPU
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
@@ -19,7 +20,15 @@
  * 128 x 64 x 32 (24.8 KiB, 8 x 4 per invocation: twice the reuse of each staged word). */
 static void choose_tiles(gpu_context *c) {
   c->bm = 64, c->bn = 64, c->bk = 16, c->tm = 4, c->tn = 4;
-  uint32_t big = 4u * 32u * (128u + 64u + 2u);
+  uint32_t big = 4u * 32u * (128u + 64u + 2u), square = 4u * 16u * (128u + 128u + 2u);
+  /* NBRDF_GPU_GEMM_TILE=128x128 (benchmarks): 128 x 128 x 16 tiles, 8 x 8 per invocation, on
+   * any device with room for them (lavapipe too, so its tests can run that configuration). */
+  const char *want = getenv("NBRDF_GPU_GEMM_TILE");
+  if (want && !strcmp(want, "128x128") && c->limits.shared_bytes >= square &&
+      c->limits.max_invocations >= 256) {
+    c->bm = 128, c->bn = 128, c->bk = 16, c->tm = 8, c->tn = 8;
+    return;
+  }
   if (!gpu_context_is_cpu(c) && c->limits.shared_bytes >= big && c->limits.max_invocations >= 256)
     c->bm = 128, c->bk = 32, c->tm = 8;
 }
