@@ -97,8 +97,10 @@ release_built=0
 run_suite build "release" && release_built=1
 if [ "${NBRDF_SKIP_SANITIZE:-0}" != 1 ]; then
   # Leak checks stay on; OpenMP's runtime keeps thread pools alive until exit, which
-  # LeakSanitizer does not count as a leak.
-  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  # LeakSanitizer does not count as a leak; the Vulkan driver's one-time allocations (a
+  # GPU looked for by --device auto) are suppressed by tests/lsan.supp.
+  ASAN_OPTIONS=detect_leaks=1:fast_unwind_on_malloc=0 UBSAN_OPTIONS=print_stacktrace=1 \
+    LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
     run_suite build-sanitize "asan+ubsan" -DNBRDF_SANITIZE=ON -DNBRDF_BUILD_BENCH=OFF
 fi
 if [ "$release_built" = 1 ] && [ "${NBRDF_SKIP_SECOND_BLAS:-0}" != 1 ]; then

@@ -57,10 +57,11 @@ nbrdf_status gpu_vk_load_device(gpu_vk *vk, VkDevice device, nbrdf_error *err) {
   return NBRDF_OK;
 }
 
-void gpu_vk_unload(gpu_vk *vk) {
-  if (vk->lib) dlclose(vk->lib);
-  memset(vk, 0, sizeof *vk);
-}
+/* The loader stays mapped once loaded (dlopen counts references; a second context reuses it):
+ * ICDs such as Mesa's keep process-wide state (LLVM's one-time initialisation, atexit
+ * handlers) that must not be unmapped under them, and LeakSanitizer can only name, and so
+ * suppress (tests/lsan.supp), a driver's one-time allocations while the driver is mapped. */
+void gpu_vk_unload(gpu_vk *vk) { memset(vk, 0, sizeof *vk); }
 
 const char *gpu_vk_result_name(VkResult r) {
   switch (r) {
