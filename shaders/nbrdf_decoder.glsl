@@ -137,14 +137,12 @@ int nbrdf_network_forward() {
   int n_layers = int(nbrdf_w[NBRDF_W_LAYERS]);
   int src = NBRDF_BUF_INPUT;
   for (int l = 0; l < n_layers; l++) {
-    uint r = NBRDF_W_HEADER + NBRDF_W_LAYER_WORDS * uint(l);
-    uint kind = nbrdf_w[r];
-    int n_in = int(nbrdf_w[r + 1u]), n_out = int(nbrdf_w[r + 2u]), hidden = int(nbrdf_w[r + 3u]);
-    bool has_skip = nbrdf_w[r + 4u] != NBRDF_NONE;
-    int skip_width = int(nbrdf_w[r + 5u]);
-    uint w1 = nbrdf_w[r + 6u], b1 = nbrdf_w[r + 7u], g1 = nbrdf_w[r + 8u], be1 = nbrdf_w[r + 9u];
-    uint w2 = nbrdf_w[r + 10u], b2 = nbrdf_w[r + 11u], g2 = nbrdf_w[r + 12u],
-         be2 = nbrdf_w[r + 13u], wskip = nbrdf_w[r + 14u];
+    NbrdfLayer L = nbrdf_layer(l);
+    uint kind = L.kind;
+    int n_in = L.n_in, n_out = L.n_out, hidden = L.hidden, skip_width = L.skip_width;
+    bool has_skip = L.has_skip;
+    uint w1 = L.w1, b1 = L.b1, g1 = L.g1, be1 = L.be1, w2 = L.w2, b2 = L.b2, g2 = L.g2,
+         be2 = L.be2, wskip = L.wskip;
     int dst = src == 0 ? 1 : 0;
     bool projected = has_skip && wskip != NBRDF_NONE;
     int skip_add = has_skip && !projected ? NBRDF_BUF_INPUT : -1;

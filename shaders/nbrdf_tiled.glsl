@@ -429,19 +429,17 @@ void nbrdf_tile_forward() {
   int X = NBRDF_T_X, H = nbrdf_t_h(), IN = nbrdf_t_in();
   barrier(); // the inputs written by every invocation
   for (int l = 0; l < n_layers; l++) {
-    uint r = NBRDF_W_HEADER + NBRDF_W_LAYER_WORDS * uint(l);
-    uint kind = nbrdf_w[r];
-    int n_in = int(nbrdf_w[r + 1u]), n_out = int(nbrdf_w[r + 2u]), hidden = int(nbrdf_w[r + 3u]);
-    bool has_skip = nbrdf_w[r + 4u] != NBRDF_NONE;
-    int skip_width = int(nbrdf_w[r + 5u]);
-    uint w1 = nbrdf_w[r + 6u], b1 = nbrdf_w[r + 7u], g1 = nbrdf_w[r + 8u], be1 = nbrdf_w[r + 9u];
-    uint w2 = nbrdf_w[r + 10u], b2 = nbrdf_w[r + 11u], g2 = nbrdf_w[r + 12u],
-         be2 = nbrdf_w[r + 13u], wskip = nbrdf_w[r + 14u];
+    NbrdfLayer L = nbrdf_layer(l);
+    uint kind = L.kind;
+    int n_in = L.n_in, n_out = L.n_out, hidden = L.hidden, skip_width = L.skip_width;
+    bool has_skip = L.has_skip;
+    uint w1 = L.w1, b1 = L.b1, g1 = L.g1, be1 = L.be1, w2 = L.w2, b2 = L.b2, g2 = L.g2,
+         be2 = L.be2, wskip = L.wskip;
     bool projected = has_skip && wskip != NBRDF_NONE;
     int skip_add = has_skip && !projected ? IN : -1;
     // The fp16 copies (coop kernels, nbrdf_tile_f16_pack): w1, then w2, then wskip.
     int n1 = kind == NBRDF_RESIDUAL ? hidden : n_out;
-    uint h1 = nbrdf_w[r + 15u];
+    uint h1 = L.f16;
     uint h2 = h1 + uint(((n1 + 15) & ~15) * ((n_in + 15) & ~15) / 2);
     uint hs = kind == NBRDF_RESIDUAL ? h2 + uint(((n_out + 15) & ~15) * ((hidden + 15) & ~15) / 2)
                                      : h2;

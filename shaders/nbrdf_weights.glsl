@@ -45,4 +45,29 @@ float nbrdf_param(uint base, uint i) { return uintBitsToFloat(nbrdf_w[base + i])
 
 float nbrdf_wf(uint at) { return uintBitsToFloat(nbrdf_w[at]); }
 
+// One layer record of the packed buffer (the words above), as both decoders read it.
+struct NbrdfLayer {
+  uint kind;
+  int n_in, n_out, hidden, skip_width;
+  bool has_skip;
+  uint w1, b1, g1, be1, w2, b2, g2, be2, wskip;
+  uint f16; // word 15: the fp16 copies of the weights (tensor-core kernels), 0 when none
+};
+
+NbrdfLayer nbrdf_layer(int l) {
+  uint r = NBRDF_W_HEADER + NBRDF_W_LAYER_WORDS * uint(l);
+  NbrdfLayer L;
+  L.kind = nbrdf_w[r];
+  L.n_in = int(nbrdf_w[r + 1u]);
+  L.n_out = int(nbrdf_w[r + 2u]);
+  L.hidden = int(nbrdf_w[r + 3u]);
+  L.has_skip = nbrdf_w[r + 4u] != NBRDF_NONE;
+  L.skip_width = int(nbrdf_w[r + 5u]);
+  L.w1 = nbrdf_w[r + 6u], L.b1 = nbrdf_w[r + 7u], L.g1 = nbrdf_w[r + 8u], L.be1 = nbrdf_w[r + 9u];
+  L.w2 = nbrdf_w[r + 10u], L.b2 = nbrdf_w[r + 11u], L.g2 = nbrdf_w[r + 12u];
+  L.be2 = nbrdf_w[r + 13u], L.wskip = nbrdf_w[r + 14u];
+  L.f16 = nbrdf_w[r + 15u];
+  return L;
+}
+
 #endif
