@@ -10,15 +10,22 @@
 
 #include "core/error.h"
 
-typedef enum field_kind { FIELD_UDIM, FIELD_UVTILE, FIELD_U0, FIELD_V0, FIELD_U1, FIELD_V1 } field_kind;
+typedef enum field_kind {
+  FIELD_UDIM,
+  FIELD_UVTILE,
+  FIELD_U0,
+  FIELD_V0,
+  FIELD_U1,
+  FIELD_V1
+} field_kind;
 
 static const struct {
   const char *token;
   field_kind kind;
 } tokens[] = {
-    {"<UDIM>", FIELD_UDIM}, {"%(UDIM)d", FIELD_UDIM}, {"<UVTILE>", FIELD_UVTILE},
-    {"<uvtile>", FIELD_UVTILE}, {"<u>", FIELD_U0},    {"<v>", FIELD_V0},
-    {"<U>", FIELD_U1},      {"<V>", FIELD_V1},
+    {"<UDIM>", FIELD_UDIM},     {"%(UDIM)d", FIELD_UDIM}, {"<UVTILE>", FIELD_UVTILE},
+    {"<uvtile>", FIELD_UVTILE}, {"<u>", FIELD_U0},        {"<v>", FIELD_V0},
+    {"<U>", FIELD_U1},          {"<V>", FIELD_V1},
 };
 #define N_TOKENS (sizeof tokens / sizeof tokens[0])
 
@@ -150,9 +157,9 @@ nbrdf_status texture_tile_pattern_parse(const char *path, texture_tile_pattern *
           n++;
         if (n > 0 && strncmp(path + i + o + n, close, strlen(close)) == 0) {
           int len = (int)(o + n + strlen(close));
-          nbrdf_status st = core_fail(err, NBRDF_ERR_ARGUMENT,
-                                      "'%s': unknown tile token '%.*s'; known: %s", path,
-                                      len, path + i, KNOWN_TOKENS);
+          nbrdf_status st =
+              core_fail(err, NBRDF_ERR_ARGUMENT, "'%s': unknown tile token '%.*s'; known: %s", path,
+                        len, path + i, KNOWN_TOKENS);
           texture_tile_pattern_free(p);
           return st;
         }
@@ -180,11 +187,11 @@ nbrdf_status texture_tile_pattern_parse(const char *path, texture_tile_pattern *
     literal_start = i;
   }
   if (extra_token) {
-    nbrdf_status st = core_fail(err, NBRDF_ERR_ARGUMENT,
-                                "'%s': three tile tokens (%s, %s, %s); a pattern names its tile "
-                                "once: %s",
-                                path, p->field_tokens[0], p->field_tokens[1], extra_token,
-                                KNOWN_TOKENS);
+    nbrdf_status st =
+        core_fail(err, NBRDF_ERR_ARGUMENT,
+                  "'%s': three tile tokens (%s, %s, %s); a pattern names its tile "
+                  "once: %s",
+                  path, p->field_tokens[0], p->field_tokens[1], extra_token, KNOWN_TOKENS);
     texture_tile_pattern_free(p);
     return st;
   }
@@ -221,12 +228,18 @@ static int format_field(char *buf, size_t size, field_kind kind, int tile) {
   int u, v;
   texture_tile_uv(tile, &u, &v);
   switch (kind) {
-  case FIELD_UDIM: return snprintf(buf, size, "%d", tile);
-  case FIELD_UVTILE: return snprintf(buf, size, "u%d_v%d", u + 1, v + 1);
-  case FIELD_U0: return snprintf(buf, size, "%d", u);
-  case FIELD_V0: return snprintf(buf, size, "%d", v);
-  case FIELD_U1: return snprintf(buf, size, "%d", u + 1);
-  case FIELD_V1: return snprintf(buf, size, "%d", v + 1);
+  case FIELD_UDIM:
+    return snprintf(buf, size, "%d", tile);
+  case FIELD_UVTILE:
+    return snprintf(buf, size, "u%d_v%d", u + 1, v + 1);
+  case FIELD_U0:
+    return snprintf(buf, size, "%d", u);
+  case FIELD_V0:
+    return snprintf(buf, size, "%d", v);
+  case FIELD_U1:
+    return snprintf(buf, size, "%d", u + 1);
+  case FIELD_V1:
+    return snprintf(buf, size, "%d", v + 1);
   }
   return 0;
 }
@@ -311,8 +324,8 @@ static int match_name(const texture_tile_pattern *p, const char *name, int *tile
   return 1;
 }
 
-nbrdf_status texture_tile_pattern_list(const texture_tile_pattern *p,
-                                       int tiles[TEXTURE_TILE_COUNT], int *n, nbrdf_error *err) {
+nbrdf_status texture_tile_pattern_list(const texture_tile_pattern *p, int tiles[TEXTURE_TILE_COUNT],
+                                       int *n, nbrdf_error *err) {
   *n = 0;
   if (!p->n_fields)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "'%s' is not a tile pattern: it has no tile token",
@@ -321,8 +334,8 @@ nbrdf_status texture_tile_pattern_list(const texture_tile_pattern *p,
   if (!dir) return core_fail(err, NBRDF_ERR_MEMORY, "'%s': out of memory", p->text);
   DIR *d = opendir(dir);
   if (!d) {
-    nbrdf_status st = core_fail(err, NBRDF_ERR_IO, "'%s': cannot read the folder %s: %s",
-                                p->text, dir, strerror(errno));
+    nbrdf_status st = core_fail(err, NBRDF_ERR_IO, "'%s': cannot read the folder %s: %s", p->text,
+                                dir, strerror(errno));
     free(dir);
     return st;
   }

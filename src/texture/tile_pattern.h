@@ -66,7 +66,7 @@ nbrdf_status texture_tile_pattern_path(const texture_tile_pattern *p, int tile, 
  * u10, a leading zero) is NBRDF_ERR_ARGUMENT naming the file, rather than
  * left out quietly; a folder that cannot be read is NBRDF_ERR_IO. No match
  * is *n = 0 and NBRDF_OK. */
-nbrdf_status texture_tile_pattern_list(const texture_tile_pattern *p,
-                                       int tiles[TEXTURE_TILE_COUNT], int *n, nbrdf_error *err);
+nbrdf_status texture_tile_pattern_list(const texture_tile_pattern *p, int tiles[TEXTURE_TILE_COUNT],
+                                       int *n, nbrdf_error *err);
 
 #endif

@@ -30,8 +30,8 @@ static int missing_tiles(const texture_tile_set *a, const texture_tile_set *b, c
   return n;
 }
 
-nbrdf_status texture_tile_set_resolve(const texture_tile_map *maps, int n,
-                                      texture_tile_set *set, nbrdf_error *err) {
+nbrdf_status texture_tile_set_resolve(const texture_tile_map *maps, int n, texture_tile_set *set,
+                                      nbrdf_error *err) {
   set->count = 0;
   int first = -1; /* the first tiled map: the others are compared with it */
   for (int m = 0; m < n; m++) {
@@ -68,8 +68,8 @@ nbrdf_status texture_tile_set_resolve(const texture_tile_map *maps, int n,
       return core_fail(err, NBRDF_ERR_MISMATCH, "%s '%s' has no %s (found in %s)", maps[m].name,
                        maps[m].arg, list, maps[first].name);
     if (missing_tiles(&here, set, list, sizeof list))
-      return core_fail(err, NBRDF_ERR_MISMATCH, "%s '%s' has no %s (found in %s)",
-                       maps[first].name, maps[first].arg, list, maps[m].name);
+      return core_fail(err, NBRDF_ERR_MISMATCH, "%s '%s' has no %s (found in %s)", maps[first].name,
+                       maps[first].arg, list, maps[m].name);
   }
   return NBRDF_OK;
 }

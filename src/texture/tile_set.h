@@ -14,8 +14,8 @@ typedef struct texture_tile_map {
 } texture_tile_map;
 
 typedef struct texture_tile_set {
-  int count;                       /* 0: no map is tiled (not a set) */
-  int tiles[TEXTURE_TILE_COUNT];   /* ascending */
+  int count;                     /* 0: no map is tiled (not a set) */
+  int tiles[TEXTURE_TILE_COUNT]; /* ascending */
 } texture_tile_set;
 
 /* The tiles of `n` maps: those present on disk for every tiled map. Each
@@ -25,8 +25,8 @@ typedef struct texture_tile_set {
  * that has them ("--alpha2 'rough.<UDIM>.exr' has no tile 1003 (found in
  * --alpha1)"). A bad pattern is NBRDF_ERR_ARGUMENT prefixed with the map's
  * name. No tiled map: set->count = 0 and NBRDF_OK. */
-nbrdf_status texture_tile_set_resolve(const texture_tile_map *maps, int n,
-                                      texture_tile_set *set, nbrdf_error *err);
+nbrdf_status texture_tile_set_resolve(const texture_tile_map *maps, int n, texture_tile_set *set,
+                                      nbrdf_error *err);
 
 /* An output for `set`: a tile pattern when the set has tiles (one file per
  * tile), a plain path when it has none; NBRDF_ERR_ARGUMENT naming `name`

@@ -136,8 +136,7 @@ static void check_list(const char *pattern, const int *want) {
     k++;
   CHECK_MSG(n == k, "%s: %d tiles, expected %d", pattern, n, k);
   for (int i = 0; i < n && i < k; i++)
-    CHECK_MSG(tiles[i] == want[i], "%s: tile %d is %d, expected %d", pattern, i, tiles[i],
-              want[i]);
+    CHECK_MSG(tiles[i] == want[i], "%s: tile %d is %d, expected %d", pattern, i, tiles[i], want[i]);
   texture_tile_pattern_free(p);
 }
 
@@ -147,7 +146,7 @@ static void test_list(void) {
   touch("r.1002.exr");
   touch("r.1001.exr");
   touch("r.1001.exr.bak"); /* no match: something follows */
-  touch("r.1003.png"); /* another extension */
+  touch("r.1003.png");     /* another extension */
   touch("rr.1004.exr");
   mkdir(testing_path("r.1005.exr"), 0755); /* a folder is no tile */
   check_list("r.<UDIM>.exr", (const int[]){1001, 1002, 1012, 0});
@@ -242,8 +241,7 @@ static void test_set(void) {
   CHECK(set.count == 4 && set.tiles[0] == 1001 && set.tiles[3] == 1004);
   CHECK(texture_tile_set_has(&set, 1003) && !texture_tile_set_has(&set, 1005));
   /* Nothing tiled: no set. */
-  CHECK(resolve((const char *[]){"0.3", "plain.exr"}, 2, &set, &err) == NBRDF_OK &&
-        set.count == 0);
+  CHECK(resolve((const char *[]){"0.3", "plain.exr"}, 2, &set, &err) == NBRDF_OK && set.count == 0);
 
   /* The second map lacks a tile the first has. */
   CHECK(resolve((const char *[]){"s1.<UDIM>.exr", "s2.<UDIM>.exr"}, 2, &set, &err) ==
@@ -264,8 +262,8 @@ static void test_set(void) {
             "message: %s", err.message);
   /* A bad pattern, named by its map. */
   CHECK(resolve((const char *[]){"0.2", "s1.<udim>.exr"}, 2, &set, &err) == NBRDF_ERR_ARGUMENT);
-  CHECK_MSG(!strncmp(err.message, "--alpha2: ", 10) && strstr(err.message, "<udim>"),
-            "message: %s", err.message);
+  CHECK_MSG(!strncmp(err.message, "--alpha2: ", 10) && strstr(err.message, "<udim>"), "message: %s",
+            err.message);
 
   /* Outputs: tiled for a set, plain otherwise. */
   CHECK(resolve((const char *[]){"s1.<UDIM>.exr"}, 1, &set, &err) == NBRDF_OK && set.count == 4);
@@ -279,7 +277,7 @@ static void test_set(void) {
   CHECK(texture_tile_set_check_output(&none, "-o", "latent.<UDIM>.exr", &err) ==
         NBRDF_ERR_ARGUMENT);
   CHECK(texture_tile_set_check_output(&set, "-o", "latent.<UDIM>.<u>.exr", &err) ==
-        NBRDF_ERR_ARGUMENT &&
+            NBRDF_ERR_ARGUMENT &&
         !strncmp(err.message, "-o: ", 4));
 }
 
