@@ -54,7 +54,7 @@ nbrdf_status texture_tile_set_resolve(const texture_tile_map *maps, int n, textu
     }
     if (here.count == 0) {
       const char *slash = strrchr(maps[m].arg, '/');
-      int dir_len = slash ? (int)(slash - maps[m].arg) : 1;
+      int dir_len = slash ? (slash == maps[m].arg ? 1 : (int)(slash - maps[m].arg)) : 1;
       return core_fail(err, NBRDF_ERR_IO, "%s '%s' matches no file in the folder %.*s",
                        maps[m].name, maps[m].arg, dir_len, slash ? maps[m].arg : ".");
     }
