@@ -50,6 +50,12 @@ die() {
   exit 1
 }
 
+# fail MESSAGE: stops what this start started, then dies.
+fail() {
+  stop_daemons
+  die "$@"
+}
+
 # alive PID: the process exists and is not a zombie (where pid 1 does not reap, as in some
 # containers, a daemon that exited stays one).
 alive() {
@@ -217,21 +223,22 @@ start() {
   local t0=$SECONDS
   rm -rf "$dir/state" "$dir/spool" "$dir/run" "$dir/munge"
   mkdir -p "$dir/state" "$dir/spool" "$dir/run" "$dir/munge" "$dir/log"
-  # munged refuses a key or a socket folder that others can write
+  # munged refuses a key that others can read or a folder that others can write
   chmod 0700 "$dir/munge" "$dir/run"
   mungekey --create --keyfile="$dir/munge/munge.key" --force
   chmod 0600 "$dir/munge/munge.key"
   write_conf
 
-  # --force: munged as root would otherwise refuse to start where its log or seed folders
-  # are not the Debian defaults it checks
+  # --force: munged wants every user able to reach its socket (execute permission on each
+  # folder above it), which a folder made by mktemp -d (0700) denies; only root uses this
+  # cluster
   munged --force --key-file="$dir/munge/munge.key" --socket="$dir/run/munge.socket" \
     --pid-file="$dir/run/munged.pid" --log-file="$dir/log/munged.log" \
     --seed-file="$dir/munge/munged.seed" ||
     die "munged did not start; see $dir/log/munged.log"
   # -i: ignore any state (there is none: a fresh folder), never ask
-  slurmctld -i || die "slurmctld did not start; see $dir/log/slurmctld.log"
-  slurmd -N localhost || die "slurmd did not start; see $dir/log/slurmd.log"
+  slurmctld -i || fail "slurmctld did not start; see $dir/log/slurmctld.log"
+  slurmd -N localhost || fail "slurmd did not start; see $dir/log/slurmd.log"
 
   # Up: every daemon alive (a daemon that cannot bind its port exits after forking: another
   # cluster on these ports?) and the node idle.
