@@ -11,6 +11,8 @@ packages=(
   libopencolorio-dev opencolorio-tools
   glslang-tools libvulkan-dev mesa-vulkan-drivers vulkan-tools
   blender python3-numpy python3-openimageio
+  # a one-node Slurm cluster for tests/farm (scripts/slurm-local.sh)
+  slurm-wlm slurm-client munge
 )
 
 missing=()

@@ -1,0 +1,128 @@
+#!/usr/bin/env bash
+# A real Slurm cluster (scripts/slurm-local.sh: munged, slurmctld, slurmd on localhost, all in
+# a temporary folder) runs what a farm plan needs: a 4-task job array, a job that depends on it
+# (afterok) and checks every task's output, a task cancelled while it runs (scancel JOB_2) and
+# that index alone submitted again, finishing the set. The daemons are stopped on any exit.
+# Skipped (exit 77, ctest's SKIP_RETURN_CODE for shell tests) when not root or when Slurm or
+# munge is not installed (scripts/setup-debian.sh installs them). Prints the measured times
+# (docs/FARM.md quotes them); asserts none: under ~60 s on an idle 2-core machine.
+set -u
+source "$NBRDF_SOURCE_DIR/tests/cli/lib.sh"
+if [ "$(id -u)" != 0 ]; then
+  echo "SKIP: the local Slurm cluster runs its daemons as root"
+  exit 77
+fi
+for tool in munged mungekey slurmctld slurmd sbatch squeue scancel scontrol sinfo; do
+  if ! command -v "$tool" >/dev/null; then
+    echo "SKIP: $tool is not installed (scripts/setup-debian.sh: slurm-wlm, slurm-client, munge)"
+    exit 77
+  fi
+done
+
+slurm_local=$NBRDF_SOURCE_DIR/scripts/slurm-local.sh
+cluster=$TMP/cluster
+out=$TMP/results
+mkdir -p "$out/a" "$out/b" "$TMP/log"
+# Ports of our own, away from a cluster on Slurm's default 6817/6818 and from a second run of
+# this test (two sanitizer suites side by side).
+export SLURM_LOCAL_PORT=$((20000 + (RANDOM % 5000) * 2))
+export SLURM_CONF=$cluster/slurm.conf
+trap 'bash "$slurm_local" stop "$cluster" >/dev/null 2>&1; rm -rf "$TMP"' EXIT
+
+now() { date +%s.%N; }
+since() { awk -v a="$1" -v b="$(now)" 'BEGIN { printf "%.1f", b - a }'; }
+
+# job_states JOB: one "ArrayTaskId=N JobState=STATE" line per task.
+job_states() {
+  scontrol -o show job "$1" 2>/dev/null | grep -o 'ArrayTaskId=[0-9]*\|JobState=[A-Z_]*' |
+    paste -d' ' - -
+}
+# state_of JOB_OR_TASK: its JobState (one job or one array task).
+state_of() { scontrol -o show job "$1" 2>/dev/null | grep -o 'JobState=[A-Z_]*' | head -n1 | cut -d= -f2; }
+
+# wait_gone JOB SECONDS: until no task of JOB is pending, running or completing.
+wait_gone() {
+  local t0=$SECONDS
+  while [ -n "$(squeue -h -j "$1" -o %i 2>/dev/null)" ]; do
+    [ $((SECONDS - t0)) -lt "$2" ] || return 1
+    sleep 0.2
+  done
+}
+
+show_logs() {
+  echo "--- job logs" >&2
+  tail -n 5 "$TMP"/log/* >&2 2>/dev/null
+  echo "--- daemon logs" >&2
+  tail -n 10 "$cluster"/log/* >&2 2>/dev/null
+}
+
+t=$(now)
+if ! bash "$slurm_local" start "$cluster"; then
+  echo "FAIL: the cluster did not start" >&2
+  show_logs
+  exit 1
+fi
+start_s=$(since "$t")
+check "a second start while running exits 0" bash "$slurm_local" start "$cluster"
+expect_output "munged: pid [0-9]+" bash "$slurm_local" status "$cluster"
+
+# Each task writes its file whole (temporary file, rename), as a tile bake will. Task 2 of
+# the second array runs for minutes unless RESUBMIT is set: it is cancelled mid-run.
+task='i=$SLURM_ARRAY_TASK_ID; echo started >"$OUT/started_$i";
+  if [ "$i" = 2 ] && [ "${SLOW_TASK2:-0}" = 1 ] && [ -z "${RESUBMIT:-}" ]; then sleep 300; fi;
+  echo "task $i of $SLURM_ARRAY_JOB_ID" >"$OUT/.task_$i.tmp" && mv "$OUT/.task_$i.tmp" "$OUT/task_$i"'
+verify='for i in 0 1 2 3; do test -s "$OUT/task_$i" || { echo "no task_$i"; exit 1; }; done;
+  echo ok >"$OUT/verified"'
+
+# 1. An array and a job that depends on it.
+t=$(now)
+array=$(OUT=$out/a sbatch --parsable -D "$TMP" -o "$TMP/log/%A_%a.out" --array=0-3 \
+  --export=ALL --wrap "$task")
+check "sbatch --array=0-3 gives a job id ($array)" test -n "$array"
+after=$(OUT=$out/a sbatch --parsable -D "$TMP" -o "$TMP/log/%j.out" \
+  --dependency=afterok:"$array" --export=ALL --wrap "$verify")
+check "sbatch --dependency=afterok gives a job id ($after)" test -n "$after"
+check "the dependent job ends within 30 s" wait_gone "$after" 30
+turnaround_s=$(since "$t")
+check "all 4 tasks completed: $(job_states "$array" | tr '\n' ';')" \
+  test "$(job_states "$array" | grep -c 'JobState=COMPLETED')" = 4
+check "the dependent job completed ($(state_of "$after"))" test "$(state_of "$after")" = COMPLETED
+check "the dependent job saw every output" test -s "$out/a/verified"
+
+# 2. A task cancelled while it runs, then that index alone submitted again.
+t=$(now)
+array2=$(OUT=$out/b SLOW_TASK2=1 sbatch --parsable -D "$TMP" -o "$TMP/log/%A_%a.out" \
+  --array=0-3 --export=ALL --wrap "$task")
+check "second array submitted ($array2)" test -n "$array2"
+t0=$SECONDS
+while [ "$(state_of "${array2}_2")" != RUNNING ] || [ ! -f "$out/b/started_2" ]; do
+  [ $((SECONDS - t0)) -lt 30 ] || break
+  sleep 0.2
+done
+check "task 2 runs ($(state_of "${array2}_2"))" test -f "$out/b/started_2"
+check "scancel ${array2}_2" scancel "${array2}_2"
+check "the other tasks end within 30 s" wait_gone "$array2" 30
+check "task 2 cancelled ($(state_of "${array2}_2"))" test "$(state_of "${array2}_2")" = CANCELLED
+check "task 2 left no output" test ! -e "$out/b/task_2"
+check "tasks 0, 1, 3 completed: $(job_states "$array2" | tr '\n' ';')" \
+  test "$(job_states "$array2" | grep -c 'JobState=COMPLETED')" = 3
+resubmit=$(OUT=$out/b RESUBMIT=1 sbatch --parsable -D "$TMP" -o "$TMP/log/%A_%a.out" \
+  --array=2 --export=ALL --wrap "$task")
+after2=$(OUT=$out/b sbatch --parsable -D "$TMP" -o "$TMP/log/%j.out" \
+  --dependency=afterok:"$resubmit" --export=ALL --wrap "$verify")
+check "the re-submitted task and its check end within 30 s" wait_gone "$after2" 30
+check "the re-submitted task completed ($(state_of "${resubmit}_2"))" \
+  test "$(state_of "${resubmit}_2")" = COMPLETED
+check "the set is whole after the re-submission" test -s "$out/b/verified"
+check "task 2 written by the re-submission" grep -q "of $resubmit\$" "$out/b/task_2"
+recover_s=$(since "$t")
+
+t=$(now)
+check "stop" bash "$slurm_local" stop "$cluster"
+stop_s=$(since "$t")
+expect_exit 3 bash "$slurm_local" status "$cluster"
+
+[ "$failures" -eq 0 ] || show_logs
+echo "timings: start ${start_s} s (node idle), array of 4 + dependent job ${turnaround_s} s," \
+  "cancel + re-submit ${recover_s} s, stop ${stop_s} s"
+finish
