@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The Markdown of the repository is read where it lies, in an installed tree or a source
-# package as much as here, so a relative path in it must stay inside the repository and
-# name something that exists. Checked in every *.md outside build folders and .git:
+# The Markdown of the repository is read where it lies (a checkout, a source package),
+# where nothing outside the repository exists, so a relative path in it must stay inside
+# the repository and name something that exists. Checked in every *.md outside build
+# folders, .git and the ignored work folders (data/, runs/, fuzz-out/):
 # - every Markdown link target [text](target) that is not a URL (scheme:) or an anchor
 #   (#...): resolved against the document's folder, it exists and lies inside the root;
 # - every path spelled with a leading ../ anywhere in the text (links are not the only way
