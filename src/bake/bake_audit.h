@@ -1,4 +1,4 @@
-/* Bake-time energy audit (issue 18): the largest decoded directional albedo
+/* Bake-time energy audit: the largest decoded directional albedo
  * over θi of every distinct latent a bake evaluates (the cheap importance-
  * sampled quadrature of model/albedo_quad.h), the worst of the bake with its
  * texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy: a
@@ -40,7 +40,7 @@ typedef struct bake_audit {
   int worst_theta; /* index into bake_audit_theta_deg */
   int x, y, c;     /* a texel (and colour channel) of the worst */
   bake_tuple tuple;
-  /* COMPACT (issue 19): the evaluated latents are the bundle's; the audit
+  /* COMPACT (bake_compact.h): the evaluated latents are the bundle's; the audit
    * decodes their compact coordinates with the model it is given. */
   const struct bake_compact *compact;
   /* Optional (borrowed): the audited model's decoder on a GPU (model_gpu.h). */

@@ -1,4 +1,4 @@
-/* The compact accuracy level (issue 19): a scene's texels span a small family
+/* The compact accuracy level: a scene's texels span a small family
  * of BRDFs, so its latents are stored in K coordinates per colour channel
  * (c = P (z - mean), K <= 8) of the scene's specialised latents z and decoded
  * by a small decoder distilled for the scene (docs/BAKE.md, "Compact").

@@ -1,5 +1,5 @@
 /* nbrdf eval: point queries of the ground-truth BRDFs, CSV in, CSV out.
- * The contract (issue 2) is what an independent implementation of the same
+ * Its output is what an independent implementation of the same
  * physics is checked against, so the format is strict and fully documented in
  * cmd_eval_usage(). */
 #include <ctype.h>

@@ -47,7 +47,7 @@ typedef struct eval_settings {
 #define EVAL_SETTINGS_DEFAULT                                                                      \
   { 100, 16000, 10, 1000, NULL, NULL, NULL }
 
-/* Angles of the point-wise and albedo figures (issue 18): the four of the lobe
+/* Angles of the point-wise and albedo figures: the four of the lobe
  * error and the grazing 85° and 89° (images of their own, EVAL_N_GRAZING). */
 #define EVAL_N_THETA_ALL 6
 #define EVAL_N_GRAZING 2

@@ -1,4 +1,4 @@
-/* The figures of `nbrdf evaluate` beyond the lobe error (issue 18): grazing
+/* The figures of `nbrdf evaluate` beyond the lobe error: grazing
  * lobe images (85°, 89°), the point-wise error over every image, the error at
  * the mirror direction, and the decoded directional albedo by importance
  * sampling (src/model/albedo_quad.h) against nbrdf_brdf_albedo.

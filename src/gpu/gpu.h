@@ -1,4 +1,4 @@
-/* Network inference on a GPU through Vulkan compute (issue 34; docs/GPU.md).
+/* Network inference on a GPU through Vulkan compute (docs/GPU.md).
  *
  * - gpu_context: one Vulkan instance + device + compute queue, the kernels' pipelines and the
  *   device's limits. The Vulkan loader is dlopen()ed at run time (gpu_vk.h); in a build

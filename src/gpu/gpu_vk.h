@@ -1,4 +1,4 @@
-/* The Vulkan entry points the GPU backend uses, loaded at run time (issue 34): libnbrdf has no
+/* The Vulkan entry points the GPU backend uses, loaded at run time: libnbrdf has no
  * link-time Vulkan dependency. gpu_vk_load dlopen()s the loader ($NBRDF_VULKAN_LIBRARY, else
  * libvulkan.so.1) and takes vkGetInstanceProcAddr from it; every other function comes through
  * vkGetInstanceProcAddr / vkGetDeviceProcAddr into a table owned by one gpu_context (no

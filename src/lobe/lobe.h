@@ -58,7 +58,7 @@ double lobe_albedo(int res, const double *image);
 double lobe_albedo_error(int res, int n_images, const double *ref, const double *approx,
                          double *per_image);
 
-/* Point-wise error of one lobe image (issue 18): the median over the pixels
+/* Point-wise error of one lobe image: the median over the pixels
  * where the reference f is above `floor_fraction` (0.01) of the image's peak f
  * of |f̂/f − 1| (images hold f·cos θo; the ratio is f's). Unlike the lobe
  * error, which sums over the image so that a wrong peak hides behind a right

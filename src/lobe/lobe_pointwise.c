@@ -1,4 +1,4 @@
-/* The point-wise lobe error of lobe.h (issue 18). */
+/* The point-wise lobe error of lobe.h (contract there). */
 #include <math.h>
 #include <stdlib.h>
 

@@ -1,5 +1,5 @@
 /* Directional albedo ρ(θi) = ∫ f(ωi, ωo) cos θo dωo by a quadrature that
- * resolves the sharpest lobes a model can produce (issue 18).
+ * resolves the sharpest lobes a model can produce.
  *
  * A lobe image (src/lobe) integrates ρ by the midpoint rule on 64² pixels: an
  * α = 0.01 lobe at θi = 85° is narrower than a pixel there, so the image

@@ -1,4 +1,4 @@
-/* Energy penalty on decoded directional albedo (issue 18): a latent must not
+/* Energy penalty on decoded directional albedo: a latent must not
  * reflect more than its BRDF does.
  *
  *   P = λ · mean over latents l and angles t of max(0, ρ̂_l(θt) − c_l(θt))

@@ -12,7 +12,7 @@
 #include "model/model_gpu.h"
 #include "model/proxy.h"
 
-/* A model decoding a compact texture (issue 19) reads fewer latents than the
+/* A model decoding a compact texture (docs/BAKE.md) reads fewer latents than the
  * bundle's tables, layering and sampling networks write. */
 static nbrdf_status check_full_latents(const nbrdf_model *m, const char *what, nbrdf_error *err) {
   if (!m->parent || m->latent_dim == m->parent->latent_dim) return NBRDF_OK;

@@ -24,7 +24,7 @@ static nbrdf_status read_decoder(const nbrdf_model *root, const void *bytes, siz
   if (st == NBRDF_OK) st = model_decoder_read(r, out, err);
   nn_st_close(r);
   if (st != NBRDF_OK) return st;
-  /* A compact texture's decoder (issue 19) reads fewer latents than the
+  /* A compact texture's decoder (docs/BAKE.md) reads fewer latents than the
    * bundle's networks write; never more. */
   if ((*out)->cfg.latent_dim > root->latent_dim) {
     int dim = (*out)->cfg.latent_dim;

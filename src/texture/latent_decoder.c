@@ -23,7 +23,7 @@ nbrdf_status texture_latent_reader_model(const texture_latent_reader *r, const n
   size_t size = 0;
   const void *bytes = texture_latent_reader_decoder(r, &size);
   /* A texture with its own decoder may be compact (fewer latents than the
-   * bundle's; issue 19): its decoder, not the bundle, says how many. */
+   * bundle's): its decoder, not the bundle, says how many. */
   if (!bytes && info->layout.latent_dim != nbrdf_model_latent_dim(bundle))
     return core_fail(err, NBRDF_ERR_MISMATCH, "%s: latent dimension %d, the model's is %d", path,
                      info->layout.latent_dim, nbrdf_model_latent_dim(bundle));

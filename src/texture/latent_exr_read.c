@@ -213,7 +213,7 @@ static nbrdf_status read_attributes(texture_latent_reader *r, nbrdf_error *err) 
   in->settings = r->strings[S_SETTINGS];
   in->mip_filter = r->strings[S_FILTER];
   in->writer = r->strings[S_WRITER];
-  /* Optional (bakes since issue 18); a negative value: the audit did not run. */
+  /* Optional (older bakes lack it); a negative value: the audit did not run. */
   float a = -1.0f;
   in->max_albedo = exr_attr_get_float(r->exr, 0, NBRDF_ATTR_MAX_ALBEDO, &a) == EXR_ERR_SUCCESS &&
                            isfinite(a) && a >= 0.0f

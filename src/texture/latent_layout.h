@@ -43,7 +43,7 @@
 #define NBRDF_ATTR_DECODER_CHECKSUM "nbrdf:decoderChecksum" /* string: 16 hex digits */
 #define NBRDF_DECODER_ATTR_TYPE "nbrdfSafetensors"
 /* float, optional: the largest decoded directional albedo of the bake's
- * audited latents over θi (issue 18); < 0 when the audit did not run. Written
+ * audited latents over θi; < 0 when the audit did not run. Written
  * as a placeholder with the header and patched in place at the end. */
 #define NBRDF_ATTR_MAX_ALBEDO "nbrdf:maxAlbedo"
 

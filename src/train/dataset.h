@@ -1,4 +1,4 @@
-/* Training data for the decoder (issue 4): ground-truth values of BRDFs drawn
+/* Training data for the decoder: ground-truth values of BRDFs drawn
  * from Table 2 (train/params.h) at direction pairs that cover sharp lobes.
  * The file format is documented in docs/DATASET.md.
  *

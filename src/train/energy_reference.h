@@ -1,4 +1,4 @@
-/* The energy penalty (model/energy.h) in the training loops (issue 18): the
+/* The energy penalty (model/energy.h) in the training loops: the
  * ceilings of the training BRDFs from the ground truth, and the one call each
  * loop makes.
  *

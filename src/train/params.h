@@ -44,7 +44,7 @@ typedef struct train_params {
   double base_alpha, base_r0, base_eta;
 } train_params;
 
-/* Parameter distributions of a training set (issue 18). Held-out sets always
+/* Parameter distributions of a training set. Held-out sets always
  * draw TABLE2, so figures stay comparable across models.
  * - TABLE2: the paper's Table 2 (above).
  * - COVERAGE: Table 2 with more of what the shipped model got worst: coat

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Stages 3-7 of scripts/train-default.sh (tables, layering 2-layer + fine-tune, sampler,
 # bundle, evaluation) on this machine's existing data and a finished decoder run.
-#   bash runs/newtab/run.sh WORK DECODER_RUN "TABLE ARGS"
+#   bash docs/notes/scripts/decoder-compare/chain.sh WORK DECODER_RUN "TABLE ARGS"
 set -euo pipefail
 cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 export OPENBLAS_NUM_THREADS=1

@@ -5,7 +5,7 @@
 # fine-tuned with three-layer data as scripts/train-default.sh does; evaluated on the same
 # 20 `layer` / `layer3` BRDFs as the earlier parts (references cached in data/evalcache).
 #
-#   [L2=7000 L3=1500 TAG=] bash docs/figures/notes-2026-11-26/layering_table2_more_data.sh
+#   [L2=7000 L3=1500 TAG=] bash docs/notes/scripts/ladder-and-energy/layering_table2_more_data.sh
 #
 # Data (resumable; a record is a pure function of seed and index, so the first 3,000
 # two-layer and 300 three-layer records are models/default's own):
@@ -15,7 +15,7 @@
 # The two-layer training and the three-layer data generation run side by side (one core
 # each). Writes to $OUT (/tmp/e18).
 set -euo pipefail
-cd "$(dirname "$0")/../../.."
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 N=build/nbrdf
 L2=${L2:-7000}
 L3=${L3:-1500}

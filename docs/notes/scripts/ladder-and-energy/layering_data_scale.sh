@@ -2,10 +2,10 @@
 # Research note 2026-11-26, part 2 (issue 18): the layering network trained from scratch
 # (paper preset, decoded loss) on the first N coverage two-layer BRDFs, evaluated on 20
 # `layer` BRDFs: how its error scales with data.
-#   [EPOCHS=300 DECAY=100 TAG=] bash docs/figures/notes-2026-11-26/layering_data_scale.sh N   (1500, 3000)
+#   [EPOCHS=300 DECAY=100 TAG=] bash docs/notes/scripts/ladder-and-energy/layering_data_scale.sh N   (1500, 3000)
 # Needs data/layered2-coverage.nbds (scripts/train-default.sh); writes to $OUT (/tmp/e18).
 set -euo pipefail
-cd "$(dirname "$0")/../../.."
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 N=build/nbrdf; n=$1; out=${OUT:-/tmp/e18}/scale$n${TAG:-}; mkdir -p $out
 export OPENBLAS_NUM_THREADS=1
 $N train layering --loss decoded --preset paper --decoder models/default/decoder.safetensors \

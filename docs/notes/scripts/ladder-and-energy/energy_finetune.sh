@@ -2,12 +2,12 @@
 # Research note 2026-11-26, part 2 (issue 18): models/default's layering network fine-tuned
 # on the coverage data with the energy penalty at weight LAMBDA (0: off), bundled with
 # default's decoder, tables and sampler, evaluated on 20 `layer` and `layer3` BRDFs.
-#   bash docs/figures/notes-2026-11-26/energy_finetune.sh LAMBDA
+#   bash docs/notes/scripts/ladder-and-energy/energy_finetune.sh LAMBDA
 # Needs data/ from `NBRDF_EVALUATE=0 bash scripts/train-default.sh` (coverage draws: the
 # layered*-coverage.nbds files) and writes to $OUT (/tmp/e18); references are cached in
 # data/evalcache (first run: about 15 minutes of walks per set).
 set -euo pipefail
-cd "$(dirname "$0")/../../.."
+cd "$(dirname "$0")/../../../.."  # the checkout this script belongs to
 N=${NBRDF:-build/nbrdf}
 E=$1; tag=e$1
 d=data
