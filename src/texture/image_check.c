@@ -243,9 +243,16 @@ static nbrdf_status check_bmp(FILE *f, const char *path, uint64_t size, nbrdf_er
     return core_fail(err, NBRDF_ERR_FORMAT,
                      "%s: BMP texels at byte %u overlap its headers or lie past the end (%llu bytes)",
                      path, offset, (unsigned long long)size);
+  uint64_t rows = height < 0 ? (uint64_t)(-(int64_t)height) : (uint64_t)height;
+  /* OpenImageIO 2.4 decodes a run-length image whole inside open(), before the shim can bound
+   * its size: a 201-byte RLE4 file claiming 3x687865853 texels allocated 2 GB
+   * (fuzz_param_map). A two-byte packet holds at most 255 texels, the bound the shim applies
+   * to every BMP after opening it. */
+  if ((compression == 1 || compression == 2) && (uint64_t)width * rows > 128 * size)
+    return core_fail(err, NBRDF_ERR_FORMAT, "%s: a BMP image of %dx%d texels cannot fit in %llu bytes",
+                     path, width, height, (unsigned long long)size);
   if (compression == 0 || compression == 3) {
     uint64_t stride = ((uint64_t)width * bpp + 31) / 32 * 4;
-    uint64_t rows = height < 0 ? (uint64_t)(-(int64_t)height) : (uint64_t)height;
     if (stride * rows > size - offset)
       return core_fail(err, NBRDF_ERR_FORMAT, "%s: BMP of %dx%d texels needs %llu bytes; %llu follow",
                        path, width, height, (unsigned long long)(stride * rows),
