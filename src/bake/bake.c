@@ -16,7 +16,7 @@
 #include "core/number.h"
 #include "core/progress.h"
 #include "model/bundle.h"
-#include "model/param_conventions.h"
+#include "model/material.h"
 #include "texture/latent_exr.h"
 
 /* Texels per band: big enough that the networks run on full batches, small
@@ -24,70 +24,6 @@
 #define BAND_TEXELS 65536
 /* The largest width and height of a latent texture (latent_exr_write.c). */
 #define TEXTURE_SIZE_MAX NBRDF_BAKE_SIZE_MAX
-
-static const char *const param_names[NBRDF_BAKE_PARAM_COUNT] = {"alpha1", "eta",    "alpha2",
-                                                                "r0",     "albedo", "sigma_t"};
-
-static const char *const accuracy_names[4] = {"fast", "fitted", "specialised", "compact"};
-
-const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a) {
-  return (unsigned)a < 4 ? accuracy_names[a] : "unknown";
-}
-
-int nbrdf_bake_accuracy_parse(const char *name) {
-  for (int k = 0; name && k < 4; k++)
-    if (!strcmp(name, accuracy_names[k])) return k;
-  return -1;
-}
-
-const char *nbrdf_bake_param_name(nbrdf_bake_param_id id) {
-  return (unsigned)id < NBRDF_BAKE_PARAM_COUNT ? param_names[id] : "parameter";
-}
-
-void nbrdf_bake_param_constant(nbrdf_bake_param *p, float value) {
-  p->path = NULL;
-  p->value[0] = p->value[1] = p->value[2] = value;
-  p->channels = 1;
-}
-
-nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bake_param *p,
-                                    nbrdf_error *err) {
-  if (!arg || !*arg) return core_fail(err, NBRDF_ERR_ARGUMENT, "%s: empty value", name);
-  /* "v" or "v,v,v", each number as core/number.h reads it (white space
-   * around it allowed, hex/inf/nan not). */
-  float v[3];
-  int n = 0, numbers = 1;
-  for (const char *s = arg;; n++) {
-    const char *comma = strchr(s, ',');
-    size_t len = comma ? (size_t)(comma - s) : strlen(s);
-    core_number_result r = n < 3 ? core_parse_float(s, len, &v[n]) : NBRDF_NUMBER_SYNTAX;
-    if (r == NBRDF_NUMBER_OVERFLOW || r == NBRDF_NUMBER_UNDERFLOW)
-      return core_fail(err, NBRDF_ERR_ARGUMENT,
-                       "%s: '%.*s' %s as a float; write ./%s for a file of that name", name,
-                       (int)len, s, core_number_problem(r), arg);
-    if (r != NBRDF_NUMBER_OK) numbers = 0;
-    if (!comma) break;
-    s = comma + 1;
-  }
-  n++;
-  if (numbers && (n == 1 || n == 3)) {
-    p->path = NULL;
-    p->channels = n;
-    for (int c = 0; c < 3; c++)
-      p->value[c] = v[n == 3 ? c : 0];
-    return NBRDF_OK;
-  }
-  /* Not one or three numbers: a file, which must exist (so that a mistyped
-   * value, "0x10" or "0.5,0.5", is not reported as a missing image). */
-  struct stat sb;
-  if (stat(arg, &sb) != 0 && errno == ENOENT)
-    return core_fail(err, NBRDF_ERR_ARGUMENT,
-                     "%s: '%s' is neither a number (nor three, comma-separated) nor an "
-                     "existing file",
-                     name, arg);
-  p->path = arg;
-  return NBRDF_OK;
-}
 
 typedef struct mip_ctx {
   const nbrdf_model *model;
@@ -139,7 +75,7 @@ static void warn_clamped(const bake_band *b, const nbrdf_bake_options *o) {
     if (!b->clamped[id]) continue;
     char msg[512], what[64];
     snprintf(what, sizeof what, "%zu texel channel(s)", b->clamped[id]);
-    bake_clamp_warning(msg, sizeof msg, param_names[id], b->lo, b->hi, id, what, 1);
+    model_material_clamp_warning(msg, sizeof msg, model_material_param_name(id), b->lo, b->hi, id, what, 1);
     /* η = 1 (no coat) is the usual value below the range: say how to get it. */
     size_t len = strlen(msg);
     if (id == NBRDF_BAKE_ETA && b->lo[id] > 1.0f && len < sizeof msg)
@@ -192,7 +128,7 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
     const texture_param_map_info *mi = m ? texture_param_map_get_info(m) : NULL;
     if (mi && (mi->width > TEXTURE_SIZE_MAX || mi->height > TEXTURE_SIZE_MAX))
       return core_fail(err, NBRDF_ERR_UNSUPPORTED,
-                       "%s: %s is %dx%d; a texture is at most %dx%d texels", param_names[id],
+                       "%s: %s is %dx%d; a texture is at most %dx%d texels", model_material_param_name(id),
                        texture_param_map_path(m), mi->width, mi->height, TEXTURE_SIZE_MAX,
                        TEXTURE_SIZE_MAX);
   }

@@ -178,7 +178,7 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
                                    bake_accuracy_result *r, nbrdf_error *err) {
   memset(r, 0, sizeof *r);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
-  bake_ranges_init(model, lo, hi);
+  model_material_ranges(model, lo, hi);
   r->budget = budget_of(o);
   const int compact = o->accuracy == NBRDF_BAKE_COMPACT;
   const int K = o->compact_dim > 0 ? o->compact_dim : BAKE_COMPACT_DEFAULT_DIM;

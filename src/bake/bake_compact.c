@@ -288,7 +288,7 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
   const int D = nbrdf_model_latent_dim(model);
   const size_t n_all = n_fit + n_scene;
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
-  bake_ranges_init(model, lo, hi);
+  model_material_ranges(model, lo, hi);
   /* Specialised latents: the fitted tuples', then the scene's (network + carried correction). */
   bake_tuple *all = malloc(sizeof *all * (n_all ? n_all : 1));
   float *net = malloc(sizeof(float) * (n_all ? n_all : 1) * (D + 2));

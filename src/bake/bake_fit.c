@@ -96,7 +96,7 @@ nbrdf_status bake_fit_run(const nbrdf_model *model, const bake_tuple *t, size_t 
   const int D = nbrdf_model_latent_dim(model);
   c->latent_dim = D;
   c->n = n;
-  bake_ranges_init(model, c->lo, c->hi);
+  model_material_ranges(model, c->lo, c->hi);
   c->tuples = malloc(sizeof *c->tuples * (n ? n : 1));
   c->delta = malloc(sizeof(float) * n * D + 1);
   float *net = malloc(sizeof(float) * n * (D + 2) + 1), *z = malloc(sizeof(float) * n * D + 1);
