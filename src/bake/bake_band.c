@@ -93,7 +93,8 @@ static void where(const bake_band *b, int id, int x, int y, int c, char *buf, si
 static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, int c,
                                 nbrdf_error *err) {
   const float typed = *v;
-  model_material_verdict verdict = model_material_prepare(b->lo, b->hi, id, b->roughness, b->range, v, NULL);
+  model_material_verdict verdict =
+      model_material_prepare(b->lo, b->hi, id, b->roughness, b->range, v, NULL);
   if (verdict == MODEL_VALUE_CLAMPED) b->clamped[id]++;
   if (verdict <= MODEL_VALUE_CLAMPED) return NBRDF_OK;
   char at[600];

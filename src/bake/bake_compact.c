@@ -9,9 +9,9 @@
 #include "core/error.h"
 #include "core/linalg.h"
 #include "core/rng.h"
-#include "nbrdf/model.h"
 #include "model/autodecoder.h"
 #include "model/bundle.h"
+#include "nbrdf/model.h"
 #include "train/trainer.h"
 
 void bake_compact_free(bake_compact *c) {

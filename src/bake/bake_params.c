@@ -22,9 +22,7 @@ int nbrdf_bake_accuracy_parse(const char *name) {
   return -1;
 }
 
-const char *nbrdf_bake_param_name(nbrdf_bake_param_id id) {
-  return model_material_param_name(id);
-}
+const char *nbrdf_bake_param_name(nbrdf_bake_param_id id) { return model_material_param_name(id); }
 
 void nbrdf_bake_param_constant(nbrdf_bake_param *p, float value) {
   p->path = NULL;

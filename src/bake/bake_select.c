@@ -27,7 +27,8 @@ float bake_tuple_distance2(const bake_tuple *a, const bake_tuple *b, const float
                            const float *hi) {
   float d2 = 0.0f;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    float d = model_material_normalise(lo, hi, id, a->p[id]) - model_material_normalise(lo, hi, id, b->p[id]);
+    float d = model_material_normalise(lo, hi, id, a->p[id]) -
+              model_material_normalise(lo, hi, id, b->p[id]);
     d2 += d * d;
   }
   return d2;
@@ -105,11 +106,12 @@ nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_se
           for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
             float v = texture_param_band_at(&band[id], x, j, c);
             const float typed = v;
-            model_material_verdict verdict = model_material_prepare(s->lo, s->hi, id, s->roughness, s->range, &v, NULL);
+            model_material_verdict verdict =
+                model_material_prepare(s->lo, s->hi, id, s->roughness, s->range, &v, NULL);
             if (verdict > MODEL_VALUE_CLAMPED) {
               char at[128];
-              snprintf(at, sizeof at, "%s at texel (%d, %d)",
-                       model_material_param_name(id), x, y0 + j);
+              snprintf(at, sizeof at, "%s at texel (%d, %d)", model_material_param_name(id), x,
+                       y0 + j);
               st = model_material_fail(verdict, s->lo, s->hi, id, s->roughness, at, typed, err);
               break;
             }

@@ -121,8 +121,7 @@ static int make_reference(const cli_params *p, nbrdf_brdf **brdfs, int *channels
     double m[MODEL_MATERIAL_PARAMS];
     for (int k = 0; k < MODEL_MATERIAL_PARAMS; k++)
       m[k] = v[k][c];
-    if (model_material_truth(m, &brdfs[c], &err) != NBRDF_OK)
-      return cli_fail_error("render", &err);
+    if (model_material_truth(m, &brdfs[c], &err) != NBRDF_OK) return cli_fail_error("render", &err);
   }
   return CLI_EXIT_OK;
 }

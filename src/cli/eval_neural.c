@@ -33,7 +33,8 @@ static int prepare_row(const cli_eval_neural_options *o, const float *lo, const 
   for (int c = 0; c < np; c++) {
     int id = ids[c];
     float x = (float)v[c], read = x;
-    model_material_verdict verdict = model_material_prepare(lo, hi, id, o->roughness, o->range, &x, &read);
+    model_material_verdict verdict =
+        model_material_prepare(lo, hi, id, o->roughness, o->range, &x, &read);
     if (verdict > MODEL_VALUE_CLAMPED) {
       char at[160];
       nbrdf_error err = {0};

@@ -30,7 +30,8 @@ int model_roughness_parse(const char *name) {
 
 float model_material_read(int id, nbrdf_roughness roughness, float v) {
   float x = v + 0.0f;
-  if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2) x = (float)model_roughness_alpha(roughness, x);
+  if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2)
+    x = (float)model_roughness_alpha(roughness, x);
   return x;
 }
 
@@ -139,8 +140,10 @@ size_t model_material_clamp(model_material_range range, const float *lo, const f
                             float p[MODEL_MATERIAL_PARAMS]) {
   size_t moved = 0;
   if (range == MODEL_RANGE_TRUTH) {
-    p[NBRDF_BAKE_ALPHA1] = clamp_one(p[NBRDF_BAKE_ALPHA1], NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, &moved);
-    p[NBRDF_BAKE_ALPHA2] = clamp_one(p[NBRDF_BAKE_ALPHA2], NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, &moved);
+    p[NBRDF_BAKE_ALPHA1] =
+        clamp_one(p[NBRDF_BAKE_ALPHA1], NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, &moved);
+    p[NBRDF_BAKE_ALPHA2] =
+        clamp_one(p[NBRDF_BAKE_ALPHA2], NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, &moved);
     p[NBRDF_BAKE_ETA] = clamp_one(p[NBRDF_BAKE_ETA], NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX, &moved);
     p[NBRDF_BAKE_R0] = clamp_one(p[NBRDF_BAKE_R0], 0.0, 1.0, &moved);
     p[NBRDF_BAKE_ALBEDO] = clamp_one(p[NBRDF_BAKE_ALBEDO], 0.0, 1.0, &moved);
