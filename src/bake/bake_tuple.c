@@ -53,7 +53,7 @@ nbrdf_status bake_tuples_evaluate_on(const nbrdf_model *model, const model_gpu *
     q0[k] = p[NBRDF_BAKE_ALPHA2], q1[k] = p[NBRDF_BAKE_R0];
     albedo[k] = p[NBRDF_BAKE_ALBEDO], sigma_t[k] = p[NBRDF_BAKE_SIGMA_T];
   }
-  /* Values are already inside the grids (bake_value_prepare), so CLAMP never moves them. */
+  /* Values are already inside the grids (model_material_prepare), so CLAMP never moves them. */
   nbrdf_status st = nbrdf_model_base_latents(model, NBRDF_BASE_DIELECTRIC, n, p0, p1,
                                              NBRDF_RANGE_CLAMP, top, NULL, err);
   if (st == NBRDF_OK)
