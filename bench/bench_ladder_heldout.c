@@ -1,5 +1,5 @@
 /* The accuracy levels' own error estimate without writing a texture: runs the
- * selection, ground truth and fit of a level (bake_accuracy_prepare) on a
+ * selection, ground truth and fit of a level (bake_accuracy_fit) on a
  * scene and prints the median held-out lobe error next to the fast level's
  * on the same tuples. Measures `specialised` before the texture format that
  * carries a decoder exists, and the fit choices of docs/BAKE.md.
@@ -40,7 +40,7 @@ int main(int argc, char **argv) {
   o.budget = atof(argv[2]);
   o.seed = strtoull(argv[3], NULL, 10);
   texture_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
-  bake_accuracy_result r;
+  bake_fit_result r;
   nbrdf_status st = bake_open_sources(&in, src, &err);
   int W = 0, H = 0, rgb = 0;
   if (st == NBRDF_OK)
@@ -50,7 +50,7 @@ int main(int argc, char **argv) {
   if (W == 0) W = H = 1;
   bake_scene scene = {src, W, H, rgb ? 3 : 1};
   clock_t c0 = clock();
-  if (st == NBRDF_OK) st = bake_accuracy_prepare(model, &scene, &o, NULL, &r, &err);
+  if (st == NBRDF_OK) st = bake_accuracy_fit(model, &scene, &o, NULL, &r, &err);
   if (st != NBRDF_OK) {
     fprintf(stderr, "%s\n", err.message);
     return 1;
@@ -59,7 +59,7 @@ int main(int argc, char **argv) {
          "out, %.1f CPU-s\n",
          argv[1], r.budget, 100 * r.heldout_error, 100 * r.heldout_error_fast, r.fitted, r.heldout,
          (double)(clock() - c0) / CLOCKS_PER_SEC);
-  bake_accuracy_free(&r);
+  bake_fit_result_free(&r);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     texture_param_source_free(src[id]);
   nbrdf_model_destroy(model);

@@ -36,16 +36,9 @@
 extern "C" {
 #endif
 
-/* The six parameters, in the order of the paper's layered BRDF. */
-typedef enum nbrdf_bake_param_id {
-  NBRDF_BAKE_ALPHA1 = 0, /* top coat GGX roughness (see nbrdf_roughness) */
-  NBRDF_BAKE_ETA,        /* top coat IOR relative to outside, >= 1 */
-  NBRDF_BAKE_ALPHA2,     /* bottom conductor GGX roughness */
-  NBRDF_BAKE_R0,         /* bottom Schlick reflectance at normal incidence, [0, 1]; colour */
-  NBRDF_BAKE_ALBEDO,     /* slab single-scattering albedo A, [0, 1]; colour */
-  NBRDF_BAKE_SIGMA_T,    /* slab optical depth (unit thickness), >= 0 */
-  NBRDF_BAKE_PARAM_COUNT
-} nbrdf_bake_param_id;
+/* The six parameters' ids (nbrdf_bake_param_id), the roughness convention
+ * (nbrdf_roughness) and NBRDF_BAKE_SIGMA_T_MAX are the layered material's, declared in
+ * nbrdf/model.h. */
 
 /* "alpha1", "eta", "alpha2", "r0", "albedo", "sigma_t". */
 const char *nbrdf_bake_param_name(nbrdf_bake_param_id id);
@@ -108,12 +101,6 @@ void nbrdf_bake_param_constant(nbrdf_bake_param *p, float value);
 nbrdf_status nbrdf_bake_param_parse(const char *name, const char *arg, nbrdf_bake_param *p,
                                     nbrdf_error *err);
 
-/* How alpha1 and alpha2 values are read. */
-typedef enum nbrdf_roughness {
-  NBRDF_ROUGHNESS_ALPHA = 0,     /* the GGX alpha of the paper, used as given */
-  NBRDF_ROUGHNESS_PERCEPTUAL = 1 /* artists' roughness r (Blender, Disney): alpha = r^2 */
-} nbrdf_roughness;
-
 typedef enum nbrdf_bake_storage { NBRDF_BAKE_HALF = 0, NBRDF_BAKE_FLOAT = 1 } nbrdf_bake_storage;
 
 /* Lossless EXR compression of the texture (docs/BAKE.md, "Benchmark"): ZIP
@@ -126,9 +113,6 @@ typedef enum nbrdf_bake_compression {
   NBRDF_BAKE_RLE,
   NBRDF_BAKE_UNCOMPRESSED
 } nbrdf_bake_compression;
-
-/* Trained range of sigma_t (paper: {0, 1, 2, 5}); the range policy applies above it. */
-#define NBRDF_BAKE_SIGMA_T_MAX 5.0f
 
 /* Accuracy levels (docs/BAKE.md, "Accuracy levels"):
  * - FAST: the universal networks only (today's bake; bytes unchanged).

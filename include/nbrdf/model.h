@@ -183,6 +183,31 @@ nbrdf_status nbrdf_model_decode(const nbrdf_model *model, size_t n, int channels
                                 const float *latents, const float *wi, const float *wo, float *f,
                                 nbrdf_error *err);
 
+/* ------------------------------------------------------ the layered material
+ * A dielectric coat (alpha1, eta) over a slab (albedo, sigma_t) over a conductor
+ * (alpha2, r0): what the model represents and what a bake reads per texel. The
+ * names keep their bake prefix (the bake was their first reader). */
+
+/* The six parameters, in the order of the paper's layered BRDF. */
+typedef enum nbrdf_bake_param_id {
+  NBRDF_BAKE_ALPHA1 = 0, /* top coat GGX roughness (see nbrdf_roughness) */
+  NBRDF_BAKE_ETA,        /* top coat IOR relative to outside, >= 1 */
+  NBRDF_BAKE_ALPHA2,     /* bottom conductor GGX roughness */
+  NBRDF_BAKE_R0,         /* bottom Schlick reflectance at normal incidence, [0, 1]; colour */
+  NBRDF_BAKE_ALBEDO,     /* slab single-scattering albedo A, [0, 1]; colour */
+  NBRDF_BAKE_SIGMA_T,    /* slab optical depth (unit thickness), >= 0 */
+  NBRDF_BAKE_PARAM_COUNT
+} nbrdf_bake_param_id;
+
+/* How alpha1 and alpha2 values are read. */
+typedef enum nbrdf_roughness {
+  NBRDF_ROUGHNESS_ALPHA = 0,     /* the GGX alpha of the paper, used as given */
+  NBRDF_ROUGHNESS_PERCEPTUAL = 1 /* artists' roughness r (Blender, Disney): alpha = r^2 */
+} nbrdf_roughness;
+
+/* Trained range of sigma_t (paper: {0, 1, 2, 5}); the range policy applies above it. */
+#define NBRDF_BAKE_SIGMA_T_MAX 5.0f
+
 /* ------------------------------------------------------------- base latents */
 
 typedef enum nbrdf_base_kind {

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_heldout.h"
 #include "bake/bake_select.h"
 #include "core/error.h"
 
@@ -135,7 +136,7 @@ nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t dis
   return NBRDF_OK;
 }
 
-void bake_accuracy_free(bake_accuracy_result *r) {
+void bake_fit_result_free(bake_fit_result *r) {
   bake_correction_free(&r->correction);
   bake_compact_free(&r->compact);
   memset(r, 0, sizeof *r);
@@ -173,12 +174,12 @@ nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_opti
   return st;
 }
 
-nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *scene,
-                                   const nbrdf_bake_options *o, core_ticker *ticker,
-                                   bake_accuracy_result *r, nbrdf_error *err) {
+nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene,
+                               const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
+                               nbrdf_error *err) {
   memset(r, 0, sizeof *r);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
-  bake_ranges_init(model, lo, hi);
+  model_material_ranges(model, lo, hi);
   r->budget = budget_of(o);
   const int compact = o->accuracy == NBRDF_BAKE_COMPACT;
   const int K = o->compact_dim > 0 ? o->compact_dim : BAKE_COMPACT_DEFAULT_DIM;
@@ -256,6 +257,6 @@ nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *s
   train_samples_free(&samples);
   bake_selection_free(&sel);
   bake_selection_free(&teach);
-  if (st != NBRDF_OK) bake_accuracy_free(r);
+  if (st != NBRDF_OK) bake_fit_result_free(r);
   return st;
 }

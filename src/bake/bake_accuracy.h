@@ -39,25 +39,30 @@ nbrdf_status bake_plan_make(nbrdf_bake_accuracy level, double budget, size_t dis
 nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_options *o,
                                  nbrdf_error *err);
 
-typedef struct bake_accuracy_result {
-  bake_correction correction;
-  bake_compact compact; /* COMPACT: the basis and the student (else zero) */
+/* The fit result: everything the plan/fit stage produces and the evaluate
+ * stage consumes (bake_level.h), and nothing else: no state of the band loop,
+ * so a fit could be made once and baked from later. */
+typedef struct bake_fit_result {
+  bake_correction correction; /* the latent correction carried to every tuple; SPECIALISED
+                               * and COMPACT: with the fine-tuned decoder */
+  bake_compact compact;       /* COMPACT: the basis and the student (else zero) */
   size_t distinct, fitted, heldout;
   double heldout_error, heldout_error_fast;
   double budget;
   char attribute[512]; /* NBRDF_ATTR_ACCURACY */
-} bake_accuracy_result;
+} bake_fit_result;
 
 typedef struct bake_scene {
   texture_param_source **src;
   int width, height, colours;
 } bake_scene;
 
-/* Runs everything before the texels for level o->accuracy (not FAST):
- * progress stages "ground truth" and "fit" through `ticker`. */
-nbrdf_status bake_accuracy_prepare(const nbrdf_model *model, const bake_scene *scene,
-                                   const nbrdf_bake_options *o, core_ticker *ticker,
-                                   bake_accuracy_result *r, nbrdf_error *err);
-void bake_accuracy_free(bake_accuracy_result *r);
+/* The plan/fit stage of level o->accuracy (not FAST): everything before the
+ * texels (plan, selection, ground truth, fit, COMPACT's distillation,
+ * held-out error); progress stages "ground truth" and "fit" through `ticker`. */
+nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene,
+                               const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
+                               nbrdf_error *err);
+void bake_fit_result_free(bake_fit_result *r);
 
 #endif

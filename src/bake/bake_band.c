@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "model/material.h"
 #include "model/model_gpu.h"
 
 /* Distinct tuples go through the networks this many at a time, so scratch
@@ -45,7 +46,7 @@ void bake_band_init(bake_band *b, const nbrdf_model *model, texture_param_source
   b->width = width;
   b->roughness = roughness;
   b->range = range;
-  bake_ranges_init(model, b->lo, b->hi);
+  model_material_ranges(model, b->lo, b->hi);
 }
 
 void bake_band_free(bake_band *b) {
@@ -75,16 +76,16 @@ static void where(const bake_band *b, int id, int x, int y, int c, char *buf, si
   texture_param_source *s = b->src[id];
   texture_param_map *m = texture_param_source_get_map(s);
   if (!m) {
-    snprintf(buf, n, "%s (constant)", nbrdf_bake_param_name((nbrdf_bake_param_id)id));
+    snprintf(buf, n, "%s (constant)", model_material_param_name(id));
     return;
   }
   static const char rgb[] = "RGB";
   if (texture_param_source_channels(s) == 3)
     snprintf(buf, n, "%s: texel (%d, %d) channel %c, %s", texture_param_map_path(m), x, y, rgb[c],
-             nbrdf_bake_param_name((nbrdf_bake_param_id)id));
+             model_material_param_name(id));
   else
     snprintf(buf, n, "%s: texel (%d, %d), %s", texture_param_map_path(m), x, y,
-             nbrdf_bake_param_name((nbrdf_bake_param_id)id));
+             model_material_param_name(id));
 }
 
 /* Applies the roughness convention to one parameter value, validates it and,
@@ -92,12 +93,13 @@ static void where(const bake_band *b, int id, int x, int y, int c, char *buf, si
 static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, int c,
                                 nbrdf_error *err) {
   const float typed = *v;
-  bake_verdict verdict = bake_value_prepare(b->lo, b->hi, id, b->roughness, b->range, v);
-  if (verdict == BAKE_VALUE_CLAMPED) b->clamped[id]++;
-  if (verdict <= BAKE_VALUE_CLAMPED) return NBRDF_OK;
+  model_material_verdict verdict =
+      model_material_prepare(b->lo, b->hi, id, b->roughness, b->range, v, NULL);
+  if (verdict == MODEL_VALUE_CLAMPED) b->clamped[id]++;
+  if (verdict <= MODEL_VALUE_CLAMPED) return NBRDF_OK;
   char at[600];
   where(b, id, x, y, c, at, sizeof at);
-  return bake_value_fail(verdict, b->lo, b->hi, id, b->roughness, at, typed, err);
+  return model_material_fail(verdict, b->lo, b->hi, id, b->roughness, at, typed, err);
 }
 
 static uint64_t tuple_hash(const bake_tuple *t) {
@@ -243,7 +245,7 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
           nbrdf_status st = check_value(b, id, &v, x, y0 + j, c, err);
           if (st != NBRDF_OK) return st;
           t.p[id] =
-              b->quantise_bits ? bake_value_quantise(b->lo, b->hi, id, b->quantise_bits, v) : v;
+              b->quantise_bits ? model_material_quantise(b->lo, b->hi, id, b->quantise_bits, v) : v;
         }
         b->slot[((size_t)j * b->width + x) * C + c] = intern(b, &t, &n_uniq);
       }

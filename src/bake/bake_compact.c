@@ -7,10 +7,11 @@
 
 #include "bake/bake_select.h"
 #include "core/error.h"
+#include "core/linalg.h"
 #include "core/rng.h"
-#include "nbrdf/model.h"
 #include "model/autodecoder.h"
 #include "model/bundle.h"
+#include "nbrdf/model.h"
 #include "train/trainer.h"
 
 void bake_compact_free(bake_compact *c) {
@@ -19,47 +20,6 @@ void bake_compact_free(bake_compact *c) {
   free(c->project);
   model_decoder_destroy(c->student);
   memset(c, 0, sizeof *c);
-}
-
-/* Cyclic Jacobi on the symmetric D x D matrix a (destroyed): eigenvalues in
- * ev, eigenvectors in the columns of v. D is the latent dimension (32), so
- * the O(D^3) sweeps cost nothing next to the rest of a bake. */
-static void jacobi(double *a, int D, double *ev, double *v) {
-  for (int i = 0; i < D; i++)
-    for (int j = 0; j < D; j++)
-      v[i * D + j] = i == j;
-  for (int sweep = 0; sweep < 100; sweep++) {
-    double off = 0.0, diag = 0.0;
-    for (int i = 0; i < D; i++)
-      for (int j = 0; j < D; j++)
-        *(i == j ? &diag : &off) += a[i * D + j] * a[i * D + j];
-    if (off <= 1e-24 * (diag > 0 ? diag : 1.0)) break;
-    for (int p = 0; p < D; p++)
-      for (int q = p + 1; q < D; q++) {
-        double apq = a[p * D + q];
-        if (fabs(apq) < 1e-300) continue;
-        double theta = (a[q * D + q] - a[p * D + p]) / (2.0 * apq);
-        double t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
-        double cs = 1.0 / sqrt(t * t + 1.0), sn = t * cs;
-        for (int k = 0; k < D; k++) { /* columns p, q */
-          double akp = a[k * D + p], akq = a[k * D + q];
-          a[k * D + p] = cs * akp - sn * akq;
-          a[k * D + q] = sn * akp + cs * akq;
-        }
-        for (int k = 0; k < D; k++) { /* rows p, q */
-          double apk = a[p * D + k], aqk = a[q * D + k];
-          a[p * D + k] = cs * apk - sn * aqk;
-          a[q * D + k] = sn * apk + cs * aqk;
-        }
-        for (int k = 0; k < D; k++) {
-          double vkp = v[k * D + p], vkq = v[k * D + q];
-          v[k * D + p] = cs * vkp - sn * vkq;
-          v[k * D + q] = sn * vkp + cs * vkq;
-        }
-      }
-  }
-  for (int i = 0; i < D; i++)
-    ev[i] = a[i * D + i];
 }
 
 nbrdf_status bake_compact_basis(const float *z, size_t n, int D, int K, bake_compact *c,
@@ -93,7 +53,7 @@ nbrdf_status bake_compact_basis(const float *z, size_t n, int D, int K, bake_com
   for (int i = 0; i < D; i++)
     for (int j = 0; j <= i; j++)
       cov[j * D + i] = cov[i * D + j] /= (double)n;
-  jacobi(cov, D, ev, vec);
+  core_linalg_symmetric_eigen(cov, D, ev, vec);
   double total = 0.0, kept = 0.0;
   for (int i = 0; i < D; i++)
     total += ev[i] > 0 ? ev[i] : 0.0;
@@ -274,35 +234,6 @@ static nbrdf_status distil_gradient(void *user, int64_t step, double *loss, nbrd
   return NBRDF_OK;
 }
 
-/* Inverts the K x K matrix a (destroyed) into inv by Gauss-Jordan with
- * partial pivoting; 0 when it is singular. */
-static int invert(double *a, int K, double *inv) {
-  for (int r = 0; r < K; r++)
-    for (int k = 0; k < K; k++)
-      inv[r * K + k] = r == k;
-  for (int c = 0; c < K; c++) {
-    int p = c;
-    for (int r = c + 1; r < K; r++)
-      if (fabs(a[r * K + c]) > fabs(a[p * K + c])) p = r;
-    if (!(fabs(a[p * K + c]) > 1e-12)) return 0;
-    for (int k = 0; k < K; k++) {
-      double t = a[c * K + k];
-      a[c * K + k] = a[p * K + k], a[p * K + k] = t;
-      t = inv[c * K + k];
-      inv[c * K + k] = inv[p * K + k], inv[p * K + k] = t;
-    }
-    double d = a[c * K + c];
-    for (int k = 0; k < K; k++)
-      a[c * K + k] /= d, inv[c * K + k] /= d;
-    for (int r = 0; r < K; r++) {
-      double f = r == c ? 0.0 : a[r * K + c];
-      for (int k = 0; f != 0.0 && k < K; k++)
-        a[r * K + k] -= f * a[c * K + k], inv[r * K + k] -= f * inv[c * K + k];
-    }
-  }
-  return 1;
-}
-
 /* After the projection learned: the basis that best reconstructs the scene's
  * latents from their coordinates (least squares, B = Zc Cᵀ (C Cᵀ)⁻¹; the
  * proxy of a mip texel is predicted from mean + B c) and the share of their
@@ -326,7 +257,7 @@ static void refit_basis(bake_compact *c, const float *zc, size_t n) {
       for (int i = 0; i < D; i++)
         m[i * K + j] += (double)zc[b * D + i] * cb[b * K + j];
     }
-  if (invert(g, K, gi)) {
+  if (core_linalg_invert(g, K, gi)) {
     double res = 0.0, tot = 0.0;
     for (int i = 0; i < D; i++)
       for (int k = 0; k < K; k++) {
@@ -357,7 +288,7 @@ nbrdf_status bake_compact_build(const nbrdf_model *model, const bake_correction 
   const int D = nbrdf_model_latent_dim(model);
   const size_t n_all = n_fit + n_scene;
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
-  bake_ranges_init(model, lo, hi);
+  model_material_ranges(model, lo, hi);
   /* Specialised latents: the fitted tuples', then the scene's (network + carried correction). */
   bake_tuple *all = malloc(sizeof *all * (n_all ? n_all : 1));
   float *net = malloc(sizeof(float) * (n_all ? n_all : 1) * (D + 2));

@@ -61,16 +61,4 @@ void bake_correct_latents(const bake_correction *c, const bake_tuple *t, const s
 /* The decoder a texture of this correction is decoded with. */
 const model_decoder *bake_correction_decoder(const bake_correction *c, const nbrdf_model *model);
 
-/* Median lobe error (fraction) over n held-out tuples against their images
- * (bake_truth_lobes, res x res): with the correction (*fitted; with `compact`
- * non-NULL, its coordinates decoded by its student) and with the universal
- * networks alone (*fast). c NULL: only *fast. per_tuple (may be
- * NULL) receives 2n values: fitted then fast errors. */
-struct bake_compact;
-nbrdf_status bake_heldout_error(const nbrdf_model *model, const bake_correction *c,
-                                const struct bake_compact *compact, const bake_tuple *t, size_t n,
-                                const double *images, int res,
-                                double *fitted, double *fast, double *per_tuple,
-                                nbrdf_error *err);
-
 #endif

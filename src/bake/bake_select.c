@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/rng.h"
+#include "model/material.h"
 
 /* Candidates that farthest-point sampling scans at most: each pick costs one
  * pass over them, so 16,384 candidates x a few hundred picks stay well under
@@ -26,7 +27,8 @@ float bake_tuple_distance2(const bake_tuple *a, const bake_tuple *b, const float
                            const float *hi) {
   float d2 = 0.0f;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    float d = bake_value_normalise(lo, hi, id, a->p[id]) - bake_value_normalise(lo, hi, id, b->p[id]);
+    float d = model_material_normalise(lo, hi, id, a->p[id]) -
+              model_material_normalise(lo, hi, id, b->p[id]);
     d2 += d * d;
   }
   return d2;
@@ -104,16 +106,17 @@ nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_se
           for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
             float v = texture_param_band_at(&band[id], x, j, c);
             const float typed = v;
-            bake_verdict verdict = bake_value_prepare(s->lo, s->hi, id, s->roughness, s->range, &v);
-            if (verdict > BAKE_VALUE_CLAMPED) {
+            model_material_verdict verdict =
+                model_material_prepare(s->lo, s->hi, id, s->roughness, s->range, &v, NULL);
+            if (verdict > MODEL_VALUE_CLAMPED) {
               char at[128];
-              snprintf(at, sizeof at, "%s at texel (%d, %d)",
-                       nbrdf_bake_param_name((nbrdf_bake_param_id)id), x, y0 + j);
-              st = bake_value_fail(verdict, s->lo, s->hi, id, s->roughness, at, typed, err);
+              snprintf(at, sizeof at, "%s at texel (%d, %d)", model_material_param_name(id), x,
+                       y0 + j);
+              st = model_material_fail(verdict, s->lo, s->hi, id, s->roughness, at, typed, err);
               break;
             }
             t.p[id] = s->quantise_bits
-                          ? bake_value_quantise(s->lo, s->hi, id, s->quantise_bits, v)
+                          ? model_material_quantise(s->lo, s->hi, id, s->quantise_bits, v)
                           : v;
           }
           if (st == NBRDF_OK) set_add(&set, &t, distinct);

@@ -1,7 +1,7 @@
 /* The representative tuples of a scene for the accuracy levels
  * (nbrdf_bake_options.accuracy): the maps' distinct parameter tuples are
  * gathered once, then a fit set is picked by farthest-point sampling in the
- * normalised parameter space (bake_value_normalise), which covers the scene's
+ * normalised parameter space (model_material_normalise), which covers the scene's
  * corner of the space evenly whatever the texel counts, and a held-out set is
  * drawn at random among the rest for the error estimate. Everything is a pure
  * function of the maps, the options and the seed. */

@@ -3,6 +3,7 @@
 #include "bake/bake_sources.h"
 
 #include "core/error.h"
+#include "model/material.h"
 
 nbrdf_status bake_check_size(int width, int height, nbrdf_error *err) {
   if ((width == 0) != (height == 0) || width < 0 || height < 0 || width > NBRDF_BAKE_SIZE_MAX ||
@@ -35,8 +36,7 @@ static nbrdf_status resize(const nbrdf_bake_inputs *in, texture_param_source **s
     if (in->resample != NBRDF_RESAMPLE_BILINEAR)
       return core_fail(err, NBRDF_ERR_MISMATCH,
                        "%s: %s is %dx%d but the output size is %dx%d" TEXTURE_RESAMPLE_ADVICE,
-                       nbrdf_bake_param_name((nbrdf_bake_param_id)id), texture_param_map_path(m), w,
-                       h, W, H);
+                       model_material_param_name(id), texture_param_map_path(m), w, h, W, H);
     nbrdf_status st = texture_param_source_resample(src[id], W, H, err);
     if (st != NBRDF_OK) return st;
   }
@@ -58,11 +58,10 @@ nbrdf_status bake_open_sources(const nbrdf_bake_inputs *in, texture_param_source
         o.ocio_config = in->ocio_config;
       }
       o.remap = p->remap, o.lo = p->lo, o.hi = p->hi;
-      st = texture_param_source_map(nbrdf_bake_param_name((nbrdf_bake_param_id)id), p->path, &o,
-                                    &src[id], err);
+      st = texture_param_source_map(model_material_param_name(id), p->path, &o, &src[id], err);
     } else {
-      st = texture_param_source_constant(nbrdf_bake_param_name((nbrdf_bake_param_id)id), p->value,
-                                         p->channels, &src[id], err);
+      st = texture_param_source_constant(model_material_param_name(id), p->value, p->channels,
+                                         &src[id], err);
     }
     if (st != NBRDF_OK) return st;
   }

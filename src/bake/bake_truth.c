@@ -9,6 +9,7 @@
 #include "brdf/layered_lobe.h"
 #include "core/error.h"
 #include "core/rng.h"
+#include "model/material.h"
 
 const double bake_lobe_theta_deg[BAKE_LOBE_N_THETA] = {0.0, 30.0, 60.0, 80.0};
 
@@ -132,10 +133,13 @@ int bake_lobe_pixel_wo(int res, int row, int col, float wo[3]) {
 
 static nbrdf_status lobe_job(const bake_truth_settings *s, const bake_tuple *t, size_t k,
                              const brdf_layered_lobe_hook *hook, void *out, nbrdf_error *err) {
-  train_params p;
-  bake_tuple_params(&t[k], &p);
+  /* The tuple is prepared (model_material_prepare): inside the trained range already, so
+   * the ground truth is that of the values the texel's latent stands for. */
+  double p[MODEL_MATERIAL_PARAMS];
+  for (int i = 0; i < MODEL_MATERIAL_PARAMS; i++)
+    p[i] = t[k].p[i];
   nbrdf_brdf *b = NULL;
-  nbrdf_status st = train_params_create(&p, &b, err);
+  nbrdf_status st = model_material_truth(p, &b, err);
   if (st != NBRDF_OK) return st;
   size_t px = (size_t)s->lobe_res * s->lobe_res;
   double *images = (double *)out + k * BAKE_LOBE_N_THETA * px;

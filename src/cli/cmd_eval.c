@@ -19,7 +19,7 @@
 #include "core/input_file.h"
 #include "core/number.h"
 #include "core/vec3.h"
-#include "model/param_conventions.h"
+#include "model/material.h"
 #include "nbrdf/brdf.h"
 
 enum { MAX_PARAMS = 6, N_ANGLES = 4, MAX_COLUMNS = MAX_PARAMS + N_ANGLES };
@@ -372,11 +372,7 @@ static nbrdf_status create_brdf(const model_spec *m, const double *p, nbrdf_brdf
                                 nbrdf_error *err) {
   if (!strcmp(m->name, "conductor")) return nbrdf_brdf_create_conductor(p[0], p[1], out, err);
   if (!strcmp(m->name, "dielectric")) return nbrdf_brdf_create_dielectric(p[0], p[1], out, err);
-  nbrdf_brdf *bottom = NULL;
-  nbrdf_status st = nbrdf_brdf_create_conductor(p[2], p[3], &bottom, err);
-  if (st == NBRDF_OK) st = nbrdf_brdf_create_layered(p[0], p[1], p[4], p[5], bottom, out, err);
-  nbrdf_brdf_destroy(bottom);
-  return st;
+  return model_material_truth(p, out, err); /* the layered columns are the material's, in order */
 }
 
 static void direction(double theta_deg, double phi_deg, double w[3]) {

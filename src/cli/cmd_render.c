@@ -13,7 +13,7 @@
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
-#include "model/param_conventions.h"
+#include "model/material.h"
 #include "nbrdf/render.h"
 
 void cmd_render_usage(FILE *out) {
@@ -114,17 +114,14 @@ static int make_reference(const cli_params *p, nbrdf_brdf **brdfs, int *channels
     v[NBRDF_BAKE_ALPHA1][c] = model_roughness_alpha(p->roughness, v[NBRDF_BAKE_ALPHA1][c]);
     v[NBRDF_BAKE_ALPHA2][c] = model_roughness_alpha(p->roughness, v[NBRDF_BAKE_ALPHA2][c]);
   }
+  /* As typed (no clamping, model/material.h): the ground truth refuses what it cannot
+   * represent. */
   for (int c = 0; c < *channels; c++) {
     nbrdf_error err = {0};
-    nbrdf_brdf *bottom = NULL;
-    nbrdf_status st =
-        nbrdf_brdf_create_conductor(v[NBRDF_BAKE_ALPHA2][c], v[NBRDF_BAKE_R0][c], &bottom, &err);
-    if (st == NBRDF_OK)
-      st = nbrdf_brdf_create_layered(v[NBRDF_BAKE_ALPHA1][c], v[NBRDF_BAKE_ETA][c],
-                                     v[NBRDF_BAKE_ALBEDO][c], v[NBRDF_BAKE_SIGMA_T][c], bottom,
-                                     &brdfs[c], &err);
-    nbrdf_brdf_destroy(bottom);
-    if (st != NBRDF_OK) return cli_fail_error("render", &err);
+    double m[MODEL_MATERIAL_PARAMS];
+    for (int k = 0; k < MODEL_MATERIAL_PARAMS; k++)
+      m[k] = v[k][c];
+    if (model_material_truth(m, &brdfs[c], &err) != NBRDF_OK) return cli_fail_error("render", &err);
   }
   return CLI_EXIT_OK;
 }

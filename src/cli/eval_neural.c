@@ -33,18 +33,19 @@ static int prepare_row(const cli_eval_neural_options *o, const float *lo, const 
   for (int c = 0; c < np; c++) {
     int id = ids[c];
     float x = (float)v[c], read = x;
-    bake_verdict verdict = bake_value_prepare_read(lo, hi, id, o->roughness, o->range, &x, &read);
-    if (verdict > BAKE_VALUE_CLAMPED) {
+    model_material_verdict verdict =
+        model_material_prepare(lo, hi, id, o->roughness, o->range, &x, &read);
+    if (verdict > MODEL_VALUE_CLAMPED) {
       char at[160];
       nbrdf_error err = {0};
       snprintf(at, sizeof at, "line %zu, column '%s'", line, columns[c]);
-      bake_value_fail(verdict, lo, hi, id, o->roughness, at, (float)v[c], &err);
+      model_material_fail(verdict, lo, hi, id, o->roughness, at, (float)v[c], &err);
       return cli_fail_error("eval", &err);
     }
-    if (verdict == BAKE_VALUE_CLAMPED) {
+    if (verdict == MODEL_VALUE_CLAMPED) {
       char what[48], msg[256];
       snprintf(what, sizeof what, "%g", (double)read);
-      bake_clamp_warning(msg, sizeof msg, columns[c], lo, hi, id, what, 0);
+      model_material_clamp_warning(msg, sizeof msg, columns[c], lo, hi, id, what, 0);
       fprintf(stderr, "nbrdf eval: warning: line %zu: %s to %g\n", line, msg, (double)x);
     }
     t->p[id] = x;
@@ -97,7 +98,7 @@ int cli_eval_neural(const cli_eval_neural_options *o, cli_eval_neural_kind kind,
   if (!nbrdf_model_is_trained(m))
     fprintf(stderr, "nbrdf eval: warning: bundle '%s' is untrained (random networks)\n", bundle);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
-  bake_ranges_init(m, lo, hi);
+  model_material_ranges(m, lo, hi);
   const size_t D = (size_t)nbrdf_model_latent_dim(m), np = kind == CLI_EVAL_NEURAL_LAYERED ? 6 : 2;
   const size_t chunk = n < EVAL_NEURAL_CHUNK ? n : EVAL_NEURAL_CHUNK;
   bake_tuple *t = malloc(sizeof *t * (n ? n : 1));

@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "core/rng.h"
-#include "model/param_conventions.h"
+#include "model/material.h"
 
 /* Domain tags of the two seed families (arbitrary, different, never change:
  * changing one silently changes every data set and held-out set). */
@@ -119,6 +119,14 @@ void train_params_draw_from(uint64_t family, train_kind kind, train_draws draws,
 }
 
 nbrdf_status train_params_create(const train_params *p, nbrdf_brdf **out, nbrdf_error *err) {
+  if (p->kind == TRAIN_LAYERED2) { /* the layered material, built in one place */
+    const train_coat *k = &p->coat[0];
+    double m[MODEL_MATERIAL_PARAMS];
+    m[NBRDF_BAKE_ALPHA1] = k->alpha, m[NBRDF_BAKE_ETA] = k->eta;
+    m[NBRDF_BAKE_ALPHA2] = p->base_alpha, m[NBRDF_BAKE_R0] = p->base_r0;
+    m[NBRDF_BAKE_ALBEDO] = k->albedo, m[NBRDF_BAKE_SIGMA_T] = k->sigma_t;
+    return model_material_truth(m, out, err);
+  }
   nbrdf_brdf *b = NULL;
   nbrdf_status st = p->kind == TRAIN_DIELECTRIC
                         ? nbrdf_brdf_create_dielectric(p->base_alpha, p->base_eta, &b, err)

@@ -10,7 +10,7 @@
 #include "bake/bake_sources.h"
 #include "core/error.h"
 #include "core/progress.h"
-#include "model/param_conventions.h"
+#include "model/material.h"
 #include "texture/latent_exr.h"
 #include "texture/latent_settings.h"
 #include "texture/mip_chain.h"
@@ -110,10 +110,7 @@ static nbrdf_status texel_tuple(verify_run *v, int x, int y, int c, verify_tuple
     texture_param_band band;
     nbrdf_status st = texture_param_source_read_band(v->src[id], y, 1, &band, err);
     if (st != NBRDF_OK) return st;
-    float p = texture_param_band_at(&band, x, 0, c) + 0.0f;
-    if (id == NBRDF_BAKE_ALPHA1 || id == NBRDF_BAKE_ALPHA2)
-      p = (float)model_roughness_alpha(v->roughness, p);
-    t->p[id] = p;
+    t->p[id] = model_material_read(id, v->roughness, texture_param_band_at(&band, x, 0, c));
   }
   return NBRDF_OK;
 }

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/output_file.h"
+#include "model/material.h"
 #include "verify/verify_internal.h"
 #include "verify/verify_write.h"
 
@@ -42,7 +43,7 @@ static cJSON *texel(const nbrdf_verify_texel *t, int colours) {
   number(o, "max_albedo", t->max_albedo);
   cJSON *p = cJSON_AddObjectToObject(o, "params");
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    const char *name = nbrdf_bake_param_name((nbrdf_bake_param_id)id);
+    const char *name = model_material_param_name(id);
     if (colours == 1) {
       cJSON_AddNumberToObject(p, name, t->params[id][0]);
     } else {

@@ -12,6 +12,7 @@
 #include "brdf/layered_lobe.h"
 #include "core/error.h"
 #include "core/rng.h"
+#include "model/material.h"
 #include "verify/verify_internal.h"
 
 typedef struct ref_entry {
@@ -50,12 +51,6 @@ void verify_refs_set_cancel(verify_refs *r, const volatile sig_atomic_t *stop,
   r->stop = stop, r->tick = tick, r->tick_user = user;
 }
 
-static float clampf(float v, double lo, double hi, size_t *clamped) {
-  if (v >= lo && v <= hi) return v;
-  ++*clamped;
-  return (float)(v < lo ? lo : hi);
-}
-
 /* The seed of a tuple depends on its values only, so a texel's reference is
  * the same whichever texels were verified with it. */
 static uint64_t tuple_seed(uint64_t seed, const verify_tuple *t) {
@@ -81,14 +76,11 @@ static int on_tick(void *user) {
 
 static nbrdf_status estimate(const verify_refs *r, const verify_tuple *t, double *images,
                              nbrdf_error *err) {
-  const float *p = t->p;
-  nbrdf_brdf *bottom = NULL, *layered = NULL;
-  nbrdf_status st =
-      nbrdf_brdf_create_conductor(p[NBRDF_BAKE_ALPHA2], p[NBRDF_BAKE_R0], &bottom, err);
-  if (st == NBRDF_OK)
-    st = nbrdf_brdf_create_layered(p[NBRDF_BAKE_ALPHA1], p[NBRDF_BAKE_ETA], p[NBRDF_BAKE_ALBEDO],
-                                   p[NBRDF_BAKE_SIGMA_T], bottom, &layered, err);
-  nbrdf_brdf_destroy(bottom);
+  double p[MODEL_MATERIAL_PARAMS];
+  for (int i = 0; i < MODEL_MATERIAL_PARAMS; i++)
+    p[i] = t->p[i];
+  nbrdf_brdf *layered = NULL;
+  nbrdf_status st = model_material_truth(p, &layered, err);
   if (st != NBRDF_OK) {
     core_error_prefix(err, "verify: ground truth: ");
     return st;
@@ -116,14 +108,8 @@ static nbrdf_status estimate(const verify_refs *r, const verify_tuple *t, double
 nbrdf_status verify_refs_get(verify_refs *r, const verify_tuple *t, const double **a,
                              const double **b, size_t *clamped, nbrdf_error *err) {
   verify_tuple k = *t;
-  k.p[NBRDF_BAKE_ALPHA1] =
-      clampf(k.p[NBRDF_BAKE_ALPHA1], NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, clamped);
-  k.p[NBRDF_BAKE_ALPHA2] =
-      clampf(k.p[NBRDF_BAKE_ALPHA2], NBRDF_GT_ALPHA_MIN, NBRDF_GT_ALPHA_MAX, clamped);
-  k.p[NBRDF_BAKE_ETA] = clampf(k.p[NBRDF_BAKE_ETA], NBRDF_GT_ETA_MIN, NBRDF_GT_ETA_MAX, clamped);
-  k.p[NBRDF_BAKE_R0] = clampf(k.p[NBRDF_BAKE_R0], 0.0, 1.0, clamped);
-  k.p[NBRDF_BAKE_ALBEDO] = clampf(k.p[NBRDF_BAKE_ALBEDO], 0.0, 1.0, clamped);
-  k.p[NBRDF_BAKE_SIGMA_T] = clampf(k.p[NBRDF_BAKE_SIGMA_T], 0.0, NBRDF_GT_SIGMA_T_MAX, clamped);
+  /* The values as painted, clamped only where the ground truth cannot represent them. */
+  *clamped += model_material_clamp(MODEL_RANGE_TRUTH, NULL, NULL, k.p);
   /* A linear search: every new entry costs seconds of random walks, so
    * there are never enough of them for the search to matter. */
   for (size_t i = 0; i < r->n; i++)

@@ -47,7 +47,7 @@ static void test_plan(void) {
 static void test_select(void) {
   nbrdf_error e, *err = &e;
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
-  bake_ranges_init(model, lo, hi);
+  model_material_ranges(model, lo, hi);
   enum { N = 500 };
   bake_tuple *t = malloc(sizeof *t * N);
   for (int i = 0; i < N; i++) {
@@ -113,7 +113,7 @@ static void test_truth_threads(void) {
 static void test_correction(void) {
   enum { D = 32 };
   bake_correction c = {0};
-  bake_ranges_init(model, c.lo, c.hi);
+  model_material_ranges(model, c.lo, c.hi);
   c.latent_dim = D;
   c.n = 2;
   bake_tuple fitted[2] = {{{0.1f, 1.5f, 0.3f, 0.8f, 0.5f, 1.0f}},
