@@ -39,8 +39,8 @@ double brdf_bsdf_layered_walk(const brdf_bsdf_layered *l, vec3 wo, vec3 wi, brdf
       if (have_exit) sum += brdf_slab_exit_medium(&ex, &s);
       brdf_slab_scatter(&s, rng);
       if (s.w.z > 0.0 && !delta_top)
-        sum += s.beta * exp(-sigma_t * s.z / s.w.z) *
-               exit_term(top, s.w, wi, mode, BRDF_SLAB_INV_4PI);
+        sum +=
+            s.beta * exp(-sigma_t * s.z / s.w.z) * exit_term(top, s.w, wi, mode, BRDF_SLAB_INV_4PI);
     } else if (at == BRDF_SLAB_BOTTOM) {
       if (have_exit) sum += brdf_slab_exit_bottom(&ex, &s, mode, rng);
       brdf_bsdf_sample bs;

@@ -30,7 +30,8 @@ int brdf_bsdf_layered_sample(const brdf_bsdf_layered *l, vec3 wo, brdf_bsdf_mode
       if (!brdf_slab_bottom_bounce(&w, mode, rng, &bs)) return 0;
     } else {
       /* At the top from inside: out through it (the sample), or back in. */
-      if (!brdf_bsdf_dielectric_sample_rng(&l->top, v3_neg(w.w), mode, BSDF_ALL, rng, &bs)) return 0;
+      if (!brdf_bsdf_dielectric_sample_rng(&l->top, v3_neg(w.w), mode, BSDF_ALL, rng, &bs))
+        return 0;
       brdf_slab_bounce(&w, &bs);
       if (bs.flags & BSDF_TRANSMISSION) return finish(l, wo, w.w, w.beta, s);
     }

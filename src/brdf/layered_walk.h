@@ -157,8 +157,8 @@ static inline double brdf_slab_exit_medium(const brdf_slab_exit *e, const brdf_s
  * rng). */
 static inline double brdf_slab_exit_bottom(const brdf_slab_exit *e, const brdf_slab_walk *s,
                                            brdf_bsdf_mode mode, core_rng *rng) {
-  double pb, fb = brdf_bsdf_eval_pdf(s->l->bottom, v3_neg(s->w), e->up, mode, BSDF_REFLECTION, rng,
-                                     &pb);
+  double pb,
+      fb = brdf_bsdf_eval_pdf(s->l->bottom, v3_neg(s->w), e->up, mode, BSDF_REFLECTION, rng, &pb);
   if (!(fb > 0.0)) return 0.0;
   double wt = s->l->top.eta == 1.0 ? 1.0 : brdf_bsdf_mis_power(e->pdf, pb);
   return s->beta * fb * e->cos * wt * e->tr_slab * e->ratio;

@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "train/epoch_shuffle.h"
-#include "train/trainer.h"
+#include "train/layering_trainer.h"
 
 /* Mean squared error over pairs [lo, lo + m) in the order `idx`; with
  * `backward`, accumulates the gradient into grad. */
@@ -78,19 +78,18 @@ typedef struct latent_run {
   size_t *eval_idx;
   float *dy, *grad;
   int64_t steps_per_epoch;
-  double sum;
-  size_t rows;
+  train_layering_epoch_loss epoch;
   train_layering_result *r;
 } latent_run;
 
 static nbrdf_status latent_gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
   latent_run *t = user;
   const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
-  size_t B = (size_t)t->s->batch, k0 = (size_t)(step % t->steps_per_epoch) * B;
-  size_t m = t->train->n - k0 < B ? t->train->n - k0 : B;
+  size_t k0,
+      m = trainer_epoch_batch(step, t->steps_per_epoch, t->train->n, (size_t)t->s->batch, &k0);
   memset(t->grad, 0, nn_param_count(t->net->nn) * sizeof *t->grad);
   nbrdf_status st = batch_loss(t->net, &t->run, t->train, idx + k0, m, t->grad, t->dy, loss, err);
-  t->sum += *loss * (double)m, t->rows += m;
+  train_layering_epoch_loss_add(&t->epoch, *loss, m);
   return st;
 }
 
@@ -100,11 +99,9 @@ static nbrdf_status latent_report(void *user, trainer *tr, int64_t done, double 
                                   nbrdf_error *err) {
   (void)loss, (void)flags;
   latent_run *t = user;
-  if (done % t->steps_per_epoch != 0) return NBRDF_OK;
-  int epoch = (int)(done / t->steps_per_epoch);
   train_layering_result *r = t->r;
-  r->train_loss = t->sum / (double)(t->rows ? t->rows : 1);
-  t->sum = 0.0, t->rows = 0;
+  int epoch = train_layering_epoch_end(&t->epoch, done, t->steps_per_epoch, &r->train_loss);
+  if (!epoch) return NBRDF_OK;
   if (epoch % 10 != 0 && epoch != t->s->epochs) return NBRDF_OK;
   nbrdf_status st = t->val->n ? eval_all(t->net, &t->run, t->val, t->eval_idx, &r->val_loss,
                                          &r->target_mean_square, err)
@@ -163,31 +160,19 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     st = core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st) {
     latent_options(&t, latents, options, sizeof options);
-    trainer_group g = {"layering.params",
-                       "adam.m",
-                       "adam.v",
-                       nn_params(t.net->nn),
-                       t.grad,
-                       nn_param_count(t.net->nn),
-                       s->lr,
-                       s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
-                       s->decay_gamma};
     trainer_word words[3];
     train_epoch_shuffle_words(&t.shuffle, words);
-    trainer_options to = TRAINER_OPTIONS_DEFAULT;
-    trainer_options_epochs(&to, s->epochs, t.steps_per_epoch);
-    to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
-    to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
-    to.format = "nbrdf-train-layering-latent-checkpoint", to.options = options;
-    to.log_path = s->log_path, to.log_header = "epoch,train_loss,val_loss,val_decoded,lr";
-    /* an epoch of many rows takes seconds: cancel and progress between batches */
-    to.stage = "train layering", to.progress = s->progress, to.user = s->user;
-    to.cancel = s->cancel;
-    trainer_fit fit = {.user = &t, .gradient = latent_gradient, .report = latent_report};
-    trainer_result tr;
-    st = trainer_run(&to, &fit, &g, 1, NULL, 0, words, 3, &tr, err);
-    r->resumed_from = (int)(tr.resumed_from / t.steps_per_epoch);
-    r->epochs_done = (int)(tr.steps_done / t.steps_per_epoch);
+    train_layering_trainer lt = {
+        .net = t.net,
+        .grad = t.grad,
+        .steps_per_epoch = t.steps_per_epoch,
+        .format = "nbrdf-train-layering-latent-checkpoint",
+        .options = options,
+        .log_header = "epoch,train_loss,val_loss,val_decoded,lr",
+        .fit = {.user = &t, .gradient = latent_gradient, .report = latent_report},
+        .words = words,
+        .n_words = 3};
+    st = train_layering_trainer_run(s, &lt, r, err);
   }
   if (!st && dec && val.n)
     st = train_layering_decoded_loss(NULL, dec, s->loss, data, &val, &r->val_decoded_oracle, err);
