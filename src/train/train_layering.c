@@ -77,31 +77,20 @@ typedef struct latent_run {
   train_epoch_shuffle shuffle;
   size_t *eval_idx;
   float *dy, *grad;
-  int64_t steps_per_epoch;
-  train_layering_epoch_loss epoch;
   train_layering_result *r;
 } latent_run;
 
-static nbrdf_status latent_gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+static nbrdf_status latent_batch(void *user, const size_t *idx, size_t m, int64_t step,
+                                 double *loss, nbrdf_error *err) {
+  (void)step;
   latent_run *t = user;
-  const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
-  size_t k0,
-      m = trainer_epoch_batch(step, t->steps_per_epoch, t->train->n, (size_t)t->s->batch, &k0);
-  memset(t->grad, 0, nn_param_count(t->net->nn) * sizeof *t->grad);
-  nbrdf_status st = batch_loss(t->net, &t->run, t->train, idx + k0, m, t->grad, t->dy, loss, err);
-  train_layering_epoch_loss_add(&t->epoch, *loss, m);
-  return st;
+  return batch_loss(t->net, &t->run, t->train, idx, m, t->grad, t->dy, loss, err);
 }
 
-/* At an epoch's end: the train loss; every 10 epochs and at the last, the
- * validation losses and a log row. */
-static nbrdf_status latent_report(void *user, trainer *tr, int64_t done, double loss, int flags,
-                                  nbrdf_error *err) {
-  (void)loss, (void)flags;
+/* Every 10 epochs and at the last: the validation losses and a log row. */
+static nbrdf_status latent_epoch_end(void *user, trainer *tr, int epoch, nbrdf_error *err) {
   latent_run *t = user;
   train_layering_result *r = t->r;
-  int epoch = train_layering_epoch_end(&t->epoch, done, t->steps_per_epoch, &r->train_loss);
-  if (!epoch) return NBRDF_OK;
   if (epoch % 10 != 0 && epoch != t->s->epochs) return NBRDF_OK;
   nbrdf_status st = t->val->n ? eval_all(t->net, &t->run, t->val, t->eval_idx, &r->val_loss,
                                          &r->target_mean_square, err)
@@ -147,7 +136,6 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   r->pairs = train.n, r->validation_pairs = val.n;
   size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
   latent_run t = {.dec = dec, .data = data, .s = s, .train = &train, .val = &val, .r = r};
-  t.steps_per_epoch = (int64_t)((train.n + B - 1) / B);
   int shuffle_ok = train_epoch_shuffle_init(&t.shuffle, train.n, s->seed, 0x6c61796572u);
   t.eval_idx = malloc((val.n ? val.n : 1) * sizeof *t.eval_idx);
   t.dy = malloc(B * D * sizeof *t.dy);
@@ -162,16 +150,18 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     latent_options(&t, latents, options, sizeof options);
     trainer_word words[3];
     train_epoch_shuffle_words(&t.shuffle, words);
-    train_layering_trainer lt = {
-        .net = t.net,
-        .grad = t.grad,
-        .steps_per_epoch = t.steps_per_epoch,
-        .format = "nbrdf-train-layering-latent-checkpoint",
-        .options = options,
-        .log_header = "epoch,train_loss,val_loss,val_decoded,lr",
-        .fit = {.user = &t, .gradient = latent_gradient, .report = latent_report},
-        .words = words,
-        .n_words = 3};
+    train_layering_trainer lt = {.net = t.net,
+                                 .grad = t.grad,
+                                 .n = train.n,
+                                 .shuffle = &t.shuffle,
+                                 .format = "nbrdf-train-layering-latent-checkpoint",
+                                 .options = options,
+                                 .log_header = "epoch,train_loss,val_loss,val_decoded,lr",
+                                 .words = words,
+                                 .n_words = 3,
+                                 .user = &t,
+                                 .batch = latent_batch,
+                                 .epoch_end = latent_epoch_end};
     st = train_layering_trainer_run(s, &lt, r, err);
   }
   if (!st && dec && val.n)

@@ -25,8 +25,7 @@ typedef struct decoded_run {
   const train_layering_pairs *train, *val;
   train_epoch_shuffle shuffle; /* per epoch: a function of the seed and the epoch */
   uint64_t tables_hash;
-  int64_t steps_per_epoch;
-  train_layering_epoch_loss epoch;
+  int64_t steps_per_epoch; /* for legacy checkpoints' epoch and batch */
   train_layering_result *r;
 } decoded_run;
 
@@ -118,28 +117,18 @@ static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {
   return NBRDF_OK;
 }
 
-/* The loss of step `step`: batch step % steps_per_epoch of its epoch's
- * shuffle (a function of the seed and the epoch), rows from stream `step`. */
-static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+/* The loss of m pairs of the epoch's shuffle (a function of the seed and the
+ * epoch), rows from stream `step`. */
+static nbrdf_status batch(void *user, const size_t *idx, size_t m, int64_t step, double *loss,
+                          nbrdf_error *err) {
   decoded_run *t = user;
-  const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
-  size_t k0,
-      m = trainer_epoch_batch(step, t->steps_per_epoch, t->train->n, (size_t)t->s->batch, &k0);
-  memset(t->grad, 0, nn_param_count(t->net->nn) * sizeof *t->grad);
-  nbrdf_status st = train_layering_decoded_gradient(t->engine, t->train, idx + k0, (int)m, step,
-                                                    t->grad, loss, err);
-  train_layering_epoch_loss_add(&t->epoch, *loss, m);
-  return st;
+  return train_layering_decoded_gradient(t->engine, t->train, idx, (int)m, step, t->grad, loss,
+                                         err);
 }
 
-/* At an epoch's end: the train loss, validation every 5 epochs and at the
- * last, a log row. */
-static nbrdf_status report(void *user, trainer *tr, int64_t done, double loss, int flags,
-                           nbrdf_error *err) {
-  (void)loss, (void)flags;
+/* Validation every 5 epochs and at the last, a log row. */
+static nbrdf_status epoch_end(void *user, trainer *tr, int epoch, nbrdf_error *err) {
   decoded_run *t = user;
-  int epoch = train_layering_epoch_end(&t->epoch, done, t->steps_per_epoch, &t->r->train_loss);
-  if (!epoch) return NBRDF_OK;
   nbrdf_status st = NBRDF_OK;
   if (t->val->n && (epoch % 5 == 0 || epoch == t->s->epochs))
     st = train_layering_decoded_loss(t->net, t->dec, t->s->loss, t->data, t->val,
@@ -162,9 +151,9 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
       train_layering_pairs_make(data, NULL, tables, 2, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
-  size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
+  size_t D = (size_t)tables[0].dim;
   decoded_run t = {.data = data, .dec = dec, .s = s, .train = &train, .val = &val, .r = r};
-  t.steps_per_epoch = (int64_t)((train.n + B - 1) / B);
+  t.steps_per_epoch = train_layering_steps_per_epoch(s, train.n);
   t.tables_hash = train_layering_tables_hash(tables);
   int shuffle_ok =
       train_epoch_shuffle_init_per_epoch(&t.shuffle, train.n, s->seed, 0x6c61796572000000u);
@@ -173,14 +162,17 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
   if (!st) st = setup(&t, D, err);
   if (!st) {
     run_options(&t, options, sizeof options);
-    train_layering_trainer lt = {
-        .net = t.net,
-        .grad = t.grad,
-        .steps_per_epoch = t.steps_per_epoch,
-        .format = CHECKPOINT_FORMAT,
-        .options = options,
-        .log_header = "epoch,seconds,train_loss,val_decoded,lr",
-        .fit = {.user = &t, .gradient = gradient, .report = report, .legacy = legacy}};
+    train_layering_trainer lt = {.net = t.net,
+                                 .grad = t.grad,
+                                 .n = train.n,
+                                 .shuffle = &t.shuffle,
+                                 .format = CHECKPOINT_FORMAT,
+                                 .options = options,
+                                 .log_header = "epoch,seconds,train_loss,val_decoded,lr",
+                                 .user = &t,
+                                 .batch = batch,
+                                 .epoch_end = epoch_end,
+                                 .legacy = legacy};
     st = train_layering_trainer_run(s, &lt, r, err);
   }
   if (!st && val.n && isnan(r->val_decoded))
