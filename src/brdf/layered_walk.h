@@ -48,7 +48,11 @@ typedef struct brdf_slab_walk {
   double z;        /* depth below the top, 0..1 */
   double rr_scale; /* brdf_slab_roulette's scale */
   int vertex;      /* vertices visited so far (the roulette's long-walk rule) */
-  int scattering;  /* the medium scatters (σT > 0 and A > 0) */
+  /* l's constants, copied so that they stay in registers across the calls
+   * into the interfaces (which the compiler cannot see through) */
+  double sigma_t, albedo;
+  int scattering; /* the medium scatters (σT > 0 and A > 0) */
+  int delta_top;  /* an index-matched top (η = 1): a Dirac pass-through */
 } brdf_slab_walk;
 
 /* Where a flight ended. */
@@ -69,7 +73,10 @@ static inline brdf_slab_walk brdf_slab_walk_start(const brdf_bsdf_layered *l, br
   s.z = 0.0;
   s.rr_scale = mode == BSDF_RADIANCE ? l->top.eta * l->top.eta : 1.0;
   s.vertex = 0;
+  s.sigma_t = l->sigma_t;
+  s.albedo = l->albedo;
   s.scattering = l->sigma_t > 0.0 && l->albedo > 0.0;
+  s.delta_top = l->top.eta == 1.0;
   return s;
 }
 
@@ -77,7 +84,7 @@ static inline brdf_slab_walk brdf_slab_walk_start(const brdf_bsdf_layered *l, br
  * pure absorber attenuates beta along the whole crossing). */
 static inline brdf_slab_event brdf_slab_flight(brdf_slab_walk *s, core_rng *rng) {
   if (!brdf_slab_roulette(&s->beta, s->rr_scale, s->vertex++, rng)) return BRDF_SLAB_END;
-  const double sigma_t = s->l->sigma_t;
+  const double sigma_t = s->sigma_t;
   if (s->scattering) {
     /* Free flight: optical distance ~ Exp(1), depth changes by t |cos θ|. */
     double t = -log(1.0 - core_rng_uniform(rng)) / sigma_t;
@@ -97,7 +104,7 @@ static inline brdf_slab_event brdf_slab_flight(brdf_slab_walk *s, core_rng *rng)
 /* At a medium vertex: albedo, and a new direction from the isotropic phase
  * function, sampled exactly (p / pdf = 1). */
 static inline void brdf_slab_scatter(brdf_slab_walk *s, core_rng *rng) {
-  s->beta *= s->l->albedo;
+  s->beta *= s->albedo;
   double x, y, r2;
   brdf_disk_sample(rng, &x, &y, &r2);
   s->w = brdf_disk_to_sphere(x, y, r2);
@@ -148,7 +155,7 @@ static inline int brdf_slab_exit_draw(brdf_slab_exit *e, const brdf_bsdf_layered
 /* Next-event estimation through the exit at the walk's medium vertex (before
  * brdf_slab_scatter): its contribution. */
 static inline double brdf_slab_exit_medium(const brdf_slab_exit *e, const brdf_slab_walk *s) {
-  return s->beta * e->nee_medium * exp(-s->l->sigma_t * s->z / e->cos);
+  return s->beta * e->nee_medium * exp(-s->sigma_t * s->z / e->cos);
 }
 
 /* Next-event estimation through the exit at the bottom, reached travelling
@@ -160,7 +167,7 @@ static inline double brdf_slab_exit_bottom(const brdf_slab_exit *e, const brdf_s
   double pb,
       fb = brdf_bsdf_eval_pdf(s->l->bottom, v3_neg(s->w), e->up, mode, BSDF_REFLECTION, rng, &pb);
   if (!(fb > 0.0)) return 0.0;
-  double wt = s->l->top.eta == 1.0 ? 1.0 : brdf_bsdf_mis_power(e->pdf, pb);
+  double wt = s->delta_top ? 1.0 : brdf_bsdf_mis_power(e->pdf, pb);
   return s->beta * fb * e->cos * wt * e->tr_slab * e->ratio;
 }
 
