@@ -4,11 +4,12 @@
  * isotropic scattering at a medium vertex, and the next-event exit sample
  * through the top with its contributions at medium and bottom vertices.
  *
- * Contract: each step draws the same random numbers in the same order as
- * the loops it replaced (roulette, then the flight distance, then the phase
- * direction; the exit sample once per target), and computes each value with
- * the same operations in the same order, so results for a seed are the same
- * bit for bit. Static inline: the steps sit in the innermost loop. */
+ * Contract: the random numbers are drawn in one fixed order (at each
+ * vertex the roulette, then the flight distance, then the phase direction;
+ * the exit samples once per walk, before the first flight), which the
+ * stored values of tests/brdf and the bake's ground truth pin: changing the
+ * order or the arithmetic changes every estimator's results for a seed.
+ * Static inline: the steps sit in the innermost loop. */
 #ifndef NBRDF_BRDF_LAYERED_WALK_H
 #define NBRDF_BRDF_LAYERED_WALK_H
 

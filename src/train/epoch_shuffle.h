@@ -1,5 +1,5 @@
-/* The per-epoch shuffles of the epoch-based fits, of two kinds (each fit
- * keeps the kind it always drew, so that its results for a seed stay):
+/* The per-epoch shuffles of the epoch-based fits, of two kinds (a fit's kind
+ * is part of what its results for a seed are: switching changes them):
  *  - carried (the latent-loss layering, the sampler network): drawn from one
  *    generator carried across epochs, made resumable: the checkpoint keeps
  *    the generator's state before the current epoch's shuffle
