@@ -34,9 +34,4 @@ int brdf_bsdf_layered_sample(const brdf_bsdf_layered *l, vec3 wo, brdf_bsdf_mode
  * weights only (see bsdf.h). */
 double brdf_bsdf_layered_pdf(const brdf_bsdf_layered *l, vec3 wo, vec3 wi);
 
-/* Russian roulette shared by both walks: returns 0 to end the walk, else
- * rescales *beta. `scale` brings beta to the order of the final contribution
- * (η² in radiance mode, where the exit multiplies by η²). */
-int brdf_bsdf_layered_roulette(double *beta, double scale, int vertex, core_rng *rng);
-
 #endif

@@ -5,30 +5,17 @@
 #include <string.h>
 
 #include "brdf/dielectric.h"
-#include "brdf/disk.h"
-#include "brdf/layered.h"
+#include "brdf/layered_walk.h"
 
-#define INV_4PI (1.0 / (4.0 * M_PI))
 /* Walks are summed in at most this many fixed chunks, in order, so that the
  * result does not depend on the thread count. */
 #define MAX_CHUNKS 64
-
-/* The exit sample of one target direction, drawn once per walk (as in
- * brdf_bsdf_layered_walk, here for every ωo_k). */
-typedef struct lobe_exit {
-  vec3 up;           /* travel direction from a vertex to the exit: −ws */
-  double pdf;        /* density of ws given ωo_k (0: no exit sample) */
-  double ratio;      /* f / pdf of the exit sample (no cosine) */
-  double cos;        /* |cos θ| of ws */
-  double tr_slab;    /* transmittance of the whole slab along ws */
-  double nee_medium; /* A/4π · ratio · MIS weight against the phase function */
-} lobe_exit;
 
 typedef struct lobe_walker {
   const brdf_bsdf_layered *l;
   size_t n;
   const vec3 *wo;
-  lobe_exit *ex;
+  brdf_slab_exit *ex; /* [n]: the exit sample towards each ωo_k, drawn once per walk */
   double *acc;
 } lobe_walker;
 
@@ -46,83 +33,41 @@ static void splat_exit(lobe_walker *lw, vec3 w, double p_strategy, double scale)
 static void walk(lobe_walker *lw, vec3 wi, core_rng *rng) {
   const brdf_bsdf_layered *l = lw->l;
   const brdf_bsdf_dielectric *top = &l->top;
-  const double sigma_t = l->sigma_t, albedo = l->albedo;
+  const double sigma_t = l->sigma_t;
   const int delta_top = top->eta == 1.0;
-  const int scattering = sigma_t > 0.0 && albedo > 0.0;
-  const double rr_scale = top->eta * top->eta; /* radiance mode, as brdf_bsdf_layered_walk */
   memset(lw->acc, 0, lw->n * sizeof *lw->acc);
 
+  /* Radiance mode, as brdf_bsdf_layered_walk from ωi. */
   brdf_bsdf_sample in;
   if (!brdf_bsdf_dielectric_sample_rng(top, wi, BSDF_RADIANCE, BSDF_TRANSMISSION, rng, &in)) return;
-  double beta = in.weight;
-  vec3 w = in.wi;
-  for (size_t k = 0; k < lw->n; k++) {
-    brdf_bsdf_sample s;
-    lobe_exit *e = &lw->ex[k];
-    if (brdf_bsdf_dielectric_sample_rng(top, lw->wo[k], BSDF_IMPORTANCE, BSDF_TRANSMISSION, rng,
-                                        &s)) {
-      e->up = v3_neg(s.wi);
-      e->pdf = s.pdf;
-      e->ratio = s.f / s.pdf;
-      e->cos = fabs(s.wi.z);
-      e->tr_slab = sigma_t > 0.0 ? exp(-sigma_t / e->cos) : 1.0;
-      e->nee_medium =
-          albedo * INV_4PI * e->ratio * (delta_top ? 1.0 : brdf_bsdf_mis_power(s.pdf, INV_4PI));
-    } else {
-      e->pdf = 0.0;
-    }
-  }
+  brdf_slab_walk s = brdf_slab_walk_start(l, BSDF_RADIANCE, in.weight, in.wi);
+  for (size_t k = 0; k < lw->n; k++)
+    brdf_slab_exit_draw(&lw->ex[k], l, lw->wo[k], BSDF_RADIANCE, rng);
 
-  double z = 0.0;
-  for (int vertex = 0;; vertex++) {
-    if (!brdf_bsdf_layered_roulette(&beta, rr_scale, vertex, rng)) break;
-    if (scattering) {
-      double t = -log(1.0 - core_rng_uniform(rng)) / sigma_t;
-      double zn = z - t * w.z;
-      if (zn > 0.0 && zn < 1.0) {
-        z = zn;
-        for (size_t k = 0; k < lw->n; k++) {
-          const lobe_exit *e = &lw->ex[k];
-          if (e->pdf > 0.0) lw->acc[k] += beta * e->nee_medium * exp(-sigma_t * z / e->cos);
-        }
-        beta *= albedo;
-        double x, y, r2;
-        brdf_disk_sample(rng, &x, &y, &r2);
-        w = brdf_disk_to_sphere(x, y, r2);
-        if (w.z > 0.0 && !delta_top) splat_exit(lw, w, INV_4PI, beta * exp(-sigma_t * z / w.z));
-        continue;
-      }
-      z = zn <= 0.0 ? 0.0 : 1.0;
-    } else {
-      if (sigma_t > 0.0) beta *= exp(-sigma_t / fabs(w.z));
-      z = w.z < 0.0 ? 1.0 : 0.0;
-    }
-    if (z == 1.0) {
-      vec3 wb = v3_neg(w);
-      for (size_t k = 0; k < lw->n; k++) {
-        const lobe_exit *e = &lw->ex[k];
-        if (!(e->pdf > 0.0)) continue;
-        double pb,
-            fb = brdf_bsdf_eval_pdf(l->bottom, wb, e->up, BSDF_RADIANCE, BSDF_REFLECTION, rng, &pb);
-        if (!(fb > 0.0)) continue;
-        double wt = delta_top ? 1.0 : brdf_bsdf_mis_power(e->pdf, pb);
-        lw->acc[k] += beta * fb * e->cos * wt * e->tr_slab * e->ratio;
-      }
+  for (;;) {
+    brdf_slab_event at = brdf_slab_flight(&s, rng);
+    if (at == BRDF_SLAB_END) break;
+    if (at == BRDF_SLAB_MEDIUM) {
+      for (size_t k = 0; k < lw->n; k++)
+        if (lw->ex[k].pdf > 0.0) lw->acc[k] += brdf_slab_exit_medium(&lw->ex[k], &s);
+      brdf_slab_scatter(&s, rng);
+      if (s.w.z > 0.0 && !delta_top)
+        splat_exit(lw, s.w, BRDF_SLAB_INV_4PI, s.beta * exp(-sigma_t * s.z / s.w.z));
+    } else if (at == BRDF_SLAB_BOTTOM) {
+      for (size_t k = 0; k < lw->n; k++)
+        if (lw->ex[k].pdf > 0.0)
+          lw->acc[k] += brdf_slab_exit_bottom(&lw->ex[k], &s, BSDF_RADIANCE, rng);
       brdf_bsdf_sample bs;
-      if (!brdf_bsdf_sample_dir(l->bottom, wb, BSDF_RADIANCE, BSDF_REFLECTION, rng, &bs)) break;
-      if (!(bs.wi.z > 0.0)) break;
-      beta *= bs.weight;
-      w = bs.wi;
+      if (!brdf_slab_bottom_bounce(&s, BSDF_RADIANCE, rng, &bs)) break;
       if (!delta_top && !(bs.flags & BSDF_DELTA))
-        splat_exit(lw, w, bs.pdf, beta * (sigma_t > 0.0 ? exp(-sigma_t / w.z) : 1.0));
+        splat_exit(lw, s.w, bs.pdf, s.beta * (sigma_t > 0.0 ? exp(-sigma_t / s.w.z) : 1.0));
     } else {
       if (delta_top) break;
       brdf_bsdf_sample bs;
-      if (!brdf_bsdf_dielectric_sample_rng(top, v3_neg(w), BSDF_RADIANCE, BSDF_REFLECTION, rng,
+      if (!brdf_bsdf_dielectric_sample_rng(top, v3_neg(s.w), BSDF_RADIANCE, BSDF_REFLECTION, rng,
                                            &bs))
         break;
-      beta *= bs.weight;
-      w = bs.wi;
+      brdf_slab_bounce(&s, &bs);
     }
   }
 }
@@ -141,7 +86,7 @@ static int lobe_eval(const brdf_bsdf_layered *l, vec3 wi, size_t n, const vec3 *
   int failed = 0, halted = 0;
 #pragma omp parallel num_threads(nt)
   {
-    lobe_walker lw = {l, n, wo, malloc(n * sizeof(lobe_exit)), malloc(n * sizeof(double))};
+    lobe_walker lw = {l, n, wo, malloc(n * sizeof(brdf_slab_exit)), malloc(n * sizeof(double))};
     if (!lw.ex || !lw.acc) {
 #pragma omp atomic write
       failed = 1;

@@ -1,7 +1,7 @@
 #include "brdf/dielectric.h"
-#include "brdf/disk.h"
 #include "brdf/fresnel.h"
 #include "brdf/layered.h"
+#include "brdf/layered_walk.h"
 
 static int finish(const brdf_bsdf_layered *l, vec3 wo, vec3 wi, double weight,
                   brdf_bsdf_sample *s) {
@@ -17,44 +17,24 @@ static int finish(const brdf_bsdf_layered *l, vec3 wo, vec3 wi, double weight,
 int brdf_bsdf_layered_sample(const brdf_bsdf_layered *l, vec3 wo, brdf_bsdf_mode mode,
                              core_rng *rng, brdf_bsdf_sample *s) {
   if (!(wo.z > 0.0)) return 0;
-  const brdf_bsdf_dielectric *top = &l->top;
-  const double sigma_t = l->sigma_t, albedo = l->albedo;
-  const int scattering = sigma_t > 0.0 && albedo > 0.0;
-  const double rr_scale = mode == BSDF_RADIANCE ? top->eta * top->eta : 1.0;
-
   brdf_bsdf_sample bs;
-  if (!brdf_bsdf_dielectric_sample_rng(top, wo, mode, BSDF_ALL, rng, &bs)) return 0;
+  if (!brdf_bsdf_dielectric_sample_rng(&l->top, wo, mode, BSDF_ALL, rng, &bs)) return 0;
   if (bs.flags & BSDF_REFLECTION) return finish(l, wo, bs.wi, bs.weight, s);
-  double beta = bs.weight;
-  vec3 w = bs.wi;
-  double z = 0.0;
-  for (int vertex = 0;; vertex++) {
-    if (!brdf_bsdf_layered_roulette(&beta, rr_scale, vertex, rng)) return 0;
-    if (scattering) {
-      double t = -log(1.0 - core_rng_uniform(rng)) / sigma_t;
-      double zn = z - t * w.z;
-      if (zn > 0.0 && zn < 1.0) {
-        z = zn;
-        beta *= albedo;
-        double x, y, r2;
-        brdf_disk_sample(rng, &x, &y, &r2);
-        w = brdf_disk_to_sphere(x, y, r2);
-        continue;
-      }
-      z = zn <= 0.0 ? 0.0 : 1.0;
+  brdf_slab_walk w = brdf_slab_walk_start(l, mode, bs.weight, bs.wi);
+  for (;;) {
+    brdf_slab_event at = brdf_slab_flight(&w, rng);
+    if (at == BRDF_SLAB_END) return 0;
+    if (at == BRDF_SLAB_MEDIUM) {
+      brdf_slab_scatter(&w, rng);
+    } else if (at == BRDF_SLAB_BOTTOM) {
+      if (!brdf_slab_bottom_bounce(&w, mode, rng, &bs)) return 0;
     } else {
-      if (sigma_t > 0.0) beta *= exp(-sigma_t / fabs(w.z));
-      z = w.z < 0.0 ? 1.0 : 0.0;
+      /* At the top from inside: out through it (the sample), or back in. */
+      if (!brdf_bsdf_dielectric_sample_rng(&l->top, v3_neg(w.w), mode, BSDF_ALL, rng, &bs))
+        return 0;
+      brdf_slab_bounce(&w, &bs);
+      if (bs.flags & BSDF_TRANSMISSION) return finish(l, wo, w.w, w.beta, s);
     }
-    if (z == 1.0) {
-      if (!brdf_bsdf_sample_dir(l->bottom, v3_neg(w), mode, BSDF_REFLECTION, rng, &bs)) return 0;
-      if (!(bs.wi.z > 0.0)) return 0;
-    } else {
-      if (!brdf_bsdf_dielectric_sample_rng(top, v3_neg(w), mode, BSDF_ALL, rng, &bs)) return 0;
-    }
-    beta *= bs.weight;
-    w = bs.wi;
-    if (z == 0.0 && (bs.flags & BSDF_TRANSMISSION)) return finish(l, wo, w, beta, s);
   }
 }
 

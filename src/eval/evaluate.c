@@ -20,16 +20,9 @@ static double now_s(void) {
   return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* Lobe callback over a decoder and one latent. */
-typedef struct decoder_lobe {
-  model_decoder *dec;
-  model_runner runner;
-  const float *latent;
-} decoder_lobe;
-
-static nbrdf_status decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, double *f,
-                                    nbrdf_error *err) {
-  decoder_lobe *d = user;
+nbrdf_status eval_decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, double *f,
+                                  nbrdf_error *err) {
+  const eval_decoder_lobe *d = user;
   int D = d->dec->cfg.latent_dim;
   float *lat = calloc(n * (size_t)D, sizeof *lat), *wi = calloc(6 * n, sizeof *wi);
   float *wo = wi ? wi + 3 * n : NULL, *out = calloc(n, sizeof *out);
@@ -39,7 +32,7 @@ static nbrdf_status decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, 
     for (int j = 0; j < 3; j++)
       wi[3 * k + j] = (float)q[k].wi[j], wo[3 * k + j] = (float)q[k].wo[j];
   }
-  if (!st) st = model_decoder_eval(d->dec, &d->runner, n, 1, lat, wi, wo, out, err);
+  if (!st) st = model_decoder_eval(d->dec, d->runner, n, 1, lat, wi, wo, out, err);
   for (size_t k = 0; k < n && !st; k++)
     f[k] = out[k];
   free(lat), free(wi), free(out);
@@ -106,14 +99,15 @@ nbrdf_status eval_score_latents(model_decoder *dec, size_t n, const float *lat, 
   size_t D = (size_t)dec->cfg.latent_dim;
   double *own = approx ? NULL : malloc(PER_BRDF * sizeof *own);
   if (!approx && !own) return core_fail(err, NBRDF_ERR_MEMORY, "evaluate: out of memory");
-  decoder_lobe dl = {dec, {0}, NULL};
-  nbrdf_status st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &dl.runner, err);
+  model_runner runner = {0};
+  eval_decoder_lobe dl = {dec, &runner, NULL};
+  nbrdf_status st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &runner, err);
   for (size_t i = 0; i < n && !st; i++) {
     dl.latent = lat + i * D;
     const double *r = ref + i * PER_BRDF;
     double *img = approx ? approx + i * PER_BRDF : own;
-    st = lobe_images(decoder_lobe_fn, &dl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg, img,
-                     err);
+    st = lobe_images(eval_decoder_lobe_fn, &dl, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg,
+                     img, err);
     if (st) break;
     eval_case *c = &cases[i];
     c->lobe_error = lobe_l1_error(PER_BRDF, r, img);
@@ -124,7 +118,7 @@ nbrdf_status eval_score_latents(model_decoder *dec, size_t n, const float *lat, 
       if (a > c->max_albedo) c->max_albedo = a;
     }
   }
-  model_runner_destroy(&dl.runner);
+  model_runner_destroy(&runner);
   free(own);
   return st;
 }

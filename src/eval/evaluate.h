@@ -106,6 +106,16 @@ void eval_result_free(eval_result *r);
 nbrdf_status eval_score_latents(model_decoder *dec, size_t n, const float *lat, const double *ref,
                                 double *approx, eval_case *cases, nbrdf_error *err);
 
+/* A decoder's f for one latent: the callback (lobe/lobe.h's lobe_images)
+ * that evaluates n queries in one decoder pass, directions in float. */
+typedef struct eval_decoder_lobe {
+  model_decoder *dec;
+  model_runner *runner;
+  const float *latent;
+} eval_decoder_lobe;
+nbrdf_status eval_decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, double *f,
+                                  nbrdf_error *err);
+
 /* Lobe images of one BRDF at n_theta angles (degrees), with `walks` walks per
  * image when it is layered; hook (may be NULL) ticks between chunks. */
 struct brdf_layered_lobe_hook;

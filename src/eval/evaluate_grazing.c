@@ -157,47 +157,6 @@ nbrdf_status eval_reference_extra(eval_set set, const eval_settings *s, eval_ext
   return NBRDF_OK;
 }
 
-/* Decoded f of one latent at n queries (one decoder pass). */
-static nbrdf_status decode_one(model_decoder *dec, model_runner *runner, const float *latent,
-                               size_t n, const double *wi, const double *wo, double *f,
-                               nbrdf_error *err) {
-  int D = dec->cfg.latent_dim;
-  float *lat = calloc(n * (size_t)D, sizeof *lat), *dirs = calloc(6 * n, sizeof *dirs);
-  float *out = calloc(n, sizeof *out);
-  nbrdf_status st =
-      lat && dirs && out ? NBRDF_OK : core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
-  for (size_t k = 0; k < n && !st; k++) {
-    memcpy(lat + k * (size_t)D, latent, (size_t)D * sizeof *lat);
-    for (int a = 0; a < 3; a++)
-      dirs[3 * k + a] = (float)wi[3 * k + a], dirs[3 * n + 3 * k + a] = (float)wo[3 * k + a];
-  }
-  if (!st) st = model_decoder_eval(dec, runner, n, 1, lat, dirs, dirs + 3 * n, out, err);
-  for (size_t k = 0; k < n && !st; k++)
-    f[k] = out[k];
-  free(lat), free(dirs), free(out);
-  return st;
-}
-
-/* The decoder's lobe images at the grazing angles. */
-typedef struct grazing_lobe {
-  model_decoder *dec;
-  model_runner *runner;
-  const float *latent;
-} grazing_lobe;
-
-static nbrdf_status grazing_fn(void *user, size_t n, const nbrdf_query *q, double *f,
-                               nbrdf_error *err) {
-  grazing_lobe *g = user;
-  double *dirs = malloc(6 * n * sizeof *dirs);
-  if (!dirs) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
-  for (size_t k = 0; k < n; k++)
-    for (int a = 0; a < 3; a++)
-      dirs[3 * k + a] = q[k].wi[a], dirs[3 * n + 3 * k + a] = q[k].wo[a];
-  nbrdf_status st = decode_one(g->dec, g->runner, g->latent, n, dirs, dirs + 3 * n, f, err);
-  free(dirs);
-  return st;
-}
-
 nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size_t n,
                               const float *lat, const double *ref, const eval_extra_ref *x,
                               eval_case *cases, nbrdf_error *err) {
@@ -217,16 +176,16 @@ nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size
   if (!st)
     st = model_albedo_decoded(dec, &runner, n, lat, sigma, NT, eval_theta_all_deg,
                               DECODED_ALBEDO_SAMPLES, UINT64_C(0x616c6265646f), rho, NULL, err);
-  grazing_lobe g = {dec, &runner, NULL};
+  eval_decoder_lobe g = {dec, &runner, NULL};
   for (size_t i = 0; i < n && !st; i++) {
     eval_case *c = &cases[i];
-    const float *latent = lat + i * D;
-    g.latent = latent;
+    g.latent = lat + i * D;
     /* Decoded images at all six angles, the references beside them. */
-    st = lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg, img, err);
+    st = lobe_images(eval_decoder_lobe_fn, &g, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg,
+                     img, err);
     if (!st)
-      st = lobe_images(grazing_fn, &g, NBRDF_LOBE_RES, EVAL_N_GRAZING, grazing_deg, img + PER_BRDF,
-                       err);
+      st = lobe_images(eval_decoder_lobe_fn, &g, NBRDF_LOBE_RES, EVAL_N_GRAZING, grazing_deg,
+                       img + PER_BRDF, err);
     if (st) break;
     memcpy(all_ref, ref + i * PER_BRDF, PER_BRDF * sizeof *all_ref);
     memcpy(all_ref + PER_BRDF, x->images + i * PER_GRAZING, PER_GRAZING * sizeof *all_ref);
@@ -254,13 +213,13 @@ nbrdf_status eval_score_extra(const nbrdf_model *model, model_decoder *dec, size
     c->pointwise_all = e ? lobe_median_finite(m, e) : NAN;
     free(e);
     /* Mirror direction. */
-    double wi[3 * NT], wo[3 * NT], f[NT];
+    nbrdf_query q[NT];
+    double f[NT];
     for (int t = 0; t < NT; t++) {
       double th = eval_theta_all_deg[t] * (M_PI / 180.0);
-      wi[3 * t] = sin(th), wi[3 * t + 1] = 0.0, wi[3 * t + 2] = cos(th);
-      wo[3 * t] = -sin(th), wo[3 * t + 1] = 0.0, wo[3 * t + 2] = cos(th);
+      q[t] = (nbrdf_query){{sin(th), 0.0, cos(th)}, {-sin(th), 0.0, cos(th)}};
     }
-    st = decode_one(dec, &runner, latent, NT, wi, wo, f, err);
+    st = eval_decoder_lobe_fn(&g, NT, q, f, err);
     for (int t = 0; t < NT && !st; t++) {
       double r = x->mirror[i * NT + t];
       c->mirror_error[t] = r > 0.0 ? fabs(f[t] / r - 1.0) : NAN;

@@ -45,6 +45,20 @@ static void array(FILE *f, const char *key, const double *v, int n) {
   fputs("],\n", f);
 }
 
+/* Every case's decoded (reference = 0) or reference albedo per angle: a
+ * JSON array of arrays, without the brackets around it. */
+static void albedos(FILE *f, const eval_result *x, int reference) {
+  for (int i = 0; i < x->n; i++) {
+    const double *a = reference ? x->cases[i].albedo_ref : x->cases[i].albedo;
+    fputs(i ? ", [" : "[", f);
+    for (int k = 0; k < EVAL_N_THETA_ALL; k++) {
+      if (k) fputs(", ", f);
+      num(f, a[k]);
+    }
+    fputs("]", f);
+  }
+}
+
 /* The point-wise, mirror and decoded-albedo figures (evaluate_grazing.c). */
 static void extra_json(FILE *f, const eval_result *x) {
   array(f, "theta_deg", eval_theta_all_deg, EVAL_N_THETA_ALL);
@@ -72,23 +86,9 @@ static void extra_json(FILE *f, const eval_result *x) {
     num(f, x->cases[i].pointwise_all);
   }
   fputs("],\n      \"decoded_albedo\": [", f);
-  for (int i = 0; i < x->n; i++) {
-    fputs(i ? ", [" : "[", f);
-    for (int k = 0; k < EVAL_N_THETA_ALL; k++) {
-      if (k) fputs(", ", f);
-      num(f, x->cases[i].albedo[k]);
-    }
-    fputs("]", f);
-  }
+  albedos(f, x, 0);
   fputs("],\n      \"reference_albedo\": [", f);
-  for (int i = 0; i < x->n; i++) {
-    fputs(i ? ", [" : "[", f);
-    for (int k = 0; k < EVAL_N_THETA_ALL; k++) {
-      if (k) fputs(", ", f);
-      num(f, x->cases[i].albedo_ref[k]);
-    }
-    fputs("]", f);
-  }
+  albedos(f, x, 1);
   fputs("],\n", f);
 }
 

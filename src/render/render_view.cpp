@@ -1,11 +1,10 @@
 // The OpenColorIO side of render_view.h.
 #include "render/render_view.h"
 
-#include <OpenColorIO/OpenColorIO.h>
-
-#include <cstdlib>
 #include <memory>
 #include <string>
+
+#include "texture/ocio_shim.hpp"
 
 extern "C" {
 #include "core/error.h"
@@ -21,8 +20,7 @@ struct render_view {
 extern "C" nbrdf_status render_view_create(const char *config_path, const char *display,
                                            const char *view, render_view **out, nbrdf_error *err) {
   *out = nullptr;
-  const char *config = config_path ? config_path : std::getenv("OCIO");
-  if (config && !config[0]) config = nullptr;
+  const char *config = nbrdf_ocio::config_path(config_path);
   try {
     std::unique_ptr<render_view> v(new render_view);
     if (config) {
@@ -40,14 +38,8 @@ extern "C" nbrdf_status render_view_create(const char *config_path, const char *
         return core_fail(err, NBRDF_ERR_ARGUMENT,
                          "a display or view needs an OCIO config (--ocio or $OCIO); the built-in "
                          "transform is sRGB only");
-      OCIO::ExponentWithLinearTransformRcPtr t = OCIO::ExponentWithLinearTransform::Create();
-      const double gamma[4] = {2.4, 2.4, 2.4, 1.0};
-      const double offset[4] = {0.055, 0.055, 0.055, 0.0};
-      t->setGamma(gamma);
-      t->setOffset(offset);
-      // The forward transform decodes sRGB to linear; a display needs the encoding.
-      t->setDirection(OCIO::TRANSFORM_DIR_INVERSE);
-      v->cpu = OCIO::Config::CreateRaw()->getProcessor(t)->getDefaultCPUProcessor();
+      // The forward curve decodes sRGB to linear; a display needs the encoding.
+      v->cpu = nbrdf_ocio::srgb_curve(OCIO::TRANSFORM_DIR_INVERSE)->getDefaultCPUProcessor();
       v->description = "sRGB (built in)";
     }
     *out = v.release();
@@ -63,12 +55,7 @@ extern "C" const char *render_view_describe(const render_view *v) { return v->de
 extern "C" nbrdf_status render_view_apply(const render_view *v, float *rgb, size_t n,
                                           nbrdf_error *err) {
   try {
-    const size_t chunk = 1 << 20; // one row per call keeps the width within OCIO's long
-    for (size_t i = 0; i < n; i += chunk) {
-      size_t m = n - i < chunk ? n - i : chunk;
-      OCIO::PackedImageDesc desc(rgb + 3 * i, (long)m, 1, 3);
-      v->cpu->apply(desc);
-    }
+    nbrdf_ocio::apply_rgb(*v->cpu, rgb, n);
     return NBRDF_OK;
   } catch (const std::exception &e) {
     return core_fail(err, NBRDF_ERR_INTERNAL, "view transform %s: %s", v->description.c_str(),

@@ -1,7 +1,7 @@
 // The OpenColorIO side of ocio_shim.h.
 #include "texture/ocio_shim.h"
 
-#include <OpenColorIO/OpenColorIO.h>
+#include "texture/ocio_shim.hpp"
 
 #include <cctype>
 #include <cstdlib>
@@ -32,18 +32,6 @@ bool is_identity_name(const char *name) {
   return equals_nocase(name, "linear") || equals_nocase(name, "raw") || equals_nocase(name, "data");
 }
 
-// sRGB's electro-optical curve: v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055)^2.4.
-// OCIO's forward ExponentWithLinearTransform is exactly this decoding direction.
-OCIO::ConstProcessorRcPtr builtin_srgb() {
-  OCIO::ExponentWithLinearTransformRcPtr t = OCIO::ExponentWithLinearTransform::Create();
-  const double gamma[4] = {2.4, 2.4, 2.4, 1.0};
-  const double offset[4] = {0.055, 0.055, 0.055, 0.0};
-  t->setGamma(gamma);
-  t->setOffset(offset);
-  t->setDirection(OCIO::TRANSFORM_DIR_FORWARD);
-  return OCIO::Config::CreateRaw()->getProcessor(t);
-}
-
 OCIO::ConstCPUProcessorRcPtr exact_cpu(const OCIO::ConstProcessorRcPtr &p) {
   // No lossy optimisation: the curve must match IEC 61966-2-1 to float precision.
   return p->getOptimizedCPUProcessor(OCIO::BIT_DEPTH_F32, OCIO::BIT_DEPTH_F32,
@@ -52,13 +40,37 @@ OCIO::ConstCPUProcessorRcPtr exact_cpu(const OCIO::ConstProcessorRcPtr &p) {
 
 } // namespace
 
+const char *nbrdf_ocio::config_path(const char *given) {
+  const char *config = given ? given : std::getenv("OCIO");
+  return config && config[0] ? config : nullptr;
+}
+
+OCIO::ConstProcessorRcPtr nbrdf_ocio::srgb_curve(OCIO::TransformDirection direction) {
+  OCIO::ExponentWithLinearTransformRcPtr t = OCIO::ExponentWithLinearTransform::Create();
+  const double gamma[4] = {2.4, 2.4, 2.4, 1.0};
+  const double offset[4] = {0.055, 0.055, 0.055, 0.0};
+  t->setGamma(gamma);
+  t->setOffset(offset);
+  t->setDirection(direction);
+  return OCIO::Config::CreateRaw()->getProcessor(t);
+}
+
+void nbrdf_ocio::apply_rgb(const OCIO::CPUProcessor &cpu, float *rgb, std::size_t n) {
+  // One row per call keeps the width within OCIO's long, whatever n is.
+  const std::size_t chunk = 1 << 20;
+  for (std::size_t i = 0; i < n; i += chunk) {
+    std::size_t m = n - i < chunk ? n - i : chunk;
+    OCIO::PackedImageDesc desc(rgb + 3 * i, (long)m, 1, 3);
+    cpu.apply(desc);
+  }
+}
+
 extern "C" nbrdf_status texture_colour_xform_create(const char *colour_space, const char *config_path,
                                                   texture_colour_xform **out, nbrdf_error *err) {
   *out = nullptr;
   if (!colour_space || !colour_space[0])
     return core_fail(err, NBRDF_ERR_ARGUMENT, "colour space name is empty");
-  const char *config = config_path ? config_path : std::getenv("OCIO");
-  if (config && !config[0]) config = nullptr;
+  const char *config = nbrdf_ocio::config_path(config_path);
   try {
     std::unique_ptr<texture_colour_xform> x(new texture_colour_xform);
     if (config) {
@@ -74,7 +86,7 @@ extern "C" nbrdf_status texture_colour_xform_create(const char *colour_space, co
       }
     }
     if (equals_nocase(colour_space, "srgb")) {
-      x->cpu = exact_cpu(builtin_srgb());
+      x->cpu = exact_cpu(nbrdf_ocio::srgb_curve(OCIO::TRANSFORM_DIR_FORWARD));
       x->description = "sRGB (built in) -> linear";
     } else if (is_identity_name(colour_space)) {
       x->description = "linear (no conversion)";
@@ -105,13 +117,7 @@ extern "C" nbrdf_status texture_colour_xform_apply_rgb(const texture_colour_xfor
                                                        size_t n, nbrdf_error *err) {
   if (!x->cpu || n == 0) return NBRDF_OK;
   try {
-    // One row per call keeps the width within OCIO's long, whatever n is.
-    const size_t chunk = 1 << 20;
-    for (size_t i = 0; i < n; i += chunk) {
-      size_t m = n - i < chunk ? n - i : chunk;
-      OCIO::PackedImageDesc desc(rgb + 3 * i, (long)m, 1, 3);
-      x->cpu->apply(desc);
-    }
+    nbrdf_ocio::apply_rgb(*x->cpu, rgb, n);
     return NBRDF_OK;
   } catch (const std::exception &e) {
     return core_fail(err, NBRDF_ERR_INTERNAL, "colour conversion %s: %s", x->description.c_str(),

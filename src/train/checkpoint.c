@@ -21,8 +21,25 @@ uint64_t train_hash_floats(uint64_t h, const float *x, size_t n) {
   return h;
 }
 
-static nbrdf_status add(nn_st_writer *w, const char *name, size_t n, const float *x,
-                        nbrdf_error *err) {
+/* Every float array a checkpoint holds, in order: each group's parameters
+ * and, where it has an optimiser, its Adam moments; then the further
+ * tensors. Saving and loading both walk this one list. */
+typedef nbrdf_status (*tensor_fn)(void *io, const char *name, size_t n, float *x, nbrdf_error *err);
+static nbrdf_status each_tensor(const train_checkpoint_parts *p, tensor_fn fn, void *io,
+                                nbrdf_error *err) {
+  nbrdf_status st = NBRDF_OK;
+  for (int g = 0; g < p->n_groups && !st; g++) {
+    const trainer_group *G = &p->groups[g];
+    st = fn(io, G->tensor, G->n, G->params, err);
+    if (!st && p->adams[g]) st = fn(io, G->m_tensor, G->n, nn_adam_moment(p->adams[g], 0), err);
+    if (!st && p->adams[g]) st = fn(io, G->v_tensor, G->n, nn_adam_moment(p->adams[g], 1), err);
+  }
+  for (int i = 0; i < p->n_tensors && !st; i++)
+    st = fn(io, p->tensors[i].name, p->tensors[i].n, p->tensors[i].data, err);
+  return st;
+}
+
+static nbrdf_status add(void *w, const char *name, size_t n, float *x, nbrdf_error *err) {
   int64_t shape[1] = {(int64_t)n};
   return nn_st_writer_add_borrowed(w, name, 1, shape, x, err);
 }
@@ -41,14 +58,7 @@ nbrdf_status train_checkpoint_save(const char *path, const train_checkpoint_part
     snprintf(text, sizeof text, "%" PRIu64, *p->words[i].value);
     st = nn_st_writer_set_metadata(w, key, text, err);
   }
-  for (int g = 0; g < p->n_groups && !st; g++) {
-    const trainer_group *G = &p->groups[g];
-    st = add(w, G->tensor, G->n, G->params, err);
-    if (!st && p->adams[g]) st = add(w, G->m_tensor, G->n, nn_adam_moment(p->adams[g], 0), err);
-    if (!st && p->adams[g]) st = add(w, G->v_tensor, G->n, nn_adam_moment(p->adams[g], 1), err);
-  }
-  for (int i = 0; i < p->n_tensors && !st; i++)
-    st = add(w, p->tensors[i].name, p->tensors[i].n, p->tensors[i].data, err);
+  if (!st) st = each_tensor(p, add, w, err);
   if (!st) st = nn_st_writer_save(w, path, NULL, err);
   nn_st_writer_destroy(w);
   return st;
@@ -98,8 +108,7 @@ static nbrdf_status compare_options(const char *label, const char *have, const c
   return NBRDF_OK;
 }
 
-static nbrdf_status take(const nn_st_reader *r, const char *name, size_t n, float *dst,
-                         nbrdf_error *err) {
+static nbrdf_status take(void *r, const char *name, size_t n, float *dst, nbrdf_error *err) {
   int64_t shape[1] = {(int64_t)n};
   return nn_st_expect_copy(r, name, 1, shape, dst, err);
 }
@@ -145,14 +154,7 @@ nbrdf_status train_checkpoint_load(const char *path, const train_checkpoint_part
     snprintf(key, sizeof key, "nbrdf.state.%s", p->words[i].name);
     st = parse_u64(r, key, p->words[i].value, err);
   }
-  for (int g = 0; g < p->n_groups && !st; g++) {
-    const trainer_group *G = &p->groups[g];
-    st = take(r, G->tensor, G->n, G->params, err);
-    if (!st && p->adams[g]) st = take(r, G->m_tensor, G->n, nn_adam_moment(p->adams[g], 0), err);
-    if (!st && p->adams[g]) st = take(r, G->v_tensor, G->n, nn_adam_moment(p->adams[g], 1), err);
-  }
-  for (int i = 0; i < p->n_tensors && !st; i++)
-    st = take(r, p->tensors[i].name, p->tensors[i].n, p->tensors[i].data, err);
+  if (!st) st = each_tensor(p, take, r, err);
   nn_st_close(r);
   return st;
 }

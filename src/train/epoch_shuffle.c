@@ -9,7 +9,16 @@ int train_epoch_shuffle_init(train_epoch_shuffle *s, size_t n, uint64_t seed, ui
   s->after = s->before;
   s->shuffled = 0;
   s->valid = 0;
+  s->per_epoch = 0;
+  s->seed = seed, s->stream = stream;
   return s->idx != NULL;
+}
+
+int train_epoch_shuffle_init_per_epoch(train_epoch_shuffle *s, size_t n, uint64_t seed,
+                                       uint64_t stream) {
+  int ok = train_epoch_shuffle_init(s, n, seed, stream);
+  s->per_epoch = 1;
+  return ok;
 }
 
 void train_epoch_shuffle_free(train_epoch_shuffle *s) {
@@ -34,6 +43,16 @@ static void draw(train_epoch_shuffle *s) {
 }
 
 const size_t *train_epoch_shuffle_get(train_epoch_shuffle *s, uint64_t epoch) {
+  if (s->per_epoch) {
+    if (!s->valid || s->shuffled != epoch + 1) {
+      core_rng g;
+      core_rng_init(&g, s->seed, s->stream + epoch);
+      train_shuffle_indices(s->idx, s->n, &g);
+      s->valid = 1;
+      s->shuffled = epoch + 1;
+    }
+    return s->idx;
+  }
   if (!s->valid && s->shuffled > 0) draw(s);
   while (s->shuffled < epoch + 1) {
     if (s->shuffled > 0) s->before = s->after;

@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "train/epoch_shuffle.h"
-#include "train/trainer.h"
+#include "train/layering_trainer.h"
 
 /* Mean squared error over pairs [lo, lo + m) in the order `idx`; with
  * `backward`, accumulates the gradient into grad. */
@@ -77,34 +77,20 @@ typedef struct latent_run {
   train_epoch_shuffle shuffle;
   size_t *eval_idx;
   float *dy, *grad;
-  int64_t steps_per_epoch;
-  double sum;
-  size_t rows;
   train_layering_result *r;
 } latent_run;
 
-static nbrdf_status latent_gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+static nbrdf_status latent_batch(void *user, const size_t *idx, size_t m, int64_t step,
+                                 double *loss, nbrdf_error *err) {
+  (void)step;
   latent_run *t = user;
-  const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
-  size_t B = (size_t)t->s->batch, k0 = (size_t)(step % t->steps_per_epoch) * B;
-  size_t m = t->train->n - k0 < B ? t->train->n - k0 : B;
-  memset(t->grad, 0, nn_param_count(t->net->nn) * sizeof *t->grad);
-  nbrdf_status st = batch_loss(t->net, &t->run, t->train, idx + k0, m, t->grad, t->dy, loss, err);
-  t->sum += *loss * (double)m, t->rows += m;
-  return st;
+  return batch_loss(t->net, &t->run, t->train, idx, m, t->grad, t->dy, loss, err);
 }
 
-/* At an epoch's end: the train loss; every 10 epochs and at the last, the
- * validation losses and a log row. */
-static nbrdf_status latent_report(void *user, trainer *tr, int64_t done, double loss, int flags,
-                                  nbrdf_error *err) {
-  (void)loss, (void)flags;
+/* Every 10 epochs and at the last: the validation losses and a log row. */
+static nbrdf_status latent_epoch_end(void *user, trainer *tr, int epoch, nbrdf_error *err) {
   latent_run *t = user;
-  if (done % t->steps_per_epoch != 0) return NBRDF_OK;
-  int epoch = (int)(done / t->steps_per_epoch);
   train_layering_result *r = t->r;
-  r->train_loss = t->sum / (double)(t->rows ? t->rows : 1);
-  t->sum = 0.0, t->rows = 0;
   if (epoch % 10 != 0 && epoch != t->s->epochs) return NBRDF_OK;
   nbrdf_status st = t->val->n ? eval_all(t->net, &t->run, t->val, t->eval_idx, &r->val_loss,
                                          &r->target_mean_square, err)
@@ -150,7 +136,6 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
   r->pairs = train.n, r->validation_pairs = val.n;
   size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
   latent_run t = {.dec = dec, .data = data, .s = s, .train = &train, .val = &val, .r = r};
-  t.steps_per_epoch = (int64_t)((train.n + B - 1) / B);
   int shuffle_ok = train_epoch_shuffle_init(&t.shuffle, train.n, s->seed, 0x6c61796572u);
   t.eval_idx = malloc((val.n ? val.n : 1) * sizeof *t.eval_idx);
   t.dy = malloc(B * D * sizeof *t.dy);
@@ -163,31 +148,21 @@ nbrdf_status train_layering_fit(const train_samples *data, const float *latents,
     st = core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st) {
     latent_options(&t, latents, options, sizeof options);
-    trainer_group g = {"layering.params",
-                       "adam.m",
-                       "adam.v",
-                       nn_params(t.net->nn),
-                       t.grad,
-                       nn_param_count(t.net->nn),
-                       s->lr,
-                       s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
-                       s->decay_gamma};
     trainer_word words[3];
     train_epoch_shuffle_words(&t.shuffle, words);
-    trainer_options to = TRAINER_OPTIONS_DEFAULT;
-    trainer_options_epochs(&to, s->epochs, t.steps_per_epoch);
-    to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
-    to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
-    to.format = "nbrdf-train-layering-latent-checkpoint", to.options = options;
-    to.log_path = s->log_path, to.log_header = "epoch,train_loss,val_loss,val_decoded,lr";
-    /* an epoch of many rows takes seconds: cancel and progress between batches */
-    to.stage = "train layering", to.progress = s->progress, to.user = s->user;
-    to.cancel = s->cancel;
-    trainer_fit fit = {.user = &t, .gradient = latent_gradient, .report = latent_report};
-    trainer_result tr;
-    st = trainer_run(&to, &fit, &g, 1, NULL, 0, words, 3, &tr, err);
-    r->resumed_from = (int)(tr.resumed_from / t.steps_per_epoch);
-    r->epochs_done = (int)(tr.steps_done / t.steps_per_epoch);
+    train_layering_trainer lt = {.net = t.net,
+                                 .grad = t.grad,
+                                 .n = train.n,
+                                 .shuffle = &t.shuffle,
+                                 .format = "nbrdf-train-layering-latent-checkpoint",
+                                 .options = options,
+                                 .log_header = "epoch,train_loss,val_loss,val_decoded,lr",
+                                 .words = words,
+                                 .n_words = 3,
+                                 .user = &t,
+                                 .batch = latent_batch,
+                                 .epoch_end = latent_epoch_end};
+    st = train_layering_trainer_run(s, &lt, r, err);
   }
   if (!st && dec && val.n)
     st = train_layering_decoded_loss(NULL, dec, s->loss, data, &val, &r->val_decoded_oracle, err);

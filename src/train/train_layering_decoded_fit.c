@@ -8,11 +8,10 @@
 
 #include "core/error.h"
 #include "core/progress.h"
-#include "core/rng.h"
 #include "train/checkpoint.h"
 #include "train/epoch_shuffle.h"
+#include "train/layering_trainer.h"
 #include "train/train_layering.h"
-#include "train/trainer.h"
 
 #define CHECKPOINT_FORMAT "nbrdf-train-layering-checkpoint"
 
@@ -24,12 +23,9 @@ typedef struct decoded_run {
   train_layering_decoded *engine;
   float *grad;
   const train_layering_pairs *train, *val;
-  size_t *idx;
+  train_epoch_shuffle shuffle; /* per epoch: a function of the seed and the epoch */
   uint64_t tables_hash;
-  int64_t steps_per_epoch;
-  int shuffled; /* the epoch idx holds, -1 none */
-  double sum;   /* loss · rows of the epoch so far (since the start of this invocation) */
-  size_t rows;
+  int64_t steps_per_epoch; /* for legacy checkpoints' epoch and batch */
   train_layering_result *r;
 } decoded_run;
 
@@ -99,13 +95,6 @@ static void run_options(const decoded_run *t, char *out, size_t size) {
                    s->energy_brdfs);
 }
 
-/* Each epoch's shuffle from its own stream: a function of the seed and the epoch. */
-static void shuffle(size_t *idx, size_t n, uint64_t seed, int epoch) {
-  core_rng rng;
-  core_rng_init(&rng, seed, 0x6c61796572000000u + (uint64_t)epoch);
-  train_shuffle_indices(idx, n, &rng);
-}
-
 static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {
   const train_layering_settings *s = t->s;
   nbrdf_status st = model_layering_create(s->preset, (int)D, s->seed, &t->net, err);
@@ -128,32 +117,18 @@ static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {
   return NBRDF_OK;
 }
 
-/* The loss of step `step`: batch step % steps_per_epoch of its epoch's
- * shuffle (a function of the seed and the epoch), rows from stream `step`. */
-static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
+/* The loss of m pairs of the epoch's shuffle (a function of the seed and the
+ * epoch), rows from stream `step`. */
+static nbrdf_status batch(void *user, const size_t *idx, size_t m, int64_t step, double *loss,
+                          nbrdf_error *err) {
   decoded_run *t = user;
-  int epoch = (int)(step / t->steps_per_epoch);
-  size_t B = (size_t)t->s->batch, k0 = (size_t)(step % t->steps_per_epoch) * B;
-  if (t->shuffled != epoch) shuffle(t->idx, t->train->n, t->s->seed, epoch);
-  t->shuffled = epoch;
-  int m = (int)(t->train->n - k0 < B ? t->train->n - k0 : B);
-  memset(t->grad, 0, nn_param_count(t->net->nn) * sizeof *t->grad);
-  nbrdf_status st = train_layering_decoded_gradient(t->engine, t->train, t->idx + k0, m, step,
-                                                    t->grad, loss, err);
-  t->sum += *loss * m, t->rows += (size_t)m;
-  return st;
+  return train_layering_decoded_gradient(t->engine, t->train, idx, (int)m, step, t->grad, loss,
+                                         err);
 }
 
-/* At an epoch's end: the train loss, validation every 5 epochs and at the
- * last, a log row. */
-static nbrdf_status report(void *user, trainer *tr, int64_t done, double loss, int flags,
-                           nbrdf_error *err) {
-  (void)loss, (void)flags;
+/* Validation every 5 epochs and at the last, a log row. */
+static nbrdf_status epoch_end(void *user, trainer *tr, int epoch, nbrdf_error *err) {
   decoded_run *t = user;
-  if (done % t->steps_per_epoch != 0) return NBRDF_OK;
-  int epoch = (int)(done / t->steps_per_epoch);
-  t->r->train_loss = t->sum / (double)(t->rows ? t->rows : 1);
-  t->sum = 0.0, t->rows = 0;
   nbrdf_status st = NBRDF_OK;
   if (t->val->n && (epoch % 5 == 0 || epoch == t->s->epochs))
     st = train_layering_decoded_loss(t->net, t->dec, t->s->loss, t->data, t->val,
@@ -176,47 +151,35 @@ nbrdf_status train_layering_fit_decoded(const train_samples *data, model_decoder
       train_layering_pairs_make(data, NULL, tables, 2, s->validation_every, &train, &val, err);
   if (st) return st;
   r->pairs = train.n, r->validation_pairs = val.n;
-  size_t D = (size_t)tables[0].dim, B = (size_t)s->batch;
+  size_t D = (size_t)tables[0].dim;
   decoded_run t = {.data = data, .dec = dec, .s = s, .train = &train, .val = &val, .r = r};
-  t.steps_per_epoch = (int64_t)((train.n + B - 1) / B);
-  t.shuffled = -1;
+  t.steps_per_epoch = train_layering_steps_per_epoch(s, train.n);
   t.tables_hash = train_layering_tables_hash(tables);
-  t.idx = malloc(train.n * sizeof *t.idx);
+  int shuffle_ok =
+      train_epoch_shuffle_init_per_epoch(&t.shuffle, train.n, s->seed, 0x6c61796572000000u);
   char options[4096];
-  if (!t.idx) st = core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
+  if (!shuffle_ok) st = core_fail(err, NBRDF_ERR_MEMORY, "train layering: out of memory");
   if (!st) st = setup(&t, D, err);
   if (!st) {
     run_options(&t, options, sizeof options);
-    trainer_group g = {"layering.params",
-                       "adam.m",
-                       "adam.v",
-                       nn_params(t.net->nn),
-                       t.grad,
-                       nn_param_count(t.net->nn),
-                       s->lr,
-                       s->decay_every * (int)t.steps_per_epoch, /* epochs → steps */
-                       s->decay_gamma};
-    trainer_options to = TRAINER_OPTIONS_DEFAULT;
-    trainer_options_epochs(&to, s->epochs, t.steps_per_epoch);
-    to.stop_at_step = s->stop_at_step, to.max_seconds = s->max_seconds;
-    to.checkpoint = s->checkpoint, to.checkpoint_seconds = s->checkpoint_seconds;
-    to.format = CHECKPOINT_FORMAT, to.options = options;
-    to.log_path = s->log_path, to.log_header = "epoch,seconds,train_loss,val_decoded,lr";
-    /* Ctrl-C (the callback's answer) is heard after every batch, not only at
-     * an epoch's end: an epoch of the shipped recipe takes minutes. */
-    to.stage = "train layering", to.progress = s->progress, to.user = s->user;
-    to.cancel = s->cancel;
-    trainer_fit fit = {.user = &t, .gradient = gradient, .report = report, .legacy = legacy};
-    trainer_result tr;
-    st = trainer_run(&to, &fit, &g, 1, NULL, 0, NULL, 0, &tr, err);
-    r->resumed_from = (int)(tr.resumed_from / t.steps_per_epoch);
-    r->epochs_done = (int)(tr.steps_done / t.steps_per_epoch);
-    r->legacy_resume = tr.legacy_resume;
+    train_layering_trainer lt = {.net = t.net,
+                                 .grad = t.grad,
+                                 .n = train.n,
+                                 .shuffle = &t.shuffle,
+                                 .format = CHECKPOINT_FORMAT,
+                                 .options = options,
+                                 .log_header = "epoch,seconds,train_loss,val_decoded,lr",
+                                 .user = &t,
+                                 .batch = batch,
+                                 .epoch_end = epoch_end,
+                                 .legacy = legacy};
+    st = train_layering_trainer_run(s, &lt, r, err);
   }
   if (!st && val.n && isnan(r->val_decoded))
     st = train_layering_decoded_loss(t.net, dec, s->loss, data, &val, &r->val_decoded, err);
   train_layering_decoded_destroy(t.engine);
-  free(t.idx), free(t.grad);
+  train_epoch_shuffle_free(&t.shuffle);
+  free(t.grad);
   train_layering_pairs_free(&train), train_layering_pairs_free(&val);
   if (st) {
     model_layering_destroy(t.net);

@@ -167,8 +167,7 @@ typedef struct sampler_run {
 static nbrdf_status gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
   sampler_run *t = user;
   const size_t *idx = train_epoch_shuffle_get(&t->shuffle, (uint64_t)(step / t->steps_per_epoch));
-  size_t D = t->D, k0 = (size_t)(step % t->steps_per_epoch) * t->B;
-  size_t m = t->n - k0 < t->B ? t->n - k0 : t->B;
+  size_t D = t->D, k0, m = trainer_epoch_batch(step, t->steps_per_epoch, t->n, t->B, &k0);
   for (size_t r0 = 0; r0 < m; r0++)
     memcpy(t->run.x + r0 * D, t->latents + idx[k0 + r0] * D, D * sizeof(float));
   nbrdf_status st = nn_forward(t->net->nn, t->run.ws, t->run.x, (int)m, t->run.y, err);

@@ -53,6 +53,13 @@ void trainer_options_epochs(trainer_options *to, int epochs, int64_t steps_per_e
   to->progress_force = steps_per_epoch;
 }
 
+size_t trainer_epoch_batch(int64_t step, int64_t steps_per_epoch, size_t n, size_t B,
+                           size_t *first) {
+  size_t k0 = (size_t)(step % steps_per_epoch) * B;
+  *first = k0;
+  return n - k0 < B ? n - k0 : B;
+}
+
 const char *trainer_float_text(float x, char buf[32]) {
   for (int digits = 6; digits <= 9; digits++) {
     snprintf(buf, 32, "%.*g", digits, (double)x);

@@ -135,6 +135,12 @@ double trainer_lr(const trainer *t, int group);
  * (forced at each epoch's end, ticked between batches so cancel is heard). */
 void trainer_options_epochs(trainer_options *to, int epochs, int64_t steps_per_epoch);
 
+/* Step `step` of an epoch-based run over n items in batches of B: the
+ * position of its first item in the epoch's order (*first) and the batch's
+ * size (B, or what is left at the epoch's end). */
+size_t trainer_epoch_batch(int64_t step, int64_t steps_per_epoch, size_t n, size_t B,
+                           size_t *first);
+
 /* The shortest text that reads back as x exactly (options compare as text). */
 const char *trainer_float_text(float x, char buf[32]);
 
