@@ -175,10 +175,10 @@ void cli_options_help(FILE *out, const cli_opt *table) {
       continue;
     }
     char left[160];
-    const char *meta = o->meta ? o->meta : (o->type == CLI_OPT_ENUM ? o->choices : NULL);
-    int n = snprintf(left, sizeof left, "  %s%s%s%s%s", o->alias ? o->alias : "",
-                     o->alias ? ", " : "", o->name, o->type == CLI_OPT_FLAG || !meta ? "" : " ",
-                     o->type == CLI_OPT_FLAG || !meta ? "" : meta);
+    const char *meta = o->meta ? o->meta : (o->choices ? o->choices : "VALUE");
+    int n =
+        snprintf(left, sizeof left, "  %s%s%s%s%s", o->alias ? o->alias : "", o->alias ? ", " : "",
+                 o->name, o->type == CLI_OPT_FLAG ? "" : " ", o->type == CLI_OPT_FLAG ? "" : meta);
     const char *h = o->help ? o->help : "";
     if (n < 24) {
       fprintf(out, "%-24s", left);

@@ -35,7 +35,7 @@ typedef int (*cli_opt_parse_fn)(const char *cmd, const cli_opt *o, const char *v
 struct cli_opt {
   cli_opt_type type;
   const char *name;    /* "--spp" */
-  const char *meta;    /* the value in help: "N", "FILE"; ENUM: defaults to its choices */
+  const char *meta;    /* the value in help: "N", "FILE" (default: the choices, else VALUE) */
   const char *help;    /* help text; '\n' starts a continuation line */
   void *dest;          /* where the value goes (see the types) */
   double lo, hi;       /* INT, DOUBLE, FLOAT, U64: the closed range (U64: hi 0, no cap) */

@@ -80,7 +80,7 @@ for v in 0x10 1e400 nan; do
   printf 'alpha,r0,theta_i,phi_i,theta_o,phi_o\n0.3,0.9,%s,0,30,180\n' "$v" >bad.csv
   checks=$((checks + 1))
   "$NBRDF" eval --model conductor <bad.csv >/dev/null 2>"$TMP/err"
-  if [ $? != 1 ] || ! grep -Fq "line 2, column 'theta_i': '$v'" "$TMP/err"; then
+  if [ $? != 1 ] || ! grep -Fq "stdin:2: column 'theta_i' expects a number in [0, 90), got '$v'" "$TMP/err"; then
     echo "FAIL: eval '$v': $(cat "$TMP/err")" >&2
     failures=$((failures + 1))
   fi
