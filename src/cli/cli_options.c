@@ -10,6 +10,25 @@ int cli_opt_bad(const char *cmd, const char *option, const char *what, const cha
   return cli_usage_error(cmd, "%s expects %s, got '%s'", option, what, value);
 }
 
+const char *cli_opt_number(double v, char *buf, size_t cap) {
+  char raw[32];
+  snprintf(raw, sizeof raw, "%g", v);
+  size_t n = 0;
+  int exponent = 0; /* inside the exponent, before its first significant digit */
+  for (const char *c = raw; *c && n + 1 < cap; c++) {
+    if (*c == 'e') {
+      exponent = 1;
+    } else if (exponent && (*c == '+' || (*c == '0' && c[1]))) {
+      continue;
+    } else if (exponent && *c != '-') {
+      exponent = 0;
+    }
+    buf[n++] = *c;
+  }
+  buf[n] = '\0';
+  return buf;
+}
+
 /* "a|b|c" -> "a, b or c" in `buf`. */
 static const char *choice_words(const char *choices, char *buf, size_t cap) {
   size_t n = 0, count = 1;
@@ -41,14 +60,17 @@ static const char *expected(const cli_opt *o, char *buf, size_t cap) {
       snprintf(buf, cap, "an unsigned 64-bit integer");
     break;
   case CLI_OPT_DOUBLE:
-  case CLI_OPT_FLOAT:
+  case CLI_OPT_FLOAT: {
+    char lo[32], hi[32];
+    cli_opt_number(o->lo, lo, sizeof lo), cli_opt_number(o->hi, hi, sizeof hi);
     if (o->type == CLI_OPT_FLOAT && o->hi >= FLT_MAX)
-      snprintf(buf, cap, "a number in [%g, 3.4e38]", o->lo);
+      snprintf(buf, cap, "a number in [%s, 3.4e38]", lo);
     else if (o->hi >= 1e300)
-      snprintf(buf, cap, "a number >= %g", o->lo);
+      snprintf(buf, cap, "a number >= %s", lo);
     else
-      snprintf(buf, cap, "a number in [%g, %g]", o->lo, o->hi);
+      snprintf(buf, cap, "a number in [%s, %s]", lo, hi);
     break;
+  }
   case CLI_OPT_ENUM:
     return choice_words(o->choices, buf, cap);
   default:

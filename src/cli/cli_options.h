@@ -67,6 +67,10 @@ int cli_options_parse(const char *cmd, const cli_opt *table, int argc, char **ar
 /* "nbrdf CMD: OPTION expects WHAT, got 'VALUE'" (and the hint): returns CLI_EXIT_USAGE. */
 int cli_opt_bad(const char *cmd, const char *option, const char *what, const char *value);
 
+/* `v` as people write it, for messages: %g without '+' or leading zeros in the exponent
+ * (1e9, 1e-6, 0.25). */
+const char *cli_opt_number(double v, char *buf, size_t cap);
+
 /* Prints the table's help: one entry per option, its help aligned at column 24, section
  * headings as they come. */
 void cli_options_help(FILE *out, const cli_opt *table);

@@ -10,8 +10,9 @@
 int cli_train_read_minutes(const char *cmd, const cli_opt *o, const char *v) {
   double x;
   if (!cli_parse_double(v, &x) || !(x >= o->lo && x <= o->hi)) {
-    char what[96];
-    snprintf(what, sizeof what, "a number of minutes in [%g, %g]", o->lo, o->hi);
+    char what[96], lo[32], hi[32];
+    snprintf(what, sizeof what, "a number of minutes in [%s, %s]",
+             cli_opt_number(o->lo, lo, sizeof lo), cli_opt_number(o->hi, hi, sizeof hi));
     return cli_opt_bad(cmd, o->name, what, v);
   }
   *(double *)o->dest = 60.0 * x;

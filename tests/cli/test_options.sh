@@ -78,9 +78,9 @@ bad "nbrdf bundle: --seed expects an unsigned 64-bit integer, got '-1'" \
   "$NBRDF" bundle init b3 --seed -1
 bad "nbrdf train: --steps expects an integer in [1, 1000000], got 'x'" \
   "$NBRDF" train tables --steps=x
-bad "nbrdf train: --steps expects a number in [1, 1e+12], got '0'" \
+bad "nbrdf train: --steps expects a number in [1, 1e12], got '0'" \
   "$NBRDF" train decoder --steps 0
-bad "nbrdf train: --minutes expects a number of minutes in [0, 1e+09], got '-1'" \
+bad "nbrdf train: --minutes expects a number of minutes in [0, 1e9], got '-1'" \
   "$NBRDF" train sampler --minutes -1
 bad "nbrdf completion: SHELL expects bash or zsh, got 'fish'" "$NBRDF" completion fish
 
