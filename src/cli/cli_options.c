@@ -154,10 +154,11 @@ int cli_options_parse(const char *cmd, const cli_opt *table, int argc, char **ar
     }
     if (options_end || a[0] != '-' || !a[1]) {
       if (!pos || pos->max == 0) return cli_usage_error(cmd, "unexpected argument '%s'", a);
+      if (pos->count == pos->max && pos->max == 1)
+        return cli_usage_error(cmd, "takes one %s, got '%s' and '%s'", pos->meta, pos->value[0], a);
       if (pos->count == pos->max)
-        return cli_usage_error(cmd, "takes %s %s, got '%s' and '%s'",
-                               pos->max == 1 ? "one" : "no more than that", pos->meta,
-                               pos->value[pos->count - 1], a);
+        return cli_usage_error(cmd, "takes at most %d %s; '%s' is one too many", pos->max,
+                               pos->meta, a);
       pos->value[pos->count++] = a;
       continue;
     }
