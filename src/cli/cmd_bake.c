@@ -95,65 +95,35 @@ static int read_budget(const char *cmd, const cli_opt *o, const char *v) {
 
 static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
   static const int mip_values[] = {0, 1, 0};
+  // clang-format off
   const cli_opt t[] = {
       {.help = "inputs (shared with 'nbrdf verify'):"},
       CLI_PARAMS_OPTIONS(&a->params),
       {.help = "\noptions:"},
-      {.type = CLI_OPT_PATH,
-       .name = "--output",
-       .alias = "-o",
-       .meta = "FILE",
-       .dest = &a->out,
+      {.type = CLI_OPT_PATH, .name = "--output", .alias = "-o", .meta = "FILE", .dest = &a->out,
        .help = "the texture to write (written whole or not at all)"},
-      {.type = CLI_OPT_FLAG,
-       .name = "--half",
-       .dest = &a->opts.storage,
-       .value = NBRDF_BAKE_HALF,
+      {.type = CLI_OPT_FLAG, .name = "--half", .dest = &a->opts.storage, .value = NBRDF_BAKE_HALF,
        .help = "latent storage half (the default)"},
-      {.type = CLI_OPT_FLAG,
-       .name = "--float",
-       .dest = &a->opts.storage,
-       .value = NBRDF_BAKE_FLOAT,
+      {.type = CLI_OPT_FLAG, .name = "--float", .dest = &a->opts.storage, .value = NBRDF_BAKE_FLOAT,
        .help = "latent storage float"},
-      {.type = CLI_OPT_ENUM,
-       .name = "--mip-levels",
-       .meta = "full|1",
-       .choices = "full|1|0",
-       .values = mip_values,
-       .dest = &a->opts.mip_levels,
+      {.type = CLI_OPT_ENUM, .name = "--mip-levels", .meta = "full|1", .choices = "full|1|0",
+       .values = mip_values, .dest = &a->opts.mip_levels,
        .help = "the full mip chain (default) or level 0 only (OpenEXR\n"
                "mip chains are complete)"},
-      {.type = CLI_OPT_INT,
-       .name = "--tile",
-       .meta = "N",
-       .lo = 8,
-       .hi = 1024,
-       .dest = &a->opts.tile_size,
-       .help = "tile edge in texels (default 64)"},
-      {.type = CLI_OPT_CUSTOM,
-       .name = "--size",
-       .meta = "WxH",
-       .dest = a,
-       .parse = read_size,
+      {.type = CLI_OPT_INT, .name = "--tile", .meta = "N", .lo = 8, .hi = 1024,
+       .dest = &a->opts.tile_size, .help = "tile edge in texels (default 64)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--size", .meta = "WxH", .dest = a, .parse = read_size,
        .help = "output size (1..65536 each; default: the maps' size, or\n"
                "1x1 when every input is a constant); maps of another\n"
                "size need --resample bilinear"},
-      {.type = CLI_OPT_ENUM,
-       .name = "--compression",
-       .choices = "zip|piz|rle|none",
+      {.type = CLI_OPT_ENUM, .name = "--compression", .choices = "zip|piz|rle|none",
        .dest = &a->opts.compression,
        .help = "lossless EXR compression (default zip: smallest; rle or\n"
                "none write faster, see docs/BAKE.md)"},
-      {.type = CLI_OPT_PATH,
-       .name = "--bundle",
-       .meta = "DIR",
-       .dest = &a->bundle,
+      {.type = CLI_OPT_PATH, .name = "--bundle", .meta = "DIR", .dest = &a->bundle,
        .help = "model bundle (default: $NBRDF_BUNDLE, else the installed\n"
                "one: see 'nbrdf --version')"},
-      {.type = CLI_OPT_PATH,
-       .name = "--decoder",
-       .meta = "FILE",
-       .dest = &a->decoder,
+      {.type = CLI_OPT_PATH, .name = "--decoder", .meta = "FILE", .dest = &a->decoder,
        .help = "a decoder.safetensors of the bundle's latent size (a fine-\n"
                "tuned copy, say) that the texture carries and is decoded\n"
                "with (format version 2, docs/LATENT-TEXTURE.md); default:\n"
@@ -161,35 +131,21 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "the bundle decoder's place in every stage: specialised\n"
                "carries it fine-tuned to the scene, compact the small\n"
                "decoder distilled from that fine-tuned copy"},
-      {.type = CLI_OPT_ENUM,
-       .name = "--range",
-       .choices = "clamp|refuse",
-       .dest = &a->opts.range,
+      {.type = CLI_OPT_ENUM, .name = "--range", .choices = "clamp|refuse", .dest = &a->opts.range,
        .help = "values outside the model's trained ranges: clamp with a\n"
                "warning (default) or stop naming the file and texel"},
-      {.type = CLI_OPT_INT,
-       .name = "--quantise",
-       .meta = "BITS",
-       .lo = 2,
-       .hi = 16,
+      {.type = CLI_OPT_INT, .name = "--quantise", .meta = "BITS", .lo = 2, .hi = 16,
        .dest = &a->opts.quantise_bits,
        .help = "round every parameter to 2^BITS levels over its trained\n"
                "range (2..16; default off): fewer distinct tuples for\n"
                "smooth float maps, at a measured cost (docs/BAKE.md)"},
-      {.type = CLI_OPT_U64,
-       .name = "--energy-audit",
-       .meta = "N",
-       .hi = 1099511627776.0,
+      {.type = CLI_OPT_U64, .name = "--energy-audit", .meta = "N", .hi = 1099511627776.0,
        .dest = &a->energy_audit,
        .help = "decoded directional albedo of the first N distinct latents\n"
                "(16384; 0: off): the worst goes into the header as\n"
                "nbrdf:maxAlbedo, a warning names it above 1.01"},
-      {.type = CLI_OPT_CUSTOM,
-       .name = "--accuracy",
-       .meta = "fast|fitted|specialised|compact",
-       .choices = "fast|fitted|specialised|compact",
-       .dest = a,
-       .parse = read_accuracy,
+      {.type = CLI_OPT_CUSTOM, .name = "--accuracy", .meta = "fast|fitted|specialised|compact",
+       .choices = "fast|fitted|specialised|compact", .dest = a, .parse = read_accuracy,
        .help = "fast (default): the universal networks; fitted: latents\n"
                "fitted to the layered ground truth of the scene's own\n"
                "BRDFs (representative tuples; any reader decodes it);\n"
@@ -199,33 +155,25 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "and a small decoder distilled for the scene (fast to\n"
                "decode, a third of the channels). docs/BAKE.md\n"
                "measures the trade"},
-      {.type = CLI_OPT_CUSTOM,
-       .name = "--compact",
-       .meta = "K[,WIDTH]",
-       .dest = a,
+      {.type = CLI_OPT_CUSTOM, .name = "--compact", .meta = "K[,WIDTH]", .dest = a,
        .parse = read_compact,
        .help = "compact's latent channels per colour channel (1..8,\n"
                "default 8) and decoder width (4..256, default 32);\n"
                "implies --accuracy compact"},
-      {.type = CLI_OPT_CUSTOM,
-       .name = "--budget",
-       .meta = "SECONDS",
-       .dest = a,
+      {.type = CLI_OPT_CUSTOM, .name = "--budget", .meta = "SECONDS", .dest = a,
        .parse = read_budget,
        .help = "fitted/specialised/compact: the cost-model seconds the\n"
                "ground truth and fit may take (defaults 120 / 300 / 400;\n"
                "about the wall time on one free core; the result does\n"
                "not depend on the machine or its load)"},
-      {.type = CLI_OPT_U64,
-       .name = "--seed",
-       .meta = "S",
-       .dest = &a->opts.seed,
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->opts.seed,
        .help = "above fast: random walks and tuple selection (1)"},
       CLI_DEVICE_OPTION(&a->opts.device),
       CLI_PROGRESS_OPTION(&a->ps, "progress as JSON lines on stdout (for tools), instead of\n"
                                   "the bar drawn on stderr when it is a terminal"),
       {0},
   };
+  // clang-format on
   visit(user, NULL, t);
 }
 

@@ -15,31 +15,21 @@ typedef struct bundle_args {
 } bundle_args;
 
 static void bundle_options(bundle_args *a, cli_opt_visit visit, void *user) {
+  // clang-format off
   const cli_opt init[] = {
-      {.type = CLI_OPT_STRING,
-       .name = "--name",
-       .meta = "NAME",
-       .dest = &a->name,
+      {.type = CLI_OPT_STRING, .name = "--name", .meta = "NAME", .dest = &a->name,
        .help = "model name (default: the folder's last component)"},
-      {.type = CLI_OPT_U64,
-       .name = "--seed",
-       .meta = "S",
-       .dest = &a->seed,
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->seed,
        .help = "unsigned 64-bit seed (default 1); same seed, same bytes"},
-      {.type = CLI_OPT_STRING,
-       .name = "--decoder",
-       .meta = "PRESET",
-       .choices = "paper|large|medium|small",
-       .dest = &a->preset,
+      {.type = CLI_OPT_STRING, .name = "--decoder", .meta = "PRESET",
+       .choices = "paper|large|medium|small", .dest = &a->preset,
        .help = "paper (1.06 M MACs/query), large (103 k), medium (27 k),\n"
                "small (5.3 k; default)"},
-      {.type = CLI_OPT_FLAG,
-       .name = "--force",
-       .dest = &a->force,
-       .value = 1,
+      {.type = CLI_OPT_FLAG, .name = "--force", .dest = &a->force, .value = 1,
        .help = "replace a bundle already in DIR (refused otherwise)"},
       {0},
   };
+  // clang-format on
   const cli_opt info[] = {{0}};
   visit(user, "init", init);
   visit(user, "info", info);

@@ -12,15 +12,14 @@ typedef struct info_args {
 } info_args;
 
 static void info_options(info_args *a, cli_opt_visit visit, void *user) {
+  // clang-format off
   const cli_opt t[] = {
-      {.type = CLI_OPT_FLAG,
-       .name = "--header-only",
-       .dest = &a->header_only,
-       .value = 1,
+      {.type = CLI_OPT_FLAG, .name = "--header-only", .dest = &a->header_only, .value = 1,
        .help = "read the header only (instant; a truncated or damaged tile\n"
                "goes unnoticed)"},
       {0},
   };
+  // clang-format on
   visit(user, NULL, t);
 }
 
