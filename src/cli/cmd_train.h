@@ -40,33 +40,20 @@ typedef struct cli_train_limits {
 /* A value in minutes [o->lo, o->hi] stored in seconds (a double). */
 int cli_train_read_minutes(const char *cmd, const cli_opt *o, const char *value);
 /* Their table entries; `l` a cli_train_limits *. */
+// clang-format off
 #define CLI_TRAIN_LIMITS_OPTIONS(l)                                                                \
-  {.type = CLI_OPT_PATH,                                                                           \
-   .name = "--checkpoint",                                                                         \
-   .meta = "FILE",                                                                                 \
-   .dest = &(l)->checkpoint,                                                                       \
+  {.type = CLI_OPT_PATH, .name = "--checkpoint", .meta = "FILE", .dest = &(l)->checkpoint,         \
    .help = "resumable state (resume: run the same command again; another\n"                        \
            "setting is refused, naming it). Ctrl-C checkpoints and stops"},                        \
-      {.type = CLI_OPT_CUSTOM,                                                                     \
-       .name = "--checkpoint-minutes",                                                             \
-       .meta = "M",                                                                                \
-       .lo = 1e-3,                                                                                 \
-       .hi = 1e6,                                                                                  \
-       .dest = &(l)->checkpoint_seconds,                                                           \
-       .parse = cli_train_read_minutes,                                                            \
-       .help = "minutes between checkpoints (5)"},                                                 \
-      {.type = CLI_OPT_CUSTOM,                                                                     \
-       .name = "--minutes",                                                                        \
-       .meta = "M",                                                                                \
-       .lo = 0,                                                                                    \
-       .hi = 1e9,                                                                                  \
-       .dest = &(l)->max_seconds,                                                                  \
-       .parse = cli_train_read_minutes,                                                            \
-       .help = "stop, checkpointed, after M minutes"},                                             \
-  {                                                                                                \
-    .type = CLI_OPT_INT, .name = "--stop-at-step", .meta = "N", .lo = 0, .hi = 2147483647,         \
-    .dest = &(l)->stop_at_step, .help = "stop (checkpointed) after N steps of the whole run"       \
-  }
+  {.type = CLI_OPT_CUSTOM, .name = "--checkpoint-minutes", .meta = "M", .lo = 1e-3, .hi = 1e6,     \
+   .dest = &(l)->checkpoint_seconds, .parse = cli_train_read_minutes,                              \
+   .help = "minutes between checkpoints (5)"},                                                     \
+  {.type = CLI_OPT_CUSTOM, .name = "--minutes", .meta = "M", .lo = 0, .hi = 1e9,                   \
+   .dest = &(l)->max_seconds, .parse = cli_train_read_minutes,                                     \
+   .help = "stop, checkpointed, after M minutes"},                                                 \
+  {.type = CLI_OPT_INT, .name = "--stop-at-step", .meta = "N", .lo = 0, .hi = 2147483647,          \
+   .dest = &(l)->stop_at_step, .help = "stop (checkpointed) after N steps of the whole run"}
+// clang-format on
 
 /* A comma-separated list of files (--data A,B): split into a copy the caller frees. */
 typedef struct cli_train_list {
