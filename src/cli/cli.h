@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "cli/cli_options.h"
 #include "nbrdf/model.h"
 #include "nbrdf/status.h"
 
@@ -16,6 +17,8 @@ typedef struct cli_command {
   const char *summary;
   int (*run)(int argc, char **argv); /* argv[0] is the subcommand's name */
   void (*usage)(FILE *out);
+  /* Shows the command's option tables (cli_options.h); NULL: it takes none. */
+  void (*options)(cli_opt_visit visit, void *user);
 } cli_command;
 
 extern const cli_command cli_commands[];
@@ -57,10 +60,6 @@ int cli_texture_levels(const char *path, int level, int *width, int *height);
  * has N mip levels (0..N-1); there is no level LEVEL". Returns CLI_EXIT_USAGE. */
 int cli_level_error(const char *cmd, const char *option, const char *texture, int levels,
                     const char *level);
-/* Matches argv[*i] against option `name` in the forms "--name value" and
- * "--name=value": returns the value (advancing *i past a separate value), ""
- * when the value is missing, or NULL when argv[*i] is another option. */
-const char *cli_option_value(int argc, char **argv, int *i, const char *name);
 /* True for "-h" and "--help". */
 int cli_is_help(const char *arg);
 

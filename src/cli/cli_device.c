@@ -19,23 +19,7 @@ int cli_device_default(const char *cmd, nbrdf_device *device) {
   return 0;
 }
 
-int cli_device_option(const char *cmd, int argc, char **argv, int *i, nbrdf_device *device) {
-  const char *a = argv[*i];
-  const char *v = NULL;
-  if (!strncmp(a, "--device=", 9))
-    v = a + 9;
-  else if (!strcmp(a, "--device") && *i + 1 < argc)
-    v = argv[++*i];
-  else
-    return 0;
-  int d = nbrdf_device_parse(v);
-  if (d < 0) {
-    cli_usage_error(cmd, "--device is auto, cpu or gpu, not '%s'", v);
-    return -1;
-  }
-  *device = (nbrdf_device)d;
-  return 1;
-}
+const int cli_device_values[3] = {NBRDF_DEVICE_AUTO, NBRDF_DEVICE_CPU, NBRDF_DEVICE_GPU};
 
 void cli_device_note(void *cmd, const char *message) {
   fprintf(stderr, "nbrdf %s: note: %s\n", (const char *)cmd, message);

@@ -19,27 +19,6 @@ void cli_params_init(cli_params *p) {
   p->roughness = NBRDF_ROUGHNESS_ALPHA;
 }
 
-void cli_params_usage(FILE *out) {
-  fprintf(out, "  --alpha1 V            top coat roughness (see --roughness)\n"
-               "  --eta V               top coat IOR (8/16-bit maps: see --eta-range)\n"
-               "  --alpha2 V            bottom conductor roughness\n"
-               "  --r0 V                bottom Schlick reflectance at normal incidence (colour)\n"
-               "  --albedo V            slab single-scattering albedo (colour)\n"
-               "  --sigma-t V           slab optical depth (8/16-bit maps: see --sigma-t-range)\n"
-               "  --roughness alpha|perceptual\n"
-               "                        alpha: GGX alpha as in the paper (default); perceptual:\n"
-               "                        the artists' roughness r of Blender et al., alpha = r^2\n"
-               "  --r0-colourspace CS, --albedo-colourspace CS\n"
-               "                        colour space of 8/16-bit colour maps (default sRGB)\n"
-               "  --ocio CONFIG         OpenColorIO config for colour spaces (default $OCIO)\n"
-               "  --eta-range LO,HI     8/16-bit eta maps: [0,1] -> [LO,HI] (default 1,2)\n"
-               "  --sigma-t-range LO,HI 8/16-bit sigma_t maps: [0,1] -> [LO,HI] (default 0,5)\n"
-               "  --resample none|bilinear\n"
-               "                        maps of different sizes (or not the output size):\n"
-               "                        an error (default), or each resampled bilinearly to\n"
-               "                        the output size, else the largest width and height\n");
-}
-
 /* LO,HI: floats with 0 <= LO < HI, as the map reader requires (a parameter is >= 0): a bad
  * range is the command line's fault, whether or not a map uses it. */
 static int parse_range(const char *text, nbrdf_bake_param *p) {
@@ -55,62 +34,27 @@ static int parse_range(const char *text, nbrdf_bake_param *p) {
   return 1;
 }
 
-int cli_params_option(const char *cmd, int argc, char **argv, int *i, cli_params *p) {
-  const char *a = argv[*i];
-  const char *v = *i + 1 < argc ? argv[*i + 1] : NULL;
-  if (!v) return 0;
-  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
-    if (!strcmp(a, flag_names[id])) {
-      nbrdf_error err = {0};
-      if (nbrdf_bake_param_parse(nbrdf_bake_param_name(id), v, &p->in.param[id], &err) !=
-          NBRDF_OK) {
-        cli_usage_error(cmd, "%s", err.message);
-        return -1;
-      }
-      /* What nbrdf_bake would refuse of a constant (texture_param_source_constant,
-       * bake_tuple.c) is a bad option here, before anything is loaded. */
-      const nbrdf_bake_param *q = &p->in.param[id];
-      int colour = id == NBRDF_BAKE_R0 || id == NBRDF_BAKE_ALBEDO;
-      for (int c = 0; !q->path && c < q->channels; c++)
-        if (q->value[c] < 0.0f || (colour && q->value[c] > 1.0f)) {
-          cli_usage_error(cmd, "%s '%s': %g is %s; expected %s", a, v, (double)q->value[c],
-                          q->value[c] < 0.0f ? "negative" : "above 1 (not physical)",
-                          colour ? "a reflectance in [0, 1]" : "a value >= 0");
-          return -1;
-        }
-      p->given[id] = 1, ++*i;
-      return 1;
-    }
-  if (!strcmp(a, "--roughness")) {
-    int convention = model_roughness_parse(v);
-    if (convention < 0)
-      return cli_usage_error(cmd, "--roughness is 'alpha' or 'perceptual', not '%s'", v), -1;
-    p->roughness = (nbrdf_roughness)convention;
-    p->roughness_given = 1;
-  } else if (!strcmp(a, "--r0-colourspace")) {
-    p->in.param[NBRDF_BAKE_R0].colour_space = v;
-  } else if (!strcmp(a, "--albedo-colourspace")) {
-    p->in.param[NBRDF_BAKE_ALBEDO].colour_space = v;
-  } else if (!strcmp(a, "--ocio")) {
-    p->in.ocio_config = v;
-  } else if (!strcmp(a, "--resample")) {
-    if (!strcmp(v, "none"))
-      p->in.resample = NBRDF_RESAMPLE_NONE;
-    else if (!strcmp(v, "bilinear"))
-      p->in.resample = NBRDF_RESAMPLE_BILINEAR;
-    else
-      return cli_usage_error(cmd, "--resample is 'none' or 'bilinear', not '%s'", v), -1;
-  } else if (!strcmp(a, "--eta-range") || !strcmp(a, "--sigma-t-range")) {
-    int eta = a[2] == 'e';
-    if (!parse_range(v, &p->in.param[eta ? NBRDF_BAKE_ETA : NBRDF_BAKE_SIGMA_T]))
-      return cli_usage_error(cmd, "%s needs LO,HI with LO < HI (numbers, LO >= 0), not '%s'", a,
-                             v),
-             -1;
-  } else {
-    return 0;
-  }
-  ++*i;
-  return 1;
+int cli_params_read_range(const char *cmd, const cli_opt *o, const char *value) {
+  if (parse_range(value, o->dest)) return 0;
+  return cli_opt_bad(cmd, o->name, "LO,HI with LO < HI (numbers, LO >= 0)", value);
+}
+
+int cli_params_read(const char *cmd, const cli_opt *o, const char *v) {
+  cli_params *p = o->dest;
+  int id = o->value;
+  nbrdf_error err = {0};
+  if (nbrdf_bake_param_parse(nbrdf_bake_param_name(id), v, &p->in.param[id], &err) != NBRDF_OK)
+    return cli_usage_error(cmd, "%s", err.message);
+  /* What nbrdf_bake would refuse of a constant (texture_param_source_constant,
+   * bake_tuple.c) is a bad option here, before anything is loaded. */
+  const nbrdf_bake_param *q = &p->in.param[id];
+  int colour = id == NBRDF_BAKE_R0 || id == NBRDF_BAKE_ALBEDO;
+  for (int c = 0; !q->path && c < q->channels; c++)
+    if (q->value[c] < 0.0f || (colour && q->value[c] > 1.0f))
+      return cli_usage_error(cmd, "%s '%s': %g is %s; expected %s", o->name, v, (double)q->value[c],
+                             q->value[c] < 0.0f ? "negative" : "above 1 (not physical)",
+                             colour ? "a reflectance in [0, 1]" : "a value >= 0");
+  return 0;
 }
 
 void cli_params_explain(nbrdf_error *err) {

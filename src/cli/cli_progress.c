@@ -12,11 +12,7 @@ cli_progress_state cli_progress_init(cli_progress_style style, const char *unit)
   return p;
 }
 
-int cli_progress_flag(const char *arg, cli_progress_state *p) {
-  if (strcmp(arg, "--progress=json")) return 0;
-  p->json = 1;
-  return 1;
-}
+const int cli_progress_json_value[1] = {1};
 
 void cli_progress_start(cli_progress_state *p) {
   p->bar = p->style == CLI_PROGRESS_BAR && !p->json && isatty(STDERR_FILENO);

@@ -9,6 +9,8 @@
 #ifndef NBRDF_CLI_PROGRESS_H
 #define NBRDF_CLI_PROGRESS_H
 
+#include "cli/cli_options.h"
+
 /* The styles differ where the commands' work does: */
 typedef enum cli_progress_style {
   /* bake, render, verify: a bar on a terminal (nothing when stderr is not one); a line at
@@ -32,8 +34,14 @@ typedef struct cli_progress_state {
 } cli_progress_state;
 
 cli_progress_state cli_progress_init(cli_progress_style style, const char *unit);
-/* 1 when `arg` is --progress=json (and sets json), else 0: every command's one parser. */
-int cli_progress_flag(const char *arg, cli_progress_state *p);
+/* The --progress=json option's table entry (cli_options.h), `state` a cli_progress_state *
+ * and `text` its help line. */
+extern const int cli_progress_json_value[1];
+#define CLI_PROGRESS_OPTION(state, text)                                                           \
+  {                                                                                                \
+    .type = CLI_OPT_ENUM, .name = "--progress", .dest = &(state)->json, .choices = "json",         \
+    .values = cli_progress_json_value, .help = text                                                \
+  }
 /* Starts the clock (seconds, rate) and decides the bar; call just before the work. */
 void cli_progress_start(cli_progress_state *p);
 /* Seconds since cli_progress_start. */

@@ -7,29 +7,33 @@
 #include "cli/cmd_train.h"
 #include "nn/safetensors.h"
 
-int cli_train_limits_option(int argc, char **argv, int *i, cli_train_limits *l, int *exit_code) {
-  const char *v;
+int cli_train_read_minutes(const char *cmd, const cli_opt *o, const char *v) {
   double x;
-  long n;
-  *exit_code = CLI_EXIT_OK;
-  if ((v = cli_option_value(argc, argv, i, "--checkpoint"))) {
-    l->checkpoint = v;
-  } else if ((v = cli_option_value(argc, argv, i, "--checkpoint-minutes"))) {
-    if (!cli_parse_double(v, &x) || !(x >= 1e-3 && x <= 1e6))
-      *exit_code = cli_usage_error("train", "--checkpoint-minutes '%s': expected 0.001..1e6", v);
-    l->checkpoint_seconds = 60.0 * x;
-  } else if ((v = cli_option_value(argc, argv, i, "--minutes"))) {
-    if (!cli_parse_double(v, &x) || !(x >= 0 && x <= 1e9))
-      *exit_code = cli_usage_error("train", "--minutes '%s': expected 0..1e9", v);
-    l->max_seconds = 60.0 * x;
-  } else if ((v = cli_option_value(argc, argv, i, "--stop-at-step"))) {
-    if (!cli_parse_int(v, 0, 2147483647, &n))
-      *exit_code = cli_usage_error("train", "--stop-at-step '%s': expected 0..2^31-1", v);
-    l->stop_at_step = n;
-  } else {
-    return 0;
+  if (!cli_parse_double(v, &x) || !(x >= o->lo && x <= o->hi)) {
+    char what[96], lo[32], hi[32];
+    snprintf(what, sizeof what, "a number of minutes in [%s, %s]",
+             cli_opt_number(o->lo, lo, sizeof lo), cli_opt_number(o->hi, hi, sizeof hi));
+    return cli_opt_bad(cmd, o->name, what, v);
   }
-  return 1;
+  *(double *)o->dest = 60.0 * x;
+  return 0;
+}
+
+int cli_train_read_list(const char *cmd, const cli_opt *o, const char *v) {
+  cli_train_list *l = o->dest;
+  free(l->copy);
+  l->copy = strdup(v);
+  if (!l->copy) return cli_usage_error(cmd, "%s: out of memory", o->name);
+  l->n = cli_train_split_list(l->copy, l->item, 64);
+  return 0;
+}
+
+int cli_train_parse(const char *sub, int argc, char **argv,
+                    void (*options)(void *args, cli_opt_visit visit, void *user), void *args) {
+  cli_parse_call call = {"train", sub, argc, 2, argv, NULL, 0};
+  options(args, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) cmd_train_usage(stdout);
+  return call.rc;
 }
 
 void cli_train_limits_note(const char *checkpoint, int legacy) {

@@ -15,6 +15,182 @@
 #include "nbrdf/bake.h"
 #include "nbrdf/model.h"
 
+typedef struct bake_args {
+  cli_params params;
+  nbrdf_bake_options opts;
+  const char *out, *bundle, *decoder;
+  cli_progress_state ps;
+  uint64_t energy_audit;
+  int budget_given, compact_given;
+} bake_args;
+
+/* "WxH" or "N" (square), each 1..NBRDF_BAKE_SIZE_MAX. */
+static int parse_size(const char *text, int *w, int *h) {
+  char a[64], *x;
+  long lw, lh;
+  if (strlen(text) >= sizeof a) return 0;
+  snprintf(a, sizeof a, "%s", text);
+  x = strchr(a, 'x');
+  if (!x) x = strchr(a, 'X');
+  if (x) *x = '\0';
+  if (!cli_parse_int(a, 1, NBRDF_BAKE_SIZE_MAX, &lw)) return 0;
+  if (!x)
+    lh = lw;
+  else if (!cli_parse_int(x + 1, 1, NBRDF_BAKE_SIZE_MAX, &lh))
+    return 0;
+  *w = (int)lw, *h = (int)lh;
+  return 1;
+}
+
+static int read_size(const char *cmd, const cli_opt *o, const char *v) {
+  bake_args *a = o->dest;
+  if (parse_size(v, &a->params.in.width, &a->params.in.height)) return 0;
+  char what[96];
+  snprintf(what, sizeof what, "WxH (or N for NxN), each an integer in [1, %d]",
+           NBRDF_BAKE_SIZE_MAX);
+  return cli_opt_bad(cmd, o->name, what, v);
+}
+
+/* --accuracy and --compact: --compact implies compact, so another level with it is refused,
+ * whichever comes first. */
+static int read_accuracy(const char *cmd, const cli_opt *o, const char *v) {
+  bake_args *a = o->dest;
+  int level = nbrdf_bake_accuracy_parse(v);
+  if (level < 0) return cli_opt_bad(cmd, o->name, "fast, fitted, specialised or compact", v);
+  if (a->compact_given && level != NBRDF_BAKE_COMPACT)
+    return cli_usage_error(cmd, "--compact goes with --accuracy compact, not '%s'", v);
+  a->opts.accuracy = (nbrdf_bake_accuracy)level;
+  return 0;
+}
+
+static int read_compact(const char *cmd, const cli_opt *o, const char *v) {
+  bake_args *a = o->dest;
+  char *end = NULL;
+  long k = strtol(v, &end, 10), w = 0;
+  int ok = end != v && k >= 1 && k <= 8;
+  if (ok && *end == ',') {
+    const char *ws = end + 1;
+    w = strtol(ws, &end, 10);
+    ok = end != ws && w >= 4 && w <= 256;
+  }
+  if (!ok || *end)
+    return cli_opt_bad(cmd, o->name,
+                       "K[,WIDTH]: K latent channels 1..8, WIDTH 4..256 (e.g. 8 or 8,32)", v);
+  if (a->opts.accuracy != NBRDF_BAKE_FAST && a->opts.accuracy != NBRDF_BAKE_COMPACT)
+    return cli_usage_error(cmd, "--compact goes with --accuracy compact, not '%s'",
+                           nbrdf_bake_accuracy_name(a->opts.accuracy));
+  a->opts.accuracy = NBRDF_BAKE_COMPACT, a->compact_given = 1;
+  a->opts.compact_dim = (int)k, a->opts.compact_width = (int)w;
+  return 0;
+}
+
+static int read_budget(const char *cmd, const cli_opt *o, const char *v) {
+  bake_args *a = o->dest;
+  double b;
+  if (!cli_parse_double(v, &b) || !(b > 0.0) || b > 1e7)
+    return cli_opt_bad(cmd, o->name, "a number of seconds in (0, 1e7]", v);
+  a->opts.budget = b, a->budget_given = 1;
+  return 0;
+}
+
+static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
+  static const int mip_values[] = {0, 1, 0};
+  // clang-format off
+  const cli_opt t[] = {
+      {.help = "inputs (shared with 'nbrdf verify'):"},
+      CLI_PARAMS_OPTIONS(&a->params),
+      {.help = "\noptions:"},
+      {.type = CLI_OPT_PATH, .name = "--output", .alias = "-o", .meta = "FILE", .dest = &a->out,
+       .help = "the texture to write (written whole or not at all)"},
+      {.type = CLI_OPT_FLAG, .name = "--half", .dest = &a->opts.storage, .value = NBRDF_BAKE_HALF,
+       .help = "latent storage half (the default)"},
+      {.type = CLI_OPT_FLAG, .name = "--float", .dest = &a->opts.storage, .value = NBRDF_BAKE_FLOAT,
+       .help = "latent storage float"},
+      {.type = CLI_OPT_ENUM, .name = "--mip-levels", .meta = "full|1", .choices = "full|1|0",
+       .values = mip_values, .dest = &a->opts.mip_levels,
+       .help = "the full mip chain (default) or level 0 only (OpenEXR\n"
+               "mip chains are complete)"},
+      {.type = CLI_OPT_INT, .name = "--tile", .meta = "N", .lo = 8, .hi = 1024,
+       .dest = &a->opts.tile_size, .help = "tile edge in texels (default 64)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--size", .meta = "WxH", .dest = a, .parse = read_size,
+       .help = "output size (1..65536 each; default: the maps' size, or\n"
+               "1x1 when every input is a constant); maps of another\n"
+               "size need --resample bilinear"},
+      {.type = CLI_OPT_ENUM, .name = "--compression", .choices = "zip|piz|rle|none",
+       .dest = &a->opts.compression,
+       .help = "lossless EXR compression (default zip: smallest; rle or\n"
+               "none write faster, see docs/BAKE.md)"},
+      {.type = CLI_OPT_PATH, .name = "--bundle", .meta = "DIR", .dest = &a->bundle,
+       .help = "model bundle (default: $NBRDF_BUNDLE, else the installed\n"
+               "one: see 'nbrdf --version')"},
+      {.type = CLI_OPT_PATH, .name = "--decoder", .meta = "FILE", .dest = &a->decoder,
+       .help = "a decoder.safetensors of the bundle's latent size (a fine-\n"
+               "tuned copy, say) that the texture carries and is decoded\n"
+               "with (format version 2, docs/LATENT-TEXTURE.md); default:\n"
+               "none, the bundle's decoder (a version-1 texture). It takes\n"
+               "the bundle decoder's place in every stage: specialised\n"
+               "carries it fine-tuned to the scene, compact the small\n"
+               "decoder distilled from that fine-tuned copy"},
+      {.type = CLI_OPT_ENUM, .name = "--range", .choices = "clamp|refuse", .dest = &a->opts.range,
+       .help = "values outside the model's trained ranges: clamp with a\n"
+               "warning (default) or stop naming the file and texel"},
+      {.type = CLI_OPT_INT, .name = "--quantise", .meta = "BITS", .lo = 2, .hi = 16,
+       .dest = &a->opts.quantise_bits,
+       .help = "round every parameter to 2^BITS levels over its trained\n"
+               "range (2..16; default off): fewer distinct tuples for\n"
+               "smooth float maps, at a measured cost (docs/BAKE.md)"},
+      {.type = CLI_OPT_U64, .name = "--energy-audit", .meta = "N", .hi = 1099511627776.0,
+       .dest = &a->energy_audit,
+       .help = "decoded directional albedo of the first N distinct latents\n"
+               "(16384; 0: off): the worst goes into the header as\n"
+               "nbrdf:maxAlbedo, a warning names it above 1.01"},
+      {.type = CLI_OPT_CUSTOM, .name = "--accuracy", .meta = "fast|fitted|specialised|compact",
+       .choices = "fast|fitted|specialised|compact", .dest = a, .parse = read_accuracy,
+       .help = "fast (default): the universal networks; fitted: latents\n"
+               "fitted to the layered ground truth of the scene's own\n"
+               "BRDFs (representative tuples; any reader decodes it);\n"
+               "specialised: also a decoder fine-tuned to the scene,\n"
+               "carried in the texture (format 2); compact: as\n"
+               "specialised, then 8 latent channels per colour channel\n"
+               "and a small decoder distilled for the scene (fast to\n"
+               "decode, a third of the channels). docs/BAKE.md\n"
+               "measures the trade"},
+      {.type = CLI_OPT_CUSTOM, .name = "--compact", .meta = "K[,WIDTH]", .dest = a,
+       .parse = read_compact,
+       .help = "compact's latent channels per colour channel (1..8,\n"
+               "default 8) and decoder width (4..256, default 32);\n"
+               "implies --accuracy compact"},
+      {.type = CLI_OPT_CUSTOM, .name = "--budget", .meta = "SECONDS", .dest = a,
+       .parse = read_budget,
+       .help = "fitted/specialised/compact: the cost-model seconds the\n"
+               "ground truth and fit may take (defaults 120 / 300 / 400;\n"
+               "about the wall time on one free core; the result does\n"
+               "not depend on the machine or its load)"},
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->opts.seed,
+       .help = "above fast: random walks and tuple selection (1)"},
+      CLI_DEVICE_OPTION(&a->opts.device),
+      CLI_PROGRESS_OPTION(&a->ps, "progress as JSON lines on stdout (for tools), instead of\n"
+                                  "the bar drawn on stderr when it is a terminal"),
+      {0},
+  };
+  // clang-format on
+  visit(user, NULL, t);
+}
+
+static void bake_args_init(bake_args *a) {
+  memset(a, 0, sizeof *a);
+  cli_params_init(&a->params);
+  a->opts = (nbrdf_bake_options)NBRDF_BAKE_OPTIONS_DEFAULT;
+  a->ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
+  a->energy_audit = a->opts.energy_audit;
+}
+
+void cmd_bake_options(cli_opt_visit visit, void *user) {
+  bake_args a;
+  bake_args_init(&a);
+  bake_options(&a, visit, user);
+}
+
 void cmd_bake_usage(FILE *out) {
   fprintf(out, "usage: nbrdf bake --alpha1 V --eta V --alpha2 V --r0 V --albedo V --sigma-t V\n"
                "                  -o OUT.exr [options]\n"
@@ -27,61 +203,11 @@ void cmd_bake_usage(FILE *out) {
                "alpha 0 is read as stored; a regular file, at most 65536x65536; all maps one\n"
                "size, or --resample). Write './0.5' for a file named like a number.\n"
                "The texture is mono when every input is grey, else RGB (one BRDF per channel).\n"
-               "\n"
-               "inputs (shared with 'nbrdf verify'):\n");
-  cli_params_usage(out);
+               "Every option is '--name value' or '--name=value'.\n"
+               "\n");
+  cmd_bake_options(cli_options_help_visit, out);
   fprintf(
       out,
-      "\n"
-      "options:\n"
-      "  -o, --output FILE     the texture to write (written whole or not at all)\n"
-      "  --half | --float      latent storage (default half)\n"
-      "  --mip-levels full|1   the full mip chain (default) or level 0 only\n"
-      "  --tile N              tile edge in texels (default 64)\n"
-      "  --size WxH            output size (1..65536 each; default: the maps' size, or\n"
-      "                        1x1 when every input is a constant); maps of another\n"
-      "                        size need --resample bilinear\n"
-      "  --compression zip|piz|rle|none\n"
-      "                        lossless EXR compression (default zip: smallest; rle or\n"
-      "                        none write faster, see docs/BAKE.md)\n"
-      "  --bundle DIR          model bundle (default: $NBRDF_BUNDLE, else the installed\n"
-      "                        one: see 'nbrdf --version')\n"
-      "  --decoder FILE        a decoder.safetensors of the bundle's latent size (a fine-\n"
-      "                        tuned copy, say) that the texture carries and is decoded\n"
-      "                        with (format version 2, docs/LATENT-TEXTURE.md); default:\n"
-      "                        none, the bundle's decoder (a version-1 texture). It takes\n"
-      "                        the bundle decoder's place in every stage: specialised\n"
-      "                        carries it fine-tuned to the scene, compact the small\n"
-      "                        decoder distilled from that fine-tuned copy\n"
-      "  --range clamp|refuse  values outside the model's trained ranges: clamp with a\n"
-      "                        warning (default) or stop naming the file and texel\n"
-      "  --quantise BITS       round every parameter to 2^BITS levels over its trained\n"
-      "                        range (2..16; default off): fewer distinct tuples for\n"
-      "                        smooth float maps, at a measured cost (docs/BAKE.md)\n"
-      "  --energy-audit N      decoded directional albedo of the first N distinct latents\n"
-      "                        (16384; 0: off): the worst goes into the header as\n"
-      "                        nbrdf:maxAlbedo, a warning names it above 1.01\n"
-      "  --accuracy fast|fitted|specialised|compact\n"
-      "                        fast (default): the universal networks; fitted: latents\n"
-      "                        fitted to the layered ground truth of the scene's own\n"
-      "                        BRDFs (representative tuples; any reader decodes it);\n"
-      "                        specialised: also a decoder fine-tuned to the scene,\n"
-      "                        carried in the texture (format 2); compact: as\n"
-      "                        specialised, then 8 latent channels per colour channel\n"
-      "                        and a small decoder distilled for the scene (fast to\n"
-      "                        decode, a third of the channels). docs/BAKE.md\n"
-      "                        measures the trade\n"
-      "  --compact K[,WIDTH]   compact's latent channels per colour channel (1..8,\n"
-      "                        default 8) and decoder width (4..256, default 32);\n"
-      "                        implies --accuracy compact\n"
-      "  --budget SECONDS      fitted/specialised/compact: the cost-model seconds the\n"
-      "                        ground truth and fit may take (defaults 120 / 300 / 400;\n"
-      "                        about the wall time on one free core; the result does\n"
-      "                        not depend on the machine or its load)\n"
-      "  --seed S              above fast: random walks and tuple selection (1)\n"
-      CLI_DEVICE_USAGE
-      "  --progress=json       progress as JSON lines on stdout (for tools), instead of\n"
-      "                        the bar drawn on stderr when it is a terminal\n"
       "\n"
       "Ctrl-C, SIGTERM or SIGHUP cancel cleanly: no output file is left. An output that\n"
       "is one of the inputs (a map, a bundle file), a FIFO or device, or read-only is\n"
@@ -116,154 +242,80 @@ static void on_note(void *user, const char *message) {
   cli_device_note("bake", message);
 }
 
-/* "WxH" or "N" (square), each 1..NBRDF_BAKE_SIZE_MAX. */
-static int parse_size(const char *text, int *w, int *h) {
-  char a[64], *x;
-  long lw, lh;
-  if (strlen(text) >= sizeof a) return 0;
-  snprintf(a, sizeof a, "%s", text);
-  x = strchr(a, 'x');
-  if (!x) x = strchr(a, 'X');
-  if (x) *x = '\0';
-  if (!cli_parse_int(a, 1, NBRDF_BAKE_SIZE_MAX, &lw)) return 0;
-  if (!x)
-    lh = lw;
-  else if (!cli_parse_int(x + 1, 1, NBRDF_BAKE_SIZE_MAX, &lh))
-    return 0;
-  *w = (int)lw, *h = (int)lh;
-  return 1;
+/* The summary: a "done" JSON line, or text. */
+static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
+  if (a->ps.json) {
+    printf("{\"event\":\"done\",\"output\":");
+    json_string(a->out);
+    printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu", rep->width, rep->height,
+           rep->colour_channels, rep->evaluated);
+    printf(",\"device\":");
+    json_string(rep->device);
+    if (rep->accuracy != NBRDF_BAKE_FAST)
+      printf(",\"accuracy\":\"%s\",\"budget\":%g,\"distinct\":%zu,\"fitted_tuples\":%zu,"
+             "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",
+             nbrdf_bake_accuracy_name(rep->accuracy), rep->budget, rep->distinct,
+             rep->fitted_tuples, rep->heldout_tuples, rep->heldout_error, rep->heldout_error_fast);
+    if (rep->compact_dim)
+      printf(",\"compact\":%d,\"decoder_macs\":%lld,\"variance_kept\":%.5f", rep->compact_dim,
+             rep->decoder_macs, rep->compact_kept);
+    printf("}\n");
+  } else {
+    printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n",
+           a->out, rep->width, rep->height, rep->colour_channels == 3 ? "rgb" : "mono", rep->brdfs,
+           rep->evaluated, rep->reused);
+    if (rep->audited)
+      printf("energy audit: max decoded directional albedo %.4f over %zu distinct latents\n",
+             rep->max_albedo, rep->audited);
+    if (rep->accuracy != NBRDF_BAKE_FAST)
+      printf("accuracy %s (budget %g s): %zu of %zu distinct tuples fitted; lobe error on %zu "
+             "held-out tuples: median %.2f %% (fast: %.2f %%)\n",
+             nbrdf_bake_accuracy_name(rep->accuracy), rep->budget, rep->fitted_tuples,
+             rep->distinct, rep->heldout_tuples, 100.0 * rep->heldout_error,
+             100.0 * rep->heldout_error_fast);
+    if (rep->compact_dim)
+      printf("compact: %d latent channels per colour channel (%.2f %% of the scene's latent "
+             "variance), decoder %lld multiply-adds per query\n",
+             rep->compact_dim, 100.0 * rep->compact_kept, rep->decoder_macs);
+    /* Above fitted the texture does not carry --decoder itself: say what became of it. */
+    if (a->decoder && rep->compact_dim)
+      printf("decoder: %s, fine-tuned to the scene, taught the compact decoder the texture "
+             "carries\n",
+             a->decoder);
+    else if (a->decoder && rep->accuracy == NBRDF_BAKE_SPECIALISED)
+      printf("decoder: %s, fine-tuned to the scene, is the decoder the texture carries\n",
+             a->decoder);
+  }
 }
 
 int cmd_bake(int argc, char **argv) {
-  cli_params params;
-  cli_params_init(&params);
-  nbrdf_bake_options opts = NBRDF_BAKE_OPTIONS_DEFAULT;
-  const char *out = NULL, *bundle = NULL, *decoder = NULL;
-  cli_progress_state ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
-  int budget_given = 0, compact_given = 0;
+  bake_args a;
+  bake_args_init(&a);
   nbrdf_error err = {0};
-  if (cli_device_default("bake", &opts.device) < 0) return CLI_EXIT_USAGE;
-  for (int i = 1; i < argc; i++) {
-    const char *a = argv[i];
-    const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-    int used = cli_params_option("bake", argc, argv, &i, &params);
-    if (used < 0) return CLI_EXIT_USAGE;
-    if (used) continue;
-    int dev = cli_device_option("bake", argc, argv, &i, &opts.device);
-    if (dev < 0) return CLI_EXIT_USAGE;
-    if (dev) continue;
-    if (cli_is_help(a)) {
-      cmd_bake_usage(stdout);
-      return CLI_EXIT_OK;
-    } else if ((!strcmp(a, "-o") || !strcmp(a, "--output")) && v) {
-      out = v, i++;
-    } else if (!strcmp(a, "--half") || !strcmp(a, "--float")) {
-      opts.storage = a[2] == 'h' ? NBRDF_BAKE_HALF : NBRDF_BAKE_FLOAT;
-    } else if (!strcmp(a, "--mip-levels") && v) {
-      if (strcmp(v, "full") && strcmp(v, "0") && strcmp(v, "1"))
-        return cli_usage_error("bake",
-                               "--mip-levels is 'full' or 1 (OpenEXR mip chains are "
-                               "complete), not '%s'",
-                               v);
-      opts.mip_levels = !strcmp(v, "1"), i++;
-    } else if (!strcmp(a, "--tile") && v) {
-      long t;
-      if (!cli_parse_int(v, 8, 1024, &t))
-        return cli_usage_error("bake", "--tile needs an integer in [8, 1024], not '%s'", v);
-      opts.tile_size = (int)t, i++;
-    } else if (!strcmp(a, "--size") && v) {
-      if (!parse_size(v, &params.in.width, &params.in.height))
-        return cli_usage_error("bake",
-                               "--size needs WxH (or N for NxN), each an integer in [1, %d], "
-                               "not '%s'",
-                               NBRDF_BAKE_SIZE_MAX, v);
-      i++;
-    } else if (!strcmp(a, "--compression") && v) {
-      static const char *const names[] = {"zip", "piz", "rle", "none"};
-      int k = 0;
-      while (k < 4 && strcmp(v, names[k]))
-        k++;
-      if (k == 4)
-        return cli_usage_error("bake", "--compression is zip, piz, rle or none, not '%s'", v);
-      opts.compression = (nbrdf_bake_compression)k, i++;
-    } else if (!strcmp(a, "--bundle") && v) {
-      bundle = v, i++;
-    } else if (!strcmp(a, "--decoder") && v) {
-      decoder = v, i++;
-    } else if (!strcmp(a, "--range") && v) {
-      if (!strcmp(v, "clamp"))
-        opts.range = NBRDF_RANGE_CLAMP;
-      else if (!strcmp(v, "refuse"))
-        opts.range = NBRDF_RANGE_REFUSE;
-      else
-        return cli_usage_error("bake", "--range is 'clamp' or 'refuse', not '%s'", v);
-      i++;
-    } else if (!strcmp(a, "--quantise") && v) {
-      long q;
-      if (!cli_parse_int(v, 2, 16, &q))
-        return cli_usage_error("bake", "--quantise needs an integer in [2, 16], not '%s'", v);
-      opts.quantise_bits = (int)q, i++;
-    } else if (!strcmp(a, "--energy-audit") && v) {
-      uint64_t n;
-      if (!cli_parse_u64(v, &n) || n > ((uint64_t)1 << 40))
-        return cli_usage_error("bake", "--energy-audit needs a count >= 0, not '%s'", v);
-      opts.energy_audit = (size_t)n, i++;
-    } else if (!strcmp(a, "--accuracy") && v) {
-      int level = nbrdf_bake_accuracy_parse(v);
-      if (level < 0)
-        return cli_usage_error(
-            "bake", "--accuracy is fast, fitted, specialised or compact, not '%s'", v);
-      if (compact_given && level != NBRDF_BAKE_COMPACT)
-        return cli_usage_error("bake", "--compact goes with --accuracy compact, not '%s'", v);
-      opts.accuracy = (nbrdf_bake_accuracy)level, i++;
-    } else if (!strcmp(a, "--compact") && v) {
-      char *end = NULL;
-      long k = strtol(v, &end, 10), w = 0;
-      int ok = end != v && k >= 1 && k <= 8;
-      if (ok && *end == ',') {
-        const char *ws = end + 1;
-        w = strtol(ws, &end, 10);
-        ok = end != ws && w >= 4 && w <= 256;
-      }
-      if (!ok || *end)
-        return cli_usage_error("bake",
-                               "--compact needs K[,WIDTH]: K latent channels 1..8, WIDTH 4..256 "
-                               "(e.g. 8 or 8,32), not '%s'",
-                               v);
-      if (opts.accuracy != NBRDF_BAKE_FAST && opts.accuracy != NBRDF_BAKE_COMPACT)
-        return cli_usage_error("bake", "--compact goes with --accuracy compact, not '%s'",
-                               nbrdf_bake_accuracy_name(opts.accuracy));
-      opts.accuracy = NBRDF_BAKE_COMPACT, compact_given = 1;
-      opts.compact_dim = (int)k, opts.compact_width = (int)w, i++;
-    } else if (!strcmp(a, "--budget") && v) {
-      double b;
-      if (!cli_parse_double(v, &b) || !(b > 0.0) || b > 1e7)
-        return cli_usage_error("bake", "--budget needs a number of seconds in (0, 1e7], not '%s'",
-                               v);
-      opts.budget = b, budget_given = 1, i++;
-    } else if (!strcmp(a, "--seed") && v) {
-      if (!cli_parse_u64(v, &opts.seed))
-        return cli_usage_error("bake", "--seed needs an unsigned integer, not '%s'", v);
-      i++;
-    } else if (cli_progress_flag(a, &ps)) {
-    } else {
-      return cli_usage_error("bake", "unknown option or missing value: '%s'", a);
-    }
+  if (cli_device_default("bake", &a.opts.device) < 0) return CLI_EXIT_USAGE;
+  cli_parse_call call = {"bake", NULL, argc, 1, argv, NULL, 0};
+  bake_options(&a, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) {
+    cmd_bake_usage(stdout);
+    return CLI_EXIT_OK;
   }
-  int missing = cli_params_require("bake", &params);
+  if (call.rc != CLI_OPTIONS_OK) return call.rc;
+  a.opts.energy_audit = (size_t)a.energy_audit;
+  const char *out = a.out, *decoder = a.decoder;
+  int missing = cli_params_require("bake", &a.params);
   if (missing != CLI_EXIT_OK) return missing;
-  opts.roughness = params.roughness;
-  if (budget_given && opts.accuracy == NBRDF_BAKE_FAST)
-    return cli_usage_error("bake",
-                           "--budget applies to --accuracy fitted, specialised or compact, not fast");
+  a.opts.roughness = a.params.roughness;
+  if (a.budget_given && a.opts.accuracy == NBRDF_BAKE_FAST)
+    return cli_usage_error(
+        "bake", "--budget applies to --accuracy fitted, specialised or compact, not fast");
   if (!out) return cli_usage_error("bake", "-o OUT.exr is required");
   nbrdf_model *model = NULL;
   char used[PATH_MAX];
-  int loaded = cli_model_load("bake", bundle, &model, used, sizeof used);
+  int loaded = cli_model_load("bake", a.bundle, &model, used, sizeof used);
   if (loaded != CLI_EXIT_OK) return loaded;
   cli_inputs inputs;
   cli_inputs_init(&inputs);
-  cli_inputs_add_params(&inputs, &params);
+  cli_inputs_add_params(&inputs, &a.params);
   cli_inputs_add_model(&inputs, model);
   if (decoder) {
     /* The texture carries this decoder (format version 2). */
@@ -283,30 +335,30 @@ int cmd_bake(int argc, char **argv) {
   }
   /* The options against the model (a budget too small for the level and this decoder): a bad
    * option is a usage error, whereas nbrdf_bake's own failures are the inputs'. */
-  if (nbrdf_bake_options_check(model, &opts, &err) != NBRDF_OK) {
+  if (nbrdf_bake_options_check(model, &a.opts, &err) != NBRDF_OK) {
     nbrdf_model_destroy(model);
     cli_inputs_free(&inputs);
-    return cli_usage_error("bake", "%s%s", budget_given ? "--budget: " : "",
+    return cli_usage_error("bake", "%s%s", a.budget_given ? "--budget: " : "",
                            strncmp(err.message, "bake: ", 6) ? err.message : err.message + 6);
   }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", used);
 
-  cli_progress_start(&ps);
-  opts.progress = cli_progress;
-  opts.warning = on_warning;
-  opts.note = on_note;
-  opts.user = &ps;
-  opts.cancel = cli_cancel_flag();
+  cli_progress_start(&a.ps);
+  a.opts.progress = cli_progress;
+  a.opts.warning = on_warning;
+  a.opts.note = on_note;
+  a.opts.user = &a.ps;
+  a.opts.cancel = cli_cancel_flag();
   cli_cancel_watch();
   nbrdf_bake_report rep;
-  nbrdf_status st = nbrdf_bake(model, &params.in, &opts, out, &rep, &err);
+  nbrdf_status st = nbrdf_bake(model, &a.params.in, &a.opts, out, &rep, &err);
   cli_cancel_unwatch();
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) {
     cli_params_explain(&err);
-    if (ps.bar) fputc('\n', stderr);
-    if (ps.json) {
+    if (a.ps.bar) fputc('\n', stderr);
+    if (a.ps.json) {
       printf("{\"event\":\"error\",\"status\":\"%s\",\"message\":", nbrdf_status_name(st));
       json_string(err.message);
       printf("}\n");
@@ -315,46 +367,6 @@ int cmd_bake(int argc, char **argv) {
       return cli_fail("bake", "%s: cancelled; no file written", cli_cancel_reason());
     return cli_fail_error("bake", &err);
   }
-  if (ps.json) {
-    printf("{\"event\":\"done\",\"output\":");
-    json_string(out);
-    printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu", rep.width,
-           rep.height, rep.colour_channels, rep.evaluated);
-    printf(",\"device\":");
-    json_string(rep.device);
-    if (rep.accuracy != NBRDF_BAKE_FAST)
-      printf(",\"accuracy\":\"%s\",\"budget\":%g,\"distinct\":%zu,\"fitted_tuples\":%zu,"
-             "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",
-             nbrdf_bake_accuracy_name(rep.accuracy), rep.budget, rep.distinct, rep.fitted_tuples,
-             rep.heldout_tuples, rep.heldout_error, rep.heldout_error_fast);
-    if (rep.compact_dim)
-      printf(",\"compact\":%d,\"decoder_macs\":%lld,\"variance_kept\":%.5f", rep.compact_dim,
-             rep.decoder_macs, rep.compact_kept);
-    printf("}\n");
-  } else {
-    printf("wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated, %zu reused from earlier bands)\n", out,
-           rep.width, rep.height, rep.colour_channels == 3 ? "rgb" : "mono", rep.brdfs,
-           rep.evaluated, rep.reused);
-    if (rep.audited)
-      printf("energy audit: max decoded directional albedo %.4f over %zu distinct latents\n",
-             rep.max_albedo, rep.audited);
-    if (rep.accuracy != NBRDF_BAKE_FAST)
-      printf("accuracy %s (budget %g s): %zu of %zu distinct tuples fitted; lobe error on %zu "
-             "held-out tuples: median %.2f %% (fast: %.2f %%)\n",
-             nbrdf_bake_accuracy_name(rep.accuracy), rep.budget, rep.fitted_tuples, rep.distinct,
-             rep.heldout_tuples, 100.0 * rep.heldout_error, 100.0 * rep.heldout_error_fast);
-    if (rep.compact_dim)
-      printf("compact: %d latent channels per colour channel (%.2f %% of the scene's latent "
-             "variance), decoder %lld multiply-adds per query\n",
-             rep.compact_dim, 100.0 * rep.compact_kept, rep.decoder_macs);
-    /* Above fitted the texture does not carry --decoder itself: say what became of it. */
-    if (decoder && rep.compact_dim)
-      printf("decoder: %s, fine-tuned to the scene, taught the compact decoder the texture "
-             "carries\n",
-             decoder);
-    else if (decoder && rep.accuracy == NBRDF_BAKE_SPECIALISED)
-      printf("decoder: %s, fine-tuned to the scene, is the decoder the texture carries\n",
-             decoder);
-  }
+  print_report(&a, &rep);
   return CLI_EXIT_OK;
 }

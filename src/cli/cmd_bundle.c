@@ -8,6 +8,43 @@
 #include "cli/cli_outputs.h"
 #include "model/bundle.h"
 
+typedef struct bundle_args {
+  const char *dir, *name, *preset;
+  uint64_t seed;
+  int force;
+} bundle_args;
+
+static void bundle_options(bundle_args *a, cli_opt_visit visit, void *user) {
+  // clang-format off
+  const cli_opt init[] = {
+      {.type = CLI_OPT_STRING, .name = "--name", .meta = "NAME", .dest = &a->name,
+       .help = "model name (default: the folder's last component)"},
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->seed,
+       .help = "unsigned 64-bit seed (default 1); same seed, same bytes"},
+      {.type = CLI_OPT_STRING, .name = "--decoder", .meta = "PRESET",
+       .choices = "paper|large|medium|small", .dest = &a->preset,
+       .help = "paper (1.06 M MACs/query), large (103 k), medium (27 k),\n"
+               "small (5.3 k; default)"},
+      {.type = CLI_OPT_FLAG, .name = "--force", .dest = &a->force, .value = 1,
+       .help = "replace a bundle already in DIR (refused otherwise)"},
+      {0},
+  };
+  // clang-format on
+  const cli_opt info[] = {{0}};
+  visit(user, "init", init);
+  visit(user, "info", info);
+}
+
+static void bundle_args_init(bundle_args *a) {
+  a->dir = NULL, a->name = NULL, a->preset = "small", a->seed = 1, a->force = 0;
+}
+
+void cmd_bundle_options(cli_opt_visit visit, void *user) {
+  bundle_args a;
+  bundle_args_init(&a);
+  bundle_options(&a, visit, user);
+}
+
 void cmd_bundle_usage(FILE *out) {
   fprintf(out,
           "usage: nbrdf bundle init DIR [--name NAME] [--seed S] [--decoder PRESET] [--force]\n"
@@ -19,43 +56,34 @@ void cmd_bundle_usage(FILE *out) {
           "init  writes a complete bundle of RANDOMLY INITIALISED networks and base tables of\n"
           "      smooth random latents, marked untrained in model.json and the card: its BRDF\n"
           "      values mean nothing, but the bake, the evaluator, the Blender add-on and the\n"
-          "      shaders can be built and tested with it before training finishes.\n"
-          "      --name NAME       model name (default: the folder's last component)\n"
-          "      --seed S          unsigned 64-bit seed (default 1); same seed, same bytes\n"
-          "      --decoder PRESET  paper (1.06 M MACs/query), large (103 k), medium (27 k),\n"
-          "                        small (5.3 k; default)\n"
-          "      --force           replace a bundle already in DIR (refused otherwise)\n"
-          "info  loads and validates a bundle and prints its name, checksum, architecture,\n"
-          "      multiply-adds per query and base-table grids.\n"
-          "\n"
-          "exit status: 0 success, 1 failure (the message names the file), 2 bad usage\n");
+          "      shaders can be built and tested with it before training finishes.\n");
+  cmd_bundle_options(cli_options_help_visit, out);
+  fprintf(out, "info  loads and validates a bundle and prints its name, checksum, architecture,\n"
+               "      multiply-adds per query and base-table grids.\n"
+               "\n"
+               "exit status: 0 success, 1 failure (the message names the file), 2 bad usage\n");
+}
+
+/* Parses `bundle SUB ...` into `a`: CLI_OPTIONS_OK, CLI_OPTIONS_HELP (printed) or a usage
+ * error's status. */
+static int bundle_parse(const char *sub, int argc, char **argv, bundle_args *a) {
+  bundle_args_init(a);
+  cli_positionals pos = {&a->dir, 1, 0, "folder"};
+  cli_parse_call call = {"bundle", sub, argc, 2, argv, &pos, 0};
+  bundle_options(a, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) cmd_bundle_usage(stdout);
+  if (call.rc == CLI_OPTIONS_OK && !a->dir)
+    return cli_usage_error("bundle", "%s needs a folder", sub);
+  return call.rc;
 }
 
 static int bundle_init(int argc, char **argv) {
-  const char *dir = NULL, *name = NULL, *preset = "small";
-  uint64_t seed = 1;
-  int force = 0;
-  for (int i = 2; i < argc; i++) {
-    const char *a = argv[i];
-    if (!strcmp(a, "--name") && i + 1 < argc) {
-      name = argv[++i];
-    } else if (!strcmp(a, "--seed") && i + 1 < argc) {
-      if (!cli_parse_u64(argv[++i], &seed))
-        return cli_usage_error("bundle", "--seed needs an unsigned 64-bit integer, not '%s'",
-                               argv[i]);
-    } else if (!strcmp(a, "--decoder") && i + 1 < argc) {
-      preset = argv[++i];
-    } else if (!strcmp(a, "--force")) {
-      force = 1;
-    } else if (a[0] == '-') {
-      return cli_usage_error("bundle", "unknown option or missing value: '%s'", a);
-    } else if (!dir) {
-      dir = a;
-    } else {
-      return cli_usage_error("bundle", "init takes one folder, got '%s' and '%s'", dir, a);
-    }
-  }
-  if (!dir) return cli_usage_error("bundle", "init needs a folder");
+  bundle_args a;
+  int rc = bundle_parse("init", argc, argv, &a);
+  if (rc != CLI_OPTIONS_OK) return rc == CLI_OPTIONS_HELP ? CLI_EXIT_OK : rc;
+  const char *dir = a.dir, *name = a.name, *preset = a.preset;
+  uint64_t seed = a.seed;
+  int force = a.force;
   int known = 0;
   for (int p = 0; model_decoder_presets[p]; p++)
     known |= !strcmp(preset, model_decoder_presets[p]);
@@ -94,12 +122,13 @@ static int bundle_init(int argc, char **argv) {
 }
 
 static int bundle_info(int argc, char **argv) {
-  if (argc != 3 || argv[2][0] == '-')
-    return cli_usage_error("bundle", "info takes exactly one folder");
+  bundle_args a;
+  int rc = bundle_parse("info", argc, argv, &a);
+  if (rc != CLI_OPTIONS_OK) return rc == CLI_OPTIONS_HELP ? CLI_EXIT_OK : rc;
   nbrdf_error err = {0};
   nbrdf_model *m = NULL;
-  if (nbrdf_model_load(argv[2], &m, &err) != NBRDF_OK) return cli_fail_error("bundle", &err);
-  printf("bundle:    %s\n", argv[2]);
+  if (nbrdf_model_load(a.dir, &m, &err) != NBRDF_OK) return cli_fail_error("bundle", &err);
+  printf("bundle:    %s\n", a.dir);
   model_bundle_describe(m, stdout);
   nbrdf_model_destroy(m);
   return CLI_EXIT_OK;

@@ -9,37 +9,85 @@
 
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
-#include "cli/cli_progress.h"
 #include "cli/cli_outputs.h"
+#include "cli/cli_progress.h"
 #include "train/dataset.h"
 
+typedef struct dataset_args {
+  train_dataset_settings s;
+  const char *out, *check;
+  int have_kind, have_count, have_seed, have_sampled;
+  cli_progress_state prog;
+} dataset_args;
+
+static void dataset_options(dataset_args *a, cli_opt_visit visit, void *user) {
+  static const int kinds[] = {TRAIN_CONDUCTOR, TRAIN_DIELECTRIC, TRAIN_SINGLE, TRAIN_LAYERED2,
+                              TRAIN_LAYERED3};
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_PATH, .name = "--out", .meta = "FILE", .dest = &a->out,
+       .help = "the data set to write, or resume"},
+      {.type = CLI_OPT_ENUM, .name = "--kind", .meta = "KIND",
+       .choices = "conductor|dielectric|single|layered2|layered3", .values = kinds,
+       .dest = &a->s.kind, .seen = &a->have_kind,
+       .help = "conductor, dielectric, single (half each), layered2, layered3"},
+      {.type = CLI_OPT_U64, .name = "--count", .meta = "N", .lo = 1, .dest = &a->s.count,
+       .seen = &a->have_count, .help = "BRDFs to draw"},
+      {.type = CLI_OPT_ENUM, .name = "--draws", .meta = "D", .choices = "table2|coverage",
+       .dest = &a->s.draws,
+       .help = "table2 (default): the paper's Table 2; coverage: more low-IOR\n"
+               "coats (eta = 1 5 %, eta in [1, 1.2] 20 %) and sharp coats\n"
+               "(alpha <= 0.03 15 %) (docs/DATASET.md)"},
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->s.seed,
+       .seen = &a->have_seed,
+       .help = "unsigned 64-bit seed (held-out sets use another seed family)"},
+      {.type = CLI_OPT_INT, .name = "--incident", .meta = "K", .lo = 1, .hi = 4096,
+       .dest = &a->s.incident,
+       .help = "incident directions per BRDF, θi stratified over [0, 89°) (8)"},
+      {.type = CLI_OPT_INT, .name = "--outgoing", .meta = "M", .lo = 1, .hi = 65536,
+       .dest = &a->s.outgoing, .help = "outgoing directions per incident direction (128)"},
+      {.type = CLI_OPT_INT, .name = "--sampled", .meta = "S", .lo = 0, .hi = 65536,
+       .dest = &a->s.sampled, .seen = &a->have_sampled,
+       .help = "of which importance-sampled from the BRDF (default M/2)"},
+      {.type = CLI_OPT_INT, .name = "--spp", .meta = "N", .lo = 2, .hi = 1 << 30, .dest = &a->s.spp,
+       .help = "layered: whole-lobe random walks per incident direction (2048)"},
+      {.type = CLI_OPT_INT, .name = "--threads", .meta = "T", .lo = 0, .hi = 4096,
+       .dest = &a->s.threads, .help = "0 = all cores (default)"},
+      CLI_PROGRESS_OPTION(&a->prog, "progress as JSON lines on stdout instead of text on stderr"),
+      {.type = CLI_OPT_PATH, .name = "--check", .meta = "FILE", .dest = &a->check,
+       .help = "validate FILE (checksums, parameters, samples); print a summary"},
+      {0},
+  };
+  // clang-format on
+  visit(user, NULL, t);
+}
+
+static void dataset_args_init(dataset_args *a) {
+  memset(a, 0, sizeof *a);
+  a->s = (train_dataset_settings)TRAIN_DATASET_SETTINGS_DEFAULT;
+  a->prog = cli_progress_init(CLI_PROGRESS_RATE, "BRDFs");
+}
+
+void cmd_dataset_options(cli_opt_visit visit, void *user) {
+  dataset_args a;
+  dataset_args_init(&a);
+  dataset_options(&a, visit, user);
+}
+
 void cmd_dataset_usage(FILE *out) {
-  fprintf(out,
-          "usage: nbrdf dataset --out FILE --kind KIND --count N --seed S [--incident K]\n"
-          "                     [--outgoing M] [--sampled S] [--spp N] [--threads T]\n"
-          "                     [--draws table2|coverage]\n"
-          "                     [--progress=json]\n"
-          "       nbrdf dataset --check FILE\n"
-          "\n"
-          "Writes ground-truth training data for BRDFs drawn from the paper's Table 2\n"
-          "(docs/DATASET.md). The output depends only on the settings, never on --threads.\n"
-          "An existing FILE with the same settings is resumed (Ctrl-C stops cleanly; run\n"
-          "the same command again to continue).\n"
-          "\n"
-          "options:\n"
-          "  --kind KIND      conductor, dielectric, single (half each), layered2, layered3\n"
-          "  --count N        BRDFs to draw\n"
-          "  --draws D        table2 (default): the paper's Table 2; coverage: more low-IOR\n"
-          "                   coats (eta = 1 5 %%, eta in [1, 1.2] 20 %%) and sharp coats\n"
-          "                   (alpha <= 0.03 15 %%) (docs/DATASET.md)\n"
-          "  --seed S         unsigned 64-bit seed (held-out sets use another seed family)\n"
-          "  --incident K     incident directions per BRDF, θi stratified over [0, 89°) (8)\n"
-          "  --outgoing M     outgoing directions per incident direction (128)\n"
-          "  --sampled S      of which importance-sampled from the BRDF (default M/2)\n"
-          "  --spp N          layered: whole-lobe random walks per incident direction (2048)\n"
-          "  --threads T      0 = all cores (default)\n"
-          "  --progress=json  progress as JSON lines on stdout instead of text on stderr\n"
-          "  --check FILE     validate FILE (checksums, parameters, samples); print a summary\n");
+  fprintf(out, "usage: nbrdf dataset --out FILE --kind KIND --count N --seed S [--incident K]\n"
+               "                     [--outgoing M] [--sampled S] [--spp N] [--threads T]\n"
+               "                     [--draws table2|coverage]\n"
+               "                     [--progress=json]\n"
+               "       nbrdf dataset --check FILE\n"
+               "\n"
+               "Writes ground-truth training data for BRDFs drawn from the paper's Table 2\n"
+               "(docs/DATASET.md). The output depends only on the settings, never on --threads.\n"
+               "An existing FILE with the same settings is resumed (Ctrl-C stops cleanly; run\n"
+               "the same command again to continue).\n"
+               "\n"
+               "options:\n");
+  cmd_dataset_options(cli_options_help_visit, out);
 }
 
 typedef struct check_stats {
@@ -84,74 +132,26 @@ static int run_check(const char *path) {
 }
 
 int cmd_dataset(int argc, char **argv) {
-  train_dataset_settings s = TRAIN_DATASET_SETTINGS_DEFAULT;
-  const char *out = NULL, *check = NULL;
-  int have_kind = 0, have_count = 0, have_seed = 0, have_sampled = 0;
-  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_RATE, "BRDFs");
-  for (int i = 1; i < argc; i++) {
-    const char *v;
-    long n;
-    if ((v = cli_option_value(argc, argv, &i, "--out"))) {
-      out = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--check"))) {
-      check = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--kind"))) {
-      int k = train_kind_parse(v);
-      if (k < 0)
-        return cli_usage_error("dataset",
-                               "unknown kind '%s' (expected conductor, dielectric, "
-                               "single, layered2 or layered3)",
-                               v);
-      s.kind = (train_kind)k, have_kind = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--draws"))) {
-      int d = train_draws_parse(v);
-      if (d < 0)
-        return cli_usage_error("dataset", "unknown --draws '%s' (expected table2 or coverage)", v);
-      s.draws = (train_draws)d;
-    } else if ((v = cli_option_value(argc, argv, &i, "--count"))) {
-      if (!cli_parse_u64(v, &s.count) || s.count < 1)
-        return cli_usage_error("dataset", "--count '%s' is not a positive integer", v);
-      have_count = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
-      if (!cli_parse_u64(v, &s.seed))
-        return cli_usage_error("dataset", "--seed '%s' is not an unsigned 64-bit integer", v);
-      have_seed = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--incident"))) {
-      if (!cli_parse_int(v, 1, 4096, &n))
-        return cli_usage_error("dataset", "--incident '%s' is not an integer in [1, 4096]", v);
-      s.incident = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--outgoing"))) {
-      if (!cli_parse_int(v, 1, 65536, &n))
-        return cli_usage_error("dataset", "--outgoing '%s' is not an integer in [1, 65536]", v);
-      s.outgoing = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--sampled"))) {
-      if (!cli_parse_int(v, 0, 65536, &n))
-        return cli_usage_error("dataset", "--sampled '%s' is not an integer in [0, 65536]", v);
-      s.sampled = (int)n, have_sampled = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
-      if (!cli_parse_int(v, 2, 1L << 30, &n))
-        return cli_usage_error("dataset", "--spp '%s' is not an integer in [2, 2^30]", v);
-      s.spp = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--threads"))) {
-      if (!cli_parse_int(v, 0, 4096, &n))
-        return cli_usage_error("dataset", "--threads '%s' is not an integer in [0, 4096]", v);
-      s.threads = (int)n;
-    } else if (cli_progress_flag(argv[i], &prog)) {
-    } else if (cli_is_help(argv[i])) {
-      cmd_dataset_usage(stdout);
-      return CLI_EXIT_OK;
-    } else {
-      return cli_usage_error("dataset", "unexpected argument '%s'", argv[i]);
-    }
+  dataset_args a;
+  dataset_args_init(&a);
+  cli_parse_call call = {"dataset", NULL, argc, 1, argv, NULL, 0};
+  dataset_options(&a, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) {
+    cmd_dataset_usage(stdout);
+    return CLI_EXIT_OK;
   }
+  if (call.rc != CLI_OPTIONS_OK) return call.rc;
+  train_dataset_settings s = a.s;
+  const char *out = a.out, *check = a.check;
+  cli_progress_state prog = a.prog;
   if (check) {
     if (out) return cli_usage_error("dataset", "--check and --out exclude each other");
     return run_check(check);
   }
   if (!out || !*out) return cli_usage_error("dataset", "--out is required (or --check FILE)");
-  if (!have_kind || !have_count || !have_seed)
+  if (!a.have_kind || !a.have_count || !a.have_seed)
     return cli_usage_error("dataset", "--kind, --count and --seed are required");
-  if (!have_sampled) s.sampled = s.outgoing / 2;
+  if (!a.have_sampled) s.sampled = s.outgoing / 2;
   if (s.sampled > s.outgoing)
     return cli_usage_error("dataset", "--sampled %d exceeds --outgoing %d", s.sampled, s.outgoing);
   cli_inputs none; /* generated, nothing read; the output is still checked */

@@ -12,23 +12,19 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
-#include "cli/eval_neural.h"
 #include "cli/cli_device.h"
+#include "cli/eval_neural.h"
 #include "cli/eval_texture.h"
 #include "core/csv.h"
+#include "core/csv_columns.h"
 #include "core/input_file.h"
-#include "core/number.h"
 #include "core/vec3.h"
 #include "model/material.h"
 #include "nbrdf/brdf.h"
 
 enum { MAX_PARAMS = 6, N_ANGLES = 4, MAX_COLUMNS = MAX_PARAMS + N_ANGLES };
 
-typedef struct column_spec {
-  const char *name;
-  double lo, hi;
-  int hi_open; /* θ = 90° is excluded: the direction would lie in the surface */
-} column_spec;
+typedef core_csv_column column_spec;
 
 typedef struct model_spec {
   const char *name;
@@ -62,41 +58,106 @@ static const model_spec MODELS[] = {
 static const column_spec ANGLES[N_ANGLES] = {
     {"theta_i", 0, 90, 1}, {"phi_i", -360, 360, 0}, {"theta_o", 0, 90, 1}, {"phi_o", -360, 360, 0}};
 
+typedef struct eval_args {
+  const model_spec *model;
+  nbrdf_eval_options options;
+  cli_eval_neural_options neural;
+  int neural_option;                /* an option of the neural models was given */
+  cli_eval_texture_options texture; /* texture.texture != NULL: --texture mode */
+  int level_given, model_option, device_given;
+  const char *in; /* --in FILE, else stdin */
+  int model_k;    /* index into MODELS, -1: none */
+  int seen_bundle, seen_roughness, seen_range, seen_spp, seen_threads, seen_seed;
+} eval_args;
+
+static int read_level(const char *cmd, const cli_opt *o, const char *v) {
+  cli_eval_texture_options *t = o->dest;
+  uint64_t level;
+  if (!cli_parse_index(v, &level))
+    return cli_opt_bad(cmd, o->name, "a mip level (an integer, 0 the full size)", v);
+  /* Which levels exist is the texture's to say, whatever the number's size. */
+  t->level = level > INT_MAX ? INT_MAX : (int)level;
+  t->level_text = v;
+  return 0;
+}
+
+static void eval_options(eval_args *a, cli_opt_visit visit, void *user) {
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_ENUM, .name = "--model", .meta = "M",
+       .choices = "layered|conductor|dielectric|neural|neural-conductor|neural-dielectric",
+       .dest = &a->model_k,
+       .help = "layered, conductor, dielectric (ground truth) or neural,\n"
+               "neural-conductor, neural-dielectric (a bundle) (required)"},
+      {.type = CLI_OPT_INT, .name = "--spp", .meta = "N", .lo = 1, .hi = 1e9,
+       .dest = &a->options.spp, .seen = &a->seen_spp,
+       .help = "random walks per query for stochastic models (default\n"
+               "1024); ignored by the analytic models"},
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->options.seed,
+       .seen = &a->seen_seed, .help = "base seed, an unsigned 64-bit integer (default 0)"},
+      {.type = CLI_OPT_INT, .name = "--threads", .meta = "T", .lo = 0, .hi = 4096,
+       .dest = &a->options.threads, .seen = &a->seen_threads,
+       .help = "worker threads; 0 = all cores (default 0)"},
+      {.type = CLI_OPT_PATH, .name = "--bundle", .meta = "DIR", .dest = &a->neural.bundle,
+       .seen = &a->seen_bundle,
+       .help = "neural models and --texture: the bundle (default: the\n"
+               "default bundle, see 'nbrdf --version')"},
+      {.type = CLI_OPT_ENUM, .name = "--roughness", .choices = "alpha|perceptual",
+       .dest = &a->neural.roughness, .seen = &a->seen_roughness,
+       .help = "neural models only: as for 'nbrdf bake' (default alpha)"},
+      {.type = CLI_OPT_ENUM, .name = "--range", .choices = "clamp|refuse", .dest = &a->neural.range,
+       .seen = &a->seen_range, .help = "neural models only: as for 'nbrdf bake' (default clamp)"},
+      {.type = CLI_OPT_PATH, .name = "--texture", .meta = "FILE", .dest = &a->texture.texture,
+       .help = "a latent texture baked with the bundle (--bundle DIR, as for\n"
+               "the neural models): decoded as a renderer decodes it, with the\n"
+               "texture's own decoder when it carries one (format version 2,\n"
+               "docs/LATENT-TEXTURE.md), else the bundle's"},
+      {.type = CLI_OPT_CUSTOM, .name = "--level", .meta = "K", .dest = &a->texture,
+       .seen = &a->level_given, .parse = read_level,
+       .help = "--texture: the mip level to fetch from (default 0)"},
+      {.type = CLI_OPT_ENUM, .name = "--device", .dest = &a->texture.device,
+       .choices = "auto|cpu|gpu", .values = cli_device_values, .seen = &a->device_given,
+       .help = "--texture: the decoder's device (default $NBRDF_DEVICE,\n"
+               "else auto: a GPU where Vulkan has one, else the CPU with a note;\n"
+               "docs/GPU.md)"},
+      {.type = CLI_OPT_PATH, .name = "--in", .meta = "FILE", .dest = &a->in,
+       .help = "read the CSV from FILE instead of stdin"},
+      {0},
+  };
+  // clang-format on
+  visit(user, NULL, t);
+}
+
+static void eval_args_init(eval_args *a) {
+  memset(a, 0, sizeof *a);
+  a->model_k = -1;
+  a->neural = (cli_eval_neural_options){NULL, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP};
+  a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
+  a->texture = (cli_eval_texture_options){NULL, NULL, 0, NULL, NBRDF_DEVICE_AUTO, "stdin"};
+}
+
+void cmd_eval_options(cli_opt_visit visit, void *user) {
+  eval_args a;
+  eval_args_init(&a);
+  eval_options(&a, visit, user);
+}
+
 void cmd_eval_usage(FILE *out) {
+  fprintf(out, "usage: nbrdf eval --model layered|conductor|dielectric [--spp N] "
+               "[--seed S] [--threads T]\n"
+               "       nbrdf eval --model neural|neural-conductor|neural-dielectric "
+               "[--bundle DIR]\n"
+               "                  [--roughness alpha|perceptual] [--range clamp|refuse]\n"
+               "       nbrdf eval --texture FILE.exr [--level K] [--bundle DIR]\n"
+               "\n"
+               "Evaluates ground-truth or neural BRDF values, or a baked latent texture, at point\n"
+               "queries: reads CSV on stdin (or --in FILE), writes CSV on stdout. A line holds at\n"
+               "most 65536 bytes; values are decimal numbers (white space around them allowed;\n"
+               "no hex, inf or nan).\n"
+               "\n"
+               "options:\n");
+  cmd_eval_options(cli_options_help_visit, out);
   fprintf(out,
-          "usage: nbrdf eval --model layered|conductor|dielectric [--spp N] "
-          "[--seed S] [--threads T]\n"
-          "       nbrdf eval --model neural|neural-conductor|neural-dielectric "
-          "[--bundle DIR]\n"
-          "                  [--roughness alpha|perceptual] [--range clamp|refuse]\n"
-          "       nbrdf eval --texture FILE.exr [--level K] [--bundle DIR]\n"
-          "\n"
-          "Evaluates ground-truth or neural BRDF values, or a baked latent texture, at point\n"
-          "queries: reads CSV on stdin (or --in FILE), writes CSV on stdout. A line holds at\n"
-          "most 65536 bytes; values are decimal numbers (white space around them allowed;\n"
-          "no hex, inf or nan).\n"
-          "\n"
-          "options:\n"
-          "  --model M    layered, conductor, dielectric (ground truth) or neural,\n"
-          "               neural-conductor, neural-dielectric (a bundle) (required)\n"
-          "  --spp N      random walks per query for stochastic models (default "
-          "1024, 1..1e9);\n"
-          "               ignored by the analytic models\n"
-          "  --seed S     base seed, an unsigned 64-bit integer (default 0)\n"
-          "  --threads T  worker threads; 0 = all cores (default 0)\n"
-          "  --bundle DIR, --roughness alpha|perceptual, --range clamp|refuse\n"
-          "               neural models only: the bundle and the options of 'nbrdf bake'\n"
-          "               (defaults: the default bundle (see 'nbrdf --version'), alpha,\n"
-          "               clamp)\n"
-          "  --texture FILE  a latent texture baked with the bundle (--bundle DIR, as for\n"
-          "               the neural models): decoded as a renderer decodes it, with the\n"
-          "               texture's own decoder when it carries one (format version 2,\n"
-          "               docs/LATENT-TEXTURE.md), else the bundle's\n"
-          "  --level K    --texture: the mip level to fetch from (default 0)\n"
-          "  --device auto|cpu|gpu  --texture: the decoder's device (default $NBRDF_DEVICE,\n"
-          "               else auto: a GPU where Vulkan has one, else the CPU with a note;\n"
-          "               docs/GPU.md)\n"
-          "  --in FILE    read the CSV from FILE instead of stdin\n"
           "\n"
           "input: a header row naming the columns, then one query per row. Columns "
           "may come in\n"
@@ -176,7 +237,7 @@ void cmd_eval_usage(FILE *out) {
           "\n"
           "exit status: 0 success; 1 bad input (the message names the line and "
           "column, e.g.\n"
-          "\"line 7, column 'eta': 'abc' is not a number\"); 2 bad usage.\n"
+          "\"stdin:7: column 'eta' expects a number in [1, 4], got 'abc'\"); 2 bad usage.\n"
           "\n"
           "example:\n"
           "  printf 'alpha,r0,theta_i,phi_i,theta_o,phi_o\\n0.5,1,0,0,0,0\\n' |\n"
@@ -187,97 +248,21 @@ void cmd_eval_usage(FILE *out) {
           NBRDF_GT_SIGMA_T_MAX);
 }
 
-typedef struct eval_args {
-  const model_spec *model;
-  nbrdf_eval_options options;
-  cli_eval_neural_options neural;
-  int neural_option; /* an option of the neural models was given */
-  cli_eval_texture_options texture; /* texture.texture != NULL: --texture mode */
-  int level_given, model_option, device_given;
-  const char *in; /* --in FILE, else stdin */
-} eval_args;
-
 static int parse_args(int argc, char **argv, eval_args *a) {
-  a->model = NULL;
-  a->neural = (cli_eval_neural_options){NULL, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP};
-  a->neural_option = 0;
-  a->options = (nbrdf_eval_options)NBRDF_EVAL_OPTIONS_DEFAULT;
-  a->texture = (cli_eval_texture_options){NULL, NULL, 0, NULL, NBRDF_DEVICE_AUTO};
-  a->level_given = a->model_option = a->device_given = 0;
+  eval_args_init(a);
   if (cli_device_default("eval", &a->texture.device) < 0) return CLI_EXIT_USAGE;
-  a->in = NULL;
-  for (int i = 1; i < argc; i++) {
-    const char *v;
-    long n;
-    int dev = cli_device_option("eval", argc, argv, &i, &a->texture.device);
-    if (dev < 0) return CLI_EXIT_USAGE;
-    if (dev) {
-      a->device_given = 1;
-      continue;
-    }
-    if ((v = cli_option_value(argc, argv, &i, "--model"))) {
-      for (size_t m = 0; m < sizeof MODELS / sizeof MODELS[0]; m++)
-        if (!strcmp(v, MODELS[m].name)) a->model = &MODELS[m];
-      if (!a->model)
-        return cli_usage_error("eval",
-                               "unknown model '%s' (expected layered, conductor, "
-                               "dielectric, neural, neural-conductor or neural-dielectric)",
-                               v);
-    } else if ((v = cli_option_value(argc, argv, &i, "--texture"))) {
-      if (!*v) return cli_usage_error("eval", "--texture needs a file");
-      a->texture.texture = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--level"))) {
-      uint64_t level;
-      if (!cli_parse_index(v, &level))
-        return cli_usage_error("eval", "--level is a mip level (an integer, 0 the full size), "
-                                       "not '%s'",
-                               v);
-      /* Which levels exist is the texture's to say, whatever the number's size. */
-      a->texture.level = level > INT_MAX ? INT_MAX : (int)level;
-      a->texture.level_text = v;
-      a->level_given = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--in"))) {
-      if (!*v) return cli_usage_error("eval", "--in needs a file");
-      a->in = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--bundle"))) {
-      a->neural.bundle = a->texture.bundle = v;
-      a->neural_option = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--roughness"))) {
-      int convention = model_roughness_parse(v);
-      if (convention < 0)
-        return cli_usage_error("eval", "--roughness is 'alpha' or 'perceptual', not '%s'", v);
-      a->neural.roughness = (nbrdf_roughness)convention;
-      a->neural_option = a->model_option = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--range"))) {
-      if (strcmp(v, "clamp") && strcmp(v, "refuse"))
-        return cli_usage_error("eval", "--range is 'clamp' or 'refuse', not '%s'", v);
-      a->neural.range = !strcmp(v, "clamp") ? NBRDF_RANGE_CLAMP : NBRDF_RANGE_REFUSE;
-      a->neural_option = a->model_option = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
-      if (!cli_parse_int(v, 1, 1000000000L, &n))
-        return cli_usage_error("eval", "--spp '%s' is not an integer in [1, 1e9]", v);
-      a->options.spp = (int)n;
-      a->model_option = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--threads"))) {
-      if (!cli_parse_int(v, 0, 4096, &n))
-        return cli_usage_error("eval", "--threads '%s' is not an integer in [0, 4096]", v);
-      a->options.threads = (int)n;
-      a->model_option = 1;
-    } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
-      char *end;
-      errno = 0;
-      unsigned long long s = strtoull(v, &end, 10);
-      if (!isdigit((unsigned char)v[0]) || *end || errno == ERANGE)
-        return cli_usage_error("eval", "--seed '%s' is not an unsigned 64-bit integer", v);
-      a->options.seed = (uint64_t)s;
-      a->model_option = 1;
-    } else if (cli_is_help(argv[i])) {
-      cmd_eval_usage(stdout);
-      return -1;
-    } else {
-      return cli_usage_error("eval", "unexpected argument '%s'", argv[i]);
-    }
+  cli_parse_call call = {"eval", NULL, argc, 1, argv, NULL, 0};
+  eval_options(a, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) {
+    cmd_eval_usage(stdout);
+    return -1;
   }
+  if (call.rc != CLI_OPTIONS_OK) return call.rc;
+  a->model = a->model_k >= 0 ? &MODELS[a->model_k] : NULL;
+  a->texture.bundle = a->neural.bundle;
+  a->neural_option = a->seen_bundle || a->seen_roughness || a->seen_range;
+  a->model_option =
+      a->seen_roughness || a->seen_range || a->seen_spp || a->seen_threads || a->seen_seed;
   if (a->texture.texture) {
     if (a->model || a->model_option)
       return cli_usage_error("eval",
@@ -294,77 +279,35 @@ static int parse_args(int argc, char **argv, eval_args *a) {
   return CLI_EXIT_OK;
 }
 
-/* A field's text made safe and short for an error message. */
-static const char *printable(const char *s, char *buf, size_t cap) {
-  size_t n = 0;
-  for (; *s && n + 4 < cap; s++)
-    buf[n++] = (*s >= 32 && *s < 127) ? *s : '?';
-  if (*s) buf[n++] = '.', buf[n++] = '.', buf[n++] = '.';
-  buf[n] = '\0';
-  return buf;
-}
-
 /* Columns of the model's parameters then the four angles, as header indices. */
 typedef struct layout {
+  const char *input; /* the CSV's name in messages: the --in FILE, or "stdin" */
   int n;
   const column_spec *spec[MAX_COLUMNS];
   size_t index[MAX_COLUMNS];
 } layout;
 
 static int find_columns(const core_csv_table *t, const model_spec *m, layout *lay) {
-  size_t width = core_csv_record_width(t, 0);
-  char name[64];
+  static const char *const reserved[] = {"f", "f_stderr", NULL};
   lay->n = m->n_params + N_ANGLES;
-  for (int c = 0; c < lay->n; c++) {
-    lay->spec[c] = c < m->n_params ? &m->params[c] : &ANGLES[c - m->n_params];
-    lay->index[c] = width;
-  }
-  for (size_t k = 0; k < width; k++) {
-    core_csv_value(t, 0, k, name, sizeof name);
-    if (!strcmp(name, "f") || !strcmp(name, "f_stderr"))
-      return cli_fail("eval", "line %zu: the input already has a column '%s'", t->line[0], name);
-    for (int c = 0; c < lay->n; c++) {
-      if (strcmp(name, lay->spec[c]->name)) continue;
-      if (lay->index[c] != width)
-        return cli_fail("eval", "line %zu: column '%s' appears twice", t->line[0], name);
-      lay->index[c] = k;
-    }
-  }
   for (int c = 0; c < lay->n; c++)
-    if (lay->index[c] == width) {
-      char needs[128] = "";
-      for (int p = 0; p < m->n_params; p++)
-        snprintf(needs + strlen(needs), sizeof needs - strlen(needs), "%s%s", p ? "," : "",
-                 m->params[p].name);
-      return cli_fail("eval", "missing column '%s' (model %s needs %s and the angles)",
-                      lay->spec[c]->name, m->name, needs);
-    }
+    lay->spec[c] = c < m->n_params ? &m->params[c] : &ANGLES[c - m->n_params];
+  char needs[160];
+  int k = snprintf(needs, sizeof needs, "model %s needs ", m->name);
+  for (int p = 0; p < m->n_params; p++)
+    k += snprintf(needs + k, sizeof needs - (size_t)k, "%s%s", p ? "," : "", m->params[p].name);
+  snprintf(needs + k, sizeof needs - (size_t)k, " and the angles");
+  nbrdf_error err = {0};
+  if (core_csv_columns_find(t, lay->input, lay->spec, lay->n, reserved, needs, lay->index, &err))
+    return cli_fail_error("eval", &err);
   return CLI_EXIT_OK;
 }
 
 /* Parses and range-checks the model's columns of one row into v[]. */
 static int parse_row(const core_csv_table *t, size_t r, const layout *lay, double *v) {
-  size_t width = core_csv_record_width(t, r), want = core_csv_record_width(t, 0);
-  if (width != want)
-    return cli_fail("eval", "line %zu: %zu fields, but the header has %zu columns", t->line[r],
-                    width, want);
-  char buf[128], shown[64];
-  for (int c = 0; c < lay->n; c++) {
-    const column_spec *s = lay->spec[c];
-    size_t len = core_csv_value(t, r, lay->index[c], buf, sizeof buf);
-    if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
-    double x = 0;
-    core_number_result nr = len < sizeof buf && strlen(buf) == len ? core_parse_number(buf, len, &x)
-                                                                   : NBRDF_NUMBER_SYNTAX;
-    if (nr != NBRDF_NUMBER_OK)
-      return cli_fail("eval", "line %zu, column '%s': '%s' %s", t->line[r], s->name,
-                      printable(buf, shown, sizeof shown), core_number_problem(nr));
-    if (x < s->lo || x > s->hi || (s->hi_open && x == s->hi))
-      return cli_fail("eval", "line %zu, column '%s': %s is outside %c%g, %g%c", t->line[r],
-                      s->name, printable(buf, shown, sizeof shown), '[', s->lo, s->hi,
-                      s->hi_open ? ')' : ']');
-    v[c] = x;
-  }
+  nbrdf_error err = {0};
+  if (core_csv_columns_read(t, lay->input, r, lay->spec, lay->index, lay->n, v, &err))
+    return cli_fail_error("eval", &err);
   return CLI_EXIT_OK;
 }
 
@@ -450,8 +393,7 @@ static int read_input(const char *path, core_csv_table *t) {
   FILE *in = stdin;
   if (path) {
     int fd = -1;
-    if (core_input_open_stream(path, &fd, &err) != NBRDF_OK)
-      return cli_fail_error("eval", &err);
+    if (core_input_open_stream(path, &fd, &err) != NBRDF_OK) return cli_fail_error("eval", &err);
     in = fdopen(fd, "rb");
     if (!in) {
       close(fd);
@@ -482,11 +424,12 @@ int cmd_eval(int argc, char **argv) {
   if (a.texture.texture) {
     static char tbuf[1 << 16];
     setvbuf(stdout, tbuf, _IOFBF, sizeof tbuf);
+    a.texture.input = a.in ? a.in : "stdin";
     rc = cli_eval_texture(&a.texture, &t, stdout);
     core_csv_free(&t);
     return rc;
   }
-  layout lay;
+  layout lay = {a.in ? a.in : "stdin", 0, {NULL}, {0}};
   batch b = {0};
   rc = find_columns(&t, a.model, &lay);
   if (rc == CLI_EXIT_OK) rc = build_batch(&t, &a, &lay, &b);
@@ -496,10 +439,9 @@ int cmd_eval(int argc, char **argv) {
       columns[p] = a.model->params[p].name;
     rc = cli_eval_neural(&a.neural, a.model->neural, b.n, b.params, columns, b.queries, t.line + 1,
                          b.f);
-  }
-  else if (rc == CLI_EXIT_OK && b.n > 0 &&
-           nbrdf_brdf_eval_many(b.n, b.brdfs, b.queries, &a.options, b.f, b.f_stderr, &err) !=
-               NBRDF_OK)
+  } else if (rc == CLI_EXIT_OK && b.n > 0 &&
+             nbrdf_brdf_eval_many(b.n, b.brdfs, b.queries, &a.options, b.f, b.f_stderr, &err) !=
+                 NBRDF_OK)
     rc = cli_fail_error("eval", &err);
   for (size_t k = 0; rc == CLI_EXIT_OK && k < b.n; k++)
     if (!isfinite(b.f[k]) || !isfinite(b.f_stderr[k]))

@@ -9,6 +9,54 @@
 #include "eval/evaluate.h"
 #include "model/bundle.h"
 
+typedef struct evaluate_args {
+  eval_settings s;
+  const char *bundle, *decoder, *sets, *json, *plots;
+  cli_progress_state prog;
+} evaluate_args;
+
+static void evaluate_options(evaluate_args *a, cli_opt_visit visit, void *user) {
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_PATH, .name = "--bundle", .meta = "DIR", .dest = &a->bundle,
+       .help = "the model bundle to evaluate"},
+      {.type = CLI_OPT_PATH, .name = "--decoder", .meta = "FILE", .dest = &a->decoder,
+       .help = "a decoder alone (sets rep and single)"},
+      {.type = CLI_OPT_STRING, .name = "--sets", .meta = "LIST", .dest = &a->sets,
+       .help = "held-out sets, comma-separated: rep, single, layer,\nlayer3, table"},
+      {.type = CLI_OPT_INT, .name = "--count", .meta = "N", .lo = 1, .hi = 100000,
+       .dest = &a->s.count, .help = "BRDFs per set (100)"},
+      {.type = CLI_OPT_INT, .name = "--walks", .meta = "N", .lo = 2, .hi = 1 << 30,
+       .dest = &a->s.walks, .help = "whole-lobe walks per reference image (16000)"},
+      {.type = CLI_OPT_INT, .name = "--noise-brdfs", .meta = "N", .lo = 0, .hi = 100000,
+       .dest = &a->s.noise_brdfs, .help = "BRDFs whose reference noise is reported (10)"},
+      {.type = CLI_OPT_INT, .name = "--steps", .meta = "N", .lo = 1, .hi = 1000000,
+       .dest = &a->s.project_steps, .help = "projection steps (1000)"},
+      {.type = CLI_OPT_PATH, .name = "--cache", .meta = "DIR", .dest = &a->s.cache_dir,
+       .help = "keeps references between runs"},
+      {.type = CLI_OPT_PATH, .name = "--json", .meta = "FILE", .dest = &a->json,
+       .help = "the figures as JSON"},
+      {.type = CLI_OPT_PATH, .name = "--plots", .meta = "DIR", .dest = &a->plots,
+       .help = "lobe images of the worst BRDFs"},
+      CLI_PROGRESS_OPTION(&a->prog, "progress as JSON lines on stdout"),
+      {0},
+  };
+  // clang-format on
+  visit(user, NULL, t);
+}
+
+static void evaluate_args_init(evaluate_args *a) {
+  memset(a, 0, sizeof *a);
+  a->s = (eval_settings)EVAL_SETTINGS_DEFAULT;
+  a->prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
+}
+
+void cmd_evaluate_options(cli_opt_visit visit, void *user) {
+  evaluate_args a;
+  evaluate_args_init(&a);
+  evaluate_options(&a, visit, user);
+}
+
 void cmd_evaluate_usage(FILE *out) {
   fprintf(out,
           "usage: nbrdf evaluate (--bundle DIR | --decoder FILE) [--sets rep,single,layer,...]\n"
@@ -28,51 +76,25 @@ void cmd_evaluate_usage(FILE *out) {
           "89 deg, and the decoded directional albedo there (importance-sampled) against the\n"
           "ground truth's: the largest, and the largest excess.\n"
           "Defaults: --sets rep,single (plus layer,layer3,table with a bundle), --count 100,\n"
-          "--steps 1000 projection steps.\n");
+          "--steps 1000 projection steps.\n"
+          "\n");
+  cmd_evaluate_options(cli_options_help_visit, out);
 }
 
 int cmd_evaluate(int argc, char **argv) {
-  eval_settings s = EVAL_SETTINGS_DEFAULT;
-  const char *bundle = NULL, *decoder = NULL, *sets = NULL, *json = NULL, *plots = NULL;
-  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
-  for (int i = 1; i < argc; i++) {
-    const char *v;
-    long n;
-    if ((v = cli_option_value(argc, argv, &i, "--bundle")))
-      bundle = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--decoder")))
-      decoder = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--sets")))
-      sets = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--json")))
-      json = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--plots")))
-      plots = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--cache")))
-      s.cache_dir = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--count"))) {
-      if (!cli_parse_int(v, 1, 100000, &n))
-        return cli_usage_error("evaluate", "--count '%s': expected 1..100000", v);
-      s.count = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--walks"))) {
-      if (!cli_parse_int(v, 2, 1L << 30, &n))
-        return cli_usage_error("evaluate", "--walks '%s': expected 2..2^30", v);
-      s.walks = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--noise-brdfs"))) {
-      if (!cli_parse_int(v, 0, 100000, &n))
-        return cli_usage_error("evaluate", "--noise-brdfs '%s': expected 0..100000", v);
-      s.noise_brdfs = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--steps"))) {
-      if (!cli_parse_int(v, 1, 1000000, &n))
-        return cli_usage_error("evaluate", "--steps '%s': expected 1..1000000", v);
-      s.project_steps = (int)n;
-    } else if (cli_progress_flag(argv[i], &prog)) {
-    } else if (cli_is_help(argv[i])) {
-      cmd_evaluate_usage(stdout);
-      return CLI_EXIT_OK;
-    } else
-      return cli_usage_error("evaluate", "unexpected argument '%s'", argv[i]);
+  evaluate_args a;
+  evaluate_args_init(&a);
+  cli_parse_call call = {"evaluate", NULL, argc, 1, argv, NULL, 0};
+  evaluate_options(&a, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) {
+    cmd_evaluate_usage(stdout);
+    return CLI_EXIT_OK;
   }
+  if (call.rc != CLI_OPTIONS_OK) return call.rc;
+  eval_settings s = a.s;
+  const char *bundle = a.bundle, *decoder = a.decoder, *sets = a.sets, *json = a.json,
+             *plots = a.plots;
+  cli_progress_state prog = a.prog;
   if (!bundle == !decoder) return cli_usage_error("evaluate", "give --bundle or --decoder");
   nbrdf_error err = {0};
   nbrdf_model *model = NULL;

@@ -6,44 +6,59 @@
 #include "cli/cli.h"
 #include "texture/latent_exr.h"
 
+typedef struct info_args {
+  const char *path;
+  int header_only;
+} info_args;
+
+static void info_options(info_args *a, cli_opt_visit visit, void *user) {
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_FLAG, .name = "--header-only", .dest = &a->header_only, .value = 1,
+       .help = "read the header only (instant; a truncated or damaged tile\n"
+               "goes unnoticed)"},
+      {0},
+  };
+  // clang-format on
+  visit(user, NULL, t);
+}
+
+void cmd_info_options(cli_opt_visit visit, void *user) {
+  info_args a = {NULL, 0};
+  info_options(&a, visit, user);
+}
+
 void cmd_info_usage(FILE *out) {
-  fprintf(out,
-          "usage: nbrdf info [--header-only] TEXTURE.exr\n"
-          "\n"
-          "Prints a latent texture's size, mip levels, channels, colour mode, storage,\n"
-          "compression, the model that baked it (name and checksum), its parameter\n"
-          "sources and bake settings, and its decoder: 'own' when the texture carries\n"
-          "one (format version 2, with its size and checksum), else 'bundle'\n"
-          "(docs/LATENT-TEXTURE.md). Then checks the whole file: an own decoder must\n"
-          "parse and fit the latents, and every tile of every level is read and\n"
-          "decoded and every value must be finite\n"
-          "(about 0.4 s of CPU for a 1024 x 1024 half texture; docs/LATENT-TEXTURE.md).\n"
-          "\n"
-          "  --header-only   read the header only (instant; a truncated or damaged tile\n"
-          "                  goes unnoticed)\n"
-          "\n"
-          "exit status: 0 success, 1 failure (unreadable, truncated, damaged or not a latent\n"
-          "texture; the message names the file, and the level and tile of a damaged one),\n"
-          "2 bad usage\n");
+  fprintf(out, "usage: nbrdf info [--header-only] TEXTURE.exr\n"
+               "\n"
+               "Prints a latent texture's size, mip levels, channels, colour mode, storage,\n"
+               "compression, the model that baked it (name and checksum), its parameter\n"
+               "sources and bake settings, and its decoder: 'own' when the texture carries\n"
+               "one (format version 2, with its size and checksum), else 'bundle'\n"
+               "(docs/LATENT-TEXTURE.md). Then checks the whole file: an own decoder must\n"
+               "parse and fit the latents, and every tile of every level is read and\n"
+               "decoded and every value must be finite\n"
+               "(about 0.4 s of CPU for a 1024 x 1024 half texture; docs/LATENT-TEXTURE.md).\n"
+               "\n");
+  cmd_info_options(cli_options_help_visit, out);
+  fprintf(out, "\n"
+               "exit status: 0 success, 1 failure (unreadable, truncated, damaged or not a latent\n"
+               "texture; the message names the file, and the level and tile of a damaged one),\n"
+               "2 bad usage\n");
 }
 
 int cmd_info(int argc, char **argv) {
-  const char *path = NULL;
-  int header_only = 0;
-  for (int i = 1; i < argc; i++) {
-    if (cli_is_help(argv[i])) {
-      cmd_info_usage(stdout);
-      return CLI_EXIT_OK;
-    } else if (!strcmp(argv[i], "--header-only")) {
-      header_only = 1;
-      continue;
-    } else if (argv[i][0] == '-') {
-      return cli_usage_error("info", "unknown option '%s'", argv[i]);
-    } else if (path) {
-      return cli_usage_error("info", "one texture at a time, got '%s' and '%s'", path, argv[i]);
-    }
-    path = argv[i];
+  info_args a = {NULL, 0};
+  cli_positionals pos = {&a.path, 1, 0, "texture"};
+  cli_parse_call call = {"info", NULL, argc, 1, argv, &pos, 0};
+  info_options(&a, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) {
+    cmd_info_usage(stdout);
+    return CLI_EXIT_OK;
   }
+  if (call.rc != CLI_OPTIONS_OK) return call.rc;
+  const char *path = a.path;
+  int header_only = a.header_only;
   if (!path) return cli_usage_error("info", "needs a texture file");
   nbrdf_error err = {0};
   texture_latent_reader *r = NULL;

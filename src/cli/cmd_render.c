@@ -1,5 +1,6 @@
 /* nbrdf render: a preview (or a reference image) of a latent texture on a
  * sphere or a plane; linear EXR and a display PNG. */
+#include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
@@ -15,46 +16,6 @@
 #include "cli/cli_progress.h"
 #include "model/material.h"
 #include "nbrdf/render.h"
-
-void cmd_render_usage(FILE *out) {
-  fprintf(out,
-          "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
-          "\n"
-          "Renders the latent texture on a unit sphere or a ground plane under an\n"
-          "environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
-          "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
-          "\n"
-          "  -o, --output FILE     linear float RGB OpenEXR to write\n"
-          "  --png FILE            also a display PNG (OpenColorIO view transform: the\n"
-          "                        --ocio / $OCIO config's default view, else built-in sRGB)\n"
-          "  --mode neural|reference\n"
-          "                        neural: decode the texture (default); reference: the\n"
-          "                        Monte Carlo ground truth of the parameters given below\n"
-          "  --scene sphere|plane  the object (default sphere)\n"
-          "  --env sky|white|FILE  procedural sky (default), constant white (a furnace) or\n"
-          "                        a lat-long HDR/EXR image (linear, +y up)\n"
-          "  --env-scale S         multiplies the environment (default 1)\n"
-          "  --light X,Y,Z,I|none  point light at (X,Y,Z), intensity I W/sr (default\n"
-          "                        3,4,4,30)\n"
-          "  --width W, --height H image size (default 256 x 256)\n"
-          "  --spp N               samples per pixel (default 16)\n"
-          "  --seed S              random seed (default 0)\n"
-          "  --threads N           tile threads (default: 1 neural, all cores reference)\n"
-          "  --no-mip              fetch level 0 only (no trilinear mip filtering)\n"
-          "  --plane-repeat R      plane: world units per texture repeat (default 1)\n"
-          "  --bundle DIR          model bundle (neural; default: $NBRDF_BUNDLE, else the\n"
-          "                        installed one: see 'nbrdf --version')\n"
-          "  --lobe X,Y[,LEVEL]    also write the lobe images (docs/METRICS.md) of texel\n"
-          "                        (X, Y) of mip LEVEL (default 0) to OUT-lobe-X-Y-LEVEL.png:\n"
-          "                        decoded, and in reference mode beside the ground truth\n"
-          "                        (1024 walks per pixel) with the lobe error; repeatable (8 at\n"
-          "                        most)\n"
-          "  --progress=json       progress as JSON lines on stdout\n"
-          "\n"
-          "reference mode: the parameters as for 'nbrdf bake' (constants only):\n");
-  cli_params_usage(out);
-  fprintf(out, "\nexit status: 0 success, 1 failure, 2 bad usage\n");
-}
 
 static int parse_numbers(const char *text, double *v, int n) {
   char buf[256];
@@ -95,6 +56,142 @@ static int parse_lobe(const char *text, uint64_t xyl[3], const char *field[3], i
     s = comma + 1;
   }
   return n >= 2;
+}
+
+typedef struct render_args {
+  nbrdf_render_options o;
+  cli_params params;
+  const char *latent, *out, *png, *bundle;
+  cli_progress_state ps;
+  int lobes[8][3], n_lobes;
+  const char *lobe_field[8][3]; /* as typed, for messages */
+  int lobe_len[8][3];
+  const char *lobe_text[8];
+} render_args;
+
+static int read_env(const char *cmd, const cli_opt *o, const char *v) {
+  (void)cmd;
+  nbrdf_render_options *r = o->dest;
+  r->env = !strcmp(v, "sky") ? NBRDF_ENV_SKY
+                             : (!strcmp(v, "white") ? NBRDF_ENV_CONSTANT : NBRDF_ENV_IMAGE);
+  r->env_path = r->env == NBRDF_ENV_IMAGE ? v : NULL;
+  return 0;
+}
+
+static int read_light(const char *cmd, const cli_opt *o, const char *v) {
+  nbrdf_render_options *r = o->dest;
+  double d[4];
+  if (!strcmp(v, "none")) {
+    r->light_intensity = 0.0;
+    return 0;
+  }
+  if (!parse_numbers(v, d, 4) || d[3] < 0.0)
+    return cli_opt_bad(cmd, o->name, "X,Y,Z,I with I >= 0 (or none)", v);
+  r->light_pos[0] = d[0], r->light_pos[1] = d[1], r->light_pos[2] = d[2];
+  r->light_intensity = d[3];
+  return 0;
+}
+
+static int read_plane_repeat(const char *cmd, const cli_opt *o, const char *v) {
+  double *d = o->dest;
+  if (!cli_parse_double(v, d) || !(*d > 0.0)) return cli_opt_bad(cmd, o->name, "a number > 0", v);
+  return 0;
+}
+
+static int read_lobe(const char *cmd, const cli_opt *o, const char *v) {
+  render_args *a = o->dest;
+  uint64_t xyl[3];
+  if (a->n_lobes == 8) return cli_usage_error(cmd, "at most 8 --lobe options");
+  if (!parse_lobe(v, xyl, a->lobe_field[a->n_lobes], a->lobe_len[a->n_lobes]))
+    return cli_opt_bad(cmd, o->name,
+                       "X,Y or X,Y,LEVEL: the column X and row Y of a texel of mip level LEVEL "
+                       "(0, the default, is the full size), each an integer from 0",
+                       v);
+  /* Sizes and levels are the texture's: checked against it once it is known. */
+  for (int k = 0; k < 3; k++)
+    a->lobes[a->n_lobes][k] = xyl[k] > INT_MAX ? INT_MAX : (int)xyl[k];
+  a->lobe_text[a->n_lobes++] = v;
+  return 0;
+}
+
+static void render_options(render_args *a, cli_opt_visit visit, void *user) {
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_PATH, .name = "--output", .alias = "-o", .meta = "FILE", .dest = &a->out,
+       .help = "linear float RGB OpenEXR to write"},
+      {.type = CLI_OPT_PATH, .name = "--png", .meta = "FILE", .dest = &a->png,
+       .help = "also a display PNG (OpenColorIO view transform: the\n"
+               "--ocio / $OCIO config's default view, else built-in sRGB)"},
+      {.type = CLI_OPT_ENUM, .name = "--mode", .choices = "neural|reference", .dest = &a->o.mode,
+       .help = "neural: decode the texture (default); reference: the\n"
+               "Monte Carlo ground truth of the parameters given below"},
+      {.type = CLI_OPT_ENUM, .name = "--scene", .choices = "sphere|plane", .dest = &a->o.scene,
+       .help = "the object (default sphere)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--env", .meta = "sky|white|FILE", .choices = "sky|white",
+       .dest = &a->o, .parse = read_env,
+       .help = "procedural sky (default), constant white (a furnace) or\n"
+               "a lat-long HDR/EXR image (linear, +y up)"},
+      {.type = CLI_OPT_FLOAT, .name = "--env-scale", .meta = "S", .lo = 0, .hi = FLT_MAX,
+       .dest = &a->o.env_scale, .help = "multiplies the environment (default 1)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--light", .meta = "X,Y,Z,I|none", .choices = "none",
+       .dest = &a->o, .parse = read_light,
+       .help = "point light at (X,Y,Z), intensity I W/sr (default\n3,4,4,30)"},
+      {.type = CLI_OPT_INT, .name = "--width", .meta = "W", .lo = 1, .hi = 16384,
+       .dest = &a->o.width, .help = "image width (default 256)"},
+      {.type = CLI_OPT_INT, .name = "--height", .meta = "H", .lo = 1, .hi = 16384,
+       .dest = &a->o.height, .help = "image height (default 256)"},
+      {.type = CLI_OPT_INT, .name = "--spp", .meta = "N", .lo = 1, .hi = 1 << 20, .dest = &a->o.spp,
+       .help = "samples per pixel (default 16)"},
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .hi = 2147483647.0, .dest = &a->o.seed,
+       .help = "random seed (default 0)"},
+      {.type = CLI_OPT_INT, .name = "--threads", .meta = "N", .lo = 0, .hi = 1024,
+       .dest = &a->o.threads, .help = "tile threads (default: 1 neural, all cores reference)"},
+      {.type = CLI_OPT_FLAG, .name = "--no-mip", .dest = &a->o.mip, .value = 0,
+       .help = "fetch level 0 only (no trilinear mip filtering)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--plane-repeat", .meta = "R", .dest = &a->o.plane_repeat,
+       .parse = read_plane_repeat, .help = "plane: world units per texture repeat (default 1)"},
+      {.type = CLI_OPT_PATH, .name = "--bundle", .meta = "DIR", .dest = &a->bundle,
+       .help = "model bundle (neural; default: $NBRDF_BUNDLE, else the\n"
+               "installed one: see 'nbrdf --version')"},
+      {.type = CLI_OPT_CUSTOM, .name = "--lobe", .meta = "X,Y[,LEVEL]", .dest = a,
+       .parse = read_lobe,
+       .help = "also write the lobe images (docs/METRICS.md) of texel\n"
+               "(X, Y) of mip LEVEL (default 0) to OUT-lobe-X-Y-LEVEL.png:\n"
+               "decoded, and in reference mode beside the ground truth\n"
+               "(1024 walks per pixel) with the lobe error; repeatable (8 at\n"
+               "most)"},
+      CLI_PROGRESS_OPTION(&a->ps, "progress as JSON lines on stdout"),
+      {.help = "\nreference mode: the parameters as for 'nbrdf bake' (constants only):"},
+      CLI_PARAMS_OPTIONS(&a->params),
+      {0},
+  };
+  // clang-format on
+  visit(user, NULL, t);
+}
+
+static void render_args_init(render_args *a) {
+  memset(a, 0, sizeof *a);
+  a->o = (nbrdf_render_options)NBRDF_RENDER_OPTIONS_DEFAULT;
+  a->o.light_intensity = 30.0;
+  cli_params_init(&a->params);
+  a->ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
+}
+
+void cmd_render_options(cli_opt_visit visit, void *user) {
+  render_args a;
+  render_args_init(&a);
+  render_options(&a, visit, user);
+}
+
+void cmd_render_usage(FILE *out) {
+  fprintf(out, "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
+               "\n"
+               "Renders the latent texture on a unit sphere or a ground plane under an\n"
+               "environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
+               "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
+               "\n");
+  cmd_render_options(cli_options_help_visit, out);
+  fprintf(out, "\nexit status: 0 success, 1 failure, 2 bad usage\n");
 }
 
 /* Ground-truth BRDFs of constant parameters, one per colour channel. */
@@ -159,118 +256,29 @@ static int write_lobe(const nbrdf_model *model, const char *latent, const char *
 }
 
 int cmd_render(int argc, char **argv) {
-  nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
-  o.light_intensity = 30.0;
-  cli_params params;
-  cli_params_init(&params);
-  const char *latent = NULL, *out = NULL, *png = NULL, *bundle = NULL;
-  cli_progress_state ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
-  int lobes[8][3], n_lobes = 0;
-  const char *lobe_field[8][3]; /* as typed, for messages */
-  int lobe_len[8][3];
-  const char *lobe_text[8];
-  for (int i = 1; i < argc; i++) {
-    const char *a = argv[i], *v = NULL;
-    long n;
-    double d[4];
-    int pr = cli_params_option("render", argc, argv, &i, &params);
-    if (pr < 0) return CLI_EXIT_USAGE;
-    if (pr > 0) continue;
-    if (cli_is_help(a)) {
-      cmd_render_usage(stdout);
-      return CLI_EXIT_OK;
-    } else if ((v = cli_option_value(argc, argv, &i, "-o")) ||
-               (v = cli_option_value(argc, argv, &i, "--output"))) {
-      out = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--png"))) {
-      png = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--mode"))) {
-      if (strcmp(v, "neural") && strcmp(v, "reference"))
-        return cli_usage_error("render", "--mode is 'neural' or 'reference', not '%s'", v);
-      o.mode = v[0] == 'n' ? NBRDF_RENDER_NEURAL : NBRDF_RENDER_REFERENCE;
-    } else if ((v = cli_option_value(argc, argv, &i, "--scene"))) {
-      if (strcmp(v, "sphere") && strcmp(v, "plane"))
-        return cli_usage_error("render", "--scene is 'sphere' or 'plane', not '%s'", v);
-      o.scene = v[0] == 's' ? NBRDF_SCENE_SPHERE : NBRDF_SCENE_PLANE;
-    } else if ((v = cli_option_value(argc, argv, &i, "--env"))) {
-      if (!v[0]) return cli_usage_error("render", "--env needs sky, white or a file");
-      o.env = !strcmp(v, "sky") ? NBRDF_ENV_SKY
-                                : (!strcmp(v, "white") ? NBRDF_ENV_CONSTANT : NBRDF_ENV_IMAGE);
-      o.env_path = o.env == NBRDF_ENV_IMAGE ? v : NULL;
-    } else if ((v = cli_option_value(argc, argv, &i, "--env-scale"))) {
-      float s;
-      if (!cli_parse_float(v, &s) || s < 0.0f)
-        return cli_usage_error("render", "--env-scale needs a number in [0, 3.4e38], not '%s'",
-                               v);
-      o.env_scale = s;
-    } else if ((v = cli_option_value(argc, argv, &i, "--light"))) {
-      if (!strcmp(v, "none")) {
-        o.light_intensity = 0.0;
-      } else if (!parse_numbers(v, d, 4) || d[3] < 0.0) {
-        return cli_usage_error("render", "--light needs X,Y,Z,I with I >= 0 (or none), not '%s'",
-                               v);
-      } else {
-        o.light_pos[0] = d[0], o.light_pos[1] = d[1], o.light_pos[2] = d[2];
-        o.light_intensity = d[3];
-      }
-    } else if ((v = cli_option_value(argc, argv, &i, "--width"))) {
-      if (!cli_parse_int(v, 1, 16384, &n))
-        return cli_usage_error("render", "--width needs an integer in [1, 16384], not '%s'", v);
-      o.width = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--height"))) {
-      if (!cli_parse_int(v, 1, 16384, &n))
-        return cli_usage_error("render", "--height needs an integer in [1, 16384], not '%s'", v);
-      o.height = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--spp"))) {
-      if (!cli_parse_int(v, 1, 1 << 20, &n))
-        return cli_usage_error("render", "--spp needs an integer in [1, 1048576], not '%s'", v);
-      o.spp = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
-      if (!cli_parse_int(v, 0, 2147483647L, &n))
-        return cli_usage_error("render", "--seed needs an integer >= 0, not '%s'", v);
-      o.seed = (uint64_t)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--threads"))) {
-      if (!cli_parse_int(v, 0, 1024, &n))
-        return cli_usage_error("render", "--threads needs an integer in [0, 1024], not '%s'", v);
-      o.threads = (int)n;
-    } else if (!strcmp(a, "--no-mip")) {
-      o.mip = 0;
-    } else if ((v = cli_option_value(argc, argv, &i, "--plane-repeat"))) {
-      if (!cli_parse_double(v, &o.plane_repeat) || !(o.plane_repeat > 0.0))
-        return cli_usage_error("render", "--plane-repeat needs a number > 0, not '%s'", v);
-    } else if ((v = cli_option_value(argc, argv, &i, "--bundle"))) {
-      bundle = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--lobe"))) {
-      uint64_t xyl[3];
-      if (n_lobes == 8) return cli_usage_error("render", "at most 8 --lobe options");
-      if (!parse_lobe(v, xyl, lobe_field[n_lobes], lobe_len[n_lobes]))
-        return cli_usage_error("render",
-                               "--lobe needs X,Y or X,Y,LEVEL: the column X and row Y of a texel "
-                               "of mip level LEVEL (0, the default, is the full size), each an "
-                               "integer from 0; not '%s'",
-                               v);
-      /* Sizes and levels are the texture's: checked against it below. */
-      for (int k = 0; k < 3; k++)
-        lobes[n_lobes][k] = xyl[k] > INT_MAX ? INT_MAX : (int)xyl[k];
-      lobe_text[n_lobes++] = v;
-    } else if (cli_progress_flag(a, &ps)) {
-    } else if (a[0] != '-' && !latent) {
-      latent = a;
-    } else {
-      return cli_usage_error("render", "unknown option or missing value: '%s'", a);
-    }
-    if (v && !v[0]) return cli_usage_error("render", "'%s' needs a value", a);
+  render_args a;
+  render_args_init(&a);
+  cli_positionals pos = {&a.latent, 1, 0, "LATENT.exr"};
+  cli_parse_call call = {"render", NULL, argc, 1, argv, &pos, 0};
+  render_options(&a, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) {
+    cmd_render_usage(stdout);
+    return CLI_EXIT_OK;
   }
+  if (call.rc != CLI_OPTIONS_OK) return call.rc;
+  nbrdf_render_options o = a.o;
+  const char *latent = a.latent, *out = a.out, *png = a.png;
+  const int n_lobes = a.n_lobes;
   if (!latent) return cli_usage_error("render", "the latent texture LATENT.exr is required");
   if (!out) return cli_usage_error("render", "-o OUT.exr is required");
   /* A --lobe the texture lacks is a bad option: name the field and the texture's range. An
    * unreadable texture is left to the render, which says why. */
   for (int k = 0; k < n_lobes; k++) {
-    int w = 0, h = 0, levels = cli_texture_levels(latent, lobes[k][2], &w, &h);
-    const int *xyl = lobes[k], *len = lobe_len[k];
-    const char *const *f = lobe_field[k];
+    int w = 0, h = 0, levels = cli_texture_levels(latent, a.lobes[k][2], &w, &h);
+    const int *xyl = a.lobes[k], *len = a.lobe_len[k];
+    const char *const *f = a.lobe_field[k];
     char option[96];
-    snprintf(option, sizeof option, "--lobe %.80s", lobe_text[k]);
+    snprintf(option, sizeof option, "--lobe %.80s", a.lobe_text[k]);
     if (levels > 0 && xyl[2] >= levels) {
       char level[96];
       snprintf(level, sizeof level, "%.*s", len[2] < 80 ? len[2] : 80, f[2]);
@@ -288,13 +296,13 @@ int cmd_render(int argc, char **argv) {
   nbrdf_error err = {0};
   int rc = CLI_EXIT_OK;
   if (o.mode == NBRDF_RENDER_REFERENCE) {
-    rc = cli_params_require("render", &params);
-    if (rc == CLI_EXIT_OK) rc = make_reference(&params, ref, &o.reference_channels);
+    rc = cli_params_require("render", &a.params);
+    if (rc == CLI_EXIT_OK) rc = make_reference(&a.params, ref, &o.reference_channels);
     o.reference = (const nbrdf_brdf *const *)ref;
   }
   if (rc == CLI_EXIT_OK && (o.mode == NBRDF_RENDER_NEURAL || n_lobes > 0)) {
     char used[PATH_MAX];
-    rc = cli_model_load("render", bundle, &model, used, sizeof used);
+    rc = cli_model_load("render", a.bundle, &model, used, sizeof used);
     if (rc == CLI_EXIT_OK && !nbrdf_model_is_trained(model))
       fprintf(stderr, "nbrdf render: warning: bundle '%s' is untrained (random networks)\n", used);
   }
@@ -303,12 +311,12 @@ int cmd_render(int argc, char **argv) {
     cli_inputs_init(&inputs);
     cli_inputs_add(&inputs, latent);
     cli_inputs_add(&inputs, o.env_path);
-    cli_inputs_add_params(&inputs, &params);
+    cli_inputs_add_params(&inputs, &a.params);
     cli_inputs_add_model(&inputs, model);
     char lobe_paths[8][4096];
     const char *outputs[10] = {out, png};
     for (int k = 0; k < n_lobes; k++) {
-      lobe_path(out, lobes[k], lobe_paths[k]);
+      lobe_path(out, a.lobes[k], lobe_paths[k]);
       outputs[2 + k] = lobe_paths[k];
     }
     rc = cli_outputs_check("render", &inputs, outputs, 2 + n_lobes);
@@ -317,22 +325,23 @@ int cmd_render(int argc, char **argv) {
   if (rc == CLI_EXIT_OK && !rgb) rc = cli_fail("render", "out of memory");
   /* Lobes first: a bad texel fails before the render writes anything. */
   for (int k = 0; rc == CLI_EXIT_OK && k < n_lobes; k++)
-    rc = write_lobe(model, latent, out, lobes[k], &o, ps.json);
+    rc = write_lobe(model, latent, out, a.lobes[k], &o, a.ps.json);
   if (rc == CLI_EXIT_OK) {
-    cli_progress_start(&ps);
-    o.progress = cli_progress, o.user = &ps, o.cancel = cli_cancel_flag();
+    cli_progress_start(&a.ps);
+    o.progress = cli_progress, o.user = &a.ps, o.cancel = cli_cancel_flag();
     cli_cancel_watch();
     nbrdf_render_stats stats;
     nbrdf_status st = nbrdf_render(model, latent, &o, rgb, &stats, &err);
     cli_cancel_unwatch();
     if (st == NBRDF_OK)
-      st = nbrdf_render_write(out, png, o.width, o.height, rgb, NULL, params.in.ocio_config, &err);
+      st =
+          nbrdf_render_write(out, png, o.width, o.height, rgb, NULL, a.params.in.ocio_config, &err);
     if (st != NBRDF_OK) {
-      if (ps.json) printf("{\"event\":\"error\",\"status\":\"%s\"}\n", nbrdf_status_name(st));
+      if (a.ps.json) printf("{\"event\":\"error\",\"status\":\"%s\"}\n", nbrdf_status_name(st));
       rc = st == NBRDF_ERR_CANCELLED
                ? cli_fail("render", "%s: cancelled; no file written", cli_cancel_reason())
                : cli_fail_error("render", &err);
-    } else if (ps.json) {
+    } else if (a.ps.json) {
       printf("{\"event\":\"done\",\"width\":%d,\"height\":%d,\"spp\":%d,\"decoded\":%zu,"
              "\"decode_seconds\":%.4f,\"brdf_evals\":%zu}\n",
              o.width, o.height, o.spp, stats.decoded, stats.decode_seconds, stats.brdf_evals);

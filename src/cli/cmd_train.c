@@ -11,6 +11,9 @@
 #include "cli/cmd_train.h"
 #include "train/train_decoder.h"
 
+static void print_table(void *user, const char *sub, const cli_opt *table);
+void cmd_train_options(cli_opt_visit visit, void *user);
+
 void cmd_train_usage(FILE *out) {
   fprintf(
       out,
@@ -36,28 +39,13 @@ void cmd_train_usage(FILE *out) {
       "command again), decoder.safetensors and log.csv. Ctrl-C (SIGTERM, SIGHUP)\n"
       "checkpoints and stops.\n"
       "\n"
-      "architecture (a preset, or your own residual MLP):\n"
-      "  --preset NAME       paper, large, medium (default), small\n"
-      "  --width W --blocks B [--encoding cartesian|halfdiff] [--octaves K]\n"
-      "                      [--output f|log1p]\n"
-      "training:\n"
-      "  --steps N           total steps (20000); each step draws --rows-per-brdf samples\n"
-      "                      of every BRDF (16)\n"
-      "  --minutes M         stop (checkpointed) after M minutes of this invocation\n"
-      "  --stop-at-step N    stop (checkpointed) after N steps of the whole run\n"
-      "  --lr-weights X (2e-3)  --lr-latent X (1e-2)  --latent-l2 X (1e-4)\n"
-      "  --decay-every N (5000) --decay-gamma X (0.5)  --loss l1-log1p|l1\n"
-      "  --brdf-weight P (0)  weigh BRDF b's loss by max(mean log(1+f), 0.01)^-P\n"
-      "  --seed S (1)  --checkpoint-minutes M (5)  --validation N (24 held-out BRDFs)\n"
-      "  --energy LAMBDA (0: off)  penalise decoded directional albedo above the ground\n"
-      "                      truth's (+ 2 standard errors + 0.01, at most 1) with weight LAMBDA\n"
-      "  --energy-angles LIST (0,40,60,75,85,89 degrees)  --energy-brdfs K (32 per step)\n"
-      "  --progress=json     progress as JSON lines on stdout (text on stderr without it)\n"
       "A checkpoint records the settings a resume must share (nbrdf.options): another\n"
       "value is refused, naming the setting and both values.\n"
       "\n"
-      "trainer flags (tables, layering, sampler: one trainer runs every fit; a step is\n"
-      "a projection step, a batch of pairs, a batch of latents):\n" CLI_TRAIN_LIMITS_HELP "\n"
+      "The trainer flags (--checkpoint, --checkpoint-minutes, --minutes, --stop-at-step) are\n"
+      "those of tables, layering and sampler: one trainer runs every fit; a step is a\n"
+      "projection step, a batch of pairs, a batch of latents.\n"
+      "\n"
       "tables: projects the analytic base BRDFs (top dielectric over (alpha1, eta), bottom\n"
       "conductor over (alpha2, r0)) on a grid with the decoder frozen and writes\n"
       "base_tables.safetensors (defaults: 16 alpha x 8 eta, 16 alpha x 9 r0, 800 steps).\n"
@@ -79,89 +67,134 @@ void cmd_train_usage(FILE *out) {
       "bundle also reads textures baked with OLD_DIR (and those OLD_DIR reads); refused\n"
       "unless both decoder.safetensors are the same bytes (a texture decodes with its\n"
       "bundle's decoder, so a retrained layering network or tables keep old textures).\n");
+  cmd_train_options(print_table, out);
 }
 
-typedef struct num_option {
-  const char *name;
-  double lo, hi;
-  double *value;
-} num_option;
+typedef struct decoder_args {
+  train_decoder_settings s;
+  cli_train_list data;
+  const char *preset, *encoding, *output;
+  double steps, minutes, rows, lrw, lrl, l2, decay, gamma, seed, ckpt, nval, width, blocks, octaves,
+      bweight, stop_at, energy, energy_brdfs;
+  cli_progress_state prog;
+} decoder_args;
+
+static int read_loss(const char *cmd, const cli_opt *o, const char *v) {
+  if (!model_loss_parse(v, o->dest)) return cli_opt_bad(cmd, o->name, "l1-log1p or l1", v);
+  return 0;
+}
+
+static int read_angles(const char *cmd, const cli_opt *o, const char *v) {
+  nbrdf_error err = {0};
+  if (model_energy_parse_angles(v, o->name, o->dest, &err))
+    return cli_usage_error(cmd, "%s", err.message);
+  return 0;
+}
+
+#define NUM(flag, m, l, h, field, text)                                                            \
+  {                                                                                                \
+    .type = CLI_OPT_DOUBLE, .name = flag, .meta = m, .lo = l, .hi = h, .dest = &a->field,          \
+    .help = text                                                                                   \
+  }
+
+static void decoder_options(void *args, cli_opt_visit visit, void *user) {
+  decoder_args *a = args;
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_CUSTOM, .name = "--data", .meta = "FILE[,FILE...]", .dest = &a->data,
+       .parse = cli_train_read_list, .help = "the data sets (nbrdf dataset)"},
+      {.type = CLI_OPT_PATH, .name = "--run", .meta = "DIR", .dest = &a->s.run_dir,
+       .help = "the run's folder: checkpoint, decoder, log"},
+      {.help = "architecture (a preset, or your own residual MLP):"},
+      {.type = CLI_OPT_STRING, .name = "--preset", .meta = "NAME",
+       .choices = "paper|large|medium|small", .dest = &a->preset,
+       .help = "paper, large, medium (default), small"},
+      NUM("--width", "W", 1, 4096, width, "residual MLP width (with --blocks; default 64)"),
+      NUM("--blocks", "B", 1, 64, blocks, "residual blocks (default 3)"),
+      {.type = CLI_OPT_STRING, .name = "--encoding", .choices = "cartesian|halfdiff",
+       .dest = &a->encoding, .help = "the directions' encoding (halfdiff)"},
+      NUM("--octaves", "K", 0, MODEL_ENCODING_MAX_OCTAVES, octaves,
+          "frequency octaves of the encoding (0)"),
+      {.type = CLI_OPT_STRING, .name = "--output", .choices = "f|log1p", .dest = &a->output,
+       .help = "what the network outputs (log1p)"},
+      {.help = "training:"},
+      NUM("--steps", "N", 1, 1e12, steps,
+          "total steps (20000); each step draws --rows-per-brdf samples\nof every BRDF"),
+      NUM("--rows-per-brdf", "N", 1, 65536, rows, "samples per BRDF per step (16)"),
+      NUM("--minutes", "M", 0, 1e9, minutes,
+          "stop (checkpointed) after M minutes of this invocation"),
+      NUM("--stop-at-step", "N", 0, 1e12, stop_at,
+          "stop (checkpointed) after N steps of the whole run"),
+      NUM("--lr-weights", "X", 0, 1, lrw, "learning rate of the weights (2e-3)"),
+      NUM("--lr-latent", "X", 0, 10, lrl, "learning rate of the latents (1e-2)"),
+      NUM("--latent-l2", "X", 0, 1e3, l2, "L2 penalty on the latents (1e-4)"),
+      NUM("--decay-every", "N", 0, 1e9, decay, "steps between learning-rate decays (5000)"),
+      NUM("--decay-gamma", "X", 1e-6, 1, gamma, "the decay's factor (0.5)"),
+      {.type = CLI_OPT_CUSTOM, .name = "--loss", .choices = "l1-log1p|l1", .dest = &a->s.loss,
+       .parse = read_loss, .help = "the loss (l1-log1p)"},
+      NUM("--brdf-weight", "P", 0, 2, bweight,
+          "weigh BRDF b's loss by max(mean log(1+f), 0.01)^-P (0)"),
+      NUM("--seed", "S", 0, 9007199254740992.0, seed, "seed (1)"),
+      NUM("--checkpoint-minutes", "M", 1e-3, 1e6, ckpt, "minutes between checkpoints (5)"),
+      NUM("--validation", "N", 0, 4096, nval, "held-out BRDFs (24)"),
+      NUM("--energy", "LAMBDA", 0, 1e6, energy,
+          "(0: off) penalise decoded directional albedo above the ground\n"
+          "truth's (+ 2 standard errors + 0.01, at most 1) with weight LAMBDA"),
+      {.type = CLI_OPT_CUSTOM, .name = "--energy-angles", .meta = "LIST", .dest = &a->s.energy,
+       .parse = read_angles, .help = "the penalty's angles in degrees (0,40,60,75,85,89)"},
+      NUM("--energy-brdfs", "K", 1, 4096, energy_brdfs, "BRDFs penalised per step (32)"),
+      CLI_PROGRESS_OPTION(&a->prog, "progress as JSON lines on stdout (text on stderr without it)"),
+      {0},
+  };
+  // clang-format on
+  visit(user, "decoder", t);
+}
+
+static void decoder_args_init(decoder_args *a) {
+  memset(a, 0, sizeof *a);
+  train_decoder_settings *s = &a->s;
+  train_decoder_settings_default(s);
+  a->preset = "medium", a->encoding = "halfdiff", a->output = "log1p";
+  a->steps = (double)s->steps, a->rows = s->rows_per_brdf, a->lrw = s->lr_weights;
+  a->lrl = s->lr_latent, a->l2 = s->latent_l2, a->decay = s->decay_every;
+  a->gamma = s->decay_gamma, a->seed = (double)s->seed, a->ckpt = s->checkpoint_seconds / 60.0;
+  a->nval = s->validation_brdfs, a->bweight = s->brdf_weight, a->energy = s->energy.lambda;
+  a->energy_brdfs = s->energy_brdfs;
+  a->prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
+}
+
+static void print_table(void *user, const char *sub, const cli_opt *table) {
+  fprintf(user, "\n%s options:\n", sub);
+  cli_options_help(user, table);
+}
+
+void cmd_train_options(cli_opt_visit visit, void *user) {
+  decoder_args a;
+  decoder_args_init(&a);
+  decoder_options(&a, visit, user);
+  cmd_train_tables_options(visit, user);
+  cmd_train_layering_options(visit, user);
+  cmd_train_sampler_options(visit, user);
+  cmd_train_bundle_options(visit, user);
+}
 
 static int train_decoder(int argc, char **argv) {
-  train_decoder_settings s;
-  train_decoder_settings_default(&s);
-  const char *data[64], *preset = "medium", *encoding = "halfdiff", *output = "log1p";
-  char *data_list = NULL;
-  int n_data = 0;
-  double steps = (double)s.steps, minutes = 0, rows = s.rows_per_brdf, lrw = s.lr_weights,
-         lrl = s.lr_latent, l2 = s.latent_l2, decay = s.decay_every, gamma = s.decay_gamma,
-         seed = (double)s.seed, ckpt = s.checkpoint_seconds / 60.0, nval = s.validation_brdfs,
-         width = 0, blocks = 0, octaves = 0, bweight = s.brdf_weight, stop_at = 0,
-         energy = s.energy.lambda, energy_brdfs = s.energy_brdfs;
-  num_option nums[] = {
-      {"--steps", 1, 1e12, &steps},
-      {"--minutes", 0, 1e9, &minutes},
-      {"--stop-at-step", 0, 1e12, &stop_at},
-      {"--rows-per-brdf", 1, 65536, &rows},
-      {"--lr-weights", 0, 1, &lrw},
-      {"--lr-latent", 0, 10, &lrl},
-      {"--latent-l2", 0, 1e3, &l2},
-      {"--decay-every", 0, 1e9, &decay},
-      {"--decay-gamma", 1e-6, 1, &gamma},
-      {"--seed", 0, 9007199254740992.0, &seed},
-      {"--checkpoint-minutes", 1e-3, 1e6, &ckpt},
-      {"--validation", 0, 4096, &nval},
-      {"--width", 1, 4096, &width},
-      {"--blocks", 1, 64, &blocks},
-      {"--octaves", 0, MODEL_ENCODING_MAX_OCTAVES, &octaves},
-      {"--brdf-weight", 0, 2, &bweight},
-      {"--energy", 0, 1e6, &energy},
-      {"--energy-brdfs", 1, 4096, &energy_brdfs},
-  };
-  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
-  for (int i = 2; i < argc; i++) {
-    const char *v;
-    int matched = 0;
-    for (size_t k = 0; k < sizeof nums / sizeof nums[0] && !matched; k++)
-      if ((v = cli_option_value(argc, argv, &i, nums[k].name))) {
-        if (!cli_parse_double(v, nums[k].value) || *nums[k].value < nums[k].lo ||
-            *nums[k].value > nums[k].hi)
-          return cli_usage_error("train", "%s '%s' is not a number in [%g, %g]", nums[k].name, v,
-                                 nums[k].lo, nums[k].hi);
-        matched = 1;
-      }
-    if (matched) continue;
-    if ((v = cli_option_value(argc, argv, &i, "--data"))) {
-      free(data_list);
-      data_list = strdup(v);
-      n_data = data_list ? cli_train_split_list(data_list, data, 64) : 0;
-    } else if ((v = cli_option_value(argc, argv, &i, "--run"))) {
-      s.run_dir = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--preset"))) {
-      preset = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--energy-angles"))) {
-      nbrdf_error e2 = {0};
-      if (model_energy_parse_angles(v, "--energy-angles", &s.energy, &e2)) {
-        free(data_list);
-        return cli_usage_error("train", "%s", e2.message);
-      }
-    } else if ((v = cli_option_value(argc, argv, &i, "--encoding"))) {
-      encoding = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--output"))) {
-      output = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--loss"))) {
-      if (!model_loss_parse(v, &s.loss))
-        return cli_usage_error("train", "unknown loss '%s' (l1-log1p, l1)", v);
-    } else if (cli_progress_flag(argv[i], &prog)) {
-    } else if (cli_is_help(argv[i])) {
-      cmd_train_usage(stdout);
-      free(data_list);
-      return CLI_EXIT_OK;
-    } else {
-      free(data_list);
-      return cli_usage_error("train", "unexpected argument '%s'", argv[i]);
-    }
+  decoder_args a;
+  decoder_args_init(&a);
+  int rc = cli_train_parse("decoder", argc, argv, decoder_options, &a);
+  if (rc) {
+    free(a.data.copy);
+    return rc == CLI_OPTIONS_HELP ? CLI_EXIT_OK : rc;
   }
+  train_decoder_settings s = a.s;
+  const char **data = a.data.item, *preset = a.preset, *encoding = a.encoding, *output = a.output;
+  char *data_list = a.data.copy;
+  int n_data = a.data.n;
+  double steps = a.steps, minutes = a.minutes, rows = a.rows, lrw = a.lrw, lrl = a.lrl, l2 = a.l2,
+         decay = a.decay, gamma = a.gamma, seed = a.seed, ckpt = a.ckpt, nval = a.nval,
+         width = a.width, blocks = a.blocks, octaves = a.octaves, bweight = a.bweight,
+         stop_at = a.stop_at, energy = a.energy, energy_brdfs = a.energy_brdfs;
+  cli_progress_state prog = a.prog;
   if (n_data == 0 || !s.run_dir || !*s.run_dir) {
     free(data_list);
     return cli_usage_error("train", "--data and --run are required");

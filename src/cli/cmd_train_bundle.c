@@ -43,32 +43,52 @@ static nbrdf_status reads_of(const char *dir, const char *decoder, model_bundle_
   return st;
 }
 
+typedef struct bundle_args {
+  const char *out, *name, *decoder, *tables, *layering, *sampler, *card, *note, *reads_dir;
+} bundle_args;
+
+static void bundle_options(void *args, cli_opt_visit visit, void *user) {
+  bundle_args *a = args;
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_PATH, .name = "--output", .alias = "-o", .meta = "DIR", .dest = &a->out,
+       .help = "the bundle folder to write"},
+      {.type = CLI_OPT_PATH, .name = "--decoder", .meta = "F", .dest = &a->decoder,
+       .help = "decoder.safetensors"},
+      {.type = CLI_OPT_PATH, .name = "--tables", .meta = "F", .dest = &a->tables,
+       .help = "base_tables.safetensors"},
+      {.type = CLI_OPT_PATH, .name = "--layering", .meta = "F", .dest = &a->layering,
+       .help = "layering.safetensors"},
+      {.type = CLI_OPT_PATH, .name = "--sampler", .meta = "F", .dest = &a->sampler,
+       .help = "sampler.safetensors (default: initial weights)"},
+      {.type = CLI_OPT_STRING, .name = "--name", .meta = "NAME", .dest = &a->name,
+       .help = "the model's name (default)"},
+      {.type = CLI_OPT_PATH, .name = "--card", .meta = "MODEL_CARD.md", .dest = &a->card,
+       .help = "the model card"},
+      {.type = CLI_OPT_STRING, .name = "--note", .meta = "TEXT", .dest = &a->note,
+       .help = "one line for model.json"},
+      {.type = CLI_OPT_PATH, .name = "--reads-textures-of", .meta = "OLD_DIR",
+       .dest = &a->reads_dir,
+       .help = "the new bundle also reads textures baked with OLD_DIR\n"
+               "(same decoder bytes only)"},
+      {0},
+  };
+  // clang-format on
+  visit(user, "bundle", t);
+}
+
+void cmd_train_bundle_options(cli_opt_visit visit, void *user) {
+  bundle_args a = {NULL, "default", NULL, NULL, NULL, NULL, NULL, NULL, NULL};
+  bundle_options(&a, visit, user);
+}
+
 int cmd_train_bundle(int argc, char **argv) {
-  const char *out = NULL, *name = "default", *decoder = NULL, *tables = NULL, *layering = NULL,
-             *sampler = NULL, *card = NULL, *note = NULL, *reads_dir = NULL;
-  for (int i = 2; i < argc; i++) {
-    const char *v;
-    if ((v = cli_option_value(argc, argv, &i, "-o")))
-      out = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--name")))
-      name = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--decoder")))
-      decoder = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--tables")))
-      tables = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--layering")))
-      layering = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--sampler")))
-      sampler = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--card")))
-      card = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--note")))
-      note = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--reads-textures-of")))
-      reads_dir = v;
-    else
-      return cli_usage_error("train", "bundle: unexpected argument '%s'", argv[i]);
-  }
+  bundle_args a = {NULL, "default", NULL, NULL, NULL, NULL, NULL, NULL, NULL};
+  int rc = cli_train_parse("bundle", argc, argv, bundle_options, &a);
+  if (rc) return rc == CLI_OPTIONS_HELP ? CLI_EXIT_OK : rc;
+  const char *out = a.out, *name = a.name, *decoder = a.decoder, *tables = a.tables,
+             *layering = a.layering, *sampler = a.sampler, *card = a.card, *note = a.note,
+             *reads_dir = a.reads_dir;
   if (!out || !decoder || !tables || !layering)
     return cli_usage_error("train", "bundle: -o, --decoder, --tables and --layering are required");
   cli_inputs inputs;

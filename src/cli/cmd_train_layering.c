@@ -1,4 +1,5 @@
 /* nbrdf train layering. */
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,78 +13,100 @@
 #include "model/files.h"
 #include "train/train_layering.h"
 
+typedef struct layering_args {
+  train_layering_settings s;
+  const char *run, *tables, *out, *decoder, *init;
+  int decoded;
+  cli_train_list data;
+  cli_progress_state prog;
+  cli_train_limits lim;
+} layering_args;
+
+/* --energy-angles LIST into the energy settings (o->dest). */
+static int read_angles(const char *cmd, const cli_opt *o, const char *v) {
+  nbrdf_error err = {0};
+  if (model_energy_parse_angles(v, o->name, o->dest, &err))
+    return cli_usage_error(cmd, "layering: %s", err.message);
+  return 0;
+}
+
+static void layering_options(void *args, cli_opt_visit visit, void *user) {
+  layering_args *a = args;
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_CUSTOM, .name = "--data", .meta = "FILE[,FILE...]", .dest = &a->data,
+       .parse = cli_train_read_list, .help = "the decoder run's data sets"},
+      {.type = CLI_OPT_PATH, .name = "--run", .meta = "DIR", .dest = &a->run,
+       .help = "the decoder run (its latents and decoder)"},
+      {.type = CLI_OPT_PATH, .name = "--tables", .meta = "FILE", .dest = &a->tables,
+       .help = "the base tables"},
+      {.type = CLI_OPT_PATH, .name = "--output", .alias = "-o", .meta = "FILE", .dest = &a->out,
+       .help = "the layering.safetensors to write"},
+      {.type = CLI_OPT_ENUM, .name = "--loss", .choices = "latent|decoded", .dest = &a->decoded,
+       .help = "the loss on the latents (default) or through the decoder"},
+      {.type = CLI_OPT_PATH, .name = "--decoder", .meta = "FILE", .dest = &a->decoder,
+       .help = "decoded loss: the decoder (default: the run's)"},
+      {.type = CLI_OPT_PATH, .name = "--init", .meta = "FILE", .dest = &a->init,
+       .help = "start from a trained layering network"},
+      {.type = CLI_OPT_STRING, .name = "--preset", .choices = "small|medium|paper",
+       .dest = &a->s.preset, .help = "the network's size (small)"},
+      {.type = CLI_OPT_INT, .name = "--epochs", .meta = "N", .lo = 1, .hi = 1000000,
+       .dest = &a->s.epochs, .help = "epochs (400)"},
+      {.type = CLI_OPT_INT, .name = "--batch", .meta = "N", .lo = 1, .hi = 65536,
+       .dest = &a->s.batch, .help = "pairs per batch (128)"},
+      {.type = CLI_OPT_FLOAT, .name = "--lr", .meta = "X", .lo = FLT_MIN, .hi = FLT_MAX,
+       .dest = &a->s.lr, .help = "learning rate (1e-3)"},
+      {.type = CLI_OPT_INT, .name = "--rows", .meta = "N", .lo = 1, .hi = 65536,
+       .dest = &a->s.rows_per_pair, .help = "decoded loss: samples per BRDF per step (64)"},
+      {.type = CLI_OPT_INT, .name = "--decay-every", .meta = "EPOCHS", .lo = 0, .hi = 1000000,
+       .dest = &a->s.decay_every, .help = "epochs between learning-rate halvings (150)"},
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .hi = 2147483647.0, .dest = &a->s.seed,
+       .help = "seed (1)"},
+      {.type = CLI_OPT_PATH, .name = "--log", .meta = "CSV", .dest = &a->s.log_path,
+       .help = "the training log"},
+      {.type = CLI_OPT_FLOAT, .name = "--energy", .meta = "LAMBDA", .lo = 0, .hi = 1e6,
+       .dest = &a->s.energy.lambda, .help = "decoded loss: the energy penalty's weight (0: off)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--energy-angles", .meta = "LIST", .dest = &a->s.energy,
+       .parse = read_angles,
+       .help = "the penalty's incidence angles in degrees\n(0,40,60,75,85,89)"},
+      {.type = CLI_OPT_INT, .name = "--energy-brdfs", .meta = "K", .lo = 1, .hi = 4096,
+       .dest = &a->s.energy_brdfs, .help = "pairs penalised per batch (8)"},
+      CLI_TRAIN_LIMITS_OPTIONS(&a->lim),
+      CLI_PROGRESS_OPTION(&a->prog, "progress as JSON lines on stdout"),
+      {0},
+  };
+  // clang-format on
+  visit(user, "layering", t);
+}
+
+static void layering_args_init(layering_args *a) {
+  memset(a, 0, sizeof *a);
+  a->s = (train_layering_settings)TRAIN_LAYERING_SETTINGS_DEFAULT;
+  a->prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
+  a->lim = (cli_train_limits)CLI_TRAIN_LIMITS_DEFAULT;
+}
+
+void cmd_train_layering_options(cli_opt_visit visit, void *user) {
+  layering_args a;
+  layering_args_init(&a);
+  layering_options(&a, visit, user);
+}
+
 int cmd_train_layering(int argc, char **argv) {
-  train_layering_settings s = TRAIN_LAYERING_SETTINGS_DEFAULT;
-  const char *run = NULL, *tables = NULL, *out = NULL, *data[64], *decoder = NULL, *init = NULL;
-  int decoded = 0;
-  char *list = NULL;
-  int n_data = 0;
-  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
-  cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
-  for (int i = 2; i < argc; i++) {
-    const char *v;
-    long n;
-    double x;
-    float f;
-    int code;
-    if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
-      if (code) {
-        free(list);
-        return code;
-      }
-    } else if ((v = cli_option_value(argc, argv, &i, "--data"))) {
-      free(list);
-      list = strdup(v);
-      n_data = list ? cli_train_split_list(list, data, 64) : 0;
-    } else if ((v = cli_option_value(argc, argv, &i, "--run")))
-      run = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--tables")))
-      tables = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--decoder")))
-      decoder = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--init")))
-      init = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--loss")) &&
-             (!strcmp(v, "latent") || !strcmp(v, "decoded")))
-      decoded = !strcmp(v, "decoded");
-    else if ((v = cli_option_value(argc, argv, &i, "--rows")) && cli_parse_int(v, 1, 65536, &n))
-      s.rows_per_pair = (int)n;
-    else if ((v = cli_option_value(argc, argv, &i, "-o")))
-      out = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--preset")))
-      s.preset = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--log")))
-      s.log_path = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--epochs")) && cli_parse_int(v, 1, 1000000, &n))
-      s.epochs = (int)n;
-    else if ((v = cli_option_value(argc, argv, &i, "--batch")) && cli_parse_int(v, 1, 65536, &n))
-      s.batch = (int)n;
-    else if ((v = cli_option_value(argc, argv, &i, "--decay-every")) &&
-             cli_parse_int(v, 0, 1000000, &n))
-      s.decay_every = (int)n;
-    else if ((v = cli_option_value(argc, argv, &i, "--seed")) &&
-             cli_parse_int(v, 0, 2147483647, &n))
-      s.seed = (uint64_t)n;
-    else if ((v = cli_option_value(argc, argv, &i, "--lr")) && cli_parse_float(v, &f) && f > 0)
-      s.lr = f;
-    else if ((v = cli_option_value(argc, argv, &i, "--energy")) && cli_parse_double(v, &x) &&
-             x >= 0 && x <= 1e6)
-      s.energy.lambda = (float)x;
-    else if ((v = cli_option_value(argc, argv, &i, "--energy-brdfs")) &&
-             cli_parse_int(v, 1, 4096, &n))
-      s.energy_brdfs = (int)n;
-    else if ((v = cli_option_value(argc, argv, &i, "--energy-angles"))) {
-      nbrdf_error e2 = {0};
-      if (model_energy_parse_angles(v, "--energy-angles", &s.energy, &e2)) {
-        free(list);
-        return cli_usage_error("train", "layering: %s", e2.message);
-      }
-    } else if (cli_progress_flag(argv[i], &prog)) {
-    } else {
-      free(list);
-      return cli_usage_error("train", "layering: unexpected or invalid argument '%s'", argv[i]);
-    }
+  layering_args a;
+  layering_args_init(&a);
+  int rc = cli_train_parse("layering", argc, argv, layering_options, &a);
+  if (rc) {
+    free(a.data.copy);
+    return rc == CLI_OPTIONS_HELP ? CLI_EXIT_OK : rc;
   }
+  train_layering_settings s = a.s;
+  const char *run = a.run, *tables = a.tables, *out = a.out, **data = a.data.item,
+             *decoder = a.decoder, *init = a.init;
+  int decoded = a.decoded, n_data = a.data.n;
+  char *list = a.data.copy;
+  cli_progress_state prog = a.prog;
+  cli_train_limits lim = a.lim;
   if (!n_data || !tables || !out || (!run && (!decoded || !decoder))) {
     free(list);
     return cli_usage_error("train", "layering: --data, --tables, -o and --run (or, with --loss "

@@ -39,45 +39,71 @@ static nbrdf_status add_layered_latents(const char *layering, const char *tables
   return st;
 }
 
+typedef struct sampler_args {
+  train_sampler_settings s;
+  const char *run, *out, *layering, *tables;
+  cli_train_list data;
+  int brdfs;
+  cli_progress_state prog;
+  cli_train_limits lim;
+} sampler_args;
+
+static void sampler_options(void *args, cli_opt_visit visit, void *user) {
+  sampler_args *a = args;
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_PATH, .name = "--run", .meta = "DIR", .dest = &a->run,
+       .help = "the decoder run (its latents and decoder)"},
+      {.type = CLI_OPT_PATH, .name = "--output", .alias = "-o", .meta = "FILE", .dest = &a->out,
+       .help = "the sampler.safetensors to write"},
+      {.type = CLI_OPT_INT, .name = "--brdfs", .meta = "N", .lo = 0, .hi = 1 << 30,
+       .dest = &a->brdfs, .help = "the run's latents used, at most (0: all)"},
+      {.type = CLI_OPT_INT, .name = "--epochs", .meta = "N", .lo = 1, .hi = 100000,
+       .dest = &a->s.epochs, .help = "epochs of the network's regression (300)"},
+      {.type = CLI_OPT_PATH, .name = "--layering", .meta = "F", .dest = &a->layering,
+       .help = "also the latents this layering network gives the data's\n"
+               "layered BRDFs (with --tables and --data)"},
+      {.type = CLI_OPT_PATH, .name = "--tables", .meta = "T", .dest = &a->tables,
+       .help = "the base tables (with --layering)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--data", .meta = "FILE[,FILE...]", .dest = &a->data,
+       .parse = cli_train_read_list, .help = "the data sets (with --layering)"},
+      CLI_TRAIN_LIMITS_OPTIONS(&a->lim),
+      CLI_PROGRESS_OPTION(&a->prog, "progress as JSON lines on stdout"),
+      {0},
+  };
+  // clang-format on
+  visit(user, "sampler", t);
+}
+
+static void sampler_args_init(sampler_args *a) {
+  memset(a, 0, sizeof *a);
+  a->s = (train_sampler_settings)TRAIN_SAMPLER_SETTINGS_DEFAULT;
+  a->prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
+  a->lim = (cli_train_limits)CLI_TRAIN_LIMITS_DEFAULT;
+}
+
+void cmd_train_sampler_options(cli_opt_visit visit, void *user) {
+  sampler_args a;
+  sampler_args_init(&a);
+  sampler_options(&a, visit, user);
+}
+
 int cmd_train_sampler(int argc, char **argv) {
-  train_sampler_settings s = TRAIN_SAMPLER_SETTINGS_DEFAULT;
-  const char *run = NULL, *out = NULL, *layering = NULL, *tables = NULL, *data[64];
-  char *list = NULL;
-  int n_data = 0;
-  long brdfs = 0, n;
-  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
-  cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
-  for (int i = 2; i < argc; i++) {
-    const char *v;
-    int code;
-    if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
-      if (code) {
-        free(list);
-        return code;
-      }
-    } else if ((v = cli_option_value(argc, argv, &i, "--run")))
-      run = v;
-    else if ((v = cli_option_value(argc, argv, &i, "-o")))
-      out = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--layering")))
-      layering = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--tables")))
-      tables = v;
-    else if ((v = cli_option_value(argc, argv, &i, "--data"))) {
-      free(list);
-      list = strdup(v);
-      n_data = list ? cli_train_split_list(list, data, 64) : 0;
-    } else if ((v = cli_option_value(argc, argv, &i, "--brdfs")) &&
-               cli_parse_int(v, 0, 1L << 30, &n))
-      brdfs = n;
-    else if ((v = cli_option_value(argc, argv, &i, "--epochs")) && cli_parse_int(v, 1, 100000, &n))
-      s.epochs = (int)n;
-    else if (cli_progress_flag(argv[i], &prog)) {
-    } else {
-      free(list);
-      return cli_usage_error("train", "sampler: unexpected or invalid argument '%s'", argv[i]);
-    }
+  sampler_args a;
+  sampler_args_init(&a);
+  int rc = cli_train_parse("sampler", argc, argv, sampler_options, &a);
+  if (rc) {
+    free(a.data.copy);
+    return rc == CLI_OPTIONS_HELP ? CLI_EXIT_OK : rc;
   }
+  train_sampler_settings s = a.s;
+  const char *run = a.run, *out = a.out, *layering = a.layering, *tables = a.tables,
+             **data = a.data.item;
+  char *list = a.data.copy;
+  int n_data = a.data.n;
+  long brdfs = a.brdfs;
+  cli_progress_state prog = a.prog;
+  cli_train_limits lim = a.lim;
   if (!run || !out || (layering && (!tables || !n_data)) || (!layering && (tables || n_data))) {
     free(list);
     return cli_usage_error("train", "sampler: --run and -o are required; --layering needs "

@@ -9,55 +9,67 @@
 #include "model/bundle.h"
 #include "train/table_fit.h"
 
+typedef struct tables_args {
+  train_table_settings s;
+  const char *decoder, *out;
+  cli_progress_state prog;
+  cli_train_limits lim;
+} tables_args;
+
+static void tables_options(void *args, cli_opt_visit visit, void *user) {
+  tables_args *a = args;
+  // clang-format off
+  const cli_opt t[] = {
+      {.type = CLI_OPT_PATH, .name = "--decoder", .meta = "FILE", .dest = &a->decoder,
+       .help = "the trained decoder, frozen"},
+      {.type = CLI_OPT_PATH, .name = "--output", .alias = "-o", .meta = "FILE", .dest = &a->out,
+       .help = "the base_tables.safetensors to write"},
+      {.type = CLI_OPT_INT, .name = "--alpha-nodes", .meta = "N", .lo = 2, .hi = 1024,
+       .dest = &a->s.alpha_nodes, .help = "roughness nodes of both tables (16)"},
+      {.type = CLI_OPT_INT, .name = "--eta-nodes", .meta = "N", .lo = 2, .hi = 1024,
+       .dest = &a->s.eta_nodes, .help = "eta nodes of the dielectric table (8)"},
+      {.type = CLI_OPT_INT, .name = "--r0-nodes", .meta = "N", .lo = 2, .hi = 1024,
+       .dest = &a->s.r0_nodes, .help = "r0 nodes of the conductor table (9)"},
+      {.type = CLI_OPT_DOUBLE, .name = "--eta-warp", .meta = "P", .lo = 0.25, .hi = 4,
+       .dest = &a->s.eta_warp, .help = "eta nodes E + (2 - E) u^P (1)"},
+      {.type = CLI_OPT_DOUBLE, .name = "--eta-min", .meta = "E", .lo = 1, .hi = 1.9,
+       .dest = &a->s.eta_min, .help = "the smallest eta node (1.05)"},
+      {.type = CLI_OPT_DOUBLE, .name = "--r0-warp", .meta = "P", .lo = 0.25, .hi = 4,
+       .dest = &a->s.r0_warp, .help = "r0 nodes u^P (1)"},
+      {.type = CLI_OPT_INT, .name = "--steps", .meta = "N", .lo = 1, .hi = 1000000,
+       .dest = &a->s.steps, .help = "projection steps (800)"},
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .hi = 2147483647.0, .dest = &a->s.seed,
+       .help = "seed (1)"},
+      CLI_TRAIN_LIMITS_OPTIONS(&a->lim),
+      CLI_PROGRESS_OPTION(&a->prog, "progress as JSON lines on stdout"),
+      {0},
+  };
+  // clang-format on
+  visit(user, "tables", t);
+}
+
+static void tables_args_init(tables_args *a) {
+  memset(a, 0, sizeof *a);
+  a->s = (train_table_settings)TRAIN_TABLE_SETTINGS_DEFAULT;
+  a->prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
+  a->lim = (cli_train_limits)CLI_TRAIN_LIMITS_DEFAULT;
+}
+
+void cmd_train_tables_options(cli_opt_visit visit, void *user) {
+  tables_args a;
+  tables_args_init(&a);
+  tables_options(&a, visit, user);
+}
+
 int cmd_train_tables(int argc, char **argv) {
-  train_table_settings s = TRAIN_TABLE_SETTINGS_DEFAULT;
-  const char *decoder = NULL, *out = NULL;
-  cli_progress_state prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
-  cli_train_limits lim = CLI_TRAIN_LIMITS_DEFAULT;
-  for (int i = 2; i < argc; i++) {
-    const char *v;
-    long n;
-    int code;
-    if (cli_train_limits_option(argc, argv, &i, &lim, &code)) {
-      if (code) return code;
-    } else if ((v = cli_option_value(argc, argv, &i, "--decoder"))) {
-      decoder = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "-o"))) {
-      out = v;
-    } else if ((v = cli_option_value(argc, argv, &i, "--alpha-nodes"))) {
-      if (!cli_parse_int(v, 2, 1024, &n))
-        return cli_usage_error("train", "--alpha-nodes '%s': expected 2..1024", v);
-      s.alpha_nodes = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--eta-nodes"))) {
-      if (!cli_parse_int(v, 2, 1024, &n))
-        return cli_usage_error("train", "--eta-nodes '%s': expected 2..1024", v);
-      s.eta_nodes = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--r0-nodes"))) {
-      if (!cli_parse_int(v, 2, 1024, &n))
-        return cli_usage_error("train", "--r0-nodes '%s': expected 2..1024", v);
-      s.r0_nodes = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--eta-warp"))) {
-      if (!cli_parse_double(v, &s.eta_warp) || !(s.eta_warp >= 0.25 && s.eta_warp <= 4))
-        return cli_usage_error("train", "--eta-warp '%s': expected 0.25..4", v);
-    } else if ((v = cli_option_value(argc, argv, &i, "--eta-min"))) {
-      if (!cli_parse_double(v, &s.eta_min) || !(s.eta_min >= 1.0 && s.eta_min <= 1.9))
-        return cli_usage_error("train", "--eta-min '%s': expected 1..1.9", v);
-    } else if ((v = cli_option_value(argc, argv, &i, "--r0-warp"))) {
-      if (!cli_parse_double(v, &s.r0_warp) || !(s.r0_warp >= 0.25 && s.r0_warp <= 4))
-        return cli_usage_error("train", "--r0-warp '%s': expected 0.25..4", v);
-    } else if ((v = cli_option_value(argc, argv, &i, "--steps"))) {
-      if (!cli_parse_int(v, 1, 1000000, &n))
-        return cli_usage_error("train", "--steps '%s': expected 1..1000000", v);
-      s.steps = (int)n;
-    } else if ((v = cli_option_value(argc, argv, &i, "--seed"))) {
-      if (!cli_parse_int(v, 0, 2147483647, &n))
-        return cli_usage_error("train", "--seed '%s': expected 0..2^31-1", v);
-      s.seed = (uint64_t)n;
-    } else if (cli_progress_flag(argv[i], &prog)) {
-    } else {
-      return cli_usage_error("train", "unexpected argument '%s'", argv[i]);
-    }
-  }
+  tables_args a;
+  tables_args_init(&a);
+  int rc = cli_train_parse("tables", argc, argv, tables_options, &a);
+  if (rc) return rc == CLI_OPTIONS_HELP ? CLI_EXIT_OK : rc;
+  train_table_settings s = a.s;
+  const char *decoder = a.decoder, *out = a.out;
+  cli_progress_state prog = a.prog;
+  cli_train_limits lim = a.lim;
   if (!decoder || !out) return cli_usage_error("train", "tables: --decoder and -o are required");
   cli_inputs inputs;
   cli_inputs_init(&inputs);

@@ -17,6 +17,88 @@
 #include "nbrdf/verify.h"
 #include "verify/verify_write.h"
 
+typedef struct verify_args {
+  cli_params params;
+  const char *texture, *bundle, *json, *heatmap, *gate;
+  const char *level; /* --level as typed, for messages */
+  int gate_k;        /* index of --gate's word */
+  double max_error;  /* percent; < 0: none */
+  int worst;
+  nbrdf_verify_options o;
+  cli_progress_state ps;
+} verify_args;
+
+static int read_level(const char *cmd, const cli_opt *o, const char *v) {
+  verify_args *a = o->dest;
+  uint64_t level;
+  if (!strcmp(v, "all"))
+    a->o.level = NBRDF_VERIFY_ALL_LEVELS;
+  else if (cli_parse_index(v, &level))
+    a->o.level = level > INT_MAX ? INT_MAX : (int)level; /* the texture says which exist */
+  else
+    return cli_opt_bad(cmd, o->name, "a mip level (an integer, 0 the full size) or 'all'", v);
+  a->level = v;
+  return 0;
+}
+
+static void verify_options(verify_args *a, cli_opt_visit visit, void *user) {
+  // clang-format off
+  const cli_opt t[] = {
+      {.help = "inputs (as for 'nbrdf bake'; --roughness defaults to the texture's setting):"},
+      CLI_PARAMS_OPTIONS(&a->params),
+      {.help = "\noptions:"},
+      {.type = CLI_OPT_PATH, .name = "--bundle", .meta = "DIR", .dest = &a->bundle,
+       .help = "the bundle the texture was baked with (default: the\n"
+               "default bundle, see 'nbrdf --version'); another one\n"
+               "is refused (checksum)"},
+      {.type = CLI_OPT_INT, .name = "--texels", .meta = "N", .lo = 1, .hi = 100000000,
+       .dest = &a->o.texels,
+       .help = "per level: all texels of a level with at most N, else a\n"
+               "stratified sample of N (default 256)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--level", .meta = "K|all", .dest = a, .parse = read_level,
+       .help = "mip level to verify (default 0)"},
+      {.type = CLI_OPT_INT, .name = "--spp", .meta = "N", .lo = 1, .hi = 100000000,
+       .dest = &a->o.walks,
+       .help = "ground-truth random walks per lobe image, per each of its\n"
+               "two runs (default 256; noise falls as 1/sqrt(N))"},
+      {.type = CLI_OPT_INT, .name = "--footprint", .meta = "N", .lo = 1, .hi = 1024,
+       .dest = &a->o.footprint_max,
+       .help = "level-0 texels averaged per coarser texel, at most\n(default 16)"},
+      {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->o.seed,
+       .help = "seed of the ground truth and of the sample (default 0)"},
+      {.type = CLI_OPT_INT, .name = "--threads", .meta = "T", .lo = 0, .hi = 4096,
+       .dest = &a->o.threads, .help = "threads for the ground truth; 0 = all cores (default 0)"},
+      {.type = CLI_OPT_PATH, .name = "--json", .meta = "FILE", .dest = &a->json,
+       .help = "the full report as JSON (docs/VERIFY.md)"},
+      {.type = CLI_OPT_PATH, .name = "--heatmap", .meta = "FILE.png", .dest = &a->heatmap,
+       .help = "lobe error per texel of the first level verified"},
+      {.type = CLI_OPT_DOUBLE, .name = "--max-error", .meta = "PCT", .lo = 0, .hi = 1e308,
+       .dest = &a->max_error, .help = "exit 1 when the --gate statistic exceeds PCT percent"},
+      {.type = CLI_OPT_ENUM, .name = "--gate", .choices = "worst|p90|median", .dest = &a->gate_k,
+       .help = "the statistic --max-error applies to (default worst)"},
+      {.type = CLI_OPT_INT, .name = "--worst", .meta = "N", .lo = 0, .hi = 1000000,
+       .dest = &a->worst, .help = "texels listed in the summary (default 5)"},
+      CLI_PROGRESS_OPTION(&a->ps, "progress as JSON lines on stdout"),
+      {0},
+  };
+  // clang-format on
+  visit(user, NULL, t);
+}
+
+static void verify_args_init(verify_args *a) {
+  memset(a, 0, sizeof *a);
+  cli_params_init(&a->params);
+  a->max_error = -1.0, a->worst = 5;
+  a->o = (nbrdf_verify_options)NBRDF_VERIFY_OPTIONS_DEFAULT;
+  a->ps = cli_progress_init(CLI_PROGRESS_BAR, NULL);
+}
+
+void cmd_verify_options(cli_opt_visit visit, void *user) {
+  verify_args a;
+  verify_args_init(&a);
+  verify_options(&a, visit, user);
+}
+
 void cmd_verify_usage(FILE *out) {
   fprintf(out, "usage: nbrdf verify LATENT.exr --alpha1 V --eta V --alpha2 V --r0 V --albedo V\n"
                "                    --sigma-t V [options]\n"
@@ -27,109 +109,12 @@ void cmd_verify_usage(FILE *out) {
                "error of docs/METRICS.md). A texel of mip level k is compared with the average\n"
                "of the ground truth over its level-0 footprint. Pass the same inputs as to\n"
                "'nbrdf bake'.\n"
-               "\n"
-               "inputs (as for 'nbrdf bake'; --roughness defaults to the texture's setting):\n");
-  cli_params_usage(out);
+               "\n");
+  cmd_verify_options(cli_options_help_visit, out);
   fprintf(out, "\n"
-               "options:\n"
-               "  --bundle DIR          the bundle the texture was baked with (default: the\n"
-               "                        default bundle, see 'nbrdf --version'); another one\n"
-               "                        is refused (checksum)\n"
-               "  --texels N            per level: all texels of a level with at most N, else a\n"
-               "                        stratified sample of N (default 256)\n"
-               "  --level K|all         mip level to verify (default 0)\n"
-               "  --spp N               ground-truth random walks per lobe image, per each of its\n"
-               "                        two runs (default 256; noise falls as 1/sqrt(N))\n"
-               "  --footprint N         level-0 texels averaged per coarser texel, at most\n"
-               "                        (default 16)\n"
-               "  --seed S              seed of the ground truth and of the sample (default 0)\n"
-               "  --threads T           threads for the ground truth; 0 = all cores (default 0)\n"
-               "  --json FILE           the full report as JSON (docs/VERIFY.md)\n"
-               "  --heatmap FILE.png    lobe error per texel of the first level verified\n"
-               "  --max-error PCT       exit 1 when the --gate statistic exceeds PCT percent\n"
-               "  --gate worst|p90|median\n"
-               "                        the statistic --max-error applies to (default worst)\n"
-               "  --worst N             texels listed in the summary (default 5)\n"
-               "  --progress=json       progress as JSON lines on stdout\n"
-               "\n"
                "exit status: 0 verified (within --max-error when given), 1 over --max-error, a\n"
                "texture holding non-finite latents, or an error (another bundle or format\n"
                "version, a damaged file: the message says which); 2 bad usage\n");
-}
-
-typedef struct verify_args {
-  const char *texture, *bundle, *json, *heatmap, *gate;
-  const char *level; /* --level as typed, for messages */
-  double max_error; /* percent; < 0: none */
-  long worst;
-  nbrdf_verify_options o;
-  cli_progress_state ps;
-} verify_args;
-
-/* Parses the options other than the parameter inputs. Returns -1 when
- * argv[*i] is not one of them, else an exit status (CLI_EXIT_OK: go on). */
-static int parse_option(int argc, char **argv, int *i, verify_args *a) {
-  const char *v;
-  long n;
-  double d;
-  if ((v = cli_option_value(argc, argv, i, "--bundle"))) {
-    a->bundle = v;
-  } else if ((v = cli_option_value(argc, argv, i, "--texels"))) {
-    if (!cli_parse_int(v, 1, 100000000, &n))
-      return cli_usage_error("verify", "--texels needs an integer >= 1, not '%s'", v);
-    a->o.texels = (int)n;
-  } else if ((v = cli_option_value(argc, argv, i, "--level"))) {
-    uint64_t level;
-    if (!strcmp(v, "all"))
-      a->o.level = NBRDF_VERIFY_ALL_LEVELS;
-    else if (cli_parse_index(v, &level))
-      a->o.level = level > INT_MAX ? INT_MAX : (int)level; /* the texture says which exist */
-    else if (*v)
-      return cli_usage_error("verify",
-                             "--level is a mip level (an integer, 0 the full size) or 'all', "
-                             "not '%s'",
-                             v);
-    a->level = v;
-  } else if ((v = cli_option_value(argc, argv, i, "--spp"))) {
-    if (!cli_parse_int(v, 1, 100000000, &n))
-      return cli_usage_error("verify", "--spp needs an integer >= 1, not '%s'", v);
-    a->o.walks = (int)n;
-  } else if ((v = cli_option_value(argc, argv, i, "--footprint"))) {
-    if (!cli_parse_int(v, 1, 1024, &n))
-      return cli_usage_error("verify", "--footprint needs an integer in [1, 1024], not '%s'", v);
-    a->o.footprint_max = (int)n;
-  } else if ((v = cli_option_value(argc, argv, i, "--seed"))) {
-    char *end;
-    unsigned long long s = strtoull(v, &end, 10);
-    if (!*v || *end || *v == '-')
-      return cli_usage_error("verify", "--seed needs an unsigned integer, not '%s'", v);
-    a->o.seed = (uint64_t)s;
-  } else if ((v = cli_option_value(argc, argv, i, "--threads"))) {
-    if (!cli_parse_int(v, 0, 4096, &n))
-      return cli_usage_error("verify", "--threads needs an integer >= 0, not '%s'", v);
-    a->o.threads = (int)n;
-  } else if ((v = cli_option_value(argc, argv, i, "--json"))) {
-    a->json = v;
-  } else if ((v = cli_option_value(argc, argv, i, "--heatmap"))) {
-    a->heatmap = v;
-  } else if ((v = cli_option_value(argc, argv, i, "--max-error"))) {
-    if (!cli_parse_double(v, &d) || d < 0)
-      return cli_usage_error("verify", "--max-error needs a percentage >= 0, not '%s'", v);
-    a->max_error = d;
-  } else if ((v = cli_option_value(argc, argv, i, "--gate"))) {
-    if (strcmp(v, "worst") && strcmp(v, "p90") && strcmp(v, "median"))
-      return cli_usage_error("verify", "--gate is worst, p90 or median, not '%s'", v);
-    a->gate = v;
-  } else if ((v = cli_option_value(argc, argv, i, "--worst"))) {
-    if (!cli_parse_int(v, 0, 1000000, &a->worst))
-      return cli_usage_error("verify", "--worst needs an integer >= 0, not '%s'", v);
-  } else if (cli_progress_flag(argv[*i], &a->ps)) {
-    return CLI_EXIT_OK;
-  } else {
-    return -1;
-  }
-  if (!*v) return cli_usage_error("verify", "%s needs a value", argv[*i]);
-  return CLI_EXIT_OK;
 }
 
 static void print_params(const nbrdf_verify_texel *t, int colours) {
@@ -220,36 +205,21 @@ static int finish(const verify_args *a, const nbrdf_verify_report *r) {
 }
 
 int cmd_verify(int argc, char **argv) {
-  cli_params params;
-  cli_params_init(&params);
-  verify_args a = {NULL,
-                   NULL,
-                   NULL,
-                   NULL,
-                   "worst",
-                   NULL,
-                   -1.0,
-                   5,
-                   NBRDF_VERIFY_OPTIONS_DEFAULT,
-                   cli_progress_init(CLI_PROGRESS_BAR, NULL)};
-  for (int i = 1; i < argc; i++) {
-    if (cli_is_help(argv[i])) {
-      cmd_verify_usage(stdout);
-      return CLI_EXIT_OK;
-    }
-    int used = cli_params_option("verify", argc, argv, &i, &params);
-    if (used < 0) return CLI_EXIT_USAGE;
-    if (used) continue;
-    int st = parse_option(argc, argv, &i, &a);
-    if (st > 0) return st;
-    if (st == CLI_EXIT_OK) continue;
-    if (argv[i][0] == '-' || a.texture)
-      return cli_usage_error("verify", "unknown option, missing value or extra argument: '%s'",
-                             argv[i]);
-    a.texture = argv[i];
+  verify_args a;
+  verify_args_init(&a);
+  cli_positionals pos = {&a.texture, 1, 0, "LATENT.exr"};
+  cli_parse_call call = {"verify", NULL, argc, 1, argv, &pos, 0};
+  verify_options(&a, cli_options_parse_visit, &call);
+  if (call.rc == CLI_OPTIONS_HELP) {
+    cmd_verify_usage(stdout);
+    return CLI_EXIT_OK;
   }
+  if (call.rc != CLI_OPTIONS_OK) return call.rc;
+  static const char *const gates[] = {"worst", "p90", "median"};
+  a.gate = gates[a.gate_k];
+  cli_params *params = &a.params;
   if (!a.texture) return cli_usage_error("verify", "which texture? (nbrdf verify LATENT.exr ...)");
-  int missing = cli_params_require("verify", &params);
+  int missing = cli_params_require("verify", params);
   if (missing != CLI_EXIT_OK) return missing;
   /* A level the texture lacks is a bad option whatever its size (7 or 10^20): say which levels
    * there are. An unreadable texture is left to nbrdf_verify, which says why. */
@@ -258,7 +228,7 @@ int cmd_verify(int argc, char **argv) {
     if (levels > 0 && a.o.level >= levels)
       return cli_level_error("verify", "--level", a.texture, levels, a.level);
   }
-  if (params.roughness_given) a.o.roughness = (int)params.roughness;
+  if (params->roughness_given) a.o.roughness = (int)params->roughness;
   nbrdf_error err = {0};
   nbrdf_model *model = NULL;
   char used[PATH_MAX];
@@ -267,7 +237,7 @@ int cmd_verify(int argc, char **argv) {
   cli_inputs inputs;
   cli_inputs_init(&inputs);
   cli_inputs_add(&inputs, a.texture);
-  cli_inputs_add_params(&inputs, &params);
+  cli_inputs_add_params(&inputs, params);
   cli_inputs_add_model(&inputs, model);
   const char *outputs[2] = {a.json, a.heatmap};
   if (cli_outputs_check("verify", &inputs, outputs, 2) != CLI_EXIT_OK) {
@@ -280,7 +250,7 @@ int cmd_verify(int argc, char **argv) {
   a.o.progress = cli_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
   cli_cancel_watch();
   nbrdf_verify_report *rep = NULL;
-  nbrdf_status st = nbrdf_verify(model, a.texture, &params.in, &a.o, &rep, &err);
+  nbrdf_status st = nbrdf_verify(model, a.texture, &params->in, &a.o, &rep, &err);
   cli_cancel_unwatch();
   nbrdf_model_destroy(model);
   cli_params_explain(&err);

@@ -7,7 +7,7 @@
 
 #include "cli/cli.h"
 #include "cli/cli_device.h"
-#include "core/number.h"
+#include "core/csv_columns.h"
 #include "core/vec3.h"
 #include "model/model_gpu.h"
 #include "texture/latent_fetch.h"
@@ -16,76 +16,31 @@ enum { COL_U, COL_V, COL_THETA_I, COL_PHI_I, COL_THETA_O, COL_PHI_O, N_COLS };
 /* Rows decoded per call: bounds memory for any number of rows. */
 #define CHUNK 4096
 
-typedef struct column {
-  const char *name;
-  double lo, hi;
-  int hi_open; /* θ = 90° is excluded: the direction would lie in the surface */
-} column;
+/* θ = 90° is excluded: the direction would lie in the surface. */
+static const core_csv_column COLUMNS[N_COLS] = {{"u", 0, 1, 0},        {"v", 0, 1, 0},
+                                                {"theta_i", 0, 90, 1}, {"phi_i", -360, 360, 0},
+                                                {"theta_o", 0, 90, 1}, {"phi_o", -360, 360, 0}};
+/* The output's columns, NULL-terminated: an input must not have them already. */
+static const char *const OUT_MONO[] = {"f", NULL};
+static const char *const OUT_RGB[] = {"f_r", "f_g", "f_b", NULL};
 
-static const column COLUMNS[N_COLS] = {{"u", 0, 1, 0},        {"v", 0, 1, 0},
-                                       {"theta_i", 0, 90, 1}, {"phi_i", -360, 360, 0},
-                                       {"theta_o", 0, 90, 1}, {"phi_o", -360, 360, 0}};
-static const char *const OUT_MONO[] = {"f"};
-static const char *const OUT_RGB[] = {"f_r", "f_g", "f_b"};
+static const core_csv_column *const SPEC[N_COLS] = {&COLUMNS[0], &COLUMNS[1], &COLUMNS[2],
+                                                    &COLUMNS[3], &COLUMNS[4], &COLUMNS[5]};
 
-/* A field's text made safe and short for an error message. */
-static const char *printable(const char *s, char *buf, size_t cap) {
-  size_t n = 0;
-  for (; *s && n + 4 < cap; s++)
-    buf[n++] = (*s >= 32 && *s < 127) ? *s : '?';
-  if (*s) buf[n++] = '.', buf[n++] = '.', buf[n++] = '.';
-  buf[n] = '\0';
-  return buf;
-}
-
-static int find_columns(const core_csv_table *t, int colours, size_t index[N_COLS]) {
-  size_t width = core_csv_record_width(t, 0);
-  const char *const *outs = colours == 3 ? OUT_RGB : OUT_MONO;
-  char name[64];
-  for (int c = 0; c < N_COLS; c++)
-    index[c] = width;
-  for (size_t k = 0; k < width; k++) {
-    core_csv_value(t, 0, k, name, sizeof name);
-    for (int o = 0; o < colours; o++)
-      if (!strcmp(name, outs[o]))
-        return cli_fail("eval", "line %zu: the input already has a column '%s'", t->line[0], name);
-    for (int c = 0; c < N_COLS; c++) {
-      if (strcmp(name, COLUMNS[c].name)) continue;
-      if (index[c] != width)
-        return cli_fail("eval", "line %zu: column '%s' appears twice", t->line[0], name);
-      index[c] = k;
-    }
-  }
-  for (int c = 0; c < N_COLS; c++)
-    if (index[c] == width)
-      return cli_fail("eval",
-                      "missing column '%s' (--texture needs u,v,theta_i,phi_i,theta_o,phi_o)",
-                      COLUMNS[c].name);
+static int find_columns(const core_csv_table *t, const char *input, int colours,
+                        size_t index[N_COLS]) {
+  nbrdf_error err = {0};
+  if (core_csv_columns_find(t, input, SPEC, N_COLS, colours == 3 ? OUT_RGB : OUT_MONO,
+                            "--texture needs u,v,theta_i,phi_i,theta_o,phi_o", index, &err))
+    return cli_fail_error("eval", &err);
   return CLI_EXIT_OK;
 }
 
-static int parse_row(const core_csv_table *t, size_t r, const size_t index[N_COLS],
-                     double v[N_COLS]) {
-  size_t width = core_csv_record_width(t, r), want = core_csv_record_width(t, 0);
-  if (width != want)
-    return cli_fail("eval", "line %zu: %zu fields, but the header has %zu columns", t->line[r],
-                    width, want);
-  char buf[128], shown[64];
-  for (int c = 0; c < N_COLS; c++) {
-    const column *s = &COLUMNS[c];
-    size_t len = core_csv_value(t, r, index[c], buf, sizeof buf);
-    if (len == 0) return cli_fail("eval", "line %zu, column '%s' is empty", t->line[r], s->name);
-    double x = 0;
-    core_number_result nr = len < sizeof buf && strlen(buf) == len ? core_parse_number(buf, len, &x)
-                                                                   : NBRDF_NUMBER_SYNTAX;
-    if (nr != NBRDF_NUMBER_OK)
-      return cli_fail("eval", "line %zu, column '%s': '%s' %s", t->line[r], s->name,
-                      printable(buf, shown, sizeof shown), core_number_problem(nr));
-    if (x < s->lo || x > s->hi || (s->hi_open && x == s->hi))
-      return cli_fail("eval", "line %zu, column '%s': %s is outside [%g, %g%c", t->line[r], s->name,
-                      printable(buf, shown, sizeof shown), s->lo, s->hi, s->hi_open ? ')' : ']');
-    v[c] = x;
-  }
+static int parse_row(const core_csv_table *t, const char *input, size_t r,
+                     const size_t index[N_COLS], double v[N_COLS]) {
+  nbrdf_error err = {0};
+  if (core_csv_columns_read(t, input, r, SPEC, index, N_COLS, v, &err))
+    return cli_fail_error("eval", &err);
   return CLI_EXIT_OK;
 }
 
@@ -107,15 +62,14 @@ typedef struct buffers {
 } buffers;
 
 /* Parses, fetches and decodes rows [r0, r0 + n) (records r0 + 1 ...) into f. */
-static int decode_chunk(const core_csv_table *t, const size_t index[N_COLS],
-                        const nbrdf_model *model, gpu_network *gpu,
-                        const texture_latent_image *img, int level, size_t r0, size_t n,
-                        buffers *b) {
+static int decode_chunk(const core_csv_table *t, const char *input, const size_t index[N_COLS],
+                        const nbrdf_model *model, gpu_network *gpu, const texture_latent_image *img,
+                        int level, size_t r0, size_t n, buffers *b) {
   const texture_latent_layout *lay = &img->layout;
   int colours = texture_latent_colours(lay), D = lay->latent_dim;
   for (size_t k = 0; k < n; k++) {
     double v[N_COLS];
-    int rc = parse_row(t, r0 + k + 1, index, v);
+    int rc = parse_row(t, input, r0 + k + 1, index, v);
     if (rc != CLI_EXIT_OK) return rc;
     texture_latent_fetch_level(img, level, (float)v[COL_U], (float)v[COL_V], b->texel);
     for (int c = 0; c < colours; c++)
@@ -155,7 +109,7 @@ int cli_eval_texture(const cli_eval_texture_options *o, const core_csv_table *t,
   if (o->level >= img->levels)
     rc = cli_level_error("eval", "--level", o->texture, img->levels,
                          o->level_text ? o->level_text : "0");
-  if (rc == CLI_EXIT_OK) rc = find_columns(t, colours, index);
+  if (rc == CLI_EXIT_OK) rc = find_columns(t, o->input, colours, index);
   /* A GPU gets every row in one call (it streams them in its own chunks). */
   size_t n = t->n_records - 1, chunk = n < CHUNK || gpu ? n : CHUNK;
   float *f = NULL;
@@ -173,7 +127,7 @@ int cli_eval_texture(const cli_eval_texture_options *o, const core_csv_table *t,
    * leaves stdout empty, as for the other models. */
   for (size_t r0 = 0; rc == CLI_EXIT_OK && r0 < n; r0 += chunk) {
     b.f = f + r0 * (size_t)colours;
-    rc = decode_chunk(t, index, model, gpu ? gpu->decoder : NULL, img, o->level, r0,
+    rc = decode_chunk(t, o->input, index, model, gpu ? gpu->decoder : NULL, img, o->level, r0,
                       n - r0 < chunk ? n - r0 : chunk, &b);
   }
   if (rc == CLI_EXIT_OK) {

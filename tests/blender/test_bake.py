@@ -162,7 +162,7 @@ try:
 except RuntimeError as e:
     message = str(e)
 t.check("reversed IOR range: the cause reported: %s" % message,
-        message is not None and "--eta-range needs LO,HI with LO < HI" in message)
+        message is not None and "--eta-range expects LO,HI with LO < HI" in message)
 s.eta_range = (1.0, 2.0)
 s.sigma_t_source, s.sigma_t_image = "IMAGE", small
 

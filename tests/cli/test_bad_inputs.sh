@@ -80,7 +80,7 @@ for v in 0x10 1e400 nan; do
   printf 'alpha,r0,theta_i,phi_i,theta_o,phi_o\n0.3,0.9,%s,0,30,180\n' "$v" >bad.csv
   checks=$((checks + 1))
   "$NBRDF" eval --model conductor <bad.csv >/dev/null 2>"$TMP/err"
-  if [ $? != 1 ] || ! grep -Fq "line 2, column 'theta_i': '$v'" "$TMP/err"; then
+  if [ $? != 1 ] || ! grep -Fq "stdin:2: column 'theta_i' expects a number in [0, 90), got '$v'" "$TMP/err"; then
     echo "FAIL: eval '$v': $(cat "$TMP/err")" >&2
     failures=$((failures + 1))
   fi
@@ -156,7 +156,7 @@ for l in 7 32 99 99999999999999999999; do
   expect_clean_error 2 "--level: l64.exr has 7 mip levels (0..6); there is no level $l" \
     "$NBRDF" verify l64.exr "${vrest[@]}" --level "$l"
 done
-expect_clean_error 2 "--level is a mip level (an integer, 0 the full size) or 'all', not '-1'" \
+expect_clean_error 2 "--level expects a mip level (an integer, 0 the full size) or 'all', got '-1'" \
   "$NBRDF" verify l64.exr "${vrest[@]}" --level -1
 printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,30,0,30,180\n' >q.csv
 expect_clean_error 2 "--level: l64.exr has 7 mip levels (0..6); there is no level 99" \
@@ -185,17 +185,17 @@ check "budget: no doubled prefix" bash -c "! grep -Fq 'bake: bake:' '$TMP/err'"
 # Numeric options out of their range are usage errors (exit 2), caught by the CLI rather
 # than refused later by the library (exit 1) (issue 30, 4.7).
 oiiotool --pattern constant:color=0.5 4x4 1 -d uint8 -o eta8.png
-expect_clean_error 2 "--eta-range needs LO,HI with LO < HI (numbers, LO >= 0), not '-1,2'" \
+expect_clean_error 2 "--eta-range expects LO,HI with LO < HI (numbers, LO >= 0), got '-1,2'" \
   "$NBRDF" bake --bundle bundle --alpha1 0.2 --eta eta8.png --alpha2 0.3 --r0 0.9 --albedo 0.7 \
   --sigma-t 2 --eta-range -1,2 -o out.exr
-expect_clean_error 2 "--sigma-t-range needs LO,HI" "$NBRDF" bake --bundle bundle --alpha1 0.2 \
+expect_clean_error 2 "--sigma-t-range expects LO,HI" "$NBRDF" bake --bundle bundle --alpha1 0.2 \
   "${rest[@]}" --sigma-t-range 0,1e39 -o out.exr
 expect_clean_error 2 "--r0 '0.9,1.5,0.5': 1.5 is above 1 (not physical); expected a reflectance" \
   "$NBRDF" bake --bundle bundle --alpha1 0.2 --eta 1.5 --alpha2 0.3 --r0 0.9,1.5,0.5 \
   --albedo 0.7 --sigma-t 2 -o out.exr
 expect_clean_error 2 "--alpha1 '-0.2': -0.2 is negative; expected a value >= 0" "$NBRDF" bake \
   --bundle bundle --alpha1 -0.2 "${rest[@]}" -o out.exr
-expect_clean_error 2 "--env-scale needs a number in [0, 3.4e38], not '1e39'" "$NBRDF" render \
+expect_clean_error 2 "--env-scale expects a number in [0, 3.4e38], got '1e39'" "$NBRDF" render \
   spaced.exr -o r.exr --bundle bundle --env-scale 1e39
 check "no output after bad numeric options" test ! -e out.exr
 

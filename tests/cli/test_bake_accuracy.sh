@@ -17,10 +17,10 @@ expect_exit 0 "$NBRDF" bake "${base[@]}" --accuracy fast -o fast.exr
 check "fast bytes equal a bake without --accuracy" cmp -s plain.exr fast.exr
 
 expect_exit 2 "$NBRDF" bake "${base[@]}" --accuracy best -o bad.exr
-check "--accuracy message" grep -Fq "fast, fitted, specialised or compact, not 'best'" "$TMP/err"
+check "--accuracy message" grep -Fq -- "--accuracy expects fast, fitted, specialised or compact, got 'best'" "$TMP/err"
 for b in 0 -3 abc nan 1e9; do
   expect_exit 2 "$NBRDF" bake "${base[@]}" --accuracy fitted --budget "$b" -o bad.exr
-  check "--budget $b message" grep -Fq -- "--budget needs a number of seconds" "$TMP/err"
+  check "--budget $b message" grep -Fq -- "--budget expects a number of seconds" "$TMP/err"
 done
 expect_exit 2 "$NBRDF" bake "${base[@]}" --budget 10 -o bad.exr
 check "--budget without a level" grep -Fq "applies to --accuracy fitted, specialised or compact" "$TMP/err"

@@ -16,7 +16,7 @@ base=(--bundle bundle --alpha1 0.2 --eta 1.5 --alpha2 0.3 --r0 0.9 --albedo 0.7 
 
 for v in 0 9 x 8,2 8,300 8, 8,32,1 ,32; do
   expect_exit 2 "$NBRDF" bake "${base[@]}" --compact "$v" -o bad.exr
-  check "--compact $v message" grep -Fq -- "--compact needs K[,WIDTH]" "$TMP/err"
+  check "--compact $v message" grep -Fq -- "--compact expects K[,WIDTH]" "$TMP/err"
 done
 expect_exit 2 "$NBRDF" bake "${base[@]}" --accuracy fitted --compact 8 -o bad.exr
 check "--compact with another level" grep -Fq -- "--compact goes with --accuracy compact" "$TMP/err"

@@ -50,7 +50,7 @@ check "same size as the maps" grep -Fq 'wrote same.exr: 16 x 16 mono' "$TMP/out"
 # Bad sizes: usage errors naming the option and the limit.
 for bad in 0x8 8x0 65537x1 -4x4 8x abc 8x8x8 1.5x2; do
   expect_exit 2 "$NBRDF" bake "${consts[@]}" --size "$bad" -o bad.exr
-  check "--size $bad refused: $(cat "$TMP/err")" grep -Fq -- "--size needs WxH (or N for NxN), each an integer in [1, 65536], not '$bad'" "$TMP/err"
+  check "--size $bad refused: $(cat "$TMP/err")" grep -Fq -- "--size expects WxH (or N for NxN), each an integer in [1, 65536], got '$bad'" "$TMP/err"
 done
 check "no output after bad sizes" test ! -e bad.exr
 

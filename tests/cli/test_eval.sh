@@ -43,7 +43,7 @@ SINGLE_ANGLES="theta_i,phi_i,theta_o,phi_o"
 "$NBRDF" eval --help >"$TMP/help" 2>&1
 check "eval --help exits 0" test $? = 0
 for text in "degrees" "WITHOUT the cosine" "f_stderr" "%.17g" "alpha1,eta,alpha2,r0,albedo,sigma_t" \
-  "[0, 90)" "[0.001, 1]" "exit status" "--threads" "line 7, column 'eta'"; do
+  "[0, 90)" "[0.001, 1]" "exit status" "--threads" "stdin:7: column 'eta' expects"; do
   check "eval --help mentions '$text'" grep -Fq -- "$text" "$TMP/help"
 done
 
@@ -146,19 +146,19 @@ check "extreme rows give finite numbers, f >= 0" awk -F, -v num="$NUM" '
 # --- errors name the line and column; exit 1 -----------------------------------
 { echo "$LAYERED_HEADER"; for i in 1 2 3 4 5; do echo "0.1,1.5,0.3,0.9,0.8,1,30,0,30,180"; done
   echo "0.1,abc,0.3,0.9,0.8,1,30,0,30,180"; } >"$TMP/bad.csv"
-eval_error "line 7, column 'eta': 'abc' is not a number" "$TMP/bad.csv" --model layered --spp 4
+eval_error "stdin:7: column 'eta' expects a number in [1, 4], got 'abc'" "$TMP/bad.csv" --model layered --spp 4
 sed 's/^0.1,abc/2,1.5/' "$TMP/bad.csv" >"$TMP/bad2.csv"
-eval_error "line 7, column 'alpha1': 2 is outside" "$TMP/bad2.csv" --model layered --spp 4
+eval_error "stdin:7: column 'alpha1' expects a number in [0.001, 1], got '2'" "$TMP/bad2.csv" --model layered --spp 4
 printf 'alpha,r0,%s\n0.5,1,0,0,95,0\n' "$SINGLE_ANGLES" >"$TMP/bad3.csv"
-eval_error "line 2, column 'theta_o': 95 is outside [0, 90)" "$TMP/bad3.csv" --model conductor
+eval_error "stdin:2: column 'theta_o' expects a number in [0, 90), got '95'" "$TMP/bad3.csv" --model conductor
 printf 'alpha,r0,%s\n0.5,1,0,0,inf,0\n' "$SINGLE_ANGLES" >"$TMP/bad4.csv"
-eval_error "line 2, column 'theta_o': 'inf' is not a number" "$TMP/bad4.csv" --model conductor
+eval_error "stdin:2: column 'theta_o' expects a number in [0, 90), got 'inf'" "$TMP/bad4.csv" --model conductor
 printf 'alpha,r0,%s\n0.5,-0.1,0,0,5,0\n' "$SINGLE_ANGLES" >"$TMP/bad5.csv"
-eval_error "line 2, column 'r0': -0.1 is outside [0, 1]" "$TMP/bad5.csv" --model conductor
+eval_error "stdin:2: column 'r0' expects a number in [0, 1], got '-0.1'" "$TMP/bad5.csv" --model conductor
 printf 'alpha,r0,%s\n\n0.5,,0,0,5,0\n' "$SINGLE_ANGLES" >"$TMP/bad6.csv"
-eval_error "line 3, column 'r0' is empty" "$TMP/bad6.csv" --model conductor
+eval_error "stdin:3: column 'r0' expects a number in [0, 1], got nothing" "$TMP/bad6.csv" --model conductor
 printf 'alpha,r0,%s\n0.5,1,0,0,5,0\n0.5,1,0\n' "$SINGLE_ANGLES" >"$TMP/bad7.csv"
-eval_error "line 3: 3 fields, but the header has 6 columns" "$TMP/bad7.csv" --model conductor
+eval_error "stdin:3: 3 fields, but the header has 6 columns" "$TMP/bad7.csv" --model conductor
 printf 'alpha,%s\n0.5,0,0,5,0\n' "$SINGLE_ANGLES" >"$TMP/bad8.csv"
 eval_error "missing column 'r0'" "$TMP/bad8.csv" --model conductor
 eval_error "missing column 'eta'" "$TMP/bad8.csv" --model dielectric
@@ -171,7 +171,7 @@ eval_error "line 2: a quoted field is never closed" "$TMP/bad10.csv" --model con
 # --- bad usage: exit 2 ------------------------------------------------------------
 eval_exit 2 "$TMP/c1.csv"
 eval_exit 2 "$TMP/c1.csv" --model neural-ish
-check "unknown model is named" grep -Fq "unknown model 'neural-ish'" "$TMP/err"
+check "unknown model is named" grep -Fq -- "--model expects layered, conductor, dielectric, neural, neural-conductor or neural-dielectric, got 'neural-ish'" "$TMP/err"
 eval_exit 2 "$TMP/c1.csv" --model conductor --frobnicate
 eval_exit 2 "$TMP/c1.csv" --model layered --spp 0
 eval_exit 2 "$TMP/c1.csv" --model layered --seed -3

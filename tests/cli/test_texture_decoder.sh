@@ -123,14 +123,14 @@ check "no output" test ! -e x.exr
 E=(eval --texture v2.exr --bundle "$BUNDLE")
 printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,30,0,30,180\n0.5,x,30,0,30,180\n' >bad.csv
 expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
-check "bad number: line 3, column v" grep -Fq "line 3, column 'v': 'x' is not a number" "$TMP/err"
+check "bad number: line 3, column v" grep -Fq "bad.csv:3: column 'v' expects a number in [0, 1], got 'x'" "$TMP/err"
 check "nothing written on error" test ! -s "$TMP/out"
 printf 'u,v,theta_i,phi_i,theta_o,phi_o\n1.5,0.5,30,0,30,180\n' >bad.csv
 expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
-check "u out of range" grep -Fq "line 2, column 'u': 1.5 is outside [0, 1]" "$TMP/err"
+check "u out of range" grep -Fq "bad.csv:2: column 'u' expects a number in [0, 1], got '1.5'" "$TMP/err"
 printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,90,0,30,180\n' >bad.csv
 expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
-check "theta 90 refused" grep -Fq "line 2, column 'theta_i': 90 is outside [0, 90)" "$TMP/err"
+check "theta 90 refused" grep -Fq "bad.csv:2: column 'theta_i' expects a number in [0, 90), got '90'" "$TMP/err"
 printf 'u,v,theta_i,phi_i,theta_o\n0.5,0.5,30,0,30\n' >bad.csv
 expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
 check "missing column" grep -Fq "missing column 'phi_o'" "$TMP/err"
@@ -139,7 +139,7 @@ expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
 check "output column present" grep -Fq "the input already has a column 'f_g'" "$TMP/err"
 printf 'u,v,theta_i,phi_i,theta_o,phi_o\n0.5,0.5,30,0\n' >bad.csv
 expect_exit 1 "$NBRDF" "${E[@]}" --in bad.csv
-check "short row" grep -Fq "line 2: 4 fields, but the header has 6 columns" "$TMP/err"
+check "short row" grep -Fq "bad.csv:2: 4 fields, but the header has 6 columns" "$TMP/err"
 expect_exit 2 "$NBRDF" "${E[@]}" --level 1 --in q.csv
 check "no such level" grep -Fq 'v2.exr has 1 mip level (0..0); there is no level 1' "$TMP/err"
 expect_exit 1 "$NBRDF" "${E[@]}" --in nothere.csv

@@ -18,7 +18,7 @@ check "decoder run" [ -f "$TMP/run/decoder.safetensors" ]
 check "tables (warped axes)" [ -f "$TMP/t.safetensors" ]
 expect_exit 2 "$NBRDF" train tables --decoder "$TMP/run/decoder.safetensors" -o "$TMP/t2.safetensors" \
   --eta-warp 9
-check "a bad warp is named" grep -q -- "--eta-warp '9': expected 0.25..4" "$TMP/err"
+check "a bad warp is named" grep -q -- "--eta-warp expects a number in \\[0.25, 4\\], got '9'" "$TMP/err"
 check "and writes nothing" [ ! -e "$TMP/t2.safetensors" ]
 
 common=(--data "$D" --tables "$TMP/t.safetensors" --batch 4 --rows 8)

@@ -42,5 +42,5 @@ expect_exit 1 "$NBRDF" "${T[@]}" -o "$TMP/t3.safetensors" --checkpoint "$TMP/t.c
 check "tables: another seed is refused" grep -q "seed 1, this run" "$TMP/err"
 
 expect_exit 2 "$NBRDF" "${T[@]}" -o "$TMP/t4.safetensors" --minutes x
-check "a bad --minutes is named" grep -q -- "--minutes 'x'" "$TMP/err"
+check "a bad --minutes is named" grep -Fq -- "--minutes expects a number of minutes in [0, 1e9], got 'x'" "$TMP/err"
 finish
