@@ -164,6 +164,13 @@ static int band_tick(void *user, double fraction) {
   return core_ticker_tick(&p->ticker, "bake", p->y + p->rows * fraction, p->height, 0);
 }
 
+/* The energy audit of the current band (bake_audit.h), as its own stage. */
+static int audit_tick(void *user, double fraction) {
+  bake_progress *p = user;
+  p->fraction = fraction;
+  return core_ticker_tick(&p->ticker, "audit", p->y + p->rows * fraction, p->height, 0);
+}
+
 static int writer_tick(void *user) {
   bake_progress *p = user;
   return core_ticker_tick(&p->ticker, "bake", p->y + p->rows * p->fraction, p->height, 0);
@@ -296,6 +303,7 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   bake_band_init(&band, model, src, &work, W, o->roughness, o->range, cache_max,
                  o->quantise_bits);
   band.tick = band_tick;
+  band.audit_tick = audit_tick;
   band.tick_user = &prog;
   bake_audit_init(&band.audit, o->energy_audit);
   if (compact) band.audit_model = compact, band.audit.compact = &acc.compact;
