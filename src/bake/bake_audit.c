@@ -62,7 +62,7 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
 /* Measured by bench/bench_audit_margin.c (docs/BAKE.md): the largest change of
  * the decoded albedo per unit of normalised alpha1, eta, alpha2, r0, albedo,
  * sigma_t with the shipped model, times a safety factor. */
-const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT] = {1.8, 1.4, 1.75, 1.2, 1.2, 0.9};
+const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT] = {2.9, 5.5, 1.75, 1.4, 2.05, 2.3};
 
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,

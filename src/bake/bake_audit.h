@@ -47,7 +47,7 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * largest. */
 #define BAKE_AUDIT_GRID 16
 #define BAKE_AUDIT_PRECISE_SAMPLES 1024
-#define BAKE_AUDIT_NOISE 0.02
+#define BAKE_AUDIT_NOISE 0.025
 extern const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT];
 
 struct gpu_network;
