@@ -4,6 +4,7 @@
  * representative + slopes + noise really bounds the tuples of a cell.
  *
  *   bench_audit_margin [--bundle DIR] [--bases N] [--sharp]
+ *   bench_audit_margin [--bundle DIR] --texture FILE [--top K]
  *
  * Tuples are drawn uniformly in normalised parameters over the trained range,
  * or with --sharp from the clearcoat of bench/audit_cost.sh (alpha1 clamped to
@@ -11,7 +12,13 @@
  * For each base tuple: one brute-force measurement (16,384 directions per
  * angle) against the audit's (bake_albedo_precise), the slope of each
  * parameter over a step of 1/BAKE_AUDIT_GRID, and one random tuple of the
- * base's cell checked against the bound. Prints the largest of each. */
+ * base's cell checked against the bound. Prints the largest of each.
+ *
+ * --texture: every level-0 latent of a baked texture measured with the audit's
+ * quadrature (no cells) and with the old audit's (bake_albedo_max: 32
+ * directions, 1,024 above 0.9), and the K (8) largest of each brute-forced:
+ * the texture's worst albedo as exactly as this machine affords, to compare
+ * with the header's nbrdf:maxAlbedo. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -24,6 +31,7 @@
 #include "model/albedo_quad.h"
 #include "model/bundle.h"
 #include "model/netio.h"
+#include "texture/latent_exr.h"
 
 enum { P = NBRDF_BAKE_PARAM_COUNT };
 
@@ -45,9 +53,81 @@ static int fail(const nbrdf_error *err) {
   return 1;
 }
 
+static double brute_max(const nbrdf_model *model, model_runner *runner, const float *lat,
+                        const float *sig, nbrdf_error *err) {
+  double rho[BAKE_AUDIT_N_THETA], m = -1.0;
+  if (model_albedo_decoded(model->decoder, runner, 1, lat, sig, BAKE_AUDIT_N_THETA,
+                           bake_audit_theta_deg, 16384, UINT64_C(0x62727574), rho, NULL,
+                           err) != NBRDF_OK)
+    return NAN;
+  for (int a = 0; a < BAKE_AUDIT_N_THETA; a++)
+    m = fmax(m, rho[a]);
+  return m;
+}
+
+/* The indices of the k largest of v[n] into top[k] (k <= n), largest first. */
+static void largest(const double *v, size_t n, size_t k, size_t *top) {
+  for (size_t j = 0; j < k; j++) {
+    size_t best = (size_t)-1;
+    for (size_t i = 0; i < n; i++) {
+      int taken = 0;
+      for (size_t q = 0; q < j; q++)
+        taken |= top[q] == i;
+      if (!taken && (best == (size_t)-1 || v[i] > v[best])) best = i;
+    }
+    top[j] = best;
+  }
+}
+
+static int texture(const nbrdf_model *model, const char *file, int k) {
+  nbrdf_error err = {0};
+  texture_latent_reader *r = NULL;
+  if (texture_latent_reader_open(&r, file, &err) != NBRDF_OK) return fail(&err);
+  const texture_latent_info *info = texture_latent_reader_info(r);
+  const int C = texture_latent_colours(&info->layout), D = info->layout.latent_dim;
+  const size_t texels = (size_t)info->width * info->height, n = texels * C;
+  float *tex = malloc(texels * info->channels * sizeof *tex);
+  float *lat = malloc(n * D * sizeof *lat), *sig = malloc(n * sizeof *sig);
+  double *now = malloc(n * sizeof *now), *old = malloc(n * sizeof *old);
+  if (texture_latent_reader_read(r, 0, 0, 0, info->width, info->height, tex, &err) != NBRDF_OK)
+    return fail(&err);
+  for (size_t i = 0; i < texels; i++)
+    for (int c = 0; c < C; c++) {
+      for (int j = 0; j < D; j++)
+        lat[(i * C + c) * D + j] =
+            tex[i * info->channels + texture_latent_index_latent(&info->layout, c, j)];
+      sig[i * C + c] = tex[i * info->channels + texture_latent_index_sigma(&info->layout, c)];
+    }
+  double c0 = bench_cpu_seconds();
+  if (bake_albedo_precise(model, NULL, n, lat, sig, now, NULL, &err) != NBRDF_OK)
+    return fail(&err);
+  double c1 = bench_cpu_seconds();
+  if (bake_albedo_max(model, n, lat, sig, old, NULL, &err) != NBRDF_OK) return fail(&err);
+  double c2 = bench_cpu_seconds();
+  if ((size_t)k > n) k = (int)n;
+  size_t *top = malloc(2 * (size_t)k * sizeof *top);
+  largest(now, n, (size_t)k, top);
+  largest(old, n, (size_t)k, top + k);
+  model_runner runner;
+  if (model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, &err) != NBRDF_OK)
+    return fail(&err);
+  double brute = -1.0;
+  for (int j = 0; j < 2 * k; j++)
+    brute = fmax(brute, brute_max(model, &runner, lat + top[j] * D, sig + top[j], &err));
+  model_runner_destroy(&runner);
+  printf("%s: %zu latents; header nbrdf:maxAlbedo %.4f\n", file, n, (double)info->max_albedo);
+  printf("every latent, audit's quadrature: max %.4f (%.2f CPU-s); old audit's: max %.4f "
+         "(%.2f CPU-s)\n",
+         now[top[0]], c1 - c0, old[top[k]], c2 - c1);
+  printf("brute force (16,384 directions) of the %d largest of each: max %.4f\n", k, brute);
+  free(tex), free(lat), free(sig), free(now), free(old), free(top);
+  texture_latent_reader_close(r);
+  return 0;
+}
+
 int main(int argc, char **argv) {
-  const char *bundle = NULL;
-  int bases = 24, sharp = 0;
+  const char *bundle = NULL, *file = NULL;
+  int bases = 24, sharp = 0, k_top = 8;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--bundle") && i + 1 < argc)
       bundle = argv[++i];
@@ -55,12 +135,21 @@ int main(int argc, char **argv) {
       bases = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--sharp"))
       sharp = 1;
+    else if (!strcmp(argv[i], "--texture") && i + 1 < argc)
+      file = argv[++i];
+    else if (!strcmp(argv[i], "--top") && i + 1 < argc)
+      k_top = atoi(argv[++i]);
   }
   nbrdf_error err = {0};
   nbrdf_model *model = NULL;
   if ((bundle ? nbrdf_model_load(bundle, &model, &err)
               : nbrdf_model_load_default(&model, NULL, 0, &err)) != NBRDF_OK)
     return fail(&err);
+  if (file) {
+    int rc = texture(model, file, k_top);
+    nbrdf_model_destroy(model);
+    return rc;
+  }
   float lo[P], hi[P];
   bake_ranges_init(model, lo, hi);
   const int D = nbrdf_model_latent_dim(model);
