@@ -1,7 +1,7 @@
 /* Bake-time energy audit (issue 18): the largest decoded directional albedo
- * over θi of every distinct latent a bake evaluates (the cheap importance-
- * sampled quadrature of model/albedo_quad.h), the worst of the bake with its
- * texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy: a
+ * over θi of the distinct latents a bake evaluates (the importance-sampled
+ * quadrature of model/albedo_quad.h, through cell representatives below), the
+ * worst of the bake with its texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy: a
  * renderer shows it as an over-bright rim or fireflies. */
 #ifndef NBRDF_BAKE_BAKE_AUDIT_H
 #define NBRDF_BAKE_BAKE_AUDIT_H
@@ -13,13 +13,13 @@
 #include "nbrdf/model.h"
 
 #define BAKE_AUDIT_LIMIT 1.01
-/* Angles and directions of the cheap quadrature of bake_albedo_max (`nbrdf
- * verify`: 6 × 32 decoder queries per
- * latent. Its maximum over θi is noisy and biased upwards on sharp lobes
- * (measured on α1 0.01, η 1.1, α2 0.3, R0 0.9, A 0.8, σT 0 with the shipped
- * model, 20 seeds: mean 1.32, up to 2.21, against 1.05 ± 0.01 at 16,384
- * directions), so a latent whose cheap maximum exceeds BAKE_AUDIT_REFINE_ABOVE
- * is measured again with 6 × 1,024 (mean 1.053, up to 1.13 there)). */
+/* Angles of both quadratures, and the directions of bake_albedo_max's (`nbrdf
+ * verify`'s): 6 × 32 decoder queries per latent. Its maximum over θi is noisy
+ * and biased upwards on sharp lobes (measured on α1 0.01, η 1.1, α2 0.3, R0 0.9,
+ * A 0.8, σT 0 with the shipped model, 20 seeds: mean 1.32, up to 2.21, against
+ * 1.05 ± 0.01 at 16,384 directions), so a latent whose cheap maximum exceeds
+ * BAKE_AUDIT_REFINE_ABOVE is measured again with 6 × 1,024 (mean 1.053, up to
+ * 1.13 there). */
 #define BAKE_AUDIT_N_THETA 6
 #define BAKE_AUDIT_SAMPLES 32
 #define BAKE_AUDIT_REFINE_ABOVE 0.9
