@@ -13,8 +13,7 @@
 #include "nbrdf/model.h"
 
 #define BAKE_AUDIT_LIMIT 1.01
-/* Angles of both quadratures, and the directions of bake_albedo_max's (`nbrdf
- * verify`'s): 6 × 32 decoder queries per latent. Its maximum over θi is noisy
+/* Angles of both quadratures, and the directions of bake_albedo_max's: 6 × 32 decoder queries per latent. Its maximum over θi is noisy
  * and biased upwards on sharp lobes (measured on α1 0.01, η 1.1, α2 0.3, R0 0.9,
  * A 0.8, σT 0 with the shipped model, 20 seeds: mean 1.32, up to 2.21, against
  * 1.05 ± 0.01 at 16,384 directions), so a latent whose cheap maximum exceeds
@@ -28,7 +27,9 @@ extern const double bake_audit_theta_deg[BAKE_AUDIT_N_THETA];
 
 /* Maximum over bake_audit_theta_deg of the decoded albedo of n latents
  * [n × D] with their proxy sigma [n] (may be NULL): maxv[n], theta_index[n]
- * (may be NULL). Deterministic. Shared with `nbrdf verify`. */
+ * (may be NULL), by the audit's measurement before cells (the cheap pass and
+ * its refinement): what bench/bench_audit_margin.c compares the audit with.
+ * Deterministic. */
 nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *latents,
                              const float *sigma, double *maxv, int *theta_index, nbrdf_error *err);
 
@@ -54,7 +55,8 @@ struct gpu_network;
 
 /* Maximum over bake_audit_theta_deg of the decoded albedo of n latents with
  * 6 x BAKE_AUDIT_PRECISE_SAMPLES directions each, all n in one batch of decoder
- * passes (`gpu`: the decoder on a GPU, or NULL). Deterministic. */
+ * passes (`gpu`: the decoder on a GPU, or NULL). Deterministic. Shared with
+ * `nbrdf verify`, whose per-texel figure is thus the audit's. */
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
                                  int *theta_index, nbrdf_error *err);
