@@ -13,10 +13,11 @@
 #include "nbrdf/model.h"
 
 #define BAKE_AUDIT_LIMIT 1.01
-/* Angles of both quadratures, and the directions of bake_albedo_max's: 6 × 32 decoder queries per latent. Its maximum over θi is noisy
- * and biased upwards on sharp lobes (measured on α1 0.01, η 1.1, α2 0.3, R0 0.9,
- * A 0.8, σT 0 with the shipped model, 20 seeds: mean 1.32, up to 2.21, against
- * 1.05 ± 0.01 at 16,384 directions), so a latent whose cheap maximum exceeds
+/* Angles of both quadratures, and the directions of bake_albedo_max's: 6 × 32
+ * decoder queries per latent. Its maximum over θi is noisy and biased upwards
+ * on sharp lobes (measured on α1 0.01, η 1.1, α2 0.3, R0 0.9, A 0.8, σT 0 with
+ * the shipped model, 20 seeds: mean 1.32, up to 2.21, against 1.05 ± 0.01 at
+ * 16,384 directions), so a latent whose cheap maximum exceeds
  * BAKE_AUDIT_REFINE_ABOVE is measured again with 6 × 1,024 (mean 1.053, up to
  * 1.13 there). */
 #define BAKE_AUDIT_N_THETA 6
