@@ -159,7 +159,8 @@ typedef struct nbrdf_bake_options {
   nbrdf_range_policy range;
   /* Called with stage "bake", done/total in rows; `done` moves within a band
    * (fractional rows) as its tuples go through the networks and its rows
-   * are written, at most ~10 times a second (and once at 0 and at total);
+   * are written (stage "audit", the same count of rows, while the energy
+   * audit measures the band's tuples), at most ~10 times a second (and once at 0 and at total);
    * a non-zero return cancels. May be NULL. */
   nbrdf_progress_fn progress;
   void *user;
@@ -185,7 +186,8 @@ typedef struct nbrdf_bake_options {
   /* Energy audit (docs/BAKE.md, "Energy audit"): the maximum over θi of the
    * decoded directional albedo of each distinct latent the bake evaluates,
    * for the first `energy_audit` of them (NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,
-   * 16,384; measured 0.35 CPU-ms each, several times a tuple's networks); the worst goes into the
+   * 16,384; measured through a representative per cell of parameter space, and
+   * individually only where a bound cannot clear them); the worst goes into the
    * header as nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and parameters. 0 turns it
    * off. The texels are the same either way. */
   size_t energy_audit;

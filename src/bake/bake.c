@@ -61,6 +61,13 @@ static int band_tick(void *user, double fraction) {
   return core_ticker_tick(&p->ticker, "bake", p->y + p->rows * fraction, p->height, 0);
 }
 
+/* The energy audit of the current band (bake_audit.h), as its own stage. */
+static int audit_tick(void *user, double fraction) {
+  bake_progress *p = user;
+  p->fraction = fraction;
+  return core_ticker_tick(&p->ticker, "audit", p->y + p->rows * fraction, p->height, 0);
+}
+
 static int writer_tick(void *user) {
   bake_progress *p = user;
   return core_ticker_tick(&p->ticker, "bake", p->y + p->rows * p->fraction, p->height, 0);
@@ -213,6 +220,7 @@ static nbrdf_status evaluate_and_write(const bake_texture *t, const bake_level *
   bake_band_init(&band, ev->model, src, &ev->work, W, o->roughness, o->range, cache_max,
                  o->quantise_bits);
   band.tick = band_tick;
+  band.audit_tick = audit_tick;
   band.tick_user = prog;
   bake_audit_init(&band.audit, o->energy_audit);
   band.audit_model = ev->stored_model;

@@ -2,6 +2,7 @@
 #include "bake/bake_audit.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -58,6 +59,43 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
   return albedo_max(model, NULL, n, latents, sigma, maxv, theta_index, err);
 }
 
+/* Measured by bench/bench_audit_margin.c (docs/BAKE.md): the largest change of
+ * the decoded albedo per unit of normalised alpha1, eta, alpha2, r0, albedo,
+ * sigma_t with the shipped model, times a safety factor. */
+const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT] = {2.9, 5.5, 1.75, 1.4, 2.05, 2.3};
+
+nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
+                                 const float *latents, const float *sigma, double *maxv,
+                                 int *theta_index, nbrdf_error *err) {
+  if (n == 0) return NBRDF_OK;
+  double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
+  if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+  model_runner runner;
+  nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
+                        : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  if (!st) {
+    st = model_albedo_decoded_lattice(model->decoder, &runner, n, latents, sigma,
+                                      BAKE_AUDIT_N_THETA, bake_audit_theta_deg,
+                                      BAKE_AUDIT_PRECISE_SAMPLES, AUDIT_SEED, rho, err);
+    model_runner_destroy(&runner);
+  }
+  for (size_t k = 0; k < n && !st; k++) {
+    int best = 0;
+    for (int t = 1; t < BAKE_AUDIT_N_THETA; t++)
+      if (rho[k * BAKE_AUDIT_N_THETA + t] > rho[k * BAKE_AUDIT_N_THETA + best]) best = t;
+    maxv[k] = rho[k * BAKE_AUDIT_N_THETA + best];
+    if (theta_index) theta_index[k] = best;
+  }
+  free(rho);
+  return st;
+}
+
+struct bake_audit_cell {
+  uint64_t key; /* 0: empty */
+  float u[NBRDF_BAKE_PARAM_COUNT]; /* the representative's normalised parameters */
+  double value;                    /* its maximum albedo */
+};
+
 void bake_audit_init(bake_audit *a, size_t cap) {
   memset(a, 0, sizeof *a);
   a->cap = cap;
@@ -65,7 +103,8 @@ void bake_audit_init(bake_audit *a, size_t cap) {
 }
 
 void bake_audit_free(bake_audit *a) {
-  free(a->lat), free(a->sigma), free(a->maxv), free(a->theta);
+  free(a->lat), free(a->sigma), free(a->u), free(a->maxv), free(a->theta);
+  free(a->pick), free(a->cell_of), free(a->rep), free(a->cells);
   size_t cap = a->cap;
   struct gpu_network *gpu = a->gpu_decoder;
   memset(a, 0, sizeof *a);
@@ -73,44 +112,139 @@ void bake_audit_free(bake_audit *a) {
   a->gpu_decoder = gpu;
 }
 
-nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const float *out,
+static uint64_t mix64(uint64_t x) {
+  x ^= x >> 33, x *= UINT64_C(0xff51afd7ed558ccd);
+  x ^= x >> 33, x *= UINT64_C(0xc4ceb9fe1a85ec53);
+  return x ^ (x >> 33);
+}
+
+/* The cell of key, or the empty slot where it goes (cells_cap a power of two,
+ * at most half full). */
+static size_t cell_slot(const bake_audit *a, uint64_t key) {
+  size_t mask = a->cells_cap - 1, s = (size_t)mix64(key) & mask;
+  while (a->cells[s].key && a->cells[s].key != key)
+    s = (s + 1) & mask;
+  return s;
+}
+
+static int cells_room(bake_audit *a, size_t more) {
+  if (2 * (a->cells_used + more) <= a->cells_cap) return 1;
+  size_t cap = a->cells_cap ? a->cells_cap : 256;
+  while (2 * (a->cells_used + more) > cap)
+    cap *= 2;
+  bake_audit_cell *old = a->cells;
+  size_t old_cap = a->cells_cap;
+  a->cells = calloc(cap, sizeof *a->cells);
+  if (!a->cells) {
+    a->cells = old;
+    return 0;
+  }
+  a->cells_cap = cap;
+  for (size_t i = 0; i < old_cap; i++)
+    if (old[i].key) a->cells[cell_slot(a, old[i].key)] = old[i];
+  free(old);
+  return 1;
+}
+
+static int scratch_room(bake_audit *a, size_t n, size_t D) {
+  if (n <= a->scratch_cap) return 1;
+  free(a->lat), free(a->sigma), free(a->u), free(a->maxv), free(a->theta);
+  free(a->pick), free(a->cell_of), free(a->rep);
+  a->lat = malloc(n * D * sizeof *a->lat);
+  a->sigma = malloc(n * sizeof *a->sigma);
+  a->u = malloc(n * NBRDF_BAKE_PARAM_COUNT * sizeof *a->u);
+  a->maxv = malloc(n * sizeof *a->maxv);
+  a->theta = malloc(n * sizeof *a->theta);
+  a->pick = malloc(n * sizeof *a->pick);
+  a->cell_of = malloc(n * sizeof *a->cell_of);
+  a->rep = malloc(n * sizeof *a->rep);
+  a->scratch_cap = n;
+  if (a->lat && a->sigma && a->u && a->maxv && a->theta && a->pick && a->cell_of && a->rep)
+    return 1;
+  a->scratch_cap = 0;
+  return 0;
+}
+
+/* Measures the m tuples idx[pick[j]] (one batch) into maxv[j], theta[j]. */
+static nbrdf_status measure(bake_audit *a, const nbrdf_model *model, const float *out,
+                            const size_t *idx, size_t m, nbrdf_error *err) {
+  const size_t D = (size_t)nbrdf_model_latent_dim(model);
+  const size_t stored = a->compact ? (size_t)a->compact->work_dim : D;
+  for (size_t j = 0; j < m; j++) {
+    const float *o = out + idx[a->pick[j]] * (stored + 2);
+    if (a->compact)
+      bake_compact_reduce(a->compact, o, a->lat + j * D);
+    else
+      memcpy(a->lat + j * D, o, D * sizeof *a->lat);
+    a->sigma[j] = o[stored];
+  }
+  a->measured += m;
+  return bake_albedo_precise(model, a->gpu_decoder, m, a->lat, a->sigma, a->maxv, a->theta, err);
+}
+
+/* Records measured tuple j (tuple index k) in the counts and the worst. */
+static void tally(bake_audit *a, size_t j, size_t k, size_t *band_worst) {
+  a->over += a->maxv[j] > BAKE_AUDIT_LIMIT;
+  if (a->maxv[j] > a->worst) {
+    a->worst = a->maxv[j], a->worst_theta = a->theta[j];
+    *band_worst = k;
+  }
+}
+
+nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
+                               const float *lo, const float *hi, const float *out,
                                const size_t *idx, size_t n, size_t *band_worst, nbrdf_error *err) {
+  enum { P = NBRDF_BAKE_PARAM_COUNT };
   *band_worst = (size_t)-1;
   size_t room = a->cap > a->audited ? a->cap - a->audited : 0;
   if (n > room) a->skipped += n - room, n = room;
   if (n == 0) return NBRDF_OK;
   const size_t D = (size_t)nbrdf_model_latent_dim(model);
-  const size_t stored = a->compact ? (size_t)a->compact->work_dim : D;
-  if (n > a->scratch_cap) {
-    free(a->lat), free(a->sigma), free(a->maxv), free(a->theta);
-    a->lat = malloc(n * D * sizeof *a->lat);
-    a->sigma = malloc(n * sizeof *a->sigma);
-    a->maxv = malloc(n * sizeof *a->maxv);
-    a->theta = malloc(n * sizeof *a->theta);
-    a->scratch_cap = n;
-    if (!a->lat || !a->sigma || !a->maxv || !a->theta) {
-      a->scratch_cap = 0;
-      return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
-    }
-  }
+  if (!scratch_room(a, n, D) || !cells_room(a, n))
+    return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+  /* Pass 1: the tuples that open a cell are its representatives. */
+  size_t m = 0;
   for (size_t k = 0; k < n; k++) {
-    const float *o = out + idx[k] * (stored + 2);
-    if (a->compact)
-      bake_compact_reduce(a->compact, o, a->lat + k * D);
-    else
-      memcpy(a->lat + k * D, o, D * sizeof *a->lat);
-    a->sigma[k] = o[stored];
+    float *u = a->u + k * P;
+    uint64_t key = 1;
+    for (int id = 0; id < P; id++) {
+      u[id] = bake_value_normalise(lo, hi, id, t[idx[k]].p[id]);
+      int q = (int)(u[id] * BAKE_AUDIT_GRID);
+      q = q < 0 ? 0 : q >= BAKE_AUDIT_GRID ? BAKE_AUDIT_GRID - 1 : q;
+      key = key * (BAKE_AUDIT_GRID + 1) + (uint64_t)q;
+    }
+    size_t s = cell_slot(a, key);
+    if (!a->cells[s].key) {
+      a->cells[s].key = key;
+      memcpy(a->cells[s].u, u, sizeof a->cells[s].u);
+      a->cells[s].value = NAN; /* measured below */
+      a->cells_used++;
+      a->pick[m++] = k;
+    }
+    a->cell_of[k] = s;
+    a->rep[k] = m && a->pick[m - 1] == k;
   }
-  nbrdf_status st = albedo_max(model, a->gpu_decoder, n, a->lat, a->sigma, a->maxv, a->theta, err);
+  nbrdf_status st = measure(a, model, out, idx, m, err);
   if (st) return st;
-  a->audited += n;
-  for (size_t k = 0; k < n; k++) {
-    a->over += a->maxv[k] > BAKE_AUDIT_LIMIT;
-    if (a->maxv[k] > a->worst) {
-      a->worst = a->maxv[k], a->worst_theta = a->theta[k];
-      *band_worst = idx[k];
-    }
+  for (size_t j = 0; j < m; j++) {
+    a->cells[a->cell_of[a->pick[j]]].value = a->maxv[j];
+    tally(a, j, idx[a->pick[j]], band_worst);
   }
+  /* Pass 2: a tuple the bound cannot clear is measured itself. */
+  m = 0;
+  for (size_t k = 0; k < n; k++) {
+    if (a->rep[k]) continue;
+    const bake_audit_cell *c = &a->cells[a->cell_of[k]];
+    double bound = c->value + BAKE_AUDIT_NOISE;
+    for (int id = 0; id < P; id++)
+      bound += bake_audit_slope[id] * fabs((double)a->u[k * P + id] - (double)c->u[id]);
+    if (!(bound <= BAKE_AUDIT_LIMIT)) a->pick[m++] = k;
+  }
+  st = measure(a, model, out, idx, m, err);
+  if (st) return st;
+  for (size_t j = 0; j < m; j++)
+    tally(a, j, idx[a->pick[j]], band_worst);
+  a->audited += n;
   return NBRDF_OK;
 }
 

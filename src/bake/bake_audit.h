@@ -1,7 +1,7 @@
 /* Bake-time energy audit: the largest decoded directional albedo
- * over θi of every distinct latent a bake evaluates (the cheap importance-
- * sampled quadrature of model/albedo_quad.h), the worst of the bake with its
- * texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy: a
+ * over θi of the distinct latents a bake evaluates (the importance-sampled
+ * quadrature of model/albedo_quad.h, through cell representatives below), the
+ * worst of the bake with its texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy: a
  * renderer shows it as an over-bright rim or fireflies. */
 #ifndef NBRDF_BAKE_BAKE_AUDIT_H
 #define NBRDF_BAKE_BAKE_AUDIT_H
@@ -13,12 +13,13 @@
 #include "nbrdf/model.h"
 
 #define BAKE_AUDIT_LIMIT 1.01
-/* Angles and directions of the cheap quadrature: 6 × 32 decoder queries per
- * latent. Its maximum over θi is noisy and biased upwards on sharp lobes
- * (measured on α1 0.01, η 1.1, α2 0.3, R0 0.9, A 0.8, σT 0 with the shipped
- * model, 20 seeds: mean 1.32, up to 2.21, against 1.05 ± 0.01 at 16,384
- * directions), so a latent whose cheap maximum exceeds BAKE_AUDIT_REFINE_ABOVE
- * is measured again with 6 × 1,024 (mean 1.053, up to 1.13 there). */
+/* Angles of both quadratures, and the directions of bake_albedo_max's: 6 × 32
+ * decoder queries per latent. Its maximum over θi is noisy and biased upwards
+ * on sharp lobes (measured on α1 0.01, η 1.1, α2 0.3, R0 0.9, A 0.8, σT 0 with
+ * the shipped model, 20 seeds: mean 1.32, up to 2.21, against 1.05 ± 0.01 at
+ * 16,384 directions), so a latent whose cheap maximum exceeds
+ * BAKE_AUDIT_REFINE_ABOVE is measured again with 6 × 1,024 (mean 1.053, up to
+ * 1.13 there). */
 #define BAKE_AUDIT_N_THETA 6
 #define BAKE_AUDIT_SAMPLES 32
 #define BAKE_AUDIT_REFINE_ABOVE 0.9
@@ -27,16 +28,49 @@ extern const double bake_audit_theta_deg[BAKE_AUDIT_N_THETA];
 
 /* Maximum over bake_audit_theta_deg of the decoded albedo of n latents
  * [n × D] with their proxy sigma [n] (may be NULL): maxv[n], theta_index[n]
- * (may be NULL). Deterministic. Shared with `nbrdf verify`. */
+ * (may be NULL), by the audit's measurement before cells (the cheap pass and
+ * its refinement): what bench/bench_audit_margin.c compares the audit with.
+ * Deterministic. */
 nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *latents,
                              const float *sigma, double *maxv, int *theta_index, nbrdf_error *err);
 
+/* The bake's audit works in parameter space (docs/BAKE.md, "Energy audit"):
+ * distinct tuples fall in cells of a grid of BAKE_AUDIT_GRID steps over each
+ * parameter's normalised range (bake_value_normalise); the first tuple of a
+ * cell in bake order is its representative and is measured precisely
+ * (bake_albedo_precise). Another tuple of the cell is measured only when the
+ * bound representative + Σ_i bake_audit_slope[i] |u_i - u_rep,i| +
+ * BAKE_AUDIT_NOISE exceeds BAKE_AUDIT_LIMIT: the slopes bound how fast the
+ * decoded albedo moves per unit of normalised parameter and the noise bounds
+ * the quadrature's error (both measured by bench/bench_audit_margin.c). So a
+ * verdict above the limit is never left to a representative, and the worst
+ * value is exact (to the quadrature) whenever it is near or above the limit;
+ * below it, it is the largest measured value, within the bound of the true
+ * largest. */
+#define BAKE_AUDIT_GRID 16
+#define BAKE_AUDIT_PRECISE_SAMPLES 1024
+#define BAKE_AUDIT_NOISE 0.025
+extern const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT];
+
+struct gpu_network;
+
+/* Maximum over bake_audit_theta_deg of the decoded albedo of n latents with
+ * 6 x BAKE_AUDIT_PRECISE_SAMPLES directions each, all n in one batch of decoder
+ * passes (`gpu`: the decoder on a GPU, or NULL). Deterministic. Shared with
+ * `nbrdf verify`, whose per-texel figure is thus the audit's. */
+nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
+                                 const float *latents, const float *sigma, double *maxv,
+                                 int *theta_index, nbrdf_error *err);
+
+typedef struct bake_audit_cell bake_audit_cell;
+
 typedef struct bake_audit {
   size_t cap;      /* tuples audited at most (0: off) */
-  size_t audited;  /* tuples audited */
+  size_t audited;  /* tuples audited (measured or covered by a representative) */
+  size_t measured; /* of those, measured with the decoder */
   size_t skipped;  /* evaluated tuples left unaudited past the cap */
-  size_t over;     /* audited tuples above BAKE_AUDIT_LIMIT */
-  double worst;    /* largest maximum albedo; < 0 before any */
+  size_t over;     /* measured tuples above BAKE_AUDIT_LIMIT */
+  double worst;    /* largest measured maximum albedo; < 0 before any */
   int worst_theta; /* index into bake_audit_theta_deg */
   int x, y, c;     /* a texel (and colour channel) of the worst */
   bake_tuple tuple;
@@ -45,21 +79,27 @@ typedef struct bake_audit {
   const struct bake_compact *compact;
   /* Optional (borrowed): the audited model's decoder on a GPU (model_gpu.h). */
   struct gpu_network *gpu_decoder;
+  /* the grid's cells met so far (open addressing) */
+  bake_audit_cell *cells;
+  size_t cells_cap, cells_used;
   /* scratch */
-  float *lat, *sigma;
+  float *lat, *sigma, *u;
   double *maxv;
   int *theta;
+  size_t *pick, *cell_of;
+  unsigned char *rep;
   size_t scratch_cap;
 } bake_audit;
 
 void bake_audit_init(bake_audit *a, size_t cap);
 void bake_audit_free(bake_audit *a);
 
-/* Audits n distinct tuples: outputs out[idx[k] · (D + 2) ..] (latent, sigma,
- * w). *band_worst (index into the tuples' numbering, or (size_t)-1) and
+/* Audits n distinct tuples t[idx[k]] (prepared: inside [lo, hi], the trained
+ * range) with outputs out[idx[k] · (D + 2) ..] (latent, sigma, w). *band_worst (index into the tuples' numbering, or (size_t)-1) and
  * *band_value receive the worst of them when it beats the bake's so far; the
  * caller then names its texel (bake_audit_found). */
-nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const float *out,
+nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
+                               const float *lo, const float *hi, const float *out,
                                const size_t *idx, size_t n, size_t *band_worst, nbrdf_error *err);
 /* Records the texel (x, y, colour c) and parameters of the new worst. */
 void bake_audit_found(bake_audit *a, const bake_tuple *t, int x, int y, int c);

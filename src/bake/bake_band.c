@@ -17,21 +17,26 @@
  * CPU-second as chunks of 16,384 (docs/RELIABILITY.md, "Cancel and
  * progress"). */
 #define EVAL_CHUNK 2048
-/* Tuples per energy-audit call (bake_audit.h): 6 x 32 decoder queries each, and 6 x 1,024
- * more for those the cheap pass finds above 0.9. A chunk whose every tuple is refined (an
- * untrained or energy-creating model) is ~100 k queries, ~0.1 s on one core: cancel stays
- * within a second even then (128 tuples took 3-4 s with an untrained bundle). */
+/* Tuples per energy-audit call (bake_audit.h): a cell's first tuple is measured with
+ * 6 x 1,024 decoder queries, the others only where the audit's bound cannot clear them. A
+ * chunk whose every tuple is measured (an untrained or energy-creating model) is ~100 k
+ * queries, ~0.1 s on one core: cancel stays within a second even then. */
 #define AUDIT_CHUNK 16
 
 /* Share of a band's time spent gathering and interning its tuples (for the
  * fraction passed to tick; only smoothness of progress depends on it). */
 #define GATHER_FRACTION 0.1
 
-static nbrdf_status tick(bake_band *b, double fraction, int y0, int rows, nbrdf_error *err) {
-  if (b->tick && b->tick(b->tick_user, fraction))
+static nbrdf_status tick_stage(bake_band *b, int (*fn)(void *, double), double fraction, int y0,
+                               int rows, nbrdf_error *err) {
+  if (fn && fn(b->tick_user, fraction))
     return core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled in rows %d to %d", y0,
                      y0 + rows - 1);
   return NBRDF_OK;
+}
+
+static nbrdf_status tick(bake_band *b, double fraction, int y0, int rows, nbrdf_error *err) {
+  return tick_stage(b, b->tick, fraction, y0, rows, err);
 }
 
 void bake_band_init(bake_band *b, const nbrdf_model *model, texture_param_source **src,
@@ -274,13 +279,13 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
      * that cancel is still seen well under a second apart. */
     for (size_t j = 0; st == NBRDF_OK && j < m && b->audit.cap; j += AUDIT_CHUNK) {
       size_t q = m - j < AUDIT_CHUNK ? m - j : AUDIT_CHUNK;
-      if (j)
-        st = tick(b, GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0, rows,
-                  err);
+      st = tick_stage(b, b->audit_tick ? b->audit_tick : b->tick,
+                      GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0,
+                      rows, err);
       if (st == NBRDF_OK)
         st =
-            bake_audit_tuples(&b->audit, b->audit_model ? b->audit_model : b->model,
-                              b->uniq_out, b->missing + k + j, q, &worst, err);
+            bake_audit_tuples(&b->audit, b->audit_model ? b->audit_model : b->model, b->uniq,
+                              b->lo, b->hi, b->uniq_out, b->missing + k + j, q, &worst, err);
       if (st == NBRDF_OK && worst != (size_t)-1) band_worst = worst;
     }
     if (st != NBRDF_OK) return st;

@@ -49,6 +49,8 @@ typedef struct bake_band {
    * band done so far, up to BAKE_BAND_FRACTION; non-zero stops the band
    * with NBRDF_ERR_CANCELLED. */
   int (*tick)(void *user, double fraction);
+  /* The same for the energy audit's share of the band (stage "audit"); NULL: tick. */
+  int (*audit_tick)(void *user, double fraction);
   void *tick_user;
   /* Optional (accuracy levels): the correction added to every distinct
    * tuple's latent after the layering network; the proxy is then predicted

@@ -64,8 +64,8 @@ static int tech_sample(const technique *t, vec3 wi, double u1, double u2, vec3 *
   return model_proxy_sample(t->param, 0.0, wi, 0.5, u1, u2, wo, &pdf);
 }
 
-nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n, uint64_t seed,
-                                    double proxy_sigma, nbrdf_error *err) {
+static nbrdf_status quad_init(model_albedo_quad *q, double theta_i, int n, uint64_t seed,
+                              double proxy_sigma, int lattice, nbrdf_error *err) {
   memset(q, 0, sizeof *q);
   if (!(theta_i >= 0.0 && theta_i < 0.5 * M_PI))
     return core_fail(err, NBRDF_ERR_ARGUMENT,
@@ -117,10 +117,21 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
   for (int j = 0; j < nt; j++) {
     core_rng rng;
     core_rng_init(&rng, core_hash64(seed, (uint64_t)llround(theta_i * 1e9)), (uint64_t)j);
+    /* The lattice's random shift (Cranley-Patterson rotation). */
+    double r1 = lattice ? core_rng_uniform(&rng) : 0.0, r2 = lattice ? core_rng_uniform(&rng) : 0.0;
     for (int s = 0; s < counts[j]; s++, k++) {
-      /* Stratified in u1 (one stratum per sample), jittered in u2. */
-      double u1 = (s + core_rng_uniform(&rng)) / counts[j];
-      double u2 = core_rng_uniform(&rng);
+      double u1, u2;
+      if (lattice) {
+        /* A shifted Fibonacci lattice: stratified in u1, the golden ratio's
+         * low-discrepancy sequence in u2, so every sub-rectangle of the
+         * technique's unit square gets its share of the samples. */
+        u1 = fmod((s + 0.5) / counts[j] + r1, 1.0);
+        u2 = fmod(s * 0.6180339887498949 + r2, 1.0);
+      } else {
+        /* Stratified in u1 (one stratum per sample), jittered in u2. */
+        u1 = (s + core_rng_uniform(&rng)) / counts[j];
+        u2 = core_rng_uniform(&rng);
+      }
       vec3 wo;
       double w = 0.0;
       if (tech_sample(&tech[j], wi, u1, u2, &wo) && wo.z > MIN_COS) {
@@ -139,6 +150,16 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
     }
   }
   return NBRDF_OK;
+}
+
+nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n, uint64_t seed,
+                                    double proxy_sigma, nbrdf_error *err) {
+  return quad_init(q, theta_i, n, seed, proxy_sigma, 0, err);
+}
+
+nbrdf_status model_albedo_quad_init_lattice(model_albedo_quad *q, double theta_i, int n,
+                                            uint64_t seed, double proxy_sigma, nbrdf_error *err) {
+  return quad_init(q, theta_i, n, seed, proxy_sigma, 1, err);
 }
 
 void model_albedo_quad_free(model_albedo_quad *q) {
@@ -172,10 +193,10 @@ double model_albedo_quad_sum(const model_albedo_quad *q, const double *f, double
 /* Rows per decoder pass: bounded so that a bake's audit never allocates much. */
 #define MAX_ROWS 65536
 
-nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner, size_t n_latents,
-                                  const float *latents, const float *sigma, int n_theta,
-                                  const double *theta_deg, int samples, uint64_t seed, double *rho,
-                                  double *se, nbrdf_error *err) {
+static nbrdf_status decoded(const model_decoder *dec, model_runner *runner, size_t n_latents,
+                            const float *latents, const float *sigma, int n_theta,
+                            const double *theta_deg, int samples, uint64_t seed, int lattice,
+                            double *rho, double *se, nbrdf_error *err) {
   if (n_latents == 0 || n_theta <= 0) return NBRDF_OK;
   if (samples < 16 || samples > MAX_ROWS)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "decoded albedo: %d samples, expected 16..%d",
@@ -200,8 +221,7 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
       /* Without proxies every latent shares one set of directions. */
       for (size_t l = 0; st == NBRDF_OK && l < m; l++)
         if (sigma || l == 0)
-          st = model_albedo_quad_init(&quads[l], th, samples, seed, sigma ? sigma[l0 + l] : 0.0,
-                                      err);
+          st = quad_init(&quads[l], th, samples, seed, sigma ? sigma[l0 + l] : 0.0, lattice, err);
       for (size_t l = 0; st == NBRDF_OK && l < m; l++) {
         const model_albedo_quad *q = &quads[sigma ? l : 0];
         for (int k = 0; k < samples; k++) {
@@ -236,4 +256,21 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
   free(wi);
   free(lat);
   return st;
+}
+
+nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner, size_t n_latents,
+                                  const float *latents, const float *sigma, int n_theta,
+                                  const double *theta_deg, int samples, uint64_t seed, double *rho,
+                                  double *se, nbrdf_error *err) {
+  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed, 0, rho,
+                 se, err);
+}
+
+nbrdf_status model_albedo_decoded_lattice(const model_decoder *dec, model_runner *runner,
+                                          size_t n_latents, const float *latents,
+                                          const float *sigma, int n_theta,
+                                          const double *theta_deg, int samples, uint64_t seed,
+                                          double *rho, nbrdf_error *err) {
+  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed, 1, rho,
+                 NULL, err);
 }

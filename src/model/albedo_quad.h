@@ -47,6 +47,12 @@ typedef struct model_albedo_quad {
  * a technique (0: none). Deterministic for (θi, n, seed, proxy_sigma). */
 nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n, uint64_t seed,
                                     double proxy_sigma, nbrdf_error *err);
+/* The same with each technique's (u1, u2) on a randomly shifted Fibonacci
+ * lattice instead of jittered strata: no longer i.i.d. (quad_sum's se does not
+ * apply), but far less spread for the smooth integrands of a decoded lobe at
+ * equal n (bench/bench_audit_margin.c measures it against brute force). */
+nbrdf_status model_albedo_quad_init_lattice(model_albedo_quad *q, double theta_i, int n,
+                                            uint64_t seed, double proxy_sigma, nbrdf_error *err);
 void model_albedo_quad_free(model_albedo_quad *q); /* zeroes it */
 
 /* ρ̂ = Σ weight_k f[k] from the values f[k] = f(ωi, ωo_k) (no cosine), and its
@@ -61,5 +67,12 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
                                   const float *latents, const float *sigma, int n_theta,
                                   const double *theta_deg, int samples, uint64_t seed, double *rho,
                                   double *se, nbrdf_error *err);
+
+/* model_albedo_decoded on the lattice directions of model_albedo_quad_init_lattice. */
+nbrdf_status model_albedo_decoded_lattice(const model_decoder *dec, model_runner *runner,
+                                          size_t n_latents, const float *latents,
+                                          const float *sigma, int n_theta,
+                                          const double *theta_deg, int samples, uint64_t seed,
+                                          double *rho, nbrdf_error *err);
 
 #endif

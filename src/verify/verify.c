@@ -183,8 +183,8 @@ static nbrdf_status compare_texel(verify_run *v, nbrdf_verify_texel *out, nbrdf_
       latent[k] = v->texel[texture_latent_index_latent(L, c, k)];
     float sigma = L->proxy ? v->texel[texture_latent_index_sigma(L, c)] : 0.0f;
     double m = NAN;
-    st = bake_albedo_max(v->decoding, 1, latent, L->proxy && sigma > 0.0f ? &sigma : NULL, &m, NULL,
-                         err);
+    st = bake_albedo_precise(v->decoding, NULL, 1, latent, L->proxy && sigma > 0.0f ? &sigma : NULL,
+                             &m, NULL, err);
     if (st == NBRDF_OK && (isnan(out->max_albedo) || m > out->max_albedo)) out->max_albedo = m;
   }
   if (st != NBRDF_OK) return st;

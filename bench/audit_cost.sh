@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Cost of the bake's energy audit on the sharp clearcoat of issue 33 (docs/BAKE.md, "Energy
+# audit"): Blender's Clearcoat Roughness 0.05 (perceptual: alpha1 0.0025, clamped to the
+# model's 0.01), IOR 1.45, Metallic 1 with Roughness and Base Color from SIZE² 8-bit images
+# (what the add-on sends: alpha2 and r0 maps, albedo 0.8, sigma_t 1). Each binary bakes
+# with --energy-audit 0 and with the audit on (default cap, or CAP); the runs of the two
+# binaries are interleaved so that both see the same load. Prints wall and CPU seconds
+# (/usr/bin/time), the load average, the worst albedo and the share of the audit.
+#   bench/audit_cost.sh [SIZE] [RUNS] [CAP] NBRDF...   (128, 3, the default cap, build/nbrdf)
+set -u
+root=$(cd "$(dirname "$0")/.." && pwd)
+size=${1:-128}
+runs=${2:-3}
+cap=${3:-}
+shift $(($# < 3 ? $# : 3))
+bins=("$@")
+[ ${#bins[@]} -gt 0 ] || bins=("$root/build/nbrdf")
+export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1} OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+# A gradient with noise: every texel its own roughness / colour, as a painted map has.
+oiiotool --pattern fill:topleft=0.15:topright=0.85:bottomleft=0.25:bottomright=0.6 \
+  "${size}x${size}" 1 --pattern noise:type=uniform:min=-0.05:max=0.05:seed=1 \
+  "${size}x${size}" 1 --add -d uint8 -o "$tmp/rough.png"
+oiiotool --pattern fill:topleft=0.95,0.64,0.54:topright=0.56,0.57,0.58:bottomleft=1.0,0.86,0.57:bottomright=0.91,0.92,0.92 \
+  "${size}x${size}" 3 --pattern noise:type=uniform:min=-0.04:max=0.04:seed=2 \
+  "${size}x${size}" 3 --add -d uint8 -o "$tmp/base.png"
+args=(--bundle "$root/models/default" --roughness perceptual --alpha1 0.05 --eta 1.45
+  --alpha2 "$tmp/rough.png" --r0 "$tmp/base.png" --albedo 0.8 --sigma-t 1 --range clamp)
+
+# bake LABEL NBRDF AUDIT: one bake; prints wall, CPU (user + sys) and the audit's summary.
+bake() {
+  /usr/bin/time -f '%e %U %S' -o "$tmp/time" "$2" bake "${args[@]}" --energy-audit "$3" \
+    -o "$tmp/out.exr" >"$tmp/log" 2>&1 || { cat "$tmp/log"; return 1; }
+  read -r wall user sys <"$tmp/time"
+  local cpu worst
+  cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')
+  worst=$(grep -o 'max decoded directional albedo [0-9.]* over [0-9]*' "$tmp/log" | awk '{print $5, "over", $7}')
+  printf '| %s | %s | %s | %s | %s | %s |\n' "$1" "$3" "$wall" "$cpu" \
+    "$(cut -d' ' -f1 /proc/loadavg)" "${worst:--}"
+  echo "$cpu" >>"$tmp/cpu.$1.$3"
+}
+
+echo "sharp clearcoat, ${size}² maps, $runs runs, OPENBLAS_NUM_THREADS=$OPENBLAS_NUM_THREADS"
+echo
+echo '| binary | --energy-audit | wall s | CPU s | load | worst albedo |'
+echo '|---|---|---|---|---|---|'
+for ((r = 0; r < runs; r++)); do
+  for i in "${!bins[@]}"; do
+    bake "bin$i" "${bins[$i]}" 0
+    bake "bin$i" "${bins[$i]}" "${cap:-16384}"
+  done
+done
+echo
+for i in "${!bins[@]}"; do
+  off=$(sort -n "$tmp/cpu.bin$i.0" | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
+  on=$(sort -n "$tmp/cpu.bin$i.${cap:-16384}" | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
+  awk -v b="${bins[$i]}" -v i="$i" -v off="$off" -v on="$on" 'BEGIN {
+    printf "bin%d = %s: median CPU %.2f s off, %.2f s on: the audit %.2f CPU-s, %.0f %% of the bake\n",
+      i, b, off, on, on - off, 100 * (on - off) / on }'
+done
