@@ -26,6 +26,8 @@
 
 #include "bake/bake_audit.h"
 #include "bake/bake_tuple.h"
+#include "model/material.h"
+#include "nbrdf/bake.h"
 #include "bench_clock.h"
 #include "core/rng.h"
 #include "model/albedo_quad.h"
@@ -40,7 +42,7 @@ static float unnormalise(const float *lo, const float *hi, int id, double u) {
   double a = lo[id], b = hi[id];
   for (int i = 0; i < 60; i++) {
     double m = 0.5 * (a + b);
-    if (bake_value_normalise(lo, hi, id, (float)m) < u)
+    if (model_material_normalise(lo, hi, id, (float)m) < u)
       a = m;
     else
       b = m;
@@ -151,7 +153,7 @@ int main(int argc, char **argv) {
     return rc;
   }
   float lo[P], hi[P];
-  bake_ranges_init(model, lo, hi);
+  model_material_ranges(model, lo, hi);
   const int D = nbrdf_model_latent_dim(model);
   /* per base: the base, P steps, one cell member */
   const int per = P + 2;
@@ -171,9 +173,9 @@ int main(int argc, char **argv) {
       ub[id] = core_rng_uniform(&rng);
     if (sharp) {
       ub[NBRDF_BAKE_ALPHA1] = 0.0;
-      ub[NBRDF_BAKE_ETA] = bake_value_normalise(lo, hi, NBRDF_BAKE_ETA, 1.45f);
-      ub[NBRDF_BAKE_ALBEDO] = bake_value_normalise(lo, hi, NBRDF_BAKE_ALBEDO, 0.8f);
-      ub[NBRDF_BAKE_SIGMA_T] = bake_value_normalise(lo, hi, NBRDF_BAKE_SIGMA_T, 1.0f);
+      ub[NBRDF_BAKE_ETA] = model_material_normalise(lo, hi, NBRDF_BAKE_ETA, 1.45f);
+      ub[NBRDF_BAKE_ALBEDO] = model_material_normalise(lo, hi, NBRDF_BAKE_ALBEDO, 0.8f);
+      ub[NBRDF_BAKE_SIGMA_T] = model_material_normalise(lo, hi, NBRDF_BAKE_SIGMA_T, 1.0f);
       ub[NBRDF_BAKE_R0] = 0.5 + 0.5 * ub[NBRDF_BAKE_R0];
     }
     for (int s = 1; s < per; s++) {
@@ -195,7 +197,7 @@ int main(int argc, char **argv) {
   for (size_t k = 0; k < n; k++)
     for (int id = 0; id < P; id++) {
       t[k].p[id] = unnormalise(lo, hi, id, u[k * P + id]);
-      u[k * P + id] = bake_value_normalise(lo, hi, id, t[k].p[id]);
+      u[k * P + id] = model_material_normalise(lo, hi, id, t[k].p[id]);
     }
   if (bake_tuples_evaluate(model, t, NULL, n, out, &err) != NBRDF_OK) return fail(&err);
   for (size_t k = 0; k < n; k++) {

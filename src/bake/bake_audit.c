@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "model/albedo_quad.h"
 #include "model/bundle.h"
+#include "model/material.h"
 #include "model/model_gpu.h"
 
 const double bake_audit_theta_deg[BAKE_AUDIT_N_THETA] = {0.0, 30.0, 60.0, 80.0, 85.0, 89.0};
@@ -208,7 +209,7 @@ nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const ba
     float *u = a->u + k * P;
     uint64_t key = 1;
     for (int id = 0; id < P; id++) {
-      u[id] = bake_value_normalise(lo, hi, id, t[idx[k]].p[id]);
+      u[id] = model_material_normalise(lo, hi, id, t[idx[k]].p[id]);
       int q = (int)(u[id] * BAKE_AUDIT_GRID);
       q = q < 0 ? 0 : q >= BAKE_AUDIT_GRID ? BAKE_AUDIT_GRID - 1 : q;
       key = key * (BAKE_AUDIT_GRID + 1) + (uint64_t)q;

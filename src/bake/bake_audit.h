@@ -36,7 +36,7 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
 
 /* The bake's audit works in parameter space (docs/BAKE.md, "Energy audit"):
  * distinct tuples fall in cells of a grid of BAKE_AUDIT_GRID steps over each
- * parameter's normalised range (bake_value_normalise); the first tuple of a
+ * parameter's normalised range (model_material_normalise); the first tuple of a
  * cell in bake order is its representative and is measured precisely
  * (bake_albedo_precise). Another tuple of the cell is measured only when the
  * bound representative + Σ_i bake_audit_slope[i] |u_i - u_rep,i| +
