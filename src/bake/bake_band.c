@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_range.h"
 #include "core/error.h"
 #include "model/material.h"
 #include "model/model_gpu.h"
@@ -76,23 +77,6 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem) {
   return 1;
 }
 
-/* "alpha1 map a.png: texel (3, 5) channel G" or "alpha1 constant". */
-static void where(const bake_band *b, int id, int x, int y, int c, char *buf, size_t n) {
-  texture_param_source *s = b->src[id];
-  texture_param_map *m = texture_param_source_get_map(s);
-  if (!m) {
-    snprintf(buf, n, "%s (constant)", model_material_param_name(id));
-    return;
-  }
-  static const char rgb[] = "RGB";
-  if (texture_param_source_channels(s) == 3)
-    snprintf(buf, n, "%s: texel (%d, %d) channel %c, %s", texture_param_map_path(m), x, y, rgb[c],
-             model_material_param_name(id));
-  else
-    snprintf(buf, n, "%s: texel (%d, %d), %s", texture_param_map_path(m), x, y,
-             model_material_param_name(id));
-}
-
 /* Applies the roughness convention to one parameter value, validates it and,
  * under the clamp policy, clamps it (bake_tuple.h, shared with eval). */
 static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, int c,
@@ -103,7 +87,7 @@ static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, in
   if (verdict == MODEL_VALUE_CLAMPED) b->clamped[id]++;
   if (verdict <= MODEL_VALUE_CLAMPED) return NBRDF_OK;
   char at[600];
-  where(b, id, x, y, c, at, sizeof at);
+  bake_source_where(b->src, id, x, y, c, at, sizeof at);
   return model_material_fail(verdict, b->lo, b->hi, id, b->roughness, at, typed, err);
 }
 
@@ -280,12 +264,11 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
     for (size_t j = 0; st == NBRDF_OK && j < m && b->audit.cap; j += AUDIT_CHUNK) {
       size_t q = m - j < AUDIT_CHUNK ? m - j : AUDIT_CHUNK;
       st = tick_stage(b, b->audit_tick ? b->audit_tick : b->tick,
-                      GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0,
-                      rows, err);
+                      GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0, rows,
+                      err);
       if (st == NBRDF_OK)
-        st =
-            bake_audit_tuples(&b->audit, b->audit_model ? b->audit_model : b->model, b->uniq,
-                              b->lo, b->hi, b->uniq_out, b->missing + k + j, q, &worst, err);
+        st = bake_audit_tuples(&b->audit, b->audit_model ? b->audit_model : b->model, b->uniq,
+                               b->lo, b->hi, b->uniq_out, b->missing + k + j, q, &worst, err);
       if (st == NBRDF_OK && worst != (size_t)-1) band_worst = worst;
     }
     if (st != NBRDF_OK) return st;

@@ -12,6 +12,7 @@
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
+#include "cli/cli_range.h"
 #include "nbrdf/bake.h"
 #include "nbrdf/model.h"
 
@@ -348,6 +349,7 @@ int cmd_bake(int argc, char **argv) {
   a.opts.progress = cli_progress;
   a.opts.warning = on_warning;
   a.opts.note = on_note;
+  a.opts.range_report = cli_range_report;
   a.opts.user = &a.ps;
   a.opts.cancel = cli_cancel_flag();
   cli_cancel_watch();
