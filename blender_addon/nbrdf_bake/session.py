@@ -13,7 +13,8 @@ import time
 
 import bpy
 
-from . import inputs, preferences
+from . import inputs, material_inputs, preferences
+from .params import PARAMS, range_lines
 from .process import BakeProcess
 
 
@@ -37,20 +38,28 @@ class Session:
         self.image = None
         self.preview_image = None
         self.node = None
+        self.relative = False  # the output was asked for relative to the .blend (//)
+        self.files = {}  # temporary input file -> what the user knows it as
         self._stopped = False
 
     @classmethod
-    def start(cls, context, material):
-        """Starts a bake; raises inputs.SetupError with a message the user can act on."""
+    def start(cls, context, material, obj=None, template=None, uv_map=None, extras=True):
+        """Starts a bake; raises inputs.SetupError with a message the user can act on.
+
+        The queue passes `obj` (whose UV map `uv_map` a procedural input is baked over),
+        `template` (its output path, with {object} and {material}) and extras=False (no
+        verify, no preview)."""
         exe, bundle, problem = preferences.resolve(preferences.get(context))
         if problem:
             raise inputs.SetupError(problem)
         settings = material.nbrdf_bake
-        specs, notes, made = inputs.resolve_sources(context, material, settings)
+        output = inputs.output_path(settings, material.name, template,
+                                    obj.name if obj is not None else None)
+        specs, notes, made = inputs.resolve_sources(context, material, settings, obj, uv_map)
         workdir = tempfile.mkdtemp(prefix="nbrdf-bake-", dir=bpy.app.tempdir or None)
         try:
             argv, output, params = inputs.build_argv(exe, bundle, settings, material.name,
-                                                     workdir, specs)
+                                                     workdir, specs, output)
             os.makedirs(os.path.dirname(output), exist_ok=True)
         except (inputs.SetupError, OSError) as e:
             shutil.rmtree(workdir, ignore_errors=True)
@@ -59,18 +68,20 @@ class Session:
                 raise inputs.SetupError("cannot prepare the bake: %s" % e) from e
             raise
         verify_argv = None
-        if settings.verify:
+        if settings.verify and extras:
             verify_argv = [exe, "verify", output] + params + [
                 "--bundle", bundle, "--texels", str(VERIFY_TEXELS), "--spp", str(VERIFY_SPP),
                 "--json", os.path.join(workdir, "verify.json"), "--progress=json"]
         preview_argv = None
-        if settings.preview and has_render(exe):
+        if settings.preview and extras and has_render(exe):
             size = str(settings.preview_size)
             preview_argv = [exe, "render", output, "-o", preview_path(output), "--bundle", bundle,
                             "--width", size, "--height", size, "--spp",
                             str(settings.preview_spp), "--progress=json"]
         bake = BakeProcess(argv, output, cwd=workdir)
         session = cls(material.name, bake, workdir, verify_argv, preview_argv, notes, made)
+        session.relative = (template or settings.output).startswith("//")
+        session.files = _file_words(material, argv, specs, made)
         if not bake.start():
             session._cleanup()
             raise inputs.SetupError(bake.message)
@@ -81,6 +92,11 @@ class Session:
         if self.process is self.preview:
             return "preview"
         return "verify" if self.process is self.verify else "bake"
+
+    @property
+    def ranges(self):
+        """The bake's range report in the panel's words (params.range_lines)."""
+        return range_lines(self.bake.ranges)
 
     @property
     def progress(self):
@@ -101,10 +117,12 @@ class Session:
             return True
         material = bpy.data.materials.get(self.material_name)
         if self.process is self.bake:
+            if material is not None:
+                material.nbrdf_bake.range_report = "\n".join(self.ranges)
             if self.bake.state != "done":
                 self._cleanup()
                 return False
-            self.image = load_result(self.bake.output)
+            self.image = load_result(self.bake.output, self.relative)
             if material is not None:
                 material.nbrdf_bake.result = self.image
                 self.node = add_image_node(material, self.image)
@@ -129,7 +147,7 @@ class Session:
                 return self.preview.start()
             return False
         if self.preview.state == "done":
-            self.preview_image = load_result(self.preview.output)
+            self.preview_image = load_result(self.preview.output, self.relative)
             if material is not None:
                 material.nbrdf_bake.preview_image = self.preview_image
         return False
@@ -149,9 +167,10 @@ class Session:
         if b.state == "cancelled":
             return "WARNING", "nbrdf: bake " + b.message
         if b.state != "done":
-            return "ERROR", "nbrdf bake failed: " + b.message
+            return "ERROR", "; ".join(["nbrdf bake failed: " + self.explain(b.message)]
+                                      + self.ranges)
         r = b.result
-        notes = list(self.notes) + list(b.warnings)
+        notes = list(self.notes) + self.ranges + list(b.warnings)
         v = self.verify
         if v is not None and v.state == "done" and v.result:
             info = "verify: median lobe error %.1f %%, worst %.1f %% (%d texels)" % (
@@ -170,6 +189,13 @@ class Session:
         return ("WARNING" if notes else "INFO"), "; ".join([text] + ([info] if info else [])
                                                            + notes)
 
+    def explain(self, message):
+        """The CLI's message with each temporary input file named as the user knows it
+        (the UV bake of a node, a generated image): the user never saw those files."""
+        for name in sorted(self.files, key=len, reverse=True):
+            message = message.replace(name, self.files[name])
+        return message
+
     def _cleanup(self):
         shutil.rmtree(self.workdir, ignore_errors=True)
         _remove_images(self.made)
@@ -182,6 +208,30 @@ def _remove_images(images):
             bpy.data.images.remove(im)
         except (ReferenceError, RuntimeError):
             pass
+
+
+def _file_words(material, argv, specs, made):
+    """{file the CLI is given in the temporary folder: the user's words for it}."""
+    out = {}
+    for p in PARAMS:
+        kind, value = specs[p.key]
+        if kind != "image" or p.flag not in argv:
+            continue
+        path = argv[argv.index(p.flag) + 1]
+        if os.path.isabs(path):
+            continue  # the image's own file: the user knows it
+        reading = None
+        if value in made:
+            try:
+                reading = material_inputs.read(material)[0].get(p.key)
+            except material_inputs.MaterialError:
+                reading = None
+        if reading is not None and reading.kind == "procedural":
+            out[path] = "the UV bake of material '%s', input '%s' from %s" % (
+                material.name, reading.socket, inputs.node_words(reading.value))
+        else:
+            out[path] = "image '%s'" % value.name
+    return out
 
 
 def add_image_node(material, image):
@@ -226,9 +276,10 @@ def has_render(exe):
     return _render_support[key]
 
 
-def load_result(path):
+def load_result(path, relative=False):
     """An EXR as an image datablock, reloaded when one already shows that file. The latent
-    texture becomes MULTILAYER (layers latent and proxy) once Blender reads its header."""
+    texture becomes MULTILAYER (layers latent and proxy) once Blender reads its header.
+    `relative`: its path stored relative to the .blend (//...), as the output was asked."""
     image = None
     for im in bpy.data.images:
         if im.filepath and os.path.normpath(bpy.path.abspath(im.filepath)) == path:
@@ -241,4 +292,9 @@ def load_result(path):
     # Reading the size makes Blender open the file and see its layers now. (Setting a colour
     # space here would turn it back into a plain IMAGE: float EXR data is never converted.)
     image.size[0]
+    if relative and bpy.data.filepath:
+        try:
+            image.filepath = bpy.path.relpath(path)
+        except ValueError:  # another drive: stays absolute
+            pass
     return image
