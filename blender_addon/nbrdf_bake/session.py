@@ -40,6 +40,7 @@ class Session:
         self.node = None
         self.relative = False  # the output was asked for relative to the .blend (//)
         self.files = {}  # temporary input file -> what the user knows it as
+        self.cwd = workdir  # where the CLI runs: the output's folder when inputs are relative
         self._stopped = False
 
     @classmethod
@@ -61,6 +62,11 @@ class Session:
             argv, output, params = inputs.build_argv(exe, bundle, settings, material.name,
                                                      workdir, specs, output)
             os.makedirs(os.path.dirname(output), exist_ok=True)
+            cwd = workdir
+            relative = _relative_inputs(argv, params, output, specs)
+            if relative is not None:
+                argv, params = relative
+                cwd = os.path.dirname(output)
         except (inputs.SetupError, OSError) as e:
             shutil.rmtree(workdir, ignore_errors=True)
             _remove_images(made)
@@ -78,10 +84,11 @@ class Session:
             preview_argv = [exe, "render", output, "-o", preview_path(output), "--bundle", bundle,
                             "--width", size, "--height", size, "--spp",
                             str(settings.preview_spp), "--progress=json"]
-        bake = BakeProcess(argv, output, cwd=workdir)
+        bake = BakeProcess(argv, output, cwd=cwd)
         session = cls(material.name, bake, workdir, verify_argv, preview_argv, notes, made)
         session.relative = (template or settings.output).startswith("//")
-        session.files = _file_words(material, argv, specs, made)
+        session.cwd = cwd
+        session.files = _file_words(material, argv, specs, made) if cwd == workdir else {}
         if not bake.start():
             session._cleanup()
             raise inputs.SetupError(bake.message)
@@ -129,7 +136,7 @@ class Session:
                 material.nbrdf_bake.verify_texels = 0
             if self.verify_argv and not self._stopped:
                 self.verify = BakeProcess(self.verify_argv, self.verify_argv[-2],
-                                          cwd=self.workdir)
+                                          cwd=self.cwd)
                 self.process = self.verify
                 if self.verify.start():
                     return True
@@ -208,6 +215,41 @@ def _remove_images(images):
             bpy.data.images.remove(im)
         except (ReferenceError, RuntimeError):
             pass
+
+
+def _relative_inputs(argv, params, output, specs):
+    """(argv, params) with each image file named relative to the output's folder, for the
+    CLI to run there, so that the texture's nbrdf:parameterSources names the maps as they lie
+    beside it (`r0=../textures/rust.png`); None when an input is one of the add-on's temporary
+    files (named by their own file names, relative to the temporary folder) or no image is
+    given. A file whose only common folder with the output is the root keeps its absolute
+    path."""
+    outdir = os.path.dirname(output)
+    images = [p for p in PARAMS if specs[p.key][0] == "image" and p.flag in argv]
+    if not images:
+        return None
+    paths = [argv[argv.index(p.flag) + 1] for p in images]
+    if not all(os.path.isabs(x) for x in paths):
+        return None
+
+    def rel(path):
+        try:
+            common = os.path.commonpath([path, outdir])
+            if os.path.dirname(common) == common:  # only the root (or another drive)
+                return path
+            return os.path.relpath(path, outdir)
+        except ValueError:
+            return path
+
+    out = []
+    for lst in (argv, params):
+        lst = list(lst)
+        for p in images:
+            if p.flag in lst:
+                i = lst.index(p.flag) + 1
+                lst[i] = rel(lst[i])
+        out.append(lst)
+    return out[0], out[1]
 
 
 def _file_words(material, argv, specs, made):

@@ -1,11 +1,12 @@
 """What the add-on says and stores in the user's terms: a CLI error about an input the
 add-on baked through the UV map names the material, socket and node rather than the
 temporary file; the result image of an output asked for relative to the .blend (//) is
-stored relative; a copied nbrdf that cannot run on this machine (missing shared libraries)
+stored relative, and maps on disk are recorded relative to the output; a copied nbrdf that cannot run on this machine (missing shared libraries)
 is said so plainly, in the panel's and the preferences' message."""
 
 import os
 import stat
+import subprocess
 import sys
 
 import bpy
@@ -41,6 +42,21 @@ s.output = os.path.join(work, "abs", "{material}.exr")
 t.check("bake (absolute)", bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
 t.check("an absolute output stays absolute: %s" % s.result.filepath,
         s.result.filepath == os.path.join(work, "abs", "Varnish.exr"))
+
+# Maps on disk are recorded relative to the output in the texture's parameterSources.
+os.makedirs(os.path.join(work, "textures"))
+rust = bpy.data.images.new("rust", 4, 4)
+rust.filepath_raw = os.path.join(work, "textures", "rust.png")
+rust.file_format = "PNG"
+rust.save()
+rust = bpy.data.images.load(os.path.join(work, "textures", "rust.png"))
+s.r0_source, s.r0_image = "IMAGE", rust
+s.output = "//latent/{material}.exr"
+t.check("bake with a map on disk", bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
+info = subprocess.run([t.NBRDF, "info", os.path.join(work, "latent", "Varnish.exr")],
+                      capture_output=True, text=True).stdout
+t.check("the map recorded relative to the output: %s" % info, "r0=../textures/rust.png" in info)
+s.r0_source = "MATERIAL"
 
 # 2. A negative roughness from a node (baked through the UV map): the CLI's message about
 # its temporary file names the user's node and material instead.
