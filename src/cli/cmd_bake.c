@@ -133,8 +133,9 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "carries it fine-tuned to the scene, compact the small\n"
                "decoder distilled from that fine-tuned copy"},
       {.type = CLI_OPT_ENUM, .name = "--range", .choices = "clamp|refuse", .dest = &a->opts.range,
-       .help = "values outside the model's trained ranges: clamp with a\n"
-               "warning (default) or stop naming the file and texel"},
+       .help = "values outside the model's trained ranges: clamp (default)\n"
+               "or stop naming the file and texel; either way each\n"
+               "parameter outside is reported first, in the units typed"},
       {.type = CLI_OPT_INT, .name = "--quantise", .meta = "BITS", .lo = 2, .hi = 16,
        .dest = &a->opts.quantise_bits,
        .help = "round every parameter to 2^BITS levels over its trained\n"

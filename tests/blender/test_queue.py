@@ -8,6 +8,7 @@ is the one a procedural input is baked over, and the active one is left alone.""
 import os
 import subprocess
 import sys
+import types
 
 import bpy
 import numpy as np
@@ -16,7 +17,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import addon_testing as t  # noqa: E402
 
 t.enable()
-from nbrdf_bake import uv_bake  # noqa: E402
+from nbrdf_bake import panels, queue, uv_bake  # noqa: E402
 from nbrdf_bake.queue import QueueRunner  # noqa: E402
 
 work = t.temp_dir()
@@ -160,6 +161,43 @@ bpy.ops.nbrdf.bake_all()
 broken_item = [i for i in q.items if i.material_name == "Broken"][0]
 t.check("a UV map the object lacks is named: %s" % broken_item.message,
         broken_item.state == "FAILED" and "no UV map 'Missing'" in broken_item.message)
+
+# 4. The panels' drawing code over a recording layout (`blender -b` draws no panel): the
+# list's rows, the cancel buttons while a queue runs, the selected item's message.
+class Layout:
+    def __init__(self, calls):
+        self.calls = calls
+
+    def __getattr__(self, name):
+        def call(*args, **kwargs):
+            self.calls.append((name, args, kwargs))
+            return Layout(self.calls)
+        return call
+
+
+calls = []
+ctx = types.SimpleNamespace(scene=bpy.context.scene, active_object=sphere,
+                            preferences=bpy.context.preferences,
+                            region=types.SimpleNamespace(width=400),
+                            window_manager=bpy.context.window_manager)
+q.index = [i.material_name for i in q.items].index("Broken")
+queue.draw_queue(Layout(calls), ctx)
+labels = [c[2].get("text", "") for c in calls if c[0] == "label"]
+t.check("the panel draws the list and the failed item's message: %s" % labels,
+        any(c[0] == "template_list" for c in calls) and any("Missing" in l for l in labels))
+queue._running["queue"] = QueueRunner(bpy.context.scene)
+calls.clear()
+queue.draw_queue(Layout(calls), ctx)
+t.check("cancel buttons while it runs", sum(c[0] == "operator" and c[1][0] == "nbrdf.queue_cancel"
+                                            for c in calls) == 2)
+row = []
+queue.NBRDF_UL_queue.draw_item(None, ctx, Layout(row), q, q.items[0], 0, q, "index")
+t.check("a list row: %s" % row, any("Sphere / " in c[2].get("text", "") for c in row))
+queue._running.clear()
+calls.clear()
+panels.draw_ranges(Layout(calls), ctx, ["Coat Roughness: 0.03 is below 0.1"])
+t.check("the range report in the panel", any("Coat Roughness: 0.03" in c[2].get("text", "")
+                                             for c in calls if c[0] == "label"))
 
 t.disable()
 t.finish("test_queue")
