@@ -131,7 +131,6 @@ class QueueRunner:
         s, self.session = self.session, None
         if item is None:
             return
-        level, text = s.report()
         state = s.bake.state
         item.state = {"done": "DONE", "cancelled": "CANCELLED"}.get(state, "FAILED")
         ranges = s.ranges
