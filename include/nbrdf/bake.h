@@ -175,9 +175,9 @@ typedef struct nbrdf_bake_options {
   nbrdf_roughness roughness;
   /* Values outside what the model was trained on (alpha1, eta outside the
    * dielectric table, alpha2 outside the conductor table, sigma_t above
-   * NBRDF_BAKE_SIGMA_T_MAX): CLAMP moves them onto the range and reports
-   * the count through `warning`; REFUSE fails naming the file and texel.
-   * Either way every parameter outside is reported before any network work (range_report).
+   * NBRDF_BAKE_SIGMA_T_MAX): CLAMP moves them onto the range; REFUSE fails
+   * naming the file and texel. Either way every parameter outside is
+   * reported first, before any network work (range_report).
    * r0 or albedo above 1 are never physical and always fail. */
   nbrdf_range_policy range;
   /* Called with stage "bake", done/total in rows; `done` moves within a band
@@ -214,7 +214,7 @@ typedef struct nbrdf_bake_options {
    * header as nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and parameters. 0 turns it
    * off. The texels are the same either way. */
   size_t energy_audit;
-  nbrdf_bake_accuracy accuracy; /* FAST (default) */
+  nbrdf_bake_accuracy accuracy;       /* FAST (default) */
   /* FITTED and SPECIALISED: seconds of the deterministic cost model the
    * ground truth and the fit may take (<= 0: the level's default,
    * NBRDF_BAKE_BUDGET_*). A budget too small for the level fails with
@@ -262,11 +262,11 @@ typedef struct nbrdf_bake_report {
   double max_albedo;   /* their largest decoded directional albedo (NaN: none audited) */
   /* FITTED / SPECIALISED (0 for FAST): */
   nbrdf_bake_accuracy accuracy;
-  double budget;             /* the budget used, cost-model seconds */
-  size_t distinct;           /* distinct tuples of the maps (the selection's candidates) */
-  size_t fitted_tuples;      /* tuples whose ground truth the fit used */
-  size_t heldout_tuples;     /* tuples held out of the fit for the error estimate */
-  double heldout_error;      /* median lobe error (fraction) on the held-out tuples */
+  double budget;          /* the budget used, cost-model seconds */
+  size_t distinct;        /* distinct tuples of the maps (the selection's candidates) */
+  size_t fitted_tuples;   /* tuples whose ground truth the fit used */
+  size_t heldout_tuples;  /* tuples held out of the fit for the error estimate */
+  double heldout_error;   /* median lobe error (fraction) on the held-out tuples */
   double heldout_error_fast; /* the same tuples with the universal networks alone */
   /* COMPACT (0 otherwise): latent channels per colour channel, the decoder's
    * multiply-adds per query, and the variance of the scene's latents they keep. */

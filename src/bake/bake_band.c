@@ -264,11 +264,12 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
     for (size_t j = 0; st == NBRDF_OK && j < m && b->audit.cap; j += AUDIT_CHUNK) {
       size_t q = m - j < AUDIT_CHUNK ? m - j : AUDIT_CHUNK;
       st = tick_stage(b, b->audit_tick ? b->audit_tick : b->tick,
-                      GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0, rows,
-                      err);
+                      GATHER_FRACTION + eval_share * (double)(k + j) / (double)n_missing, y0,
+                      rows, err);
       if (st == NBRDF_OK)
-        st = bake_audit_tuples(&b->audit, b->audit_model ? b->audit_model : b->model, b->uniq,
-                               b->lo, b->hi, b->uniq_out, b->missing + k + j, q, &worst, err);
+        st =
+            bake_audit_tuples(&b->audit, b->audit_model ? b->audit_model : b->model, b->uniq,
+                              b->lo, b->hi, b->uniq_out, b->missing + k + j, q, &worst, err);
       if (st == NBRDF_OK && worst != (size_t)-1) band_worst = worst;
     }
     if (st != NBRDF_OK) return st;
