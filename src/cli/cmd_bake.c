@@ -12,6 +12,7 @@
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
+#include "cli/cli_range.h"
 #include "nbrdf/bake.h"
 #include "nbrdf/model.h"
 
@@ -132,8 +133,9 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "carries it fine-tuned to the scene, compact the small\n"
                "decoder distilled from that fine-tuned copy"},
       {.type = CLI_OPT_ENUM, .name = "--range", .choices = "clamp|refuse", .dest = &a->opts.range,
-       .help = "values outside the model's trained ranges: clamp with a\n"
-               "warning (default) or stop naming the file and texel"},
+       .help = "values outside the model's trained ranges: clamp (default)\n"
+               "or stop naming the file and texel; either way each\n"
+               "parameter outside is reported first, in the units typed"},
       {.type = CLI_OPT_INT, .name = "--quantise", .meta = "BITS", .lo = 2, .hi = 16,
        .dest = &a->opts.quantise_bits,
        .help = "round every parameter to 2^BITS levels over its trained\n"
@@ -348,6 +350,7 @@ int cmd_bake(int argc, char **argv) {
   a.opts.progress = cli_progress;
   a.opts.warning = on_warning;
   a.opts.note = on_note;
+  a.opts.range_report = cli_range_report;
   a.opts.user = &a.ps;
   a.opts.cancel = cli_cancel_flag();
   cli_cancel_watch();
