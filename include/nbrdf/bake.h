@@ -210,6 +210,11 @@ typedef struct nbrdf_bake_options {
   /* Receives one line saying where the networks run (AUTO and GPU only; e.g. "no GPU for
    * the networks (...): they run on the CPU"). May be NULL. */
   void (*note)(void *user, const char *message);
+  /* Optional: a fingerprint of what the caller made the texture from (its inputs' sizes and
+   * times, the options: any text), stored in the header as nbrdf:inputs, so that a later
+   * run can tell a texture that is up to date from a stale one (a tile set's resumed bake).
+   * NULL (default): no attribute, the file as without it. */
+  const char *inputs;
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
@@ -220,7 +225,7 @@ typedef struct nbrdf_bake_options {
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,         \
-        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL                                      \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL                                \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
