@@ -321,6 +321,11 @@ int bake_tiles_run(bake_tiles_job *job) {
     nbrdf_bake_inputs in = job->params->in;
     for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
       if (files[i].map[id]) in.param[id].path = files[i].map[id];
+    if (*cli_cancel_flag()) { /* between two tiles */
+      nbrdf_error err = {NBRDF_ERR_CANCELLED, "cancelled"};
+      rc = tile_failed(job, &tp, NBRDF_ERR_CANCELLED, &err, baked + skipped);
+      break;
+    }
     char fp[32];
     fingerprint(job, &in, fp);
     if (!job->force && up_to_date(files[i].out, fp)) {
