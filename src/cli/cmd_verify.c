@@ -13,6 +13,8 @@
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
+#include "cli/cli_tiles.h"
+#include "cli/verify_tiles.h"
 #include "core/output_file.h"
 #include "nbrdf/verify.h"
 #include "verify/verify_write.h"
@@ -109,6 +111,9 @@ void cmd_verify_usage(FILE *out) {
                "error of docs/METRICS.md). A texel of mip level k is compared with the average\n"
                "of the ground truth over its level-0 footprint. Pass the same inputs as to\n"
                "'nbrdf bake'.\n"
+               "A tile set ('latent.<UDIM>.exr', maps as tile patterns too) is verified with\n"
+               "one texture's sample spread over its tiles: per-tile and overall figures\n"
+               "(docs/VERIFY.md, \"Tile sets\").\n"
                "\n");
   cmd_verify_options(cli_options_help_visit, out);
   fprintf(out, "\n"
@@ -246,6 +251,15 @@ int cmd_verify(int argc, char **argv) {
   }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n", used);
+  if (cli_tiles_is_pattern(a.texture)) {
+    verify_tiles_job job = {params, model, a.o, a.texture, a.json, a.max_error, a.gate, &a.ps};
+    int rc = a.heatmap ? cli_usage_error("verify", "--heatmap draws one texture, not a tile set: "
+                                                   "give one tile's file")
+                       : verify_tiles_run(&job);
+    nbrdf_model_destroy(model);
+    cli_inputs_free(&inputs);
+    return rc;
+  }
   cli_progress_start(&a.ps);
   a.o.progress = cli_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
   cli_cancel_watch();
