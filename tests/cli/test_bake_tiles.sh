@@ -94,4 +94,75 @@ expect_exit 2 "$NBRDF" bake "${set_args[@]}" --eta 'maps/eta.<UDIM>.<u>.png' -o 
 check "a bad pattern names the option" grep -Fq -- "--eta: " "$TMP/err"
 check "nothing written for refused sets" test -z "$(ls bad)"
 
+# 5. info of a set: a line per tile, what they share; a damaged tile fails naming it.
+expect_exit 0 "$NBRDF" info 'set/lat.<UDIM>.exr'
+check "info: a line per tile" grep -Eq \
+  '^tile 1011: set/lat.1011.exr, 16 x 16 rgb, 5 level\(s\), half zip, [0-9]+ bytes, decoder bundle, check ok$' "$TMP/out"
+check "info: the set" grep -Fq -- 'set:           set/lat.<UDIM>.exr, 4 tile(s) 1001..1012, ' "$TMP/out"
+check "info: shared size" grep -Fq -- 'size:          16 x 16, 5 level(s), every tile' "$TMP/out"
+check "info: shared decoder" grep -Fq -- 'decoder:       bundle, every tile' "$TMP/out"
+mkdir dmg && cp set/lat.*.exr dmg/ && head -c 3000 set/lat.1002.exr >dmg/lat.1002.exr
+expect_exit 1 "$NBRDF" info 'dmg/lat.<UDIM>.exr'
+check "info: the damaged tile named" grep -Fq -- 'tile 1002: dmg/lat.1002.exr: FAILED: ' "$TMP/out"
+check "info: the others listed" grep -Fq -- 'tile 1012: dmg/lat.1012.exr, 16 x 16 rgb' "$TMP/out"
+check "info: the count" grep -Fq -- '1 of 4 tile(s) unreadable or damaged' "$TMP/err"
+expect_exit 0 "$NBRDF" info set/lat.1001.exr
+check "info of one tile: its fingerprint" grep -Eq '^inputs: +fnv1a64:[0-9a-f]{16}$' "$TMP/out"
+
+# 6. verify of a set: 8 texels over 4 tiles, 2 each; tile i is sampled with seed + i, so
+# its figures are those of verifying that tile alone with --texels 2 --seed i (the same
+# computation: equal to the printed digits).
+vargs=(--texels 8 --spp 4)
+expect_exit 0 "$NBRDF" verify 'set/lat.<UDIM>.exr' "${set_args[@]}" "${vargs[@]}" --json set.json
+check "verify: the sample" grep -Fq -- '4 tile(s), 8 texel(s) per level over the set (2 per tile)' "$TMP/out"
+check "verify: a row per tile" grep -Eq '^  1012 +2 ' "$TMP/out"
+check "verify: the set's row" grep -Eq '^  all +8 ' "$TMP/out"
+expect_exit 0 "$NBRDF" verify set/lat.1011.exr $(tile_args 1011) --texels 2 --spp 4 --seed 2 \
+  --json one.json
+check "verify: a tile's figures are its own verify's" python3 - set.json one.json <<'PY'
+import json, sys
+s, o = (json.load(open(f)) for f in sys.argv[1:])
+t = [t for t in s["tiles"] if t["tile"] == 1011][0]
+keys = ["texels", "lobe_error_median_pct", "albedo_error_median", "reference_noise_median_pct"]
+sys.exit(0 if all(t[k] == o["overall"][k] for k in keys) and s["overall"]["texels"] == 8 else 1)
+PY
+expect_exit 1 "$NBRDF" verify 'set/lat.<UDIM>.exr' "${set_args[@]}" --sigma-t 'gap/depth.<UDIM>.png' "${vargs[@]}"
+check "verify: maps lacking a tile" grep -Fq -- "has no tile 1012" "$TMP/err"
+expect_exit 2 "$NBRDF" verify 'set/lat.<UDIM>.exr' "${set_args[@]}" "${vargs[@]}" --heatmap h.png
+check "verify: no heat-map of a set" grep -Fq -- "--heatmap draws one texture, not a tile set" "$TMP/err"
+
+# 7. Ctrl-C in the middle of a set, measured in work, not seconds: the bake is frozen at
+# the first progress line of the second tile (the first tile is finished), SIGINT is sent
+# while it is frozen, then it goes on. It exits 1 naming the tile in flight, which leaves
+# no file (nor a temporary one); the tiles before it stay whole, and a re-run skips them.
+mkdir big cut
+for t in $tiles; do
+  oiiotool --pattern fill:left=0.05:right=0.8 64x64 1 -d half -o big/rough.$t.exr
+  oiiotool --pattern fill:top=0.1:bottom=4.$((t % 10)) 64x64 1 -d half -o big/depth.$t.exr
+done
+big_args=(--bundle bundle --alpha1 'big/rough.<UDIM>.exr' --eta 1.5 --alpha2 0.3 --r0 r0.png
+  --albedo 0.7 --sigma-t 'big/depth.<UDIM>.exr' --resample bilinear)
+: >run.log
+"$NBRDF" bake "${big_args[@]}" --progress=json -o 'cut/lat.<UDIM>.exr' >run.log 2>&1 &
+pid=$!
+until grep -q '"tile_index":2' run.log || ! kill -0 $pid 2>/dev/null; do sleep 0.05; done
+kill -STOP $pid 2>/dev/null
+kill -INT $pid 2>/dev/null
+kill -CONT $pid 2>/dev/null
+wait $pid
+rc=$?
+check "cancel: exit 1 (got $rc)" test "$rc" = 1
+inflight=$(grep -o 'cancelled in tile [0-9]*' run.log | grep -o '[0-9]*$')
+check "cancel: the tile in flight is named: $(tail -2 run.log)" test -n "$inflight"
+check "cancel: no file for tile $inflight" test ! -e "cut/lat.$inflight.exr"
+check "cancel: only finished tiles in the folder: $(ls -a cut | tr '\n' ' ')" \
+  test "$(ls -A cut | grep -vc '^lat\.[0-9]*\.exr$')" = 0
+finished=$(ls cut | wc -l)
+check "cancel: the first tile finished" test -e cut/lat.1001.exr
+for f in cut/lat.*.exr; do
+  check "cancel: $f is whole" "$NBRDF" info "$f"
+done
+expect_exit 0 "$NBRDF" bake "${big_args[@]}" -o 'cut/lat.<UDIM>.exr'
+check "resumed: finished tiles skipped" grep -Fq -- "4 tiles, $((4 - finished)) baked, $finished skipped" "$TMP/out"
+
 finish
