@@ -285,10 +285,11 @@ static int tile_failed(const bake_tiles_job *job, const tile_progress *tp, nbrdf
   }
   if (st == NBRDF_ERR_CANCELLED)
     return cli_fail("bake",
-                    "%s: cancelled in tile %d (%d/%d); no file written for it, the %d tile%s "
-                    "finished before it stay whole and a re-run skips them",
+                    "%s: cancelled in tile %d (%d/%d); no file written for it, %d tile%s "
+                    "finished before it stay%s whole (a re-run skips %s)",
                     cli_cancel_reason(), tp->tile, tp->index, tp->count, finished,
-                    finished == 1 ? "" : "s");
+                    finished == 1 ? "" : "s", finished == 1 ? "s" : "",
+                    finished == 1 ? "it" : "them");
   return cli_fail("bake", "tile %d: %s", tp->tile, err->message);
 }
 
