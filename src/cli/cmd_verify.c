@@ -226,6 +226,11 @@ int cmd_verify(int argc, char **argv) {
   if (!a.texture) return cli_usage_error("verify", "which texture? (nbrdf verify LATENT.exr ...)");
   int missing = cli_params_require("verify", params);
   if (missing != CLI_EXIT_OK) return missing;
+  if (cli_params_any_tiled(params) && !cli_tiles_is_pattern(a.texture))
+    return cli_usage_error("verify",
+                           "the maps are tile patterns but '%s' names one texture: give the "
+                           "set's pattern ('latent.<UDIM>.exr'), or the tile's own maps",
+                           a.texture);
   /* A level the texture lacks is a bad option whatever its size (7 or 10^20): say which levels
    * there are. An unreadable texture is left to nbrdf_verify, which says why. */
   if (a.o.level != NBRDF_VERIFY_ALL_LEVELS) {

@@ -128,6 +128,8 @@ sys.exit(0 if all(t[k] == o["overall"][k] for k in keys) and s["overall"]["texel
 PY
 expect_exit 1 "$NBRDF" verify 'set/lat.<UDIM>.exr' "${set_args[@]}" --sigma-t 'gap/depth.<UDIM>.png' "${vargs[@]}"
 check "verify: maps lacking a tile" grep -Fq -- "has no tile 1012" "$TMP/err"
+expect_exit 2 "$NBRDF" verify set/lat.1001.exr "${set_args[@]}" "${vargs[@]}"
+check "verify: one texture against patterns" grep -Fq -- "the maps are tile patterns but" "$TMP/err"
 expect_exit 2 "$NBRDF" verify 'set/lat.<UDIM>.exr' "${set_args[@]}" "${vargs[@]}" --heatmap h.png
 check "verify: no heat-map of a set" grep -Fq -- "--heatmap draws one texture, not a tile set" "$TMP/err"
 
