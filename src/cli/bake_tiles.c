@@ -39,7 +39,14 @@ typedef struct tile_progress {
   cli_progress_state *ps;
   int tile, index, count; /* index: 1-based place in the set */
   int *noted;             /* the device note is said once for the set */
+  int drawn;              /* the bar's line is open on stderr */
 } tile_progress;
+
+/* Ends the bar's line before another line is written. */
+static void end_bar(tile_progress *tp) {
+  if (tp->drawn) fputc('\n', stderr);
+  tp->drawn = 0;
+}
 
 /* Prints `text` as a JSON string (control characters dropped). */
 static void json_string(const char *text) {
@@ -69,18 +76,19 @@ static int on_progress(void *user, const char *stage, double done, double total)
       fputc(i < filled ? '#' : ' ', stderr);
     fprintf(stderr, "] %3.0f%%", 100.0 * f);
     fflush(stderr);
+    tp->drawn = 1;
   }
   return *cli_cancel_flag();
 }
 
 static void on_warning(void *user, const char *message) {
-  const tile_progress *tp = user;
+  tile_progress *tp = user;
   if (tp->ps->json) {
     printf("{\"event\":\"warning\",\"tile\":%d,\"message\":", tp->tile);
     json_string(message);
     printf("}\n");
   }
-  if (tp->ps->bar) fputc('\n', stderr);
+  end_bar(tp);
   fprintf(stderr, "nbrdf bake: warning: tile %d: %s\n", tp->tile, message);
 }
 
@@ -174,9 +182,9 @@ static nbrdf_bake_options tile_bake_options(const bake_tiles_job *job, tile_prog
   return o;
 }
 
-static void report_tile(const bake_tiles_job *job, const tile_progress *tp, const char *out,
+static void report_tile(const bake_tiles_job *job, tile_progress *tp, const char *out,
                         const nbrdf_bake_report *rep) {
-  if (job->ps->bar) fputc('\n', stderr); /* the bar's line ends before the tile's */
+  end_bar(tp);
   if (job->ps->json) {
     printf("{\"event\":\"tile\",\"tile\":%d,\"index\":%d,\"tiles\":%d,\"status\":\"%s\","
            "\"output\":",
@@ -273,10 +281,10 @@ static void free_files(tile_files *files, int n) {
 }
 
 /* A failed or cancelled tile: its error (a JSON event too) and the exit status. */
-static int tile_failed(const bake_tiles_job *job, const tile_progress *tp, nbrdf_status st,
+static int tile_failed(const bake_tiles_job *job, tile_progress *tp, nbrdf_status st,
                        nbrdf_error *err, int finished) {
   cli_params_explain(err);
-  if (job->ps->bar) fputc('\n', stderr);
+  end_bar(tp);
   if (job->ps->json) {
     printf("{\"event\":\"error\",\"tile\":%d,\"status\":\"%s\",\"message\":", tp->tile,
            nbrdf_status_name(st));
@@ -318,7 +326,7 @@ int bake_tiles_run(bake_tiles_job *job) {
    * other tiles go straight to the CPU, where auto would put them too. */
   nbrdf_device device = job->opts.device;
   for (int i = 0; i < set.count && rc == CLI_EXIT_OK; i++) {
-    tile_progress tp = {job->ps, set.tiles[i], i + 1, set.count, &noted};
+    tile_progress tp = {job->ps, set.tiles[i], i + 1, set.count, &noted, 0};
     nbrdf_bake_inputs in = job->params->in;
     for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
       if (files[i].map[id]) in.param[id].path = files[i].map[id];
