@@ -149,8 +149,8 @@ static void fingerprint(const bake_tiles_job *job, const nbrdf_bake_inputs *in, 
           (int)o->storage, o->mip_levels, o->tile_size, (int)o->roughness, (int)o->range,
           o->quantise_bits, (int)o->compression);
   fp_text(&h, "audit=%zu accuracy=%d budget=%a seed=%" PRIu64 " compact=%d,%d device=%d",
-          o->energy_audit, (int)o->accuracy, o->budget, o->seed, o->compact_dim,
-          o->compact_width, (int)o->device);
+          o->energy_audit, (int)o->accuracy, o->budget, o->seed, o->compact_dim, o->compact_width,
+          (int)o->device);
   snprintf(out, 32, "fnv1a64:%016" PRIx64, h);
 }
 
@@ -203,9 +203,9 @@ static void report_tile(const bake_tiles_job *job, tile_progress *tp, const char
     printf("tile %d (%d/%d): skipped, %s is up to date (--force bakes it again)\n", tp->tile,
            tp->index, tp->count, out);
   } else {
-    printf("tile %d (%d/%d): wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated)", tp->tile,
-           tp->index, tp->count, out, rep->width, rep->height,
-           rep->colour_channels == 3 ? "rgb" : "mono", rep->brdfs, rep->evaluated);
+    printf("tile %d (%d/%d): wrote %s: %d x %d %s, %zu BRDFs (%zu evaluated)", tp->tile, tp->index,
+           tp->count, out, rep->width, rep->height, rep->colour_channels == 3 ? "rgb" : "mono",
+           rep->brdfs, rep->evaluated);
     if (rep->accuracy != NBRDF_BAKE_FAST)
       printf("; %s: held-out lobe error median %.2f %% (fast: %.2f %%)",
              nbrdf_bake_accuracy_name(rep->accuracy), 100.0 * rep->heldout_error,
@@ -229,8 +229,9 @@ static int resolve_set(const bake_tiles_job *job, texture_tile_set *set) {
   if (texture_tile_set_check_output(set, "-o", job->out, &err) != NBRDF_OK)
     return cli_usage_error("bake", "%s", err.message);
   if (set->count == 0)
-    return cli_usage_error("bake", "%s applies to a tile set, and no map is a tile pattern "
-                                   "(such as 'rough.<UDIM>.exr')",
+    return cli_usage_error("bake",
+                           "%s applies to a tile set, and no map is a tile pattern "
+                           "(such as 'rough.<UDIM>.exr')",
                            job->tiles ? "--tiles" : "--force");
   if (job->tiles && texture_tile_set_select(set, job->tiles, &err) != NBRDF_OK)
     return cli_usage_error("bake", "--tiles: %s", err.message);

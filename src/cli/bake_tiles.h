@@ -11,13 +11,13 @@
 #include "nbrdf/model.h"
 
 typedef struct bake_tiles_job {
-  const cli_params *params;  /* maps: tile patterns, plain files or constants */
-  nbrdf_bake_options opts;   /* the command's options; progress and messages are set here */
-  const char *out;           /* the output: a tile pattern */
-  const char *tiles;         /* --tiles: the tiles to bake ("1001,1003-1005"), NULL: all */
-  int force;                 /* --force: bake tiles whose texture is up to date too */
-  const nbrdf_model *model;  /* loaded, with --decoder's decoder when given */
-  const char *decoder;       /* --decoder's file (for the fingerprint), or NULL */
+  const cli_params *params; /* maps: tile patterns, plain files or constants */
+  nbrdf_bake_options opts;  /* the command's options; progress and messages are set here */
+  const char *out;          /* the output: a tile pattern */
+  const char *tiles;        /* --tiles: the tiles to bake ("1001,1003-1005"), NULL: all */
+  int force;                /* --force: bake tiles whose texture is up to date too */
+  const nbrdf_model *model; /* loaded, with --decoder's decoder when given */
+  const char *decoder;      /* --decoder's file (for the fingerprint), or NULL */
   cli_progress_state *ps;
 } bake_tiles_job;
 

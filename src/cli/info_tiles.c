@@ -16,8 +16,8 @@ typedef struct tile_summary {
 } tile_summary;
 
 static tile_summary summarise(const texture_latent_info *in) {
-  tile_summary s = {in->width, in->height, in->levels,
-                    in->layout.colour == NBRDF_COLOUR_MONO, in->storage, "", "", ""};
+  tile_summary s = {in->width,   in->height, in->levels, in->layout.colour == NBRDF_COLOUR_MONO,
+                    in->storage, "",         "",         ""};
   snprintf(s.model, sizeof s.model, "%s (checksum %s)", in->model_name, in->model_checksum);
   snprintf(s.decoder, sizeof s.decoder, "%s", in->decoder_size ? in->decoder_checksum : "");
   /* "level=fitted; budget=…": the level alone; a fast bake writes none */
@@ -44,9 +44,9 @@ static int info_tile(int tile, const char *path, int header_only, tile_summary *
            texture_latent_storage_name(in->storage),
            texture_latent_compression_name(in->compression), (long long)in->file_size,
            in->decoder_size ? "own " : "bundle", in->decoder_size ? in->decoder_checksum : "");
-    ok = header_only || (texture_latent_reader_check_decoder(r, about, sizeof about, &err) ==
-                             NBRDF_OK &&
-                         texture_latent_reader_check(r, &err) == NBRDF_OK);
+    ok = header_only ||
+         (texture_latent_reader_check_decoder(r, about, sizeof about, &err) == NBRDF_OK &&
+          texture_latent_reader_check(r, &err) == NBRDF_OK);
     if (ok) printf(", %s\n", header_only ? "header only" : "check ok");
   } else {
     printf("tile %d: %s", tile, path);

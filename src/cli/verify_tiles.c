@@ -182,8 +182,8 @@ int verify_tiles_run(verify_tiles_job *job) {
     paths[i] = cli_tiles_path("verify", job->pattern, set.tiles[i]);
     rc = paths[i] ? tile_inputs(job, set.tiles[i], &in, owned) : CLI_EXIT_FAILURE;
     nbrdf_error err = {0};
-    if (rc == CLI_EXIT_OK && nbrdf_verify(job->model, paths[i], &in, &o, &reps[i], &err) !=
-                                 NBRDF_OK) {
+    if (rc == CLI_EXIT_OK &&
+        nbrdf_verify(job->model, paths[i], &in, &o, &reps[i], &err) != NBRDF_OK) {
       cli_params_explain(&err);
       if (job->ps->bar) fputc('\n', stderr);
       rc = cli_fail("verify", "tile %d: %s", set.tiles[i], err.message);
@@ -225,8 +225,7 @@ int verify_tiles_run(verify_tiles_job *job) {
           print_row(label, &reps[i]->overall);
         }
         print_row("all", &overall);
-        printf("cost: %.2f s ground truth, %.2f s decoding\n", reference_seconds,
-               decode_seconds);
+        printf("cost: %.2f s ground truth, %.2f s decoding\n", reference_seconds, decode_seconds);
       }
       if (job->json) rc = write_json(job, &set, reps, paths, &overall);
       if (rc == CLI_EXIT_OK) rc = verdict(job, &set, reps, &overall);

@@ -132,14 +132,12 @@ static nbrdf_status select_item(const texture_tile_set *set, const char *list, c
   if (!found)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "tile list '%s': the set has no tile%s %.*s (its %d tiles are %d..%d)", list,
-                     dash ? "s in" : "", (int)len, text, set->count,
-                     set->count ? set->tiles[0] : 0, set->count ? set->tiles[set->count - 1] : 0);
+                     dash ? "s in" : "", (int)len, text, set->count, set->count ? set->tiles[0] : 0,
+                     set->count ? set->tiles[set->count - 1] : 0);
   return NBRDF_OK;
 }
 
-static int ascending(const void *a, const void *b) {
-  return *(const int *)a - *(const int *)b;
-}
+static int ascending(const void *a, const void *b) { return *(const int *)a - *(const int *)b; }
 
 nbrdf_status texture_tile_set_select(texture_tile_set *set, const char *list, nbrdf_error *err) {
   texture_tile_set kept = {0};
