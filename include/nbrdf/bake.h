@@ -237,6 +237,11 @@ typedef struct nbrdf_bake_options {
    * trained range, all of them before any network work and before a REFUSE fails. NULL: each
    * goes to `warning` as nbrdf_bake_range_message's line. */
   void (*range_report)(void *user, const nbrdf_bake_range *range);
+  /* Optional: a fingerprint of what the caller made the texture from (its inputs' sizes and
+   * times, the options: any text), stored in the header as nbrdf:inputs, so that a later
+   * run can tell a texture that is up to date from a stale one (a tile set's resumed bake).
+   * NULL (default): no attribute, the file as without it. */
+  const char *inputs;
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
@@ -247,7 +252,7 @@ typedef struct nbrdf_bake_options {
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,        \
-        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL                               \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL                         \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */

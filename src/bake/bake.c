@@ -166,7 +166,8 @@ static nbrdf_status evaluate_and_write(const bake_texture *t, const bake_level *
                               t->settings,
                               own.bytes,
                               own.size,
-                              fit->attribute[0] ? fit->attribute : NULL};
+                              fit->attribute[0] ? fit->attribute : NULL,
+                              o->inputs};
   texture_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
   wo.tile_size = o->tile_size;
