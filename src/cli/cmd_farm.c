@@ -19,7 +19,7 @@
 #include "texture/tile_set.h"
 
 /* The bake's option that picks the tiles of a set to bake. */
-#define FARM_TILE_OPTION "--udim"
+#define FARM_TILE_OPTION "--tiles"
 #define FARM_ARGS_MAX 512
 
 typedef struct farm_args {

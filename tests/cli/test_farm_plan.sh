@@ -29,7 +29,7 @@ t = jobs["tile-1011"]
 assert t["after"] == [] and t["output"].endswith("out/lat.1011.exr"), t
 cmd = t["command"]
 assert cmd[1] == "bake" and "--compression=rle" in cmd, cmd
-assert cmd[-4:] == ["--udim", "1011", "-o", "out/lat.<UDIM>.exr"], cmd
+assert cmd[-4:] == ["--tiles", "1011", "-o", "out/lat.<UDIM>.exr"], cmd
 assert any(a.startswith("--bundle=") for a in cmd), cmd
 assert jobs["verify"]["after"] == ["tile-1001", "tile-1002", "tile-1011"]
 v = jobs["verify"]["command"]
@@ -41,7 +41,7 @@ check "the tile array covers 3 tiles" grep -q '^#SBATCH --array=0-2$' plan/tiles
 check "submit.sh chains verify after the tiles" grep -q 'afterok:"$tiles" verify.sbatch' plan/submit.sh
 
 expect_output "a plan of 2 tiles" "$NBRDF" farm slurm --plan plan2 --partition gpu --max-parallel 1 \
-  -- "${args[@]}" -o 'out/lat.<UDIM>.exr' --udim 1001,1011-1020
+  -- "${args[@]}" -o 'out/lat.<UDIM>.exr' --tiles 1001,1011-1020
 check "--partition reaches the scripts" grep -q '^#SBATCH --partition=gpu$' plan2/tiles.sbatch
 check "--max-parallel limits the array" grep -q '^#SBATCH --array=0-1%1$' plan2/tiles.sbatch
 
