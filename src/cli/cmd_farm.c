@@ -24,7 +24,7 @@
 
 typedef struct farm_args {
   const char *plan, *partition, *account, *nbrdf;
-  int submit, cpus, max_parallel;
+  int submit, cpus, max_parallel, verify_texels, verify_spp;
   const char *rest[FARM_ARGS_MAX];
   cli_positionals pos;
 } farm_args;
@@ -47,6 +47,14 @@ static void farm_options(farm_args *a, cli_opt_visit visit, void *user) {
       {.type = CLI_OPT_INT, .name = "--max-parallel", .meta = "N", .lo = 0, .hi = 100000,
        .dest = &a->max_parallel,
        .help = "at most N tile jobs at once (default 0: no limit)"},
+      {.type = CLI_OPT_INT, .name = "--verify-texels", .meta = "N", .lo = 1, .hi = 100000000,
+       .dest = &a->verify_texels,
+       .help = "the verify job's sample per level over the set\n"
+               "(default: verify's, 256)"},
+      {.type = CLI_OPT_INT, .name = "--verify-spp", .meta = "N", .lo = 1, .hi = 100000000,
+       .dest = &a->verify_spp,
+       .help = "the verify job's ground-truth walks per direction\n"
+               "(default: verify's, 256)"},
       {.type = CLI_OPT_PATH, .name = "--nbrdf", .meta = "PATH", .dest = &a->nbrdf,
        .help = "the nbrdf the jobs run, as the nodes see it (default:\n"
                "this one)"},
@@ -304,6 +312,16 @@ static int plan_and_submit(const char *cmd, farm_args *a, routed *r) {
   if (texture_tile_set_check_output(&set, "-o", r->output, &err) != NBRDF_OK)
     return cli_usage_error(cmd, "%s", err.message);
 
+  /* As the bake checks it before any work: the jobs would fail on the nodes. */
+  {
+    char folder[PATH_MAX];
+    snprintf(folder, sizeof folder, "%s", r->output);
+    char *slash = strrchr(folder, '/');
+    if (slash) *slash = '\0';
+    if (slash && folder[0] && access(folder, W_OK) != 0)
+      return cli_fail(cmd, "-o %s: the folder '%s' %s", r->output, folder,
+                      errno == ENOENT ? "does not exist (create it first)" : "is not writable");
+  }
   farm_plan plan;
   memset(&plan, 0, sizeof plan);
   rc = select_tiles(cmd, r, &set, &plan);
@@ -327,6 +345,15 @@ static int plan_and_submit(const char *cmd, farm_args *a, routed *r) {
     char *s = keep(r, "--bundle", bundle);
     if (!s) return cli_fail(cmd, "out of memory");
     r->bake[r->n_bake++] = s, r->fit[r->n_fit++] = s, r->verify[r->n_verify++] = s;
+  }
+  char number[32];
+  if (a->verify_texels) {
+    snprintf(number, sizeof number, "%d", a->verify_texels);
+    if (!(r->verify[r->n_verify++] = keep(r, "--texels", number))) return cli_fail(cmd, "out of memory");
+  }
+  if (a->verify_spp) {
+    snprintf(number, sizeof number, "%d", a->verify_spp);
+    if (!(r->verify[r->n_verify++] = keep(r, "--spp", number))) return cli_fail(cmd, "out of memory");
   }
   int fitted = r->accuracy && strcmp(r->accuracy, "fast");
   snprintf(fit, sizeof fit, "%s/scene.nbfit", dir);

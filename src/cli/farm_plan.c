@@ -189,7 +189,9 @@ static void sbatch_head(FILE *f, const farm_plan *p, const char *name, farm_reso
   fprintf(f, "#!/usr/bin/env bash\n# Written by 'nbrdf farm slurm'; submit.sh submits it (docs/FARM.md).\n");
   fprintf(f, "#SBATCH --job-name=nbrdf-%s\n", name);
   fprintf(f, "#SBATCH --chdir=%s\n", p->cwd);
-  fprintf(f, "#SBATCH --output=%s/logs/%s-%%A_%%a.log\n", p->dir, name);
+  /* %A_%a names an array task; %j a plain job. */
+  fprintf(f, "#SBATCH --output=%s/logs/%s-%s.log\n", p->dir, name,
+          strcmp(name, "tiles") ? "%j" : "%A_%a");
   fprintf(f, "#SBATCH --cpus-per-task=%d\n#SBATCH --mem=%dM\n#SBATCH --time=%d\n", r.cpus,
           r.memory_mib, (r.time_limit_s + 59) / 60);
   if (p->partition) fprintf(f, "#SBATCH --partition=%s\n", p->partition);

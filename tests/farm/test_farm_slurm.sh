@@ -45,12 +45,12 @@ show_logs() {
 # that its job is still baking when it is cancelled.
 cd "$TMP" || exit 1
 bash "$NBRDF_SOURCE_DIR/examples/make_maps.sh" "$TMP/src" >/dev/null
-mkdir -p set
+mkdir -p set farm local
 for tile in 1001 1002 1003 1004; do
   n=96
   [ "$tile" = 1003 ] && n=384
   for m in eta.exr alpha2.png r0.png albedo.png sigma_t.exr; do
-    oiiotool "src/$m" --resize ${n}x$n -o "set/${m%%.*}.$tile.${m##*.}"
+    oiiotool "src/$m" --resize ${n}x$n --clamp:min=0 -o "set/${m%%.*}.$tile.${m##*.}"
   done
   oiiotool --pattern fill:left=0.0$((tile % 10)):right=0.$((tile % 10 + 4)) ${n}x$n 1 -d uint8 \
     -o "set/alpha1.$tile.png"
@@ -67,7 +67,7 @@ fi
 start_s=$(since "$t")
 
 t=$(now)
-expect_output "a plan of 4 tiles" "$NBRDF" farm slurm --plan plan --cpus 1 --submit -- "${args[@]}" \
+expect_output "a plan of 4 tiles" "$NBRDF" farm slurm --plan plan --cpus 1 --verify-texels 32 --verify-spp 64 --submit -- "${args[@]}" \
   -o 'farm/lat.<UDIM>.exr'
 check "plan.json lists 4 tile jobs and verify" \
   python3 -c 'import json,sys; p=json.load(open("plan/plan.json")); n=[j["name"] for j in p["jobs"]]; sys.exit(n!=["tile-1001","tile-1002","tile-1003","tile-1004","verify"])'
