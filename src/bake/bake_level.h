@@ -48,7 +48,7 @@ typedef struct bake_evaluate {
 typedef struct bake_level {
   nbrdf_bake_accuracy accuracy;
   /* The plan/fit stage: everything before the texels and before any file exists. */
-  nbrdf_status (*fit)(const nbrdf_model *model, const bake_scene *scene,
+  nbrdf_status (*fit)(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
                       const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
                       nbrdf_error *err);
   /* The evaluate stage of `model` and the fit result `r` for textures `width`

@@ -78,20 +78,15 @@ static void set_add(tuple_set *s, const bake_tuple *t, size_t *distinct) {
   }
 }
 
-nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_settings *s,
-                                bake_tuple **out, size_t *n, size_t *distinct, nbrdf_error *err) {
-  *out = NULL, *n = 0, *distinct = 0;
-  tuple_set set = {0};
-  set.cap = 4 * (size_t)BAKE_SELECT_MAX_DISTINCT;
-  set.keys = malloc(sizeof *set.keys * BAKE_SELECT_MAX_DISTINCT);
-  set.hashes = malloc(sizeof *set.hashes * BAKE_SELECT_MAX_DISTINCT);
-  set.table = calloc(set.cap, sizeof *set.table);
+/* Adds the distinct tuples of one scene to `set`. */
+static nbrdf_status gather_scene(tuple_set *set, const bake_scene *sc,
+                                 const bake_gather_settings *s, size_t *distinct,
+                                 nbrdf_error *err) {
   nbrdf_status st = NBRDF_OK;
-  if (!set.keys || !set.hashes || !set.table)
-    st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory gathering distinct tuples");
   const int band_rows = 64;
-  for (int y0 = 0; st == NBRDF_OK && y0 < s->height; y0 += band_rows) {
-    int rows = s->height - y0 < band_rows ? s->height - y0 : band_rows;
+  texture_param_source **src = sc->src;
+  for (int y0 = 0; st == NBRDF_OK && y0 < sc->height; y0 += band_rows) {
+    int rows = sc->height - y0 < band_rows ? sc->height - y0 : band_rows;
     if (s->cancel && *s->cancel) {
       st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled while gathering tuples");
       break;
@@ -100,8 +95,8 @@ nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_se
     for (int id = 0; st == NBRDF_OK && id < NBRDF_BAKE_PARAM_COUNT; id++)
       st = texture_param_source_read_band(src[id], y0, rows, &band[id], err);
     for (int j = 0; st == NBRDF_OK && j < rows; j++)
-      for (int x = 0; st == NBRDF_OK && x < s->width; x++)
-        for (int c = 0; st == NBRDF_OK && c < s->colours; c++) {
+      for (int x = 0; st == NBRDF_OK && x < sc->width; x++)
+        for (int c = 0; st == NBRDF_OK && c < sc->colours; c++) {
           bake_tuple t;
           for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
             float v = texture_param_band_at(&band[id], x, j, c);
@@ -119,9 +114,26 @@ nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_se
                           ? model_material_quantise(s->lo, s->hi, id, s->quantise_bits, v)
                           : v;
           }
-          if (st == NBRDF_OK) set_add(&set, &t, distinct);
+          if (st == NBRDF_OK) set_add(set, &t, distinct);
         }
   }
+  return st;
+}
+
+nbrdf_status bake_gather_tuples(const bake_scene *scenes, size_t n_scenes,
+                                const bake_gather_settings *s, bake_tuple **out, size_t *n,
+                                size_t *distinct, nbrdf_error *err) {
+  *out = NULL, *n = 0, *distinct = 0;
+  tuple_set set = {0};
+  set.cap = 4 * (size_t)BAKE_SELECT_MAX_DISTINCT;
+  set.keys = malloc(sizeof *set.keys * BAKE_SELECT_MAX_DISTINCT);
+  set.hashes = malloc(sizeof *set.hashes * BAKE_SELECT_MAX_DISTINCT);
+  set.table = calloc(set.cap, sizeof *set.table);
+  nbrdf_status st = NBRDF_OK;
+  if (!set.keys || !set.hashes || !set.table)
+    st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory gathering distinct tuples");
+  for (size_t i = 0; st == NBRDF_OK && i < n_scenes; i++)
+    st = gather_scene(&set, &scenes[i], s, distinct, err);
   free(set.hashes);
   free(set.table);
   if (st != NBRDF_OK) {
