@@ -39,15 +39,27 @@ static nbrdf_status file_hash(const char *path, uint64_t *hash, nbrdf_error *err
   return st;
 }
 
+/* The fewest significant digits that read back as `x` (as people typed it: 1.6, not
+ * 1.60000002); 9 always do. */
+static void shortest(float x, char *out, size_t cap) {
+  for (int digits = 6; digits <= 9; digits++) {
+    snprintf(out, cap, "%.*g", digits, x);
+    if (strtof(out, NULL) == x) return;
+  }
+}
+
 /* One parameter's input as a fit records it: a map by its content hash and the
  * way it is read (colour space, remap), a constant by its value. */
 static nbrdf_status input_entry(int id, const nbrdf_bake_param *p, char *out, size_t cap,
                                 nbrdf_error *err) {
   if (!p->path) {
+    char v[3][32];
+    for (int c = 0; c < 3; c++)
+      shortest(p->value[c], v[c], sizeof v[c]);
     if (p->channels == 3)
-      snprintf(out, cap, "constant %.9g,%.9g,%.9g", p->value[0], p->value[1], p->value[2]);
+      snprintf(out, cap, "constant %s,%s,%s", v[0], v[1], v[2]);
     else
-      snprintf(out, cap, "constant %.9g", p->value[0]);
+      snprintf(out, cap, "constant %s", v[0]);
     return NBRDF_OK;
   }
   uint64_t h = 0;
