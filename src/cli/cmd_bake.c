@@ -13,12 +13,13 @@
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
 #include "nbrdf/bake.h"
+#include "nbrdf/fit.h"
 #include "nbrdf/model.h"
 
 typedef struct bake_args {
   cli_params params;
   nbrdf_bake_options opts;
-  const char *out, *bundle, *decoder;
+  const char *out, *bundle, *decoder, *fit;
   cli_progress_state ps;
   uint64_t energy_audit;
   int budget_given, compact_given;
@@ -168,6 +169,10 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "not depend on the machine or its load)"},
       {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->opts.seed,
        .help = "above fast: random walks and tuple selection (1)"},
+      {.type = CLI_OPT_PATH, .name = "--fit", .meta = "FILE", .dest = &a->fit,
+       .help = "bake with the fit 'nbrdf fit' wrote (its level, no\n"
+               "fitting): refused when made with another bundle, other\n"
+               "options or from other maps"},
       CLI_DEVICE_OPTION(&a->opts.device),
       CLI_PROGRESS_OPTION(&a->ps, "progress as JSON lines on stdout (for tools), instead of\n"
                                   "the bar drawn on stderr when it is a terminal"),
@@ -317,6 +322,7 @@ int cmd_bake(int argc, char **argv) {
   cli_inputs_init(&inputs);
   cli_inputs_add_params(&inputs, &a.params);
   cli_inputs_add_model(&inputs, model);
+  if (a.fit) cli_inputs_add(&inputs, a.fit);
   if (decoder) {
     /* The texture carries this decoder (format version 2). */
     nbrdf_model *with = NULL;
@@ -352,8 +358,12 @@ int cmd_bake(int argc, char **argv) {
   a.opts.cancel = cli_cancel_flag();
   cli_cancel_watch();
   nbrdf_bake_report rep;
-  nbrdf_status st = nbrdf_bake(model, &a.params.in, &a.opts, out, &rep, &err);
+  nbrdf_fit *fit = NULL;
+  nbrdf_status st = a.fit ? nbrdf_fit_open(a.fit, &fit, &err) : NBRDF_OK;
+  a.opts.fit = fit;
+  if (st == NBRDF_OK) st = nbrdf_bake(model, &a.params.in, &a.opts, out, &rep, &err);
   cli_cancel_unwatch();
+  nbrdf_fit_destroy(fit);
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) {
     cli_params_explain(&err);
