@@ -2,10 +2,12 @@
 
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli/cli.h"
 #include "model/material.h"
 #include "texture/param_source.h"
+#include "texture/tile_pattern.h"
 
 static const char *const flag_names[NBRDF_BAKE_PARAM_COUNT] = {"--alpha1", "--eta",    "--alpha2",
                                                                "--r0",     "--albedo", "--sigma-t"};
@@ -43,6 +45,22 @@ int cli_params_read(const char *cmd, const cli_opt *o, const char *v) {
   cli_params *p = o->dest;
   int id = o->value;
   nbrdf_error err = {0};
+  /* A tile pattern, unless a file of that very name exists: its tiles are found once the
+   * whole command line is known (texture/tile_set.h). */
+  struct stat sb;
+  texture_tile_pattern *tp = NULL;
+  p->tiled[id] = 0;
+  if (stat(v, &sb) != 0 && (strchr(v, '<') || strstr(v, "%(UDIM)d"))) {
+    if (texture_tile_pattern_parse(v, &tp, &err) != NBRDF_OK)
+      return cli_usage_error(cmd, "%s: %s", o->name, err.message);
+    int tiled = texture_tile_pattern_is_tiled(tp);
+    texture_tile_pattern_free(tp);
+    if (tiled) {
+      p->in.param[id].path = v;
+      p->tiled[id] = 1;
+      return 0;
+    }
+  }
   if (nbrdf_bake_param_parse(nbrdf_bake_param_name(id), v, &p->in.param[id], &err) != NBRDF_OK)
     return cli_usage_error(cmd, "%s", err.message);
   /* What nbrdf_bake would refuse of a constant (texture_param_source_constant,
@@ -63,6 +81,12 @@ void cli_params_explain(nbrdf_error *err) {
   if (err->status != NBRDF_ERR_MISMATCH || n < a || strcmp(err->message + n - a, advice)) return;
   snprintf(err->message + n - a, sizeof err->message - (n - a),
            "; pass --resample bilinear to resample the maps to one size");
+}
+
+int cli_params_any_tiled(const cli_params *p) {
+  for (int k = 0; k < NBRDF_BAKE_PARAM_COUNT; k++)
+    if (p->tiled[k]) return 1;
+  return 0;
 }
 
 int cli_params_require(const char *cmd, const cli_params *p) {

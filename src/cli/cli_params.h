@@ -12,6 +12,9 @@
 typedef struct cli_params {
   nbrdf_bake_inputs in;
   int given[NBRDF_BAKE_PARAM_COUNT];
+  /* 1 where the map is a tile pattern (texture/tile_pattern.h: 'rough.<UDIM>.exr'): its
+   * in.param path is then the pattern, a file per tile, and the command works on a set. */
+  int tiled[NBRDF_BAKE_PARAM_COUNT];
   nbrdf_roughness roughness;
   int roughness_given;
 } cli_params;
@@ -63,6 +66,9 @@ int cli_params_read_range(const char *cmd, const cli_opt *o, const char *value);
   {.type = CLI_OPT_CUSTOM, .name = flag, .meta = "V", .dest = (p), .value = (id),                  \
    .seen = &(p)->given[id], .parse = cli_params_read, .help = text}
 // clang-format on
+
+/* 1 when any parameter is a tile pattern. */
+int cli_params_any_tiled(const cli_params *p);
 
 /* CLI_EXIT_OK when all six parameters were given, else a usage error naming one. */
 int cli_params_require(const char *cmd, const cli_params *p);

@@ -13,6 +13,7 @@
 #include "nbrdf/bake.h"
 #include "nbrdf/fit.h"
 #include "nbrdf/model.h"
+#include "texture/tile_set.h"
 
 typedef struct fit_args {
   cli_params params;
@@ -109,7 +110,9 @@ void cmd_fit_usage(FILE *out) {
                "hash (docs/FIT-FILE.md). 'nbrdf bake ... --fit SCENE.nbfit' then bakes with it,\n"
                "on any machine, with no fitting: every texture baked with one fit carries the\n"
                "same decoder (nbrdf:decoderChecksum) and names the fit in nbrdf:accuracy.\n"
-               "The inputs are as 'nbrdf bake' takes them (a constant or a map for each).\n"
+               "The inputs are as 'nbrdf bake' takes them (a constant or a map for each); a\n"
+               "map may be a UDIM tile pattern ('rough.<UDIM>.exr'): the fit then gathers the\n"
+               "tuples of every tile present, for one fit shared by the whole set.\n"
                "\n");
   cmd_fit_options(cli_options_help_visit, out);
   fprintf(out,
@@ -117,6 +120,41 @@ void cmd_fit_usage(FILE *out) {
           "Ctrl-C, SIGTERM or SIGHUP cancel cleanly: no file is left.\n"
           "exit status: 0 success, 1 failure (the message names the file and texel), 2 bad "
           "usage\n");
+}
+
+/* The inputs of every tile: one set when no map is a tile pattern, else one per tile the
+ * patterns agree on (texture/tile_set.h), each map's path that tile's file; a constant or a
+ * plain path serves every tile. The paths are malloc'ed into paths[tile * 6 + id]. */
+static int expand_tiles(const cli_params *p, nbrdf_bake_inputs **tiles, size_t *n,
+                        char ***paths) {
+  static const char *const names[NBRDF_BAKE_PARAM_COUNT] = {"--alpha1", "--eta",    "--alpha2",
+                                                            "--r0",     "--albedo", "--sigma-t"};
+  nbrdf_error err = {0};
+  texture_tile_map maps[NBRDF_BAKE_PARAM_COUNT];
+  int m = 0;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+    if (p->tiled[id]) maps[m++] = (texture_tile_map){names[id], p->in.param[id].path};
+  texture_tile_set set = {0};
+  if (m && texture_tile_set_resolve(maps, m, &set, &err) != NBRDF_OK)
+    return cli_fail_error("fit", &err);
+  *n = set.count ? (size_t)set.count : 1;
+  *tiles = calloc(*n, sizeof **tiles);
+  *paths = calloc(*n * NBRDF_BAKE_PARAM_COUNT, sizeof **paths);
+  if (!*tiles || !*paths) return cli_fail("fit", "out of memory for %zu tiles", *n);
+  nbrdf_status st = NBRDF_OK;
+  for (size_t t = 0; t < *n; t++) {
+    (*tiles)[t] = p->in;
+    for (int id = 0; st == NBRDF_OK && set.count && id < NBRDF_BAKE_PARAM_COUNT; id++) {
+      if (!p->tiled[id]) continue;
+      texture_tile_pattern *tp = NULL;
+      char **path = &(*paths)[t * NBRDF_BAKE_PARAM_COUNT + id];
+      st = texture_tile_pattern_parse(p->in.param[id].path, &tp, &err);
+      if (st == NBRDF_OK) st = texture_tile_pattern_path(tp, set.tiles[t], path, &err);
+      texture_tile_pattern_free(tp);
+      (*tiles)[t].param[id].path = *path;
+    }
+  }
+  return st == NBRDF_OK ? CLI_EXIT_OK : cli_fail_error("fit", &err);
 }
 
 static void json_string(const char *text) {
@@ -209,9 +247,20 @@ int cmd_fit(int argc, char **argv) {
   a.opts.cancel = cli_cancel_flag();
   cli_cancel_watch();
   nbrdf_fit_info info;
-  nbrdf_status st = nbrdf_fit_run(model, &a.params.in, 1, &a.opts, a.out, &info, &err);
+  nbrdf_bake_inputs *tiles = NULL;
+  size_t n_tiles = 0;
+  char **paths = NULL;
+  int expanded = expand_tiles(&a.params, &tiles, &n_tiles, &paths);
+  nbrdf_status st = NBRDF_OK;
+  if (expanded == CLI_EXIT_OK)
+    st = nbrdf_fit_run(model, tiles, n_tiles, &a.opts, a.out, &info, &err);
   cli_cancel_unwatch();
   nbrdf_model_destroy(model);
+  for (size_t i = 0; paths && i < n_tiles * NBRDF_BAKE_PARAM_COUNT; i++)
+    free(paths[i]);
+  free(paths);
+  free(tiles);
+  if (expanded != CLI_EXIT_OK) return expanded;
   if (st != NBRDF_OK) {
     cli_params_explain(&err);
     if (a.ps.bar) fputc('\n', stderr);

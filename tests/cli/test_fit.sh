@@ -36,6 +36,23 @@ check "bake --fit: the one-call bake's texels, every level" \
 check "the texture carries the fit's decoder" grep -Fq "checksum $sum" info.txt
 check "the texture names the fit" grep -Eq "^accuracy: level=specialised; .*; fit=$fitsum\$" info.txt
 
+# A UDIM set: one fit over both tiles, both textures carry its decoder.
+cp a1.png r.1001.png
+cp a2.png r.1002.png
+expect_exit 0 "$NBRDF" fit --bundle bundle --alpha1 'r.<UDIM>.png' --eta 1.5 --alpha2 0.3 \
+  --r0 0.9 --albedo 0.7 --sigma-t 1 "${level[@]}" --progress=json -o set.nbfit
+check "set: a fit over two tiles" grep -Fq '"tiles":2,' "$TMP/out"
+setsum=$(grep -o '"decoder_checksum":"[0-9a-f]*"' "$TMP/out" | cut -d'"' -f4)
+for t in 1001 1002; do
+  expect_exit 0 "$NBRDF" bake --bundle bundle --alpha1 r.$t.png --eta 1.5 --alpha2 0.3 --r0 0.9 \
+    --albedo 0.7 --sigma-t 1 --fit set.nbfit -o l.$t.exr
+  "$NBRDF" info l.$t.exr >info.$t.txt 2>&1
+  check "set: tile $t carries the set's decoder $setsum" grep -Fq "checksum $setsum" info.$t.txt
+done
+expect_exit 1 "$NBRDF" fit --bundle bundle --alpha1 'r.<UDIM>.png' --eta 1.5 --alpha2 'q.<UDIM>.png' \
+  --r0 0.9 --albedo 0.7 --sigma-t 1 "${level[@]}" -o bad.nbfit
+check "set: a pattern without files" grep -Fq -- "--alpha2 'q.<UDIM>.png' matches no file" "$TMP/err"
+
 # Refusals: exit 1, the fit file and what differs named, no output.
 expect_exit 1 "$NBRDF" bake --bundle other "${maps[@]}" --fit s.nbfit -o bad.exr
 check "another bundle" grep -Fq "s.nbfit: fitted with the bundle of checksum" "$TMP/err"
