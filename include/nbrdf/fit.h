@@ -4,14 +4,17 @@
  * tile and on any machine, with no fitting (nbrdf_bake_options.fit). Every
  * tile baked with one fit carries the same decoder and the same correction.
  *
- * Example (`model` a loaded bundle; tiles[0..n) the inputs of each tile):
+ * Example (`model` a loaded bundle, `in` the inputs of one tile; a set passes an array):
+ *   nbrdf_error err;
  *   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
  *   o.accuracy = NBRDF_BAKE_SPECIALISED;
- *   if (nbrdf_fit_run(model, tiles, n, &o, "scene.nbfit", NULL, &err) != NBRDF_OK) ...
  *   nbrdf_fit *fit = NULL;
- *   if (nbrdf_fit_open("scene.nbfit", &fit, &err) != NBRDF_OK) ...
- *   o.fit = fit;
- *   nbrdf_bake(model, &tiles[0], &o, "latent.1001.exr", NULL, &err);
+ *   if (nbrdf_fit_run(model, &in, 1, &o, "scene.nbfit", NULL, &err) == NBRDF_OK &&
+ *       nbrdf_fit_open("scene.nbfit", &fit, &err) == NBRDF_OK) {
+ *     o.fit = fit;
+ *     if (nbrdf_bake(model, &in, &o, "latent.1001.exr", NULL, &err) != NBRDF_OK)
+ *       fprintf(stderr, "bake: %s\n", err.message);
+ *   }
  *   nbrdf_fit_destroy(fit);
  *
  * A fit is immutable once opened: several bakes (threads) may share one. */
