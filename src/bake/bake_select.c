@@ -80,7 +80,7 @@ static void set_add(tuple_set *s, const bake_tuple *t, size_t *distinct) {
 
 /* Adds the distinct tuples of one scene to `set`. */
 static nbrdf_status gather_scene(tuple_set *set, const bake_scene *sc,
-                                 const bake_gather_settings *s, size_t *distinct,
+                                 const bake_gather_settings *s, int name_map, size_t *distinct,
                                  nbrdf_error *err) {
   nbrdf_status st = NBRDF_OK;
   const int band_rows = 64;
@@ -104,9 +104,13 @@ static nbrdf_status gather_scene(tuple_set *set, const bake_scene *sc,
             model_material_verdict verdict =
                 model_material_prepare(s->lo, s->hi, id, s->roughness, s->range, &v, NULL);
             if (verdict > MODEL_VALUE_CLAMPED) {
-              char at[128];
-              snprintf(at, sizeof at, "%s at texel (%d, %d)", model_material_param_name(id), x,
-                       y0 + j);
+              char at[400];
+              int len = snprintf(at, sizeof at, "%s at texel (%d, %d)",
+                                 model_material_param_name(id), x, y0 + j);
+              /* Among several scenes (tiles), the map says which. */
+              texture_param_map *m = name_map ? texture_param_source_get_map(src[id]) : NULL;
+              if (m && len > 0 && (size_t)len < sizeof at)
+                snprintf(at + len, sizeof at - (size_t)len, " of %s", texture_param_map_path(m));
               st = model_material_fail(verdict, s->lo, s->hi, id, s->roughness, at, typed, err);
               break;
             }
@@ -133,7 +137,7 @@ nbrdf_status bake_gather_tuples(const bake_scene *scenes, size_t n_scenes,
   if (!set.keys || !set.hashes || !set.table)
     st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory gathering distinct tuples");
   for (size_t i = 0; st == NBRDF_OK && i < n_scenes; i++)
-    st = gather_scene(&set, &scenes[i], s, distinct, err);
+    st = gather_scene(&set, &scenes[i], s, n_scenes > 1, distinct, err);
   free(set.hashes);
   free(set.table);
   if (st != NBRDF_OK) {

@@ -212,6 +212,22 @@ static void test_refusals(void) {
   if (f) fwrite(bytes, 1, n, f), fclose(f);
   CHECK(nbrdf_fit_open(testing_path("flipped.nbfit"), &fit, err) != NBRDF_OK && !fit);
   free(bytes);
+  /* A value the range policy refuses, in the second tile of a set: the message names its
+   * map (the map reader names it for what no bake takes at all, a negative value). */
+  float bad[64];
+  for (int i = 0; i < 64; i++)
+    bad[i] = i == 2 * 8 + 3 ? 50.0f : 0.1f;
+  static char bad_path[1024];
+  snprintf(bad_path, sizeof bad_path, "%s", testing_path("a.bad.exr"));
+  CHECK_OK(texture_image_write(bad_path, 8, 8, 1, bad, NBRDF_PIXEL_FLOAT, err), err);
+  nbrdf_bake_inputs set[2] = {tile(1), tile(1)};
+  set[1].param[NBRDF_BAKE_ALPHA1].path = bad_path;
+  o = options(NBRDF_BAKE_SPECIALISED);
+  o.range = NBRDF_RANGE_REFUSE;
+  CHECK(nbrdf_fit_run(model, set, 2, &o, testing_path("bad.nbfit"), NULL, err) != NBRDF_OK);
+  CHECK_MSG(strstr(e.message, "alpha1 at texel (3, 2) of ") && strstr(e.message, "a.bad.exr"),
+            "message '%s'", e.message);
+  CHECK(stat(testing_path("bad.nbfit"), &sb) != 0);
   /* Fast has nothing to fit. */
   o = options(NBRDF_BAKE_FAST);
   CHECK_FAILS(nbrdf_fit_run(model, &in, 1, &o, testing_path("fast.nbfit"), NULL, err),
