@@ -42,7 +42,7 @@ nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_opti
 
 /* The fit result: everything the plan/fit stage produces and the evaluate
  * stage consumes (bake_level.h), and nothing else: no state of the band loop,
- * so a fit could be made once and baked from later. */
+ * so a fit is made once and baked from later (nbrdf/fit.h, bake_fit_file.h). */
 typedef struct bake_fit_result {
   bake_correction correction; /* the latent correction carried to every tuple; SPECIALISED
                                * and COMPACT: with the fine-tuned decoder */

@@ -9,8 +9,9 @@
  * the latents are computed with, the correction added to them, the layout
  * the texture stores and how band texels and mip rows become it); and what
  * the audit stage adds to the warnings and the report. The evaluate stage
- * reads the fit result only, so a fit could be made once and baked from
- * later. */
+ * reads the fit result only, so a fit is made once and baked from later
+ * (nbrdf/fit.h: nbrdf_bake then takes it from options.fit and skips the
+ * plan/fit stage). */
 #ifndef NBRDF_BAKE_BAKE_LEVEL_H
 #define NBRDF_BAKE_BAKE_LEVEL_H
 
