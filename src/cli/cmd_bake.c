@@ -347,6 +347,15 @@ int cmd_bake(int argc, char **argv) {
     return cli_usage_error("bake", "%s%s", a.budget_given ? "--budget: " : "",
                            strncmp(err.message, "bake: ", 6) ? err.message : err.message + 6);
   }
+  /* A fit made before (--fit): opened once, for every texture the command bakes. */
+  nbrdf_fit *fit = NULL;
+  if (a.fit && nbrdf_fit_open(a.fit, &fit, &err) != NBRDF_OK) {
+    nbrdf_model_destroy(model);
+    cli_inputs_free(&inputs);
+    return cli_fail_error("bake", &err);
+  }
+  a.opts.fit = fit;
+
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", used);
 
@@ -358,10 +367,7 @@ int cmd_bake(int argc, char **argv) {
   a.opts.cancel = cli_cancel_flag();
   cli_cancel_watch();
   nbrdf_bake_report rep;
-  nbrdf_fit *fit = NULL;
-  nbrdf_status st = a.fit ? nbrdf_fit_open(a.fit, &fit, &err) : NBRDF_OK;
-  a.opts.fit = fit;
-  if (st == NBRDF_OK) st = nbrdf_bake(model, &a.params.in, &a.opts, out, &rep, &err);
+  nbrdf_status st = nbrdf_bake(model, &a.params.in, &a.opts, out, &rep, &err);
   cli_cancel_unwatch();
   nbrdf_fit_destroy(fit);
   nbrdf_model_destroy(model);
