@@ -19,10 +19,11 @@
 typedef struct bake_args {
   cli_params params;
   nbrdf_bake_options opts;
-  const char *out, *bundle, *decoder, *fit;
+  const char *out, *bundle, *decoder;
   cli_progress_state ps;
   uint64_t energy_audit;
   int budget_given, compact_given;
+  const char *fit; /* --fit */
 } bake_args;
 
 /* "WxH" or "N" (square), each 1..NBRDF_BAKE_SIZE_MAX. */
