@@ -28,24 +28,33 @@ PACKED_EXT = {"PNG": ".png", "OPEN_EXR": ".exr", "OPEN_EXR_MULTILAYER": ".exr", 
               "TIFF": ".tif", "TARGA": ".tga", "TARGA_RAW": ".tga", "HDR": ".hdr", "BMP": ".bmp"}
 
 
-def output_path(settings, material_name):
-    path = settings.output.replace("{material}", _file_name(material_name))
+def output_path(settings, material_name, template=None, object_name=None):
+    """The output file: `template` (default: the material's Output) with {material} and
+    {object} replaced (an object's name only where one is given: the queue's)."""
+    template = template or settings.output
+    path = template.replace("{material}", _file_name(material_name))
+    if "{object}" in path:
+        if object_name is None:
+            raise SetupError("output '%s' has {object}, which only Bake All Materials fills in"
+                             % template)
+        path = path.replace("{object}", _file_name(object_name))
     if path.startswith("//") and not bpy.data.filepath:
         raise SetupError("output '%s' is relative to the .blend file: save the file first or "
-                         "choose an absolute output path" % settings.output)
+                         "choose an absolute output path" % template)
     path = bpy.path.abspath(path)
     if not path.lower().endswith(".exr"):
         raise SetupError("output '%s' must end in .exr" % path)
     return os.path.normpath(path)
 
 
-def resolve_sources(context, material, settings):
+def resolve_sources(context, material, settings, obj=None, uv_map=None):
     """{key: ("value", floats) | ("image", Image)} for the six parameters, the notes to
     report, and the images made here (UV bakes, removed by the caller after the bake).
 
     Sources: Value, Image, or From Material (the Principled BSDF, principled.py); an input
-    that is neither a constant nor an Image Texture node is baked through the active UV map
-    when Bake Through UV Map is on, else refused naming the socket."""
+    that is neither a constant nor an Image Texture node is baked through `uv_map` (default:
+    the active one) of `obj` (default: the active object) when Bake Through UV Map is on,
+    else refused naming the material, the socket and the node."""
     specs, notes, made = {}, [], []
     reading = None
     for p in PARAMS:
@@ -68,16 +77,18 @@ def resolve_sources(context, material, settings):
     procedural = [(k, v[1]) for k, v in specs.items() if v[0] == "procedural"]
     if procedural and not settings.bake_uv:
         k, r = procedural[0]
-        raise SetupError("%s: the material's '%s' input comes from a '%s' node: turn on Bake "
+        raise SetupError("%s: material '%s', input '%s' comes from %s: turn on Bake "
                          "Through UV Map, link an Image Texture, or set it by hand"
-                         % (_label(k), r.socket, r.value.links[0].from_node.name))
+                         % (_label(k), material.name, r.socket, node_words(r.value)))
     if procedural:
         w, h = output_size(settings, [v[1] for v in specs.values() if v[0] == "image"])
-        obj = getattr(context, "object", None) or context.view_layer.objects.active
+        if obj is None:
+            obj = getattr(context, "object", None) or context.view_layer.objects.active
         try:
             for k, r in procedural:
                 image = uv_bake.bake_socket(context, obj, material, r.value,
-                                            "nbrdf %s %s" % (material.name, k), w, h)
+                                            "nbrdf %s %s" % (material.name, k), w, h,
+                                            uv_map=uv_map)
                 made.append(image)
                 specs[k] = ("image", image)
         except uv_bake.UVBakeError as e:
@@ -85,6 +96,14 @@ def resolve_sources(context, material, settings):
                 bpy.data.images.remove(im)
             raise SetupError(str(e)) from e
     return specs, notes, made
+
+
+def node_words(socket):
+    """"node 'Noise.001' (Noise Texture)": the user's node feeding `socket`, by the name the
+    Node Editor shows and its kind."""
+    node = socket.links[0].from_node
+    kind = node.bl_label or node.type
+    return ("node '%s'" % node.name) + ("" if kind == node.name else " (%s)" % kind)
 
 
 def _label(key):
@@ -129,10 +148,11 @@ def size_argv(settings, sizes, images):
     return argv
 
 
-def build_argv(nbrdf, bundle, settings, material_name, workdir, specs=None):
+def build_argv(nbrdf, bundle, settings, material_name, workdir, specs=None, output=None):
     """Returns (argv, output, inputs argv); writes the images that have no usable file into
-    workdir. `specs` from resolve_sources (default: the panel's values and images)."""
-    output = output_path(settings, material_name)
+    workdir. `specs` from resolve_sources (default: the panel's values and images); `output`
+    default: output_path(settings, material_name)."""
+    output = output or output_path(settings, material_name)
     if specs is None:
         specs = {p.key: _own_spec(settings, p) for p in PARAMS}
     params, sizes = param_argv(settings, specs, workdir)

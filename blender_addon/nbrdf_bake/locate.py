@@ -7,6 +7,7 @@ PATH (executable); the add-on's models/default and the folders around the execut
 
 import os
 import shutil
+import subprocess
 
 EXE = "nbrdf.exe" if os.name == "nt" else "nbrdf"
 
@@ -74,3 +75,34 @@ def find_bundle(configured, addon_dir, nbrdf_path=None):
     raise NotFound("model bundle not found (looked in %s): set its folder in Edit > Preferences "
                    "> Add-ons > nbrdf Bake ('nbrdf bundle init DIR' makes an untrained one)"
                    % ", ".join(os.path.normpath(p) for p in places))
+
+
+# (path, mtime) -> None or why it does not run: asked once per executable, not every redraw.
+_runs = {}
+
+
+def check_runs(exe):
+    """None when `exe --version` runs, else a message saying what is missing. A copied nbrdf
+    needs the shared libraries it was linked with (OpenImageIO, OpenEXR, a BLAS, ...): on
+    another machine the loader refuses it before nbrdf can say anything."""
+    try:
+        key = (exe, os.stat(exe).st_mtime_ns)
+    except OSError as e:
+        return "nbrdf executable '%s': %s" % (exe, e.strerror or e)
+    if key not in _runs:
+        try:
+            r = subprocess.run([exe, "--version"], stdin=subprocess.DEVNULL,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, timeout=30,
+                               text=True, errors="replace")
+            lines = [l.strip() for l in r.stderr.splitlines() if l.strip()]
+            why = None if r.returncode == 0 else (
+                lines[0] if lines else "exit status %d" % r.returncode)
+        except subprocess.TimeoutExpired:
+            why = "'--version' did not answer within 30 s"
+        except OSError as e:
+            why = e.strerror or str(e)
+        _runs[key] = None if why is None else (
+            "nbrdf executable '%s' does not run here (%s). It needs the shared libraries it "
+            "was built with (OpenImageIO, OpenEXR, OpenBLAS, ...): install nbrdf for this "
+            "system and set its path in Edit > Preferences > Add-ons > nbrdf Bake" % (exe, why))
+    return _runs[key]

@@ -36,7 +36,8 @@ class NBRDF_OT_bake_latent(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return running_session() is None
+        from .queue import running_queue
+        return running_session() is None and running_queue() is None
 
     def _start(self, context):
         mat = _material(context, self.material)

@@ -5,7 +5,7 @@ import textwrap
 
 import bpy
 
-from . import material_inputs, operators, preferences
+from . import material_inputs, operators, preferences, queue
 from .params import PARAMS
 
 
@@ -87,6 +87,7 @@ def draw_bake(layout, context, s):
         box.label(text="%s %s%s: %.0f %%" % (doing, session.material_name, step,
                                              100.0 * session.progress), icon="TIME")
         box.operator("nbrdf.cancel_bake", icon="CANCEL")
+        draw_ranges(layout, context, session.ranges)
         return
     exe, bundle, problem = preferences.resolve(preferences.get(context))
     if problem:
@@ -95,7 +96,19 @@ def draw_bake(layout, context, s):
     row.scale_y = 1.4
     row.enabled = problem is None
     row.operator("nbrdf.bake_latent", icon="RENDER_STILL")
+    draw_ranges(layout, context, [l for l in s.range_report.split("\n") if l])
     draw_results(layout, s)
+
+
+def draw_ranges(layout, context, lines):
+    """The bake's range report: each input outside the model's trained range, in the units
+    of the panel (perceptual roughness, IOR), before the bake's work starts."""
+    if not lines:
+        return
+    box = layout.box()
+    box.label(text="Outside the model's trained range:", icon="ERROR")
+    for line in lines:
+        label_wrapped(box, context, line, "DOT")
 
 
 def draw_results(layout, s):
@@ -213,9 +226,11 @@ def _registered_panels():
 def register():
     for c in classes:
         bpy.utils.register_class(c)
+    queue.register_panels()  # under NBRDF_PT_material, so after it
     _move_below_ours()
 
 
 def unregister():
+    queue.unregister_panels()
     for c in reversed(classes):
         bpy.utils.unregister_class(c)

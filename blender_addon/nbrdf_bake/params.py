@@ -35,3 +35,16 @@ def constant(values):
     if all(v == values[0] for v in values):
         return number(values[0])
     return ",".join(number(v) for v in values)
+
+
+def range_lines(events):
+    """The CLI's range report ("range" events) in the panel's words: each parameter by its
+    label here, in the units the add-on passed (perceptual roughness, IOR)."""
+    labels = {p.key: p.label for p in PARAMS}
+    out = []
+    for ev in events:
+        message = str(ev.get("message", ""))
+        head, sep, rest = message.partition("): ")
+        key = str(ev.get("parameter", ""))
+        out.append("%s: %s" % (labels.get(key, key), rest) if sep else message)
+    return out

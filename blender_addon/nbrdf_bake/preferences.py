@@ -47,6 +47,9 @@ def resolve(prefs):
         bundle = locate.find_bundle(bpy.path.abspath(prefs.bundle_dir), ADDON_DIR, exe)
     except locate.NotFound as e:
         return None, None, str(e)
+    problem = locate.check_runs(exe)
+    if problem:
+        return None, None, problem
     return exe, bundle, None
 
 

@@ -22,7 +22,8 @@ class BakeProcess:
     """One bake: start(), then poll() until it returns False; cancel() at any time.
 
     After the end, `state` is 'done', 'failed' or 'cancelled'; `message` says why it failed,
-    `warnings` holds the CLI's warnings, `result` its "done" event (width, height, ...).
+    `warnings` holds the CLI's warnings, `ranges` its range report ("range" events, which
+    come before any progress: docs/CLI.md, "Range report"), `result` its "done" event.
     """
 
     def __init__(self, argv, output, cwd=None):
@@ -35,6 +36,7 @@ class BakeProcess:
         self.step_name = ""  # the CLI's stage: "ground truth", "fit", "bake", ...
         self.message = ""
         self.warnings = []
+        self.ranges = []
         self.result = None
         self._error_event = None
         self._lines = queue.Queue()
@@ -123,6 +125,8 @@ class BakeProcess:
             self.progress_events += 1
             self.step_name = str(ev.get("stage", ""))
             self.progress = min(1.0, float(ev.get("done", 0)) / float(ev["total"]))
+        elif kind == "range":
+            self.ranges.append(ev)
         elif kind == "warning":
             self.warnings.append(str(ev.get("message", "")))
         elif kind == "done":

@@ -58,8 +58,10 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
             description="8-bit optical depth maps: 0 and 1 map to these depths"),
         range_policy=EnumProperty(
             name="Out of Range", default="CLAMP",
-            items=[("CLAMP", "Clamp", "Clamp to the model's trained range, with a warning"),
-                   ("REFUSE", "Refuse", "Stop, naming the image and texel")]),
+            items=[("CLAMP", "Clamp", "Clamp to the model's trained range; every input outside "
+                                      "it is listed before the bake starts"),
+                   ("REFUSE", "Refuse", "List every input outside the range, then stop, "
+                                        "naming the image and texel")]),
         size_mode=EnumProperty(
             name="Resolution", default="AUTO",
             items=[("AUTO", "Largest Map", "The largest input image's size; the Size below "
@@ -133,6 +135,10 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
                                 description="Samples per pixel of the preview"),
         preview_image=PointerProperty(name="Preview", type=bpy.types.Image,
                                       description="The preview render of the last bake"),
+        range_report=StringProperty(
+            name="Range Report", default="",
+            description="The last bake's inputs outside the model's trained range, one per "
+                        "line (nbrdf bake's range report)"),
         result=PointerProperty(name="Result", type=bpy.types.Image,
                                description="The latent texture of the last bake"),
     )

@@ -13,7 +13,8 @@ import time
 
 import bpy
 
-from . import inputs, preferences
+from . import inputs, material_inputs, preferences
+from .params import PARAMS, range_lines
 from .process import BakeProcess
 
 
@@ -37,21 +38,35 @@ class Session:
         self.image = None
         self.preview_image = None
         self.node = None
+        self.relative = False  # the output was asked for relative to the .blend (//)
+        self.files = {}  # temporary input file -> what the user knows it as
+        self.cwd = workdir  # where the CLI runs: the output's folder when inputs are relative
         self._stopped = False
 
     @classmethod
-    def start(cls, context, material):
-        """Starts a bake; raises inputs.SetupError with a message the user can act on."""
+    def start(cls, context, material, obj=None, template=None, uv_map=None, extras=True):
+        """Starts a bake; raises inputs.SetupError with a message the user can act on.
+
+        The queue passes `obj` (whose UV map `uv_map` a procedural input is baked over),
+        `template` (its output path, with {object} and {material}) and extras=False (no
+        verify, no preview)."""
         exe, bundle, problem = preferences.resolve(preferences.get(context))
         if problem:
             raise inputs.SetupError(problem)
         settings = material.nbrdf_bake
-        specs, notes, made = inputs.resolve_sources(context, material, settings)
+        output = inputs.output_path(settings, material.name, template,
+                                    obj.name if obj is not None else None)
+        specs, notes, made = inputs.resolve_sources(context, material, settings, obj, uv_map)
         workdir = tempfile.mkdtemp(prefix="nbrdf-bake-", dir=bpy.app.tempdir or None)
         try:
             argv, output, params = inputs.build_argv(exe, bundle, settings, material.name,
-                                                     workdir, specs)
+                                                     workdir, specs, output)
             os.makedirs(os.path.dirname(output), exist_ok=True)
+            cwd = workdir
+            relative = _relative_inputs(argv, params, output, specs)
+            if relative is not None:
+                argv, params = relative
+                cwd = os.path.dirname(output)
         except (inputs.SetupError, OSError) as e:
             shutil.rmtree(workdir, ignore_errors=True)
             _remove_images(made)
@@ -59,18 +74,21 @@ class Session:
                 raise inputs.SetupError("cannot prepare the bake: %s" % e) from e
             raise
         verify_argv = None
-        if settings.verify:
+        if settings.verify and extras:
             verify_argv = [exe, "verify", output] + params + [
                 "--bundle", bundle, "--texels", str(VERIFY_TEXELS), "--spp", str(VERIFY_SPP),
                 "--json", os.path.join(workdir, "verify.json"), "--progress=json"]
         preview_argv = None
-        if settings.preview and has_render(exe):
+        if settings.preview and extras and has_render(exe):
             size = str(settings.preview_size)
             preview_argv = [exe, "render", output, "-o", preview_path(output), "--bundle", bundle,
                             "--width", size, "--height", size, "--spp",
                             str(settings.preview_spp), "--progress=json"]
-        bake = BakeProcess(argv, output, cwd=workdir)
+        bake = BakeProcess(argv, output, cwd=cwd)
         session = cls(material.name, bake, workdir, verify_argv, preview_argv, notes, made)
+        session.relative = (template or settings.output).startswith("//")
+        session.cwd = cwd
+        session.files = _file_words(material, argv, specs, made) if cwd == workdir else {}
         if not bake.start():
             session._cleanup()
             raise inputs.SetupError(bake.message)
@@ -81,6 +99,11 @@ class Session:
         if self.process is self.preview:
             return "preview"
         return "verify" if self.process is self.verify else "bake"
+
+    @property
+    def ranges(self):
+        """The bake's range report in the panel's words (params.range_lines)."""
+        return range_lines(self.bake.ranges)
 
     @property
     def progress(self):
@@ -101,17 +124,19 @@ class Session:
             return True
         material = bpy.data.materials.get(self.material_name)
         if self.process is self.bake:
+            if material is not None:
+                material.nbrdf_bake.range_report = "\n".join(self.ranges)
             if self.bake.state != "done":
                 self._cleanup()
                 return False
-            self.image = load_result(self.bake.output)
+            self.image = load_result(self.bake.output, self.relative)
             if material is not None:
                 material.nbrdf_bake.result = self.image
                 self.node = add_image_node(material, self.image)
                 material.nbrdf_bake.verify_texels = 0
             if self.verify_argv and not self._stopped:
                 self.verify = BakeProcess(self.verify_argv, self.verify_argv[-2],
-                                          cwd=self.workdir)
+                                          cwd=self.cwd)
                 self.process = self.verify
                 if self.verify.start():
                     return True
@@ -129,7 +154,7 @@ class Session:
                 return self.preview.start()
             return False
         if self.preview.state == "done":
-            self.preview_image = load_result(self.preview.output)
+            self.preview_image = load_result(self.preview.output, self.relative)
             if material is not None:
                 material.nbrdf_bake.preview_image = self.preview_image
         return False
@@ -149,9 +174,10 @@ class Session:
         if b.state == "cancelled":
             return "WARNING", "nbrdf: bake " + b.message
         if b.state != "done":
-            return "ERROR", "nbrdf bake failed: " + b.message
+            return "ERROR", "; ".join(["nbrdf bake failed: " + self.explain(b.message)]
+                                      + self.ranges)
         r = b.result
-        notes = list(self.notes) + list(b.warnings)
+        notes = list(self.notes) + self.ranges + list(b.warnings)
         v = self.verify
         if v is not None and v.state == "done" and v.result:
             info = "verify: median lobe error %.1f %%, worst %.1f %% (%d texels)" % (
@@ -170,6 +196,13 @@ class Session:
         return ("WARNING" if notes else "INFO"), "; ".join([text] + ([info] if info else [])
                                                            + notes)
 
+    def explain(self, message):
+        """The CLI's message with each temporary input file named as the user knows it
+        (the UV bake of a node, a generated image): the user never saw those files."""
+        for name in sorted(self.files, key=len, reverse=True):
+            message = message.replace(name, self.files[name])
+        return message
+
     def _cleanup(self):
         shutil.rmtree(self.workdir, ignore_errors=True)
         _remove_images(self.made)
@@ -182,6 +215,65 @@ def _remove_images(images):
             bpy.data.images.remove(im)
         except (ReferenceError, RuntimeError):
             pass
+
+
+def _relative_inputs(argv, params, output, specs):
+    """(argv, params) with each image file named relative to the output's folder, for the
+    CLI to run there, so that the texture's nbrdf:parameterSources names the maps as they lie
+    beside it (`r0=../textures/rust.png`); None when an input is one of the add-on's temporary
+    files (named by their own file names, relative to the temporary folder) or no image is
+    given. A file whose only common folder with the output is the root keeps its absolute
+    path."""
+    outdir = os.path.dirname(output)
+    images = [p for p in PARAMS if specs[p.key][0] == "image" and p.flag in argv]
+    if not images:
+        return None
+    paths = [argv[argv.index(p.flag) + 1] for p in images]
+    if not all(os.path.isabs(x) for x in paths):
+        return None
+
+    def rel(path):
+        try:
+            common = os.path.commonpath([path, outdir])
+            if os.path.dirname(common) == common:  # only the root (or another drive)
+                return path
+            return os.path.relpath(path, outdir)
+        except ValueError:
+            return path
+
+    out = []
+    for lst in (argv, params):
+        lst = list(lst)
+        for p in images:
+            if p.flag in lst:
+                i = lst.index(p.flag) + 1
+                lst[i] = rel(lst[i])
+        out.append(lst)
+    return out[0], out[1]
+
+
+def _file_words(material, argv, specs, made):
+    """{file the CLI is given in the temporary folder: the user's words for it}."""
+    out = {}
+    for p in PARAMS:
+        kind, value = specs[p.key]
+        if kind != "image" or p.flag not in argv:
+            continue
+        path = argv[argv.index(p.flag) + 1]
+        if os.path.isabs(path):
+            continue  # the image's own file: the user knows it
+        reading = None
+        if value in made:
+            try:
+                reading = material_inputs.read(material)[0].get(p.key)
+            except material_inputs.MaterialError:
+                reading = None
+        if reading is not None and reading.kind == "procedural":
+            out[path] = "the UV bake of material '%s', input '%s' from %s" % (
+                material.name, reading.socket, inputs.node_words(reading.value))
+        else:
+            out[path] = "image '%s'" % value.name
+    return out
 
 
 def add_image_node(material, image):
@@ -226,9 +318,10 @@ def has_render(exe):
     return _render_support[key]
 
 
-def load_result(path):
+def load_result(path, relative=False):
     """An EXR as an image datablock, reloaded when one already shows that file. The latent
-    texture becomes MULTILAYER (layers latent and proxy) once Blender reads its header."""
+    texture becomes MULTILAYER (layers latent and proxy) once Blender reads its header.
+    `relative`: its path stored relative to the .blend (//...), as the output was asked."""
     image = None
     for im in bpy.data.images:
         if im.filepath and os.path.normpath(bpy.path.abspath(im.filepath)) == path:
@@ -241,4 +334,9 @@ def load_result(path):
     # Reading the size makes Blender open the file and see its layers now. (Setting a colour
     # space here would turn it back into a plain IMAGE: float EXR data is never converted.)
     image.size[0]
+    if relative and bpy.data.filepath:
+        try:
+            image.filepath = bpy.path.relpath(path)
+        except ValueError:  # another drive: stays absolute
+            pass
     return image

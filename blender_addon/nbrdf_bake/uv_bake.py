@@ -37,10 +37,20 @@ def _active_output(tree):
     raise UVBakeError("the material has no Material Output node")
 
 
-def bake_socket(context, obj, material, socket, name, width, height, fill=True):
-    """A new float image (Non-Color, width x height) holding what `socket` receives; texels
-    outside the UV islands hold the mean of the others (fill), or UNBAKED."""
+def bake_socket(context, obj, material, socket, name, width, height, fill=True, uv_map=None):
+    """A new float image (Non-Color, width x height) holding what `socket` receives over
+    `uv_map` (a UV map's name; default: the active one); texels outside
+    the UV islands hold the mean of the others (fill), or UNBAKED. The UV map is Blender's
+    bake's own uv_layer choice: the object's active UV map is never changed."""
     check_object(obj, material)
+    uv_layers = obj.data.uv_layers
+    if uv_map and uv_layers.get(uv_map) is None:
+        raise UVBakeError("object '%s' has no UV map '%s' (it has %s)"
+                          % (obj.name, uv_map, ", ".join("'%s'" % u.name for u in uv_layers)))
+    return _bake_socket(context, obj, material, socket, name, width, height, fill, uv_map or "")
+
+
+def _bake_socket(context, obj, material, socket, name, width, height, fill, uv_map):
     if not socket.is_linked:
         raise UVBakeError("%s is not linked to a node" % socket.name)
     tree = material.node_tree
@@ -78,10 +88,12 @@ def bake_socket(context, obj, material, socket, name, width, height, fill=True):
                 # No margin from Blender: its Adjacent Faces margin (the default) blends
                 # the UNBAKED marker into texels beside the islands, values no test can tell
                 # from baked ones. The margin is grown below from baked texels only.
-                bpy.ops.object.bake(type="EMIT", margin=0, use_clear=False)
+                bpy.ops.object.bake(type="EMIT", margin=0, use_clear=False, uv_layer=uv_map)
         except RuntimeError as e:
-            raise UVBakeError("Blender's bake of %s over '%s' failed: %s"
-                              % (socket.name, obj.name, str(e).strip())) from e
+            raise UVBakeError("Blender's bake of material '%s', input '%s' from node '%s' "
+                              "over '%s' failed: %s"
+                              % (material.name, socket.name, socket.links[0].from_node.name,
+                                 obj.name, str(e).strip())) from e
         _grow_margin(image, scene.render.bake.margin)
         if fill:
             _fill_unbaked(image)

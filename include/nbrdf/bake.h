@@ -146,6 +146,28 @@ typedef enum nbrdf_bake_accuracy {
 const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a);
 int nbrdf_bake_accuracy_parse(const char *name);
 
+/* One parameter's values outside the model's trained range, found by the range check that
+ * nbrdf_bake runs over every source before any network work (docs/BAKE.md, "Range check").
+ * Values are in the units the user typed: perceptual roughness r for alpha1 and alpha2 under
+ * NBRDF_ROUGHNESS_PERCEPTUAL (the range as sqrt of alpha's), IOR for eta. */
+typedef struct nbrdf_bake_range {
+  int param;         /* NBRDF_BAKE_ALPHA1 ... NBRDF_BAKE_SIGMA_T */
+  const char *name;  /* "alpha1", "eta", ... */
+  const char *units; /* "perceptual roughness", "GGX alpha", "IOR", "reflectance", "albedo",
+                      * "optical depth" */
+  int constant;      /* the source is a constant: it counts as one texel */
+  /* Texels (each once, whatever its channels) below lo and above hi; min is the lowest value
+   * below, max the highest above (each meaningful only when its count is non-zero). */
+  size_t below, above;
+  double min, max;
+  double lo, hi;             /* the trained range */
+  nbrdf_range_policy policy; /* CLAMP: baked as lo or hi; REFUSE: the bake fails after the report */
+} nbrdf_bake_range;
+
+/* The report's line in words, e.g. "alpha1 (perceptual roughness): 1,204 texels below 0.1
+ * (min 0.02) will be baked as 0.1". Returns `buf`. */
+const char *nbrdf_bake_range_message(const nbrdf_bake_range *range, char *buf, size_t cap);
+
 typedef struct nbrdf_bake_options {
   nbrdf_bake_storage storage; /* half (default) or float latents */
   int mip_levels;             /* 0: the full mip chain; 1: level 0 only */
@@ -153,8 +175,9 @@ typedef struct nbrdf_bake_options {
   nbrdf_roughness roughness;
   /* Values outside what the model was trained on (alpha1, eta outside the
    * dielectric table, alpha2 outside the conductor table, sigma_t above
-   * NBRDF_BAKE_SIGMA_T_MAX): CLAMP moves them onto the range and reports
-   * the count through `warning`; REFUSE fails naming the file and texel.
+   * NBRDF_BAKE_SIGMA_T_MAX): CLAMP moves them onto the range; REFUSE fails
+   * naming the file and texel. Either way every parameter outside is
+   * reported first, before any network work (range_report).
    * r0 or albedo above 1 are never physical and always fail. */
   nbrdf_range_policy range;
   /* Called with stage "bake", done/total in rows; `done` moves within a band
@@ -215,6 +238,15 @@ typedef struct nbrdf_bake_options {
   /* Receives one line saying where the networks run (AUTO and GPU only; e.g. "no GPU for
    * the networks (...): they run on the CPU"). May be NULL. */
   void (*note)(void *user, const char *message);
+  /* Receives the range check's findings, one call per parameter with values outside the
+   * trained range, all of them before any network work and before a REFUSE fails. NULL: each
+   * goes to `warning` as nbrdf_bake_range_message's line. */
+  void (*range_report)(void *user, const nbrdf_bake_range *range);
+  /* Optional: a fingerprint of what the caller made the texture from (its inputs' sizes and
+   * times, the options: any text), stored in the header as nbrdf:inputs, so that a later
+   * run can tell a texture that is up to date from a stale one (a tile set's resumed bake).
+   * NULL (default): no attribute, the file as without it. */
+  const char *inputs;
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
@@ -224,8 +256,8 @@ typedef struct nbrdf_bake_options {
 #define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL, NULL,\
-        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,         \
-        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL                                      \
+        NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,        \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL                         \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */

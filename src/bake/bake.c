@@ -13,6 +13,7 @@
 #include "bake/bake_device.h"
 #include "bake/bake_fit_file.h"
 #include "bake/bake_level.h"
+#include "bake/bake_range.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "model/bundle.h"
@@ -28,24 +29,6 @@
 static void append(char *buf, size_t cap, const char *text) {
   size_t len = strlen(buf);
   if (len + 1 < cap) snprintf(buf + len, cap - len, "%s", text);
-}
-
-static void warn_clamped(const bake_band *b, const nbrdf_bake_options *o) {
-  if (!o->warning) return;
-  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    if (!b->clamped[id]) continue;
-    char msg[512], what[64];
-    snprintf(what, sizeof what, "%zu texel channel(s)", b->clamped[id]);
-    model_material_clamp_warning(msg, sizeof msg, model_material_param_name(id), b->lo, b->hi, id,
-                                 what, 1);
-    /* η = 1 (no coat) is the usual value below the range: say how to get it. */
-    size_t len = strlen(msg);
-    if (id == NBRDF_BAKE_ETA && b->lo[id] > 1.0f && len < sizeof msg)
-      snprintf(msg + len, sizeof msg - len,
-               " (a bundle whose base tables start at eta = 1, `nbrdf train tables --eta-min 1`, "
-               "takes eta = 1, no coat, unclamped)");
-    o->warning(o->user, msg);
-  }
 }
 
 /* Progress in rows, fractional inside a band: the band's own ticks cover
@@ -142,11 +125,11 @@ static nbrdf_status describe(const nbrdf_model *model, texture_param_source **sr
   return NBRDF_OK;
 }
 
-/* The audit stage: warnings (clamped values, the level's, the energy audit) and the report. */
+/* The audit stage: warnings (the level's, the energy audit) and the report; values outside
+ * the trained range were reported before any work (bake_range.h). */
 static void audit(const bake_texture *t, const bake_level *level, const bake_fit_result *fit,
                   const bake_evaluate *ev, const bake_band *band, const model_gpu *gpu,
                   const nbrdf_bake_options *o, nbrdf_bake_report *rep) {
-  warn_clamped(band, o);
   level->audit(o, fit, ev, rep);
   char audit_msg[768];
   bake_audit_message(&band->audit, t->rgb, audit_msg, sizeof audit_msg);
@@ -184,7 +167,8 @@ static nbrdf_status evaluate_and_write(const bake_texture *t, const bake_level *
                               t->settings,
                               own.bytes,
                               own.size,
-                              fit->attribute[0] ? fit->attribute : NULL};
+                              fit->attribute[0] ? fit->attribute : NULL,
+                              o->inputs};
   texture_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
   wo.tile_size = o->tile_size;
@@ -339,6 +323,7 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
   if (report) memset(report, 0, sizeof *report);
   texture_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   st = bake_open_sources(inputs, src, err);
+  if (st == NBRDF_OK) st = bake_range_check(model, src, &o, err);
   if (st == NBRDF_OK) st = run(model, src, inputs, &o, out_path, report, err);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     texture_param_source_free(src[id]);

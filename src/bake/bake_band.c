@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_range.h"
 #include "core/error.h"
 #include "model/material.h"
 #include "model/model_gpu.h"
@@ -76,23 +77,6 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem) {
   return 1;
 }
 
-/* "alpha1 map a.png: texel (3, 5) channel G" or "alpha1 constant". */
-static void where(const bake_band *b, int id, int x, int y, int c, char *buf, size_t n) {
-  texture_param_source *s = b->src[id];
-  texture_param_map *m = texture_param_source_get_map(s);
-  if (!m) {
-    snprintf(buf, n, "%s (constant)", model_material_param_name(id));
-    return;
-  }
-  static const char rgb[] = "RGB";
-  if (texture_param_source_channels(s) == 3)
-    snprintf(buf, n, "%s: texel (%d, %d) channel %c, %s", texture_param_map_path(m), x, y, rgb[c],
-             model_material_param_name(id));
-  else
-    snprintf(buf, n, "%s: texel (%d, %d), %s", texture_param_map_path(m), x, y,
-             model_material_param_name(id));
-}
-
 /* Applies the roughness convention to one parameter value, validates it and,
  * under the clamp policy, clamps it (bake_tuple.h, shared with eval). */
 static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, int c,
@@ -103,7 +87,7 @@ static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, in
   if (verdict == MODEL_VALUE_CLAMPED) b->clamped[id]++;
   if (verdict <= MODEL_VALUE_CLAMPED) return NBRDF_OK;
   char at[600];
-  where(b, id, x, y, c, at, sizeof at);
+  bake_source_where(b->src, id, x, y, c, at, sizeof at);
   return model_material_fail(verdict, b->lo, b->hi, id, b->roughness, at, typed, err);
 }
 

@@ -15,7 +15,7 @@
 
 #include "brdf/dielectric.h"
 #include "brdf/disk.h"
-#include "brdf/layered.h"
+#include "brdf/bsdf.h"
 
 #define BRDF_SLAB_INV_4PI (1.0 / (4.0 * M_PI)) /* isotropic phase function */
 

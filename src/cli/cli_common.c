@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli/cli.h"
+#include "cli/cli_common.h"
 #include "core/number.h"
 #include "texture/latent_exr.h"
 

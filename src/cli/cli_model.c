@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "cli/cli.h"
+#include "cli/cli_common.h"
 #include "nbrdf/model.h"
 
 int cli_model_load(const char *cmd, const char *bundle, nbrdf_model **out, char *used,

@@ -4,7 +4,7 @@
 #include <stdarg.h>
 #include <string.h>
 
-#include "cli/cli.h"
+#include "cli/cli_common.h"
 
 int cli_opt_bad(const char *cmd, const char *option, const char *what, const char *value) {
   return cli_usage_error(cmd, "%s expects %s, got '%s'", option, what, value);

@@ -24,7 +24,8 @@ double cli_progress_seconds(const cli_progress_state *p) {
   return core_monotonic_seconds() - p->start;
 }
 
-void cli_progress_json(const char *stage, double done, double total, double seconds, double rate) {
+static void json_line(const char *stage, double done, double total, double seconds, double rate,
+                      const char *fields) {
   /* done moves within a band / texel: fractional, two decimals */
   printf("{\"event\":\"progress\",\"stage\":\"%s\",\"done\":%.*f,\"total\":%.0f", stage,
          done == (double)(long long)done ? 0 : 2, done, total);
@@ -32,8 +33,17 @@ void cli_progress_json(const char *stage, double done, double total, double seco
     double eta = rate > 0 ? (total - done) / rate : -1.0;
     printf(",\"seconds\":%.2f,\"rate\":%.4g,\"eta_s\":%.0f", seconds, rate, eta);
   }
+  fputs(fields, stdout);
   fputs("}\n", stdout);
   fflush(stdout);
+}
+
+void cli_progress_json(const char *stage, double done, double total, double seconds, double rate) {
+  json_line(stage, done, total, seconds, rate, "");
+}
+
+void cli_progress_json_fields(const char *stage, double done, double total, const char *fields) {
+  json_line(stage, done, total, -1.0, 0.0, fields);
 }
 
 static void bar(const char *stage, double done, double total) {

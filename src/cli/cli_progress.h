@@ -55,5 +55,8 @@ int cli_progress(void *user, const char *stage, double done, double total);
  * the timing fields: seconds since start, `rate` in units of `done` per second (this run's,
  * so a resumed run's own), eta_s (-1 when unknown). */
 void cli_progress_json(const char *stage, double done, double total, double seconds, double rate);
+/* The same line without timing, `fields` (",\"tile\":1003", say: JSON members, each led by a
+ * comma) added at its end: where one run holds several works (the tiles of a set). */
+void cli_progress_json_fields(const char *stage, double done, double total, const char *fields);
 
 #endif

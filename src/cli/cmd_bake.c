@@ -6,12 +6,14 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "cli/bake_tiles.h"
 #include "cli/cli.h"
 #include "cli/cli_cancel.h"
 #include "cli/cli_device.h"
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
+#include "cli/cli_range.h"
 #include "nbrdf/bake.h"
 #include "nbrdf/fit.h"
 #include "nbrdf/model.h"
@@ -20,6 +22,8 @@ typedef struct bake_args {
   cli_params params;
   nbrdf_bake_options opts;
   const char *out, *bundle, *decoder;
+  const char *tiles; /* --tiles */
+  int force;
   cli_progress_state ps;
   uint64_t energy_audit;
   int budget_given, compact_given;
@@ -103,7 +107,15 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
       CLI_PARAMS_OPTIONS(&a->params),
       {.help = "\noptions:"},
       {.type = CLI_OPT_PATH, .name = "--output", .alias = "-o", .meta = "FILE", .dest = &a->out,
-       .help = "the texture to write (written whole or not at all)"},
+       .help = "the texture to write (written whole or not at all); with\n"
+               "maps given as tile patterns ('rough.<UDIM>.exr'), a pattern\n"
+               "too: one texture per tile (docs/FARM.md, \"Tile sets\")"},
+      {.type = CLI_OPT_STRING, .name = "--tiles", .meta = "LIST", .dest = &a->tiles,
+       .help = "a tile set's tiles to bake, e.g. 1001,1003-1005 (default:\n"
+               "every tile the maps have)"},
+      {.type = CLI_OPT_FLAG, .name = "--force", .dest = &a->force, .value = 1,
+       .help = "a tile set: bake the tiles whose texture is up to date\n"
+               "too (by default they are skipped)"},
       {.type = CLI_OPT_FLAG, .name = "--half", .dest = &a->opts.storage, .value = NBRDF_BAKE_HALF,
        .help = "latent storage half (the default)"},
       {.type = CLI_OPT_FLAG, .name = "--float", .dest = &a->opts.storage, .value = NBRDF_BAKE_FLOAT,
@@ -134,8 +146,9 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "carries it fine-tuned to the scene, compact the small\n"
                "decoder distilled from that fine-tuned copy"},
       {.type = CLI_OPT_ENUM, .name = "--range", .choices = "clamp|refuse", .dest = &a->opts.range,
-       .help = "values outside the model's trained ranges: clamp with a\n"
-               "warning (default) or stop naming the file and texel"},
+       .help = "values outside the model's trained ranges: clamp (default)\n"
+               "or stop naming the file and texel; either way each\n"
+               "parameter outside is reported first, in the units typed"},
       {.type = CLI_OPT_INT, .name = "--quantise", .meta = "BITS", .lo = 2, .hi = 16,
        .dest = &a->opts.quantise_bits,
        .help = "round every parameter to 2^BITS levels over its trained\n"
@@ -360,10 +373,19 @@ int cmd_bake(int argc, char **argv) {
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", used);
 
+  if (bake_tiles_wanted(&a.params, out, a.tiles, a.force)) {
+    bake_tiles_job job = {&a.params, a.opts, out, a.tiles, a.force, model, decoder, &a.ps};
+    int rc = bake_tiles_run(&job);
+    nbrdf_fit_destroy(fit);
+    nbrdf_model_destroy(model);
+    cli_inputs_free(&inputs);
+    return rc;
+  }
   cli_progress_start(&a.ps);
   a.opts.progress = cli_progress;
   a.opts.warning = on_warning;
   a.opts.note = on_note;
+  a.opts.range_report = cli_range_report;
   a.opts.user = &a.ps;
   a.opts.cancel = cli_cancel_flag();
   cli_cancel_watch();

@@ -4,6 +4,8 @@
 #include <string.h>
 
 #include "cli/cli.h"
+#include "cli/cli_tiles.h"
+#include "cli/info_tiles.h"
 #include "texture/latent_exr.h"
 
 typedef struct info_args {
@@ -30,6 +32,7 @@ void cmd_info_options(cli_opt_visit visit, void *user) {
 
 void cmd_info_usage(FILE *out) {
   fprintf(out, "usage: nbrdf info [--header-only] TEXTURE.exr\n"
+               "       nbrdf info [--header-only] 'TEXTURE.<UDIM>.exr'\n"
                "\n"
                "Prints a latent texture's size, mip levels, channels, colour mode, storage,\n"
                "compression, the model that baked it (name and checksum), its parameter\n"
@@ -39,6 +42,8 @@ void cmd_info_usage(FILE *out) {
                "parse and fit the latents, and every tile of every level is read and\n"
                "decoded and every value must be finite\n"
                "(about 0.4 s of CPU for a 1024 x 1024 half texture; docs/LATENT-TEXTURE.md).\n"
+               "A tile pattern (docs/FARM.md, \"Tile sets\") gives a line per tile, then what\n"
+               "the tiles share (size, format, model, accuracy, decoder) or that they differ.\n"
                "\n");
   cmd_info_options(cli_options_help_visit, out);
   fprintf(out, "\n"
@@ -60,6 +65,7 @@ int cmd_info(int argc, char **argv) {
   const char *path = a.path;
   int header_only = a.header_only;
   if (!path) return cli_usage_error("info", "needs a texture file");
+  if (cli_tiles_is_pattern(path)) return info_tiles_run(path, header_only);
   nbrdf_error err = {0};
   texture_latent_reader *r = NULL;
   if (texture_latent_reader_open(&r, path, &err) != NBRDF_OK) return cli_fail_error("info", &err);
@@ -84,6 +90,7 @@ int cmd_info(int argc, char **argv) {
   printf("sources:       %s\n", in->sources);
   printf("bake settings: %s\n", in->settings);
   if (in->accuracy[0]) printf("accuracy: %s\n", in->accuracy);
+  if (in->inputs[0]) printf("inputs:        %s\n", in->inputs);
   printf("writer:        %s\n", in->writer);
   if (in->decoder_size)
     printf("decoder:       own (%zu bytes, checksum %s)\n", in->decoder_size, in->decoder_checksum);

@@ -13,6 +13,8 @@
 #include "cli/cli_outputs.h"
 #include "cli/cli_params.h"
 #include "cli/cli_progress.h"
+#include "cli/cli_tiles.h"
+#include "cli/verify_tiles.h"
 #include "core/output_file.h"
 #include "nbrdf/verify.h"
 #include "verify/verify_write.h"
@@ -109,6 +111,9 @@ void cmd_verify_usage(FILE *out) {
                "error of docs/METRICS.md). A texel of mip level k is compared with the average\n"
                "of the ground truth over its level-0 footprint. Pass the same inputs as to\n"
                "'nbrdf bake'.\n"
+               "A tile set ('latent.<UDIM>.exr', maps as tile patterns too) is verified with\n"
+               "one texture's sample spread over its tiles: per-tile and overall figures\n"
+               "(docs/VERIFY.md, \"Tile sets\").\n"
                "\n");
   cmd_verify_options(cli_options_help_visit, out);
   fprintf(out, "\n"
@@ -221,6 +226,11 @@ int cmd_verify(int argc, char **argv) {
   if (!a.texture) return cli_usage_error("verify", "which texture? (nbrdf verify LATENT.exr ...)");
   int missing = cli_params_require("verify", params);
   if (missing != CLI_EXIT_OK) return missing;
+  if (cli_params_any_tiled(params) && !cli_tiles_is_pattern(a.texture))
+    return cli_usage_error("verify",
+                           "the maps are tile patterns but '%s' names one texture: give the "
+                           "set's pattern ('latent.<UDIM>.exr'), or the tile's own maps",
+                           a.texture);
   /* A level the texture lacks is a bad option whatever its size (7 or 10^20): say which levels
    * there are. An unreadable texture is left to nbrdf_verify, which says why. */
   if (a.o.level != NBRDF_VERIFY_ALL_LEVELS) {
@@ -246,6 +256,15 @@ int cmd_verify(int argc, char **argv) {
   }
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf verify: warning: bundle '%s' is untrained (random networks)\n", used);
+  if (cli_tiles_is_pattern(a.texture)) {
+    verify_tiles_job job = {params, model, a.o, a.texture, a.json, a.max_error, a.gate, &a.ps};
+    int rc = a.heatmap ? cli_usage_error("verify", "--heatmap draws one texture, not a tile set: "
+                                                   "give one tile's file")
+                       : verify_tiles_run(&job);
+    nbrdf_model_destroy(model);
+    cli_inputs_free(&inputs);
+    return rc;
+  }
   cli_progress_start(&a.ps);
   a.o.progress = cli_progress, a.o.user = &a.ps, a.o.cancel = cli_cancel_flag();
   cli_cancel_watch();

@@ -17,6 +17,7 @@ DECLARE(dataset)
 DECLARE(train)
 DECLARE(evaluate)
 DECLARE(completion)
+DECLARE(farm)
 
 const cli_command cli_commands[] = {
     {"help", "show help for nbrdf or one of its commands", cmd_help, cmd_help_usage,
@@ -40,6 +41,8 @@ const cli_command cli_commands[] = {
      cmd_train_options},
     {"evaluate", "model quality on the held-out sets (docs/METRICS.md)", cmd_evaluate,
      cmd_evaluate_usage, cmd_evaluate_options},
+    {"farm", "plan (and submit) a tile set's bake on a Slurm cluster", cmd_farm, cmd_farm_usage,
+     cmd_farm_options},
     {"completion", "print the shell completion script (bash or zsh)", cmd_completion,
      cmd_completion_usage, cmd_completion_options},
 };

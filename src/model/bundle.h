@@ -23,55 +23,11 @@
 #ifndef NBRDF_MODEL_BUNDLE_H
 #define NBRDF_MODEL_BUNDLE_H
 
-#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 
-#include "model/base_table.h"
-#include "model/decoder.h"
-#include "model/layering.h"
-#include "model/sampler.h"
+#include "model/bundle_parts.h"
 #include "nbrdf/model.h"
-
-#define MODEL_BUNDLE_FORMAT "nbrdf-model"
-#define MODEL_BUNDLE_VERSION 1
-
-/* An earlier bundle whose textures this one reads (its decoder is this one's). */
-#define MODEL_READS_MAX 8
-typedef struct model_bundle_ref {
-  char name[64];
-  char checksum_hex[17];
-} model_bundle_ref;
-
-/* The four weight files, in checksum order. */
-extern const char *const model_bundle_files[4];
-/* model.json, the four model_bundle_files and MODEL_CARD.md (nbrdf_model_files). */
-enum { MODEL_FILES = 6 };
-
-struct nbrdf_model {
-  char name[64];
-  int trained;
-  int latent_dim;
-  uint64_t checksum;
-  char checksum_hex[17];
-  model_decoder *decoder;
-  model_layering *layering;
-  model_sampler *sampler;
-  model_base_table tables[2]; /* indexed by nbrdf_base_kind */
-  const char *files[MODEL_FILES]; /* nbrdf_model_files: model.json, model_bundle_files, card */
-  char *files_text;           /* owns the strings of files[] */
-  /* A derived model (model_derive.c) shares everything above but its
-   * decoder with `parent`, a loaded bundle it holds a reference to; it owns
-   * `decoder` only when own_decoder is set. */
-  nbrdf_model *parent;
-  atomic_int extra_refs; /* derived models holding this one (0 when none) */
-  int own_decoder;
-  unsigned char *decoder_bytes; /* own decoder: its safetensors bytes (a bake embeds them) */
-  size_t decoder_size;
-  char decoder_checksum_hex[17]; /* FNV-1a 64 of decoder_bytes */
-  model_bundle_ref reads[MODEL_READS_MAX]; /* model.json's "reads_textures_of" */
-  int n_reads;
-};
 
 /* A derived model of `base` (or of base's parent): with `bytes` (size
  * bytes of a decoder.safetensors, copied, at most NBRDF_DECODER_BYTES_MAX)
@@ -87,20 +43,6 @@ nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t siz
 nbrdf_status model_with_decoder_net(const nbrdf_model *base, const model_decoder *dec,
                                     nbrdf_model **out, nbrdf_error *err);
 
-/* What a bundle is made of, for saving (all borrowed). */
-typedef struct model_bundle_parts {
-  const char *name;
-  int trained;
-  uint64_t seed;    /* recorded in model.json (0 = not applicable) */
-  const char *note; /* one line for model.json, may be NULL */
-  const char *card; /* MODEL_CARD.md text; NULL = a generated summary */
-  const model_decoder *decoder;
-  const model_layering *layering;
-  const model_sampler *sampler;
-  const model_base_table *tables[2];
-  const model_bundle_ref *reads; /* "reads_textures_of"; n_reads may be 0 */
-  int n_reads;
-} model_bundle_parts;
 
 /* Writes a bundle into `dir` (created if missing): each file atomically; the
  * checksum of the result in *checksum (may be NULL). Dimensions are checked

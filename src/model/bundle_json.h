@@ -4,7 +4,7 @@
 
 #include <stdint.h>
 
-#include "model/bundle.h"
+#include "model/bundle_parts.h"
 
 struct cJSON;
 

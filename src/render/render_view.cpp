@@ -20,7 +20,7 @@ struct render_view {
 extern "C" nbrdf_status render_view_create(const char *config_path, const char *display,
                                            const char *view, render_view **out, nbrdf_error *err) {
   *out = nullptr;
-  const char *config = nbrdf_ocio::config_path(config_path);
+  const char *config = texture_ocio::config_path(config_path);
   try {
     std::unique_ptr<render_view> v(new render_view);
     if (config) {
@@ -39,7 +39,7 @@ extern "C" nbrdf_status render_view_create(const char *config_path, const char *
                          "a display or view needs an OCIO config (--ocio or $OCIO); the built-in "
                          "transform is sRGB only");
       // The forward curve decodes sRGB to linear; a display needs the encoding.
-      v->cpu = nbrdf_ocio::srgb_curve(OCIO::TRANSFORM_DIR_INVERSE)->getDefaultCPUProcessor();
+      v->cpu = texture_ocio::srgb_curve(OCIO::TRANSFORM_DIR_INVERSE)->getDefaultCPUProcessor();
       v->description = "sRGB (built in)";
     }
     *out = v.release();
@@ -55,7 +55,7 @@ extern "C" const char *render_view_describe(const render_view *v) { return v->de
 extern "C" nbrdf_status render_view_apply(const render_view *v, float *rgb, size_t n,
                                           nbrdf_error *err) {
   try {
-    nbrdf_ocio::apply_rgb(*v->cpu, rgb, n);
+    texture_ocio::apply_rgb(*v->cpu, rgb, n);
     return NBRDF_OK;
   } catch (const std::exception &e) {
     return core_fail(err, NBRDF_ERR_INTERNAL, "view transform %s: %s", v->description.c_str(),

@@ -80,6 +80,7 @@ typedef struct texture_latent_meta {
   const void *decoder;
   size_t decoder_size;
   const char *accuracy; /* NBRDF_ATTR_ACCURACY; NULL: not written */
+  const char *inputs;   /* NBRDF_ATTR_INPUTS; NULL: not written */
 } texture_latent_meta;
 
 const char *texture_latent_compression_name(texture_latent_compression c);
@@ -133,6 +134,7 @@ typedef struct texture_latent_info {
   const char *sources, *settings, *mip_filter, *writer;
   double max_albedo; /* NBRDF_ATTR_MAX_ALBEDO; NaN when absent or not measured */
   const char *accuracy; /* NBRDF_ATTR_ACCURACY, "" when absent (a fast bake) */
+  const char *inputs;   /* NBRDF_ATTR_INPUTS, "" when absent */
   int64_t file_size; /* bytes */
   /* Version 2: the size and checksum (16 hex digits, checked at open) of the
    * texture's own decoder (texture_latent_reader_decoder); 0 and "" otherwise. */

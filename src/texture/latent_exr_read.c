@@ -26,6 +26,7 @@ enum {
   S_FILTER,
   S_WRITER,
   S_ACCURACY,
+  S_INPUTS,
   S_DECODER_SUM,
   S_COUNT
 };
@@ -203,7 +204,7 @@ static nbrdf_status read_attributes(texture_latent_reader *r, nbrdf_error *err) 
   static const char *const names[S_DECODER_SUM] = {NBRDF_ATTR_MODEL_NAME, NBRDF_ATTR_MODEL_CHECKSUM,
                                              NBRDF_ATTR_SOURCES,    NBRDF_ATTR_SETTINGS,
                                              NBRDF_ATTR_MIP_FILTER, NBRDF_ATTR_WRITER,
-                                             NBRDF_ATTR_ACCURACY};
+                                             NBRDF_ATTR_ACCURACY,   NBRDF_ATTR_INPUTS};
   for (int i = 0; st == NBRDF_OK && i < S_DECODER_SUM; i++)
     st = get_string(r, names[i], i == S_MODEL || i == S_CHECKSUM, &r->strings[i], err);
   if (st != NBRDF_OK) return st;
@@ -220,6 +221,7 @@ static nbrdf_status read_attributes(texture_latent_reader *r, nbrdf_error *err) 
                        ? (double)a
                        : NAN;
   in->accuracy = r->strings[S_ACCURACY];
+  in->inputs = r->strings[S_INPUTS];
   if (in->format_version < NBRDF_LATENT_FORMAT_OWN_DECODER) {
     /* Version 1 has no decoder of its own (attributes of that name are not its). */
     r->strings[S_DECODER_SUM] = strdup("");

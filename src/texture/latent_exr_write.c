@@ -267,6 +267,7 @@ static exr_result_t define_header(texture_latent_writer *w, const texture_latent
   }
   if (!rv && w->opts.max_albedo_attr) rv = exr_attr_set_float(c, p, NBRDF_ATTR_MAX_ALBEDO, -1.0f);
   if (!rv && meta->accuracy) rv = exr_attr_set_string(c, p, NBRDF_ATTR_ACCURACY, meta->accuracy);
+  if (!rv && meta->inputs) rv = exr_attr_set_string(c, p, NBRDF_ATTR_INPUTS, meta->inputs);
 #undef STR
   if (!rv) rv = exr_write_header(c);
   return rv;

@@ -37,6 +37,9 @@
 /* Optional; only bakes above the fast level write it (docs/LATENT-TEXTURE.md):
  * "level=fitted; budget=120; distinct=N; fitted=N; heldout=N; heldoutError=F; fastError=F" */
 #define NBRDF_ATTR_ACCURACY "nbrdf:accuracy" /* string */
+/* Optional: the caller's fingerprint of what the texture was made from (a tile set's bake
+ * stores one so that a re-run can tell a finished tile from a stale one). */
+#define NBRDF_ATTR_INPUTS "nbrdf:inputs" /* string */
 /* Version 2 only: the texture's own decoder, the bytes of a decoder.safetensors
  * file in an opaque attribute of this type, and their FNV-1a 64 checksum. */
 #define NBRDF_ATTR_DECODER "nbrdf:decoder"                  /* NBRDF_DECODER_ATTR_TYPE */

@@ -40,12 +40,12 @@ OCIO::ConstCPUProcessorRcPtr exact_cpu(const OCIO::ConstProcessorRcPtr &p) {
 
 } // namespace
 
-const char *nbrdf_ocio::config_path(const char *given) {
+const char *texture_ocio::config_path(const char *given) {
   const char *config = given ? given : std::getenv("OCIO");
   return config && config[0] ? config : nullptr;
 }
 
-OCIO::ConstProcessorRcPtr nbrdf_ocio::srgb_curve(OCIO::TransformDirection direction) {
+OCIO::ConstProcessorRcPtr texture_ocio::srgb_curve(OCIO::TransformDirection direction) {
   OCIO::ExponentWithLinearTransformRcPtr t = OCIO::ExponentWithLinearTransform::Create();
   const double gamma[4] = {2.4, 2.4, 2.4, 1.0};
   const double offset[4] = {0.055, 0.055, 0.055, 0.0};
@@ -55,7 +55,7 @@ OCIO::ConstProcessorRcPtr nbrdf_ocio::srgb_curve(OCIO::TransformDirection direct
   return OCIO::Config::CreateRaw()->getProcessor(t);
 }
 
-void nbrdf_ocio::apply_rgb(const OCIO::CPUProcessor &cpu, float *rgb, std::size_t n) {
+void texture_ocio::apply_rgb(const OCIO::CPUProcessor &cpu, float *rgb, std::size_t n) {
   // One row per call keeps the width within OCIO's long, whatever n is.
   const std::size_t chunk = 1 << 20;
   for (std::size_t i = 0; i < n; i += chunk) {
@@ -70,7 +70,7 @@ extern "C" nbrdf_status texture_colour_xform_create(const char *colour_space, co
   *out = nullptr;
   if (!colour_space || !colour_space[0])
     return core_fail(err, NBRDF_ERR_ARGUMENT, "colour space name is empty");
-  const char *config = nbrdf_ocio::config_path(config_path);
+  const char *config = texture_ocio::config_path(config_path);
   try {
     std::unique_ptr<texture_colour_xform> x(new texture_colour_xform);
     if (config) {
@@ -86,7 +86,7 @@ extern "C" nbrdf_status texture_colour_xform_create(const char *colour_space, co
       }
     }
     if (equals_nocase(colour_space, "srgb")) {
-      x->cpu = exact_cpu(nbrdf_ocio::srgb_curve(OCIO::TRANSFORM_DIR_FORWARD));
+      x->cpu = exact_cpu(texture_ocio::srgb_curve(OCIO::TRANSFORM_DIR_FORWARD));
       x->description = "sRGB (built in) -> linear";
     } else if (is_identity_name(colour_space)) {
       x->description = "linear (no conversion)";
@@ -117,7 +117,7 @@ extern "C" nbrdf_status texture_colour_xform_apply_rgb(const texture_colour_xfor
                                                        size_t n, nbrdf_error *err) {
   if (!x->cpu || n == 0) return NBRDF_OK;
   try {
-    nbrdf_ocio::apply_rgb(*x->cpu, rgb, n);
+    texture_ocio::apply_rgb(*x->cpu, rgb, n);
     return NBRDF_OK;
   } catch (const std::exception &e) {
     return core_fail(err, NBRDF_ERR_INTERNAL, "colour conversion %s: %s", x->description.c_str(),

@@ -8,7 +8,7 @@
 
 #include <cstddef>
 
-namespace nbrdf_ocio {
+namespace texture_ocio {
 
 namespace OCIO = OCIO_NAMESPACE;
 
@@ -26,6 +26,6 @@ OCIO::ConstProcessorRcPtr srgb_curve(OCIO::TransformDirection direction);
 // whatever n is. Throws what OCIO throws; safe from several threads at once.
 void apply_rgb(const OCIO::CPUProcessor &cpu, float *rgb, std::size_t n);
 
-} // namespace nbrdf_ocio
+} // namespace texture_ocio
 
 #endif

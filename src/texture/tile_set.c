@@ -1,6 +1,7 @@
 #include "texture/tile_set.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/error.h"
@@ -94,5 +95,60 @@ nbrdf_status texture_tile_set_check_output(const texture_tile_set *set, const ch
                      "%s '%s' is a tile pattern, but no input is a tile set: give the maps "
                      "with a tile token too, or name one output file",
                      name, arg);
+  return NBRDF_OK;
+}
+
+/* One item of a --tiles list, `len` bytes at `text`: "1003" or "1003-1005". */
+static nbrdf_status select_item(const texture_tile_set *set, const char *list, const char *text,
+                                size_t len, texture_tile_set *kept, nbrdf_error *err) {
+  char item[32], *dash;
+  if (len == 0 || len >= sizeof item)
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "tile list '%s': expected tile numbers and ranges, comma-separated "
+                     "(1001,1003-1005)",
+                     list);
+  memcpy(item, text, len);
+  item[len] = '\0';
+  int lo, hi;
+  dash = strchr(item, '-');
+  if (dash) *dash = '\0';
+  nbrdf_status st = texture_tile_parse(item, &lo, err);
+  if (st == NBRDF_OK) st = dash ? texture_tile_parse(dash + 1, &hi, err) : NBRDF_OK;
+  if (st != NBRDF_OK) {
+    core_error_prefix(err, "tile list '%s': ", list);
+    return st;
+  }
+  if (!dash) hi = lo;
+  if (hi < lo)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "tile list '%s': range %d-%d runs backwards", list,
+                     lo, hi);
+  int found = 0;
+  for (int i = 0; i < set->count; i++) {
+    int t = set->tiles[i];
+    if (t < lo || t > hi) continue;
+    found = 1;
+    if (!texture_tile_set_has(kept, t)) kept->tiles[kept->count++] = t;
+  }
+  if (!found)
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "tile list '%s': the set has no tile%s %.*s (its %d tiles are %d..%d)", list,
+                     dash ? "s in" : "", (int)len, text, set->count, set->count ? set->tiles[0] : 0,
+                     set->count ? set->tiles[set->count - 1] : 0);
+  return NBRDF_OK;
+}
+
+static int ascending(const void *a, const void *b) { return *(const int *)a - *(const int *)b; }
+
+nbrdf_status texture_tile_set_select(texture_tile_set *set, const char *list, nbrdf_error *err) {
+  texture_tile_set kept = {0};
+  for (const char *c = list;;) {
+    size_t len = strcspn(c, ",");
+    nbrdf_status st = select_item(set, list, c, len, &kept, err);
+    if (st != NBRDF_OK) return st;
+    if (!c[len]) break;
+    c += len + 1;
+  }
+  qsort(kept.tiles, (size_t)kept.count, sizeof kept.tiles[0], ascending);
+  *set = kept;
   return NBRDF_OK;
 }

@@ -34,6 +34,12 @@ nbrdf_status texture_tile_set_resolve(const texture_tile_map *maps, int n, textu
 nbrdf_status texture_tile_set_check_output(const texture_tile_set *set, const char *name,
                                            const char *arg, nbrdf_error *err);
 
+/* Keeps in `set` the tiles that `list` names: tile numbers and ranges, comma-separated
+ * ("1001,1003-1005"). A single tile the set lacks is NBRDF_ERR_ARGUMENT naming it and the
+ * set's tiles; a range keeps the set's tiles within it and must hold one. A malformed list
+ * is NBRDF_ERR_ARGUMENT quoting it. */
+nbrdf_status texture_tile_set_select(texture_tile_set *set, const char *list, nbrdf_error *err);
+
 /* 1 when `tile` is in the set. */
 int texture_tile_set_has(const texture_tile_set *set, int tile);
 

@@ -9,7 +9,7 @@
 #include <stdint.h>
 
 #include "train/samples.h"
-#include "train/trainer.h"
+#include "train/trainer_parts.h"
 
 /* The data a run was trained on, as one string (the files' checksums in
  * order), for checkpoints to refuse other data. */

@@ -6,7 +6,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "train/dataset.h"
+#include "train/dataset_settings.h"
+#include "train/params.h"
 
 #define TRAIN_DS_MAGIC "NBRDFDS\0"
 #define TRAIN_DS_FOOTER_MAGIC "NBRDFEND"

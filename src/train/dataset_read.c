@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "nn/safetensors.h"
+#include "train/dataset.h"
 #include "train/dataset_format.h"
 
 static void decode_params(const unsigned char *in, train_params *p) {

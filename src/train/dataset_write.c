@@ -10,6 +10,7 @@
 #include "core/output_file.h"
 #include "core/progress.h"
 #include "nn/safetensors.h"
+#include "train/dataset.h"
 #include "train/dataset_format.h"
 
 static int same_settings(const train_dataset_settings *a, const train_dataset_settings *b) {

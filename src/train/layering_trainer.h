@@ -13,7 +13,7 @@
 #include <stdint.h>
 
 #include "train/epoch_shuffle.h"
-#include "train/train_layering.h"
+#include "train/layering_settings.h"
 #include "train/trainer.h"
 
 typedef struct train_layering_trainer {

@@ -4,8 +4,8 @@
 # range and the bake's clamp must not drift apart.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
-c=$(sed -n 's/^#define NBRDF_BAKE_SIGMA_T_MAX \([0-9.]*\)f\{0,1\}.*/\1/p' "$root/include/nbrdf/bake.h")
-[ -n "$c" ] || { echo "FAIL: NBRDF_BAKE_SIGMA_T_MAX not found in include/nbrdf/bake.h"; exit 1; }
+c=$(sed -n 's/^#define NBRDF_BAKE_SIGMA_T_MAX \([0-9.]*\)f\{0,1\}.*/\1/p' "$root/include/nbrdf/model.h")
+[ -n "$c" ] || { echo "FAIL: NBRDF_BAKE_SIGMA_T_MAX not found in include/nbrdf/model.h"; exit 1; }
 py=$(cd "$root/blender_addon/nbrdf_bake" && python3 -c 'import params; print(params.SIGMA_T_MAX)')
 python3 -c "import sys; sys.exit(0 if float('$c') == float('$py') else 1)" ||
   { echo "FAIL: add-on SIGMA_T_MAX $py != NBRDF_BAKE_SIGMA_T_MAX $c"; exit 1; }

@@ -11,7 +11,8 @@ import addon_testing as t  # noqa: E402
 
 CLASSES = ("NBRDF_PT_material", "NBRDF_PT_output", "NBRDF_PT_shader_editor",
            "NBRDF_OT_bake_latent",
-           "NBRDF_OT_cancel_bake")
+           "NBRDF_OT_cancel_bake", "NBRDF_OT_bake_all", "NBRDF_OT_queue_cancel",
+           "NBRDF_UL_queue", "NBRDF_PT_queue_view3d", "NBRDF_PT_queue_material")
 
 
 def op_exists(name):
@@ -24,7 +25,8 @@ def op_exists(name):
 
 def registered_state():
     types = [n for n in dir(bpy.types) if n.startswith("NBRDF_")]
-    return (types, hasattr(bpy.types.Material, "nbrdf_bake"), op_exists("bake_latent"),
+    return (types, (hasattr(bpy.types.Material, "nbrdf_bake"),
+                    hasattr(bpy.types.Scene, "nbrdf_queue")), op_exists("bake_latent"),
             op_exists("cancel_bake"), "nbrdf_bake" in bpy.context.preferences.addons)
 
 
@@ -33,20 +35,23 @@ for round_ in (1, 2):
     types, prop, bake_op, cancel_op, pref = registered_state()
     for name in CLASSES:
         t.check("round %d: bpy.types.%s registered" % (round_, name), name in types)
-    t.check("round %d: Material.nbrdf_bake" % round_, prop)
+    t.check("round %d: Material.nbrdf_bake, Scene.nbrdf_queue" % round_, all(prop))
     t.check("round %d: operators" % round_, bake_op and cancel_op)
     t.check("round %d: preferences" % round_, pref)
     t.check("bl_info says Blender 3.4", tuple(mod.bl_info["blender"]) == (3, 4, 0))
     mat = bpy.data.materials.new("m%d" % round_)
     t.check("settings on a material", mat.nbrdf_bake.roughness == "PERCEPTUAL")
-    classes = [c for m in (mod.operators, mod.panels, mod.properties) for c in m.classes]
+    classes = [c for m in (mod.operators, mod.panels, mod.properties, mod.queue)
+               for c in m.classes]
+    classes += list(mod.queue.data_classes + mod.queue.panel_classes)
     classes.append(mod.preferences.NBRDF_Preferences)
     t.check("round %d: every class registered" % round_, all(c.is_registered for c in classes))
 
     t.disable()
     types, prop, bake_op, cancel_op, pref = registered_state()
     t.check("round %d: no NBRDF_ types after unregister: %s" % (round_, types), not types)
-    t.check("round %d: no Material.nbrdf_bake after unregister" % round_, not prop)
+    t.check("round %d: no Material.nbrdf_bake, Scene.nbrdf_queue after unregister" % round_,
+            not any(prop))
     t.check("round %d: no operators after unregister" % round_, not (bake_op or cancel_op))
     t.check("round %d: not in preferences" % round_, not pref)
     t.check("round %d: classes report unregistered" % round_,

@@ -49,6 +49,25 @@ for t in 1001 1002; do
   "$NBRDF" info l.$t.exr >info.$t.txt 2>&1
   check "set: tile $t carries the set's decoder $setsum" grep -Fq "checksum $setsum" info.$t.txt
 done
+# The set baked at once with the fit: the same decoder in every tile, and a tile baked with
+# another fit is not up to date.
+expect_exit 0 "$NBRDF" bake --bundle bundle --alpha1 'r.<UDIM>.png' --eta 1.5 --alpha2 0.3 \
+  --r0 0.9 --albedo 0.7 --sigma-t 1 --fit set.nbfit -o 'm.<UDIM>.exr'
+for t in 1001 1002; do
+  "$NBRDF" info m.$t.exr >minfo.$t.txt 2>&1
+  check "set bake: tile $t carries the set's decoder" grep -Fq "checksum $setsum" minfo.$t.txt
+done
+check "set bake with a fit: no per-tile fit note" bash -c '! grep -q "fits each of the" "$0"' "$TMP/err"
+expect_exit 0 "$NBRDF" bake --bundle bundle --alpha1 'r.<UDIM>.png' --eta 1.5 --alpha2 0.3 \
+  --r0 0.9 --albedo 0.7 --sigma-t 1 --fit set.nbfit -o 'm.<UDIM>.exr'
+check "set bake again with the same fit: up to date" grep -Fq "0 baked, 2 skipped" "$TMP/out"
+cp set.nbfit set2.nbfit
+"$NBRDF" fit --bundle bundle --alpha1 'r.<UDIM>.png' --eta 1.5 --alpha2 0.3 --r0 0.9 \
+  --albedo 0.7 --sigma-t 1 --accuracy specialised --budget 2 --seed 6 -o set2.nbfit >/dev/null 2>&1
+expect_exit 0 "$NBRDF" bake --bundle bundle --alpha1 'r.<UDIM>.png' --eta 1.5 --alpha2 0.3 \
+  --r0 0.9 --albedo 0.7 --sigma-t 1 --fit set2.nbfit -o 'm.<UDIM>.exr'
+check "set bake with another fit: every tile baked again" grep -Fq "2 baked, 0 skipped" "$TMP/out"
+
 expect_exit 1 "$NBRDF" fit --bundle bundle --alpha1 'r.<UDIM>.png' --eta 1.5 --alpha2 'q.<UDIM>.png' \
   --r0 0.9 --albedo 0.7 --sigma-t 1 "${level[@]}" -o bad.nbfit
 check "set: a pattern without files" grep -Fq -- "--alpha2 'q.<UDIM>.png' matches no file" "$TMP/err"

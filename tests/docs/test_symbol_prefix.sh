@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Internal symbols carry their layer's prefix (core_, nn_, model_, ...; issue 16): every
+# Internal symbols carry their layer's prefix (core_, nn_, model_, ...): every
 # global symbol of libnbrdf.a named nbrdf_* is a function of the public headers (the
 # version script cmake makes from them, src/nbrdf.map), so a new internal helper named
 # nbrdf_* fails here; every other global defined by an object of src/<layer>/ starts with
@@ -38,7 +38,10 @@ nm -A -g --defined-only "$lib" 2>/dev/null | awk '
 check "the archive has members" test -s "$TMP/members"
 join -a 1 "$TMP/members" "$TMP/layers" | awk '
   NF < 3 { print $1 " (no src/<layer>/ source of this name)"; next }
-  { if (index($2, "nbrdf_") == 1 || index($2, $3 "_") == 1) next
+  { name = $2
+    # A C++ function in a namespace (_ZN<length><namespace>...): the namespace carries it.
+    if (match(name, /^_ZN[0-9]+/)) name = substr(name, RLENGTH + 1, substr(name, 4, RLENGTH - 3))
+    if (index(name, "nbrdf_") == 1 || index(name, $3 "_") == 1) next
     if ($3 == "train" && index($2, "trainer_") == 1) next
     print $2 " (src/" $3 "/" substr($1, 1, length($1) - 2) ")" }' >"$TMP/unprefixed"
 check "every global carries its layer's prefix: $(tr '\n' ' ' <"$TMP/unprefixed")" \

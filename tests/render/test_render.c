@@ -185,7 +185,7 @@ static void test_neural_furnace(void) {
   CHECK_MSG(found, "no latent with a decoded albedo in (0.02, 20) on all channels");
   neural_albedo(tex, 5.0 * M_PI / 180.0, r5);
   texture_latent_meta meta = {
-      nbrdf_model_name(model), nbrdf_model_checksum(model), "", "", NULL, 0, NULL};
+      nbrdf_model_name(model), nbrdf_model_checksum(model), "", "", NULL, 0, NULL, NULL};
   texture_latent_writer *w = NULL;
   texture_latent_exr_options eo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   eo.storage = NBRDF_LATENT_FLOAT;

@@ -203,7 +203,7 @@ static void test_v1_bytes_unchanged(void) {
   float *texel = malloc(sizeof(float) * (size_t)in->channels);
   CHECK_OK(texture_latent_reader_read(r, 0, 0, 0, 1, 1, texel, err), err);
   texture_latent_meta meta = {
-      in->model_name, in->model_checksum, in->sources, in->settings, NULL, 0, NULL};
+      in->model_name, in->model_checksum, in->sources, in->settings, NULL, 0, NULL, NULL};
   texture_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   texture_latent_writer *w = NULL;
   CHECK_OK(texture_latent_writer_create(&w, testing_path("rewritten.exr"), 1, 1, &in->layout, &meta, &o,
@@ -243,7 +243,7 @@ static void write_with_decoder(const char *p, const void *bytes, size_t size) {
   nbrdf_error e, *err = &e;
   texture_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
   texture_latent_meta meta = {nbrdf_model_name(bundle), nbrdf_model_checksum(bundle), "", "",
-                            bytes, size, NULL};
+                            bytes, size, NULL, NULL};
   float texel[34] = {0};
   texel[32] = 0.5f;
   texture_latent_writer *w = NULL;
@@ -330,7 +330,7 @@ static void test_damaged_decoders(void) {
 
   /* More than 64 MiB is refused before anything is written or read. */
   texture_latent_layout layout = {32, NBRDF_COLOUR_MONO, 1};
-  texture_latent_meta big = {"m", "c", "", "", bytes, NBRDF_DECODER_BYTES_MAX + 1, NULL};
+  texture_latent_meta big = {"m", "c", "", "", bytes, NBRDF_DECODER_BYTES_MAX + 1, NULL, NULL};
   texture_latent_writer *w = NULL;
   CHECK_FAILS(
       texture_latent_writer_create(&w, testing_path("big.exr"), 1, 1, &layout, &big, NULL, NULL, 0, err),

@@ -24,7 +24,7 @@ static void round_trip_seeded(int W, int H, texture_latent_layout layout,
   opts.storage = storage;
   opts.tile_size = tile;
   opts.compression = comp;
-  texture_latent_meta meta = {"test-model", "abc123", "alpha1=0.5", "samples=1", NULL, 0, NULL};
+  texture_latent_meta meta = {"test-model", "abc123", "alpha1=0.5", "samples=1", NULL, 0, NULL, NULL};
   CHECK_OK(fixture_write(path, W, H, &layout, &meta, &opts, l0, band, err), err);
 
   texture_latent_reader *r = NULL;

@@ -221,7 +221,7 @@ static void test_reader_refusals(void) {
 
   snprintf(path, sizeof path, "%s/t.exr", dir);
   float *l0 = fixture_texels(20, 20, &mono2, 4);
-  texture_latent_meta meta = {"model-a", "1111", NULL, NULL, NULL, 0, NULL};
+  texture_latent_meta meta = {"model-a", "1111", NULL, NULL, NULL, 0, NULL, NULL};
   CHECK_OK(fixture_write(path, 20, 20, &mono2, &meta, NULL, l0, 20, err), err);
   CHECK_OK(texture_latent_reader_open(&r, path, err), err);
   if (r) {

@@ -40,7 +40,7 @@ static void write_texture(const char *path, int W, int H, texture_latent_layout 
   opts.storage = storage;
   opts.tile_size = tile;
   texture_latent_meta meta = {
-      "nbrdf-test", "0123abcd", "alpha1=a.png; eta=1.5", "half; zip", NULL, 0, NULL};
+      "nbrdf-test", "0123abcd", "alpha1=a.png; eta=1.5", "half; zip", NULL, 0, NULL, NULL};
   CHECK_OK(fixture_write(path, W, H, &layout, &meta, &opts, l0, 13, err), err);
   *l0_out = l0;
 }

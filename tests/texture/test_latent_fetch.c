@@ -93,7 +93,7 @@ static void test_load(void) {
   float *texels = fixture_texels(W, H, &lay, 5);
   char path[512];
   snprintf(path, sizeof path, "%s/fetch.exr", testing_tmpdir());
-  texture_latent_meta meta = {"m", "0123456789abcdef", "", "", NULL, 0, NULL};
+  texture_latent_meta meta = {"m", "0123456789abcdef", "", "", NULL, 0, NULL, NULL};
   texture_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   o.storage = NBRDF_LATENT_FLOAT, o.tile_size = 8;
   CHECK_OK(fixture_write(path, W, H, &lay, &meta, &o, texels, 4, &err), &err);

@@ -281,11 +281,38 @@ static void test_set(void) {
         !strncmp(err.message, "-o: ", 4));
 }
 
+/* --tiles lists: single tiles must be in the set, ranges keep the set's tiles within them. */
+static void test_select(void) {
+  texture_tile_set all = {4, {1001, 1002, 1003, 1012}}, s;
+  nbrdf_error err = {0};
+  s = all;
+  CHECK_OK(texture_tile_set_select(&s, "1012,1001-1002", &err), &err);
+  CHECK(s.count == 3 && s.tiles[0] == 1001 && s.tiles[1] == 1002 && s.tiles[2] == 1012);
+  s = all;
+  CHECK_OK(texture_tile_set_select(&s, "1001-1100,1003", &err), &err);
+  CHECK(s.count == 4); /* a tile listed twice is kept once */
+  s = all;
+  CHECK(texture_tile_set_select(&s, "1004", &err) == NBRDF_ERR_ARGUMENT &&
+        strstr(err.message, "no tile 1004") && strstr(err.message, "1001..1012"));
+  s = all;
+  CHECK(texture_tile_set_select(&s, "1004-1011", &err) == NBRDF_ERR_ARGUMENT &&
+        strstr(err.message, "no tiles in 1004-1011"));
+  static const char *const bad[] = {"", "1003,", "1003-", "1005-1003", "abc", "1003,,1004", "999"};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    s = all;
+    CHECK_MSG(texture_tile_set_select(&s, bad[i], &err) == NBRDF_ERR_ARGUMENT &&
+                  strstr(err.message, "tile list"),
+              "'%s' not refused as a tile list: %s", bad[i], err.message);
+    CHECK(s.count == 4); /* left as it was */
+  }
+}
+
 int main(void) {
   RUN(test_tile_numbers);
   RUN(test_substitution);
   RUN(test_bad_patterns);
   RUN(test_list);
   RUN(test_set);
+  RUN(test_select);
   return testing_finish();
 }

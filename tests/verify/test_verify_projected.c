@@ -43,7 +43,7 @@ static void fitted_latent(float *latent) {
 static nbrdf_status write_texture(const char *file, const float *texels, nbrdf_error *err) {
   texture_latent_layout L = {nbrdf_model_latent_dim(fix_model), NBRDF_COLOUR_MONO, 1};
   texture_latent_meta meta = {nbrdf_model_name(fix_model), nbrdf_model_checksum(fix_model), "test",
-                            "roughness=alpha", NULL, 0, NULL};
+                            "roughness=alpha", NULL, 0, NULL, NULL};
   texture_latent_exr_options o = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   o.storage = NBRDF_LATENT_FLOAT;
   o.mip_levels = 1;
