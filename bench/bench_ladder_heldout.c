@@ -50,7 +50,7 @@ int main(int argc, char **argv) {
   if (W == 0) W = H = 1;
   bake_scene scene = {src, W, H, rgb ? 3 : 1};
   clock_t c0 = clock();
-  if (st == NBRDF_OK) st = bake_accuracy_fit(model, &scene, &o, NULL, &r, &err);
+  if (st == NBRDF_OK) st = bake_accuracy_fit(model, &scene, 1, &o, NULL, &r, &err);
   if (st != NBRDF_OK) {
     fprintf(stderr, "%s\n", err.message);
     return 1;

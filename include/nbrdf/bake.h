@@ -193,6 +193,11 @@ typedef struct nbrdf_bake_options {
   volatile sig_atomic_t *cancel;
   /* Receives warnings (clamped values), one line each without a newline. May be NULL. */
   void (*warning)(void *user, const char *message);
+  /* A fit made before (nbrdf/fit.h, nbrdf_fit_open): the bake runs no fitting and applies
+   * that fit's correction and decoder (budget, seed and compact_* are the fit's then, and
+   * accuracy is FAST or the fit's level); nbrdf_fit_check's refusals first. NULL (default):
+   * the level fits the texture's own tuples, then bakes, in one call. */
+  const struct nbrdf_fit *fit;
   /* Distinct tuples remembered across bands of rows (each band evaluates its
    * own distinct tuples once; this carries them on, for painted maps that
    * repeat them everywhere). NBRDF_BAKE_TUPLE_CACHE_DEFAULT (65,536: about
@@ -250,7 +255,7 @@ typedef struct nbrdf_bake_options {
 
 #define NBRDF_BAKE_OPTIONS_DEFAULT                                                                 \
   {                                                                                                \
-    NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL,      \
+    NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL, NULL,\
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,        \
         NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL                         \
   }

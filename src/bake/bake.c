@@ -11,6 +11,7 @@
 #include "bake/bake_accuracy.h"
 #include "bake/bake_band.h"
 #include "bake/bake_device.h"
+#include "bake/bake_fit_file.h"
 #include "bake/bake_level.h"
 #include "bake/bake_range.h"
 #include "core/error.h"
@@ -263,14 +264,17 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   const bake_level *level = bake_level_of(o->accuracy);
   /* Plan and fit before any file exists. */
   bake_scene scene = {src, t.width, t.height, t.rgb ? 3 : 1};
-  bake_fit_result fit;
+  /* A fit made before (nbrdf/fit.h) replaces the plan/fit stage. */
+  bake_fit_result own;
+  memset(&own, 0, sizeof own);
+  const bake_fit_result *fit = o->fit ? &o->fit->r : &own;
   bake_evaluate ev = {0};
-  st = level->fit(model, &scene, o, &prog.ticker, &fit, err);
-  if (st == NBRDF_OK) st = level->evaluate_open(model, &fit, &t.layout, t.width, &ev, err);
+  if (!o->fit) st = level->fit(model, &scene, 1, o, &prog.ticker, &own, err);
+  if (st == NBRDF_OK) st = level->evaluate_open(model, fit, &t.layout, t.width, &ev, err);
   if (st == NBRDF_OK)
-    st = evaluate_and_write(&t, level, &fit, &ev, src, o, out_path, &prog, rep, err);
+    st = evaluate_and_write(&t, level, fit, &ev, src, o, out_path, &prog, rep, err);
   bake_evaluate_close(&ev);
-  bake_fit_result_free(&fit);
+  bake_fit_result_free(&own);
   return st;
 }
 
@@ -313,6 +317,9 @@ nbrdf_status nbrdf_bake(const nbrdf_model *model, const nbrdf_bake_inputs *input
   /* Options first: a budget too small is refused before the maps are read. */
   nbrdf_status st = nbrdf_bake_options_check(model, &o, err);
   if (st != NBRDF_OK) return st;
+  if (st == NBRDF_OK && o.fit) st = nbrdf_fit_check(o.fit, model, inputs, &o, err);
+  if (st != NBRDF_OK) return st;
+  if (o.fit) o.accuracy = o.fit->accuracy;
   if (report) memset(report, 0, sizeof *report);
   texture_param_source *src[NBRDF_BAKE_PARAM_COUNT] = {0};
   st = bake_open_sources(inputs, src, err);

@@ -174,7 +174,7 @@ nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_opti
   return st;
 }
 
-nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene,
+nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
                                const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
                                nbrdf_error *err) {
   memset(r, 0, sizeof *r);
@@ -187,11 +187,10 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
   int64_t student_macs;
   nbrdf_status sm = student_macs_of(o, &student_macs, err);
   if (sm != NBRDF_OK) return sm;
-  bake_gather_settings gs = {scene->width, scene->height, scene->colours, lo, hi,
-                             o->roughness,  o->range,     o->quantise_bits, o->cancel};
+  bake_gather_settings gs = {lo, hi, o->roughness, o->range, o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;
   size_t n_cand = 0;
-  nbrdf_status st = bake_gather_tuples(scene->src, &gs, &cand, &n_cand, &r->distinct, err);
+  nbrdf_status st = bake_gather_tuples(scenes, n_scenes, &gs, &cand, &n_cand, &r->distinct, err);
   bake_plan plan;
   if (st == NBRDF_OK)
     st = bake_plan_make(o->accuracy, r->budget, r->distinct, nbrdf_model_decoder_macs(model),

@@ -14,6 +14,7 @@
 
 #include "bake/bake_compact.h"
 #include "bake/bake_fit.h"
+#include "bake/bake_select.h"
 #include "bake/bake_truth.h"
 #include "nbrdf/bake.h"
 #include "texture/param_source.h"
@@ -41,7 +42,7 @@ nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_opti
 
 /* The fit result: everything the plan/fit stage produces and the evaluate
  * stage consumes (bake_level.h), and nothing else: no state of the band loop,
- * so a fit could be made once and baked from later. */
+ * so a fit is made once and baked from later (nbrdf/fit.h, bake_fit_file.h). */
 typedef struct bake_fit_result {
   bake_correction correction; /* the latent correction carried to every tuple; SPECIALISED
                                * and COMPACT: with the fine-tuned decoder */
@@ -52,15 +53,12 @@ typedef struct bake_fit_result {
   char attribute[512]; /* NBRDF_ATTR_ACCURACY */
 } bake_fit_result;
 
-typedef struct bake_scene {
-  texture_param_source **src;
-  int width, height, colours;
-} bake_scene;
-
-/* The plan/fit stage of level o->accuracy (not FAST): everything before the
- * texels (plan, selection, ground truth, fit, COMPACT's distillation,
- * held-out error); progress stages "ground truth" and "fit" through `ticker`. */
-nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene,
+/* The plan/fit stage of level o->accuracy (not FAST) over n_scenes scenes
+ * (the tiles of a set, whose distinct tuples are gathered together; one
+ * scene: a texture's own fit): everything before the texels (plan,
+ * selection, ground truth, fit, COMPACT's distillation, held-out error);
+ * progress stages "ground truth" and "fit" through `ticker`. */
+nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
                                const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
                                nbrdf_error *err);
 void bake_fit_result_free(bake_fit_result *r);

@@ -8,10 +8,10 @@
 #include "core/error.h"
 #include "model/bundle.h"
 
-static nbrdf_status fit_none(const nbrdf_model *model, const bake_scene *scene,
+static nbrdf_status fit_none(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
                              const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
                              nbrdf_error *err) {
-  (void)model, (void)scene, (void)o, (void)ticker, (void)err;
+  (void)model, (void)scenes, (void)n_scenes, (void)o, (void)ticker, (void)err;
   memset(r, 0, sizeof *r);
   return NBRDF_OK;
 }

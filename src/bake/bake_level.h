@@ -9,8 +9,9 @@
  * the latents are computed with, the correction added to them, the layout
  * the texture stores and how band texels and mip rows become it); and what
  * the audit stage adds to the warnings and the report. The evaluate stage
- * reads the fit result only, so a fit could be made once and baked from
- * later. */
+ * reads the fit result only, so a fit is made once and baked from later
+ * (nbrdf/fit.h: nbrdf_bake then takes it from options.fit and skips the
+ * plan/fit stage). */
 #ifndef NBRDF_BAKE_BAKE_LEVEL_H
 #define NBRDF_BAKE_BAKE_LEVEL_H
 
@@ -48,7 +49,7 @@ typedef struct bake_evaluate {
 typedef struct bake_level {
   nbrdf_bake_accuracy accuracy;
   /* The plan/fit stage: everything before the texels and before any file exists. */
-  nbrdf_status (*fit)(const nbrdf_model *model, const bake_scene *scene,
+  nbrdf_status (*fit)(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
                       const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
                       nbrdf_error *err);
   /* The evaluate stage of `model` and the fit result `r` for textures `width`

@@ -78,8 +78,55 @@ static void set_add(tuple_set *s, const bake_tuple *t, size_t *distinct) {
   }
 }
 
-nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_settings *s,
-                                bake_tuple **out, size_t *n, size_t *distinct, nbrdf_error *err) {
+/* Adds the distinct tuples of one scene to `set`. */
+static nbrdf_status gather_scene(tuple_set *set, const bake_scene *sc,
+                                 const bake_gather_settings *s, int name_map, size_t *distinct,
+                                 nbrdf_error *err) {
+  nbrdf_status st = NBRDF_OK;
+  const int band_rows = 64;
+  texture_param_source **src = sc->src;
+  for (int y0 = 0; st == NBRDF_OK && y0 < sc->height; y0 += band_rows) {
+    int rows = sc->height - y0 < band_rows ? sc->height - y0 : band_rows;
+    if (s->cancel && *s->cancel) {
+      st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled while gathering tuples");
+      break;
+    }
+    texture_param_band band[NBRDF_BAKE_PARAM_COUNT];
+    for (int id = 0; st == NBRDF_OK && id < NBRDF_BAKE_PARAM_COUNT; id++)
+      st = texture_param_source_read_band(src[id], y0, rows, &band[id], err);
+    for (int j = 0; st == NBRDF_OK && j < rows; j++)
+      for (int x = 0; st == NBRDF_OK && x < sc->width; x++)
+        for (int c = 0; st == NBRDF_OK && c < sc->colours; c++) {
+          bake_tuple t;
+          for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+            float v = texture_param_band_at(&band[id], x, j, c);
+            const float typed = v;
+            model_material_verdict verdict =
+                model_material_prepare(s->lo, s->hi, id, s->roughness, s->range, &v, NULL);
+            if (verdict > MODEL_VALUE_CLAMPED) {
+              char at[400];
+              int len = snprintf(at, sizeof at, "%s at texel (%d, %d)",
+                                 model_material_param_name(id), x, y0 + j);
+              /* Among several scenes (tiles), the map says which. */
+              texture_param_map *m = name_map ? texture_param_source_get_map(src[id]) : NULL;
+              if (m && len > 0 && (size_t)len < sizeof at)
+                snprintf(at + len, sizeof at - (size_t)len, " of %s", texture_param_map_path(m));
+              st = model_material_fail(verdict, s->lo, s->hi, id, s->roughness, at, typed, err);
+              break;
+            }
+            t.p[id] = s->quantise_bits
+                          ? model_material_quantise(s->lo, s->hi, id, s->quantise_bits, v)
+                          : v;
+          }
+          if (st == NBRDF_OK) set_add(set, &t, distinct);
+        }
+  }
+  return st;
+}
+
+nbrdf_status bake_gather_tuples(const bake_scene *scenes, size_t n_scenes,
+                                const bake_gather_settings *s, bake_tuple **out, size_t *n,
+                                size_t *distinct, nbrdf_error *err) {
   *out = NULL, *n = 0, *distinct = 0;
   tuple_set set = {0};
   set.cap = 4 * (size_t)BAKE_SELECT_MAX_DISTINCT;
@@ -89,39 +136,8 @@ nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_se
   nbrdf_status st = NBRDF_OK;
   if (!set.keys || !set.hashes || !set.table)
     st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory gathering distinct tuples");
-  const int band_rows = 64;
-  for (int y0 = 0; st == NBRDF_OK && y0 < s->height; y0 += band_rows) {
-    int rows = s->height - y0 < band_rows ? s->height - y0 : band_rows;
-    if (s->cancel && *s->cancel) {
-      st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled while gathering tuples");
-      break;
-    }
-    texture_param_band band[NBRDF_BAKE_PARAM_COUNT];
-    for (int id = 0; st == NBRDF_OK && id < NBRDF_BAKE_PARAM_COUNT; id++)
-      st = texture_param_source_read_band(src[id], y0, rows, &band[id], err);
-    for (int j = 0; st == NBRDF_OK && j < rows; j++)
-      for (int x = 0; st == NBRDF_OK && x < s->width; x++)
-        for (int c = 0; st == NBRDF_OK && c < s->colours; c++) {
-          bake_tuple t;
-          for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-            float v = texture_param_band_at(&band[id], x, j, c);
-            const float typed = v;
-            model_material_verdict verdict =
-                model_material_prepare(s->lo, s->hi, id, s->roughness, s->range, &v, NULL);
-            if (verdict > MODEL_VALUE_CLAMPED) {
-              char at[128];
-              snprintf(at, sizeof at, "%s at texel (%d, %d)", model_material_param_name(id), x,
-                       y0 + j);
-              st = model_material_fail(verdict, s->lo, s->hi, id, s->roughness, at, typed, err);
-              break;
-            }
-            t.p[id] = s->quantise_bits
-                          ? model_material_quantise(s->lo, s->hi, id, s->quantise_bits, v)
-                          : v;
-          }
-          if (st == NBRDF_OK) set_add(&set, &t, distinct);
-        }
-  }
+  for (size_t i = 0; st == NBRDF_OK && i < n_scenes; i++)
+    st = gather_scene(&set, &scenes[i], s, n_scenes > 1, distinct, err);
   free(set.hashes);
   free(set.table);
   if (st != NBRDF_OK) {

@@ -20,9 +20,14 @@
  * ...), so a 4K map of all-distinct values costs bounded memory. */
 #define BAKE_SELECT_MAX_DISTINCT (1u << 18)
 
-typedef struct bake_gather_settings {
+/* One image's sources (a tile of a set, or the whole texture). */
+typedef struct bake_scene {
+  texture_param_source **src;
   int width, height, colours; /* texture size (1 x 1 for constants), 1 or 3 */
-  const float *lo, *hi;       /* trained ranges */
+} bake_scene;
+
+typedef struct bake_gather_settings {
+  const float *lo, *hi; /* trained ranges */
   nbrdf_roughness roughness;
   nbrdf_range_policy range;
   int quantise_bits;
@@ -30,10 +35,12 @@ typedef struct bake_gather_settings {
 } bake_gather_settings;
 
 /* The distinct tuples (prepared as the bake prepares them: bake_tuple.h) of
- * the maps; *distinct receives the number before any thinning. A value the
- * bake would refuse fails here, naming the parameter and texel. */
-nbrdf_status bake_gather_tuples(texture_param_source **src, const bake_gather_settings *s,
-                                bake_tuple **out, size_t *n, size_t *distinct, nbrdf_error *err);
+ * the maps of n_scenes scenes (the tiles of a set), in the order first met,
+ * scene after scene; *distinct receives the number before any thinning. A
+ * value the bake would refuse fails here, naming the parameter and texel. */
+nbrdf_status bake_gather_tuples(const bake_scene *scenes, size_t n_scenes,
+                                const bake_gather_settings *s, bake_tuple **out, size_t *n,
+                                size_t *distinct, nbrdf_error *err);
 
 typedef struct bake_selection {
   bake_tuple *fit;  /* [n_fit] */

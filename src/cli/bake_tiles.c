@@ -11,6 +11,7 @@
 #include "cli/cli_cancel.h"
 #include "cli/cli_device.h"
 #include "cli/cli_outputs.h"
+#include "nbrdf/fit.h"
 #include "nn/safetensors.h"
 #include "texture/latent_exr.h"
 #include "texture/tile_set.h"
@@ -151,6 +152,12 @@ static void fingerprint(const bake_tiles_job *job, const nbrdf_bake_inputs *in, 
   fp_text(&h, "audit=%zu accuracy=%d budget=%a seed=%" PRIu64 " compact=%d,%d device=%d",
           o->energy_audit, (int)o->accuracy, o->budget, o->seed, o->compact_dim, o->compact_width,
           (int)o->device);
+  if (o->fit) {
+    /* A tile baked with another fit is stale: the fit file's checksum names it. */
+    nbrdf_fit_info fi;
+    nbrdf_fit_describe(o->fit, &fi);
+    fp_text(&h, "fit=%s", fi.file_checksum);
+  }
   snprintf(out, 32, "fnv1a64:%016" PRIx64, h);
 }
 
@@ -313,10 +320,10 @@ int bake_tiles_run(bake_tiles_job *job) {
     free_files(files, set.count);
     return rc;
   }
-  if (job->opts.accuracy != NBRDF_BAKE_FAST)
+  if (job->opts.accuracy != NBRDF_BAKE_FAST && !job->opts.fit)
     fprintf(stderr,
             "nbrdf bake: note: --accuracy %s fits each of the %d tiles on its own (its own "
-            "corrections%s)\n",
+            "corrections%s; 'nbrdf fit' then --fit: one fit for the set)\n",
             nbrdf_bake_accuracy_name(job->opts.accuracy), set.count,
             job->opts.accuracy == NBRDF_BAKE_FITTED ? "" : " and decoder");
 

@@ -15,6 +15,7 @@
 #include "cli/cli_progress.h"
 #include "cli/cli_range.h"
 #include "nbrdf/bake.h"
+#include "nbrdf/fit.h"
 #include "nbrdf/model.h"
 
 typedef struct bake_args {
@@ -26,6 +27,7 @@ typedef struct bake_args {
   cli_progress_state ps;
   uint64_t energy_audit;
   int budget_given, compact_given;
+  const char *fit; /* --fit */
 } bake_args;
 
 /* "WxH" or "N" (square), each 1..NBRDF_BAKE_SIZE_MAX. */
@@ -181,6 +183,10 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "not depend on the machine or its load)"},
       {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->opts.seed,
        .help = "above fast: random walks and tuple selection (1)"},
+      {.type = CLI_OPT_PATH, .name = "--fit", .meta = "FILE", .dest = &a->fit,
+       .help = "bake with the fit 'nbrdf fit' wrote (its level, no\n"
+               "fitting): refused when made with another bundle, other\n"
+               "options or from other maps"},
       CLI_DEVICE_OPTION(&a->opts.device),
       CLI_PROGRESS_OPTION(&a->ps, "progress as JSON lines on stdout (for tools), instead of\n"
                                   "the bar drawn on stderr when it is a terminal"),
@@ -330,6 +336,7 @@ int cmd_bake(int argc, char **argv) {
   cli_inputs_init(&inputs);
   cli_inputs_add_params(&inputs, &a.params);
   cli_inputs_add_model(&inputs, model);
+  if (a.fit) cli_inputs_add(&inputs, a.fit);
   if (decoder) {
     /* The texture carries this decoder (format version 2). */
     nbrdf_model *with = NULL;
@@ -354,12 +361,22 @@ int cmd_bake(int argc, char **argv) {
     return cli_usage_error("bake", "%s%s", a.budget_given ? "--budget: " : "",
                            strncmp(err.message, "bake: ", 6) ? err.message : err.message + 6);
   }
+  /* A fit made before (--fit): opened once, for every texture the command bakes. */
+  nbrdf_fit *fit = NULL;
+  if (a.fit && nbrdf_fit_open(a.fit, &fit, &err) != NBRDF_OK) {
+    nbrdf_model_destroy(model);
+    cli_inputs_free(&inputs);
+    return cli_fail_error("bake", &err);
+  }
+  a.opts.fit = fit;
+
   if (!nbrdf_model_is_trained(model))
     fprintf(stderr, "nbrdf bake: warning: bundle '%s' is untrained (random networks)\n", used);
 
   if (bake_tiles_wanted(&a.params, out, a.tiles, a.force)) {
     bake_tiles_job job = {&a.params, a.opts, out, a.tiles, a.force, model, decoder, &a.ps};
     int rc = bake_tiles_run(&job);
+    nbrdf_fit_destroy(fit);
     nbrdf_model_destroy(model);
     cli_inputs_free(&inputs);
     return rc;
@@ -375,6 +392,7 @@ int cmd_bake(int argc, char **argv) {
   nbrdf_bake_report rep;
   nbrdf_status st = nbrdf_bake(model, &a.params.in, &a.opts, out, &rep, &err);
   cli_cancel_unwatch();
+  nbrdf_fit_destroy(fit);
   nbrdf_model_destroy(model);
   if (st != NBRDF_OK) {
     cli_params_explain(&err);

@@ -9,6 +9,7 @@ DECLARE(help)
 DECLARE(bundle)
 DECLARE(eval)
 DECLARE(bake)
+DECLARE(fit)
 DECLARE(info)
 DECLARE(verify)
 DECLARE(render)
@@ -27,6 +28,8 @@ const cli_command cli_commands[] = {
      cmd_eval_usage, cmd_eval_options},
     {"bake", "bake parameter maps into a latent OpenEXR texture", cmd_bake, cmd_bake_usage,
      cmd_bake_options},
+    {"fit", "fit an accuracy level once, for bakes of many textures (nbrdf bake --fit)", cmd_fit,
+     cmd_fit_usage, cmd_fit_options},
     {"info", "describe a latent texture", cmd_info, cmd_info_usage, cmd_info_options},
     {"verify", "check a latent texture against the ground truth of its parameters", cmd_verify,
      cmd_verify_usage, cmd_verify_options},
