@@ -45,6 +45,22 @@ expect_output "a plan of 2 tiles" "$NBRDF" farm slurm --plan plan2 --partition g
 check "--partition reaches the scripts" grep -q '^#SBATCH --partition=gpu$' plan2/tiles.sbatch
 check "--max-parallel limits the array" grep -q '^#SBATCH --array=0-1%1$' plan2/tiles.sbatch
 
+# Above fast: a fit job first, every tile bakes with its file.
+expect_output "fit +1 job" "$NBRDF" farm slurm --plan plan3 -- "${args[@]}" -o 'tex/lat.<UDIM>.exr' \
+  --accuracy fitted --budget 30 --compression rle
+check "fit.sbatch is a bash script" bash -n plan3/fit.sbatch
+check "plan.json: the fit first, tiles after it with --fit" python3 - <<'PY'
+import json
+p = json.load(open("plan3/plan.json"))
+jobs = {j["name"]: j for j in p["jobs"]}
+fit = jobs["fit"]["command"]
+assert fit[1] == "fit" and "--accuracy=fitted" in fit and "--budget=30" in fit, fit
+assert "--compression=rle" not in fit and fit[-2] == "-o" and fit[-1].endswith("plan3/scene.nbfit"), fit
+t = jobs["tile-1002"]
+assert t["after"] == ["fit"] and t["command"][-2:] == ["--fit", fit[-1]], t["command"]
+PY
+check "submit.sh submits the tiles after the fit" grep -q 'afterok:"$fit" tiles.sbatch' plan3/submit.sh
+
 # Refusals: exit 2 and no plan.
 expect_stderr "-o 'OUT.<UDIM>.exr' is missing" "$NBRDF" farm slurm --plan bad -- "${args[@]}"
 expect_exit 2 "$NBRDF" farm slurm --plan bad -- "${args[@]}" -o tex/lat.exr
