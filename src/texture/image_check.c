@@ -261,6 +261,16 @@ static nbrdf_status check_bmp(FILE *f, const char *path, uint64_t size, nbrdf_er
   return NBRDF_OK;
 }
 
+/* OpenImageIO's BMP reader takes the OS/2 signatures as well as "BM", with the same header
+ * after them: a 150-byte file starting "BA" and declaring a 51712x38403 run-length image
+ * allocated 2 GB before the shim could bound it (fuzz_param_map). */
+static int bmp_magic(const unsigned char *m) {
+  static const char *const sig[] = {"BM", "BA", "CI", "CP", "IC", "PT"};
+  for (size_t i = 0; i < sizeof sig / sizeof sig[0]; i++)
+    if (!memcmp(m, sig[i], 2)) return 1;
+  return 0;
+}
+
 /* `data` NULL: the file at `path`, else `size` bytes at `data` (`path` labels them). */
 static nbrdf_status check(const char *path, const void *data, uint64_t size, nbrdf_error *err) {
   if (size == 0) return core_fail(err, NBRDF_ERR_FORMAT, "%s: is empty (0 bytes)", path);
@@ -273,7 +283,7 @@ static nbrdf_status check(const char *path, const void *data, uint64_t size, nbr
     st = check_png(f, path, size, err);
   else if (got == 8 && !memcmp(magic, "\x76\x2f\x31\x01", 4))
     st = check_exr(f, path, size, le32(magic + 4), err);
-  else if (got >= 2 && !memcmp(magic, "BM", 2))
+  else if (got >= 2 && bmp_magic(magic))
     st = check_bmp(f, path, size, err);
   fclose(f);
   if (st == NBRDF_OK && got == 8 && !memcmp(magic, "\x76\x2f\x31\x01", 4))
