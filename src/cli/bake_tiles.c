@@ -49,17 +49,6 @@ static void end_bar(tile_progress *tp) {
   tp->drawn = 0;
 }
 
-/* Prints `text` as a JSON string (control characters dropped). */
-static void json_string(const char *text) {
-  putchar('"');
-  for (const char *c = text; *c; c++)
-    if (*c == '"' || *c == '\\')
-      printf("\\%c", *c);
-    else if ((unsigned char)*c >= 0x20)
-      putchar(*c);
-  putchar('"');
-}
-
 /* The set's progress: the bake's own line with the tile added, or one bar for the whole set
  * (each tile an equal share; a tile's stages above fast each fill its share once). */
 static int on_progress(void *user, const char *stage, double done, double total) {
@@ -86,7 +75,7 @@ static void on_warning(void *user, const char *message) {
   tile_progress *tp = user;
   if (tp->ps->json) {
     printf("{\"event\":\"warning\",\"tile\":%d,\"message\":", tp->tile);
-    json_string(message);
+    cli_json_string(stdout, message);
     printf("}\n");
   }
   end_bar(tp);
@@ -196,7 +185,7 @@ static void report_tile(const bake_tiles_job *job, tile_progress *tp, const char
     printf("{\"event\":\"tile\",\"tile\":%d,\"index\":%d,\"tiles\":%d,\"status\":\"%s\","
            "\"output\":",
            tp->tile, tp->index, tp->count, rep ? "baked" : "skipped");
-    json_string(out);
+    cli_json_string(stdout, out);
     if (rep) {
       printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu", rep->width,
              rep->height, rep->colour_channels, rep->evaluated);
@@ -296,7 +285,7 @@ static int tile_failed(const bake_tiles_job *job, tile_progress *tp, nbrdf_statu
   if (job->ps->json) {
     printf("{\"event\":\"error\",\"tile\":%d,\"status\":\"%s\",\"message\":", tp->tile,
            nbrdf_status_name(st));
-    json_string(err->message);
+    cli_json_string(stdout, err->message);
     printf("}\n");
   }
   if (st == NBRDF_ERR_CANCELLED)
@@ -367,7 +356,7 @@ int bake_tiles_run(bake_tiles_job *job) {
     double seconds = cli_progress_seconds(job->ps);
     if (job->ps->json) {
       printf("{\"event\":\"done\",\"output\":");
-      json_string(job->out);
+      cli_json_string(stdout, job->out);
       printf(",\"tiles\":%d,\"baked\":%d,\"skipped\":%d,\"seconds\":%.2f}\n", set.count, baked,
              skipped, seconds);
     } else {

@@ -95,4 +95,18 @@ int cli_level_error(const char *cmd, const char *option, const char *texture, in
                          texture, levels, levels == 1 ? "" : "s", levels - 1, level);
 }
 
+int cli_parse_compact(const char *text, int *k, int *width) {
+  char *end = NULL;
+  long kk = strtol(text, &end, 10), w = 0;
+  int ok = end != text && kk >= 1 && kk <= 8;
+  if (ok && *end == ',') {
+    const char *ws = end + 1;
+    w = strtol(ws, &end, 10);
+    ok = end != ws && w >= 4 && w <= 256;
+  }
+  if (!ok || *end) return 0;
+  *k = (int)kk, *width = (int)w;
+  return 1;
+}
+
 int cli_is_help(const char *arg) { return !strcmp(arg, "-h") || !strcmp(arg, "--help"); }

@@ -49,6 +49,10 @@ int cli_texture_levels(const char *path, int level, int *width, int *height);
  * has N mip levels (0..N-1); there is no level LEVEL". Returns CLI_EXIT_USAGE. */
 int cli_level_error(const char *cmd, const char *option, const char *texture, int levels,
                     const char *level);
+/* --compact's value "K[,WIDTH]": K latent channels 1..8, WIDTH 4..256 (0 when not given).
+ * 0 when `text` is not one; CLI_COMPACT_EXPECTED says what is. */
+int cli_parse_compact(const char *text, int *k, int *width);
+#define CLI_COMPACT_EXPECTED "K[,WIDTH]: K latent channels 1..8, WIDTH 4..256 (e.g. 8 or 8,32)"
 /* True for "-h" and "--help". */
 int cli_is_help(const char *arg);
 

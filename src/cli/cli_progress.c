@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include "cli/cli_cancel.h"
+#include "cli/cli_common.h"
+#include "cli/cli_params.h"
 #include "core/progress.h"
 
 cli_progress_state cli_progress_init(cli_progress_style style, const char *unit) {
@@ -76,4 +78,28 @@ int cli_progress(void *user, const char *stage, double done, double total) {
             p->unit, 100.0 * done / total, rate, p->unit, rate > 0 ? (total - done) / rate : -1.0);
   }
   return *cli_cancel_flag();
+}
+
+void cli_json_string(FILE *out, const char *text) {
+  fputc('"', out);
+  for (const char *c = text; *c; c++)
+    if (*c == '"' || *c == '\\')
+      fprintf(out, "\\%c", *c);
+    else if ((unsigned char)*c >= 0x20)
+      fputc(*c, out);
+  fputc('"', out);
+}
+
+int cli_progress_fail(const char *cmd, nbrdf_status st, nbrdf_error *err,
+                      const cli_progress_state *ps) {
+  cli_params_explain(err);
+  if (ps->bar) fputc('\n', stderr);
+  if (ps->json) {
+    printf("{\"event\":\"error\",\"status\":\"%s\",\"message\":", nbrdf_status_name(st));
+    cli_json_string(stdout, err->message);
+    printf("}\n");
+  }
+  if (st == NBRDF_ERR_CANCELLED)
+    return cli_fail(cmd, "%s: cancelled; no file written", cli_cancel_reason());
+  return cli_fail_error(cmd, err);
 }

@@ -9,7 +9,10 @@
 #ifndef NBRDF_CLI_PROGRESS_H
 #define NBRDF_CLI_PROGRESS_H
 
+#include <stdio.h>
+
 #include "cli/cli_options.h"
+#include "nbrdf/status.h"
 
 /* The styles differ where the commands' work does: */
 typedef enum cli_progress_style {
@@ -58,5 +61,14 @@ void cli_progress_json(const char *stage, double done, double total, double seco
 /* The same line without timing, `fields` (",\"tile\":1003", say: JSON members, each led by a
  * comma) added at its end: where one run holds several works (the tiles of a set). */
 void cli_progress_json_fields(const char *stage, double done, double total, const char *fields);
+
+/* `text` as a JSON string on `out` (control characters dropped). */
+void cli_json_string(FILE *out, const char *text);
+
+/* The end of a command whose library call failed with `st`: the maps' advice in the options'
+ * words (cli_params_explain), the bar's line ended, a JSON error event, and the message
+ * ("cancelled; no file written" for a cancel). Returns CLI_EXIT_FAILURE. */
+int cli_progress_fail(const char *cmd, nbrdf_status st, nbrdf_error *err,
+                      const cli_progress_state *ps);
 
 #endif

@@ -71,22 +71,13 @@ static int read_accuracy(const char *cmd, const cli_opt *o, const char *v) {
 
 static int read_compact(const char *cmd, const cli_opt *o, const char *v) {
   bake_args *a = o->dest;
-  char *end = NULL;
-  long k = strtol(v, &end, 10), w = 0;
-  int ok = end != v && k >= 1 && k <= 8;
-  if (ok && *end == ',') {
-    const char *ws = end + 1;
-    w = strtol(ws, &end, 10);
-    ok = end != ws && w >= 4 && w <= 256;
-  }
-  if (!ok || *end)
-    return cli_opt_bad(cmd, o->name,
-                       "K[,WIDTH]: K latent channels 1..8, WIDTH 4..256 (e.g. 8 or 8,32)", v);
+  int k = 0, w = 0;
+  if (!cli_parse_compact(v, &k, &w)) return cli_opt_bad(cmd, o->name, CLI_COMPACT_EXPECTED, v);
   if (a->opts.accuracy != NBRDF_BAKE_FAST && a->opts.accuracy != NBRDF_BAKE_COMPACT)
     return cli_usage_error(cmd, "--compact goes with --accuracy compact, not '%s'",
                            nbrdf_bake_accuracy_name(a->opts.accuracy));
   a->opts.accuracy = NBRDF_BAKE_COMPACT, a->compact_given = 1;
-  a->opts.compact_dim = (int)k, a->opts.compact_width = (int)w;
+  a->opts.compact_dim = k, a->opts.compact_width = w;
   return 0;
 }
 
@@ -234,22 +225,11 @@ void cmd_bake_usage(FILE *out) {
       "exit status: 0 success, 1 failure (the message names the file and texel), 2 bad usage\n");
 }
 
-/* Prints `text` as a JSON string (control characters dropped). */
-static void json_string(const char *text) {
-  putchar('"');
-  for (const char *c = text; *c; c++)
-    if (*c == '"' || *c == '\\')
-      printf("\\%c", *c);
-    else if ((unsigned char)*c >= 0x20)
-      putchar(*c);
-  putchar('"');
-}
-
 static void on_warning(void *user, const char *message) {
   const cli_progress_state *p = user;
   if (p->json) {
     printf("{\"event\":\"warning\",\"message\":");
-    json_string(message);
+    cli_json_string(stdout, message);
     printf("}\n");
   }
   fprintf(stderr, "nbrdf bake: warning: %s\n", message);
@@ -265,11 +245,11 @@ static void on_note(void *user, const char *message) {
 static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
   if (a->ps.json) {
     printf("{\"event\":\"done\",\"output\":");
-    json_string(a->out);
+    cli_json_string(stdout, a->out);
     printf(",\"width\":%d,\"height\":%d,\"channels\":%d,\"evaluated\":%zu", rep->width, rep->height,
            rep->colour_channels, rep->evaluated);
     printf(",\"device\":");
-    json_string(rep->device);
+    cli_json_string(stdout, rep->device);
     if (rep->accuracy != NBRDF_BAKE_FAST)
       printf(",\"accuracy\":\"%s\",\"budget\":%g,\"distinct\":%zu,\"fitted_tuples\":%zu,"
              "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",
@@ -394,18 +374,7 @@ int cmd_bake(int argc, char **argv) {
   cli_cancel_unwatch();
   nbrdf_fit_destroy(fit);
   nbrdf_model_destroy(model);
-  if (st != NBRDF_OK) {
-    cli_params_explain(&err);
-    if (a.ps.bar) fputc('\n', stderr);
-    if (a.ps.json) {
-      printf("{\"event\":\"error\",\"status\":\"%s\",\"message\":", nbrdf_status_name(st));
-      json_string(err.message);
-      printf("}\n");
-    }
-    if (st == NBRDF_ERR_CANCELLED)
-      return cli_fail("bake", "%s: cancelled; no file written", cli_cancel_reason());
-    return cli_fail_error("bake", &err);
-  }
+  if (st != NBRDF_OK) return cli_progress_fail("bake", st, &err, &a.ps);
   print_report(&a, &rep);
   return CLI_EXIT_OK;
 }

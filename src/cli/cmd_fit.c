@@ -25,18 +25,9 @@ typedef struct fit_args {
 
 static int read_compact(const char *cmd, const cli_opt *o, const char *v) {
   fit_args *a = o->dest;
-  char *end = NULL;
-  long k = strtol(v, &end, 10), w = 0;
-  int ok = end != v && k >= 1 && k <= 8;
-  if (ok && *end == ',') {
-    const char *ws = end + 1;
-    w = strtol(ws, &end, 10);
-    ok = end != ws && w >= 4 && w <= 256;
-  }
-  if (!ok || *end)
-    return cli_opt_bad(cmd, o->name,
-                       "K[,WIDTH]: K latent channels 1..8, WIDTH 4..256 (e.g. 8 or 8,32)", v);
-  a->opts.compact_dim = (int)k, a->opts.compact_width = (int)w;
+  int k = 0, w = 0;
+  if (!cli_parse_compact(v, &k, &w)) return cli_opt_bad(cmd, o->name, CLI_COMPACT_EXPECTED, v);
+  a->opts.compact_dim = k, a->opts.compact_width = w;
   return 0;
 }
 
@@ -157,21 +148,11 @@ static int expand_tiles(const cli_params *p, nbrdf_bake_inputs **tiles, size_t *
   return st == NBRDF_OK ? CLI_EXIT_OK : cli_fail_error("fit", &err);
 }
 
-static void json_string(const char *text) {
-  putchar('"');
-  for (const char *c = text; *c; c++)
-    if (*c == '"' || *c == '\\')
-      printf("\\%c", *c);
-    else if ((unsigned char)*c >= 0x20)
-      putchar(*c);
-  putchar('"');
-}
-
 static void print_report(const fit_args *a, const nbrdf_fit_info *f) {
   const char *level = nbrdf_bake_accuracy_name(f->accuracy);
   if (a->ps.json) {
     printf("{\"event\":\"done\",\"output\":");
-    json_string(a->out);
+    cli_json_string(stdout, a->out);
     printf(",\"accuracy\":\"%s\",\"tiles\":%d,\"budget\":%g,\"distinct\":%zu,\"fitted_tuples\":%zu,"
            "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f,"
            "\"decoder_checksum\":\"%s\",\"fit_checksum\":\"%s\"}\n",
@@ -261,18 +242,7 @@ int cmd_fit(int argc, char **argv) {
   free(paths);
   free(tiles);
   if (expanded != CLI_EXIT_OK) return expanded;
-  if (st != NBRDF_OK) {
-    cli_params_explain(&err);
-    if (a.ps.bar) fputc('\n', stderr);
-    if (a.ps.json) {
-      printf("{\"event\":\"error\",\"status\":\"%s\",\"message\":", nbrdf_status_name(st));
-      json_string(err.message);
-      printf("}\n");
-    }
-    if (st == NBRDF_ERR_CANCELLED)
-      return cli_fail("fit", "%s: cancelled; no file written", cli_cancel_reason());
-    return cli_fail_error("fit", &err);
-  }
+  if (st != NBRDF_OK) return cli_progress_fail("fit", st, &err, &a.ps);
   print_report(&a, &info);
   return CLI_EXIT_OK;
 }

@@ -7,39 +7,9 @@
 # Prints its timings (docs/FARM.md quotes them); asserts none.
 set -u
 source "$NBRDF_SOURCE_DIR/tests/cli/lib.sh"
-if [ "$(id -u)" != 0 ]; then
-  echo "SKIP: the local Slurm cluster runs its daemons as root"
-  exit 77
-fi
-for tool in munged mungekey slurmctld slurmd sbatch squeue scancel scontrol sinfo oiiotool; do
-  if ! command -v "$tool" >/dev/null; then
-    echo "SKIP: $tool is not installed (scripts/setup-debian.sh)"
-    exit 77
-  fi
-done
-
-slurm_local=$NBRDF_SOURCE_DIR/scripts/slurm-local.sh
-cluster=$TMP/cluster
-export SLURM_LOCAL_PORT=$((20000 + (RANDOM % 5000) * 2))
-export SLURM_CONF=$cluster/slurm.conf
+SLURM_TEST_TOOLS=oiiotool
+source "$NBRDF_SOURCE_DIR/tests/farm/slurm_lib.sh"
 export OPENBLAS_NUM_THREADS=1
-trap 'bash "$slurm_local" stop "$cluster" >/dev/null 2>&1; rm -rf "$TMP"' EXIT
-now() { date +%s.%N; }
-since() { awk -v a="$1" -v b="$(now)" 'BEGIN { printf "%.1f", b - a }'; }
-state_of() { scontrol -o show job "$1" 2>/dev/null | grep -o 'JobState=[A-Z_]*' | head -n1 | cut -d= -f2; }
-wait_gone() {
-  local t0=$SECONDS
-  while [ -n "$(squeue -h -j "$1" -o %i 2>/dev/null)" ]; do
-    [ $((SECONDS - t0)) -lt "$2" ] || return 1
-    sleep 0.3
-  done
-}
-show_logs() {
-  echo "--- plan logs" >&2
-  tail -n 5 "$TMP"/plan/logs/* >&2 2>/dev/null
-  echo "--- daemon logs" >&2
-  tail -n 10 "$cluster"/log/* >&2 2>/dev/null
-}
 
 # The set: the example maps at 96^2, alpha1 different on each tile; tile 1003 is 384^2 so
 # that its job is still baking when it is cancelled.
@@ -61,7 +31,7 @@ args=(--alpha1 'set/alpha1.<UDIM>.png' --eta 'set/eta.<UDIM>.exr' --alpha2 'set/
 t=$(now)
 if ! bash "$slurm_local" start "$cluster"; then
   echo "FAIL: the cluster did not start" >&2
-  show_logs
+  show_logs "$TMP/plan/logs"
   exit 1
 fi
 start_s=$(since "$t")
@@ -111,7 +81,7 @@ for tile in 1001 1002 1003 1004; do
 done
 check "stop" bash "$slurm_local" stop "$cluster"
 
-[ "$failures" -eq 0 ] || show_logs
+[ "$failures" -eq 0 ] || show_logs "$TMP/plan/logs"
 echo "timings: cluster start ${start_s} s, plan + submit + cancel ${first_s} s," \
   "re-submission to verify ${resubmit_s} s, the same set locally ${local_s} s"
 finish
