@@ -11,14 +11,14 @@ SLURM_TEST_TOOLS=oiiotool
 source "$NBRDF_SOURCE_DIR/tests/farm/slurm_lib.sh"
 export OPENBLAS_NUM_THREADS=1
 
-# The set: the example maps at 96^2, alpha1 different on each tile; tile 1003 is 384^2 so
+# The set: the example maps at 64^2, alpha1 different on each tile; tile 1003 is 256^2 so
 # that its job is still baking when it is cancelled.
 cd "$TMP" || exit 1
 bash "$NBRDF_SOURCE_DIR/examples/make_maps.sh" "$TMP/src" >/dev/null
 mkdir -p set farm local
 for tile in 1001 1002 1003 1004; do
-  n=96
-  [ "$tile" = 1003 ] && n=384
+  n=64
+  [ "$tile" = 1003 ] && n=256
   for m in eta.exr alpha2.png r0.png albedo.png sigma_t.exr; do
     oiiotool "src/$m" --resize ${n}x$n --clamp:min=0 -o "set/${m%%.*}.$tile.${m##*.}"
   done
@@ -37,7 +37,7 @@ fi
 start_s=$(since "$t")
 
 t=$(now)
-expect_output "a plan of 4 tiles" "$NBRDF" farm slurm --plan plan --cpus 1 --verify-texels 32 --verify-spp 64 --submit -- "${args[@]}" \
+expect_output "a plan of 4 tiles" "$NBRDF" farm slurm --plan plan --cpus 1 --verify-texels 16 --verify-spp 32 --submit -- "${args[@]}" \
   -o 'farm/lat.<UDIM>.exr'
 check "plan.json lists 4 tile jobs and verify" \
   python3 -c 'import json,sys; p=json.load(open("plan/plan.json")); n=[j["name"] for j in p["jobs"]]; sys.exit(n!=["tile-1001","tile-1002","tile-1003","tile-1004","verify"])'
