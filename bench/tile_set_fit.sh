@@ -52,7 +52,7 @@ oiiotool --pattern fill:topleft=0.95,0.64,0.54:topright=0.91,0.92,0.92:bottomlef
 oiiotool --pattern noise:type=uniform:min=0.3:max=0.95:seed=3 9x5 3 --resize:filter=cubic 512x256 \
   --clamp:min=0:max=1 -d float -o wide/albedo.exr
 oiiotool --pattern fill:left=0:right=3 512x256 1 -d float -o wide/sigma_t.exr
-for m in alpha1.png eta.exr alpha2.png r0.png albedo.png sigma_t.exr; do
+for m in alpha1.exr eta.exr alpha2.exr r0.exr albedo.exr sigma_t.exr; do
   oiiotool "wide/$m" --cut 256x256+0+0 -o "cut/${m%%.*}.1001.${m##*.}"
   oiiotool "wide/$m" --cut 256x256+256+0 -o "cut/${m%%.*}.1002.${m##*.}"
 done
