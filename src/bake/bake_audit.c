@@ -18,6 +18,18 @@ const double bake_audit_theta_deg[BAKE_AUDIT_N_THETA] = {0.0, 30.0, 60.0, 80.0, 
 
 #define AUDIT_SEED UINT64_C(0x6175646974)
 
+/* Each latent's largest albedo over the audited θi (rho: n rows of BAKE_AUDIT_N_THETA), and
+ * where it is. */
+static void max_over_theta(const double *rho, size_t n, double *maxv, int *theta_index) {
+  for (size_t k = 0; k < n; k++) {
+    int best = 0;
+    for (int t = 1; t < BAKE_AUDIT_N_THETA; t++)
+      if (rho[k * BAKE_AUDIT_N_THETA + t] > rho[k * BAKE_AUDIT_N_THETA + best]) best = t;
+    maxv[k] = rho[k * BAKE_AUDIT_N_THETA + best];
+    if (theta_index) theta_index[k] = best;
+  }
+}
+
 static nbrdf_status albedo_max(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                const float *latents, const float *sigma, double *maxv,
                                int *theta_index, nbrdf_error *err) {
@@ -44,13 +56,7 @@ static nbrdf_status albedo_max(const nbrdf_model *model, struct gpu_network *gpu
                                 NULL, err);
   }
   model_runner_destroy(&runner);
-  for (size_t k = 0; k < n && !st; k++) {
-    int best = 0;
-    for (int t = 1; t < BAKE_AUDIT_N_THETA; t++)
-      if (rho[k * BAKE_AUDIT_N_THETA + t] > rho[k * BAKE_AUDIT_N_THETA + best]) best = t;
-    maxv[k] = rho[k * BAKE_AUDIT_N_THETA + best];
-    if (theta_index) theta_index[k] = best;
-  }
+  if (!st) max_over_theta(rho, n, maxv, theta_index);
   free(rho);
   return st;
 }
@@ -80,13 +86,7 @@ nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *g
                                       BAKE_AUDIT_PRECISE_SAMPLES, AUDIT_SEED, rho, err);
     model_runner_destroy(&runner);
   }
-  for (size_t k = 0; k < n && !st; k++) {
-    int best = 0;
-    for (int t = 1; t < BAKE_AUDIT_N_THETA; t++)
-      if (rho[k * BAKE_AUDIT_N_THETA + t] > rho[k * BAKE_AUDIT_N_THETA + best]) best = t;
-    maxv[k] = rho[k * BAKE_AUDIT_N_THETA + best];
-    if (theta_index) theta_index[k] = best;
-  }
+  if (!st) max_over_theta(rho, n, maxv, theta_index);
   free(rho);
   return st;
 }
