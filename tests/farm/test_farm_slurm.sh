@@ -11,14 +11,15 @@ SLURM_TEST_TOOLS=oiiotool
 source "$NBRDF_SOURCE_DIR/tests/farm/slurm_lib.sh"
 export OPENBLAS_NUM_THREADS=1
 
-# The set: the example maps at 64^2, alpha1 different on each tile; tile 1003 is 256^2 so
-# that its job is still baking when it is cancelled.
+# The set: the example maps at 64^2, alpha1 different on each tile; tile 1003 is 384^2 so
+# that its job is still baking when it is cancelled. No energy audit: on these sharp coats it
+# is most of a bake (134 of 139 CPU-s for the set) and not what is tested here.
 cd "$TMP" || exit 1
 bash "$NBRDF_SOURCE_DIR/examples/make_maps.sh" "$TMP/src" >/dev/null
 mkdir -p set farm local
 for tile in 1001 1002 1003 1004; do
   n=64
-  [ "$tile" = 1003 ] && n=256
+  [ "$tile" = 1003 ] && n=384
   for m in eta.exr alpha2.png r0.png albedo.png sigma_t.exr; do
     oiiotool "src/$m" --resize ${n}x$n --clamp:min=0 -o "set/${m%%.*}.$tile.${m##*.}"
   done
@@ -26,7 +27,8 @@ for tile in 1001 1002 1003 1004; do
     -o "set/alpha1.$tile.png"
 done
 args=(--alpha1 'set/alpha1.<UDIM>.png' --eta 'set/eta.<UDIM>.exr' --alpha2 'set/alpha2.<UDIM>.png'
-  --r0 'set/r0.<UDIM>.png' --albedo 'set/albedo.<UDIM>.png' --sigma-t 'set/sigma_t.<UDIM>.exr')
+  --r0 'set/r0.<UDIM>.png' --albedo 'set/albedo.<UDIM>.png' --sigma-t 'set/sigma_t.<UDIM>.exr'
+  --energy-audit 0)
 
 t=$(now)
 if ! bash "$slurm_local" start "$cluster"; then
