@@ -14,9 +14,13 @@
 # daemon mode, with pid files in DIR. No cgroups (proctrack/linuxproc, task/none), no
 # accounting database (no sacct: `scontrol show job` knows a job for MinJobAge after it ends).
 #
-# Environment: SLURM_LOCAL_PORT (default 6817) is slurmctld's port, slurmd takes the next one;
-# pick another pair to run two clusters side by side. SLURM_LOCAL_TIMEOUT (default 60) is how
-# many seconds start waits for the node to become idle.
+# Environment: SLURM_LOCAL_PORT (default 6817) is slurmctld's port, slurmd takes the next one.
+# SLURM_LOCAL_PORT=auto picks a free pair in 20000-29999 (what the tests use: two clusters side
+# by side, as ctest -j runs them): no socket of this machine holds either port, the choice is
+# made under a lock (/tmp/nbrdf-slurm-local.lock) held until the daemons have bound, and a pair
+# taken anyway (by a program outside this script) is replaced by another, up to 5 times. The
+# pair is in DIR/slurm.conf, which every client reads through SLURM_CONF.
+# SLURM_LOCAL_TIMEOUT (default 60) is how many seconds start waits for the node to become idle.
 #
 # A second start while the cluster runs says so and exits 0; a pid file naming a process that
 # is gone (or is no longer that daemon) is stale and ignored.
@@ -39,7 +43,8 @@ if [ ! -d "$2" ]; then
 fi
 dir=$(cd "$2" && pwd)
 conf=$dir/slurm.conf
-port=${SLURM_LOCAL_PORT:-6817}
+port_setting=${SLURM_LOCAL_PORT:-6817}
+port=$port_setting
 timeout=${SLURM_LOCAL_TIMEOUT:-60}
 daemons=(munged slurmctld slurmd)
 export SLURM_CONF=$conf
@@ -48,12 +53,6 @@ say() { echo "slurm-local: $*"; }
 die() {
   echo "slurm-local: $*" >&2
   exit 1
-}
-
-# fail MESSAGE: stops what this start started, then dies.
-fail() {
-  stop_daemons
-  die "$@"
 }
 
 # alive PID: the process exists and is not a zombie (where pid 1 does not reap, as in some
@@ -205,6 +204,94 @@ EOF
   mv "$conf.tmp" "$conf"
 }
 
+# launch T0: a fresh state, the daemons started and the node idle. Prints nothing and returns
+# 0 when up; else explains on stderr, prints "ports" (a daemon could not bind its port) or
+# "other" on stdout and returns 1; the caller stops what was started.
+launch() {
+  local t0=$1
+  rm -rf "$dir/state" "$dir/spool" "$dir/run" "$dir/munge"
+  mkdir -p "$dir/state" "$dir/spool" "$dir/run" "$dir/munge" "$dir/log"
+  # a retry's logs must not hold the last attempt's bind errors
+  rm -f "$dir/log/slurmctld.log" "$dir/log/slurmd.log"
+  # munged refuses a key that others can read or a folder that others can write
+  chmod 0700 "$dir/munge" "$dir/run"
+  mungekey --create --keyfile="$dir/munge/munge.key" --force
+  chmod 0600 "$dir/munge/munge.key"
+  write_conf
+
+  # --force: munged wants every user able to reach its socket (execute permission on each
+  # folder above it), which a folder made by mktemp -d (0700) denies; only root uses this
+  # cluster
+  if ! munged --force --key-file="$dir/munge/munge.key" --socket="$dir/run/munge.socket" \
+    --pid-file="$dir/run/munged.pid" --log-file="$dir/log/munged.log" \
+    --seed-file="$dir/munge/munged.seed" >&2 9>&-; then
+    echo "slurm-local: munged did not start; see $dir/log/munged.log" >&2
+    echo other
+    return 1
+  fi
+  # -i: ignore any state (there is none: a fresh folder), never ask
+  # (>&2 9>&-: a daemon holding start's output or its lock would hang start or the next one)
+  if ! slurmctld -i >&2 9>&- || ! slurmd -N localhost >&2 9>&-; then
+    echo "slurm-local: slurmctld or slurmd did not start; see $dir/log" >&2
+    echo other
+    return 1
+  fi
+
+  # Up: every daemon alive (a daemon that cannot bind its port exits after forking) and the
+  # node idle.
+  local state="" d gone=""
+  while [ $((SECONDS - t0)) -lt "$timeout" ]; do
+    sleep 0.2
+    gone=""
+    for d in "${daemons[@]}"; do
+      [ -n "$(pid_of "$d")" ] || gone="$gone $d"
+    done
+    state=$(node_state)
+    [ -z "$gone" ] && [ "$state" = idle ] && return 0
+    # a pid file appears a moment after its daemon forks
+    [ -n "$gone" ] && [ $((SECONDS - t0)) -ge 3 ] && break
+  done
+  if grep -qs "Address already in use" "$dir/log/slurmctld.log" "$dir/log/slurmd.log"; then
+    echo "slurm-local: not running:$gone: ports $port and $((port + 1)) are taken" \
+      "(SLURM_LOCAL_PORT=auto picks a free pair); the logs in $dir/log say more" >&2
+    echo ports
+  elif [ -n "$gone" ]; then
+    echo "slurm-local: not running:$gone; the logs in $dir/log say why" >&2
+    echo other
+  else
+    echo "slurm-local: the node is '${state:-unknown}' after ${timeout} s, not idle;" \
+      "the logs in $dir/log say why" >&2
+    echo other
+  fi
+  return 1
+}
+
+# ports_in_use: each local TCP port a socket of this machine holds, in any state (a listener,
+# a connection, TIME_WAIT), one a line.
+ports_in_use() {
+  local f sl local_addr rest
+  for f in /proc/net/tcp /proc/net/tcp6; do
+    [ -r "$f" ] || continue
+    while read -r sl local_addr rest; do
+      [ "$sl" = sl ] && continue
+      echo $((16#${local_addr##*:}))
+    done <"$f"
+  done
+}
+
+# free_port_pair: an even port P in 20000-29998 with P and P + 1 held by no socket.
+free_port_pair() {
+  local used p i
+  used=" $(ports_in_use | sort -un | tr '\n' ' ') "
+  for ((i = 0; i < 200; i++)); do
+    p=$((20000 + (RANDOM % 5000) * 2))
+    case $used in *" $p "* | *" $((p + 1)) "*) continue ;; esac
+    echo "$p"
+    return 0
+  done
+  return 1
+}
+
 start() {
   [ "$(id -u)" -eq 0 ] || die "needs root (the daemons run as root)"
   for tool in munged mungekey slurmctld slurmd sinfo sbatch; do
@@ -220,54 +307,30 @@ start() {
     say "$n of ${#daemons[@]} daemons left from an earlier start: stopping them first"
     stop_daemons
   fi
-  local t0=$SECONDS
-  rm -rf "$dir/state" "$dir/spool" "$dir/run" "$dir/munge"
-  mkdir -p "$dir/state" "$dir/spool" "$dir/run" "$dir/munge" "$dir/log"
-  # munged refuses a key that others can read or a folder that others can write
-  chmod 0700 "$dir/munge" "$dir/run"
-  mungekey --create --keyfile="$dir/munge/munge.key" --force
-  chmod 0600 "$dir/munge/munge.key"
-  write_conf
-
-  # --force: munged wants every user able to reach its socket (execute permission on each
-  # folder above it), which a folder made by mktemp -d (0700) denies; only root uses this
-  # cluster
-  munged --force --key-file="$dir/munge/munge.key" --socket="$dir/run/munge.socket" \
-    --pid-file="$dir/run/munged.pid" --log-file="$dir/log/munged.log" \
-    --seed-file="$dir/munge/munged.seed" ||
-    die "munged did not start; see $dir/log/munged.log"
-  # -i: ignore any state (there is none: a fresh folder), never ask
-  slurmctld -i || fail "slurmctld did not start; see $dir/log/slurmctld.log"
-  slurmd -N localhost || fail "slurmd did not start; see $dir/log/slurmd.log"
-
-  # Up: every daemon alive (a daemon that cannot bind its port exits after forking: another
-  # cluster on these ports?) and the node idle.
-  local state="" d gone=""
-  while [ $((SECONDS - t0)) -lt "$timeout" ]; do
-    sleep 0.2
-    gone=""
-    for d in "${daemons[@]}"; do
-      [ -n "$(pid_of "$d")" ] || gone="$gone $d"
-    done
-    state=$(node_state)
-    [ -z "$gone" ] && [ "$state" = idle ] && break
-    # a pid file appears a moment after its daemon forks
-    [ -n "$gone" ] && [ $((SECONDS - t0)) -ge 3 ] && break
-  done
-  if [ -n "$gone" ] || [ "$state" != idle ]; then
-    if [ -n "$gone" ]; then
-      echo "slurm-local: not running:$gone (ports $port and $((port + 1)) taken by another" \
-        "cluster? SLURM_LOCAL_PORT picks others); the logs in $dir/log say why" >&2
-    else
-      echo "slurm-local: the node is '${state:-unknown}' after ${timeout} s, not idle;" \
-        "the logs in $dir/log say why" >&2
+  local t0=$SECONDS attempt why
+  if [ "$port_setting" = auto ]; then
+    # held until this start ends (the daemons have bound or are stopped): another start
+    # choosing at the same moment sees these ports taken
+    exec 9>/tmp/nbrdf-slurm-local.lock
+    flock 9
+  fi
+  for attempt in 1 2 3 4 5; do
+    if [ "$port_setting" = auto ]; then
+      port=$(free_port_pair) || die "no free pair of TCP ports in 20000-29999"
+    fi
+    why=$(launch "$t0") && break
+    stop_daemons
+    # Only a port taken between the choice and the bind is worth another pair.
+    if [ "$port_setting" = auto ] && [ "$why" = ports ] && [ "$attempt" -lt 5 ]; then
+      say "ports $port and $((port + 1)) were taken; trying another pair"
+      continue
     fi
     for d in "${daemons[@]}"; do
       tail -n 3 "$dir/log/$d.log" >&2 2>/dev/null || true
     done
-    stop_daemons
     exit 1
-  fi
+  done
+  if [ "$port_setting" = auto ]; then exec 9>&-; fi
   say "running in $dir after $((SECONDS - t0)) s: export SLURM_CONF=$conf"
 }
 

@@ -15,9 +15,9 @@ done
 
 slurm_local=$NBRDF_SOURCE_DIR/scripts/slurm-local.sh
 cluster=$TMP/cluster
-# Ports of our own, away from a cluster on Slurm's default 6817/6818 and from a second run of
-# a test (two sanitizer suites side by side).
-export SLURM_LOCAL_PORT=$((20000 + (RANDOM % 5000) * 2))
+# A free pair of ports, chosen under slurm-local.sh's lock: never Slurm's default 6817/6818 of
+# a real cluster, never the pair of another test's cluster running beside this one (ctest -j).
+export SLURM_LOCAL_PORT=auto
 export SLURM_CONF=$cluster/slurm.conf
 trap 'bash "$slurm_local" stop "$cluster" >/dev/null 2>&1; rm -rf "$TMP"' EXIT
 

@@ -12,13 +12,30 @@ source "$NBRDF_SOURCE_DIR/tests/farm/slurm_lib.sh"
 out=$TMP/results
 mkdir -p "$out/a" "$out/b" "$TMP/log"
 
+# Two clusters started at the same moment, as two tests under ctest -j do (CI once failed
+# when both drew the same ports): each gets its own free pair.
+cluster2=$TMP/cluster2
 t=$(now)
+bash "$slurm_local" start "$cluster2" >"$TMP/start2.log" 2>&1 &
+start2=$!
 if ! bash "$slurm_local" start "$cluster"; then
   echo "FAIL: the cluster did not start" >&2
   show_logs
+  wait "$start2"
+  bash "$slurm_local" stop "$cluster2" >/dev/null 2>&1
   exit 1
 fi
 start_s=$(since "$t")
+check "a second cluster started beside it" wait "$start2"
+port_of() { sed -n 's/^SlurmctldPort=//p' "$1/slurm.conf" 2>/dev/null; }
+check "the two clusters have different ports ($(port_of "$cluster"), $(port_of "$cluster2"))" \
+  test "$(port_of "$cluster")" != "$(port_of "$cluster2")" -a -n "$(port_of "$cluster2")"
+check "the second cluster stops" bash "$slurm_local" stop "$cluster2"
+# A fixed pair that is taken: a clear error, nothing left running.
+busy=$(sed -n 's/^SlurmctldPort=//p' "$cluster/slurm.conf")
+expect_exit 1 env SLURM_LOCAL_PORT="$busy" bash "$slurm_local" start "$TMP/cluster3"
+check "the error names the taken ports" grep -qF "ports $busy and $((busy + 1)) are taken" "$TMP/err"
+expect_exit 3 bash "$slurm_local" status "$TMP/cluster3"
 check "a second start while running exits 0" bash "$slurm_local" start "$cluster"
 expect_output "munged: pid [0-9]+" bash "$slurm_local" status "$cluster"
 
