@@ -91,6 +91,17 @@ static void summarise(eval_result *r) {
   r->median_albedo_error = a[r->n / 2];
   for (int i = 0; i < r->n; i++)
     if (r->cases[i].lobe_error == r->median) r->median_index = i;
+  /* tails: the same figures per region (case i is in region i % 3) */
+  for (int g = 0; g < TRAIN_TAILS_REGIONS && r->set == EVAL_TAILS; g++) {
+    int m = 0;
+    for (int i = g; i < r->n; i += TRAIN_TAILS_REGIONS)
+      e[m++] = r->cases[i].lobe_error;
+    r->region_n[g] = m;
+    if (!m) continue;
+    qsort(e, (size_t)m, sizeof *e, cmp_double);
+    int q90 = (int)ceil(0.9 * m) - 1;
+    r->region_median[g] = e[m / 2], r->region_p90[g] = e[q90 < 0 ? 0 : q90];
+  }
   free(e), free(a);
 }
 
@@ -128,7 +139,8 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
   memset(r, 0, sizeof *r);
   r->set = set, r->n = s->count;
   if (model) dec = model->decoder;
-  if ((set == EVAL_LAYER || set == EVAL_LAYER3 || set == EVAL_TABLE) && !model)
+  if ((set == EVAL_LAYER || set == EVAL_LAYER3 || set == EVAL_TABLE || set == EVAL_TAILS) &&
+      !model)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "evaluate: the %s set needs a bundle (tables and layering network)",
                      eval_set_name(set));
@@ -145,7 +157,7 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
   }
   uint64_t family = train_heldout_seed(eval_set_heldout(set));
   for (size_t i = 0; i < n; i++) {
-    train_params_draw(family, train_heldout_kind(eval_set_heldout(set)), i, &params[i]);
+    eval_set_draw(set, i, &params[i]);
     r->cases[i].params = params[i];
   }
   double t0 = now_s();

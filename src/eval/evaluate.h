@@ -9,8 +9,11 @@
  *   layer3  three-layer BRDFs: the layering network applied recursively;
  *   table   the `single` BRDFs from the bundle's base tables (bilinear look-up
  *           at off-grid parameters, as a bake): the tables' interpolation
- *           error on top of the projection's. References: those of `single`.
- * (layer, layer3 and table need a bundle; rep and single a decoder alone.)
+ *           error on top of the projection's. References: those of `single`;
+ *   tails   as layer, on two-layer BRDFs drawn only where the universal path
+ *           is weakest (train/params.h, TRAIN_DRAWS_TAILS): low-IOR coats,
+ *           sharp coats and both, a third each, with figures per region.
+ * (layer, layer3, table and tails need a bundle; rep and single a decoder alone.)
  *
  * References: analytic BRDFs are evaluated exactly; layered ones by the
  * whole-lobe estimator with `walks` walks per image. The reference's own
@@ -31,6 +34,7 @@ typedef enum eval_set {
   EVAL_LAYER,
   EVAL_LAYER3,
   EVAL_TABLE,
+  EVAL_TAILS,
   EVAL_SET_COUNT
 } eval_set;
 
@@ -87,12 +91,17 @@ typedef struct eval_result {
   double median_pointwise_all;
   double max_decoded_albedo[EVAL_N_THETA_ALL], max_albedo_excess[EVAL_N_THETA_ALL];
   int max_decoded_albedo_index, max_decoded_albedo_theta; /* the largest ρ̂ of all */
+  /* tails only: median and p90 lobe error per region (train_tails_region), n of each. */
+  double region_median[TRAIN_TAILS_REGIONS], region_p90[TRAIN_TAILS_REGIONS];
+  int region_n[TRAIN_TAILS_REGIONS];
   double seconds_reference, seconds_model;
 } eval_result;
 
 const char *eval_set_name(eval_set set);
 /* The held-out family a set draws from (train/params.h). */
 train_heldout eval_set_heldout(eval_set set);
+/* BRDF `index` of a set: its held-out family, kind and distribution. */
+void eval_set_draw(eval_set set, uint64_t index, train_params *p);
 int eval_set_parse(const char *name, eval_set *set);
 
 /* `model` may be NULL for rep and single (then `dec` is used). */

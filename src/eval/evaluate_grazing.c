@@ -131,7 +131,6 @@ nbrdf_status eval_reference_extra(eval_set set, const eval_settings *s, eval_ext
     if (load_cache(path, s, x)) return NBRDF_OK;
   }
   uint64_t family = train_heldout_seed(eval_set_heldout(set));
-  train_kind kind = train_heldout_kind(eval_set_heldout(set));
   char stage[64];
   snprintf(stage, sizeof stage, "%s: grazing reference", eval_set_name(set));
   core_ticker ticker;
@@ -139,7 +138,7 @@ nbrdf_status eval_reference_extra(eval_set set, const eval_settings *s, eval_ext
   nbrdf_status st = NBRDF_OK;
   for (size_t i = 0; i < n && !st; i++) {
     train_params p;
-    train_params_draw(family, kind, (uint64_t)i, &p);
+    eval_set_draw(set, (uint64_t)i, &p);
     uint64_t seed = core_hash64(core_hash64(family, EXTRA_TAG), (uint64_t)i);
     st = eval_images_of(&p, seed, s->walks, NULL, EVAL_N_GRAZING, grazing_deg,
                         x->images + i * PER_GRAZING, err);

@@ -18,12 +18,19 @@
 #define PER_BRDF (NBRDF_LOBE_N_THETA * IMG)
 #define REF_TAG UINT64_C(0x6e62726472656673)
 
-static const char *const names[EVAL_SET_COUNT] = {"rep", "single", "layer", "layer3", "table"};
-static const train_heldout heldout[EVAL_SET_COUNT] = {TRAIN_HELDOUT_REP, TRAIN_HELDOUT_SINGLE,
-                                                      TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3,
-                                                      TRAIN_HELDOUT_SINGLE};
+static const char *const names[EVAL_SET_COUNT] = {"rep",    "single", "layer",
+                                                  "layer3", "table",  "tails"};
+static const train_heldout heldout[EVAL_SET_COUNT] = {
+    TRAIN_HELDOUT_REP,    TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_LAYER,
+    TRAIN_HELDOUT_LAYER3, TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_TAILS};
 
 train_heldout eval_set_heldout(eval_set set) { return heldout[set]; }
+
+void eval_set_draw(eval_set set, uint64_t index, train_params *p) {
+  train_heldout h = heldout[set];
+  train_params_draw_from(train_heldout_seed(h), train_heldout_kind(h),
+                         set == EVAL_TAILS ? TRAIN_DRAWS_TAILS : TRAIN_DRAWS_TABLE2, index, p);
+}
 
 const char *eval_set_name(eval_set set) {
   return (unsigned)set < EVAL_SET_COUNT ? names[set] : "?";
@@ -129,7 +136,6 @@ nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images
     if (load_cache(path, s, images, noise)) return NBRDF_OK;
   }
   uint64_t family = train_heldout_seed(heldout[set]);
-  train_kind kind = train_heldout_kind(heldout[set]);
   char stage[64];
   snprintf(stage, sizeof stage, "%s: reference", names[set]);
   int nn = s->noise_brdfs < s->count ? s->noise_brdfs : s->count, n_noise = 0;
@@ -141,7 +147,7 @@ nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images
   brdf_layered_lobe_hook hook = {NULL, ref_tick_fn, &rt};
   for (int i = 0; i < s->count && !st; i++) {
     train_params p;
-    train_params_draw(family, kind, (uint64_t)i, &p);
+    eval_set_draw(set, (uint64_t)i, &p);
     uint64_t seed = core_hash64(core_hash64(family, REF_TAG), (uint64_t)i);
     rt.done = i;
     st = eval_images_of(&p, seed, s->walks, &hook, NBRDF_LOBE_N_THETA, lobe_theta_deg,

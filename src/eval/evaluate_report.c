@@ -118,6 +118,14 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
     fprintf(f, "},\n      \"max_albedo_brdf\": {\"index\": %d, \"params\": ", x->max_albedo_index);
     params_json(f, &x->cases[x->max_albedo_index].params);
     fprintf(f, "},\n");
+    if (x->set == EVAL_TAILS) {
+      fputs("      \"regions\": {", f);
+      for (int g = 0; g < TRAIN_TAILS_REGIONS; g++)
+        fprintf(f, "%s\"%s\": {\"count\": %d, \"median_lobe_error\": %.6g, \"p90_lobe_error\": %.6g}",
+                g ? ", " : "", train_tails_region_name(g), x->region_n[g], x->region_median[g],
+                x->region_p90[g]);
+      fputs("},\n", f);
+    }
     extra_json(f, x);
     fprintf(f, "      \"lobe_errors\": [");
     for (int i = 0; i < x->n; i++)

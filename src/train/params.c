@@ -53,14 +53,23 @@ double train_draw_sigma_t(double u) {
   return SIGMA_T[i < 0 ? 0 : i > 3 ? 3 : i];
 }
 
+static const char *const DRAWS_NAMES[] = {"table2", "coverage", "tails"};
+
 const char *train_draws_name(train_draws draws) {
-  return draws == TRAIN_DRAWS_COVERAGE ? "coverage" : draws == TRAIN_DRAWS_TABLE2 ? "table2" : "?";
+  return (unsigned)draws < 3u ? DRAWS_NAMES[draws] : "?";
 }
 
 int train_draws_parse(const char *name) {
-  if (name && !strcmp(name, "table2")) return TRAIN_DRAWS_TABLE2;
-  if (name && !strcmp(name, "coverage")) return TRAIN_DRAWS_COVERAGE;
+  for (int d = 0; d < 3; d++)
+    if (name && !strcmp(name, DRAWS_NAMES[d])) return d;
   return -1;
+}
+
+int train_tails_region(uint64_t index) { return (int)(index % TRAIN_TAILS_REGIONS); }
+
+const char *train_tails_region_name(int region) {
+  static const char *const names[TRAIN_TAILS_REGIONS] = {"eta<=1.2", "alpha1<=0.05", "both"};
+  return (unsigned)region < TRAIN_TAILS_REGIONS ? names[region] : "?";
 }
 
 /* 15 %: log-uniform on [0.01, 0.03]; 85 %: Table 2's cube law restricted to
@@ -78,16 +87,33 @@ double train_draw_eta_coverage(double u) {
   return 1.2 + 0.8 * (u - 0.20) / 0.80;
 }
 
-static double draw_alpha(train_draws d, double u) {
-  return d == TRAIN_DRAWS_COVERAGE ? train_draw_alpha_coverage(u) : train_draw_alpha(u);
+/* TAILS: region 0 low IOR, 1 sharp, 2 both (train_tails_region). */
+static double draw_alpha_tails(int region, double u) {
+  if (region == 0) {
+    double lo = cbrt(0.05), t = lo + (1.0 - lo) * u;
+    return t * t * t;
+  }
+  return 0.01 * pow(5.0, u);
 }
-static double draw_eta(train_draws d, double u) {
-  return d == TRAIN_DRAWS_COVERAGE ? train_draw_eta_coverage(u) : train_draw_eta(u);
+static double draw_eta_tails(int region, double u) {
+  return region == 1 ? 1.2 + 0.8 * u : 1.0 + 0.2 * u;
 }
 
-static void draw_coat(core_rng *rng, train_draws d, train_coat *c) {
-  c->alpha = draw_alpha(d, core_rng_uniform(rng));
-  c->eta = draw_eta(d, core_rng_uniform(rng));
+/* `region` matters to TAILS only. */
+static double draw_alpha(train_draws d, int region, double u) {
+  return d == TRAIN_DRAWS_COVERAGE ? train_draw_alpha_coverage(u)
+         : d == TRAIN_DRAWS_TAILS  ? draw_alpha_tails(region, u)
+                                   : train_draw_alpha(u);
+}
+static double draw_eta(train_draws d, int region, double u) {
+  return d == TRAIN_DRAWS_COVERAGE ? train_draw_eta_coverage(u)
+         : d == TRAIN_DRAWS_TAILS  ? draw_eta_tails(region, u)
+                                   : train_draw_eta(u);
+}
+
+static void draw_coat(core_rng *rng, train_draws d, int region, train_coat *c) {
+  c->alpha = draw_alpha(d, region, core_rng_uniform(rng));
+  c->eta = draw_eta(d, region, core_rng_uniform(rng));
   c->albedo = train_draw_albedo(core_rng_uniform(rng));
   c->sigma_t = train_draw_sigma_t(core_rng_uniform(rng));
 }
@@ -107,13 +133,14 @@ void train_params_draw_from(uint64_t family, train_kind kind, train_draws draws,
     kind = core_rng_uniform(&rng) < 0.5 ? TRAIN_CONDUCTOR : TRAIN_DIELECTRIC;
   p->kind = kind;
   p->n_coats = kind == TRAIN_LAYERED2 ? 1 : kind == TRAIN_LAYERED3 ? 2 : 0;
+  int region = train_tails_region(index);
   for (int c = 0; c < p->n_coats; c++)
-    draw_coat(&rng, draws, &p->coat[c]);
+    draw_coat(&rng, draws, region, &p->coat[c]);
   /* The conductor base keeps Table 2's α; a dielectric is a coat on its own. */
   double u = core_rng_uniform(&rng);
-  p->base_alpha = kind == TRAIN_DIELECTRIC ? draw_alpha(draws, u) : train_draw_alpha(u);
+  p->base_alpha = kind == TRAIN_DIELECTRIC ? draw_alpha(draws, region, u) : train_draw_alpha(u);
   if (kind == TRAIN_DIELECTRIC)
-    p->base_eta = draw_eta(draws, core_rng_uniform(&rng));
+    p->base_eta = draw_eta(draws, region, core_rng_uniform(&rng));
   else
     p->base_r0 = core_rng_uniform(&rng);
 }

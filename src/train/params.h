@@ -53,9 +53,22 @@ typedef struct train_params {
  *   (log-uniform on [0.01, 0.03]), otherwise Table 2's cube law above 0.03.
  *   The conductor base, A and σT are Table 2's. One uniform per parameter in
  *   the same order, so the two differ only in the warps. */
-typedef enum train_draws { TRAIN_DRAWS_TABLE2 = 0, TRAIN_DRAWS_COVERAGE = 1 } train_draws;
+/* - TAILS: only the regions where the universal path is weakest, a third each by
+ *   index % 3: low-IOR coats (η ∈ U(1, 1.2), α > 0.05 by Table 2's cube law), sharp coats
+ *   (α log-uniform on [0.01, 0.05], η ∈ U(1.2, 2)), and both (η ∈ U(1, 1.2), α
+ *   log-uniform on [0.01, 0.05]). The base, A and σT are Table 2's. The `tails` held-out
+ *   set draws these, so its figures are per region. */
+typedef enum train_draws {
+  TRAIN_DRAWS_TABLE2 = 0,
+  TRAIN_DRAWS_COVERAGE = 1,
+  TRAIN_DRAWS_TAILS = 2
+} train_draws;
+/* The TAILS region of draw `index`: 0 low IOR, 1 sharp, 2 both. */
+#define TRAIN_TAILS_REGIONS 3
+int train_tails_region(uint64_t index);
+const char *train_tails_region_name(int region);
 const char *train_draws_name(train_draws draws);
-/* "table2" / "coverage"; -1 if neither. */
+/* "table2" / "coverage" / "tails"; -1 if none. */
 int train_draws_parse(const char *name);
 
 /* The held-out sets of docs/METRICS.md. */
@@ -63,7 +76,8 @@ typedef enum train_heldout {
   TRAIN_HELDOUT_REP = 1,    /* two-layer BRDFs (projected) */
   TRAIN_HELDOUT_LAYER = 2,  /* two-layer BRDFs (end to end) */
   TRAIN_HELDOUT_LAYER3 = 3, /* three-layer BRDFs */
-  TRAIN_HELDOUT_SINGLE = 4  /* conductors and dielectrics */
+  TRAIN_HELDOUT_SINGLE = 4, /* conductors and dielectrics */
+  TRAIN_HELDOUT_TAILS = 5   /* two-layer BRDFs, TRAIN_DRAWS_TAILS */
 } train_heldout;
 
 const char *train_kind_name(train_kind kind);

@@ -108,6 +108,24 @@ static void test_single_set(void) {
       eval_result_free(&tr);
     }
   }
+  /* The tails set: layered references (few walks: this checks the bookkeeping, not a figure),
+   * region figures of the cases i % 3, drawn where the set says. */
+  eval_settings ts = s;
+  ts.count = 6, ts.walks = 64, ts.noise_brdfs = 0, ts.cache_dir = NULL;
+  if (m) {
+    CHECK_OK(eval_run(m, NULL, EVAL_TAILS, &ts, &tr, &err), &err);
+    if (tr.cases) {
+      CHECK(!strcmp(eval_set_name(tr.set), "tails") && tr.n == 6);
+      for (int g = 0; g < TRAIN_TAILS_REGIONS; g++) {
+        CHECK(tr.region_n[g] == 2);
+        double a = tr.cases[g].lobe_error, b = tr.cases[g + 3].lobe_error;
+        CHECK_NEAR(tr.region_median[g], fmax(a, b), 1e-12); /* median of two: the upper */
+        CHECK(tr.region_p90[g] == tr.region_median[g]);
+      }
+      CHECK(tr.cases[0].params.coat[0].eta <= 1.2 && tr.cases[1].params.coat[0].alpha <= 0.05);
+      eval_result_free(&tr);
+    }
+  }
   nbrdf_model_destroy(m);
   eval_result_free(&r);
 
@@ -115,6 +133,8 @@ static void test_single_set(void) {
   CHECK_FAILS(eval_run(NULL, dec, EVAL_LAYER, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
               "needs a bundle");
   CHECK_FAILS(eval_run(NULL, dec, EVAL_TABLE, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
+              "needs a bundle");
+  CHECK_FAILS(eval_run(NULL, dec, EVAL_TAILS, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
               "needs a bundle");
   model_decoder_destroy(dec);
 }

@@ -139,8 +139,38 @@ static void test_coverage_draws(void) {
   CHECK(train_draws_parse("coverage") == TRAIN_DRAWS_COVERAGE && train_draws_parse("x") == -1);
 }
 
+/* The tails distribution: every draw in its region (by index), each region's
+ * ranges reached at both ends, and the regions' names. */
+static void test_tails_draws(void) {
+  uint64_t fam = train_heldout_seed(TRAIN_HELDOUT_TAILS);
+  double lo[3][2] = {{9, 9}, {9, 9}, {9, 9}}, hi[3][2] = {{0}}; /* [region][alpha, eta] */
+  for (int i = 0; i < 3000; i++) {
+    train_params p;
+    train_params_draw_from(fam, TRAIN_LAYERED2, TRAIN_DRAWS_TAILS, (uint64_t)i, &p);
+    const train_coat *c = &p.coat[0];
+    int g = train_tails_region((uint64_t)i);
+    CHECK(g == i % 3);
+    CHECK(c->alpha >= 0.01 && c->alpha <= 1.0 && c->eta >= 1.0 && c->eta <= 2.0);
+    if (g == 0) CHECK(c->eta <= 1.2 && c->alpha > 0.05);
+    if (g == 1) CHECK(c->eta >= 1.2 && c->alpha <= 0.05);
+    if (g == 2) CHECK(c->eta <= 1.2 && c->alpha <= 0.05);
+    double v[2] = {c->alpha, c->eta};
+    for (int k = 0; k < 2; k++)
+      lo[g][k] = fmin(lo[g][k], v[k]), hi[g][k] = fmax(hi[g][k], v[k]);
+    CHECK(p.base_r0 >= 0.0 && p.base_r0 <= 1.0 && p.base_alpha >= 0.01);
+  }
+  CHECK(lo[0][0] < 0.06 && hi[0][0] > 0.9 && lo[0][1] < 1.01 && hi[0][1] > 1.19);
+  CHECK(lo[1][0] < 0.011 && hi[1][0] > 0.048 && lo[1][1] < 1.21 && hi[1][1] > 1.98);
+  CHECK(lo[2][0] < 0.011 && hi[2][0] > 0.048 && lo[2][1] < 1.01 && hi[2][1] > 1.19);
+  CHECK(train_draws_parse("tails") == TRAIN_DRAWS_TAILS);
+  CHECK(!strcmp(train_tails_region_name(1), "alpha1<=0.05"));
+  /* its own held-out family: not the layer set's BRDFs */
+  CHECK(train_heldout_seed(TRAIN_HELDOUT_TAILS) != train_heldout_seed(TRAIN_HELDOUT_LAYER));
+}
+
 int main(void) {
   RUN(test_coverage_draws);
+  RUN(test_tails_draws);
   RUN(test_table2_moments);
   RUN(test_draw_functions);
   RUN(test_determinism_and_families);
