@@ -65,7 +65,7 @@ def _describe(reading, key):
 def draw_output(layout, s):
     col = layout.column()
     col.use_property_split = True
-    for name in ("output", "storage", "mip_levels", "tile", "preview"):
+    for name in ("output", "storage", "mip_levels", "tile", "preview", "farm_plan"):
         col.prop(s, name)
     sub = col.column()
     sub.enabled = s.preview
@@ -86,6 +86,8 @@ def draw_bake(layout, context, s):
         step = " (%s)" % step if step and step != session.stage else ""
         box.label(text="%s %s%s: %.0f %%" % (doing, session.material_name, step,
                                              100.0 * session.progress), icon="TIME")
+        if session.tile_text:  # a tile set: the line above is the set's, this the tile's
+            box.label(text=session.tile_text, icon="UV")
         box.operator("nbrdf.cancel_bake", icon="CANCEL")
         draw_ranges(layout, context, session.ranges)
         return
@@ -96,8 +98,13 @@ def draw_bake(layout, context, s):
     row.scale_y = 1.4
     row.enabled = problem is None
     row.operator("nbrdf.bake_latent", icon="RENDER_STILL")
+    sub = row.row()
+    sub.scale_x = 0.7
+    sub.operator("nbrdf.write_farm_plan", text="Farm Plan", icon="NETWORK_DRIVE")
     draw_ranges(layout, context, [l for l in s.range_report.split("\n") if l])
     draw_results(layout, s)
+    if s.farm_report:
+        label_wrapped(layout, context, s.farm_report, "NETWORK_DRIVE")
 
 
 def draw_ranges(layout, context, lines):
@@ -115,7 +122,9 @@ def draw_results(layout, s):
     if s.result is None:
         return
     box = layout.box()
-    box.label(text="Latent texture: " + s.result.name, icon="IMAGE_DATA")
+    tiled = s.result.source == "TILED"
+    box.label(text="Latent texture: " + s.result.name + (
+        " (%d tiles)" % len(s.result.tiles) if tiled else ""), icon="IMAGE_DATA")
     if s.verify_texels:
         box.label(text="Verify (%d texels): median lobe error %.1f %%, worst %.1f %%"
                   % (s.verify_texels, s.verify_median, s.verify_worst), icon="CHECKMARK")

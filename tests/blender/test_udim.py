@@ -1,0 +1,195 @@
+"""UDIM tile sets (docs/BLENDER.md, "UDIM tile sets"): a material whose Roughness is a 2-tile
+Image Texture (32 x 32 PNG tiles on disk) bakes a tile set latent.<UDIM>.exr, loaded back as
+a tiled image with both tiles, wired like a single result, stored relative to the .blend;
+tile 1002 equals, byte for byte, the CLI's own bake of the same set; a re-run skips both
+tiles; tiles generated in Blender (never saved) bake too; a set whose tiles disagree gets the
+CLI's error naming the user's node; a cancelled set's message keeps its finished tiles; Write
+Farm Plan writes a plan naming both tiles, with its submit.sh."""
+
+import filecmp
+import json
+import os
+import subprocess
+import sys
+
+import bpy
+import numpy as np
+import OpenImageIO as oiio
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import addon_testing as t  # noqa: E402
+
+t.enable()
+from nbrdf_bake.process import BakeProcess  # noqa: E402
+from nbrdf_bake.session import NODE_NAME, Session  # noqa: E402
+
+work = t.temp_dir()
+bpy.ops.wm.save_as_mainfile(filepath=os.path.join(work, "scene.blend"))
+tex = os.path.join(work, "tex")
+os.makedirs(tex)
+N = 32
+
+
+def write_png(path, pixels):
+    o = oiio.ImageOutput.create(path)
+    o.open(path, oiio.ImageSpec(N, N, pixels.shape[2], oiio.UINT8))
+    o.write_image(pixels)
+    o.close()
+
+
+# Three grey levels per tile (few distinct texels: the bake is quick), different per tile.
+for tile, level in ((1001, 60), (1002, 150)):
+    px = (np.arange(N * N).reshape(N, N, 1) % 3 * 20 + level).astype(np.uint8)
+    write_png(os.path.join(tex, "rough.%d.png" % tile), px)
+rough = bpy.data.images.load(os.path.join(tex, "rough.1001.png"))
+rough.source = "TILED"
+rough.colorspace_settings.name = "Non-Color"
+t.check("the test's image is tiled: %s %s" % (rough.filepath, [x.number for x in rough.tiles]),
+        [x.number for x in rough.tiles] == [1001, 1002])
+
+mat = bpy.data.materials.new("Udim")
+mat.use_nodes = True
+nodes = mat.node_tree.nodes
+bsdf = nodes["Principled BSDF"]
+bsdf.inputs["Clearcoat Roughness"].default_value = 0.25
+bsdf.inputs["IOR"].default_value = 1.5
+bsdf.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+bsdf.inputs["Metallic"].default_value = 1.0
+node = nodes.new("ShaderNodeTexImage")
+node.name = "Rough Tiles"
+node.image = rough
+mat.node_tree.links.new(node.outputs["Color"], bsdf.inputs["Roughness"])
+s = mat.nbrdf_bake
+t.check("Use Material", bpy.ops.nbrdf.use_material(material=mat.name) == {"FINISHED"})
+s.albedo_value, s.sigma_t_value = (0.5, 0.5, 0.5), 2.0
+s.output = "//latent/{material}.exr"
+latent = os.path.join(work, "latent")
+
+# 1. The operator bakes the set: one texture per tile, loaded as one tiled image.
+before = t.bake_temp_dirs()
+t.check("bake finished", bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
+files = sorted(os.listdir(latent))
+t.check("one texture per tile: %s" % files, files == ["Udim.1001.exr", "Udim.1002.exr"])
+t.check("temporary inputs removed", t.bake_temp_dirs() == before)
+img = s.result
+t.check("result is tiled", img is not None and img.source == "TILED")
+if img is not None:
+    t.check("both tiles: %s" % [x.number for x in img.tiles],
+            [x.number for x in img.tiles] == [1001, 1002])
+    t.check("tile sizes", all(tuple(x.size) == (N, N) for x in img.tiles))
+    t.check("relative path, as the output: %s" % img.filepath,
+            img.filepath == "//latent/Udim.<UDIM>.exr")
+    t.check("result is MULTILAYER: %s" % img.type, img.type == "MULTILAYER")
+    t.check("wired like a single result", nodes.get(NODE_NAME) is not None
+            and nodes[NODE_NAME].image == img)
+
+# 2. The CLI's own bake of the same set, from a folder beside it (the same relative paths).
+ref = os.path.join(work, "ref")
+os.makedirs(ref)
+cli = subprocess.run(
+    [t.NBRDF, "bake", "--bundle", t.BUNDLE, "--alpha1", "0.25", "--eta", "1.5",
+     "--alpha2", "../tex/rough.<UDIM>.png", "--r0", "0.5", "--albedo", "0.5", "--sigma-t", "2",
+     "--roughness", "perceptual", "-o", "Udim.<UDIM>.exr"], cwd=ref, capture_output=True,
+    text=True)
+t.check("CLI bake of the set: %s" % cli.stderr, cli.returncode == 0)
+t.check("tile 1002: add-on == CLI, byte for byte",
+        filecmp.cmp(os.path.join(latent, "Udim.1002.exr"), os.path.join(ref, "Udim.1002.exr"),
+                    shallow=False))
+
+# 3. A re-run resumes: both tiles are up to date and left alone.
+mtimes = [os.stat(os.path.join(latent, f)).st_mtime_ns for f in files]
+session = Session.start(bpy.context, mat)
+t.check("re-run: done", session.wait() == "done")
+r = session.bake.result or {}
+t.check("re-run: both tiles skipped: %s" % r, r.get("tiles") == 2 and r.get("skipped") == 2)
+t.check("re-run: files untouched",
+        mtimes == [os.stat(os.path.join(latent, f)).st_mtime_ns for f in files])
+t.check("re-run: the report says so: %s" % session.report()[1],
+        "2 skipped" in session.report()[1])
+
+
+# 4. Tiles that exist only in Blender (a generated float image, two filled tiles) for the
+# coat roughness, beside the roughness tiles on disk.
+def generated_tiles(name, numbers, value):
+    im = bpy.data.images.new(name, N, N, float_buffer=True, tiled=True)
+    im.colorspace_settings.name = "Non-Color"
+    im.pixels.foreach_set(np.full(N * N * 4, value, np.float32))  # tile 1001
+    with bpy.context.temp_override(edit_image=im):
+        for n in numbers[1:]:
+            bpy.ops.image.tile_add(number=n, fill=True, color=(value, value, value, 1.0),
+                                   width=N, height=N, float=True)
+    return im
+
+
+coat = nodes.new("ShaderNodeTexImage")
+coat.name = "Coat Tiles"
+coat.image = generated_tiles("coat", [1001, 1002], 0.4)
+mat.node_tree.links.new(coat.outputs["Color"], bsdf.inputs["Clearcoat Roughness"])
+s.output = "//generated/{material}.exr"
+t.check("generated tiles: bake finished",
+        bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
+t.check("generated tiles: both written",
+        sorted(os.listdir(os.path.join(work, "generated"))) == files)
+t.check("generated tiles: temporary inputs removed", t.bake_temp_dirs() == before)
+
+# 5. Tiles that disagree (coat 1001 and 1003, roughness 1001 and 1002): the CLI's error,
+# with the user's node named.
+coat.image = generated_tiles("coat gap", [1001, 1003], 0.4)
+s.output = "//gap/{material}.exr"
+try:
+    bpy.ops.nbrdf.bake_latent(material=mat.name)
+    message = None
+except RuntimeError as e:
+    message = str(e)
+t.check("disagreeing tiles: the CLI's error: %s" % message,
+        message is not None and "has no tile" in message)
+t.check("disagreeing tiles: the node named", message is not None and "'Coat Tiles'" in message
+        and "'Rough Tiles'" in message)
+t.check("disagreeing tiles: no file", not os.listdir(os.path.join(work, "gap")))
+mat.node_tree.links.remove(coat.outputs["Color"].links[0])
+
+# 6. A cancelled set: its message keeps the finished tiles (the CLI's events, replayed).
+p = BakeProcess(["nbrdf"], os.path.join(latent, "Udim.<UDIM>.exr"))
+for line in ('{"event":"progress","stage":"bake","done":32,"total":32,"tile":1001,'
+             '"tile_index":1,"tiles":2}',
+             '{"event":"tile","tile":1001,"index":1,"tiles":2,"status":"baked",'
+             '"output":"Udim.1001.exr"}',
+             '{"event":"progress","stage":"bake","done":8,"total":32,"tile":1002,'
+             '"tile_index":2,"tiles":2}'):
+    p._event(line)
+t.check("set progress: %.3f" % p.progress, abs(p.progress - 0.625) < 1e-9)
+t.check("tile progress: %.3f" % p.tile_progress, abs(p.tile_progress - 0.25) < 1e-9)
+p._cancel_at = 0.0
+p._finish(1)
+t.check("cancelled set: %s" % p.message, p.state == "cancelled" and "tile 1002" in p.message
+        and "1 finished tile kept" in p.message)
+
+# 7. Write Farm Plan: the same bake arguments, a plan naming both tiles, not submitted.
+s.output = "//latent/{material}.exr"
+s.farm_plan = "//farm/{material}"
+t.check("farm plan written", bpy.ops.nbrdf.write_farm_plan(material=mat.name) == {"FINISHED"})
+plan = os.path.join(work, "farm", "Udim")
+try:
+    with open(os.path.join(plan, "plan.json")) as f:
+        doc = json.load(f)
+except (OSError, ValueError) as e:
+    doc = {}
+    t.check("plan.json: %s" % e, False)
+t.check("plan names both tiles: %s" % doc.get("tiles"), doc.get("tiles") == [1001, 1002])
+t.check("plan's jobs: a job per tile", {"tile-1001", "tile-1002"} <= {
+    j.get("name") for j in doc.get("jobs", [])})
+t.check("submit.sh written", os.path.isfile(os.path.join(plan, "submit.sh")))
+t.check("not submitted", not os.path.exists(os.path.join(plan, "jobs.txt")))
+t.check("the panel says what to run: %s" % s.farm_report,
+        os.path.join(plan, "submit.sh") in s.farm_report and "1001, 1002" in s.farm_report)
+# The single-image material has no tile set to plan.
+flat = bpy.data.materials.new("Flat")
+try:
+    bpy.ops.nbrdf.write_farm_plan(material=flat.name)
+    message = None
+except RuntimeError as e:
+    message = str(e)
+t.check("no tiled input: refused: %s" % message, message is not None and "tile set" in message)
+
+t.disable()
+t.finish("test_udim")
