@@ -131,6 +131,22 @@ t.check("generated tiles: bake finished",
 t.check("generated tiles: both written",
         sorted(os.listdir(os.path.join(work, "generated"))) == files)
 t.check("generated tiles: temporary inputs removed", t.bake_temp_dirs() == before)
+# Their temporary files are new each time, stamped with a time from their bytes: a re-run
+# skips both tiles, and a tile painted since is baked again.
+session = Session.start(bpy.context, mat)
+t.check("generated tiles, re-run: done", session.wait() == "done")
+r = session.bake.result or {}
+t.check("generated tiles, re-run: both skipped: %s" % r, r.get("skipped") == 2)
+px = np.full(N * N * 4, 0.5, np.float32)
+coat.image.pixels.foreach_set(px)  # tile 1001 painted
+session = Session.start(bpy.context, mat)
+t.check("generated tiles, painted: done", session.wait() == "done")
+r = session.bake.result or {}
+t.check("generated tiles, painted: 1001 baked, 1002 skipped: %s" % session.bake.finished,
+        [(e.get("tile"), e.get("status")) for e in session.bake.finished]
+        == [(1001, "baked"), (1002, "skipped")])
+t.check("painted tiles: still unsaved after the bake (Blender offers to save them)",
+        coat.image.is_dirty)
 
 # 5. Tiles that disagree (coat 1001 and 1003, roughness 1001 and 1002): the CLI's error,
 # with the user's node named.
