@@ -11,6 +11,7 @@ import json
 import os
 import subprocess
 import sys
+import types
 
 import bpy
 import numpy as np
@@ -20,6 +21,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import addon_testing as t  # noqa: E402
 
 t.enable()
+from nbrdf_bake import operators, panels  # noqa: E402
 from nbrdf_bake.process import BakeProcess  # noqa: E402
 from nbrdf_bake.session import NODE_NAME, Session  # noqa: E402
 
@@ -107,6 +109,52 @@ t.check("re-run: files untouched",
 t.check("re-run: the report says so: %s" % session.report()[1],
         "2 skipped" in session.report()[1])
 
+
+# The panel while a set bakes (over a recording layout: `blender -b` draws no panel): the
+# set's share, then the tile's own line.
+class Layout:
+    def __init__(self, calls):
+        self.calls = calls
+
+    def __getattr__(self, name):
+        def call(*args, **kwargs):
+            self.calls.append((name, args, kwargs))
+            return Layout(self.calls)
+        return call
+
+
+def labels(draw, *args):
+    calls = []
+    draw(Layout(calls), *args)
+    return [c[2].get("text", "") for c in calls if c[0] == "label"]
+
+
+ctx = types.SimpleNamespace(preferences=bpy.context.preferences,
+                            region=types.SimpleNamespace(width=400))
+session = Session.start(bpy.context, mat)
+session.bake._event('{"event":"progress","stage":"bake","done":16,"total":32,"tile":1002,'
+                    '"tile_index":2,"tiles":2}')
+operators._running["session"] = session
+shown = labels(panels.draw_bake, ctx, s)
+operators._running.clear()
+t.check("panel: the set's progress and the tile's: %s" % shown,
+        any("Udim: 75 %" in x for x in shown) and "tile 1002 (2/2): 50 %" in shown)
+session.wait()
+shown = labels(panels.draw_results, s)
+t.check("panel: the tiled result: %s" % shown, any("(2 tiles)" in x for x in shown))
+
+# Packed tiles: their packed bytes are the input; the same latents as from the files.
+rough.pack()
+t.check("the test's image is packed: %d files" % len(rough.packed_files),
+        len(rough.packed_files) == 2)
+s.output = "//packed/{material}.exr"
+t.check("packed tiles: bake finished",
+        bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
+a = oiio.ImageBuf(os.path.join(latent, "Udim.1002.exr")).get_pixels(oiio.FLOAT)
+b = oiio.ImageBuf(os.path.join(work, "packed", "Udim.1002.exr")).get_pixels(oiio.FLOAT)
+t.check("packed tiles: the same latents", a is not None and b is not None
+        and np.array_equal(a, b))
+rough.unpack(method="USE_ORIGINAL")
 
 # 4. Tiles that exist only in Blender (a generated float image, two filled tiles) for the
 # coat roughness, beside the roughness tiles on disk.
