@@ -98,10 +98,15 @@ t.check("tile 1002: add-on == CLI, byte for byte",
         filecmp.cmp(os.path.join(latent, "Udim.1002.exr"), os.path.join(ref, "Udim.1002.exr"),
                     shallow=False))
 
-# 3. A re-run resumes: both tiles are up to date and left alone.
+# 3. A re-run resumes: both tiles are up to date and left alone. Verify checks the set.
 mtimes = [os.stat(os.path.join(latent, f)).st_mtime_ns for f in files]
+s.verify = True
 session = Session.start(bpy.context, mat)
 t.check("re-run: done", session.wait() == "done")
+t.check("verify of the set: %s" % (session.verify and session.verify.message),
+        session.verify is not None and session.verify.state == "done"
+        and s.verify_texels > 0 and s.verify_median >= 0.0)
+s.verify = False
 r = session.bake.result or {}
 t.check("re-run: both tiles skipped: %s" % r, r.get("tiles") == 2 and r.get("skipped") == 2)
 t.check("re-run: files untouched",
