@@ -176,7 +176,8 @@ def generated_tiles(name, numbers, value):
 
 coat = nodes.new("ShaderNodeTexImage")
 coat.name = "Coat Tiles"
-coat.image = generated_tiles("coat", [1001, 1002], 0.4)
+coat_tiles = generated_tiles("coat", [1001, 1002], 0.4)
+coat.image = coat_tiles
 mat.node_tree.links.new(coat.outputs["Color"], bsdf.inputs["Clearcoat Roughness"])
 s.output = "//generated/{material}.exr"
 t.check("generated tiles: bake finished",
@@ -217,6 +218,21 @@ t.check("disagreeing tiles: the node named", message is not None and "'Coat Tile
 t.check("disagreeing tiles: no file", not os.listdir(os.path.join(work, "gap")))
 mat.node_tree.links.remove(coat.outputs["Color"].links[0])
 
+# A single image beside the tiles applies to every tile (the CLI's rule): a 16 x 16 base
+# colour, resampled to each tile's 32 x 32 (Resample Maps is on).
+base = bpy.data.images.new("base", 16, 16)
+base.pixels.foreach_set(np.tile(np.array([0.9, 0.6, 0.3, 1.0], np.float32), 16 * 16))
+s.r0_source, s.r0_image = "IMAGE", base
+s.output = "//mixed/{material}.exr"
+t.check("tiles and a single image: bake finished",
+        bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
+for f in files:
+    path = os.path.join(work, "mixed", f)
+    spec = oiio.ImageInput.open(path).spec() if os.path.isfile(path) else None
+    t.check("tiles and a single image: %s 32 x 32, rgb" % f, spec is not None
+            and (spec.width, spec.height) == (N, N) and "latent.L00.B" in spec.channelnames)
+s.r0_source = "MATERIAL"
+
 # 6. A cancelled set: its message keeps the finished tiles (the CLI's events, replayed).
 p = BakeProcess(["nbrdf"], os.path.join(latent, "Udim.<UDIM>.exr"))
 for line in ('{"event":"progress","stage":"bake","done":32,"total":32,"tile":1001,'
@@ -233,7 +249,10 @@ p._finish(1)
 t.check("cancelled set: %s" % p.message, p.state == "cancelled" and "tile 1002" in p.message
         and "1 finished tile kept" in p.message)
 
-# 7. Write Farm Plan: the same bake arguments, a plan naming both tiles, not submitted.
+# 7. Write Farm Plan: the same bake arguments, a plan naming both tiles, not submitted; the
+# tiles that exist only in Blender (the coat's) are kept in the plan's inputs/.
+coat.image = coat_tiles
+mat.node_tree.links.new(coat.outputs["Color"], bsdf.inputs["Clearcoat Roughness"])
 s.output = "//latent/{material}.exr"
 s.farm_plan = "//farm/{material}"
 t.check("farm plan written", bpy.ops.nbrdf.write_farm_plan(material=mat.name) == {"FINISHED"})
@@ -251,6 +270,18 @@ t.check("submit.sh written", os.path.isfile(os.path.join(plan, "submit.sh")))
 t.check("not submitted", not os.path.exists(os.path.join(plan, "jobs.txt")))
 t.check("the panel says what to run: %s" % s.farm_report,
         os.path.join(plan, "submit.sh") in s.farm_report and "1001, 1002" in s.farm_report)
+kept = os.path.join(plan, "inputs")
+names = sorted(os.listdir(kept)) if os.path.isdir(kept) else []
+t.check("the coat's tiles kept for the farm: %s" % names,
+        names == ["alpha1_coat.1001.exr", "alpha1_coat.1002.exr"])
+command = " ".join(next((j["command"] for j in doc.get("jobs", []) if j.get("name") ==
+                         "tile-1002"), []))
+t.check("the tile job reads them: %s" % command,
+        os.path.join(kept, "alpha1_coat.<UDIM>.exr") in command and "rough.<UDIM>.png" in command)
+stamps = [os.stat(os.path.join(kept, n)).st_mtime_ns for n in names]
+t.check("farm plan written again", bpy.ops.nbrdf.write_farm_plan(material=mat.name) == {"FINISHED"})
+t.check("unchanged inputs left as they were (the farm skips baked tiles)",
+        stamps == [os.stat(os.path.join(kept, n)).st_mtime_ns for n in names])
 # The single-image material has no tile set to plan.
 flat = bpy.data.materials.new("Flat")
 try:
