@@ -5,7 +5,7 @@ import textwrap
 
 import bpy
 
-from . import material_inputs, operators, preferences, queue
+from . import material_inputs, operators, preferences, queue, tiled_images
 from .params import PARAMS
 
 
@@ -65,12 +65,13 @@ def _describe(reading, key):
 def draw_output(layout, s):
     col = layout.column()
     col.use_property_split = True
-    for name in ("output", "storage", "mip_levels", "tile", "preview", "farm_plan"):
+    for name in ("output", "storage", "mip_levels", "tile", "preview"):
         col.prop(s, name)
     sub = col.column()
     sub.enabled = s.preview
     sub.prop(s, "preview_size")
     sub.prop(s, "preview_spp")
+    col.prop(s, "farm_plan")
 
 
 def draw_bake(layout, context, s):
@@ -100,11 +101,28 @@ def draw_bake(layout, context, s):
     row.operator("nbrdf.bake_latent", icon="RENDER_STILL")
     sub = row.row()
     sub.scale_x = 0.7
+    sub.enabled = problem is None and has_tiles(s)
     sub.operator("nbrdf.write_farm_plan", text="Farm Plan", icon="NETWORK_DRIVE")
     draw_ranges(layout, context, [l for l in s.range_report.split("\n") if l])
     draw_results(layout, s)
     if s.farm_report:
         label_wrapped(layout, context, s.farm_report, "NETWORK_DRIVE")
+
+
+def has_tiles(s):
+    """Whether an input is a tiled image (the bake is a tile set, which a farm plan takes)."""
+    reading = None
+    for p in PARAMS:
+        source = getattr(s, p.key + "_source")
+        image = getattr(s, p.key + "_image") if source == "IMAGE" else None
+        if source == "MATERIAL":
+            if reading is None:
+                reading = _reading(s.id_data)
+            r = reading.get(p.key) if isinstance(reading, dict) else None
+            image = r.value if r is not None and r.kind == "image" else None
+        if tiled_images.is_tiled(image):
+            return True
+    return False
 
 
 def draw_ranges(layout, context, lines):

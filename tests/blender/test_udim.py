@@ -147,6 +147,9 @@ t.check("panel: the set's progress and the tile's: %s" % shown,
 session.wait()
 shown = labels(panels.draw_results, s)
 t.check("panel: the tiled result: %s" % shown, any("(2 tiles)" in x for x in shown))
+t.check("panel: Farm Plan enabled for a tile set", panels.has_tiles(s))
+t.check("panel: not for single images", not panels.has_tiles(
+    bpy.data.materials.new("Single").nbrdf_bake))
 
 # Packed tiles: their packed bytes are the input; the same latents as from the files.
 rough.pack()
