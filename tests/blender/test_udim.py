@@ -11,6 +11,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 import types
 
 import bpy
@@ -236,7 +237,40 @@ for f in files:
             and (spec.width, spec.height) == (N, N) and "latent.L00.B" in spec.channelnames)
 s.r0_source = "MATERIAL"
 
-# 6. A cancelled set: its message keeps the finished tiles (the CLI's events, replayed).
+# 6. A cancelled set: tile 1001 (32 x 32) done, tile 1002 (256 x 1024 distinct float texels,
+# four bands of rows) cancelled after its first progress line: 1001 stays, 1002 has no file,
+# no temporary file is left, the message says so. Then the CLI's events replayed.
+wear = os.path.join(tex, "wear")
+os.makedirs(wear)
+for tile, (w, h) in ((1001, (N, N)), (1002, (256, 1024))):
+    path = os.path.join(wear, "wear.%d.exr" % tile)
+    o = oiio.ImageOutput.create(path)
+    o.open(path, oiio.ImageSpec(w, h, 1, oiio.FLOAT))
+    if tile == 1001:  # three values: the energy audit's distinct latents are few
+        px = (np.arange(w * h).reshape(h, w, 1) % 3 * 0.1 + 0.2).astype(np.float32)
+    else:
+        px = np.random.default_rng(tile).random((h, w, 1), dtype=np.float32) * 0.5 + 0.05
+    o.write_image(px)
+    o.close()
+wear_image = bpy.data.images.load(os.path.join(wear, "wear.1001.exr"))
+wear_image.source = "TILED"
+big = bpy.data.materials.new("Cancel Set")
+big.nbrdf_bake.alpha2_source, big.nbrdf_bake.alpha2_image = "IMAGE", wear_image
+big.nbrdf_bake.output = os.path.join(work, "cancel", "{material}.exr")
+big.nbrdf_bake.preview = False
+session = Session.start(bpy.context, big)
+# No deadline: the CLI ends either way, and ctest's timeout bounds a hang.
+while session.poll() and session.bake.tile_index < 2:
+    time.sleep(0.01)
+session.cancel()
+state = session.wait()
+t.check("cancelled set: state %s (%s)" % (state, session.bake.message), state == "cancelled")
+t.check("cancelled set: the report says what stays: %s" % session.report()[1],
+        "tile 1002" in session.report()[1] and "1 finished tile kept" in session.report()[1])
+left = sorted(os.listdir(os.path.join(work, "cancel")))
+t.check("cancelled set: tile 1001 stays, nothing else: %s" % left,
+        left == ["Cancel_Set.1001.exr"])
+
 p = BakeProcess(["nbrdf"], os.path.join(latent, "Udim.<UDIM>.exr"))
 for line in ('{"event":"progress","stage":"bake","done":32,"total":32,"tile":1001,'
              '"tile_index":1,"tiles":2}',
