@@ -295,8 +295,8 @@ def _input_words(material, specs, made):
         kind, value = specs[p.key]
         if kind != "image":
             continue
-        r = reading.get(p.key) if getattr(material.nbrdf_bake, p.key + "_source") == \
-            "MATERIAL" else None
+        from_material = getattr(material.nbrdf_bake, p.key + "_source") == "MATERIAL"
+        r = reading.get(p.key) if from_material else None
         if value in made and r is not None and r.kind == "procedural":
             out[p.key] = "the UV bake of material '%s', input '%s' from %s" % (
                 material.name, r.socket, inputs.node_words(r.value))
