@@ -328,5 +328,19 @@ except RuntimeError as e:
     message = str(e)
 t.check("no tiled input: refused: %s" % message, message is not None and "tile set" in message)
 
+# 8. Bake All Materials takes a tile set as one item: {object}_{material}.<UDIM>.exr.
+bpy.ops.mesh.primitive_plane_add()
+plane = bpy.context.active_object
+plane.name = "Plane"
+plane.data.materials.append(mat)
+q = bpy.context.scene.nbrdf_queue
+q.scope, q.output = "SELECTED", "//queue/{object}_{material}.exr"
+bpy.ops.nbrdf.bake_all()
+item = q.items[0] if len(q.items) == 1 else None
+t.check("queue: the set baked: %s" % (item and item.message),
+        item is not None and item.state == "DONE" and "Plane_Udim.<UDIM>.exr" in item.message)
+t.check("queue: one texture per tile", sorted(os.listdir(os.path.join(work, "queue")))
+        == ["Plane_Udim.1001.exr", "Plane_Udim.1002.exr"])
+
 t.disable()
 t.finish("test_udim")
