@@ -182,7 +182,8 @@ class BakeProcess:
                 n = len(self.finished)
                 self.message = ("cancelled%s; no file written for it, %d finished tile%s kept "
                                 "(a re-run skips %s)" % (
-                                    " in tile %d" % self.tile if self.tile else "", n,
+                                    " in tile %d" % self._cancelled_tile()
+                                    if self._cancelled_tile() else "", n,
                                     "" if n == 1 else "s", "it" if n == 1 else "them"))
             return
         self.state = "failed"
@@ -196,6 +197,14 @@ class BakeProcess:
             self.message = " ".join(errors or text[-1:])
         if not self.message:
             self.message = "nbrdf exited with status %d" % code
+
+    def _cancelled_tile(self):
+        """The tile a cancel stopped: the CLI's error event names it; else the one in
+        progress, unless it had finished (a cancel between two tiles)."""
+        if self._error_event is not None and self._error_event.get("tile"):
+            return int(self._error_event["tile"])
+        done = {int(ev.get("tile", 0)) for ev in self.finished}
+        return self.tile if self.tile and self.tile not in done else 0
 
     def _temporaries(self):
         """The CLI's temporary outputs beside the destination: .<name>.<random>.tmp (a set:
