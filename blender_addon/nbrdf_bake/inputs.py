@@ -5,6 +5,8 @@ their packed bytes; generated or edited (unsaved) images as an 8-bit PNG (8-bit 
 a float EXR (float buffers), one channel when grey. Those go to a temporary folder that is
 the CLI's working directory, under file names of their own (<param>_<image>.<ext>), so the
 texture's nbrdf:parameterSources names them the same way whichever folder the bake ran in.
+Tiled (UDIM) images become tile patterns the same way (tiled_images.py); with any of them
+the bake is a tile set, its output a pattern too.
 """
 
 import os
@@ -13,7 +15,7 @@ import re
 import bpy
 import numpy as np
 
-from . import image_files, material_inputs, uv_bake
+from . import image_files, material_inputs, tiled_images, tiles, uv_bake
 from .params import PARAMS, constant, number
 
 
@@ -32,12 +34,12 @@ def output_path(settings, material_name, template=None, object_name=None):
     """The output file: `template` (default: the material's Output) with {material} and
     {object} replaced (an object's name only where one is given: the queue's)."""
     template = template or settings.output
-    path = template.replace("{material}", _file_name(material_name))
+    path = template.replace("{material}", file_name(material_name))
     if "{object}" in path:
         if object_name is None:
             raise SetupError("output '%s' has {object}, which only Bake All Materials fills in"
                              % template)
-        path = path.replace("{object}", _file_name(object_name))
+        path = path.replace("{object}", file_name(object_name))
     if path.startswith("//") and not bpy.data.filepath:
         raise SetupError("output '%s' is relative to the .blend file: save the file first or "
                          "choose an absolute output path" % template)
@@ -80,6 +82,14 @@ def resolve_sources(context, material, settings, obj=None, uv_map=None):
         raise SetupError("%s: material '%s', input '%s' comes from %s: turn on Bake "
                          "Through UV Map, link an Image Texture, or set it by hand"
                          % (_label(k), material.name, r.socket, node_words(r.value)))
+    tiled = [k for k, v in specs.items() if v[0] == "image" and tiled_images.is_tiled(v[1])]
+    if procedural and tiled:
+        k, r = procedural[0]
+        raise SetupError("%s: material '%s', input '%s' comes from %s, and %s is a tiled "
+                         "image: Bake Through UV Map makes one image, not a tile set; link "
+                         "a tiled Image Texture or set it by hand"
+                         % (_label(k), material.name, r.socket, node_words(r.value),
+                            _label(tiled[0])))
     if procedural:
         w, h = output_size(settings, [v[1] for v in specs.values() if v[0] == "image"])
         if obj is None:
@@ -108,6 +118,16 @@ def node_words(socket):
 
 def _label(key):
     return next(p.label for p in PARAMS if p.key == key)
+
+
+def any_tiled(specs):
+    """Whether an input is a tiled image: the bake is then a tile set."""
+    return any(kind == "image" and tiled_images.is_tiled(v) for kind, v in specs.values())
+
+
+def set_output(output, specs):
+    """The output of a tile set is a pattern (`<UDIM>` added before .exr); else as given."""
+    return tiles.with_udim(output) if any_tiled(specs) else output
 
 
 def output_size(settings, images):
@@ -156,7 +176,11 @@ def build_argv(nbrdf, bundle, settings, material_name, workdir, specs=None, outp
     if specs is None:
         specs = {p.key: _own_spec(settings, p) for p in PARAMS}
     params, sizes = param_argv(settings, specs, workdir)
-    size = size_argv(settings, sizes, [v for k, v in specs.values() if k == "image"])
+    images = [v for k, v in specs.values() if k == "image"]
+    if any(tiled_images.is_tiled(im) for im in images):
+        size = tiled_images.size_argv(settings, images)
+    else:
+        size = size_argv(settings, sizes, images)
     # verify sizes the maps to the texture itself; it needs only the resampling flag
     params += [a for a in size if a in ("--resample", "bilinear")]
     argv = [nbrdf, "bake", "--progress=json", "--bundle", bundle] + params
@@ -211,16 +235,19 @@ def _colour_space(choice, image, label):
                      % (label, image.name, name))
 
 
-def _file_name(name):
+def file_name(name):
     return re.sub(r"[^A-Za-z0-9._-]+", "_", name).strip("._") or "image"
 
 
 def image_file(image, key, workdir):
-    """A path the CLI can read with the image's pixels: its own file when it has one."""
-    if image.source == "TILED" or image.source not in {"FILE", "GENERATED"}:
-        raise SetupError("image '%s': %s images cannot be baked (a single image is needed)"
-                         % (image.name, image.source.lower()))
-    base = os.path.join(workdir, key + "_" + _file_name(image.name))
+    """A path the CLI can read with the image's pixels: its own file when it has one; a tile
+    pattern for a tiled image."""
+    if image.source == "TILED":
+        return tiled_images.tiled_file(image, key, workdir)
+    if image.source not in {"FILE", "GENERATED"}:
+        raise SetupError("image '%s': %s images cannot be baked (a single image or a tiled "
+                         "one is needed)" % (image.name, image.source.lower()))
+    base = os.path.join(workdir, key + "_" + file_name(image.name))
     if image.source == "FILE" and not image.is_dirty:
         if image.packed_file:
             ext = os.path.splitext(image.filepath)[1] or PACKED_EXT.get(image.file_format, "")
@@ -231,10 +258,12 @@ def image_file(image, key, workdir):
         if not os.path.isfile(path):
             raise SetupError("image '%s': file '%s' not found" % (image.name, path))
         return path
-    return _write_pixels(image, base)
+    return write_pixels(image, base)
 
 
-def _write_pixels(image, base):
+def write_pixels(image, base):
+    """Writes the image's pixels to base + .png (8-bit buffers) or .exr (float); returns the
+    file's name."""
     w, h = image.size
     c = image.channels
     if w == 0 or h == 0:

@@ -12,8 +12,9 @@ import bpy
 from . import principled
 
 # kind: "value" (value: list of floats), "image" (value: an Image), "procedural" (value: the
-# socket, baked through the UV map on request); notes: what the user should know.
-Reading = namedtuple("Reading", "kind value socket notes")
+# socket, baked through the UV map on request); notes: what the user should know; node: the
+# Image Texture node's name (an image), for messages about its image.
+Reading = namedtuple("Reading", "kind value socket notes node", defaults=(None,))
 
 
 class MaterialError(Exception):
@@ -49,7 +50,7 @@ def _read_socket(node, name):
     if s.is_linked:
         src = s.links[0].from_node
         if src.type == "TEX_IMAGE" and src.image is not None:
-            return Reading("image", src.image, name, [])
+            return Reading("image", src.image, name, [], src.name)
         return Reading("procedural", s, name, [])
     v = s.default_value
     return Reading("value", list(v)[:3] if hasattr(v, "__len__") else [float(v)], name, [])

@@ -1,9 +1,10 @@
-"""Bake Latent Texture (modal with progress and Esc, or blocking from scripts) and Cancel."""
+"""Bake Latent Texture (modal with progress and Esc, or blocking from scripts), Cancel, Use
+Material and Write Farm Plan."""
 
 import bpy
 from bpy.props import StringProperty
 
-from . import material_inputs, principled
+from . import farm, material_inputs, principled
 from .inputs import SetupError
 from .session import Session
 
@@ -160,6 +161,37 @@ class NBRDF_OT_use_material(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class NBRDF_OT_write_farm_plan(bpy.types.Operator):
+    """Write a Slurm farm plan for the material's tile set (nbrdf farm slurm --plan, not
+    submitted): the folder, its submit.sh and plan.json; no Slurm needed here"""
+    bl_idname = "nbrdf.write_farm_plan"
+    bl_label = "Write Farm Plan"
+    bl_options = {"REGISTER"}
+
+    material: StringProperty(name="Material", options={"SKIP_SAVE"},
+                             description="Material (default: the active one)")
+
+    @classmethod
+    def poll(cls, context):
+        from .queue import running_queue
+        return running_session() is None and running_queue() is None
+
+    def execute(self, context):
+        mat = _material(context, self.material)
+        if mat is None:
+            self.report({"ERROR"}, "nbrdf: no material")
+            return {"CANCELLED"}
+        try:
+            plan = farm.write_plan(context, mat)
+        except SetupError as e:
+            mat.nbrdf_bake.farm_report = ""
+            self.report({"ERROR"}, "nbrdf: %s" % e)
+            return {"CANCELLED"}
+        mat.nbrdf_bake.farm_report = plan.report()
+        self.report({"INFO"}, "nbrdf: " + plan.report())
+        return {"FINISHED"}
+
+
 def _redraw(context):
     for window in context.window_manager.windows:
         for area in window.screen.areas:
@@ -167,7 +199,8 @@ def _redraw(context):
                 area.tag_redraw()
 
 
-classes = (NBRDF_OT_bake_latent, NBRDF_OT_cancel_bake, NBRDF_OT_use_material)
+classes = (NBRDF_OT_bake_latent, NBRDF_OT_cancel_bake, NBRDF_OT_use_material,
+           NBRDF_OT_write_farm_plan)
 
 
 def register():

@@ -5,7 +5,7 @@ import textwrap
 
 import bpy
 
-from . import material_inputs, operators, preferences, queue
+from . import material_inputs, operators, preferences, queue, tiled_images
 from .params import PARAMS
 
 
@@ -71,6 +71,7 @@ def draw_output(layout, s):
     sub.enabled = s.preview
     sub.prop(s, "preview_size")
     sub.prop(s, "preview_spp")
+    col.prop(s, "farm_plan")
 
 
 def draw_bake(layout, context, s):
@@ -86,6 +87,8 @@ def draw_bake(layout, context, s):
         step = " (%s)" % step if step and step != session.stage else ""
         box.label(text="%s %s%s: %.0f %%" % (doing, session.material_name, step,
                                              100.0 * session.progress), icon="TIME")
+        if session.tile_text:  # a tile set: the line above is the set's, this the tile's
+            box.label(text=session.tile_text, icon="UV")
         box.operator("nbrdf.cancel_bake", icon="CANCEL")
         draw_ranges(layout, context, session.ranges)
         return
@@ -96,8 +99,30 @@ def draw_bake(layout, context, s):
     row.scale_y = 1.4
     row.enabled = problem is None
     row.operator("nbrdf.bake_latent", icon="RENDER_STILL")
+    sub = row.row()
+    sub.scale_x = 0.7
+    sub.enabled = problem is None and has_tiles(s)
+    sub.operator("nbrdf.write_farm_plan", text="Farm Plan", icon="NETWORK_DRIVE")
     draw_ranges(layout, context, [l for l in s.range_report.split("\n") if l])
     draw_results(layout, s)
+    if s.farm_report:
+        label_wrapped(layout, context, s.farm_report, "NETWORK_DRIVE")
+
+
+def has_tiles(s):
+    """Whether an input is a tiled image (the bake is a tile set, which a farm plan takes)."""
+    reading = None
+    for p in PARAMS:
+        source = getattr(s, p.key + "_source")
+        image = getattr(s, p.key + "_image") if source == "IMAGE" else None
+        if source == "MATERIAL":
+            if reading is None:
+                reading = _reading(s.id_data)
+            r = reading.get(p.key) if isinstance(reading, dict) else None
+            image = r.value if r is not None and r.kind == "image" else None
+        if tiled_images.is_tiled(image):
+            return True
+    return False
 
 
 def draw_ranges(layout, context, lines):
@@ -115,7 +140,9 @@ def draw_results(layout, s):
     if s.result is None:
         return
     box = layout.box()
-    box.label(text="Latent texture: " + s.result.name, icon="IMAGE_DATA")
+    tiled = s.result.source == "TILED"
+    box.label(text="Latent texture: " + s.result.name + (
+        " (%d tiles)" % len(s.result.tiles) if tiled else ""), icon="IMAGE_DATA")
     if s.verify_texels:
         box.label(text="Verify (%d texels): median lobe error %.1f %%, worst %.1f %%"
                   % (s.verify_texels, s.verify_median, s.verify_worst), icon="CHECKMARK")

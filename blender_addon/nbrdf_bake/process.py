@@ -8,10 +8,13 @@ Background mode (blender -b) never ticks modal timers, hence the synchronous pol
 import json
 import os
 import queue
+import re
 import signal
 import subprocess
 import threading
 import time
+
+from . import tiles
 
 # After SIGINT the CLI stops between bands of rows (~65,536 texels, seconds at most);
 # a child that is still alive after this is killed and its temporary file removed here.
@@ -24,6 +27,11 @@ class BakeProcess:
     After the end, `state` is 'done', 'failed' or 'cancelled'; `message` says why it failed,
     `warnings` holds the CLI's warnings, `ranges` its range report ("range" events, which
     come before any progress: docs/CLI.md, "Range report"), `result` its "done" event.
+
+    An output that is a tile pattern makes it a tile set's bake (docs/FARM.md, "Tile sets"):
+    `tile`, `tile_index` and `tiles` follow the progress lines, `progress` is the set's share
+    and `tile_progress` the tile's own, `finished` holds each finished tile's "tile" event;
+    a cancelled set keeps its finished tiles (a re-run skips them).
     """
 
     def __init__(self, argv, output, cwd=None):
@@ -31,7 +39,13 @@ class BakeProcess:
         self.output = os.path.abspath(output)
         self.cwd = cwd
         self.state = "new"
-        self.progress = 0.0  # fraction of rows done, 0..1
+        self.progress = 0.0  # fraction of rows done, 0..1 (of the whole set)
+        self.tiled = tiles.is_pattern(self.output)
+        self.tile = 0  # the tile in progress (a set), its place from 1, the set's tile count
+        self.tile_index = 0
+        self.tiles = 0
+        self.tile_progress = 0.0
+        self.finished = []  # "tile" events (a set): {"tile", "status": baked|skipped, ...}
         self.progress_events = 0
         self.step_name = ""  # the CLI's stage: "ground truth", "fit", "bake", ...
         self.message = ""
@@ -124,7 +138,21 @@ class BakeProcess:
         if kind == "progress" and ev.get("total"):
             self.progress_events += 1
             self.step_name = str(ev.get("stage", ""))
-            self.progress = min(1.0, float(ev.get("done", 0)) / float(ev["total"]))
+            own = min(1.0, float(ev.get("done", 0)) / float(ev["total"]))
+            if ev.get("tiles"):
+                # done/total are the tile's own; the set's share as docs/CLI.md gives it
+                self.tile, self.tiles = int(ev.get("tile", 0)), int(ev["tiles"])
+                self.tile_index = int(ev.get("tile_index", 1))
+                self.tile_progress = own
+                self.progress = (self.tile_index - 1 + own) / self.tiles
+            else:
+                self.progress = own
+        elif kind == "tile" and "status" in ev:
+            self.finished.append(ev)
+            self.tiles = int(ev.get("tiles", self.tiles))
+            self.tile_index = int(ev.get("index", self.tile_index))
+            self.tile, self.tile_progress = int(ev.get("tile", self.tile)), 1.0
+            self.progress = self.tile_index / float(self.tiles or 1)
         elif kind == "range":
             self.ranges.append(ev)
         elif kind == "warning":
@@ -134,8 +162,15 @@ class BakeProcess:
         elif kind == "error":
             self._error_event = ev
 
+    def _written(self):
+        if not self.tiled:
+            return os.path.isfile(self.output)
+        folder = os.path.dirname(self.output)
+        return all(os.path.isfile(os.path.join(folder, os.path.basename(str(ev.get("output")))))
+                   for ev in self.finished)
+
     def _finish(self, code):
-        if code == 0 and self.result is not None and os.path.isfile(self.output):
+        if code == 0 and self.result is not None and self._written():
             self.state = "done"
             self.progress = 1.0
             return
@@ -143,6 +178,13 @@ class BakeProcess:
         if self._cancel_at is not None:
             self.state = "cancelled"
             self.message = "cancelled; no file written"
+            if self.tiled:
+                n = len(self.finished)
+                self.message = ("cancelled%s; no file written for it, %d finished tile%s kept "
+                                "(a re-run skips %s)" % (
+                                    " in tile %d" % self._cancelled_tile()
+                                    if self._cancelled_tile() else "", n,
+                                    "" if n == 1 else "s", "it" if n == 1 else "them"))
             return
         self.state = "failed"
         if self._error_event is not None:
@@ -156,15 +198,30 @@ class BakeProcess:
         if not self.message:
             self.message = "nbrdf exited with status %d" % code
 
+    def _cancelled_tile(self):
+        """The tile a cancel stopped: the CLI's error event names it; else the one in
+        progress, unless it had finished (a cancel between two tiles)."""
+        if self._error_event is not None and self._error_event.get("tile"):
+            return int(self._error_event["tile"])
+        done = {int(ev.get("tile", 0)) for ev in self.finished}
+        return self.tile if self.tile and self.tile not in done else 0
+
     def _temporaries(self):
-        """The CLI's temporary outputs beside the destination: .<name>.<random>.tmp"""
+        """The CLI's temporary outputs beside the destination: .<name>.<random>.tmp (a set:
+        one per tile, <name> the tile's)."""
         folder, name = os.path.split(self.output)
         try:
             entries = os.listdir(folder)
         except OSError:
             return set()
-        prefix = "." + name + "."
-        return {e for e in entries if e.startswith(prefix) and e.endswith(".tmp")}
+        names = tiles.name_regex(name) if self.tiled else re.compile(re.escape(name) + r"\Z")
+        out = set()
+        for e in entries:
+            if e.startswith(".") and e.endswith(".tmp"):
+                stem = e[1:-len(".tmp")].rpartition(".")[0]
+                if names.match(stem):
+                    out.add(e)
+        return out
 
     def _remove_temporaries(self):
         # Only a killed CLI leaves one; those that existed before this bake are not ours.

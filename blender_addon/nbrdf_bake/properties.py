@@ -114,7 +114,8 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
         output=StringProperty(
             name="Output", subtype="FILE_PATH", default="//latent/{material}.exr",
             description="Latent texture to write ({material}: the material's name; // is "
-                        "the .blend file's folder)"),
+                        "the .blend file's folder). With a tiled (UDIM) input it is a tile "
+                        "set: <UDIM> is added before .exr unless the path has a tile token"),
         storage=EnumProperty(
             name="Storage", default="HALF",
             items=[("HALF", "Half", "16-bit floats (half the size)"),
@@ -141,6 +142,14 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
                         "line (nbrdf bake's range report)"),
         result=PointerProperty(name="Result", type=bpy.types.Image,
                                description="The latent texture of the last bake"),
+        farm_plan=StringProperty(
+            name="Farm Plan", subtype="DIR_PATH", default="//farm/{material}",
+            description="Folder of the farm plan for a tiled (UDIM) bake (Write Farm Plan: "
+                        "nbrdf farm slurm --plan; {material}: its name, // the .blend file's "
+                        "folder). Its inputs/ holds the maps that exist only in Blender"),
+        farm_report=StringProperty(
+            name="Farm Plan Report", default="",
+            description="What the last Write Farm Plan wrote and how to submit it"),
     )
 
 

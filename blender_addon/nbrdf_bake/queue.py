@@ -136,8 +136,8 @@ class QueueRunner:
         ranges = s.ranges
         if state == "done":
             item.message = "; ".join(["wrote " + s.bake.output] + ranges)
-        elif state == "cancelled":
-            item.message = "cancelled; no file written"
+        elif state == "cancelled":  # a tile set keeps its finished tiles: the message says
+            item.message = s.bake.message or "cancelled; no file written"
         else:
             item.message = "; ".join([s.explain(s.bake.message)] + ranges)
 

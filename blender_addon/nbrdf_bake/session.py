@@ -6,6 +6,7 @@ invoke() calls start() and then poll() on a timer. Tests drive it the same way.
 """
 
 import os
+import re
 import shutil
 import subprocess
 import tempfile
@@ -13,7 +14,7 @@ import time
 
 import bpy
 
-from . import inputs, material_inputs, preferences
+from . import inputs, material_inputs, preferences, tiled_images, tiles
 from .params import PARAMS, range_lines
 from .process import BakeProcess
 
@@ -40,6 +41,7 @@ class Session:
         self.node = None
         self.relative = False  # the output was asked for relative to the .blend (//)
         self.files = {}  # temporary input file -> what the user knows it as
+        self.flags = {}  # a tiled input's option (--alpha2) -> what the user knows it as
         self.cwd = workdir  # where the CLI runs: the output's folder when inputs are relative
         self._stopped = False
 
@@ -57,6 +59,7 @@ class Session:
         output = inputs.output_path(settings, material.name, template,
                                     obj.name if obj is not None else None)
         specs, notes, made = inputs.resolve_sources(context, material, settings, obj, uv_map)
+        output = inputs.set_output(output, specs)
         workdir = tempfile.mkdtemp(prefix="nbrdf-bake-", dir=bpy.app.tempdir or None)
         try:
             argv, output, params = inputs.build_argv(exe, bundle, settings, material.name,
@@ -79,7 +82,9 @@ class Session:
                 "--bundle", bundle, "--texels", str(VERIFY_TEXELS), "--spp", str(VERIFY_SPP),
                 "--json", os.path.join(workdir, "verify.json"), "--progress=json"]
         preview_argv = None
-        if settings.preview and extras and has_render(exe):
+        if settings.preview and extras and tiles.is_pattern(output):
+            notes = notes + ["no preview of a tile set (nbrdf render takes one tile's texture)"]
+        elif settings.preview and extras and has_render(exe):
             size = str(settings.preview_size)
             preview_argv = [exe, "render", output, "-o", preview_path(output), "--bundle", bundle,
                             "--width", size, "--height", size, "--spp",
@@ -88,7 +93,10 @@ class Session:
         session = cls(material.name, bake, workdir, verify_argv, preview_argv, notes, made)
         session.relative = (template or settings.output).startswith("//")
         session.cwd = cwd
-        session.files = _file_words(material, argv, specs, made) if cwd == workdir else {}
+        words = _input_words(material, specs, made)
+        session.files = _file_words(argv, specs, words) if cwd == workdir else {}
+        session.flags = {p.flag: words[p.key] for p in PARAMS if specs[p.key][0] == "image"
+                         and tiled_images.is_tiled(specs[p.key][1])}
         if not bake.start():
             session._cleanup()
             raise inputs.SetupError(bake.message)
@@ -118,6 +126,15 @@ class Session:
     def cancelling(self):
         return self.process.cancelling
 
+    @property
+    def tile_text(self):
+        """"tile 1002 (2/3): 40 %" while a tile set's tile is in progress, else ""."""
+        p = self.process
+        if not getattr(p, "tiles", 0) or not p.tile:
+            return ""
+        return "tile %d (%d/%d): %.0f %%" % (p.tile, p.tile_index, p.tiles,
+                                            100.0 * p.tile_progress)
+
     def poll(self):
         """True while running; at the end the inputs are removed and the results loaded."""
         if self.process.poll():
@@ -129,7 +146,10 @@ class Session:
             if self.bake.state != "done":
                 self._cleanup()
                 return False
-            self.image = load_result(self.bake.output, self.relative)
+            if self.bake.tiled:
+                self.image = tiled_images.load_result(self.bake.output, self.relative)
+            else:
+                self.image = load_result(self.bake.output, self.relative)
             if material is not None:
                 material.nbrdf_bake.result = self.image
                 self.node = add_image_node(material, self.image)
@@ -191,16 +211,27 @@ class Session:
             info = None
         if self.preview is not None and self.preview.state != "done":
             notes.append("preview not rendered: " + self.preview.message)
-        text = "nbrdf: baked %s (%s x %s, %s)" % (b.output, r.get("width"), r.get("height"),
-                                                  "rgb" if r.get("channels") == 3 else "mono")
+        if b.tiled:
+            text = "nbrdf: baked %s (%s tiles: %s baked, %s skipped as up to date)" % (
+                b.output, r.get("tiles"), r.get("baked"), r.get("skipped"))
+        else:
+            text = "nbrdf: baked %s (%s x %s, %s)" % (
+                b.output, r.get("width"), r.get("height"),
+                "rgb" if r.get("channels") == 3 else "mono")
         return ("WARNING" if notes else "INFO"), "; ".join([text] + ([info] if info else [])
                                                            + notes)
 
     def explain(self, message):
         """The CLI's message with each temporary input file named as the user knows it
-        (the UV bake of a node, a generated image): the user never saw those files."""
+        (the UV bake of a node, a generated image): the user never saw those files. A tiled
+        input the message names by its option (tiles that disagree) is named as the user
+        knows it too: its image and the Image Texture node it comes from."""
         for name in sorted(self.files, key=len, reverse=True):
             message = message.replace(name, self.files[name])
+        cited = [f for f in sorted(self.flags) if re.search(re.escape(f) + r"(?![-\w])",
+                                                             message)]
+        if cited:
+            message += " (%s)" % "; ".join("%s: %s" % (f, self.flags[f]) for f in cited)
         return message
 
     def _cleanup(self):
@@ -252,8 +283,34 @@ def _relative_inputs(argv, params, output, specs):
     return out[0], out[1]
 
 
-def _file_words(material, argv, specs, made):
-    """{file the CLI is given in the temporary folder: the user's words for it}."""
+def _input_words(material, specs, made):
+    """{parameter key: the user's words for its image}: the UV bake of a node, an image of
+    an Image Texture node of the material, or an image chosen in the panel."""
+    try:
+        reading = material_inputs.read(material)[0]
+    except material_inputs.MaterialError:
+        reading = {}
+    out = {}
+    for p in PARAMS:
+        kind, value = specs[p.key]
+        if kind != "image":
+            continue
+        from_material = getattr(material.nbrdf_bake, p.key + "_source") == "MATERIAL"
+        r = reading.get(p.key) if from_material else None
+        if value in made and r is not None and r.kind == "procedural":
+            out[p.key] = "the UV bake of material '%s', input '%s' from %s" % (
+                material.name, r.socket, inputs.node_words(r.value))
+        elif r is not None and r.kind == "image" and r.value == value and r.node:
+            out[p.key] = "image '%s' of node '%s' (material '%s', input '%s')" % (
+                value.name, r.node, material.name, r.socket)
+        else:
+            out[p.key] = "image '%s'" % value.name
+    return out
+
+
+def _file_words(argv, specs, words):
+    """{file the CLI is given in the temporary folder: the user's words for it}; a tile
+    pattern's tiles too ("image 'rough' tile 1002")."""
     out = {}
     for p in PARAMS:
         kind, value = specs[p.key]
@@ -262,17 +319,10 @@ def _file_words(material, argv, specs, made):
         path = argv[argv.index(p.flag) + 1]
         if os.path.isabs(path):
             continue  # the image's own file: the user knows it
-        reading = None
-        if value in made:
-            try:
-                reading = material_inputs.read(material)[0].get(p.key)
-            except material_inputs.MaterialError:
-                reading = None
-        if reading is not None and reading.kind == "procedural":
-            out[path] = "the UV bake of material '%s', input '%s' from %s" % (
-                material.name, reading.socket, inputs.node_words(reading.value))
-        else:
-            out[path] = "image '%s'" % value.name
+        out[path] = words[p.key]
+        if tiled_images.is_tiled(value):
+            for n in tiled_images.numbers(value):
+                out[tiles.tile_path(path, n)] = "%s tile %d" % (words[p.key], n)
     return out
 
 
