@@ -26,7 +26,13 @@ for test in "${tests[@]}"; do
   check "$name (log: below)" env NBRDF_BUNDLE="$TMP/bundle" NBRDF_ADDON_ZIP="$zip" \
     BLENDER_USER_SCRIPTS="$TMP/scripts-$name" TMPDIR="$TMP/tmp" \
     blender -b --factory-startup --python-exit-code 1 --python "$test" >"$TMP/$name.log" 2>&1
-  [ "$failures" -eq "$before" ] || sed 's/^/  | /' "$TMP/$name.log" >&2
+  if [ "$failures" -ne "$before" ]; then
+    sed 's/^/  | /' "$TMP/$name.log" >&2
+    # Blender's own crash report (a backtrace) is what tells a crash in Blender from ours.
+    for crash in "$TMP"/tmp/*.crash.txt; do
+      [ -f "$crash" ] && sed 's/^/  crash | /' "$crash" >&2 && rm -f "$crash"
+    done
+  fi
   grep -E "^test_.*checks" "$TMP/$name.log"
   echo "$name: $((SECONDS - start)) s"
 done
