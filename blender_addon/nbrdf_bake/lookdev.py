@@ -60,6 +60,7 @@ class Preview:
         if self.process.state != "done":
             self.state = self.process.state
             self.message = self.process.message
+            shutil.rmtree(self.folder, ignore_errors=True)
             return False
         self.frame += 1
         if self.frame < self.frames:
@@ -69,6 +70,8 @@ class Preview:
         mat = bpy.data.materials.get(self.material_name)
         if mat is not None:
             mat.nbrdf_bake.lookdev_image = self.image
+        if self.frames == 1:  # packed: the files are no longer needed
+            shutil.rmtree(self.folder, ignore_errors=True)
         return False
 
     def wait(self, interval=0.05):
