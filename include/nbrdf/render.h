@@ -111,8 +111,8 @@ typedef struct nbrdf_render_options {
   int camera_set;
   double camera_pos[3], camera_target[3], camera_up[3];
   double fov_deg;
-  /* Turns the environment about +y by this many degrees (counter-clockwise seen from
-   * above): what the sky or image shows at azimuth phi is then seen at phi + rotation. */
+  /* Turns the environment about +y by this many degrees (a right-handed rotation:
+   * counter-clockwise seen from above); its sampling table turns with it. */
   double env_rotation_deg;
 } nbrdf_render_options;
 

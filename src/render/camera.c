@@ -42,7 +42,11 @@ void render_camera_set_mesh(render_camera *cam, const render_mesh *mesh, const r
   vec3 c = v3_scale(v3_add(lo, hi), 0.5);
   double radius = 0.5 * v3_length(v3_sub(hi, lo));
   if (!(radius > 0.0)) radius = 1.0;
-  cam->eps = 1e-5 * radius;
+  /* Shadow rays start this far off the surface: beyond the float rounding of the BVH's
+   * triangle tests (~1e-7 of the coordinates' magnitude), a tiny fraction of the mesh. */
+  double mag = 0.0;
+  for (int k = 0; k < 3; k++) mag = fmax(mag, fmax(fabs(mesh->lo[k]), fabs(mesh->hi[k])));
+  cam->eps = fmax(1e-5 * radius, 1e-5 * mag);
   /* The bounding sphere fills the frame's height with a 10 % margin. */
   double fov = 40.0, dist = 1.1 * radius / sin(0.5 * fov * M_PI / 180.0);
   vec3 dir = v3_normalize(v3(0.0, 0.3, 1.0));
