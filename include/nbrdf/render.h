@@ -127,7 +127,7 @@ typedef struct nbrdf_render_stats {
   size_t decoded;    /* decoder queries (one per colour channel) */
   size_t brdf_evals; /* ground-truth evaluations and samples (REFERENCE) */
   int colour_channels;
-  int levels; /* mip levels of the texture */
+  int levels;    /* mip levels of the texture */
   int triangles; /* NBRDF_SCENE_MESH: triangles of the mesh */
   /* NEURAL: seconds spent in the decoder (summed over threads), so that
    * decoded / decode_seconds is the decoder's rate inside the renderer. */

@@ -104,8 +104,7 @@ static int read_xyz(const char *cmd, const cli_opt *o, const char *v) {
   double *to = a->o.camera_up;
   int *given = &a->camera_up_given;
   if (!strcmp(o->name, "--camera-pos")) to = a->o.camera_pos, given = &a->camera_pos_given;
-  if (!strcmp(o->name, "--camera-target"))
-    to = a->o.camera_target, given = &a->camera_target_given;
+  if (!strcmp(o->name, "--camera-target")) to = a->o.camera_target, given = &a->camera_target_given;
   memcpy(to, d, sizeof d);
   *given = 1;
   return 0;
@@ -227,12 +226,14 @@ void cmd_render_options(cli_opt_visit visit, void *user) {
 }
 
 void cmd_render_usage(FILE *out) {
-  fprintf(out, "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
-               "\n"
-               "Renders the latent texture on a unit sphere, a ground plane or a mesh (--mesh)\n"
-               "under an environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
-               "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
-               "\n");
+  fprintf(
+      out,
+      "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
+      "\n"
+      "Renders the latent texture on a unit sphere, a ground plane or a mesh (--mesh)\n"
+      "under an environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
+      "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
+      "\n");
   cmd_render_options(cli_options_help_visit, out);
   fprintf(out, "\nexit status: 0 success, 1 failure, 2 bad usage\n");
 }
@@ -401,7 +402,8 @@ int cmd_render(int argc, char **argv) {
       stats.brdf_evals += rs.brdf_evals;
       /* rows of the two panes interleaved into one image twice as wide */
       float *both = st == NBRDF_OK ? malloc(sizeof(float) * pane * 2) : NULL;
-      if (st == NBRDF_OK && !both) st = NBRDF_ERR_MEMORY, snprintf(err.message, sizeof err.message, "out of memory");
+      if (st == NBRDF_OK && !both)
+        st = NBRDF_ERR_MEMORY, snprintf(err.message, sizeof err.message, "out of memory");
       for (int y = 0; both && y < o.height; y++)
         for (int k = 0; k < 2; k++)
           memcpy(both + 3 * ((size_t)y * out_w + (size_t)k * o.width),
@@ -419,14 +421,15 @@ int cmd_render(int argc, char **argv) {
     } else if (a.ps.json) {
       printf("{\"event\":\"done\",\"width\":%d,\"height\":%d,\"spp\":%d,\"decoded\":%zu,"
              "\"decode_seconds\":%.4f,\"brdf_evals\":%zu,\"triangles\":%d}\n",
-             out_w, o.height, o.spp, stats.decoded, stats.decode_seconds, stats.brdf_evals, stats.triangles);
+             out_w, o.height, o.spp, stats.decoded, stats.decode_seconds, stats.brdf_evals,
+             stats.triangles);
     } else {
       printf("wrote %s%s%s: %d x %d, %d spp, %s mode, %d mip levels, %zu decoder queries, %zu "
              "ground-truth evaluations\n",
              out, png ? " and " : "", png ? png : "", out_w, o.height, o.spp,
              a.side_by_side ? "neural | reference"
-                            : (o.mode == NBRDF_RENDER_NEURAL ? "neural" : "reference"), stats.levels, stats.decoded,
-             stats.brdf_evals);
+                            : (o.mode == NBRDF_RENDER_NEURAL ? "neural" : "reference"),
+             stats.levels, stats.decoded, stats.brdf_evals);
       if (stats.decoded && stats.decode_seconds > 0.0)
         printf("decoder: %.3g queries/s inside the renderer (%.2f s decoding, all threads)\n",
                stats.decoded / stats.decode_seconds, stats.decode_seconds);

@@ -38,14 +38,16 @@ int render_camera_look(render_camera *cam, const double pos[3], const double tar
 
 void render_camera_set_mesh(render_camera *cam, const render_mesh *mesh, const render_bvh *bvh) {
   cam->mesh = mesh, cam->bvh = bvh;
-  vec3 lo = v3(mesh->lo[0], mesh->lo[1], mesh->lo[2]), hi = v3(mesh->hi[0], mesh->hi[1], mesh->hi[2]);
+  vec3 lo = v3(mesh->lo[0], mesh->lo[1], mesh->lo[2]),
+       hi = v3(mesh->hi[0], mesh->hi[1], mesh->hi[2]);
   vec3 c = v3_scale(v3_add(lo, hi), 0.5);
   double radius = 0.5 * v3_length(v3_sub(hi, lo));
   if (!(radius > 0.0)) radius = 1.0;
   /* Shadow rays start this far off the surface: beyond the float rounding of the BVH's
    * triangle tests (~1e-7 of the coordinates' magnitude), a tiny fraction of the mesh. */
   double mag = 0.0;
-  for (int k = 0; k < 3; k++) mag = fmax(mag, fmax(fabs(mesh->lo[k]), fabs(mesh->hi[k])));
+  for (int k = 0; k < 3; k++)
+    mag = fmax(mag, fmax(fabs(mesh->lo[k]), fabs(mesh->hi[k])));
   cam->eps = fmax(1e-5 * radius, 1e-5 * mag);
   /* The bounding sphere fills the frame's height with a 10 % margin. */
   double fov = 40.0, dist = 1.1 * radius / sin(0.5 * fov * M_PI / 180.0);

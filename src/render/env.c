@@ -22,9 +22,9 @@ struct render_env {
   float *image;
   vec3 sun;
   double rot_c, rot_s; /* env_rotation_deg about +y: world = R · environment */
-  double *cond_cdf;  /* TABLE_H rows of TABLE_W + 1 */
-  double *marg_cdf;  /* TABLE_H + 1 */
-  double *cell_prob; /* TABLE_H x TABLE_W, sums to 1 */
+  double *cond_cdf;    /* TABLE_H rows of TABLE_W + 1 */
+  double *marg_cdf;    /* TABLE_H + 1 */
+  double *cell_prob;   /* TABLE_H x TABLE_W, sums to 1 */
 };
 
 static double luminance(const double c[3]) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }

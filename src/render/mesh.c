@@ -88,8 +88,8 @@ nbrdf_status render_mesh_finish(render_mesh *m, int has_normals, const char *wha
   }
   for (int v = 0; v < m->vertices; v++) {
     float *n = m->n + 3 * (size_t)v;
-    double l = has_normals ? sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2])
-                           : 0.0;
+    double l =
+        has_normals ? sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]) : 0.0;
     if (!(l > 1e-12) || !isfinite(l)) {
       n = acc + 3 * (size_t)v;
       l = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);

@@ -17,13 +17,13 @@ extern "C" {
 
 typedef struct render_mesh {
   int vertices, triangles;
-  float *p;     /* vertices x 3 */
+  float *p; /* vertices x 3 */
   /* vertices x 2: the texture's (u, v) as latent_fetch.h takes them, v from the image's top
    * row. OBJ and PLY store v from the bottom (Blender's convention) and are flipped to 1 - v
    * by their readers; glTF's v already runs from the top. */
   float *uv;
-  float *n;     /* vertices x 3, unit; computed from the faces when the file has none */
-  uint32_t *tri; /* triangles x 3 vertex indices */
+  float *n;            /* vertices x 3, unit; computed from the faces when the file has none */
+  uint32_t *tri;       /* triangles x 3 vertex indices */
   double lo[3], hi[3]; /* bounds */
   int cap_v, cap_t;    /* allocated vertices / triangles (while reading) */
 } render_mesh;

@@ -22,8 +22,8 @@ struct render_bvh {
   const render_mesh *mesh;
   bvh_node *node;
   int nodes;
-  int *order;   /* leaf order -> mesh triangle */
-  float *tri;   /* per leaf-ordered triangle: v0, e1, e2 (9 floats) */
+  int *order; /* leaf order -> mesh triangle */
+  float *tri; /* per leaf-ordered triangle: v0, e1, e2 (9 floats) */
 };
 
 typedef struct box {
@@ -31,21 +31,24 @@ typedef struct box {
 } box;
 
 static void box_empty(box *b) {
-  for (int k = 0; k < 3; k++) b->lo[k] = FLT_MAX, b->hi[k] = -FLT_MAX;
+  for (int k = 0; k < 3; k++)
+    b->lo[k] = FLT_MAX, b->hi[k] = -FLT_MAX;
 }
 static void box_add_box(box *b, const box *o) {
-  for (int k = 0; k < 3; k++) b->lo[k] = fminf(b->lo[k], o->lo[k]), b->hi[k] = fmaxf(b->hi[k], o->hi[k]);
+  for (int k = 0; k < 3; k++)
+    b->lo[k] = fminf(b->lo[k], o->lo[k]), b->hi[k] = fmaxf(b->hi[k], o->hi[k]);
 }
 static float box_area(const box *b) {
   float d[3];
-  for (int k = 0; k < 3; k++) d[k] = b->hi[k] > b->lo[k] ? b->hi[k] - b->lo[k] : 0.0f;
+  for (int k = 0; k < 3; k++)
+    d[k] = b->hi[k] > b->lo[k] ? b->hi[k] - b->lo[k] : 0.0f;
   return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
 }
 
 typedef struct build {
   render_bvh *bvh;
-  box *tb;      /* per triangle bounds */
-  float *cen;   /* per triangle centroid x3 */
+  box *tb;    /* per triangle bounds */
+  float *cen; /* per triangle centroid x3 */
   int cap;
 } build;
 
@@ -83,7 +86,8 @@ static int build_node(build *b, int ni, int first, int count) {
     if (!(ext > 0.0f)) continue;
     box bin[BINS];
     int cnt[BINS] = {0};
-    for (int k = 0; k < BINS; k++) box_empty(&bin[k]);
+    for (int k = 0; k < BINS; k++)
+      box_empty(&bin[k]);
     for (int i = first; i < first + count; i++) {
       int k = (int)((b->cen[3 * (size_t)ord[i] + a] - cb.lo[a]) / ext * BINS);
       k = k < 0 ? 0 : (k >= BINS ? BINS - 1 : k);
@@ -157,7 +161,8 @@ nbrdf_status render_bvh_build(const render_mesh *m, render_bvh **out, nbrdf_erro
       box pb = {{p[0], p[1], p[2]}, {p[0], p[1], p[2]}};
       box_add_box(&b.tb[t], &pb);
     }
-    for (int a = 0; a < 3; a++) b.cen[3 * (size_t)t + a] = 0.5f * (b.tb[t].lo[a] + b.tb[t].hi[a]);
+    for (int a = 0; a < 3; a++)
+      b.cen[3 * (size_t)t + a] = 0.5f * (b.tb[t].lo[a] + b.tb[t].hi[a]);
   }
   if (ok) h->nodes = 1, ok = build_node(&b, 0, 0, n);
   for (int i = 0; ok && i < n; i++) {
@@ -165,12 +170,14 @@ nbrdf_status render_bvh_build(const render_mesh *m, render_bvh **out, nbrdf_erro
     const float *p0 = m->p + 3 * (size_t)v[0], *p1 = m->p + 3 * (size_t)v[1],
                 *p2 = m->p + 3 * (size_t)v[2];
     float *d = h->tri + 9 * (size_t)i;
-    for (int k = 0; k < 3; k++) d[k] = p0[k], d[3 + k] = p1[k] - p0[k], d[6 + k] = p2[k] - p0[k];
+    for (int k = 0; k < 3; k++)
+      d[k] = p0[k], d[3 + k] = p1[k] - p0[k], d[6 + k] = p2[k] - p0[k];
   }
   free(b.tb), free(b.cen);
   if (!ok) {
     render_bvh_free(h);
-    return core_fail(err, NBRDF_ERR_MEMORY, "mesh: out of memory building the BVH of %d triangles", n);
+    return core_fail(err, NBRDF_ERR_MEMORY, "mesh: out of memory building the BVH of %d triangles",
+                     n);
   }
   *out = h;
   return NBRDF_OK;
@@ -187,14 +194,16 @@ int render_bvh_nodes(const render_bvh *h) { return h->nodes; }
 static inline float tri_test(const float *d, const float o[3], const float r[3], float *b1,
                              float *b2) {
   const float *e1 = d + 3, *e2 = d + 6;
-  float p[3] = {r[1] * e2[2] - r[2] * e2[1], r[2] * e2[0] - r[0] * e2[2], r[0] * e2[1] - r[1] * e2[0]};
+  float p[3] = {r[1] * e2[2] - r[2] * e2[1], r[2] * e2[0] - r[0] * e2[2],
+                r[0] * e2[1] - r[1] * e2[0]};
   float det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
   if (fabsf(det) < 1e-20f) return -1.0f;
   float inv = 1.0f / det;
   float s[3] = {o[0] - d[0], o[1] - d[1], o[2] - d[2]};
   float u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv;
   if (u < 0.0f || u > 1.0f) return -1.0f;
-  float q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};
+  float q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2],
+                s[0] * e1[1] - s[1] * e1[0]};
   float v = (r[0] * q[0] + r[1] * q[1] + r[2] * q[2]) * inv;
   if (v < 0.0f || u + v > 1.0f) return -1.0f;
   *b1 = u, *b2 = v;
@@ -221,7 +230,8 @@ static int traverse(const render_bvh *h, vec3 org, vec3 dir, double tmin, double
                     render_ray_hit *hit) {
   float o[3] = {(float)org.x, (float)org.y, (float)org.z};
   float r[3] = {(float)dir.x, (float)dir.y, (float)dir.z}, inv[3];
-  for (int a = 0; a < 3; a++) inv[a] = 1.0f / (fabsf(r[a]) > 1e-30f ? r[a] : copysignf(1e-30f, r[a]));
+  for (int a = 0; a < 3; a++)
+    inv[a] = 1.0f / (fabsf(r[a]) > 1e-30f ? r[a] : copysignf(1e-30f, r[a]));
   float lo = (float)tmin, best = (float)tmax, tn;
   int stack[128], sp = 0, found = -1;
   float fb1 = 0, fb2 = 0;
@@ -241,11 +251,14 @@ static int traverse(const render_bvh *h, vec3 org, vec3 dir, double tmin, double
     }
     int a = (int)(n - h->node) + 1, b = n->first;
     float ta, tb;
-    int ha = slab(&h->node[a], o, inv, lo, best, &ta), hb = slab(&h->node[b], o, inv, lo, best, &tb);
+    int ha = slab(&h->node[a], o, inv, lo, best, &ta),
+        hb = slab(&h->node[b], o, inv, lo, best, &tb);
     if (ha && hb) {
       /* nearer child on top */
-      if (ta < tb) stack[sp++] = b, stack[sp++] = a;
-      else stack[sp++] = a, stack[sp++] = b;
+      if (ta < tb)
+        stack[sp++] = b, stack[sp++] = a;
+      else
+        stack[sp++] = a, stack[sp++] = b;
     } else if (ha) {
       stack[sp++] = a;
     } else if (hb) {
@@ -275,7 +288,8 @@ int render_triangle_intersect(const render_mesh *m, int tri, vec3 org, vec3 dir,
     d[k] = m->p[3 * v[0] + k];
     d[3 + k] = m->p[3 * v[1] + k] - d[k], d[6 + k] = m->p[3 * v[2] + k] - d[k];
   }
-  float o[3] = {(float)org.x, (float)org.y, (float)org.z}, r[3] = {(float)dir.x, (float)dir.y, (float)dir.z};
+  float o[3] = {(float)org.x, (float)org.y, (float)org.z},
+        r[3] = {(float)dir.x, (float)dir.y, (float)dir.z};
   float b1 = 0.0f, b2 = 0.0f, t = tri_test(d, o, r, &b1, &b2);
   if (!(t > (float)tmin && t < (float)tmax)) return 0;
   hit->tri = tri, hit->t = t, hit->b1 = b1, hit->b2 = b2;

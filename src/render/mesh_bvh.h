@@ -8,8 +8,8 @@
 typedef struct render_bvh render_bvh;
 
 typedef struct render_ray_hit {
-  int tri;      /* triangle index in the mesh, -1: none */
-  double t;     /* distance along the (unit) direction */
+  int tri;       /* triangle index in the mesh, -1: none */
+  double t;      /* distance along the (unit) direction */
   double b1, b2; /* barycentrics of the triangle's second and third vertex */
 } render_ray_hit;
 

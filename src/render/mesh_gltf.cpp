@@ -5,8 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <strings.h>
 #include <string>
+#include <strings.h>
 #include <vector>
 
 #include <tiny_gltf.h>
@@ -34,7 +34,8 @@ mat4 mul(const mat4 &a, const mat4 &b) {
   for (int c = 0; c < 4; c++)
     for (int row = 0; row < 4; row++) {
       double s = 0.0;
-      for (int k = 0; k < 4; k++) s += a.m[k * 4 + row] * b.m[c * 4 + k];
+      for (int k = 0; k < 4; k++)
+        s += a.m[k * 4 + row] * b.m[c * 4 + k];
       r.m[c * 4 + row] = s;
     }
   return r;
@@ -43,23 +44,29 @@ mat4 mul(const mat4 &a, const mat4 &b) {
 mat4 local_of(const tinygltf::Node &n) {
   mat4 r = identity();
   if (n.matrix.size() == 16) {
-    for (int k = 0; k < 16; k++) r.m[k] = n.matrix[k];
+    for (int k = 0; k < 16; k++)
+      r.m[k] = n.matrix[k];
     return r;
   }
   double t[3] = {0, 0, 0}, q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
   if (n.translation.size() == 3)
-    for (int k = 0; k < 3; k++) t[k] = n.translation[k];
+    for (int k = 0; k < 3; k++)
+      t[k] = n.translation[k];
   if (n.rotation.size() == 4)
-    for (int k = 0; k < 4; k++) q[k] = n.rotation[k];
+    for (int k = 0; k < 4; k++)
+      q[k] = n.rotation[k];
   if (n.scale.size() == 3)
-    for (int k = 0; k < 3; k++) s[k] = n.scale[k];
+    for (int k = 0; k < 3; k++)
+      s[k] = n.scale[k];
   double x = q[0], y = q[1], z = q[2], w = q[3];
   double R[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
                  2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
                  2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)};
   for (int c = 0; c < 3; c++)
-    for (int row = 0; row < 3; row++) r.m[c * 4 + row] = R[c * 3 + row] * s[c];
-  for (int k = 0; k < 3; k++) r.m[12 + k] = t[k];
+    for (int row = 0; row < 3; row++)
+      r.m[c * 4 + row] = R[c * 3 + row] * s[c];
+  for (int k = 0; k < 3; k++)
+    r.m[12 + k] = t[k];
   return r;
 }
 
@@ -120,7 +127,8 @@ double component(const unsigned char *p, int type, bool normalized) {
     std::memcpy(&f, p, 4);
     return f;
   }
-  case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0 : p[0];
+  case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+    return normalized ? p[0] / 255.0 : p[0];
   case TINYGLTF_COMPONENT_TYPE_BYTE: {
     double v = (signed char)p[0];
     return normalized ? std::fmax(v / 127.0, -1.0) : v;
@@ -140,7 +148,8 @@ double component(const unsigned char *p, int type, bool normalized) {
     std::memcpy(&u, p, 4);
     return u;
   }
-  default: return NAN;
+  default:
+    return NAN;
   }
 }
 
@@ -173,15 +182,16 @@ bool primitive(reader &r, int mi, int pi, const mat4 &world) {
   if (nor != p.attributes.end() && !accessor_view(r, nor->second, wn.c_str(), 3, &bn, &sn, &an))
     return false;
   if (at->count != ap->count || (an && an->count != ap->count)) {
-    core_fail(r.err, NBRDF_ERR_FORMAT, "%s: %s: attribute counts differ (POSITION %zu, TEXCOORD_0 %zu)",
-              r.path, what, ap->count, at->count);
+    core_fail(r.err, NBRDF_ERR_FORMAT,
+              "%s: %s: attribute counts differ (POSITION %zu, TEXCOORD_0 %zu)", r.path, what,
+              ap->count, at->count);
     return false;
   }
   // Normals by the inverse transpose of the upper 3x3 (cofactors: same direction).
   const double *M = world.m;
   double C[9] = {M[5] * M[10] - M[6] * M[9], M[6] * M[8] - M[4] * M[10], M[4] * M[9] - M[5] * M[8],
                  M[2] * M[9] - M[1] * M[10], M[0] * M[10] - M[2] * M[8], M[1] * M[8] - M[0] * M[9],
-                 M[1] * M[6] - M[2] * M[5], M[2] * M[4] - M[0] * M[6], M[0] * M[5] - M[1] * M[4]};
+                 M[1] * M[6] - M[2] * M[5],  M[2] * M[4] - M[0] * M[6],  M[0] * M[5] - M[1] * M[4]};
   double det = M[0] * C[0] + M[4] * C[1] + M[8] * C[2];
   uint32_t base = (uint32_t)r.mesh->vertices;
   for (size_t k = 0; k < ap->count; k++) {
@@ -189,14 +199,17 @@ bool primitive(reader &r, int mi, int pi, const mat4 &world) {
     for (int c = 0; c < 3; c++)
       x[c] = component(bp + k * sp + 4 * c, ap->componentType, ap->normalized);
     int ts = tinygltf::GetComponentSizeInBytes((uint32_t)at->componentType);
-    for (int c = 0; c < 2; c++) t[c] = component(bt + k * stc + ts * c, at->componentType, at->normalized);
+    for (int c = 0; c < 2; c++)
+      t[c] = component(bt + k * stc + ts * c, at->componentType, at->normalized);
     if (bn)
-      for (int c = 0; c < 3; c++) nn[c] = component(bn + k * sn + 4 * c, an->componentType, an->normalized);
+      for (int c = 0; c < 3; c++)
+        nn[c] = component(bn + k * sn + 4 * c, an->componentType, an->normalized);
     float pw[3], uv[2] = {(float)t[0], (float)t[1]}, nw[3];
     for (int c = 0; c < 3; c++) {
       pw[c] = (float)(M[c] * x[0] + M[4 + c] * x[1] + M[8 + c] * x[2] + M[12 + c]);
       // C row c is the cofactor row; inverse transpose = C / det.
-      nw[c] = (float)((C[c] * nn[0] + C[3 + c] * nn[1] + C[6 + c] * nn[2]) * (det < 0 ? -1.0 : 1.0));
+      nw[c] =
+          (float)((C[c] * nn[0] + C[3 + c] * nn[1] + C[6 + c] * nn[2]) * (det < 0 ? -1.0 : 1.0));
     }
     if (!render_mesh_add_vertex(r.mesh, pw, uv, bn ? nw : nullptr)) {
       core_fail(r.err, NBRDF_ERR_MEMORY, "%s: out of memory", r.path);
@@ -233,7 +246,8 @@ bool primitive(reader &r, int mi, int pi, const mat4 &world) {
     }
   } else {
     for (size_t k = 0; k + 2 < ap->count; k += 3)
-      if (!render_mesh_add_triangle(r.mesh, base + (uint32_t)k, base + (uint32_t)(flip ? k + 2 : k + 1),
+      if (!render_mesh_add_triangle(r.mesh, base + (uint32_t)k,
+                                    base + (uint32_t)(flip ? k + 2 : k + 1),
                                     base + (uint32_t)(flip ? k + 1 : k + 2))) {
         core_fail(r.err, NBRDF_ERR_MEMORY, "%s: out of memory", r.path);
         return false;
@@ -245,7 +259,8 @@ bool primitive(reader &r, int mi, int pi, const mat4 &world) {
 bool node(reader &r, int ni, const mat4 &parent, int depth, int *has_normals) {
   const tinygltf::Model &m = r.model;
   if (ni < 0 || ni >= (int)m.nodes.size() || depth > 64) {
-    core_fail(r.err, NBRDF_ERR_FORMAT, "%s: node %d does not exist or the hierarchy loops", r.path, ni);
+    core_fail(r.err, NBRDF_ERR_FORMAT, "%s: node %d does not exist or the hierarchy loops", r.path,
+              ni);
     return false;
   }
   const tinygltf::Node &n = m.nodes[ni];
@@ -288,11 +303,13 @@ extern "C" nbrdf_status render_mesh_read_gltf(const char *path, render_mesh **ou
     bool ok = glb ? loader.LoadBinaryFromFile(&model, &e, &w, path)
                   : loader.LoadASCIIFromFile(&model, &e, &w, path);
     if (!ok) {
-      while (!e.empty() && (e.back() == '\n' || e.back() == ' ')) e.pop_back();
+      while (!e.empty() && (e.back() == '\n' || e.back() == ' '))
+        e.pop_back();
       for (char &c : e)
         if (c == '\n') c = ' ';
       return core_fail(err, NBRDF_ERR_FORMAT, "%s: not a readable glTF 2.0 %s file: %s", path,
-                       glb ? "binary (.glb)" : "(.gltf)", e.empty() ? "no reason given" : e.c_str());
+                       glb ? "binary (.glb)" : "(.gltf)",
+                       e.empty() ? "no reason given" : e.c_str());
     }
     render_mesh *m = render_mesh_new();
     if (!m) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);

@@ -46,8 +46,10 @@ static int map_grow(corner_map *m) {
   for (size_t i = 0; i < m->cap; i++)
     if (m->key[3 * i]) {
       size_t h = mix((uint64_t)m->key[3 * i] * 31 + (uint64_t)m->key[3 * i + 1] * 17 +
-                     (uint64_t)m->key[3 * i + 2]) & (cap - 1);
-      while (k[3 * h]) h = (h + 1) & (cap - 1);
+                     (uint64_t)m->key[3 * i + 2]) &
+                 (cap - 1);
+      while (k[3 * h])
+        h = (h + 1) & (cap - 1);
       memcpy(k + 3 * h, m->key + 3 * i, 3 * sizeof(int64_t)), v[h] = m->val[i];
     }
   free(m->key), free(m->val);
@@ -132,7 +134,8 @@ static int corner(obj_state *s, char *tok, uint32_t *vertex) {
   if (f) return *vertex = (uint32_t)s->map.val[slot], 1;
   const float *t = s->vt.v + 2 * (size_t)b;
   float uv[2] = {t[0], 1.0f - t[1]};
-  if (!render_mesh_add_vertex(s->m, s->v.v + 3 * (size_t)a, uv, c >= 0 ? s->vn.v + 3 * (size_t)c : NULL))
+  if (!render_mesh_add_vertex(s->m, s->v.v + 3 * (size_t)a, uv,
+                              c >= 0 ? s->vn.v + 3 * (size_t)c : NULL))
     return core_fail(s->err, NBRDF_ERR_MEMORY, "%s: out of memory", s->path), 0;
   if (c >= 0) s->any_vn = 1;
   memcpy(s->map.key + 3 * slot, key, sizeof key);
@@ -146,7 +149,8 @@ static int floats(obj_state *s, char *rest, float *x, int want, int allow_extra,
   char *p = rest, *end;
   int k = 0;
   for (;; k++) {
-    while (*p == ' ' || *p == '\t') p++;
+    while (*p == ' ' || *p == '\t')
+      p++;
     if (!*p) break;
     errno = 0;
     double d = strtod(p, &end);
@@ -154,7 +158,8 @@ static int floats(obj_state *s, char *rest, float *x, int want, int allow_extra,
     if (k < want) x[k] = (float)d;
     p = end;
   }
-  while (*p == ' ' || *p == '\t') p++;
+  while (*p == ' ' || *p == '\t')
+    p++;
   if (k < want || (*p && *p != '#') || (k > want + allow_extra)) {
     core_fail(s->err, NBRDF_ERR_FORMAT, "%s:%d: '%s' expects %d number(s)%s", s->path, s->line,
               what, want, allow_extra ? " (one more allowed)" : "");
@@ -182,9 +187,11 @@ nbrdf_status render_mesh_read_obj(const char *path, render_mesh **out, nbrdf_err
                      sizeof line - 2);
       break;
     }
-    while (n && (line[n - 1] == '\n' || line[n - 1] == '\r')) line[--n] = '\0';
+    while (n && (line[n - 1] == '\n' || line[n - 1] == '\r'))
+      line[--n] = '\0';
     char *p = line;
-    while (*p == ' ' || *p == '\t') p++;
+    while (*p == ' ' || *p == '\t')
+      p++;
     float x[3] = {0, 0, 0};
     int ok = 1;
     if (!strncmp(p, "v ", 2) || !strncmp(p, "v\t", 2)) {
@@ -196,7 +203,8 @@ nbrdf_status render_mesh_read_obj(const char *path, render_mesh **out, nbrdf_err
     } else if (!strncmp(p, "f ", 2) || !strncmp(p, "f\t", 2)) {
       uint32_t first = 0, prev = 0;
       int k = 0;
-      for (char *tok = strtok(p + 2, " \t"); ok && tok && *tok != '#'; tok = strtok(NULL, " \t"), k++) {
+      for (char *tok = strtok(p + 2, " \t"); ok && tok && *tok != '#';
+           tok = strtok(NULL, " \t"), k++) {
         uint32_t v;
         ok = corner(&s, tok, &v);
         if (!ok) break;
@@ -206,8 +214,8 @@ nbrdf_status render_mesh_read_obj(const char *path, render_mesh **out, nbrdf_err
         prev = v;
       }
       if (ok && k < 3)
-        ok = 0, core_fail(err, NBRDF_ERR_FORMAT, "%s:%d: a face has %d corner(s), expected 3 or more",
-                          path, s.line, k);
+        ok = 0, core_fail(err, NBRDF_ERR_FORMAT,
+                          "%s:%d: a face has %d corner(s), expected 3 or more", path, s.line, k);
     }
     if (!ok) st = err->status != NBRDF_OK ? err->status : NBRDF_ERR_FORMAT;
   }

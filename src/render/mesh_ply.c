@@ -14,8 +14,8 @@ enum { MAXPROP = 32, MAXELEM = 16 };
 
 typedef struct ply_prop {
   char name[64];
-  int type;      /* bytes of the value (1, 2, 4, 8) and kind below */
-  int is_float;  /* float / double */
+  int type;     /* bytes of the value (1, 2, 4, 8) and kind below */
+  int is_float; /* float / double */
   int is_signed;
   int is_list;
   int count_type, count_signed; /* list length's size in bytes */
@@ -59,8 +59,8 @@ static int read_value(ply_in *in, int size, int is_float, int is_signed, double 
     while ((c = fgetc(in->f)) == ' ' || c == '\t' || c == '\r' || c == '\n')
       if (c == '\n') in->line++;
     if (c == EOF) {
-      core_fail(in->err, NBRDF_ERR_FORMAT, "%s:%d: file ends inside the data (more values expected)",
-                in->path, in->line);
+      core_fail(in->err, NBRDF_ERR_FORMAT,
+                "%s:%d: file ends inside the data (more values expected)", in->path, in->line);
       return 0;
     }
     int n = 0;
@@ -84,7 +84,8 @@ static int read_value(ply_in *in, int size, int is_float, int is_signed, double 
     return 0;
   }
   uint64_t u = 0;
-  for (int k = size - 1; k >= 0; k--) u = u << 8 | b[k]; /* little-endian */
+  for (int k = size - 1; k >= 0; k--)
+    u = u << 8 | b[k]; /* little-endian */
   if (is_float) {
     if (size == 4) {
       uint32_t u32 = (uint32_t)u;
@@ -192,11 +193,13 @@ nbrdf_status render_mesh_read_ply(const char *path, render_mesh **out, nbrdf_err
   ply_elem el[MAXELEM];
   int nel = 0;
   render_mesh *m = render_mesh_new();
-  nbrdf_status st = m ? read_header(&in, el, &nel) : core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
+  nbrdf_status st =
+      m ? read_header(&in, el, &nel) : core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   static const char *const xs[] = {"x", NULL}, *const ys[] = {"y", NULL}, *const zs[] = {"z", NULL};
   static const char *const us[] = {"s", "u", "texture_u", "texture_s", NULL};
   static const char *const vs[] = {"t", "v", "texture_v", "texture_t", NULL};
-  static const char *const nxs[] = {"nx", NULL}, *const nys[] = {"ny", NULL}, *const nzs[] = {"nz", NULL};
+  static const char *const nxs[] = {"nx", NULL}, *const nys[] = {"ny", NULL},
+                           *const nzs[] = {"nz", NULL};
   static const char *const idx[] = {"vertex_indices", "vertex_index", NULL};
   int has_normals = 0, seen_vertex = 0, seen_face = 0;
   double *vals = NULL;
@@ -277,15 +280,18 @@ nbrdf_status render_mesh_read_ply(const char *path, render_mesh **out, nbrdf_err
           prev = vi;
         }
         if (st == NBRDF_OK && is_f && k == fi && cnt < 3)
-          st = core_fail(err, NBRDF_ERR_FORMAT, "%s:%d: face %ld has %g corner(s), expected 3 or more",
-                         path, in.line, r, cnt);
+          st = core_fail(err, NBRDF_ERR_FORMAT,
+                         "%s:%d: face %ld has %g corner(s), expected 3 or more", path, in.line, r,
+                         cnt);
       }
       if (st == NBRDF_OK && is_v) {
         float pp[3], uv[2], nn[3];
-        for (int k = 0; k < 3; k++) pp[k] = (float)vals[pi[k]];
+        for (int k = 0; k < 3; k++)
+          pp[k] = (float)vals[pi[k]];
         uv[0] = (float)vals[pi[3]], uv[1] = 1.0f - (float)vals[pi[4]];
         if (has_normals)
-          for (int k = 0; k < 3; k++) nn[k] = (float)vals[pi[5 + k]];
+          for (int k = 0; k < 3; k++)
+            nn[k] = (float)vals[pi[5 + k]];
         if (!render_mesh_add_vertex(m, pp, uv, has_normals ? nn : NULL))
           st = core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
       }

@@ -30,8 +30,8 @@ static nbrdf_status check_options(const nbrdf_model *model, const nbrdf_render_o
                        "render: camera at (%g, %g, %g) looking at (%g, %g, %g) with up (%g, %g, "
                        "%g) is no view (expected position != target, up not along the view)",
                        o->camera_pos[0], o->camera_pos[1], o->camera_pos[2], o->camera_target[0],
-                       o->camera_target[1], o->camera_target[2], o->camera_up[0],
-                       o->camera_up[1], o->camera_up[2]);
+                       o->camera_target[1], o->camera_target[2], o->camera_up[0], o->camera_up[1],
+                       o->camera_up[2]);
   }
   if (o->width < 1 || o->height < 1 || o->width > 16384 || o->height > 16384)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "render: image %d x %d, expected 1..16384 each",

@@ -16,7 +16,8 @@ static render_mesh *load(const char *name, nbrdf_status want, const char *msg) {
   nbrdf_error err = {NBRDF_OK, ""};
   nbrdf_status st = render_mesh_load(testing_path(name), &m, &err);
   CHECK_MSG(st == want, "%s: %s (%s)", name, nbrdf_status_name(st), err.message);
-  if (msg) CHECK_MSG(strstr(err.message, msg), "%s: message '%s' lacks '%s'", name, err.message, msg);
+  if (msg)
+    CHECK_MSG(strstr(err.message, msg), "%s: message '%s' lacks '%s'", name, err.message, msg);
   return m;
 }
 
@@ -32,7 +33,7 @@ static void test_obj(void) {
   render_mesh *m = load("q.obj", NBRDF_OK, NULL);
   if (!m) return;
   CHECK(m->triangles == 3);
-  CHECK(m->vertices == 4); /* corners shared */
+  CHECK(m->vertices == 4);                 /* corners shared */
   CHECK_NEAR(m->uv[2 * 2 + 1], 0.0, 1e-7); /* vt (1, 1) -> v from the top 0 */
   CHECK_NEAR(m->uv[2 * 0 + 1], 1.0, 1e-7);
   CHECK_NEAR(m->n[2], 1.0, 1e-7);
@@ -159,7 +160,8 @@ static void test_gltf(void) {
   if (f) {
     fwrite("glTF", 1, 4, f), put32(f, 2), put32(f, (unsigned)(12 + 8 + jp + 8 + bp));
     put32(f, (unsigned)jp), fwrite("JSON", 1, 4, f), fwrite(json, 1, jl, f);
-    for (size_t k = jl; k < jp; k++) fputc(' ', f);
+    for (size_t k = jl; k < jp; k++)
+      fputc(' ', f);
     put32(f, (unsigned)bp), fwrite("BIN\0", 1, 4, f), fwrite(bin, 1, bp, f);
     fclose(f);
   }
@@ -180,9 +182,11 @@ static void test_bvh(void) {
   core_rng r;
   core_rng_init(&r, 5, 0);
   for (int t = 0; t < 3000; t++) {
-    vec3 c = v3(4 * core_rng_uniform(&r) - 2, 4 * core_rng_uniform(&r) - 2, 4 * core_rng_uniform(&r) - 2);
+    vec3 c = v3(4 * core_rng_uniform(&r) - 2, 4 * core_rng_uniform(&r) - 2,
+                4 * core_rng_uniform(&r) - 2);
     for (int k = 0; k < 3; k++) {
-      float p[3] = {(float)(c.x + 0.2 * core_rng_uniform(&r)), (float)(c.y + 0.2 * core_rng_uniform(&r)),
+      float p[3] = {(float)(c.x + 0.2 * core_rng_uniform(&r)),
+                    (float)(c.y + 0.2 * core_rng_uniform(&r)),
                     (float)(c.z + 0.2 * core_rng_uniform(&r))},
             uv[2] = {0, 0};
       CHECK(render_mesh_add_vertex(m, p, uv, NULL));
@@ -197,8 +201,10 @@ static void test_bvh(void) {
   CHECK(render_bvh_nodes(b) < 2 * m->triangles);
   int hits = 0;
   for (int k = 0; k < 2000; k++) {
-    vec3 o = v3(6 * core_rng_uniform(&r) - 3, 6 * core_rng_uniform(&r) - 3, 6 * core_rng_uniform(&r) - 3);
-    vec3 d = v3_normalize(v3(core_rng_uniform(&r) - 0.5, core_rng_uniform(&r) - 0.5, core_rng_uniform(&r) - 0.5));
+    vec3 o = v3(6 * core_rng_uniform(&r) - 3, 6 * core_rng_uniform(&r) - 3,
+                6 * core_rng_uniform(&r) - 3);
+    vec3 d = v3_normalize(
+        v3(core_rng_uniform(&r) - 0.5, core_rng_uniform(&r) - 0.5, core_rng_uniform(&r) - 0.5));
     render_ray_hit best = {-1, 1e30, 0, 0}, h;
     for (int t = 0; t < m->triangles; t++)
       if (render_triangle_intersect(m, t, o, d, 0.0, best.t, &h)) best = h;

@@ -50,24 +50,26 @@ static float *render(const nbrdf_render_options *o) {
  * tests the texture coordinates' orientation (u east, v from the top). */
 static void test_sphere_mesh(void) {
   for (int t = 0; t < 2; t++) {
-  texture = t ? "m.exr" : "c.exr";
-  write_sphere(testing_path("sphere.obj"), 256, 512);
-  nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
-  o.width = o.height = 48, o.spp = 4, o.seed = 3, o.light_intensity = 20.0, o.mip = 0;
-  float *ref = render(&o);
-  o.scene = NBRDF_SCENE_MESH, o.mesh_path = testing_path("sphere.obj");
-  /* The built-in sphere's view. */
-  o.camera_set = 1;
-  o.camera_pos[2] = 3.2, o.camera_up[1] = 1.0, o.fov_deg = 40.0;
-  float *mesh = render(&o);
-  double diff = 0.0, mean = 0.0;
-  int n = 3 * o.width * o.height;
-  for (int k = 0; k < n; k++) diff += fabs(ref[k] - mesh[k]), mean += ref[k];
-  diff /= n, mean /= n;
-  printf("%s: sphere mesh against the built-in sphere: mean |difference| %.3g (mean value %.3g)\n",
-         texture, diff, mean);
-  CHECK_MSG(diff < 1e-3 * mean, "%s: mean |difference| %g, mean %g", texture, diff, mean);
-  free(ref), free(mesh);
+    texture = t ? "m.exr" : "c.exr";
+    write_sphere(testing_path("sphere.obj"), 256, 512);
+    nbrdf_render_options o = NBRDF_RENDER_OPTIONS_DEFAULT;
+    o.width = o.height = 48, o.spp = 4, o.seed = 3, o.light_intensity = 20.0, o.mip = 0;
+    float *ref = render(&o);
+    o.scene = NBRDF_SCENE_MESH, o.mesh_path = testing_path("sphere.obj");
+    /* The built-in sphere's view. */
+    o.camera_set = 1;
+    o.camera_pos[2] = 3.2, o.camera_up[1] = 1.0, o.fov_deg = 40.0;
+    float *mesh = render(&o);
+    double diff = 0.0, mean = 0.0;
+    int n = 3 * o.width * o.height;
+    for (int k = 0; k < n; k++)
+      diff += fabs(ref[k] - mesh[k]), mean += ref[k];
+    diff /= n, mean /= n;
+    printf(
+        "%s: sphere mesh against the built-in sphere: mean |difference| %.3g (mean value %.3g)\n",
+        texture, diff, mean);
+    CHECK_MSG(diff < 1e-3 * mean, "%s: mean |difference| %g, mean %g", texture, diff, mean);
+    free(ref), free(mesh);
   }
   texture = "c.exr";
 }
@@ -93,8 +95,10 @@ static void test_shadow_and_errors(void) {
   static const char floor_obj[] = "v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"
                                   "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 4/4 3/3 2/2 1/1\n";
   char roof[1024];
-  snprintf(roof, sizeof roof, "%sv -0.5 0.5 -0.5\nv 0.5 0.5 -0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
-           "f 8/4 7/3 6/2 5/1\n", floor_obj);
+  snprintf(roof, sizeof roof,
+           "%sv -0.5 0.5 -0.5\nv 0.5 0.5 -0.5\nv 0.5 0.5 0.5\nv -0.5 0.5 0.5\n"
+           "f 8/4 7/3 6/2 5/1\n",
+           floor_obj);
   write_text("floor.obj", floor_obj);
   write_text("roof.obj", roof);
   o.env = NBRDF_ENV_CONSTANT, o.env_value[0] = o.env_value[1] = o.env_value[2] = 0.0f;
@@ -106,7 +110,8 @@ static void test_shadow_and_errors(void) {
   o.mesh_path = testing_path("roof.obj");
   float *shadowed = render(&o);
   double a = 0.0, b = 0.0;
-  for (int k = 0; k < 3 * 64; k++) a += lit[k], b += shadowed[k];
+  for (int k = 0; k < 3 * 64; k++)
+    a += lit[k], b += shadowed[k];
   CHECK_MSG(a > 0.1 * 3 * 64, "floor without the roof: mean %g", a / (3 * 64));
   CHECK_MSG(b == 0.0, "floor in the roof's shadow: mean %g, expected 0", b / (3 * 64));
   free(lit), free(shadowed);
@@ -119,13 +124,15 @@ int main(void) {
   if (!model) return testing_finish();
   nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
   const float v[6] = {0.1f, 1.5f, 0.3f, 0.9f, 0.8f, 1.0f};
-  for (int k = 0; k < NBRDF_BAKE_PARAM_COUNT; k++) nbrdf_bake_param_constant(&in.param[k], v[k]);
+  for (int k = 0; k < NBRDF_BAKE_PARAM_COUNT; k++)
+    nbrdf_bake_param_constant(&in.param[k], v[k]);
   CHECK_OK(nbrdf_bake(model, &in, NULL, testing_path("c.exr"), NULL, &e), &e);
   FILE *f = fopen(testing_path("r0.pgm"), "wb");
   if (f) {
     fprintf(f, "P5\n16 8\n255\n");
     for (int y = 0; y < 8; y++)
-      for (int x = 0; x < 16; x++) fputc(y < 2 ? 250 : (x < 4 ? 40 : 140 + 6 * x), f);
+      for (int x = 0; x < 16; x++)
+        fputc(y < 2 ? 250 : (x < 4 ? 40 : 140 + 6 * x), f);
     fclose(f);
   }
   in.param[NBRDF_BAKE_R0].path = testing_path("r0.pgm");
