@@ -16,3 +16,13 @@ pkg_check_modules(OIIO REQUIRED IMPORTED_TARGET OpenImageIO)
 pkg_check_modules(OCIO REQUIRED IMPORTED_TARGET OpenColorIO)
 
 find_library(MATH_LIBRARY m REQUIRED)
+
+# glTF 2.0 meshes for `nbrdf render --mesh` (src/render/mesh_gltf.cpp): Debian ships TinyGLTF
+# as a header plus a shared library holding its implementation (libtinygltf-dev).
+find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h)
+find_library(TINYGLTF_LIBRARY tinygltf)
+if(NOT TINYGLTF_INCLUDE_DIR OR NOT TINYGLTF_LIBRARY)
+  message(FATAL_ERROR "TinyGLTF not found (tiny_gltf.h: ${TINYGLTF_INCLUDE_DIR}, libtinygltf: "
+    "${TINYGLTF_LIBRARY}); it reads glTF meshes for 'nbrdf render --mesh'. On Debian: "
+    "apt-get install libtinygltf-dev (scripts/setup-debian.sh installs it).")
+endif()

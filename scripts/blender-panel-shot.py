@@ -40,6 +40,14 @@ s.preview_size, s.preview_spp = 96, 4
 s.output = os.path.join(os.environ["WORK"], "{material}.exr")
 bpy.context.view_layer.objects.active = cube
 bpy.ops.nbrdf.bake_latent(material=mat.name)  # blocking (execute), as from a script
+if os.environ.get("LOOKDEV"):
+    # Preview Object on the cube through the default scene's camera, under the sky (the
+    # default world has no image); the rendered PNG is kept beside the screenshot.
+    import shutil
+    s.lookdev_size, s.lookdev_spp = (320, 240), 16
+    bpy.ops.nbrdf.preview_object()  # blocking
+    if s.lookdev_image is not None:
+        s.lookdev_image.save_render(os.environ["LOOKDEV"])
 
 # The big 3D viewport becomes the material properties, alone in the window.
 window = bpy.context.window_manager.windows[0]

@@ -9,6 +9,7 @@ packages=(
   libopenexr-dev openexr
   libopenimageio-dev openimageio-tools
   libopencolorio-dev opencolorio-tools
+  libtinygltf-dev
   glslang-tools libvulkan-dev mesa-vulkan-drivers vulkan-tools
   blender python3-numpy python3-openimageio
   # a one-node Slurm cluster for tests/farm (scripts/slurm-local.sh)

@@ -13,9 +13,9 @@ bl_info = {
     "category": "Material",
 }
 
-from . import operators, panels, preferences, properties, queue  # noqa: E402
+from . import lookdev, operators, panels, preferences, properties, queue  # noqa: E402
 
-_modules = (preferences, properties, operators, queue, panels)
+_modules = (preferences, properties, operators, queue, lookdev, panels)
 
 
 def register():

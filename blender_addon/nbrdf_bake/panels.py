@@ -105,6 +105,8 @@ def draw_bake(layout, context, s):
     sub.operator("nbrdf.write_farm_plan", text="Farm Plan", icon="NETWORK_DRIVE")
     draw_ranges(layout, context, [l for l in s.range_report.split("\n") if l])
     draw_results(layout, s)
+    if s.result is not None:
+        draw_lookdev(layout, s)
     if s.farm_report:
         label_wrapped(layout, context, s.farm_report, "NETWORK_DRIVE")
 
@@ -151,6 +153,35 @@ def draw_results(layout, s):
         im.preview_ensure()
         box.label(text="Preview render", icon="SHADING_RENDERED")
         box.template_icon(icon_value=im.preview.icon_id, scale=6.0)
+
+
+def draw_lookdev(layout, s):
+    """Preview Object: the baked material on the active object (lookdev.py)."""
+    from .lookdev import running_preview
+    box = layout.box()
+    box.label(text="Preview Object", icon="SHADING_RENDERED")
+    row = box.row(align=True)
+    row.prop(s, "lookdev_size", text="")
+    row.prop(s, "lookdev_spp")
+    row = box.row(align=True)
+    row.prop(s, "lookdev_turntable")
+    sub = row.row()
+    sub.enabled = s.lookdev_turntable
+    sub.prop(s, "lookdev_frames")
+    preview = running_preview()
+    if preview is not None:
+        box.label(text="Rendering frame %d of %d: %d %%" % (
+            preview.frame + 1, preview.frames, int(100 * preview.progress)))
+        box.operator("nbrdf.cancel_preview", icon="CANCEL")
+    else:
+        row = box.row()
+        row.enabled = s.result is not None
+        row.operator("nbrdf.preview_object", icon="RENDER_STILL")
+    im = s.lookdev_image
+    if im is not None:
+        im.preview_ensure()
+        box.template_icon(icon_value=im.preview.icon_id, scale=8.0)
+        box.operator("nbrdf.show_preview", icon="IMAGE").image = im.name
 
 
 def label_wrapped(layout, context, text, icon):

@@ -147,6 +147,19 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
             description="Folder of the farm plan for a tiled (UDIM) bake (Write Farm Plan: "
                         "nbrdf farm slurm --plan; {material}: its name, // the .blend file's "
                         "folder). Its inputs/ holds the maps that exist only in Blender"),
+        lookdev_size=IntVectorProperty(
+            name="Preview Object Size", size=2, default=(256, 256), min=16, max=4096,
+            description="Width and height of the Preview Object render in pixels"),
+        lookdev_spp=IntProperty(name="Samples", default=16, min=1, max=4096,
+                                description="Samples per pixel of the Preview Object render"),
+        lookdev_turntable=BoolProperty(
+            name="Turntable", default=False,
+            description="Render several frames, the environment turned a full circle over "
+                        "them (an image sequence)"),
+        lookdev_frames=IntProperty(name="Frames", default=8, min=2, max=360,
+                                   description="Turntable frames"),
+        lookdev_image=PointerProperty(name="Object Preview", type=bpy.types.Image,
+                                      description="The last Preview Object render"),
         farm_report=StringProperty(
             name="Farm Plan Report", default="",
             description="What the last Write Farm Plan wrote and how to submit it"),

@@ -58,7 +58,8 @@ typedef enum nbrdf_render_mode {
 
 typedef enum nbrdf_render_scene {
   NBRDF_SCENE_SPHERE = 0, /* unit sphere at the origin, lat-long texture coordinates */
-  NBRDF_SCENE_PLANE = 1   /* ground plane y = 0 receding to the horizon, texture repeated */
+  NBRDF_SCENE_PLANE = 1,  /* ground plane y = 0 receding to the horizon, texture repeated */
+  NBRDF_SCENE_MESH = 2    /* a triangle mesh with texture coordinates read from mesh_path */
 } nbrdf_render_scene;
 
 typedef enum nbrdf_env_kind {
@@ -99,19 +100,35 @@ typedef struct nbrdf_render_options {
   /* Cancels when non-zero; checked between tiles and between a tile's
    * batches of samples (docs/RELIABILITY.md). May be NULL. */
   volatile sig_atomic_t *cancel;
+  /* NBRDF_SCENE_MESH: glTF 2.0 (.gltf, .glb), PLY (ASCII or binary little-endian) or OBJ,
+   * chosen by the extension; every triangle needs texture coordinates. Y up, like glTF. The
+   * mesh casts shadows on itself (direct lighting with visibility). */
+  const char *mesh_path;
+  /* The camera: camera_set 0 keeps each scene's own view (the mesh scene frames the mesh's
+   * bounding sphere from +z, a little above); 1 places it at camera_pos looking at
+   * camera_target with camera_up (world units, y up). fov_deg: the vertical field of view
+   * in degrees, (0, 180); 0 keeps the scene's (40° sphere and mesh, 50° plane). */
+  int camera_set;
+  double camera_pos[3], camera_target[3], camera_up[3];
+  double fov_deg;
+  /* Turns the environment about +y by this many degrees (a right-handed rotation:
+   * counter-clockwise seen from above); its sampling table turns with it. */
+  double env_rotation_deg;
 } nbrdf_render_options;
 
 #define NBRDF_RENDER_OPTIONS_DEFAULT                                                               \
   {                                                                                                \
     NBRDF_RENDER_NEURAL, NBRDF_SCENE_SPHERE, NBRDF_ENV_SKY, NULL, {1.0f, 1.0f, 1.0f}, 1.0f,        \
-        {3.0, 4.0, 4.0}, 0.0, 256, 256, 16, 0u, 0, 1, 1.0, NULL, 0, NULL, NULL, NULL               \
+        {3.0, 4.0, 4.0}, 0.0, 256, 256, 16, 0u, 0, 1, 1.0, NULL, 0, NULL, NULL, NULL, NULL, 0,     \
+        {0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 0.0, 0.0                                \
   }
 
 typedef struct nbrdf_render_stats {
   size_t decoded;    /* decoder queries (one per colour channel) */
   size_t brdf_evals; /* ground-truth evaluations and samples (REFERENCE) */
   int colour_channels;
-  int levels; /* mip levels of the texture */
+  int levels;    /* mip levels of the texture */
+  int triangles; /* NBRDF_SCENE_MESH: triangles of the mesh */
   /* NEURAL: seconds spent in the decoder (summed over threads), so that
    * decoded / decode_seconds is the decoder's rate inside the renderer. */
   double decode_seconds;

@@ -67,6 +67,7 @@ typedef struct render_args {
   const char *lobe_field[8][3]; /* as typed, for messages */
   int lobe_len[8][3];
   const char *lobe_text[8];
+  int light_given, side_by_side, camera_pos_given, camera_target_given, camera_up_given;
 } render_args;
 
 static int read_env(const char *cmd, const cli_opt *o, const char *v) {
@@ -79,8 +80,10 @@ static int read_env(const char *cmd, const cli_opt *o, const char *v) {
 }
 
 static int read_light(const char *cmd, const cli_opt *o, const char *v) {
-  nbrdf_render_options *r = o->dest;
+  render_args *a = o->dest;
+  nbrdf_render_options *r = &a->o;
   double d[4];
+  a->light_given = 1;
   if (!strcmp(v, "none")) {
     r->light_intensity = 0.0;
     return 0;
@@ -89,6 +92,21 @@ static int read_light(const char *cmd, const cli_opt *o, const char *v) {
     return cli_opt_bad(cmd, o->name, "X,Y,Z,I with I >= 0 (or none)", v);
   r->light_pos[0] = d[0], r->light_pos[1] = d[1], r->light_pos[2] = d[2];
   r->light_intensity = d[3];
+  return 0;
+}
+
+/* --camera-pos / --camera-target / --camera-up: X,Y,Z. */
+static int read_xyz(const char *cmd, const cli_opt *o, const char *v) {
+  render_args *a = o->dest;
+  double d[3];
+  if (!parse_numbers(v, d, 3) || !isfinite(d[0]) || !isfinite(d[1]) || !isfinite(d[2]))
+    return cli_opt_bad(cmd, o->name, "X,Y,Z (three finite numbers, world units, y up)", v);
+  double *to = a->o.camera_up;
+  int *given = &a->camera_up_given;
+  if (!strcmp(o->name, "--camera-pos")) to = a->o.camera_pos, given = &a->camera_pos_given;
+  if (!strcmp(o->name, "--camera-target")) to = a->o.camera_target, given = &a->camera_target_given;
+  memcpy(to, d, sizeof d);
+  *given = 1;
   return 0;
 }
 
@@ -133,9 +151,33 @@ static void render_options(render_args *a, cli_opt_visit visit, void *user) {
                "a lat-long HDR/EXR image (linear, +y up)"},
       {.type = CLI_OPT_FLOAT, .name = "--env-scale", .meta = "S", .lo = 0, .hi = FLT_MAX,
        .dest = &a->o.env_scale, .help = "multiplies the environment (default 1)"},
+      {.type = CLI_OPT_DOUBLE, .name = "--env-rotation", .meta = "DEG", .lo = -1e6, .hi = 1e6,
+       .dest = &a->o.env_rotation_deg,
+       .help = "turns the environment about +y, counter-clockwise seen\n"
+               "from above (default 0)"},
       {.type = CLI_OPT_CUSTOM, .name = "--light", .meta = "X,Y,Z,I|none", .choices = "none",
-       .dest = &a->o, .parse = read_light,
-       .help = "point light at (X,Y,Z), intensity I W/sr (default\n3,4,4,30)"},
+       .dest = a, .parse = read_light,
+       .help = "point light at (X,Y,Z), intensity I W/sr (default\n"
+               "3,4,4,30; none with --mesh)"},
+      {.type = CLI_OPT_PATH, .name = "--mesh", .meta = "FILE", .dest = &a->o.mesh_path,
+       .help = "render on this mesh instead of --scene: glTF 2.0\n"
+               "(.gltf/.glb), PLY or OBJ with texture coordinates, y up;\n"
+               "it shadows itself"},
+      {.type = CLI_OPT_CUSTOM, .name = "--camera-pos", .meta = "X,Y,Z", .dest = a,
+       .parse = read_xyz,
+       .help = "camera position (with --camera-target; default: the\n"
+               "scene's view, for a mesh its bounds seen from +z)"},
+      {.type = CLI_OPT_CUSTOM, .name = "--camera-target", .meta = "X,Y,Z", .dest = a,
+       .parse = read_xyz, .help = "the point the camera looks at"},
+      {.type = CLI_OPT_CUSTOM, .name = "--camera-up", .meta = "X,Y,Z", .dest = a,
+       .parse = read_xyz, .help = "the camera's up direction (default 0,1,0)"},
+      {.type = CLI_OPT_DOUBLE, .name = "--fov", .meta = "DEG", .lo = 0.01, .hi = 179.0,
+       .dest = &a->o.fov_deg,
+       .help = "vertical field of view in degrees (default 40; plane 50)"},
+      {.type = CLI_OPT_FLAG, .name = "--side-by-side", .dest = &a->side_by_side, .value = 1,
+       .help = "neural image (left) beside the reference mode's (right,\n"
+               "the Monte Carlo ground truth of the constant parameters\n"
+               "given below): the output is twice as wide"},
       {.type = CLI_OPT_INT, .name = "--width", .meta = "W", .lo = 1, .hi = 16384,
        .dest = &a->o.width, .help = "image width (default 256)"},
       {.type = CLI_OPT_INT, .name = "--height", .meta = "H", .lo = 1, .hi = 16384,
@@ -184,12 +226,14 @@ void cmd_render_options(cli_opt_visit visit, void *user) {
 }
 
 void cmd_render_usage(FILE *out) {
-  fprintf(out, "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
-               "\n"
-               "Renders the latent texture on a unit sphere or a ground plane under an\n"
-               "environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
-               "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
-               "\n");
+  fprintf(
+      out,
+      "usage: nbrdf render LATENT.exr -o OUT.exr [options]\n"
+      "\n"
+      "Renders the latent texture on a unit sphere, a ground plane or a mesh (--mesh)\n"
+      "under an environment and a point light (direct lighting, MIS of light and BRDF samples;\n"
+      "docs/RENDER.md). Deterministic for a seed, whatever the thread count.\n"
+      "\n");
   cmd_render_options(cli_options_help_visit, out);
   fprintf(out, "\nexit status: 0 success, 1 failure, 2 bad usage\n");
 }
@@ -271,6 +315,20 @@ int cmd_render(int argc, char **argv) {
   const int n_lobes = a.n_lobes;
   if (!latent) return cli_usage_error("render", "the latent texture LATENT.exr is required");
   if (!out) return cli_usage_error("render", "-o OUT.exr is required");
+  if (o.mesh_path) {
+    if (o.scene != NBRDF_SCENE_SPHERE)
+      return cli_usage_error("render", "--mesh and --scene plane exclude each other");
+    o.scene = NBRDF_SCENE_MESH;
+    /* The artist's world lights the preview; a point light only when asked for. */
+    if (!a.light_given) o.light_intensity = 0.0;
+  }
+  if ((a.camera_target_given || a.camera_up_given) && !a.camera_pos_given)
+    return cli_usage_error("render", "--camera-target and --camera-up need --camera-pos");
+  if (a.camera_pos_given && !a.camera_target_given)
+    return cli_usage_error("render", "--camera-pos needs --camera-target");
+  o.camera_set = a.camera_pos_given;
+  if (a.side_by_side && o.mode != NBRDF_RENDER_NEURAL)
+    return cli_usage_error("render", "--side-by-side renders both modes: leave --mode out");
   /* A --lobe the texture lacks is a bad option: name the field and the texture's range. An
    * unreadable texture is left to the render, which says why. */
   for (int k = 0; k < n_lobes; k++) {
@@ -295,7 +353,7 @@ int cmd_render(int argc, char **argv) {
   nbrdf_model *model = NULL;
   nbrdf_error err = {0};
   int rc = CLI_EXIT_OK;
-  if (o.mode == NBRDF_RENDER_REFERENCE) {
+  if (o.mode == NBRDF_RENDER_REFERENCE || a.side_by_side) {
     rc = cli_params_require("render", &a.params);
     if (rc == CLI_EXIT_OK) rc = make_reference(&a.params, ref, &o.reference_channels);
     o.reference = (const nbrdf_brdf *const *)ref;
@@ -311,6 +369,7 @@ int cmd_render(int argc, char **argv) {
     cli_inputs_init(&inputs);
     cli_inputs_add(&inputs, latent);
     cli_inputs_add(&inputs, o.env_path);
+    cli_inputs_add(&inputs, o.mesh_path);
     cli_inputs_add_params(&inputs, &a.params);
     cli_inputs_add_model(&inputs, model);
     char lobe_paths[8][4096];
@@ -321,7 +380,10 @@ int cmd_render(int argc, char **argv) {
     }
     rc = cli_outputs_check("render", &inputs, outputs, 2 + n_lobes);
   }
-  float *rgb = rc == CLI_EXIT_OK ? malloc(sizeof(float) * 3 * (size_t)o.width * o.height) : NULL;
+  /* --side-by-side: the neural image in the left half, the reference in the right. */
+  int panes = a.side_by_side ? 2 : 1, out_w = o.width * panes;
+  size_t pane = (size_t)3 * o.width * o.height;
+  float *rgb = rc == CLI_EXIT_OK ? malloc(sizeof(float) * pane * panes) : NULL;
   if (rc == CLI_EXIT_OK && !rgb) rc = cli_fail("render", "out of memory");
   /* Lobes first: a bad texel fails before the render writes anything. */
   for (int k = 0; rc == CLI_EXIT_OK && k < n_lobes; k++)
@@ -332,10 +394,25 @@ int cmd_render(int argc, char **argv) {
     cli_cancel_watch();
     nbrdf_render_stats stats;
     nbrdf_status st = nbrdf_render(model, latent, &o, rgb, &stats, &err);
+    if (st == NBRDF_OK && a.side_by_side) {
+      nbrdf_render_options r = o;
+      nbrdf_render_stats rs;
+      r.mode = NBRDF_RENDER_REFERENCE;
+      st = nbrdf_render(NULL, latent, &r, rgb + pane, &rs, &err);
+      stats.brdf_evals += rs.brdf_evals;
+      /* rows of the two panes interleaved into one image twice as wide */
+      float *both = st == NBRDF_OK ? malloc(sizeof(float) * pane * 2) : NULL;
+      if (st == NBRDF_OK && !both)
+        st = NBRDF_ERR_MEMORY, snprintf(err.message, sizeof err.message, "out of memory");
+      for (int y = 0; both && y < o.height; y++)
+        for (int k = 0; k < 2; k++)
+          memcpy(both + 3 * ((size_t)y * out_w + (size_t)k * o.width),
+                 rgb + k * pane + 3 * (size_t)y * o.width, sizeof(float) * 3 * o.width);
+      if (both) free(rgb), rgb = both;
+    }
     cli_cancel_unwatch();
     if (st == NBRDF_OK)
-      st =
-          nbrdf_render_write(out, png, o.width, o.height, rgb, NULL, a.params.in.ocio_config, &err);
+      st = nbrdf_render_write(out, png, out_w, o.height, rgb, NULL, a.params.in.ocio_config, &err);
     if (st != NBRDF_OK) {
       if (a.ps.json) printf("{\"event\":\"error\",\"status\":\"%s\"}\n", nbrdf_status_name(st));
       rc = st == NBRDF_ERR_CANCELLED
@@ -343,14 +420,16 @@ int cmd_render(int argc, char **argv) {
                : cli_fail_error("render", &err);
     } else if (a.ps.json) {
       printf("{\"event\":\"done\",\"width\":%d,\"height\":%d,\"spp\":%d,\"decoded\":%zu,"
-             "\"decode_seconds\":%.4f,\"brdf_evals\":%zu}\n",
-             o.width, o.height, o.spp, stats.decoded, stats.decode_seconds, stats.brdf_evals);
+             "\"decode_seconds\":%.4f,\"brdf_evals\":%zu,\"triangles\":%d}\n",
+             out_w, o.height, o.spp, stats.decoded, stats.decode_seconds, stats.brdf_evals,
+             stats.triangles);
     } else {
       printf("wrote %s%s%s: %d x %d, %d spp, %s mode, %d mip levels, %zu decoder queries, %zu "
              "ground-truth evaluations\n",
-             out, png ? " and " : "", png ? png : "", o.width, o.height, o.spp,
-             o.mode == NBRDF_RENDER_NEURAL ? "neural" : "reference", stats.levels, stats.decoded,
-             stats.brdf_evals);
+             out, png ? " and " : "", png ? png : "", out_w, o.height, o.spp,
+             a.side_by_side ? "neural | reference"
+                            : (o.mode == NBRDF_RENDER_NEURAL ? "neural" : "reference"),
+             stats.levels, stats.decoded, stats.brdf_evals);
       if (stats.decoded && stats.decode_seconds > 0.0)
         printf("decoder: %.3g queries/s inside the renderer (%.2f s decoding, all threads)\n",
                stats.decoded / stats.decode_seconds, stats.decode_seconds);

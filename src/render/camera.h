@@ -7,6 +7,7 @@
 
 #include "core/vec3.h"
 #include "nbrdf/render.h"
+#include "render/mesh_bvh.h"
 
 typedef struct render_camera {
   vec3 pos, forward, right, up;
@@ -14,10 +15,16 @@ typedef struct render_camera {
   int width, height;
   nbrdf_render_scene scene;
   double plane_repeat;
+  /* NBRDF_SCENE_MESH (render_camera_set_mesh): the mesh, its BVH, and the offset of
+   * shadow-ray origins (a small fraction of the mesh's size). */
+  const render_mesh *mesh;
+  const render_bvh *bvh;
+  double eps;
 } render_camera;
 
 typedef struct render_hit {
   vec3 p, n, t, b; /* position; shading frame (t, b, n), n the outward normal */
+  vec3 ng;         /* geometric normal on the camera's side (mesh shadow-ray offsets) */
   double u, v;     /* texture coordinates (latent_fetch.h), not wrapped */
   double lod;      /* log2 of the footprint in level-0 texels */
 } render_hit;
@@ -26,6 +33,20 @@ typedef struct render_hit {
  * plane recedes to the horizon (where mip-mapping matters). */
 void render_camera_setup(render_camera *cam, nbrdf_render_scene scene, int width, int height,
                          double plane_repeat);
+/* The mesh scene: sets the mesh and frames its bounding sphere from +z, a little above
+ * (40 degrees), unless render_camera_look overrides the view afterwards. */
+void render_camera_set_mesh(render_camera *cam, const render_mesh *mesh, const render_bvh *bvh);
+/* Places the camera at pos looking at target, up roughly up, vertical field of view
+ * fov_deg (0 keeps the current one). 0 when the three do not make a view (pos == target,
+ * up along the view direction). */
+int render_camera_look(render_camera *cam, const double pos[3], const double target[3],
+                       const double up[3], double fov_deg);
+/* Whether the ray leaving the hit along world direction d (unit) meets the object again
+ * closer than tmax (the mesh's self-shadowing; never for the convex sphere and the plane). */
+int render_camera_occluded(const render_camera *cam, const render_hit *hit, vec3 d, double tmax);
+/* Mesh hit of the ray from org along dir (mesh_hit.c). */
+int render_mesh_hit(const render_camera *cam, vec3 org, vec3 dir, int tex_w, int tex_h,
+                    render_hit *hit);
 /* Direction (unit) through the image point (px + jx, py + jy), pixel units,
  * rows from the top. */
 vec3 render_camera_ray(const render_camera *cam, double px, double py);

@@ -21,9 +21,10 @@ struct render_env {
   int iw, ih; /* image */
   float *image;
   vec3 sun;
-  double *cond_cdf;  /* TABLE_H rows of TABLE_W + 1 */
-  double *marg_cdf;  /* TABLE_H + 1 */
-  double *cell_prob; /* TABLE_H x TABLE_W, sums to 1 */
+  double rot_c, rot_s; /* env_rotation_deg about +y: world = R · environment */
+  double *cond_cdf;    /* TABLE_H rows of TABLE_W + 1 */
+  double *marg_cdf;    /* TABLE_H + 1 */
+  double *cell_prob;   /* TABLE_H x TABLE_W, sums to 1 */
 };
 
 static double luminance(const double c[3]) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
@@ -72,7 +73,14 @@ static void image_radiance(const render_env *env, double s, double t, double rgb
              fx * fy * p11[c];
 }
 
-void render_env_radiance(const render_env *env, vec3 d, double rgb[3]) {
+/* Rotation about +y by ±the environment's angle (counter-clockwise seen from above). */
+static vec3 rotate(const render_env *env, vec3 d, double sign) {
+  double c = env->rot_c, s = sign * env->rot_s;
+  return v3(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+}
+
+/* Radiance in the environment's own frame. */
+static void radiance_local(const render_env *env, vec3 d, double rgb[3]) {
   if (env->kind == NBRDF_ENV_CONSTANT) {
     memcpy(rgb, env->value, 3 * sizeof(double));
   } else if (env->kind == NBRDF_ENV_SKY) {
@@ -84,6 +92,10 @@ void render_env_radiance(const render_env *env, vec3 d, double rgb[3]) {
   }
   for (int c = 0; c < 3; c++)
     rgb[c] *= env->scale;
+}
+
+void render_env_radiance(const render_env *env, vec3 d, double rgb[3]) {
+  radiance_local(env, rotate(env, d, -1.0), rgb);
 }
 
 /* Cell importance: the brightest of a few radiance samples in the cell. */
@@ -104,7 +116,7 @@ static double cell_value(const render_env *env, int i, int j) {
   }
   for (int k = 0; k < 4; k++) {
     double s = (i + 0.25 + 0.5 * (k & 1)) / TABLE_W, t = (j + 0.25 + 0.5 * (k >> 1)) / TABLE_H;
-    render_env_radiance(env, dir_of(s, t), rgb);
+    radiance_local(env, dir_of(s, t), rgb);
     best = fmax(best, luminance(rgb));
   }
   return best;
@@ -178,13 +190,13 @@ double render_env_sample(const render_env *env, double u1, double u2, vec3 *d) {
   double fx = pi > 0.0 ? (u1 - cdf[i]) / pi : 0.5;
   double s = (i + fmin(fmax(fx, 0.0), 1.0)) / TABLE_W;
   double t = (j + fmin(fmax(fy, 0.0), 1.0)) / TABLE_H;
-  *d = dir_of(s, t);
+  *d = rotate(env, dir_of(s, t), 1.0);
   return cell_pdf(env, i, j, t);
 }
 
 double render_env_pdf(const render_env *env, vec3 d) {
   double s, t;
-  st_of(d, &s, &t);
+  st_of(rotate(env, d, -1.0), &s, &t);
   int i = (int)(s * TABLE_W), j = (int)(t * TABLE_H);
   if (i >= TABLE_W) i = TABLE_W - 1;
   if (j >= TABLE_H) j = TABLE_H - 1;
@@ -225,10 +237,14 @@ nbrdf_status render_env_create(const nbrdf_render_options *opts, render_env **ou
   env->kind = opts->env;
   env->scale = opts->env_scale;
   env->sun = v3_normalize(v3(0.5, 0.55, 0.45));
+  double rot = opts->env_rotation_deg * M_PI / 180.0;
+  env->rot_c = cos(rot), env->rot_s = sin(rot);
   for (int c = 0; c < 3; c++)
     env->value[c] = opts->env_value[c];
   nbrdf_status st = NBRDF_OK;
-  if (!(opts->env_scale >= 0.0f) || !isfinite(opts->env_scale))
+  if (!isfinite(opts->env_rotation_deg))
+    st = core_fail(err, NBRDF_ERR_ARGUMENT, "environment rotation is not finite");
+  else if (!(opts->env_scale >= 0.0f) || !isfinite(opts->env_scale))
     st = core_fail(err, NBRDF_ERR_ARGUMENT, "environment scale %g is not finite and >= 0",
                    (double)opts->env_scale);
   else if (env->kind == NBRDF_ENV_CONSTANT) {

@@ -7,14 +7,32 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "render/mesh_bvh.h"
 #include "render/render_tile.h"
 
 static nbrdf_status check_options(const nbrdf_model *model, const nbrdf_render_options *o,
                                   nbrdf_error *err) {
   if (o->mode != NBRDF_RENDER_NEURAL && o->mode != NBRDF_RENDER_REFERENCE)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "render: unknown mode %d", (int)o->mode);
-  if (o->scene != NBRDF_SCENE_SPHERE && o->scene != NBRDF_SCENE_PLANE)
+  if (o->scene != NBRDF_SCENE_SPHERE && o->scene != NBRDF_SCENE_PLANE &&
+      o->scene != NBRDF_SCENE_MESH)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "render: unknown scene %d", (int)o->scene);
+  if (o->scene == NBRDF_SCENE_MESH && !o->mesh_path)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "render: the mesh scene needs a mesh file");
+  if (o->fov_deg != 0.0 && !(o->fov_deg > 0.0 && o->fov_deg < 180.0))
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "render: field of view %g degrees, expected 0 < fov < 180", o->fov_deg);
+  if (o->camera_set) {
+    render_camera probe;
+    render_camera_setup(&probe, NBRDF_SCENE_SPHERE, 1, 1, 1.0);
+    if (!render_camera_look(&probe, o->camera_pos, o->camera_target, o->camera_up, 0.0))
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "render: camera at (%g, %g, %g) looking at (%g, %g, %g) with up (%g, %g, "
+                       "%g) is no view (expected position != target, up not along the view)",
+                       o->camera_pos[0], o->camera_pos[1], o->camera_pos[2], o->camera_target[0],
+                       o->camera_target[1], o->camera_target[2], o->camera_up[0], o->camera_up[1],
+                       o->camera_up[2]);
+  }
   if (o->width < 1 || o->height < 1 || o->width > 16384 || o->height > 16384)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "render: image %d x %d, expected 1..16384 each",
                      o->width, o->height);
@@ -54,6 +72,8 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   if (st != NBRDF_OK) return st;
   texture_latent_image *tex = NULL;
   render_env *env = NULL;
+  render_mesh *mesh = NULL;
+  render_bvh *bvh = NULL;
   /* Neural: the texture decoded as it asks, with its own decoder if it has one. */
   nbrdf_model *decoding = NULL;
   if (o->mode == NBRDF_RENDER_NEURAL)
@@ -61,9 +81,16 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   else
     st = texture_latent_image_load(latent_path, &tex, NULL, 0, err);
   if (st == NBRDF_OK) st = render_env_create(o, &env, err);
+  if (st == NBRDF_OK && o->scene == NBRDF_SCENE_MESH) {
+    st = render_mesh_load(o->mesh_path, &mesh, err);
+    if (st == NBRDF_OK) st = render_bvh_build(mesh, &bvh, err);
+  }
   if (st != NBRDF_OK) {
     texture_latent_image_free(tex);
     nbrdf_model_destroy(decoding);
+    render_env_free(env);
+    render_bvh_free(bvh);
+    render_mesh_free(mesh);
     return st;
   }
   render_ctx ctx;
@@ -72,6 +99,11 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   ctx.colours =
       o->mode == NBRDF_RENDER_NEURAL ? texture_latent_colours(&tex->layout) : o->reference_channels;
   render_camera_setup(&ctx.cam, o->scene, o->width, o->height, o->plane_repeat);
+  if (mesh) render_camera_set_mesh(&ctx.cam, mesh, bvh);
+  if (o->camera_set)
+    render_camera_look(&ctx.cam, o->camera_pos, o->camera_target, o->camera_up, o->fov_deg);
+  else if (o->fov_deg > 0.0)
+    ctx.cam.tan_half = tan(0.5 * o->fov_deg * M_PI / 180.0);
 
   int tx = (o->width + RENDER_TILE - 1) / RENDER_TILE;
   int ty = (o->height + RENDER_TILE - 1) / RENDER_TILE;
@@ -111,12 +143,15 @@ nbrdf_status nbrdf_render(const nbrdf_model *model, const char *latent_path,
   }
   render_env_free(env);
   if (stats) {
+    stats->triangles = mesh ? mesh->triangles : 0;
     stats->decoded = decoded, stats->brdf_evals = evals;
     stats->decode_seconds = decode_s;
     stats->colour_channels = ctx.colours, stats->levels = tex->levels;
   }
   texture_latent_image_free(tex);
   nbrdf_model_destroy(decoding);
+  render_bvh_free(bvh);
+  render_mesh_free(mesh);
   if (first.status != NBRDF_OK) {
     if (err) *err = first;
     return first.status;

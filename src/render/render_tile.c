@@ -4,6 +4,7 @@
  * the whole light transport (render.h). */
 #include "render/render_tile.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -125,6 +126,7 @@ static nbrdf_status reference_brdf_samples(const render_ctx *ctx, const render_h
     (*brdf_evals)++;
     if (!(weight > 0.0) || !(wo[2] > 0.0)) continue;
     vec3 lo = v3(wo[0], wo[1], wo[2]), dir = render_to_world(hit, lo);
+    if (render_camera_occluded(&ctx->cam, hit, dir, INFINITY)) continue;
     double le[3];
     render_env_radiance(ctx->env, dir, le);
     double mis =
@@ -210,8 +212,8 @@ nbrdf_status render_tile(const render_ctx *ctx, int tile, int x0, int y0, int w,
         if (o->light_intensity > 0.0) {
           vec3 l = v3_sub(v3(o->light_pos[0], o->light_pos[1], o->light_pos[2]), hit.p);
           double d2 = v3_dot(l, l);
-          vec3 lo = render_to_local(&hit, v3_scale(l, 1.0 / sqrt(d2)));
-          if (lo.z > 1e-4) {
+          vec3 ld = v3_scale(l, 1.0 / sqrt(d2)), lo = render_to_local(&hit, ld);
+          if (lo.z > 1e-4 && !render_camera_occluded(&ctx->cam, &hit, ld, sqrt(d2))) {
             query *q = &b.q[push(&b, &nq, p, slot, wi, v3_normalize(lo))];
             for (int k = 0; k < 3; k++)
               q->factor[k] = o->light_intensity / d2 * lo.z;
@@ -221,7 +223,7 @@ nbrdf_status render_tile(const render_ctx *ctx, int tile, int x0, int y0, int w,
         vec3 ed;
         double pl = render_env_sample(ctx->env, ue[0], ue[1], &ed);
         vec3 lo = render_to_local(&hit, ed);
-        if (pl > 0.0 && lo.z > 1e-4) {
+        if (pl > 0.0 && lo.z > 1e-4 && !render_camera_occluded(&ctx->cam, &hit, ed, INFINITY)) {
           lo = v3_normalize(lo);
           double le[3];
           render_env_radiance(ctx->env, ed, le);
@@ -248,6 +250,7 @@ nbrdf_status render_tile(const render_ctx *ctx, int tile, int x0, int y0, int w,
         if (render_proxy_mix_sample(T, sg, wg, wi, ub, &bo, &pb) && bo.z > 1e-4) {
           bo = v3_normalize(bo);
           vec3 bd = render_to_world(&hit, bo);
+          if (render_camera_occluded(&ctx->cam, &hit, bd, INFINITY)) continue;
           double le[3], mis = render_power_heuristic(pb, render_env_pdf(ctx->env, bd));
           render_env_radiance(ctx->env, bd, le);
           query *q = &b.q[push(&b, &nq, p, slot, wi, bo)];
