@@ -351,7 +351,7 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
     snprintf(msg, sizeof msg,
              "the %s texture's held-out lobe error (%.2f %%) is worse than the fast level's "
              "(%.2f %%) on the same %zu tuples (θi up to 89°, off-plane azimuths): baked at "
-             "fast instead; a larger --budget may help (this one: %g s)",
+             "fast instead; give it a larger --budget (this one: %g s)",
              nbrdf_bake_accuracy_name(chosen), 100.0 * fit->heldout_error,
              100.0 * fit->heldout_error_fast, fit->heldout, fit->budget);
     o->warning(o->user, msg);
