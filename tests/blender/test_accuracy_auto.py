@@ -19,7 +19,7 @@ from nbrdf_bake.params import number  # noqa: E402
 from nbrdf_bake.session import accuracy_summary  # noqa: E402
 
 work = t.temp_dir()
-mat = bpy.data.materials.new("Auto Lacquer")
+mat = bpy.data.materials.new("AutoLacquer")
 s = mat.nbrdf_bake
 s.roughness = "ALPHA"
 s.alpha1_value, s.eta_value, s.alpha2_value = 0.05, 1.5, 0.3
@@ -37,7 +37,7 @@ t.check("no --max-error for another level", "--max-error" not in inputs.accuracy
 s.accuracy = "AUTO"
 
 t.check("auto bake", bpy.ops.nbrdf.bake_latent(material=mat.name) == {"FINISHED"})
-out = os.path.join(work, "Auto Lacquer.exr")
+out = os.path.join(work, "AutoLacquer.exr")
 cli = os.path.join(work, "cli.exr")
 f32 = np.float32
 values = {"alpha1": 0.05, "eta": 1.5, "alpha2": 0.3, "r0": 0.9, "albedo": 0.5, "sigma-t": 0.5}
