@@ -260,6 +260,9 @@ typedef struct nbrdf_bake_options {
   /* AUTO: when no level within the budget meets max_error, fail (NBRDF_ERR_UNSUPPORTED, no
    * file) instead of baking the best level reached with a warning. */
   int require;
+  /* Non-zero: a level worse than fast on its held-out tuples is baked anyway (with the
+   * warning) instead of falling back to fast: for measuring the levels themselves. */
+  int no_fallback;
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
@@ -270,7 +273,7 @@ typedef struct nbrdf_bake_options {
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL, NULL,\
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,        \
-        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL, 0.0, 0               \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL, 0.0, 0, 0            \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */

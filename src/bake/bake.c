@@ -343,7 +343,8 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   }
   /* A level worse than fast where the held-out check looked (grazing θi, off-plane
    * azimuths) is not baked: fast is (auto never chooses one). */
-  const int fell_back = st == NBRDF_OK && chosen != NBRDF_BAKE_FAST && bake_fit_worse_than_fast(fit);
+  const int fell_back = st == NBRDF_OK && chosen != NBRDF_BAKE_FAST && !o->no_fallback &&
+                        bake_fit_worse_than_fast(fit);
   nbrdf_bake_options lo = *o;
   lo.accuracy = fell_back ? NBRDF_BAKE_FAST : chosen;
   if (fell_back && o->warning) {

@@ -173,6 +173,10 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "(verify's metric): fast is measured first, then fitted,\n"
                "specialised (compact too with --compact) are tried, each\n"
                "at --budget, until one meets it"},
+      {.type = CLI_OPT_FLAG, .name = "--no-fallback", .dest = &a->opts.no_fallback, .value = 1,
+       .help = "fitted/specialised/compact: bake the level even when its\n"
+               "held-out error is worse than fast's (by default such a\n"
+               "bake falls back to fast and says so)"},
       {.type = CLI_OPT_FLAG, .name = "--require", .dest = &a->opts.require, .value = 1,
        .help = "auto: fail (exit 1, no file) when no level within the\n"
                "budget meets --max-error, instead of baking the best"},
