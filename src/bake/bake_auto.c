@@ -48,8 +48,8 @@ void bake_auto_message(const bake_auto_outcome *a, char *buf, size_t cap) {
   snprintf(buf, cap,
            "auto: no level within the budget meets %g %%: the best reached is %s at %.2f %% "
            "(tried: %s); %s",
-           100.0 * a->max_error, nbrdf_bake_accuracy_name(a->chosen), 100.0 * a->error[best],
-           tried, budget);
+           100.0 * a->max_error, nbrdf_bake_accuracy_name(a->chosen), 100.0 * a->error[best], tried,
+           budget);
 }
 
 /* Tries `level` at the budget: its fit into `r` and its figures into `a`. */
@@ -79,8 +79,8 @@ static int affordable(const nbrdf_model *model, const nbrdf_bake_options *o,
 }
 
 nbrdf_status bake_auto_choose(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
-                              const nbrdf_bake_options *o, core_ticker *ticker,
-                              bake_fit_result *r, bake_auto_outcome *a, nbrdf_error *err) {
+                              const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
+                              bake_auto_outcome *a, nbrdf_error *err) {
   memset(r, 0, sizeof *r);
   memset(a, 0, sizeof *a);
   a->max_error = o->max_error / 100.0;

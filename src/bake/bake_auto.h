@@ -30,8 +30,8 @@ typedef struct bake_auto_outcome {
  * each level tried, through `ticker`. With o->require and no level meeting the target:
  * NBRDF_ERR_UNSUPPORTED with the figures. */
 nbrdf_status bake_auto_choose(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
-                              const nbrdf_bake_options *o, core_ticker *ticker,
-                              bake_fit_result *r, bake_auto_outcome *out, nbrdf_error *err);
+                              const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
+                              bake_auto_outcome *out, nbrdf_error *err);
 
 /* "chosen=specialised; maxError=5; met=1; tried=fast:11.70,fitted:6.71,specialised:2.30"
  * (percent), then "; suggestedBudget=B" when not met. */

@@ -85,8 +85,8 @@ static void test_nothing_meets(void) {
     if (rep.tried_error[i] < best &&
         rep.tried_error[i] <= rep.tried_error[0] + BAKE_FALLBACK_MARGIN)
       best = rep.tried_error[i], best_level = rep.tried_level[i];
-  CHECK_MSG(rep.accuracy == best_level, "baked %s, best %s",
-            nbrdf_bake_accuracy_name(rep.accuracy), nbrdf_bake_accuracy_name(best_level));
+  CHECK_MSG(rep.accuracy == best_level, "baked %s, best %s", nbrdf_bake_accuracy_name(rep.accuracy),
+            nbrdf_bake_accuracy_name(best_level));
   printf("  sharp low-IOR coat at budget 4: fast %.2f %%, fitted %.2f %%, specialised %.2f %%; "
          "suggested budget %g\n",
          100 * rep.tried_error[0], 100 * rep.tried_error[1], 100 * rep.tried_error[2],
@@ -96,8 +96,8 @@ static void test_nothing_meets(void) {
             warned);
   char acc[1024];
   accuracy_attr("auto_best.exr", acc, sizeof acc);
-  CHECK_MSG(strstr(acc, "requested=auto;") && strstr(acc, "met=0;") &&
-                strstr(acc, "tried=fast:") && strstr(acc, "suggestedBudget="),
+  CHECK_MSG(strstr(acc, "requested=auto;") && strstr(acc, "met=0;") && strstr(acc, "tried=fast:") &&
+                strstr(acc, "suggestedBudget="),
             "accuracy attribute '%s'", acc);
   /* require: the same outcome is a failure, and no file. */
   o.require = 1;
