@@ -184,13 +184,15 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
        .parse = read_compact,
        .help = "compact's latent channels per colour channel (1..8,\n"
                "default 8) and decoder width (4..256, default 32);\n"
-               "implies --accuracy compact"},
+               "implies --accuracy compact (with auto: compact is tried\n"
+               "after specialised meets --max-error)"},
       {.type = CLI_OPT_CUSTOM, .name = "--budget", .meta = "SECONDS", .dest = a,
        .parse = read_budget,
-       .help = "fitted/specialised/compact: the cost-model seconds the\n"
-               "ground truth and fit may take (defaults 120 / 300 / 400;\n"
-               "about the wall time on one free core; the result does\n"
-               "not depend on the machine or its load)"},
+       .help = "fitted/specialised/compact/auto (each level tried): the\n"
+               "cost-model seconds the ground truth and fit may take\n"
+               "(defaults 120 / 300 / 400; about the wall time on one\n"
+               "free core; the result does not depend on the machine or\n"
+               "its load)"},
       {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->opts.seed,
        .help = "above fast: random walks and tuple selection (1)"},
       {.type = CLI_OPT_PATH, .name = "--fit", .meta = "FILE", .dest = &a->fit,
