@@ -195,11 +195,13 @@ def build_argv(nbrdf, bundle, settings, material_name, workdir, specs=None, outp
 
 
 def accuracy_argv(settings):
-    """--accuracy, --compact and --budget; nothing for the fast level, so its bytes stay the
+    """--accuracy, --max-error, --compact and --budget; nothing for the fast level, so its bytes stay the
     CLI's."""
     if settings.accuracy == "FAST":
         return []
     argv = ["--accuracy", settings.accuracy.lower()]
+    if settings.accuracy == "AUTO":
+        argv += ["--max-error", number(settings.max_error)]
     if settings.accuracy == "COMPACT":
         argv += ["--compact", str(settings.compact_channels)]
     if settings.budget > 0:

@@ -38,6 +38,8 @@ def draw_parameters(layout, s, material=None):
     sub = col.column()
     sub.active = s.accuracy != "FAST"
     sub.prop(s, "budget")
+    if s.accuracy == "AUTO":
+        col.prop(s, "max_error")
     if s.accuracy == "COMPACT":
         col.prop(s, "compact_channels")
     col.prop(s, "bake_uv")
@@ -145,6 +147,8 @@ def draw_results(layout, s):
     tiled = s.result.source == "TILED"
     box.label(text="Latent texture: " + s.result.name + (
         " (%d tiles)" % len(s.result.tiles) if tiled else ""), icon="IMAGE_DATA")
+    if s.accuracy_result:
+        box.label(text=s.accuracy_result, icon="INFO")
     if s.verify_texels:
         box.label(text="Verify (%d texels): median lobe error %.1f %%, worst %.1f %%"
                   % (s.verify_texels, s.verify_median, s.verify_worst), icon="CHECKMARK")

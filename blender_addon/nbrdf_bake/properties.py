@@ -86,14 +86,26 @@ class NBRDF_MaterialSettings(bpy.types.PropertyGroup):
                    ("COMPACT", "Compact",
                     "As Specialised, then a few latent channels per colour channel and a "
                     "small decoder distilled for the material: fast to decode, a third of "
-                    "the channels")]),
+                    "the channels"),
+                   ("AUTO", "Auto",
+                    "The cheapest level whose held-out error meets the Target Error: Fast "
+                    "is measured first, then Fitted and Specialised are tried within the "
+                    "Budget (nbrdf bake --accuracy auto --max-error)")]),
+        max_error=FloatProperty(
+            name="Target Error", default=5.0, min=0.01, max=1000.0, precision=1,
+            subtype="PERCENTAGE",
+            description="Auto: the held-out lobe error (%, nbrdf verify's metric) the texture "
+                        "must meet; the bake climbs levels until one does"),
+        accuracy_result=StringProperty(
+            name="Accuracy Result", default="",
+            description="The level the last bake used and its held-out lobe error"),
         compact_channels=IntProperty(
             name="Latent Channels", default=8, min=1, max=8,
             description="Compact: latent channels per colour channel (nbrdf bake --compact)"),
         budget=FloatProperty(
             name="Budget", default=0.0, min=0.0, max=1e7, unit="TIME_ABSOLUTE",
-            description="Fitted, Specialised and Compact: seconds of ground truth and "
-                        "fitting (about the time on one free core; 0: the level's default, "
+            description="Fitted, Specialised, Compact and Auto (each level tried): seconds "
+                        "of ground truth and fitting (about the time on one free core; 0: the level's default, "
                         "120 s / 300 s / 400 s). The result does not depend on the machine's "
                         "load"),
         bake_uv=BoolProperty(

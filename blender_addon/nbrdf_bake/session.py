@@ -24,6 +24,28 @@ VERIFY_TEXELS = 16
 VERIFY_SPP = 16  # walks per lobe image and run: ~0.5 CPU-s per distinct texel, a rough figure
 
 
+
+def accuracy_summary(done):
+    """The panel's line for the CLI's "done" event: the level the texture is at and its
+    held-out lobe error; auto's choice and target; a fallback to fast. Empty for fast."""
+    if not done or "requested" not in done:
+        return ""
+    level = done.get("accuracy", "fast").capitalize()
+    err = 100.0 * float(done.get("heldout_error", 0.0))
+    fast = 100.0 * float(done.get("heldout_error_fast", 0.0))
+    if done["requested"] == "auto":
+        if level == "Fast":
+            err = fast
+        if done.get("met"):
+            return "Auto chose %s: held-out lobe error %.1f %% (target %g %%)" % (
+                level, err, done.get("max_error", 0.0))
+        return "Auto: no level met %g %%; %s reached %.1f %%" % (
+            done.get("max_error", 0.0), level, err)
+    if done.get("fell_back"):
+        return "%s was worse than Fast (%.1f %% against %.1f %%): baked Fast" % (
+            done["requested"].capitalize(), err, fast)
+    return "%s: held-out lobe error %.1f %% (Fast %.1f %%)" % (level, err, fast)
+
 class Session:
     def __init__(self, material_name, bake, workdir, verify_argv, preview_argv, notes, made):
         self.material_name = material_name
@@ -152,6 +174,7 @@ class Session:
                 self.image = load_result(self.bake.output, self.relative)
             if material is not None:
                 material.nbrdf_bake.result = self.image
+                material.nbrdf_bake.accuracy_result = accuracy_summary(self.bake.result)
                 self.node = add_image_node(material, self.image)
                 material.nbrdf_bake.verify_texels = 0
             if self.verify_argv and not self._stopped:

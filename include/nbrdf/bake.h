@@ -128,12 +128,20 @@ typedef enum nbrdf_bake_compression {
  *   bundle's 32) and a small decoder (compact_width wide, about 1,900
  *   multiply-adds per query at 8 x 32) is distilled for the scene from the
  *   specialised one and the ground truth; the texture carries it. A texture
- *   a renderer decodes fast, at about a third of the channels. */
+ *   a renderer decodes fast, at about a third of the channels.
+ * - AUTO: the cheapest of the above that meets max_error (docs/BAKE.md, "auto"): the fast
+ *   level's held-out error is measured first; above max_error the bake climbs fitted, then
+ *   specialised (then compact, when compact_dim is given), each at the budget, and stops at
+ *   the first that meets it.
+ * A level whose held-out error is worse than fast's on the same tuples (beyond
+ * BAKE_FALLBACK_MARGIN, 0.25 percentage points) falls back to fast: the texture is fast's,
+ * a warning and the header say so. */
 typedef enum nbrdf_bake_accuracy {
   NBRDF_BAKE_FAST = 0,
   NBRDF_BAKE_FITTED = 1,
   NBRDF_BAKE_SPECIALISED = 2,
-  NBRDF_BAKE_COMPACT = 3
+  NBRDF_BAKE_COMPACT = 3,
+  NBRDF_BAKE_AUTO = 4
 } nbrdf_bake_accuracy;
 
 /* Default budgets in seconds of the deterministic cost model (not wall
@@ -142,7 +150,7 @@ typedef enum nbrdf_bake_accuracy {
 #define NBRDF_BAKE_BUDGET_SPECIALISED 300.0
 #define NBRDF_BAKE_BUDGET_COMPACT 400.0
 
-/* "fast", "fitted", "specialised", "compact"; parse returns -1 for anything else. */
+/* "fast", "fitted", "specialised", "compact", "auto"; parse returns -1 for anything else. */
 const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a);
 int nbrdf_bake_accuracy_parse(const char *name);
 
@@ -247,6 +255,14 @@ typedef struct nbrdf_bake_options {
    * run can tell a texture that is up to date from a stale one (a tile set's resumed bake).
    * NULL (default): no attribute, the file as without it. */
   const char *inputs;
+  /* AUTO: the held-out lobe error to meet, in percent (verify's metric; > 0, required). */
+  double max_error;
+  /* AUTO: when no level within the budget meets max_error, fail (NBRDF_ERR_UNSUPPORTED, no
+   * file) instead of baking the best level reached with a warning. */
+  int require;
+  /* Non-zero: a level worse than fast on its held-out tuples is baked anyway (with the
+   * warning) instead of falling back to fast: for measuring the levels themselves. */
+  int no_fallback;
 } nbrdf_bake_options;
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
@@ -257,7 +273,7 @@ typedef struct nbrdf_bake_options {
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL, NULL,\
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,        \
-        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL                         \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL, 0.0, 0, 0            \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
@@ -284,6 +300,19 @@ typedef struct nbrdf_bake_report {
   long long decoder_macs;
   double compact_kept;
   char device[128]; /* where the networks ran: "cpu" or the GPU's name */
+  /* The accuracy asked for (AUTO or a level); `accuracy` above is the texture's. */
+  nbrdf_bake_accuracy requested;
+  /* The level asked for (or auto's best) was worse than fast on its held-out tuples beyond
+   * the margin: the texture is fast's (accuracy FAST; heldout_error is the level's). */
+  int fell_back;
+  /* AUTO: the target (percent), whether a level met it, every level tried in order (fast
+   * first) with its held-out median (fraction), and when none met it the budget that would
+   * likely reach it (0: more budget is unlikely to help). */
+  double max_error;
+  int met, tried;
+  nbrdf_bake_accuracy tried_level[4];
+  double tried_error[4];
+  double suggested_budget;
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

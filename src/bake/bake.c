@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "bake/bake_accuracy.h"
+#include "bake/bake_auto.h"
 #include "bake/bake_band.h"
 #include "bake/bake_device.h"
 #include "bake/bake_fit_file.h"
@@ -152,7 +153,8 @@ static void audit(const bake_texture *t, const bake_level *level, const bake_fit
  * stage: bands of rows through bake_band.c (the level's evaluate stage `ev`),
  * stored as the level stores them, into the latent EXR writer. */
 static nbrdf_status evaluate_and_write(const bake_texture *t, const bake_level *level,
-                                       const bake_fit_result *fit, bake_evaluate *ev,
+                                       const bake_fit_result *fit, const char *accuracy_attr,
+                                       bake_evaluate *ev,
                                        texture_param_source **src, const nbrdf_bake_options *o,
                                        const char *out_path, bake_progress *prog,
                                        nbrdf_bake_report *rep, nbrdf_error *err) {
@@ -167,7 +169,7 @@ static nbrdf_status evaluate_and_write(const bake_texture *t, const bake_level *
                               t->settings,
                               own.bytes,
                               own.size,
-                              fit->attribute[0] ? fit->attribute : NULL,
+                              accuracy_attr[0] ? accuracy_attr : NULL,
                               o->inputs};
   texture_latent_exr_options wo = NBRDF_LATENT_EXR_OPTIONS_DEFAULT;
   wo.storage = o->storage == NBRDF_BAKE_FLOAT ? NBRDF_LATENT_FLOAT : NBRDF_LATENT_HALF;
@@ -250,6 +252,64 @@ static nbrdf_status evaluate_and_write(const bake_texture *t, const bake_level *
   return st;
 }
 
+/* The header's nbrdf:accuracy: the fit's, led by the texture's level; after a fallback or
+ * an auto choice also what was asked for and what came of it. */
+static void accuracy_attribute(const bake_fit_result *fit, nbrdf_bake_accuracy requested,
+                               nbrdf_bake_accuracy texture, int fell_back,
+                               const bake_auto_outcome *au, char *buf, size_t cap) {
+  const char *rest = fit->attribute;
+  if (!strncmp(rest, "level=", 6)) {
+    const char *semi = strstr(rest, "; ");
+    rest = semi ? semi + 2 : "";
+  }
+  buf[0] = '\0';
+  if (!fell_back && requested != NBRDF_BAKE_AUTO) {
+    snprintf(buf, cap, "%s", fit->attribute);
+    return;
+  }
+  snprintf(buf, cap, "level=%s; requested=%s", nbrdf_bake_accuracy_name(texture),
+           nbrdf_bake_accuracy_name(requested));
+  if (au) {
+    char d[384];
+    bake_auto_describe(au, d, sizeof d);
+    append(buf, cap, "; ");
+    append(buf, cap, d);
+  }
+  if (fell_back) append(buf, cap, "; fellBack=1");
+  if (rest[0]) {
+    append(buf, cap, "; ");
+    append(buf, cap, rest);
+  } else {
+    char d[128];
+    snprintf(d, sizeof d, "; heldout=%zu; fastError=%.4f", fit->heldout,
+             fit->heldout_error_fast);
+    append(buf, cap, d);
+  }
+}
+
+/* What the report says beyond the texture's level: the request, a fallback, auto's tries. */
+static void report_choice(const bake_fit_result *fit, nbrdf_bake_accuracy requested,
+                          int fell_back, const bake_auto_outcome *au, nbrdf_bake_report *rep) {
+  rep->requested = requested;
+  rep->fell_back = fell_back;
+  if (fell_back || (au && fit->heldout)) {
+    rep->accuracy = fell_back ? NBRDF_BAKE_FAST : rep->accuracy;
+    rep->budget = fit->budget;
+    rep->distinct = fit->distinct;
+    rep->fitted_tuples = fit->fitted;
+    rep->heldout_tuples = fit->heldout;
+    rep->heldout_error = fit->heldout_error;
+    rep->heldout_error_fast = fit->heldout_error_fast;
+  }
+  if (!au) return;
+  rep->max_error = 100.0 * au->max_error;
+  rep->met = au->met;
+  rep->tried = au->tried;
+  for (int i = 0; i < au->tried; i++)
+    rep->tried_level[i] = au->level[i], rep->tried_error[i] = au->error[i];
+  rep->suggested_budget = au->suggested_budget;
+}
+
 /* sources (opened by the caller; described here) -> plan/fit -> per-band
  * evaluate -> write -> audit, each accuracy level supplying its stages
  * (bake_level.h). */
@@ -261,18 +321,53 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   if (st != NBRDF_OK) return st;
   bake_progress prog = {.height = t.height};
   core_ticker_init(&prog.ticker, o->progress, o->user, o->cancel);
-  const bake_level *level = bake_level_of(o->accuracy);
   /* Plan and fit before any file exists. */
   bake_scene scene = {src, t.width, t.height, t.rgb ? 3 : 1};
   /* A fit made before (nbrdf/fit.h) replaces the plan/fit stage. */
   bake_fit_result own;
   memset(&own, 0, sizeof own);
   const bake_fit_result *fit = o->fit ? &o->fit->r : &own;
+  bake_auto_outcome au;
+  const int is_auto = o->accuracy == NBRDF_BAKE_AUTO && !o->fit;
+  nbrdf_bake_accuracy chosen = o->accuracy;
+  if (is_auto) {
+    st = bake_auto_choose(model, &scene, 1, o, &prog.ticker, &own, &au, err);
+    chosen = au.chosen;
+    if (st == NBRDF_OK && !au.met && o->warning) {
+      char msg[640];
+      bake_auto_message(&au, msg, sizeof msg);
+      o->warning(o->user, msg);
+    }
+  } else if (!o->fit) {
+    st = bake_level_of(o->accuracy)->fit(model, &scene, 1, o, &prog.ticker, &own, err);
+  }
+  /* A level worse than fast where the held-out check looked (grazing θi, off-plane
+   * azimuths) is not baked: fast is (auto never chooses one). */
+  const int fell_back = st == NBRDF_OK && chosen != NBRDF_BAKE_FAST && !o->no_fallback &&
+                        bake_fit_worse_than_fast(fit);
+  nbrdf_bake_options lo = *o;
+  lo.accuracy = fell_back ? NBRDF_BAKE_FAST : chosen;
+  if (fell_back && o->warning) {
+    char msg[512];
+    snprintf(msg, sizeof msg,
+             "the %s texture's held-out lobe error (%.2f %%) is worse than the fast level's "
+             "(%.2f %%) on the same %zu tuples (θi up to 89°, off-plane azimuths): baked at "
+             "fast instead; give it a larger --budget (this one: %g s)",
+             nbrdf_bake_accuracy_name(chosen), 100.0 * fit->heldout_error,
+             100.0 * fit->heldout_error_fast, fit->heldout, fit->budget);
+    o->warning(o->user, msg);
+  }
+  char attr[1024];
+  accuracy_attribute(fit, o->accuracy == NBRDF_BAKE_AUTO ? NBRDF_BAKE_AUTO : chosen,
+                     lo.accuracy, fell_back, is_auto ? &au : NULL, attr, sizeof attr);
+  const bake_level *level = bake_level_of(lo.accuracy);
   bake_evaluate ev = {0};
-  if (!o->fit) st = level->fit(model, &scene, 1, o, &prog.ticker, &own, err);
   if (st == NBRDF_OK) st = level->evaluate_open(model, fit, &t.layout, t.width, &ev, err);
   if (st == NBRDF_OK)
-    st = evaluate_and_write(&t, level, fit, &ev, src, o, out_path, &prog, rep, err);
+    st = evaluate_and_write(&t, level, fit, attr, &ev, src, &lo, out_path, &prog, rep, err);
+  if (st == NBRDF_OK && rep)
+    report_choice(fit, o->accuracy == NBRDF_BAKE_AUTO ? NBRDF_BAKE_AUTO : chosen, fell_back,
+                  is_auto ? &au : NULL, rep);
   bake_evaluate_close(&ev);
   bake_fit_result_free(&own);
   return st;
@@ -292,10 +387,22 @@ nbrdf_status nbrdf_bake_options_check(const nbrdf_model *model, const nbrdf_bake
   if (o.quantise_bits != 0 && (o.quantise_bits < 2 || o.quantise_bits > 16))
     return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: quantise_bits is 0 (off) or 2..16, not %d",
                      o.quantise_bits);
-  if ((unsigned)o.accuracy > NBRDF_BAKE_COMPACT)
+  if ((unsigned)o.accuracy > NBRDF_BAKE_AUTO)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
-                     "bake: accuracy is fast, fitted, specialised or compact (0 to 3), not %d",
+                     "bake: accuracy is fast, fitted, specialised, compact or auto (0 to 4), not %d",
                      (int)o.accuracy);
+  if (o.accuracy == NBRDF_BAKE_AUTO) {
+    if (!(o.max_error > 0.0 && o.max_error <= 1000.0))
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "bake: auto needs max_error, the held-out lobe error to meet in percent "
+                       "(0, 1000], not %g",
+                       o.max_error);
+    if (o.fit)
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "bake: auto chooses a level; a fit made before has its own");
+    /* Auto climbs from fitted: its budget must at least afford that. */
+    o.accuracy = NBRDF_BAKE_FITTED;
+  }
   if ((unsigned)o.device > NBRDF_DEVICE_GPU)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "bake: device is cpu, auto or gpu (0 to 2), not %d",
                      (int)o.device);

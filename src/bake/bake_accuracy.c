@@ -16,7 +16,7 @@
  * 130 projection steps of 39 tuples x 128 rows 1.3 CPU-s (2.0 us a row with
  * the default 27 k-MAC decoder). */
 #define COST_INCIDENT 0.055 /* s per incident direction of one tuple's fit samples */
-#define COST_LOBE 0.3       /* s per held-out tuple's lobe images */
+#define COST_LOBE 0.45      /* s per held-out tuple's six lobe images (0.3 for the first four) */
 #define MAC_RATE 3.4e10     /* decoder multiply-add passes per second in a fit */
 #define PROJECT_PASSES 2.5  /* forward + backward to the inputs */
 #define JOINT_PASSES 3.5    /* ... and to the weights */
@@ -45,6 +45,10 @@
 #define SPP 2048
 #define LOBE_RES 32
 #define LOBE_WALKS 512
+
+int bake_fit_worse_than_fast(const bake_fit_result *r) {
+  return r->heldout > 0 && r->heldout_error > r->heldout_error_fast + BAKE_FALLBACK_MARGIN;
+}
 
 static double step_cost(size_t n_fit, int rows, int64_t macs, double passes) {
   return (double)n_fit * rows * (double)macs * passes / MAC_RATE;
@@ -142,7 +146,7 @@ void bake_fit_result_free(bake_fit_result *r) {
   memset(r, 0, sizeof *r);
 }
 
-static double budget_of(const nbrdf_bake_options *o) {
+double bake_accuracy_budget(const nbrdf_bake_options *o) {
   return o->budget > 0.0                         ? o->budget
          : o->accuracy == NBRDF_BAKE_COMPACT     ? NBRDF_BAKE_BUDGET_COMPACT
          : o->accuracy == NBRDF_BAKE_SPECIALISED ? NBRDF_BAKE_BUDGET_SPECIALISED
@@ -169,7 +173,7 @@ nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_opti
   bake_plan plan;
   /* One tuple: the smallest plan, whose cost alone decides whether the budget suffices. */
   if (st == NBRDF_OK)
-    st = bake_plan_make(o->accuracy, budget_of(o), 1, nbrdf_model_decoder_macs(model),
+    st = bake_plan_make(o->accuracy, bake_accuracy_budget(o), 1, nbrdf_model_decoder_macs(model),
                         student_macs, &plan, err);
   return st;
 }
@@ -180,7 +184,7 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
   memset(r, 0, sizeof *r);
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
   model_material_ranges(model, lo, hi);
-  r->budget = budget_of(o);
+  r->budget = bake_accuracy_budget(o);
   const int compact = o->accuracy == NBRDF_BAKE_COMPACT;
   const int K = o->compact_dim > 0 ? o->compact_dim : BAKE_COMPACT_DEFAULT_DIM;
   const int width = o->compact_width > 0 ? o->compact_width : BAKE_COMPACT_DEFAULT_WIDTH;
@@ -232,11 +236,12 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
                             teach.n_fit, K, &cs, &r->compact, err);
   if (st == NBRDF_OK)
     st = bake_heldout_error(model, &r->correction, compact ? &r->compact : NULL, sel.held,
-                            sel.n_held, images, LOBE_RES, &r->heldout_error,
+                            sel.n_held, images, LOBE_RES, o->seed, &r->heldout_error,
                             &r->heldout_error_fast, NULL, err);
   if (st == NBRDF_OK) {
     r->fitted = sel.n_fit;
     r->heldout = sel.n_held;
+    r->level = o->accuracy;
     snprintf(r->attribute, sizeof r->attribute,
              "level=%s; budget=%g; cost=%.1f; distinct=%zu; fitted=%zu; heldout=%zu%s; "
              "heldoutError=%.4f; fastError=%.4f; seed=%llu",
@@ -258,4 +263,66 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
   bake_selection_free(&teach);
   if (st != NBRDF_OK) bake_fit_result_free(r);
   return st;
+}
+
+nbrdf_status bake_accuracy_fast_error(const nbrdf_model *model, const bake_scene *scenes,
+                                      size_t n_scenes, const nbrdf_bake_options *o,
+                                      core_ticker *ticker, double *fast, size_t *heldout,
+                                      size_t *distinct, nbrdf_error *err) {
+  *fast = 0.0, *heldout = 0, *distinct = 0;
+  float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
+  model_material_ranges(model, lo, hi);
+  bake_gather_settings gs = {lo, hi, o->roughness, o->range, o->quantise_bits, o->cancel};
+  bake_tuple *cand = NULL;
+  size_t n_cand = 0;
+  nbrdf_status st = bake_gather_tuples(scenes, n_scenes, &gs, &cand, &n_cand, distinct, err);
+  /* FITTED's plan at this budget and its selection: the held-out tuples are then those the
+   * fitted level is measured on, with the same truth (same seed and streams). */
+  bake_plan plan;
+  if (st == NBRDF_OK)
+    st = bake_plan_make(NBRDF_BAKE_FITTED, bake_accuracy_budget(o), *distinct,
+                        nbrdf_model_decoder_macs(model), 0, &plan, err);
+  bake_selection sel = {0};
+  if (st == NBRDF_OK)
+    st = bake_select(cand, n_cand, lo, hi, plan.n_fit, plan.n_held, o->seed, &sel, err);
+  free(cand);
+  double *images = NULL;
+  bake_truth_settings ts = {plan.incident, OUTGOING, SAMPLED, SPP, LOBE_RES, LOBE_WALKS,
+                            o->seed, ticker, 0.0, (double)sel.n_held, o->cancel};
+  if (st == NBRDF_OK) {
+    images = malloc(sizeof(double) * sel.n_held * BAKE_LOBE_N_THETA * LOBE_RES * LOBE_RES + 1);
+    if (!images) st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for lobe images");
+  }
+  if (st == NBRDF_OK && ticker && core_ticker_tick(ticker, "ground truth", 0, ts.total, 1))
+    st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled before the ground truth");
+  if (st == NBRDF_OK) st = bake_truth_lobes(sel.held, sel.n_held, &ts, images, err);
+  if (st == NBRDF_OK)
+    st = bake_heldout_error(model, NULL, NULL, sel.held, sel.n_held, images, LOBE_RES, o->seed,
+                            NULL, fast, NULL, err);
+  if (st == NBRDF_OK) *heldout = sel.n_held;
+  free(images);
+  bake_selection_free(&sel);
+  return st;
+}
+
+double bake_accuracy_budget_for(const nbrdf_model *model, nbrdf_bake_accuracy level,
+                                double budget, size_t distinct, double error, double target) {
+  if (!(error > target) || !(target > 0.0)) return budget;
+  /* A guess, not a promise: the held-out error measured on the ladder falls roughly as
+   * 1/sqrt(budget) while more tuples and steps fit (docs/BAKE.md, "auto"). */
+  double want = budget * (error / target) * (error / target);
+  if (want > 1e7) want = 1e7;
+  want = 10.0 * ceil(want / 10.0);
+  bake_plan now, then;
+  nbrdf_error e;
+  int64_t macs = nbrdf_model_decoder_macs(model);
+  if (bake_plan_make(level, budget, distinct, macs, 0, &now, &e) != NBRDF_OK ||
+      bake_plan_make(level, want, distinct, macs, 0, &then, &e) != NBRDF_OK)
+    return want;
+  /* The plan no longer grows (every distinct tuple fitted, the most directions and steps):
+   * more budget buys nothing. */
+  if (then.n_fit == now.n_fit && then.incident == now.incident &&
+      then.project_steps == now.project_steps && then.joint_steps == now.joint_steps)
+    return 0.0;
+  return want;
 }

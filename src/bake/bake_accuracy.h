@@ -49,6 +49,7 @@ typedef struct bake_fit_result {
   bake_compact compact;       /* COMPACT: the basis and the student (else zero) */
   size_t distinct, fitted, heldout;
   double heldout_error, heldout_error_fast;
+  nbrdf_bake_accuracy level; /* the level fitted (FAST: nothing fitted) */
   double budget;
   char attribute[512]; /* NBRDF_ATTR_ACCURACY */
 } bake_fit_result;
@@ -62,5 +63,31 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
                                const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
                                nbrdf_error *err);
 void bake_fit_result_free(bake_fit_result *r);
+
+/* How far a level's held-out median may exceed fast's on the same tuples before the level
+ * counts as worse than fast (a fraction: 0.25 percentage points). Both are medians against
+ * the same ground truth, so its noise largely cancels; what is left is the decoders'. */
+#define BAKE_FALLBACK_MARGIN 0.0025
+
+/* Non-zero when the fit's held-out error is worse than the fast level's beyond the margin:
+ * the bake then falls back to fast (docs/BAKE.md, "Held-out check"). */
+int bake_fit_worse_than_fast(const bake_fit_result *r);
+
+/* o->budget, or the default of o->accuracy. */
+double bake_accuracy_budget(const nbrdf_bake_options *o);
+
+/* The fast level's held-out median (*fast) on the tuples the fitted level at this budget
+ * would hold out (the same truth), their number and the scenes' distinct tuples: what AUTO
+ * measures first. */
+nbrdf_status bake_accuracy_fast_error(const nbrdf_model *model, const bake_scene *scenes,
+                                      size_t n_scenes, const nbrdf_bake_options *o,
+                                      core_ticker *ticker, double *fast, size_t *heldout,
+                                      size_t *distinct, nbrdf_error *err);
+
+/* The budget that would likely bring `level`'s held-out error from `error` (measured at
+ * `budget`) to `target`: a guess from the cost model's plan (0 when the plan no longer
+ * grows with the budget, so more of it is unlikely to help). */
+double bake_accuracy_budget_for(const nbrdf_model *model, nbrdf_bake_accuracy level,
+                                double budget, size_t distinct, double error, double target);
 
 #endif

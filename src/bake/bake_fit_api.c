@@ -108,9 +108,10 @@ static nbrdf_status check_run_args(const nbrdf_model *model, const nbrdf_bake_in
   if (n_tiles > 1000000)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "fit: %zu sets of inputs; at most 1000000", n_tiles);
   if (o->fit) return core_fail(err, NBRDF_ERR_ARGUMENT, "fit: options.fit must be NULL");
-  if (o->accuracy == NBRDF_BAKE_FAST)
+  if (o->accuracy == NBRDF_BAKE_FAST || o->accuracy == NBRDF_BAKE_AUTO)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
-                     "fit: accuracy is fitted, specialised or compact (fast has nothing to fit)");
+                     "fit: accuracy is fitted, specialised or compact (fast has nothing to fit; "
+                     "a fit holds one level, so auto is the bake's)");
   for (size_t i = 1; i < n_tiles; i++)
     if (tiles[i].resample != tiles[0].resample)
       return core_fail(err, NBRDF_ERR_ARGUMENT,

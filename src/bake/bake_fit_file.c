@@ -220,7 +220,7 @@ static nbrdf_status read_options(const nn_st_reader *r, nbrdf_fit *f, nbrdf_erro
   const char *label = nn_st_label(r), *v = NULL;
   nbrdf_status st = nn_st_metadata_require(r, "nbrdf.accuracy", &v, err);
   int level = st == NBRDF_OK ? nbrdf_bake_accuracy_parse(v) : -1;
-  if (st == NBRDF_OK && level <= NBRDF_BAKE_FAST)
+  if (st == NBRDF_OK && (level <= NBRDF_BAKE_FAST || level == NBRDF_BAKE_AUTO))
     return core_fail(err, NBRDF_ERR_FORMAT, "%s: accuracy '%s' is not fitted, specialised or compact",
                      label, v);
   f->accuracy = (nbrdf_bake_accuracy)level;

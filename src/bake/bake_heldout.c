@@ -26,18 +26,26 @@ static double median(double *v, size_t n) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-/* Decodes the lobe images of `latent` with `dec` into img (f cos θo). */
+/* Decodes the lobe images of `latent` with `dec` into img (f cos θo), image
+ * i asked with ωi and ωo rotated by phi[i] about the normal (the truth's
+ * pixel is the same: the layered BRDF is isotropic). */
 static nbrdf_status decode_lobes(const model_decoder *dec, model_runner *run, const float *latent,
-                                 int res, float *lat, float *wi, float *wo, float *f, double *img,
-                                 nbrdf_error *err) {
+                                 int res, const double *phi, float *lat, float *wi, float *wo,
+                                 float *f, double *img, nbrdf_error *err) {
   const int D = dec->cfg.latent_dim;
   size_t px = (size_t)res * res, q = 0;
   for (int i = 0; i < BAKE_LOBE_N_THETA; i++) {
     double th = bake_lobe_theta_deg[i] * (M_PI / 180.0);
+    double c = cos(phi[i]), s = sin(phi[i]);
     for (int r = 0; r < res; r++)
       for (int col = 0; col < res; col++) {
-        if (!bake_lobe_pixel_wo(res, r, col, wo + 3 * q)) continue;
-        wi[3 * q] = (float)sin(th), wi[3 * q + 1] = 0.0f, wi[3 * q + 2] = (float)cos(th);
+        float w[3];
+        if (!bake_lobe_pixel_wo(res, r, col, w)) continue;
+        wo[3 * q] = (float)(c * w[0] - s * w[1]);
+        wo[3 * q + 1] = (float)(s * w[0] + c * w[1]);
+        wo[3 * q + 2] = w[2];
+        wi[3 * q] = (float)(c * sin(th)), wi[3 * q + 1] = (float)(s * sin(th));
+        wi[3 * q + 2] = (float)cos(th);
         memcpy(lat + q * D, latent, sizeof(float) * D);
         q++;
       }
@@ -59,8 +67,8 @@ static nbrdf_status decode_lobes(const model_decoder *dec, model_runner *run, co
 
 nbrdf_status bake_heldout_error(const nbrdf_model *model, const bake_correction *c,
                                 const bake_compact *compact, const bake_tuple *t, size_t n,
-                                const double *images, int res, double *fitted, double *fast,
-                                double *per_tuple, nbrdf_error *err) {
+                                const double *images, int res, uint64_t seed, double *fitted,
+                                double *fast, double *per_tuple, nbrdf_error *err) {
   const int D = nbrdf_model_latent_dim(model);
   size_t px = (size_t)res * res, all = BAKE_LOBE_N_THETA * px;
   float *net = malloc(sizeof(float) * n * (D + 2) + 1);
@@ -80,12 +88,15 @@ nbrdf_status bake_heldout_error(const nbrdf_model *model, const bake_correction 
   for (size_t k = 0; st == NBRDF_OK && k < n; k++) {
     const double *ref = images + k * all;
     float *z = net + k * (D + 2);
-    st = decode_lobes(model->decoder, &run_u, z, res, lat, wi, wo, f, img, err);
+    double phi[BAKE_LOBE_N_THETA];
+    for (int i = 0; i < BAKE_LOBE_N_THETA; i++)
+      phi[i] = bake_lobe_azimuth(seed, k, i);
+    st = decode_lobes(model->decoder, &run_u, z, res, phi, lat, wi, wo, f, img, err);
     if (st == NBRDF_OK) errs[n + k] = errs[k] = lobe_error(all, ref, img);
     if (st == NBRDF_OK && c) {
       bake_correct_latents(c, t, &k, 1, net, (size_t)(D + 2));
       if (compact) bake_compact_reduce(compact, z, coords);
-      st = decode_lobes(spec, &run_s, compact ? coords : z, res, lat, wi, wo, f, img, err);
+      st = decode_lobes(spec, &run_s, compact ? coords : z, res, phi, lat, wi, wo, f, img, err);
       if (st == NBRDF_OK) errs[k] = lobe_error(all, ref, img);
     }
   }

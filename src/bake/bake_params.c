@@ -10,14 +10,15 @@
 #include "core/number.h"
 #include "model/material.h"
 
-static const char *const accuracy_names[4] = {"fast", "fitted", "specialised", "compact"};
+static const char *const accuracy_names[5] = {"fast", "fitted", "specialised", "compact",
+                                              "auto"};
 
 const char *nbrdf_bake_accuracy_name(nbrdf_bake_accuracy a) {
-  return (unsigned)a < 4 ? accuracy_names[a] : "unknown";
+  return (unsigned)a < 5 ? accuracy_names[a] : "unknown";
 }
 
 int nbrdf_bake_accuracy_parse(const char *name) {
-  for (int k = 0; name && k < 4; k++)
+  for (int k = 0; name && k < 5; k++)
     if (!strcmp(name, accuracy_names[k])) return k;
   return -1;
 }

@@ -11,10 +11,11 @@
 #include "core/rng.h"
 #include "model/material.h"
 
-const double bake_lobe_theta_deg[BAKE_LOBE_N_THETA] = {0.0, 30.0, 60.0, 80.0};
+const double bake_lobe_theta_deg[BAKE_LOBE_N_THETA] = {0.0, 30.0, 60.0, 80.0, 85.0, 89.0};
 
 #define TRUTH_TAG 0x6e62747275746830ull /* fit samples' family */
 #define LOBE_TAG 0x6e62747275746831ull  /* held-out lobes' family */
+#define AZIMUTH_TAG 0x6e62747275746832ull /* held-out lobes' azimuths */
 
 void bake_tuple_params(const bake_tuple *t, train_params *p) {
   memset(p, 0, sizeof *p);
@@ -121,6 +122,11 @@ nbrdf_status bake_truth_samples(const bake_tuple *t, size_t n, const bake_truth_
   }
   free(buf);
   return st;
+}
+
+double bake_lobe_azimuth(uint64_t seed, size_t k, int i) {
+  uint64_t h = core_hash64(core_hash64(seed, AZIMUTH_TAG), k * BAKE_LOBE_N_THETA + (size_t)i);
+  return 2.0 * M_PI * (double)(h >> 11) * (1.0 / 9007199254740992.0);
 }
 
 int bake_lobe_pixel_wo(int res, int row, int col, float wo[3]) {

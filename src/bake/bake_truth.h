@@ -8,8 +8,12 @@
  *   incident directions stratified over [0°, 89°), half the outgoing ones
  *   importance-sampled, so sharp lobes and grazing angles are covered).
  * - Held-out lobes: the lobe images of docs/METRICS.md (θi 0°, 30°, 60°,
- *   80°) at a smaller resolution, for the error estimate of nbrdf verify's
- *   metric. */
+ *   80°) and two grazing ones (85°, 89°, where renders of sharp and low-IOR
+ *   coats go wrong first) at a smaller resolution, for the error estimate of
+ *   nbrdf verify's metric. The truth is computed with ωi at azimuth 0; the
+ *   networks are asked at a seeded azimuth per image (bake_lobe_azimuth),
+ *   ωi and ωo rotated together, which the isotropic truth does not see but
+ *   the decoder does (it is not rotation-invariant by construction). */
 #ifndef NBRDF_BAKE_BAKE_TRUTH_H
 #define NBRDF_BAKE_BAKE_TRUTH_H
 
@@ -20,7 +24,7 @@
 #include "core/progress.h"
 #include "train/samples.h"
 
-#define BAKE_LOBE_N_THETA 4
+#define BAKE_LOBE_N_THETA 6
 extern const double bake_lobe_theta_deg[BAKE_LOBE_N_THETA];
 
 typedef struct bake_truth_settings {
@@ -45,6 +49,11 @@ nbrdf_status bake_truth_samples(const bake_tuple *t, size_t n, const bake_truth_
  * (f cos θo, 0 outside the disk). Streams differ from the fit samples'. */
 nbrdf_status bake_truth_lobes(const bake_tuple *t, size_t n, const bake_truth_settings *s,
                               double *images, nbrdf_error *err);
+
+/* The azimuth (radians, [0, 2π)) at which the networks see image i of
+ * held-out tuple k: ωi and every ωo of the image rotated by it about the
+ * normal. Seeded, the same for every level of one bake. */
+double bake_lobe_azimuth(uint64_t seed, size_t k, int i);
 
 /* ωo of lobe pixel (row, col) (docs/METRICS.md); 0 outside the disk. */
 int bake_lobe_pixel_wo(int res, int row, int col, float wo[3]);

@@ -26,7 +26,7 @@ typedef struct bake_args {
   int force;
   cli_progress_state ps;
   uint64_t energy_audit;
-  int budget_given, compact_given;
+  int budget_given, compact_given, max_error_given;
   const char *fit; /* --fit */
 } bake_args;
 
@@ -62,8 +62,10 @@ static int read_size(const char *cmd, const cli_opt *o, const char *v) {
 static int read_accuracy(const char *cmd, const cli_opt *o, const char *v) {
   bake_args *a = o->dest;
   int level = nbrdf_bake_accuracy_parse(v);
-  if (level < 0) return cli_opt_bad(cmd, o->name, "fast, fitted, specialised or compact", v);
-  if (a->compact_given && level != NBRDF_BAKE_COMPACT)
+  if (level < 0)
+    return cli_opt_bad(cmd, o->name, "fast, fitted, specialised, compact or auto", v);
+  /* auto with --compact: the compact level is auto's top rung (bake_auto.h). */
+  if (a->compact_given && level != NBRDF_BAKE_COMPACT && level != NBRDF_BAKE_AUTO)
     return cli_usage_error(cmd, "--compact goes with --accuracy compact, not '%s'", v);
   a->opts.accuracy = (nbrdf_bake_accuracy)level;
   return 0;
@@ -73,10 +75,12 @@ static int read_compact(const char *cmd, const cli_opt *o, const char *v) {
   bake_args *a = o->dest;
   int k = 0, w = 0;
   if (!cli_parse_compact(v, &k, &w)) return cli_opt_bad(cmd, o->name, CLI_COMPACT_EXPECTED, v);
-  if (a->opts.accuracy != NBRDF_BAKE_FAST && a->opts.accuracy != NBRDF_BAKE_COMPACT)
+  if (a->opts.accuracy != NBRDF_BAKE_FAST && a->opts.accuracy != NBRDF_BAKE_COMPACT &&
+      a->opts.accuracy != NBRDF_BAKE_AUTO)
     return cli_usage_error(cmd, "--compact goes with --accuracy compact, not '%s'",
                            nbrdf_bake_accuracy_name(a->opts.accuracy));
-  a->opts.accuracy = NBRDF_BAKE_COMPACT, a->compact_given = 1;
+  if (a->opts.accuracy != NBRDF_BAKE_AUTO) a->opts.accuracy = NBRDF_BAKE_COMPACT;
+  a->compact_given = 1;
   a->opts.compact_dim = k, a->opts.compact_width = w;
   return 0;
 }
@@ -150,8 +154,9 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
        .help = "decoded directional albedo of the first N distinct latents\n"
                "(16384; 0: off): the worst goes into the header as\n"
                "nbrdf:maxAlbedo, a warning names it above 1.01"},
-      {.type = CLI_OPT_CUSTOM, .name = "--accuracy", .meta = "fast|fitted|specialised|compact",
-       .choices = "fast|fitted|specialised|compact", .dest = a, .parse = read_accuracy,
+      {.type = CLI_OPT_CUSTOM, .name = "--accuracy",
+       .meta = "fast|fitted|specialised|compact|auto",
+       .choices = "fast|fitted|specialised|compact|auto", .dest = a, .parse = read_accuracy,
        .help = "fast (default): the universal networks; fitted: latents\n"
                "fitted to the layered ground truth of the scene's own\n"
                "BRDFs (representative tuples; any reader decodes it);\n"
@@ -159,19 +164,35 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
                "carried in the texture (format 2); compact: as\n"
                "specialised, then 8 latent channels per colour channel\n"
                "and a small decoder distilled for the scene (fast to\n"
-               "decode, a third of the channels). docs/BAKE.md\n"
-               "measures the trade"},
+               "decode, a third of the channels); auto: the cheapest of\n"
+               "them whose held-out error meets --max-error.\n"
+               "docs/BAKE.md measures the trade"},
+      {.type = CLI_OPT_DOUBLE, .name = "--max-error", .meta = "P", .lo = 1e-6, .hi = 1000.0,
+       .dest = &a->opts.max_error, .seen = &a->max_error_given,
+       .help = "auto: the held-out lobe error to meet, in percent\n"
+               "(verify's metric): fast is measured first, then fitted,\n"
+               "specialised (compact too with --compact) are tried, each\n"
+               "at --budget, until one meets it"},
+      {.type = CLI_OPT_FLAG, .name = "--no-fallback", .dest = &a->opts.no_fallback, .value = 1,
+       .help = "fitted/specialised/compact: bake the level even when its\n"
+               "held-out error is worse than fast's (by default such a\n"
+               "bake falls back to fast and says so)"},
+      {.type = CLI_OPT_FLAG, .name = "--require", .dest = &a->opts.require, .value = 1,
+       .help = "auto: fail (exit 1, no file) when no level within the\n"
+               "budget meets --max-error, instead of baking the best"},
       {.type = CLI_OPT_CUSTOM, .name = "--compact", .meta = "K[,WIDTH]", .dest = a,
        .parse = read_compact,
        .help = "compact's latent channels per colour channel (1..8,\n"
                "default 8) and decoder width (4..256, default 32);\n"
-               "implies --accuracy compact"},
+               "implies --accuracy compact (with auto: compact is tried\n"
+               "after specialised meets --max-error)"},
       {.type = CLI_OPT_CUSTOM, .name = "--budget", .meta = "SECONDS", .dest = a,
        .parse = read_budget,
-       .help = "fitted/specialised/compact: the cost-model seconds the\n"
-               "ground truth and fit may take (defaults 120 / 300 / 400;\n"
-               "about the wall time on one free core; the result does\n"
-               "not depend on the machine or its load)"},
+       .help = "fitted/specialised/compact/auto (each level tried): the\n"
+               "cost-model seconds the ground truth and fit may take\n"
+               "(defaults 120 / 300 / 400; about the wall time on one\n"
+               "free core; the result does not depend on the machine or\n"
+               "its load)"},
       {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->opts.seed,
        .help = "above fast: random walks and tuple selection (1)"},
       {.type = CLI_OPT_PATH, .name = "--fit", .meta = "FILE", .dest = &a->fit,
@@ -241,8 +262,22 @@ static void on_note(void *user, const char *message) {
   cli_device_note("bake", message);
 }
 
+/* auto's outcome in one line: the level chosen, its error, every level tried. */
+static void auto_line(FILE *out, const nbrdf_bake_report *rep) {
+  fprintf(out, "nbrdf bake: auto: %s %s, held-out lobe error %.2f %% (target %g %%; tried:",
+          rep->met ? "chose" : "no level met the target; baked the best,",
+          nbrdf_bake_accuracy_name(rep->accuracy),
+          100.0 * (rep->accuracy == NBRDF_BAKE_FAST ? rep->tried_error[0] : rep->heldout_error),
+          rep->max_error);
+  for (int i = 0; i < rep->tried; i++)
+    fprintf(out, "%s %s %.2f %%", i ? "," : "", nbrdf_bake_accuracy_name(rep->tried_level[i]),
+            100.0 * rep->tried_error[i]);
+  fprintf(out, ")\n");
+}
+
 /* The summary: a "done" JSON line, or text. */
 static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
+  if (rep->requested == NBRDF_BAKE_AUTO) auto_line(stderr, rep);
   if (a->ps.json) {
     printf("{\"event\":\"done\",\"output\":");
     cli_json_string(stdout, a->out);
@@ -250,11 +285,22 @@ static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
            rep->colour_channels, rep->evaluated);
     printf(",\"device\":");
     cli_json_string(stdout, rep->device);
-    if (rep->accuracy != NBRDF_BAKE_FAST)
-      printf(",\"accuracy\":\"%s\",\"budget\":%g,\"distinct\":%zu,\"fitted_tuples\":%zu,"
-             "\"heldout_tuples\":%zu,\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",
-             nbrdf_bake_accuracy_name(rep->accuracy), rep->budget, rep->distinct,
-             rep->fitted_tuples, rep->heldout_tuples, rep->heldout_error, rep->heldout_error_fast);
+    if (rep->requested != NBRDF_BAKE_FAST)
+      printf(",\"accuracy\":\"%s\",\"requested\":\"%s\",\"fell_back\":%s,\"budget\":%g,"
+             "\"distinct\":%zu,\"fitted_tuples\":%zu,\"heldout_tuples\":%zu,"
+             "\"heldout_error\":%.5f,\"heldout_error_fast\":%.5f",
+             nbrdf_bake_accuracy_name(rep->accuracy), nbrdf_bake_accuracy_name(rep->requested),
+             rep->fell_back ? "true" : "false", rep->budget, rep->distinct, rep->fitted_tuples,
+             rep->heldout_tuples, rep->heldout_error, rep->heldout_error_fast);
+    if (rep->requested == NBRDF_BAKE_AUTO) {
+      printf(",\"max_error\":%g,\"met\":%s,\"tried\":[", rep->max_error,
+             rep->met ? "true" : "false");
+      for (int i = 0; i < rep->tried; i++)
+        printf("%s{\"level\":\"%s\",\"heldout_error\":%.5f}", i ? "," : "",
+               nbrdf_bake_accuracy_name(rep->tried_level[i]), rep->tried_error[i]);
+      printf("]");
+      if (!rep->met) printf(",\"suggested_budget\":%g", rep->suggested_budget);
+    }
     if (rep->compact_dim)
       printf(",\"compact\":%d,\"decoder_macs\":%lld,\"variance_kept\":%.5f", rep->compact_dim,
              rep->decoder_macs, rep->compact_kept);
@@ -266,12 +312,15 @@ static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
     if (rep->audited)
       printf("energy audit: max decoded directional albedo %.4f over %zu distinct latents\n",
              rep->max_albedo, rep->audited);
-    if (rep->accuracy != NBRDF_BAKE_FAST)
+    if (rep->accuracy != NBRDF_BAKE_FAST || rep->fell_back)
       printf("accuracy %s (budget %g s): %zu of %zu distinct tuples fitted; lobe error on %zu "
-             "held-out tuples: median %.2f %% (fast: %.2f %%)\n",
-             nbrdf_bake_accuracy_name(rep->accuracy), rep->budget, rep->fitted_tuples,
-             rep->distinct, rep->heldout_tuples, 100.0 * rep->heldout_error,
-             100.0 * rep->heldout_error_fast);
+             "held-out tuples: median %.2f %% (fast: %.2f %%)%s\n",
+             nbrdf_bake_accuracy_name(rep->fell_back && rep->requested != NBRDF_BAKE_AUTO
+                                          ? rep->requested
+                                          : rep->accuracy),
+             rep->budget, rep->fitted_tuples, rep->distinct, rep->heldout_tuples,
+             100.0 * rep->heldout_error, 100.0 * rep->heldout_error_fast,
+             rep->fell_back ? "; worse than fast: the texture is fast's" : "");
     if (rep->compact_dim)
       printf("compact: %d latent channels per colour channel (%.2f %% of the scene's latent "
              "variance), decoder %lld multiply-adds per query\n",
@@ -306,7 +355,13 @@ int cmd_bake(int argc, char **argv) {
   a.opts.roughness = a.params.roughness;
   if (a.budget_given && a.opts.accuracy == NBRDF_BAKE_FAST)
     return cli_usage_error(
-        "bake", "--budget applies to --accuracy fitted, specialised or compact, not fast");
+        "bake", "--budget applies to --accuracy fitted, specialised, compact or auto, not fast");
+  if (a.opts.accuracy == NBRDF_BAKE_AUTO && !a.max_error_given)
+    return cli_usage_error("bake", "--accuracy auto needs --max-error P (percent)");
+  if (a.opts.accuracy != NBRDF_BAKE_AUTO && (a.max_error_given || a.opts.require))
+    return cli_usage_error("bake", "--max-error and --require go with --accuracy auto");
+  if (a.opts.accuracy == NBRDF_BAKE_AUTO && a.fit)
+    return cli_usage_error("bake", "--accuracy auto chooses a level; --fit has its own");
   if (!out) return cli_usage_error("bake", "-o OUT.exr is required");
   nbrdf_model *model = NULL;
   char used[PATH_MAX];

@@ -38,13 +38,14 @@ typedef struct verify_run {
 } verify_run;
 
 /* Between chunks of a reference's random walks: the progress moves within a
- * texel, by lobe images (8 per reference, one reference per colour channel
+ * texel, by lobe images (2 x VERIFY_N_THETA per reference, one reference per colour channel
  * at level 0; a footprint's texels for coarser levels, capped below the next). */
 static int reference_tick(void *user, int image) {
   verify_run *v = user;
   if (image < v->last_image) v->references++;
   v->last_image = image;
-  double f = (v->references * 8.0 + image) / (8.0 * v->colours);
+  const double per = 2.0 * VERIFY_N_THETA;
+  double f = (v->references * per + image) / (per * v->colours);
   return core_ticker_tick(&v->ticker, "verify", (double)v->texel_index + (f < 0.95 ? f : 0.95),
                           (double)v->rep->n_texels, 0);
 }
@@ -192,7 +193,7 @@ static nbrdf_status compare_texel(verify_run *v, nbrdf_verify_texel *out, nbrdf_
     v->rep->max_albedo = out->max_albedo;
   out->lobe_error = lobe_l1_error(S, v->ref, v->approx);
   out->albedo_error =
-      lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA * v->colours, v->ref, v->approx, NULL);
+      lobe_albedo_error(NBRDF_LOBE_RES, VERIFY_N_THETA * v->colours, v->ref, v->approx, NULL);
   return NBRDF_OK;
 }
 

@@ -9,6 +9,10 @@
 #include "core/error.h"
 #include "verify/verify_internal.h"
 
+const double verify_theta_deg[VERIFY_N_THETA] = {0.0, 30.0, 60.0, 80.0, 85.0, 89.0};
+/* Golden-angle steps: every image at another azimuth, none of them a symmetry of another. */
+const double verify_phi_deg[VERIFY_N_THETA] = {0.0, 137.5, 275.0, 52.5, 190.0, 327.5};
+
 /* Distinct latents kept: enough for the regions of a painted map. */
 #define CACHE_MAX 32
 
@@ -39,7 +43,7 @@ verify_decoder *verify_decoder_create(const nbrdf_model *model) {
   d->model = model;
   d->dim = nbrdf_model_latent_dim(model);
   const int res = NBRDF_LOBE_RES;
-  size_t cap = lobe_pixels_inside(res) * NBRDF_LOBE_N_THETA;
+  size_t cap = lobe_pixels_inside(res) * VERIFY_N_THETA;
   d->wi = malloc(cap * 3 * sizeof(float));
   d->wo = malloc(cap * 3 * sizeof(float));
   d->pixel = malloc(cap * sizeof(size_t));
@@ -53,14 +57,16 @@ verify_decoder *verify_decoder_create(const nbrdf_model *model) {
     verify_decoder_free(d);
     return NULL;
   }
-  for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
-    double th = lobe_theta_deg[t] * (M_PI / 180.0);
+  for (int t = 0; t < VERIFY_N_THETA; t++) {
+    double th = verify_theta_deg[t] * (M_PI / 180.0), phi = verify_phi_deg[t] * (M_PI / 180.0);
+    double c = cos(phi), s = sin(phi);
     for (int p = 0; p < res * res; p++) {
       double wo[3];
       if (!lobe_pixel_wo(res, p / res, p % res, wo)) continue;
       float *i3 = d->wi + 3 * d->n, *o3 = d->wo + 3 * d->n;
-      i3[0] = (float)sin(th), i3[1] = 0.0f, i3[2] = (float)cos(th);
-      o3[0] = (float)wo[0], o3[1] = (float)wo[1], o3[2] = (float)wo[2];
+      i3[0] = (float)(c * sin(th)), i3[1] = (float)(s * sin(th)), i3[2] = (float)cos(th);
+      o3[0] = (float)(c * wo[0] - s * wo[1]), o3[1] = (float)(s * wo[0] + c * wo[1]);
+      o3[2] = (float)wo[2];
       d->pixel[d->n] = (size_t)t * res * res + (size_t)p;
       d->cos_o[d->n] = wo[2];
       d->n++;

@@ -7,8 +7,12 @@
  *   verify_stats.c      medians, percentiles, the report's memory
  *   verify_json.c       the report as JSON
  *   verify_heatmap.c    the error heat-map PNG
- * Lobe image sets follow src/lobe/lobe.h: NBRDF_LOBE_N_THETA images of
- * NBRDF_LOBE_RES² doubles, one colour channel each. */
+ * Lobe image sets follow src/lobe/lobe.h's pixels: VERIFY_N_THETA images of
+ * NBRDF_LOBE_RES² doubles, one colour channel each: METRICS.md's θi 0°, 30°,
+ * 60°, 80° and the grazing 85°, 89° (issue 35), image k asked of the decoder
+ * with ωi and ωo rotated by verify_phi_deg[k] about the normal, so that
+ * azimuths off the plane of ωi = (sin θ, 0, cos θ) are seen too (the
+ * isotropic truth is the same image; a decoder need not be). */
 #ifndef NBRDF_VERIFY_VERIFY_INTERNAL_H
 #define NBRDF_VERIFY_VERIFY_INTERNAL_H
 
@@ -20,7 +24,10 @@
 #include "nbrdf/verify.h"
 #include "texture/latent_exr.h"
 
-#define VERIFY_SET ((size_t)NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
+#define VERIFY_N_THETA 6
+extern const double verify_theta_deg[VERIFY_N_THETA];
+extern const double verify_phi_deg[VERIFY_N_THETA];
+#define VERIFY_SET ((size_t)VERIFY_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
 
 /* ---- selection ---- */
 typedef struct verify_point {

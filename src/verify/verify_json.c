@@ -70,8 +70,11 @@ static cJSON *build(const nbrdf_verify_report *r, const char *texture, size_t wo
   cJSON_AddNumberToObject(root, "colours", r->colours);
   cJSON_AddNumberToObject(root, "lobe_res", NBRDF_LOBE_RES);
   cJSON *th = cJSON_AddArrayToObject(root, "theta_i_deg");
-  for (int t = 0; t < NBRDF_LOBE_N_THETA; t++)
-    cJSON_AddItemToArray(th, cJSON_CreateNumber(lobe_theta_deg[t]));
+  for (int t = 0; t < VERIFY_N_THETA; t++)
+    cJSON_AddItemToArray(th, cJSON_CreateNumber(verify_theta_deg[t]));
+  cJSON *ph = cJSON_AddArrayToObject(root, "phi_i_deg");
+  for (int t = 0; t < VERIFY_N_THETA; t++)
+    cJSON_AddItemToArray(ph, cJSON_CreateNumber(verify_phi_deg[t]));
   cJSON_AddNumberToObject(root, "walks_per_image", r->walks);
   cJSON_AddNumberToObject(root, "reference_runs", 2);
   cJSON_AddNumberToObject(root, "seed", (double)r->seed);

@@ -89,11 +89,11 @@ static nbrdf_status estimate(const verify_refs *r, const verify_tuple *t, double
   const uint64_t base = tuple_seed(r->seed, t);
   const size_t per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES;
   for (int run = 0; run < 2 && st == NBRDF_OK; run++)
-    for (int k = 0; k < NBRDF_LOBE_N_THETA && st == NBRDF_OK; k++) {
+    for (int k = 0; k < VERIFY_N_THETA && st == NBRDF_OK; k++) {
       double *img = images + (size_t)run * VERIFY_SET + (size_t)k * per;
-      image_tick it = {r, run * NBRDF_LOBE_N_THETA + k};
+      image_tick it = {r, run * VERIFY_N_THETA + k};
       brdf_layered_lobe_hook hook = {r->stop, r->tick ? on_tick : NULL, &it};
-      int ok = brdf_layered_lobe_image_hooked(l, lobe_theta_deg[k] * (M_PI / 180.0), NBRDF_LOBE_RES,
+      int ok = brdf_layered_lobe_image_hooked(l, verify_theta_deg[k] * (M_PI / 180.0), NBRDF_LOBE_RES,
                                               r->walks, core_hash64(base, (uint64_t)(run * 16 + k)),
                                               r->threads, &hook, img, NULL);
       if (ok < 0)

@@ -40,7 +40,7 @@ static void test_plan(void) {
   CHECK_FAILS(bake_plan_make(NBRDF_BAKE_FITTED, 0.5, 10, macs, 0, &a, err), NBRDF_ERR_ARGUMENT, err,
               "too small for 'fitted'");
   CHECK(strstr(e.message, "or use 'fast'") != NULL);
-  CHECK_FAILS(bake_plan_make(NBRDF_BAKE_SPECIALISED, 0.9, 10, macs, 0, &a, err), NBRDF_ERR_ARGUMENT,
+  CHECK_FAILS(bake_plan_make(NBRDF_BAKE_SPECIALISED, 1.2, 10, macs, 0, &a, err), NBRDF_ERR_ARGUMENT,
               err, "'fitted' fits");
 }
 
@@ -233,7 +233,7 @@ static void test_bad_options(void) {
   nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
   o.accuracy = (nbrdf_bake_accuracy)7;
   CHECK_FAILS(nbrdf_bake(model, &in, &o, testing_path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
-              "fast, fitted, specialised or compact");
+              "fast, fitted, specialised, compact or auto");
   o.accuracy = NBRDF_BAKE_FITTED;
   o.budget = NAN;
   CHECK_FAILS(nbrdf_bake(model, &in, &o, testing_path("bad.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,

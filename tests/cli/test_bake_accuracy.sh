@@ -17,13 +17,13 @@ expect_exit 0 "$NBRDF" bake "${base[@]}" --accuracy fast -o fast.exr
 check "fast bytes equal a bake without --accuracy" cmp -s plain.exr fast.exr
 
 expect_exit 2 "$NBRDF" bake "${base[@]}" --accuracy best -o bad.exr
-check "--accuracy message" grep -Fq -- "--accuracy expects fast, fitted, specialised or compact, got 'best'" "$TMP/err"
+check "--accuracy message" grep -Fq -- "--accuracy expects fast, fitted, specialised, compact or auto, got 'best'" "$TMP/err"
 for b in 0 -3 abc nan 1e9; do
   expect_exit 2 "$NBRDF" bake "${base[@]}" --accuracy fitted --budget "$b" -o bad.exr
   check "--budget $b message" grep -Fq -- "--budget expects a number of seconds" "$TMP/err"
 done
 expect_exit 2 "$NBRDF" bake "${base[@]}" --budget 10 -o bad.exr
-check "--budget without a level" grep -Fq "applies to --accuracy fitted, specialised or compact" "$TMP/err"
+check "--budget without a level" grep -Fq "applies to --accuracy fitted, specialised, compact or auto" "$TMP/err"
 expect_exit 2 "$NBRDF" bake "${base[@]}" --accuracy fitted --budget 0.2 -o bad.exr
 check "too small a budget says what fits" grep -Fq "too small for 'fitted'" "$TMP/err"
 check "no file after refusals" test ! -e bad.exr
@@ -33,7 +33,7 @@ expect_exit 0 "$NBRDF" bake "${base[@]}" --accuracy fitted --budget 2 --seed 5 -
 check "ground truth stage" grep -Fq '"stage":"ground truth"' "$TMP/out"
 check "fit stage" grep -Fq '"stage":"fit"' "$TMP/out"
 check "done line reports the level" \
-  grep -Eq '"accuracy":"fitted","budget":2,"distinct":1,"fitted_tuples":1,"heldout_tuples":1,"heldout_error":[0-9.]+' "$TMP/out"
+  grep -Eq '"accuracy":"fitted","requested":"fitted","fell_back":false,"budget":2,"distinct":1,"fitted_tuples":1,"heldout_tuples":1,"heldout_error":[0-9.]+' "$TMP/out"
 "$NBRDF" info fitted.exr >info.txt 2>&1
 check "info prints the accuracy" grep -Eq '^accuracy: level=fitted; budget=2; .*seed=5$' info.txt
 "$NBRDF" info plain.exr >info_plain.txt 2>&1

@@ -28,7 +28,7 @@ static void test_figures_match_independent_computation(void) {
   if (!rep) return;
   CHECK(rep->n_texels == 1 && rep->texels[0].footprint == 1 && rep->references == 1);
   CHECK(rep->decoded == 1 && rep->colours == 1 && rep->n_levels == 1);
-  CHECK(rep->decoder_queries == NBRDF_LOBE_N_THETA * lobe_pixels_inside(NBRDF_LOBE_RES));
+  CHECK(rep->decoder_queries == VERIFY_N_THETA * lobe_pixels_inside(NBRDF_LOBE_RES));
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     CHECK(rep->texels[0].params[id][0] == fix_tuple[id]);
 
@@ -41,7 +41,7 @@ static void test_figures_match_independent_computation(void) {
   for (size_t i = 0; i < FIX_SET; i++)
     ref[i] = 0.5 * (r1[i] + r2[i]);
   double lobe = lobe_l1_error(FIX_SET, ref, a);
-  double albedo = lobe_albedo_error(NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, ref, a, NULL);
+  double albedo = lobe_albedo_error(NBRDF_LOBE_RES, VERIFY_N_THETA, ref, a, NULL);
   /* Both references are noisy (verify's: 2 x 128 walks, a few %); the
    * untrained decoder is far off, so the noise moves the error little. */
   const nbrdf_verify_texel *t = &rep->texels[0];

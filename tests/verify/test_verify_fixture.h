@@ -5,6 +5,7 @@
 #ifndef NBRDF_TESTS_TEST_VERIFY_FIXTURE_H
 #define NBRDF_TESTS_TEST_VERIFY_FIXTURE_H
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,8 +17,9 @@
 #include "nbrdf/verify.h"
 #include "testing.h"
 #include "texture/latent_exr.h"
+#include "verify/verify_internal.h"
 
-#define FIX_SET ((size_t)NBRDF_LOBE_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
+#define FIX_SET ((size_t)VERIFY_N_THETA * NBRDF_LOBE_RES * NBRDF_LOBE_RES)
 
 static nbrdf_model *fix_model;
 
@@ -47,6 +49,7 @@ static inline nbrdf_bake_inputs fix_constants(void) {
 
 typedef struct fix_decode {
   const float *latent;
+  double phi; /* radians: ωi and ωo rotated about the normal (verify's azimuth of the image) */
 } fix_decode;
 
 static inline nbrdf_status fix_decode_fn(void *user, size_t n, const nbrdf_query *q, double *f,
@@ -57,8 +60,12 @@ static inline nbrdf_status fix_decode_fn(void *user, size_t n, const nbrdf_query
   float *wo = wi + 3 * n, *out = malloc(sizeof(float) * n);
   for (size_t k = 0; k < n; k++) {
     memcpy(lat + k * D, d->latent, sizeof(float) * D);
-    for (int j = 0; j < 3; j++)
-      wi[3 * k + j] = (float)q[k].wi[j], wo[3 * k + j] = (float)q[k].wo[j];
+    double c = cos(d->phi), s = sin(d->phi);
+    wi[3 * k] = (float)(c * q[k].wi[0] - s * q[k].wi[1]);
+    wi[3 * k + 1] = (float)(s * q[k].wi[0] + c * q[k].wi[1]);
+    wo[3 * k] = (float)(c * q[k].wo[0] - s * q[k].wo[1]);
+    wo[3 * k + 1] = (float)(s * q[k].wo[0] + c * q[k].wo[1]);
+    wi[3 * k + 2] = (float)q[k].wi[2], wo[3 * k + 2] = (float)q[k].wo[2];
   }
   nbrdf_status st = nbrdf_model_decode(fix_model, n, 1, lat, wi, wo, out, err);
   for (size_t k = 0; st == NBRDF_OK && k < n; k++)
@@ -67,13 +74,16 @@ static inline nbrdf_status fix_decode_fn(void *user, size_t n, const nbrdf_query
   return st;
 }
 
-/* Lobe images of one latent. */
+/* Lobe images of one latent, each at verify's θi and azimuth. */
 static inline void fix_decoded_images(const float *latent, double *images) {
   nbrdf_error e, *err = &e;
-  fix_decode d = {latent};
-  CHECK_OK(lobe_images(fix_decode_fn, &d, NBRDF_LOBE_RES, NBRDF_LOBE_N_THETA, lobe_theta_deg,
-                       images, err),
-           err);
+  const size_t per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES;
+  for (int k = 0; k < VERIFY_N_THETA; k++) {
+    fix_decode d = {latent, verify_phi_deg[k] * M_PI / 180};
+    CHECK_OK(lobe_images(fix_decode_fn, &d, NBRDF_LOBE_RES, 1, &verify_theta_deg[k],
+                         images + k * per, err),
+             err);
+  }
 }
 
 /* Ground-truth lobe images of a tuple with `walks` walks per image. */
@@ -87,8 +97,8 @@ static inline void fix_reference_images(const float *t, int walks, uint64_t seed
   nbrdf_brdf_destroy(bottom);
   if (!b) return;
   const size_t per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES;
-  for (int k = 0; k < NBRDF_LOBE_N_THETA; k++)
-    CHECK(brdf_layered_lobe_image(&brdf_handle_bsdf(b)->layered, lobe_theta_deg[k] * M_PI / 180,
+  for (int k = 0; k < VERIFY_N_THETA; k++)
+    CHECK(brdf_layered_lobe_image(&brdf_handle_bsdf(b)->layered, verify_theta_deg[k] * M_PI / 180,
                                   NBRDF_LOBE_RES, walks, seed * 8 + (uint64_t)k, 0,
                                   images + k * per, NULL));
   nbrdf_brdf_destroy(b);

@@ -17,15 +17,18 @@ static void fitted_latent(float *latent) {
   fix_reference_images(fix_tuple, 256, 31, img);
   size_t n = 0, per = (size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES;
   float *wi = malloc(sizeof(float) * FIX_SET * 7), *wo = wi + 3 * FIX_SET, *f = wo + 3 * FIX_SET;
-  for (int t = 0; t < NBRDF_LOBE_N_THETA; t++) {
-    double th = lobe_theta_deg[t] * M_PI / 180;
+  for (int t = 0; t < VERIFY_N_THETA; t++) {
+    double th = verify_theta_deg[t] * M_PI / 180, phi = verify_phi_deg[t] * M_PI / 180;
+    double c = cos(phi), s = sin(phi);
     for (size_t p = 0; p < per; p++) {
       double o[3];
       if (!lobe_pixel_wo(NBRDF_LOBE_RES, (int)(p / NBRDF_LOBE_RES), (int)(p % NBRDF_LOBE_RES), o))
         continue;
-      wi[3 * n] = (float)sin(th), wi[3 * n + 1] = 0, wi[3 * n + 2] = (float)cos(th);
-      for (int j = 0; j < 3; j++)
-        wo[3 * n + j] = (float)o[j];
+      /* At verify's azimuth of the image: the latent is fitted where verify asks. */
+      wi[3 * n] = (float)(c * sin(th)), wi[3 * n + 1] = (float)(s * sin(th));
+      wi[3 * n + 2] = (float)cos(th);
+      wo[3 * n] = (float)(c * o[0] - s * o[1]), wo[3 * n + 1] = (float)(s * o[0] + c * o[1]);
+      wo[3 * n + 2] = (float)o[2];
       f[n++] = (float)(img[t * per + p] / o[2]);
     }
   }
