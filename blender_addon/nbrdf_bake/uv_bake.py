@@ -69,7 +69,26 @@ def _bake_socket(context, obj, material, socket, name, width, height, fill, uv_m
              context.view_layer.objects.active, obj.select_get())
     emit = tree.nodes.new("ShaderNodeEmission")
     tex = tree.nodes.new("ShaderNodeTexImage")
+    others = []  # (tree, its active node, the scratch node made active in it)
+    scratch = None
     try:
+        # Blender bakes every material of the object, each into its active texture node or,
+        # when none is marked, its first Image Texture node: for another material that may
+        # be the nbrdf latent texture (add_image_node), a multilayer EXR that Blender 3.4's
+        # bake overruns (valgrind: 8 bytes past a RenderPass; crashes later) and overwrites.
+        # Each other material bakes into one throwaway image instead.
+        for slot in obj.material_slots:
+            m = slot.material
+            if m is None or m == material or not m.use_nodes or m.node_tree is None:
+                continue
+            if any(o[0] == m.node_tree for o in others):
+                continue
+            if scratch is None:
+                scratch = bpy.data.images.new("nbrdf bake scratch", 1, 1, float_buffer=True)
+            node = m.node_tree.nodes.new("ShaderNodeTexImage")
+            node.image = scratch
+            others.append((m.node_tree, m.node_tree.nodes.active, node))
+            m.node_tree.nodes.active = node
         emit.inputs["Strength"].default_value = 1.0
         tree.links.new(socket.links[0].from_socket, emit.inputs["Color"])
         tree.links.new(emit.outputs["Emission"], surface)
@@ -101,6 +120,11 @@ def _bake_socket(context, obj, material, socket, name, width, height, fill, uv_m
         bpy.data.images.remove(image)
         raise
     finally:
+        for other_tree, active, node in others:
+            other_tree.nodes.remove(node)
+            other_tree.nodes.active = active
+        if scratch is not None:
+            bpy.data.images.remove(scratch)
         tree.nodes.remove(emit)
         tree.nodes.remove(tex)
         for s in before:

@@ -17,7 +17,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import addon_testing as t  # noqa: E402
 
 t.enable()
-from nbrdf_bake import panels, queue, uv_bake  # noqa: E402
+from nbrdf_bake import panels, queue, session, uv_bake  # noqa: E402
 from nbrdf_bake.queue import QueueRunner  # noqa: E402
 
 work = t.temp_dir()
@@ -137,8 +137,17 @@ for d_first, d_second in zip(uv[0].data, uv["Lightmap"].data):
 sphere.data.update()
 margin = bpy.context.scene.render.bake.margin
 bpy.context.scene.render.bake.margin = 0  # islands only: the margin would grow into the right
+# The sphere's other material, Red, holds its latent texture from 1. in an Image Texture
+# node, the first of its tree: Blender would bake Red's faces into that multilayer EXR (and
+# overran a heap block doing so, crashing Blender about one run in four). The bake gives Red a
+# throwaway target instead and leaves its tree and texture as they were.
+red_nodes = sorted(n.name for n in red.node_tree.nodes)
+red_latent = red.node_tree.nodes[session.NODE_NAME].image
 img = uv_bake.bake_socket(bpy.context, sphere, broken, broken_bsdf.inputs["Roughness"],
                           "uv check", 32, 32, fill=False, uv_map="Lightmap")
+t.check("Red's latent texture untouched: dirty %s" % red_latent.is_dirty, not red_latent.is_dirty)
+t.check("Red's nodes as they were", sorted(n.name for n in red.node_tree.nodes) == red_nodes)
+t.check("no scratch image left", not [i for i in bpy.data.images if "scratch" in i.name])
 px = np.empty(32 * 32 * 4, np.float32)
 img.pixels.foreach_get(px)
 covered = (px.reshape(32, 32, 4)[..., 0] != uv_bake.UNBAKED)
