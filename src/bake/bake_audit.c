@@ -80,10 +80,12 @@ nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *g
   model_runner runner;
   nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
                         : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  /* The polar rule does not need the proxy: its rings cover every lobe width. */
+  (void)sigma;
   if (!st) {
-    st = model_albedo_decoded_lattice(model->decoder, &runner, n, latents, sigma,
-                                      BAKE_AUDIT_N_THETA, bake_audit_theta_deg,
-                                      BAKE_AUDIT_PRECISE_SAMPLES, AUDIT_SEED, rho, err);
+    st = model_albedo_decoded_polar(model->decoder, &runner, n, latents, BAKE_AUDIT_N_THETA,
+                                    bake_audit_theta_deg, BAKE_AUDIT_POLAR_RINGS,
+                                    BAKE_AUDIT_POLAR_PHI, rho, err);
     model_runner_destroy(&runner);
   }
   if (!st) max_over_theta(rho, n, maxv, theta_index);

@@ -48,16 +48,21 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * below it, it is the largest measured value, within the bound of the true
  * largest. */
 #define BAKE_AUDIT_GRID 16
-#define BAKE_AUDIT_PRECISE_SAMPLES 1024
+/* The precise measurement's nodes per θi: the polar rule of albedo_quad.h with
+ * 24 rings of 8 (193 decoder queries; the lattice of 1,024 directions before
+ * it spread as much against brute force: bench/bench_audit_quad.c). */
+#define BAKE_AUDIT_POLAR_RINGS 24
+#define BAKE_AUDIT_POLAR_PHI 8
 #define BAKE_AUDIT_NOISE 0.025
 extern const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT];
 
 struct gpu_network;
 
 /* Maximum over bake_audit_theta_deg of the decoded albedo of n latents with
- * 6 x BAKE_AUDIT_PRECISE_SAMPLES directions each, all n in one batch of decoder
- * passes (`gpu`: the decoder on a GPU, or NULL). Deterministic. Shared with
- * `nbrdf verify`, whose per-texel figure is thus the audit's. */
+ * the polar rule's 6 x (8 x 24 + 1) nodes each, all n in one batch of decoder
+ * passes (`gpu`: the decoder on a GPU, or NULL). Deterministic; sigma (the
+ * proxies) is not used. Shared with `nbrdf verify`, whose per-texel figure is
+ * thus the audit's. */
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
                                  int *theta_index, nbrdf_error *err);

@@ -1,0 +1,137 @@
+/* The energy audit's quadrature at fewer directions: how far the maximum over
+ * θi of each candidate quadrature is from brute force (16,384 jittered
+ * directions per angle with the ladder of techniques, another seed), on tuples
+ * drawn over the whole trained range or (--sharp) on the clearcoat of
+ * bench/audit_cost.sh. Candidates: the lattice with the ladder of GGX
+ * techniques (bake_albedo_precise before the polar rule), and the polar
+ * product rule (model_albedo_decoded_polar) at several ring counts.
+ *
+ *   bench_audit_quad [--bundle DIR] [--bases N] [--sharp] */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bake/bake_audit.h"
+#include "bake/bake_tuple.h"
+#include "bench_clock.h"
+#include "core/rng.h"
+#include "model/albedo_quad.h"
+#include "model/bundle.h"
+#include "model/material.h"
+#include "model/netio.h"
+#include "nbrdf/bake.h"
+
+enum { P = NBRDF_BAKE_PARAM_COUNT };
+
+static float unnormalise(const float *lo, const float *hi, int id, double u) {
+  double a = lo[id], b = hi[id];
+  for (int i = 0; i < 60; i++) {
+    double m = 0.5 * (a + b);
+    if (model_material_normalise(lo, hi, id, (float)m) < u)
+      a = m;
+    else
+      b = m;
+  }
+  return (float)(0.5 * (a + b));
+}
+
+static int fail(const nbrdf_error *err) {
+  fprintf(stderr, "bench_audit_quad: %s\n", err->message);
+  return 1;
+}
+
+static void max_theta(const double *rho, size_t n, double *mx) {
+  for (size_t k = 0; k < n; k++) {
+    mx[k] = -1.0;
+    for (int a = 0; a < BAKE_AUDIT_N_THETA; a++)
+      mx[k] = fmax(mx[k], rho[k * BAKE_AUDIT_N_THETA + a]);
+  }
+}
+
+int main(int argc, char **argv) {
+  const char *bundle = NULL;
+  int n = 48, sharp = 0;
+  for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--bundle") && i + 1 < argc)
+      bundle = argv[++i];
+    else if (!strcmp(argv[i], "--bases") && i + 1 < argc)
+      n = atoi(argv[++i]);
+    else if (!strcmp(argv[i], "--sharp"))
+      sharp = 1;
+  }
+  nbrdf_error err = {0};
+  nbrdf_model *model = NULL;
+  if ((bundle ? nbrdf_model_load(bundle, &model, &err)
+              : nbrdf_model_load_default(&model, NULL, 0, &err)) != NBRDF_OK)
+    return fail(&err);
+  float lo[P], hi[P];
+  model_material_ranges(model, lo, hi);
+  const int D = nbrdf_model_latent_dim(model);
+  bake_tuple *t = calloc((size_t)n, sizeof *t);
+  float *out = malloc((size_t)n * (D + 2) * sizeof *out);
+  float *lat = malloc((size_t)n * D * sizeof *lat), *sig = malloc((size_t)n * sizeof *sig);
+  double *rho = malloc((size_t)n * BAKE_AUDIT_N_THETA * sizeof *rho);
+  double *brute = malloc((size_t)n * sizeof *brute), *mx = malloc((size_t)n * sizeof *mx);
+  core_rng rng;
+  core_rng_init(&rng, 12, sharp);
+  for (int k = 0; k < n; k++)
+    for (int id = 0; id < P; id++) {
+      double u = core_rng_uniform(&rng);
+      if (sharp) {
+        if (id == NBRDF_BAKE_ALPHA1) u = 0.0;
+        if (id == NBRDF_BAKE_ETA) u = model_material_normalise(lo, hi, id, 1.45f);
+        if (id == NBRDF_BAKE_ALBEDO) u = model_material_normalise(lo, hi, id, 0.8f);
+        if (id == NBRDF_BAKE_SIGMA_T) u = model_material_normalise(lo, hi, id, 1.0f);
+        if (id == NBRDF_BAKE_R0) u = 0.5 + 0.5 * u;
+      }
+      t[k].p[id] = unnormalise(lo, hi, id, u);
+    }
+  if (bake_tuples_evaluate(model, t, NULL, (size_t)n, out, &err) != NBRDF_OK) return fail(&err);
+  for (int k = 0; k < n; k++) {
+    memcpy(lat + (size_t)k * D, out + (size_t)k * (D + 2), D * sizeof *lat);
+    sig[k] = out[(size_t)k * (D + 2) + D];
+  }
+  model_runner runner;
+  if (model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, &err) != NBRDF_OK)
+    return fail(&err);
+  if (model_albedo_decoded(model->decoder, &runner, (size_t)n, lat, sig, BAKE_AUDIT_N_THETA,
+                           bake_audit_theta_deg, 16384, UINT64_C(0x62727574), rho, NULL,
+                           &err) != NBRDF_OK)
+    return fail(&err);
+  max_theta(rho, (size_t)n, brute);
+  double top = -1;
+  for (int k = 0; k < n; k++)
+    top = fmax(top, brute[k]);
+  printf("%d tuples (%s), largest brute-force albedo %.4f\n", n,
+         sharp ? "sharp clearcoat" : "whole range", top);
+  printf("| quadrature | directions per angle | CPU ms per latent | down (max) | up (max) |\n");
+  printf("|---|---|---|---|---|\n");
+  /* lattice: directions per angle; polar: rings of 8 (8 · rings + 1 nodes) */
+  const int lattice[] = {128, 256, 1024}, rings[] = {12, 16, 24, 32, 48};
+  const int n_lat = sizeof lattice / sizeof *lattice, n_pol = sizeof rings / sizeof *rings;
+  for (int c = 0; c < n_lat + n_pol; c++) {
+    const int polar = c >= n_lat, count = polar ? 8 * rings[c - n_lat] + 1 : lattice[c];
+    double c0 = bench_cpu_seconds();
+    nbrdf_status st =
+        polar ? model_albedo_decoded_polar(model->decoder, &runner, (size_t)n, lat,
+                                           BAKE_AUDIT_N_THETA, bake_audit_theta_deg,
+                                           rings[c - n_lat], 8, rho, &err)
+              : model_albedo_decoded_lattice(model->decoder, &runner, (size_t)n, lat, sig,
+                                             BAKE_AUDIT_N_THETA, bake_audit_theta_deg, count,
+                                             UINT64_C(0x6175646974), rho, &err);
+    if (st) return fail(&err);
+    double c1 = bench_cpu_seconds();
+    max_theta(rho, (size_t)n, mx);
+    double down = 0, up = 0;
+    for (int k = 0; k < n; k++)
+      down = fmax(down, brute[k] - mx[k]), up = fmax(up, mx[k] - brute[k]);
+    printf("| %s | %d | %.2f | %.4f | %.4f |\n", polar ? "polar (8 per ring)" : "lattice, ladder",
+           count, 1e3 * (c1 - c0) / n, down, up);
+    fflush(stdout);
+  }
+  model_runner_destroy(&runner);
+  nbrdf_model_destroy(model);
+  free(t), free(out), free(lat), free(sig), free(rho), free(brute), free(mx);
+  return 0;
+}
