@@ -35,16 +35,18 @@ bake() {
   read -r wall user sys <"$tmp/time"
   local cpu worst
   cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')
+  # "max decoded directional albedo W over N distinct latents (M measured, S CPU-s)"
   worst=$(grep -o 'max decoded directional albedo [0-9.]* over [0-9]*' "$tmp/log" | awk '{print $5, "over", $7}')
-  printf '| %s | %s | %s | %s | %s | %s |\n' "$1" "$3" "$wall" "$cpu" \
-    "$(cut -d' ' -f1 /proc/loadavg)" "${worst:--}"
+  measured=$(sed -n 's/.*distinct latents (\([0-9]*\) measured, \([0-9.]*\) CPU-s).*/\1 | \2/p' "$tmp/log")
+  printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$1" "$3" "$wall" "$cpu" \
+    "$(cut -d' ' -f1 /proc/loadavg)" "${worst:--}" "${measured:-- | -}"
   echo "$cpu" >>"$tmp/cpu.$1.$3"
 }
 
 echo "sharp clearcoat, ${size}² maps, $runs runs, OPENBLAS_NUM_THREADS=$OPENBLAS_NUM_THREADS"
 echo
-echo '| binary | --energy-audit | wall s | CPU s | load | worst albedo |'
-echo '|---|---|---|---|---|---|'
+echo '| binary | --energy-audit | wall s | CPU s | load | worst albedo | measured | audit CPU-s (bake'"'"'s own) |'
+echo '|---|---|---|---|---|---|---|---|'
 for ((r = 0; r < runs; r++)); do
   for i in "${!bins[@]}"; do
     bake "bin$i" "${bins[$i]}" 0

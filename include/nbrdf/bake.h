@@ -284,6 +284,11 @@ typedef struct nbrdf_bake_report {
   long long decoder_macs;
   double compact_kept;
   char device[128]; /* where the networks ran: "cpu" or the GPU's name */
+  /* Of `audited`, the latents the energy audit measured with the decoder (the
+   * others were cleared by a bound from a measured neighbour), and the
+   * process CPU seconds the audit took. */
+  size_t audit_measured;
+  double audit_seconds;
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

@@ -47,7 +47,7 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * value is exact (to the quadrature) whenever it is near or above the limit;
  * below it, it is the largest measured value, within the bound of the true
  * largest. */
-#define BAKE_AUDIT_GRID 16
+#define BAKE_AUDIT_GRID 8
 /* The precise measurement's nodes per θi: the polar rule of albedo_quad.h with
  * 24 rings of 8 (193 decoder queries; the lattice of 1,024 directions before
  * it spread as much against brute force: bench/bench_audit_quad.c). */
@@ -68,13 +68,15 @@ nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *g
                                  int *theta_index, nbrdf_error *err);
 
 typedef struct bake_audit_cell bake_audit_cell;
+typedef struct bake_audit_anchor bake_audit_anchor;
 
 typedef struct bake_audit {
   size_t cap;      /* tuples audited at most (0: off) */
-  size_t audited;  /* tuples audited (measured or covered by a representative) */
+  size_t audited;  /* tuples audited (measured or cleared by an anchor's bound) */
   size_t measured; /* of those, measured with the decoder */
   size_t skipped;  /* evaluated tuples left unaudited past the cap */
   size_t over;     /* measured tuples above BAKE_AUDIT_LIMIT */
+  double seconds;  /* process CPU seconds in bake_audit_tuples */
   double worst;    /* largest measured maximum albedo; < 0 before any */
   int worst_theta; /* index into bake_audit_theta_deg */
   int x, y, c;     /* a texel (and colour channel) of the worst */
@@ -84,15 +86,17 @@ typedef struct bake_audit {
   const struct bake_compact *compact;
   /* Optional (borrowed): the audited model's decoder on a GPU (model_gpu.h). */
   struct gpu_network *gpu_decoder;
-  /* the grid's cells met so far (open addressing) */
+  /* the grid's cells met so far (open addressing), each with its anchors */
   bake_audit_cell *cells;
   size_t cells_cap, cells_used;
+  bake_audit_anchor *anchors; /* every measured tuple */
+  size_t n_anchors, anchors_cap;
   /* scratch */
   float *lat, *sigma, *u;
-  double *maxv;
+  double *maxv, *guess;
   int *theta;
-  size_t *pick, *cell_of;
-  unsigned char *rep;
+  size_t *pick, *pending;
+  unsigned char *q;
   size_t scratch_cap;
 } bake_audit;
 

@@ -22,7 +22,7 @@
  * 6 x 1,024 decoder queries, the others only where the audit's bound cannot clear them. A
  * chunk whose every tuple is measured (an untrained or energy-creating model) is ~100 k
  * queries, ~0.1 s on one core: cancel stays within a second even then. */
-#define AUDIT_CHUNK 16
+#define AUDIT_CHUNK 128
 
 /* Share of a band's time spent gathering and interning its tuples (for the
  * fraction passed to tick; only smoothness of progress depends on it). */
