@@ -11,7 +11,7 @@
  * the range's low end, eta 1.45, albedo 0.8, sigma_t 1; alpha2 and r0 drawn).
  * For each base tuple: one brute-force measurement (16,384 directions per
  * angle) against the audit's (bake_albedo_precise), the slope of each
- * parameter over a step of 1/BAKE_AUDIT_GRID, and one random tuple of the
+ * parameter over a step of 1/16, and one random tuple of the
  * base's cell checked against the bound. Prints the largest of each.
  *
  * --texture: every level-0 latent of a baked texture measured with the audit's
@@ -164,7 +164,8 @@ int main(int argc, char **argv) {
   float *lat = malloc(n * D * sizeof *lat), *sig = malloc(n * sizeof *sig);
   double *mx = malloc(n * sizeof *mx), *brute = malloc(bases * sizeof *brute);
   double *rho = malloc(bases * BAKE_AUDIT_N_THETA * sizeof *rho);
-  const double h = 1.0 / BAKE_AUDIT_GRID;
+  const double h = 1.0 / 16; /* the slopes' step */
+  const double cell = 1.0 / BAKE_AUDIT_GRID;
   core_rng rng;
   core_rng_init(&rng, 11, sharp);
   for (int b = 0; b < bases; b++) {
@@ -189,7 +190,7 @@ int main(int argc, char **argv) {
           if (sharp && id != NBRDF_BAKE_ALPHA2 && id != NBRDF_BAKE_R0) continue;
           int q = (int)(ub[id] * BAKE_AUDIT_GRID);
           q = q >= BAKE_AUDIT_GRID ? BAKE_AUDIT_GRID - 1 : q;
-          us[id] = (q + core_rng_uniform(&rng)) * h;
+          us[id] = (q + core_rng_uniform(&rng)) * cell;
         }
       }
     }
