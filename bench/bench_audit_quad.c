@@ -6,7 +6,12 @@
  * techniques (bake_albedo_precise before the polar rule), and the polar
  * product rule (model_albedo_decoded_polar) at several ring counts.
  *
- *   bench_audit_quad [--bundle DIR] [--bases N] [--sharp] */
+ * --corner: both lobes sharp (normalised alpha1 below 0.05, alpha2 below 0.15).
+ *
+ * --at a1,eta,a2,r0,albedo,sigma_t: that tuple with alpha2 swept over +-25 %, each
+ * tuple's values printed.
+ *
+ *   bench_audit_quad [--bundle DIR] [--bases N] [--sharp | --corner | --at TUPLE] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -52,6 +57,7 @@ static void max_theta(const double *rho, size_t n, double *mx) {
 int main(int argc, char **argv) {
   const char *bundle = NULL;
   int n = 48, sharp = 0;
+  const char *at = NULL;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--bundle") && i + 1 < argc)
       bundle = argv[++i];
@@ -59,6 +65,10 @@ int main(int argc, char **argv) {
       n = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--sharp"))
       sharp = 1;
+    else if (!strcmp(argv[i], "--corner"))
+      sharp = 2;
+    else if (!strcmp(argv[i], "--at") && i + 1 < argc)
+      at = argv[++i];
   }
   nbrdf_error err = {0};
   nbrdf_model *model = NULL;
@@ -78,7 +88,10 @@ int main(int argc, char **argv) {
   for (int k = 0; k < n; k++)
     for (int id = 0; id < P; id++) {
       double u = core_rng_uniform(&rng);
-      if (sharp) {
+      if (sharp == 2) { /* both lobes sharp */
+        if (id == NBRDF_BAKE_ALPHA1) u *= 0.05;
+        if (id == NBRDF_BAKE_ALPHA2) u *= 0.15;
+      } else if (sharp) {
         if (id == NBRDF_BAKE_ALPHA1) u = 0.0;
         if (id == NBRDF_BAKE_ETA) u = model_material_normalise(lo, hi, id, 1.45f);
         if (id == NBRDF_BAKE_ALBEDO) u = model_material_normalise(lo, hi, id, 0.8f);
@@ -87,6 +100,17 @@ int main(int argc, char **argv) {
       }
       t[k].p[id] = unnormalise(lo, hi, id, u);
     }
+  if (at) { /* one tuple, alpha2 swept over +-25 % */
+    float b[P];
+    if (sscanf(at, "%f,%f,%f,%f,%f,%f", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5]) != P) {
+      fprintf(stderr, "bench_audit_quad: --at a1,eta,a2,r0,albedo,sigma_t\n");
+      return 2;
+    }
+    for (int k = 0; k < n; k++) {
+      memcpy(t[k].p, b, sizeof b);
+      t[k].p[NBRDF_BAKE_ALPHA2] = b[NBRDF_BAKE_ALPHA2] * (0.75f + 0.5f * (float)k / (float)(n - 1));
+    }
+  }
   if (bake_tuples_evaluate(model, t, NULL, (size_t)n, out, &err) != NBRDF_OK) return fail(&err);
   for (int k = 0; k < n; k++) {
     memcpy(lat + (size_t)k * D, out + (size_t)k * (D + 2), D * sizeof *lat);
@@ -104,7 +128,8 @@ int main(int argc, char **argv) {
   for (int k = 0; k < n; k++)
     top = fmax(top, brute[k]);
   printf("%d tuples (%s), largest brute-force albedo %.4f\n", n,
-         sharp ? "sharp clearcoat" : "whole range", top);
+         sharp == 2 ? "sharp coat over a sharp base" : sharp ? "sharp clearcoat" : "whole range",
+         top);
   /* lattice: directions per angle; polar: rings × azimuths (+ 1 node) */
   const int lattice[] = {128, 256, 1024}, rings[] = {12, 16, 24, 32, 48, 48, 96},
             phis[] = {8, 8, 8, 8, 8, 16, 32};
@@ -145,6 +170,12 @@ int main(int argc, char **argv) {
              polar ? rings[c - n_lat] : 0, polar ? phis[c - n_lat] : 0);
     printf("| %s | %d | %.2f | %.4f | %.4f | %.4f | %.4f |\n", name, count, ms[c], down, up,
            fdown, fup);
+  }
+  for (int k = 0; at && k < n; k++) {
+    printf("alpha2 %.4f: brute force %.4f", (double)t[k].p[NBRDF_BAKE_ALPHA2], brute[k]);
+    for (int c = 0; c < rows; c++)
+      printf(" %.4f", all[(size_t)c * n + k]);
+    printf("\n");
   }
   free(all), free(ms);
   model_runner_destroy(&runner);
