@@ -36,7 +36,12 @@
 #include "model/netio.h"
 #include "texture/latent_exr.h"
 
-enum { P = NBRDF_BAKE_PARAM_COUNT };
+enum { P = NBRDF_BAKE_PARAM_COUNT, R = BAKE_AUDIT_REGIONS };
+
+static int region(double u) {
+  int r = (int)(u * R);
+  return r < 0 ? 0 : r >= R ? R - 1 : r;
+}
 
 /* The value whose normalised coordinate is u (bisection: normalise is monotone). */
 static float unnormalise(const float *lo, const float *hi, int id, double u) {
@@ -179,6 +184,9 @@ int main(int argc, char **argv) {
     double *ub = u + (size_t)b * per * P;
     for (int id = 0; id < P; id++)
       ub[id] = core_rng_uniform(&rng);
+    /* stratified over the slope regions of (alpha1, alpha2) */
+    ub[NBRDF_BAKE_ALPHA1] = (b % R + ub[NBRDF_BAKE_ALPHA1]) / R;
+    ub[NBRDF_BAKE_ALPHA2] = (b / R % R + ub[NBRDF_BAKE_ALPHA2]) / R;
     if (sharp) {
       ub[NBRDF_BAKE_ALPHA1] = 0.0;
       ub[NBRDF_BAKE_ETA] = model_material_normalise(lo, hi, NBRDF_BAKE_ETA, 1.45f);
@@ -236,6 +244,8 @@ int main(int argc, char **argv) {
   }
   model_runner_destroy(&runner);
   size_t at[P] = {0}, at_step[P] = {0};
+  static double reg[R][R][P];
+  static int seen[R][R];
   double slope[P] = {0}, raw[P] = {0}, under = 0.0, over = 0.0, violation = -INFINITY, top = 0.0;
   for (int b = 0; b < bases; b++) {
     size_t k = (size_t)b * per;
@@ -251,16 +261,24 @@ int main(int argc, char **argv) {
           size_t s = k + 1 + (size_t)id * N_STEP + j;
           double du = fabs(u[s * P + id] - u[k * P + id]), dm = fabs(mx[s] - mx[k]);
           if (!(du > 0.0)) continue;
-          if ((dm - noise) / du > slope[id]) {
-            slope[id] = (dm - noise) / du;
+          double need = (dm - noise) / du;
+          if (need > slope[id]) {
+            slope[id] = need;
             at[id] = k, at_step[id] = s;
           }
+          /* every region the step spans needs it (bake_audit_reach takes the largest) */
+          int a0 = region(u[k * P + NBRDF_BAKE_ALPHA1]), a1 = region(u[s * P + NBRDF_BAKE_ALPHA1]);
+          int b0 = region(u[k * P + NBRDF_BAKE_ALPHA2]), b1 = region(u[s * P + NBRDF_BAKE_ALPHA2]);
+          for (int a = a0 < a1 ? a0 : a1; a <= (a0 < a1 ? a1 : a0); a++)
+            for (int c = b0 < b1 ? b0 : b1; c <= (b0 < b1 ? b1 : b0); c++)
+              reg[a][c][id] = fmax(reg[a][c][id], need), seen[a][c] = 1;
           if (step[j] == 1.0 / 16) raw[id] = fmax(raw[id], dm / du);
         }
     size_t m = k + N_STEP * P + 1;
-    double bound = mx[k] + BAKE_AUDIT_NOISE;
+    float fu[P], fv[P];
     for (int id = 0; id < P; id++)
-      bound += bake_audit_slope[id] * fabs(u[m * P + id] - u[k * P + id]);
+      fu[id] = (float)u[m * P + id], fv[id] = (float)u[k * P + id];
+    double bound = mx[k] + BAKE_AUDIT_NOISE + bake_audit_reach(fu, fv);
     violation = fmax(violation, mx[m] - bound);
   }
   printf("%d bases (%s), %zu latents, audit quadrature %.2f CPU-s (%.2f wall) = %.0f "
@@ -285,9 +303,26 @@ int main(int argc, char **argv) {
     printf(" -> %.4f; step to %g -> %.4f\n", mx[at[id]], (double)t[at_step[id]].p[id],
            mx[at_step[id]]);
   }
-  printf("bake_audit_slope:");
+  printf("bake_audit_slope, largest of the regions:");
+  double smax[P];
+  bake_audit_slope_max(smax);
   for (int id = 0; id < P; id++)
-    printf(" %.3f", bake_audit_slope[id]);
+    printf(" %.3f", smax[id]);
+  /* The table for src/bake/bake_audit_slopes.inc: each region's need times 1.25, at
+   * least 0.25; a region no step reached gets the largest need. */
+  printf("\nper region (alpha1 bin, alpha2 bin), need x 1.25 (regions not reached: the largest):\n");
+  for (int a = 0; a < R; a++) {
+    printf("  {");
+    for (int c = 0; c < R; c++) {
+      printf("{");
+      for (int id = 0; id < P; id++) {
+        double v = seen[a][c] ? reg[a][c][id] : slope[id];
+        printf("%.2f%s", fmax(0.25, ceil(125.0 * v) / 100.0), id + 1 < P ? ", " : "");
+      }
+      printf("}%s", c + 1 < R ? ", " : "");
+    }
+    printf("}%s\n", a + 1 < R ? "," : "");
+  }
   printf("\nlargest cell member minus its bound: %.4f (must be <= 0)\n", violation);
   free(t), free(u), free(out), free(lat), free(sig), free(mx), free(brute), free(rho);
   nbrdf_model_destroy(model);

@@ -67,10 +67,42 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
   return albedo_max(model, NULL, n, latents, sigma, maxv, theta_index, err);
 }
 
-/* Measured by bench/bench_audit_margin.c (docs/BAKE.md): the largest change of
- * the decoded albedo per unit of normalised alpha1, eta, alpha2, r0, albedo,
- * sigma_t with the shipped model, times a safety factor. */
-const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT] = {2.9, 5.5, 1.75, 1.4, 2.05, 2.3};
+/* Measured by bench/bench_audit_margin.c (docs/BAKE.md): per region of
+ * normalised (alpha1, alpha2), the largest slope per unit of normalised
+ * alpha1, eta, alpha2, r0, albedo, sigma_t that a step of 1/32 to 1/4 needs
+ * beside BAKE_AUDIT_NOISE, with the shipped model, times a safety factor. */
+#include "bake/bake_audit_slopes.inc"
+
+static int region(float u) {
+  int r = (int)(u * BAKE_AUDIT_REGIONS);
+  return r < 0 ? 0 : r >= BAKE_AUDIT_REGIONS ? BAKE_AUDIT_REGIONS - 1 : r;
+}
+
+double bake_audit_reach(const float *u, const float *v) {
+  int a0 = region(u[NBRDF_BAKE_ALPHA1]), a1 = region(v[NBRDF_BAKE_ALPHA1]);
+  int b0 = region(u[NBRDF_BAKE_ALPHA2]), b1 = region(v[NBRDF_BAKE_ALPHA2]);
+  if (a0 > a1) a0 ^= a1, a1 ^= a0, a0 ^= a1;
+  if (b0 > b1) b0 ^= b1, b1 ^= b0, b0 ^= b1;
+  double d = 0.0;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    double du = fabs((double)u[id] - (double)v[id]), s = 0.0;
+    if (du == 0.0) continue;
+    for (int a = a0; a <= a1; a++)
+      for (int b = b0; b <= b1; b++)
+        s = fmax(s, bake_audit_slope[a][b][id]);
+    d += s * du;
+  }
+  return d;
+}
+
+void bake_audit_slope_max(double *slope) {
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    slope[id] = 0.0;
+    for (int a = 0; a < BAKE_AUDIT_REGIONS; a++)
+      for (int b = 0; b < BAKE_AUDIT_REGIONS; b++)
+        slope[id] = fmax(slope[id], bake_audit_slope[a][b][id]);
+  }
+}
 
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
@@ -228,14 +260,6 @@ static void tally(bake_audit *a, size_t j, size_t k, size_t *band_worst) {
   }
 }
 
-/* Σ_i slope_i |u_i - v_i|: how far the albedo can move from v to u. */
-static double reach(const float *u, const float *v) {
-  double d = 0.0;
-  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
-    d += bake_audit_slope[id] * fabs((double)u[id] - (double)v[id]);
-  return d;
-}
-
 /* The smallest bound anchor + noise + reach over the anchors of the tuple's cell
  * and of the cells next to it along one parameter (stops at the first that
  * clears the limit); *near: the value of the anchor that gave it (NAN: none). */
@@ -254,7 +278,7 @@ static double bound(const bake_audit *a, const float *u, const unsigned char *q,
     const bake_audit_cell *c = &a->cells[cell_slot(a, cell_key(qn))];
     if (!c->key) continue;
     for (size_t i = c->head; i != NO_ANCHOR; i = a->anchors[i].next) {
-      double b = a->anchors[i].value + BAKE_AUDIT_NOISE + reach(u, a->anchors[i].u);
+      double b = a->anchors[i].value + BAKE_AUDIT_NOISE + bake_audit_reach(u, a->anchors[i].u);
       if (b < best) best = b, *near = a->anchors[i].value;
       if (best <= BAKE_AUDIT_LIMIT) return best;
     }
@@ -341,7 +365,8 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
       for (size_t j = 0; round < AUDIT_ROUNDS - 1 && j < m && !covered; j++) {
         size_t pj = a->pick[j];
         double g = isnan(a->guess[pj]) ? AUDIT_GUESS : a->guess[pj];
-        covered = g + BAKE_AUDIT_NOISE + reach(a->u + k * P, a->u + pj * P) <= BAKE_AUDIT_LIMIT;
+        covered =
+            g + BAKE_AUDIT_NOISE + bake_audit_reach(a->u + k * P, a->u + pj * P) <= BAKE_AUDIT_LIMIT;
       }
       if (covered)
         a->pending[keep++] = k;

@@ -1,6 +1,6 @@
 /* Bake-time energy audit: the largest decoded directional albedo
- * over θi of the distinct latents a bake evaluates (the importance-sampled
- * quadrature of model/albedo_quad.h, through cell representatives below), the
+ * over θi of the distinct latents a bake evaluates (the polar rule of
+ * model/albedo_quad.h, measured where a bound cannot clear them, below), the
  * worst of the bake with its texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy: a
  * renderer shows it as an over-bright rim or fireflies. */
 #ifndef NBRDF_BAKE_BAKE_AUDIT_H
@@ -35,18 +35,20 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
                              const float *sigma, double *maxv, int *theta_index, nbrdf_error *err);
 
 /* The bake's audit works in parameter space (docs/BAKE.md, "Energy audit"):
- * distinct tuples fall in cells of a grid of BAKE_AUDIT_GRID steps over each
- * parameter's normalised range (model_material_normalise); the first tuple of a
- * cell in bake order is its representative and is measured precisely
- * (bake_albedo_precise). Another tuple of the cell is measured only when the
- * bound representative + Σ_i bake_audit_slope[i] |u_i - u_rep,i| +
- * BAKE_AUDIT_NOISE exceeds BAKE_AUDIT_LIMIT: the slopes bound how fast the
- * decoded albedo moves per unit of normalised parameter and the noise bounds
- * the quadrature's error (both measured by bench/bench_audit_margin.c). So a
- * verdict above the limit is never left to a representative, and the worst
- * value is exact (to the quadrature) whenever it is near or above the limit;
- * below it, it is the largest measured value, within the bound of the true
- * largest. */
+ * every measured tuple (bake_albedo_precise) is an anchor, filed in its cell of
+ * a grid of BAKE_AUDIT_GRID steps over each parameter's normalised range
+ * (model_material_normalise). A tuple is cleared without being measured when
+ * an anchor of its cell or of a cell next to it along one parameter gives the
+ * bound anchor + BAKE_AUDIT_NOISE + bake_audit_reach(tuple, anchor) <=
+ * BAKE_AUDIT_LIMIT: the slopes bound how fast the decoded albedo moves per unit
+ * of normalised parameter and the noise the quadrature's error (both measured
+ * by bench/bench_audit_margin.c). The others are measured in rounds of picks
+ * spread so that each is expected to clear those near it; the last round
+ * measures all that are left. So a verdict above the limit is never left to a
+ * bound, and the worst value is exact (to the quadrature) whenever it is near
+ * or above the limit; below it, it is the largest measured value, within the
+ * bound's reach of the true largest. Deterministic: tuples are met in bake
+ * order. */
 #define BAKE_AUDIT_GRID 8
 /* The precise measurement's nodes per θi: the polar rule of albedo_quad.h with
  * 24 rings of 8 (193 decoder queries; the lattice of 1,024 directions before
@@ -54,7 +56,20 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
 #define BAKE_AUDIT_POLAR_RINGS 24
 #define BAKE_AUDIT_POLAR_PHI 8
 #define BAKE_AUDIT_NOISE 0.025
-extern const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT];
+/* The slopes depend on where: the decoded albedo has a steep ridge where both
+ * lobes are sharp (alpha1 ~0.01, alpha2 ~0.05: 1.02 to 0.77 over a step of 0.06
+ * in normalised alpha2), and is gentle elsewhere. So they are given per region
+ * of BAKE_AUDIT_REGIONS x BAKE_AUDIT_REGIONS bins of normalised (alpha1, alpha2):
+ * bake_audit_slope[bin of alpha1][bin of alpha2][parameter]; a bound between two
+ * tuples uses the largest slope of every region between them. */
+#define BAKE_AUDIT_REGIONS 4
+extern const double bake_audit_slope[BAKE_AUDIT_REGIONS][BAKE_AUDIT_REGIONS]
+                                    [NBRDF_BAKE_PARAM_COUNT];
+/* How far the albedo can move from normalised parameters v to u:
+ * Σ_i slope_i |u_i - v_i|, slope_i the largest over the regions between them. */
+double bake_audit_reach(const float *u, const float *v);
+/* The largest slope of each parameter over all regions. */
+void bake_audit_slope_max(double *slope);
 
 struct gpu_network;
 
