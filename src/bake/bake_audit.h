@@ -55,7 +55,7 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * it spread as much against brute force: bench/bench_audit_quad.c). */
 #define BAKE_AUDIT_POLAR_RINGS 24
 #define BAKE_AUDIT_POLAR_PHI 8
-#define BAKE_AUDIT_NOISE 0.025
+#define BAKE_AUDIT_NOISE 0.03
 /* The slopes depend on where: the decoded albedo has a steep ridge where both
  * lobes are sharp (alpha1 ~0.01, alpha2 ~0.05: 1.02 to 0.77 over a step of 0.06
  * in normalised alpha2), and is gentle elsewhere. So they are given per region
