@@ -128,7 +128,9 @@ int main(int argc, char **argv) {
   for (int k = 0; k < n; k++)
     top = fmax(top, brute[k]);
   printf("%d tuples (%s), largest brute-force albedo %.4f\n", n,
-         sharp == 2 ? "sharp coat over a sharp base" : sharp ? "sharp clearcoat" : "whole range",
+         sharp == 2 ? "sharp coat over a sharp base"
+         : sharp    ? "sharp clearcoat"
+                    : "whole range",
          top);
   /* lattice: directions per angle; polar: rings × azimuths (+ 1 node) */
   const int lattice[] = {128, 256, 1024}, rings[] = {12, 16, 24, 32, 48, 48, 96},
@@ -168,8 +170,8 @@ int main(int argc, char **argv) {
     char name[64];
     snprintf(name, sizeof name, polar ? "polar, %d rings of %d" : "lattice, ladder",
              polar ? rings[c - n_lat] : 0, polar ? phis[c - n_lat] : 0);
-    printf("| %s | %d | %.2f | %.4f | %.4f | %.4f | %.4f |\n", name, count, ms[c], down, up,
-           fdown, fup);
+    printf("| %s | %d | %.2f | %.4f | %.4f | %.4f | %.4f |\n", name, count, ms[c], down, up, fdown,
+           fup);
   }
   for (int k = 0; at && k < n; k++) {
     printf("alpha2 %.4f: brute force %.4f", (double)t[k].p[NBRDF_BAKE_ALPHA2], brute[k]);

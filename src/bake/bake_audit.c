@@ -79,10 +79,10 @@ static int region(float u) {
 }
 
 double bake_audit_reach(const float *u, const float *v) {
-  int a0 = region(u[NBRDF_BAKE_ALPHA1]), a1 = region(v[NBRDF_BAKE_ALPHA1]);
-  int b0 = region(u[NBRDF_BAKE_ALPHA2]), b1 = region(v[NBRDF_BAKE_ALPHA2]);
-  if (a0 > a1) a0 ^= a1, a1 ^= a0, a0 ^= a1;
-  if (b0 > b1) b0 ^= b1, b1 ^= b0, b0 ^= b1;
+  int au = region(u[NBRDF_BAKE_ALPHA1]), av = region(v[NBRDF_BAKE_ALPHA1]);
+  int bu = region(u[NBRDF_BAKE_ALPHA2]), bv = region(v[NBRDF_BAKE_ALPHA2]);
+  int a0 = au < av ? au : av, a1 = au < av ? av : au;
+  int b0 = bu < bv ? bu : bv, b1 = bu < bv ? bv : bu;
   double d = 0.0;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
     double du = fabs((double)u[id] - (double)v[id]), s = 0.0;
@@ -286,7 +286,7 @@ static double bound(const bake_audit *a, const float *u, const unsigned char *q,
   return best;
 }
 
-/* Makes measured tuple j (its u, q) an anchor of its cell. */
+/* Files a measured tuple (its u, q and value) as an anchor of its cell. */
 static void add_anchor(bake_audit *a, const float *u, const unsigned char *q, double value) {
   size_t s = cell_slot(a, cell_key(q));
   if (!a->cells[s].key) {
@@ -309,8 +309,7 @@ static double cpu_seconds(void) {
 
 static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
                                  const float *lo, const float *hi, const float *out,
-                                 const size_t *idx, size_t n, size_t *band_worst,
-                                 nbrdf_error *err);
+                                 const size_t *idx, size_t n, size_t *band_worst, nbrdf_error *err);
 
 nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
                                const float *lo, const float *hi, const float *out,
@@ -365,8 +364,8 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
       for (size_t j = 0; round < AUDIT_ROUNDS - 1 && j < m && !covered; j++) {
         size_t pj = a->pick[j];
         double g = isnan(a->guess[pj]) ? AUDIT_GUESS : a->guess[pj];
-        covered =
-            g + BAKE_AUDIT_NOISE + bake_audit_reach(a->u + k * P, a->u + pj * P) <= BAKE_AUDIT_LIMIT;
+        covered = g + BAKE_AUDIT_NOISE + bake_audit_reach(a->u + k * P, a->u + pj * P) <=
+                  BAKE_AUDIT_LIMIT;
       }
       if (covered)
         a->pending[keep++] = k;
