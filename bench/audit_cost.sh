@@ -6,6 +6,8 @@
 # with --energy-audit 0 and with the audit on (default cap, or CAP); the runs of the two
 # binaries are interleaved so that both see the same load. Prints wall and CPU seconds
 # (/usr/bin/time), the load average, the worst albedo and the share of the audit.
+# AUDIT_MATERIAL=examples bakes the dielectric coat of examples/make_maps.sh instead. The
+# bake's own line gives how many latents the audit measured and its CPU seconds.
 #   bench/audit_cost.sh [SIZE] [RUNS] [CAP] NBRDF...   (128, 3, the default cap, build/nbrdf)
 set -u
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -18,15 +20,28 @@ bins=("$@")
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1} OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-# A gradient with noise: every texel its own roughness / colour, as a painted map has.
-oiiotool --pattern fill:topleft=0.15:topright=0.85:bottomleft=0.25:bottomright=0.6 \
-  "${size}x${size}" 1 --pattern noise:type=uniform:min=-0.05:max=0.05:seed=1 \
-  "${size}x${size}" 1 --add -d uint8 -o "$tmp/rough.png"
-oiiotool --pattern fill:topleft=0.95,0.64,0.54:topright=0.56,0.57,0.58:bottomleft=1.0,0.86,0.57:bottomright=0.91,0.92,0.92 \
-  "${size}x${size}" 3 --pattern noise:type=uniform:min=-0.04:max=0.04:seed=2 \
-  "${size}x${size}" 3 --add -d uint8 -o "$tmp/base.png"
-args=(--bundle "$root/models/default" --roughness perceptual --alpha1 0.05 --eta 1.45
-  --alpha2 "$tmp/rough.png" --r0 "$tmp/base.png" --albedo 0.8 --sigma-t 1 --range clamp)
+material=${AUDIT_MATERIAL:-clearcoat}
+if [ "$material" = examples ]; then
+  # The dielectric coat of examples/make_maps.sh (alpha1 0.05..0.9, eta stripes 1.3 / 1.7, a
+  # copper / silver checker, painted albedo, sigma_t steps), resized to SIZE².
+  bash "$root/examples/make_maps.sh" "$tmp/maps" >/dev/null
+  for f in alpha1.png eta.exr alpha2.png r0.png albedo.png sigma_t.exr; do
+    oiiotool "$tmp/maps/$f" --resize:filter=box "${size}x${size}" -o "$tmp/$f"
+  done
+  args=(--bundle "$root/models/default" --alpha1 "$tmp/alpha1.png" --eta "$tmp/eta.exr"
+    --alpha2 "$tmp/alpha2.png" --r0 "$tmp/r0.png" --albedo "$tmp/albedo.png"
+    --sigma-t "$tmp/sigma_t.exr" --range clamp)
+else
+  # A gradient with noise: every texel its own roughness / colour, as a painted map has.
+  oiiotool --pattern fill:topleft=0.15:topright=0.85:bottomleft=0.25:bottomright=0.6 \
+    "${size}x${size}" 1 --pattern noise:type=uniform:min=-0.05:max=0.05:seed=1 \
+    "${size}x${size}" 1 --add -d uint8 -o "$tmp/rough.png"
+  oiiotool --pattern fill:topleft=0.95,0.64,0.54:topright=0.56,0.57,0.58:bottomleft=1.0,0.86,0.57:bottomright=0.91,0.92,0.92 \
+    "${size}x${size}" 3 --pattern noise:type=uniform:min=-0.04:max=0.04:seed=2 \
+    "${size}x${size}" 3 --add -d uint8 -o "$tmp/base.png"
+  args=(--bundle "$root/models/default" --roughness perceptual --alpha1 0.05 --eta 1.45
+    --alpha2 "$tmp/rough.png" --r0 "$tmp/base.png" --albedo 0.8 --sigma-t 1 --range clamp)
+fi
 
 # bake LABEL NBRDF AUDIT: one bake; prints wall, CPU (user + sys) and the audit's summary.
 bake() {
@@ -35,16 +50,19 @@ bake() {
   read -r wall user sys <"$tmp/time"
   local cpu worst
   cpu=$(awk -v u="$user" -v s="$sys" 'BEGIN { printf "%.2f", u + s }')
+  # "max decoded directional albedo W over N distinct latents (M measured, S CPU-s)"
   worst=$(grep -o 'max decoded directional albedo [0-9.]* over [0-9]*' "$tmp/log" | awk '{print $5, "over", $7}')
-  printf '| %s | %s | %s | %s | %s | %s |\n' "$1" "$3" "$wall" "$cpu" \
-    "$(cut -d' ' -f1 /proc/loadavg)" "${worst:--}"
+  measured=$(sed -n 's/.*distinct latents (\([0-9]*\) measured, \([0-9.]*\) CPU-s).*/\1 | \2/p' "$tmp/log")
+  printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$1" "$3" "$wall" "$cpu" \
+    "$(cut -d' ' -f1 /proc/loadavg)" "${worst:--}" "${measured:-- | -}"
   echo "$cpu" >>"$tmp/cpu.$1.$3"
+  [ -z "$measured" ] || echo "${measured##* }" >>"$tmp/own.$1"
 }
 
-echo "sharp clearcoat, ${size}² maps, $runs runs, OPENBLAS_NUM_THREADS=$OPENBLAS_NUM_THREADS"
+echo "$material, ${size}² maps, $runs runs, OPENBLAS_NUM_THREADS=$OPENBLAS_NUM_THREADS"
 echo
-echo '| binary | --energy-audit | wall s | CPU s | load | worst albedo |'
-echo '|---|---|---|---|---|---|'
+echo '| binary | --energy-audit | wall s | CPU s | load | worst albedo | measured | audit CPU-s (bake'"'"'s own) |'
+echo '|---|---|---|---|---|---|---|---|'
 for ((r = 0; r < runs; r++)); do
   for i in "${!bins[@]}"; do
     bake "bin$i" "${bins[$i]}" 0
@@ -55,7 +73,10 @@ echo
 for i in "${!bins[@]}"; do
   off=$(sort -n "$tmp/cpu.bin$i.0" | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
   on=$(sort -n "$tmp/cpu.bin$i.${cap:-16384}" | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}')
-  awk -v b="${bins[$i]}" -v i="$i" -v off="$off" -v on="$on" 'BEGIN {
-    printf "bin%d = %s: median CPU %.2f s off, %.2f s on: the audit %.2f CPU-s, %.0f %% of the bake\n",
-      i, b, off, on, on - off, 100 * (on - off) / on }'
+  own=$(sort -n "$tmp/own.bin$i" 2>/dev/null | awk '{a[NR]=$1} END {print a[int((NR+1)/2)] + 0}')
+  awk -v b="${bins[$i]}" -v i="$i" -v off="$off" -v on="$on" -v own="$own" 'BEGIN {
+    printf "bin%d = %s: median CPU %.2f s off, %.2f s on: the audit %.2f CPU-s, %.0f %% of the bake",
+      i, b, off, on, on - off, 100 * (on - off) / on
+    if (own > 0) printf "; by the bake'"'"'s own clock %.3f CPU-s, %.0f %%", own, 100 * own / on
+    printf "\n" }'
 done

@@ -222,8 +222,8 @@ typedef struct nbrdf_bake_options {
   /* Energy audit (docs/BAKE.md, "Energy audit"): the maximum over θi of the
    * decoded directional albedo of each distinct latent the bake evaluates,
    * for the first `energy_audit` of them (NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,
-   * 16,384; measured through a representative per cell of parameter space, and
-   * individually only where a bound cannot clear them); the worst goes into the
+   * 16,384; a latent is measured only where no bound from a measured neighbour
+   * in parameter space clears it); the worst goes into the
    * header as nbrdf:maxAlbedo, and above 1.01 `warning` names its texel and parameters. 0 turns it
    * off. The texels are the same either way. */
   size_t energy_audit;
@@ -313,6 +313,11 @@ typedef struct nbrdf_bake_report {
   nbrdf_bake_accuracy tried_level[4];
   double tried_error[4];
   double suggested_budget;
+  /* Of `audited`, the latents the energy audit measured with the decoder (the
+   * others were cleared by a bound from a measured neighbour), and the
+   * process CPU seconds the audit took. */
+  size_t audit_measured;
+  double audit_seconds;
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

@@ -144,6 +144,8 @@ static void audit(const bake_texture *t, const bake_level *level, const bake_fit
   rep->reused = band->reused;
   rep->audited = band->audit.audited;
   rep->max_albedo = band->audit.audited ? band->audit.worst : NAN;
+  rep->audit_measured = band->audit.measured;
+  rep->audit_seconds = band->audit.seconds;
   rep->clamped = 0;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     rep->clamped += band->clamped[id];

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "bake/bake_compact.h"
 #include "core/error.h"
@@ -66,10 +67,42 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
   return albedo_max(model, NULL, n, latents, sigma, maxv, theta_index, err);
 }
 
-/* Measured by bench/bench_audit_margin.c (docs/BAKE.md): the largest change of
- * the decoded albedo per unit of normalised alpha1, eta, alpha2, r0, albedo,
- * sigma_t with the shipped model, times a safety factor. */
-const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT] = {2.9, 5.5, 1.75, 1.4, 2.05, 2.3};
+/* Measured by bench/bench_audit_margin.c (docs/BAKE.md): per region of
+ * normalised (alpha1, alpha2), the largest slope per unit of normalised
+ * alpha1, eta, alpha2, r0, albedo, sigma_t that a step of 1/32 to 1/4 needs
+ * beside BAKE_AUDIT_NOISE, with the shipped model, times a safety factor. */
+#include "bake/bake_audit_slopes.inc"
+
+static int region(float u) {
+  int r = (int)(u * BAKE_AUDIT_REGIONS);
+  return r < 0 ? 0 : r >= BAKE_AUDIT_REGIONS ? BAKE_AUDIT_REGIONS - 1 : r;
+}
+
+double bake_audit_reach(const float *u, const float *v) {
+  int au = region(u[NBRDF_BAKE_ALPHA1]), av = region(v[NBRDF_BAKE_ALPHA1]);
+  int bu = region(u[NBRDF_BAKE_ALPHA2]), bv = region(v[NBRDF_BAKE_ALPHA2]);
+  int a0 = au < av ? au : av, a1 = au < av ? av : au;
+  int b0 = bu < bv ? bu : bv, b1 = bu < bv ? bv : bu;
+  double d = 0.0;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    double du = fabs((double)u[id] - (double)v[id]), s = 0.0;
+    if (du == 0.0) continue;
+    for (int a = a0; a <= a1; a++)
+      for (int b = b0; b <= b1; b++)
+        s = fmax(s, bake_audit_slope[a][b][id]);
+    d += s * du;
+  }
+  return d;
+}
+
+void bake_audit_slope_max(double *slope) {
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    slope[id] = 0.0;
+    for (int a = 0; a < BAKE_AUDIT_REGIONS; a++)
+      for (int b = 0; b < BAKE_AUDIT_REGIONS; b++)
+        slope[id] = fmax(slope[id], bake_audit_slope[a][b][id]);
+  }
+}
 
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
@@ -80,10 +113,12 @@ nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *g
   model_runner runner;
   nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
                         : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  /* The polar rule does not need the proxy: its rings cover every lobe width. */
+  (void)sigma;
   if (!st) {
-    st = model_albedo_decoded_lattice(model->decoder, &runner, n, latents, sigma,
-                                      BAKE_AUDIT_N_THETA, bake_audit_theta_deg,
-                                      BAKE_AUDIT_PRECISE_SAMPLES, AUDIT_SEED, rho, err);
+    st = model_albedo_decoded_polar(model->decoder, &runner, n, latents, BAKE_AUDIT_N_THETA,
+                                    bake_audit_theta_deg, BAKE_AUDIT_POLAR_RINGS,
+                                    BAKE_AUDIT_POLAR_PHI, rho, err);
     model_runner_destroy(&runner);
   }
   if (!st) max_over_theta(rho, n, maxv, theta_index);
@@ -93,9 +128,22 @@ nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *g
 
 struct bake_audit_cell {
   uint64_t key; /* 0: empty */
-  float u[NBRDF_BAKE_PARAM_COUNT]; /* the representative's normalised parameters */
-  double value;                    /* its maximum albedo */
+  size_t head;  /* its first anchor (index into anchors), NO_ANCHOR: none */
 };
+
+/* A measured tuple: its normalised parameters and maximum albedo. */
+struct bake_audit_anchor {
+  float u[NBRDF_BAKE_PARAM_COUNT];
+  double value;
+  size_t next; /* the next anchor of its cell */
+};
+
+#define NO_ANCHOR ((size_t)-1)
+/* Rounds of measurement per call before every tuple still uncleared is measured. */
+#define AUDIT_ROUNDS 4
+/* A tuple with no anchor near it is expected to measure this much when the
+ * round's picks are spread (only the spread depends on it, never a verdict). */
+#define AUDIT_GUESS 0.8
 
 void bake_audit_init(bake_audit *a, size_t cap) {
   memset(a, 0, sizeof *a);
@@ -104,8 +152,8 @@ void bake_audit_init(bake_audit *a, size_t cap) {
 }
 
 void bake_audit_free(bake_audit *a) {
-  free(a->lat), free(a->sigma), free(a->u), free(a->maxv), free(a->theta);
-  free(a->pick), free(a->cell_of), free(a->rep), free(a->cells);
+  free(a->lat), free(a->sigma), free(a->u), free(a->maxv), free(a->theta), free(a->guess);
+  free(a->pick), free(a->pending), free(a->q), free(a->cells), free(a->anchors);
   size_t cap = a->cap;
   struct gpu_network *gpu = a->gpu_decoder;
   memset(a, 0, sizeof *a);
@@ -117,6 +165,13 @@ static uint64_t mix64(uint64_t x) {
   x ^= x >> 33, x *= UINT64_C(0xff51afd7ed558ccd);
   x ^= x >> 33, x *= UINT64_C(0xc4ceb9fe1a85ec53);
   return x ^ (x >> 33);
+}
+
+static uint64_t cell_key(const unsigned char *q) {
+  uint64_t key = 1;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+    key = key * (BAKE_AUDIT_GRID + 1) + q[id];
+  return key;
 }
 
 /* The cell of key, or the empty slot where it goes (cells_cap a power of two,
@@ -147,20 +202,33 @@ static int cells_room(bake_audit *a, size_t more) {
   return 1;
 }
 
+static int anchors_room(bake_audit *a, size_t more) {
+  if (a->n_anchors + more <= a->anchors_cap) return 1;
+  size_t cap = a->anchors_cap ? 2 * a->anchors_cap : 256;
+  while (cap < a->n_anchors + more)
+    cap *= 2;
+  bake_audit_anchor *p = realloc(a->anchors, cap * sizeof *p);
+  if (!p) return 0;
+  a->anchors = p, a->anchors_cap = cap;
+  return 1;
+}
+
 static int scratch_room(bake_audit *a, size_t n, size_t D) {
   if (n <= a->scratch_cap) return 1;
-  free(a->lat), free(a->sigma), free(a->u), free(a->maxv), free(a->theta);
-  free(a->pick), free(a->cell_of), free(a->rep);
+  free(a->lat), free(a->sigma), free(a->u), free(a->maxv), free(a->theta), free(a->guess);
+  free(a->pick), free(a->pending), free(a->q);
   a->lat = malloc(n * D * sizeof *a->lat);
   a->sigma = malloc(n * sizeof *a->sigma);
   a->u = malloc(n * NBRDF_BAKE_PARAM_COUNT * sizeof *a->u);
   a->maxv = malloc(n * sizeof *a->maxv);
   a->theta = malloc(n * sizeof *a->theta);
+  a->guess = malloc(n * sizeof *a->guess);
   a->pick = malloc(n * sizeof *a->pick);
-  a->cell_of = malloc(n * sizeof *a->cell_of);
-  a->rep = malloc(n * sizeof *a->rep);
+  a->pending = malloc(n * sizeof *a->pending);
+  a->q = malloc(n * NBRDF_BAKE_PARAM_COUNT * sizeof *a->q);
   a->scratch_cap = n;
-  if (a->lat && a->sigma && a->u && a->maxv && a->theta && a->pick && a->cell_of && a->rep)
+  if (a->lat && a->sigma && a->u && a->maxv && a->theta && a->guess && a->pick && a->pending &&
+      a->q)
     return 1;
   a->scratch_cap = 0;
   return 0;
@@ -192,59 +260,127 @@ static void tally(bake_audit *a, size_t j, size_t k, size_t *band_worst) {
   }
 }
 
+/* The smallest bound anchor + noise + reach over the anchors of the tuple's cell
+ * and of the cells next to it along one parameter (stops at the first that
+ * clears the limit); *near: the value of the anchor that gave it (NAN: none). */
+static double bound(const bake_audit *a, const float *u, const unsigned char *q, double *near) {
+  enum { P = NBRDF_BAKE_PARAM_COUNT };
+  double best = INFINITY;
+  *near = NAN;
+  for (int nb = 0; nb <= 2 * P; nb++) {
+    unsigned char qn[P];
+    memcpy(qn, q, sizeof qn);
+    if (nb) {
+      int id = (nb - 1) / 2, step = (nb - 1) % 2 ? 1 : -1;
+      if ((step < 0 && q[id] == 0) || (step > 0 && q[id] + 1 >= BAKE_AUDIT_GRID)) continue;
+      qn[id] = (unsigned char)(q[id] + step);
+    }
+    const bake_audit_cell *c = &a->cells[cell_slot(a, cell_key(qn))];
+    if (!c->key) continue;
+    for (size_t i = c->head; i != NO_ANCHOR; i = a->anchors[i].next) {
+      double b = a->anchors[i].value + BAKE_AUDIT_NOISE + bake_audit_reach(u, a->anchors[i].u);
+      if (b < best) best = b, *near = a->anchors[i].value;
+      if (best <= BAKE_AUDIT_LIMIT) return best;
+    }
+  }
+  return best;
+}
+
+/* Files a measured tuple (its u, q and value) as an anchor of its cell. */
+static void add_anchor(bake_audit *a, const float *u, const unsigned char *q, double value) {
+  size_t s = cell_slot(a, cell_key(q));
+  if (!a->cells[s].key) {
+    a->cells[s].key = cell_key(q);
+    a->cells[s].head = NO_ANCHOR;
+    a->cells_used++;
+  }
+  bake_audit_anchor *an = &a->anchors[a->n_anchors];
+  memcpy(an->u, u, sizeof an->u);
+  an->value = value;
+  an->next = a->cells[s].head;
+  a->cells[s].head = a->n_anchors++;
+}
+
+static double cpu_seconds(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
+                                 const float *lo, const float *hi, const float *out,
+                                 const size_t *idx, size_t n, size_t *band_worst, nbrdf_error *err);
+
 nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
                                const float *lo, const float *hi, const float *out,
                                const size_t *idx, size_t n, size_t *band_worst, nbrdf_error *err) {
+  double c0 = cpu_seconds();
+  nbrdf_status st = audit_tuples(a, model, t, lo, hi, out, idx, n, band_worst, err);
+  a->seconds += cpu_seconds() - c0;
+  return st;
+}
+
+static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
+                                 const float *lo, const float *hi, const float *out,
+                                 const size_t *idx, size_t n, size_t *band_worst,
+                                 nbrdf_error *err) {
   enum { P = NBRDF_BAKE_PARAM_COUNT };
   *band_worst = (size_t)-1;
   size_t room = a->cap > a->audited ? a->cap - a->audited : 0;
   if (n > room) a->skipped += n - room, n = room;
   if (n == 0) return NBRDF_OK;
   const size_t D = (size_t)nbrdf_model_latent_dim(model);
-  if (!scratch_room(a, n, D) || !cells_room(a, n))
+  if (!scratch_room(a, n, D) || !cells_room(a, n) || !anchors_room(a, n))
     return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
-  /* Pass 1: the tuples that open a cell are its representatives. */
-  size_t m = 0;
   for (size_t k = 0; k < n; k++) {
     float *u = a->u + k * P;
-    uint64_t key = 1;
+    unsigned char *q = a->q + k * P;
     for (int id = 0; id < P; id++) {
       u[id] = model_material_normalise(lo, hi, id, t[idx[k]].p[id]);
-      int q = (int)(u[id] * BAKE_AUDIT_GRID);
-      q = q < 0 ? 0 : q >= BAKE_AUDIT_GRID ? BAKE_AUDIT_GRID - 1 : q;
-      key = key * (BAKE_AUDIT_GRID + 1) + (uint64_t)q;
+      int g = (int)(u[id] * BAKE_AUDIT_GRID);
+      q[id] = (unsigned char)(g < 0 ? 0 : g >= BAKE_AUDIT_GRID ? BAKE_AUDIT_GRID - 1 : g);
     }
-    size_t s = cell_slot(a, key);
-    if (!a->cells[s].key) {
-      a->cells[s].key = key;
-      memcpy(a->cells[s].u, u, sizeof a->cells[s].u);
-      a->cells[s].value = NAN; /* measured below */
-      a->cells_used++;
-      a->pick[m++] = k;
+    a->pending[k] = k;
+  }
+  /* Rounds: a tuple some anchor's bound clears is done; of the others, a spread
+   * set is measured (a pick stands for the pending tuples it is expected to
+   * clear), and the rest wait for the next round; the last round measures all
+   * that are left. A tuple above the limit is never cleared, so it is always
+   * measured itself. */
+  size_t np = n;
+  for (int round = 0; np; round++) {
+    size_t keep = 0;
+    for (size_t i = 0; i < np; i++) {
+      size_t k = a->pending[i];
+      if (!(bound(a, a->u + k * P, a->q + k * P, &a->guess[k]) <= BAKE_AUDIT_LIMIT))
+        a->pending[keep++] = k;
     }
-    a->cell_of[k] = s;
-    a->rep[k] = m && a->pick[m - 1] == k;
+    np = keep;
+    size_t m = 0;
+    keep = 0;
+    for (size_t i = 0; i < np; i++) {
+      size_t k = a->pending[i];
+      int covered = 0;
+      for (size_t j = 0; round < AUDIT_ROUNDS - 1 && j < m && !covered; j++) {
+        size_t pj = a->pick[j];
+        double g = isnan(a->guess[pj]) ? AUDIT_GUESS : a->guess[pj];
+        covered = g + BAKE_AUDIT_NOISE + bake_audit_reach(a->u + k * P, a->u + pj * P) <=
+                  BAKE_AUDIT_LIMIT;
+      }
+      if (covered)
+        a->pending[keep++] = k;
+      else
+        a->pick[m++] = k;
+    }
+    np = keep;
+    nbrdf_status st = measure(a, model, out, idx, m, err);
+    if (st) return st;
+    for (size_t j = 0; j < m; j++) {
+      size_t k = a->pick[j];
+      add_anchor(a, a->u + k * P, a->q + k * P, a->maxv[j]);
+      tally(a, j, idx[k], band_worst);
+    }
   }
-  nbrdf_status st = measure(a, model, out, idx, m, err);
-  if (st) return st;
-  for (size_t j = 0; j < m; j++) {
-    a->cells[a->cell_of[a->pick[j]]].value = a->maxv[j];
-    tally(a, j, idx[a->pick[j]], band_worst);
-  }
-  /* Pass 2: a tuple the bound cannot clear is measured itself. */
-  m = 0;
-  for (size_t k = 0; k < n; k++) {
-    if (a->rep[k]) continue;
-    const bake_audit_cell *c = &a->cells[a->cell_of[k]];
-    double bound = c->value + BAKE_AUDIT_NOISE;
-    for (int id = 0; id < P; id++)
-      bound += bake_audit_slope[id] * fabs((double)a->u[k * P + id] - (double)c->u[id]);
-    if (!(bound <= BAKE_AUDIT_LIMIT)) a->pick[m++] = k;
-  }
-  st = measure(a, model, out, idx, m, err);
-  if (st) return st;
-  for (size_t j = 0; j < m; j++)
-    tally(a, j, idx[a->pick[j]], band_worst);
   a->audited += n;
   return NBRDF_OK;
 }

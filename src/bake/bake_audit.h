@@ -1,6 +1,6 @@
 /* Bake-time energy audit: the largest decoded directional albedo
- * over θi of the distinct latents a bake evaluates (the importance-sampled
- * quadrature of model/albedo_quad.h, through cell representatives below), the
+ * over θi of the distinct latents a bake evaluates (the polar rule of
+ * model/albedo_quad.h, measured where a bound cannot clear them, below), the
  * worst of the bake with its texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy: a
  * renderer shows it as an over-bright rim or fireflies. */
 #ifndef NBRDF_BAKE_BAKE_AUDIT_H
@@ -35,41 +35,63 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
                              const float *sigma, double *maxv, int *theta_index, nbrdf_error *err);
 
 /* The bake's audit works in parameter space (docs/BAKE.md, "Energy audit"):
- * distinct tuples fall in cells of a grid of BAKE_AUDIT_GRID steps over each
- * parameter's normalised range (model_material_normalise); the first tuple of a
- * cell in bake order is its representative and is measured precisely
- * (bake_albedo_precise). Another tuple of the cell is measured only when the
- * bound representative + Σ_i bake_audit_slope[i] |u_i - u_rep,i| +
- * BAKE_AUDIT_NOISE exceeds BAKE_AUDIT_LIMIT: the slopes bound how fast the
- * decoded albedo moves per unit of normalised parameter and the noise bounds
- * the quadrature's error (both measured by bench/bench_audit_margin.c). So a
- * verdict above the limit is never left to a representative, and the worst
- * value is exact (to the quadrature) whenever it is near or above the limit;
- * below it, it is the largest measured value, within the bound of the true
- * largest. */
-#define BAKE_AUDIT_GRID 16
-#define BAKE_AUDIT_PRECISE_SAMPLES 1024
-#define BAKE_AUDIT_NOISE 0.025
-extern const double bake_audit_slope[NBRDF_BAKE_PARAM_COUNT];
+ * every measured tuple (bake_albedo_precise) is an anchor, filed in its cell of
+ * a grid of BAKE_AUDIT_GRID steps over each parameter's normalised range
+ * (model_material_normalise). A tuple is cleared without being measured when
+ * an anchor of its cell or of a cell next to it along one parameter gives the
+ * bound anchor + BAKE_AUDIT_NOISE + bake_audit_reach(tuple, anchor) <=
+ * BAKE_AUDIT_LIMIT: the slopes bound how fast the decoded albedo moves per unit
+ * of normalised parameter and the noise the quadrature's error (both measured
+ * by bench/bench_audit_margin.c). The others are measured in rounds of picks
+ * spread so that each is expected to clear those near it; the last round
+ * measures all that are left. So a verdict above the limit is never left to a
+ * bound, and the worst value is exact (to the quadrature) whenever it is near
+ * or above the limit; below it, it is the largest measured value, within the
+ * bound's reach of the true largest. Deterministic: tuples are met in bake
+ * order. */
+#define BAKE_AUDIT_GRID 8
+/* The precise measurement's nodes per θi: the polar rule of albedo_quad.h with
+ * 24 rings of 8 (193 decoder queries; the lattice of 1,024 directions before
+ * it spread as much against brute force: bench/bench_audit_quad.c). */
+#define BAKE_AUDIT_POLAR_RINGS 24
+#define BAKE_AUDIT_POLAR_PHI 8
+#define BAKE_AUDIT_NOISE 0.03
+/* The slopes depend on where: the decoded albedo has a steep ridge where both
+ * lobes are sharp (alpha1 ~0.01, alpha2 ~0.05: 1.02 to 0.77 over a step of 0.06
+ * in normalised alpha2), and is gentle elsewhere. So they are given per region
+ * of BAKE_AUDIT_REGIONS x BAKE_AUDIT_REGIONS bins of normalised (alpha1, alpha2):
+ * bake_audit_slope[bin of alpha1][bin of alpha2][parameter]; a bound between two
+ * tuples uses the largest slope of every region between them. */
+#define BAKE_AUDIT_REGIONS 4
+extern const double bake_audit_slope[BAKE_AUDIT_REGIONS][BAKE_AUDIT_REGIONS]
+                                    [NBRDF_BAKE_PARAM_COUNT];
+/* How far the albedo can move from normalised parameters v to u:
+ * Σ_i slope_i |u_i - v_i|, slope_i the largest over the regions between them. */
+double bake_audit_reach(const float *u, const float *v);
+/* The largest slope of each parameter over all regions. */
+void bake_audit_slope_max(double *slope);
 
 struct gpu_network;
 
 /* Maximum over bake_audit_theta_deg of the decoded albedo of n latents with
- * 6 x BAKE_AUDIT_PRECISE_SAMPLES directions each, all n in one batch of decoder
- * passes (`gpu`: the decoder on a GPU, or NULL). Deterministic. Shared with
- * `nbrdf verify`, whose per-texel figure is thus the audit's. */
+ * the polar rule's 6 x (8 x 24 + 1) nodes each, all n in one batch of decoder
+ * passes (`gpu`: the decoder on a GPU, or NULL). Deterministic; sigma (the
+ * proxies) is not used. Shared with `nbrdf verify`, whose per-texel figure is
+ * thus the audit's. */
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
                                  int *theta_index, nbrdf_error *err);
 
 typedef struct bake_audit_cell bake_audit_cell;
+typedef struct bake_audit_anchor bake_audit_anchor;
 
 typedef struct bake_audit {
   size_t cap;      /* tuples audited at most (0: off) */
-  size_t audited;  /* tuples audited (measured or covered by a representative) */
+  size_t audited;  /* tuples audited (measured or cleared by an anchor's bound) */
   size_t measured; /* of those, measured with the decoder */
   size_t skipped;  /* evaluated tuples left unaudited past the cap */
   size_t over;     /* measured tuples above BAKE_AUDIT_LIMIT */
+  double seconds;  /* process CPU seconds in bake_audit_tuples */
   double worst;    /* largest measured maximum albedo; < 0 before any */
   int worst_theta; /* index into bake_audit_theta_deg */
   int x, y, c;     /* a texel (and colour channel) of the worst */
@@ -79,15 +101,17 @@ typedef struct bake_audit {
   const struct bake_compact *compact;
   /* Optional (borrowed): the audited model's decoder on a GPU (model_gpu.h). */
   struct gpu_network *gpu_decoder;
-  /* the grid's cells met so far (open addressing) */
+  /* the grid's cells met so far (open addressing), each with its anchors */
   bake_audit_cell *cells;
   size_t cells_cap, cells_used;
+  bake_audit_anchor *anchors; /* every measured tuple */
+  size_t n_anchors, anchors_cap;
   /* scratch */
   float *lat, *sigma, *u;
-  double *maxv;
+  double *maxv, *guess;
   int *theta;
-  size_t *pick, *cell_of;
-  unsigned char *rep;
+  size_t *pick, *pending;
+  unsigned char *q;
   size_t scratch_cap;
 } bake_audit;
 

@@ -285,6 +285,9 @@ static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
            rep->colour_channels, rep->evaluated);
     printf(",\"device\":");
     cli_json_string(stdout, rep->device);
+    if (rep->audited)
+      printf(",\"audited\":%zu,\"audit_measured\":%zu,\"max_albedo\":%.5f,\"audit_cpu_s\":%.3f",
+             rep->audited, rep->audit_measured, rep->max_albedo, rep->audit_seconds);
     if (rep->requested != NBRDF_BAKE_FAST)
       printf(",\"accuracy\":\"%s\",\"requested\":\"%s\",\"fell_back\":%s,\"budget\":%g,"
              "\"distinct\":%zu,\"fitted_tuples\":%zu,\"heldout_tuples\":%zu,"
@@ -310,8 +313,9 @@ static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
            a->out, rep->width, rep->height, rep->colour_channels == 3 ? "rgb" : "mono", rep->brdfs,
            rep->evaluated, rep->reused);
     if (rep->audited)
-      printf("energy audit: max decoded directional albedo %.4f over %zu distinct latents\n",
-             rep->max_albedo, rep->audited);
+      printf("energy audit: max decoded directional albedo %.4f over %zu distinct latents (%zu "
+             "measured, %.2f CPU-s)\n",
+             rep->max_albedo, rep->audited, rep->audit_measured, rep->audit_seconds);
     if (rep->accuracy != NBRDF_BAKE_FAST || rep->fell_back)
       printf("accuracy %s (budget %g s): %zu of %zu distinct tuples fitted; lobe error on %zu "
              "held-out tuples: median %.2f %% (fast: %.2f %%)%s\n",

@@ -64,6 +64,68 @@ static int tech_sample(const technique *t, vec3 wi, double u1, double u2, vec3 *
   return model_proxy_sample(t->param, 0.0, wi, 0.5, u1, u2, wo, &pdf);
 }
 
+/* The product rule of model_albedo_quad_init_polar: inner rings log-polar in r
+ * (the projected half vector's radius) from POLAR_RMIN to POLAR_RSPLIT, so a
+ * lobe of any width around the mirror direction spans the same few rings;
+ * outer rings by the midpoint rule in θh (the broad and diffuse parts); the
+ * midpoint rule in φ, each ring turned half a step from the previous; the
+ * centre disk r < POLAR_RMIN one node at the mirror direction. */
+#define POLAR_RMIN 1e-3
+#define POLAR_RSPLIT 0.25
+
+nbrdf_status model_albedo_quad_init_polar(model_albedo_quad *q, double theta_i, int n_rings,
+                                          int n_phi, nbrdf_error *err) {
+  memset(q, 0, sizeof *q);
+  if (!(theta_i >= 0.0 && theta_i < 0.5 * M_PI))
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "albedo quadrature: theta_i = %g rad, expected [0, pi/2)", theta_i);
+  if (n_rings < 3 || n_phi < 4)
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "albedo quadrature: %d rings of %d, expected >= 3 of >= 4", n_rings, n_phi);
+  const int n = n_rings * n_phi + 1;
+  q->wo = malloc((size_t)n * 3 * sizeof *q->wo);
+  q->weight = malloc((size_t)n * sizeof *q->weight);
+  if (!q->wo || !q->weight) {
+    model_albedo_quad_free(q);
+    return core_fail(err, NBRDF_ERR_MEMORY, "albedo quadrature: out of memory (%d nodes)", n);
+  }
+  q->n = n, q->n_tech = 1, q->tech_end[0] = n, q->theta_i = theta_i;
+  vec3 wi = v3(sin(theta_i), 0.0, cos(theta_i));
+  q->wi[0] = wi.x, q->wi[1] = wi.y, q->wi[2] = wi.z;
+  const int n_in = (2 * n_rings + 2) / 3, n_out = n_rings - n_in;
+  const double s0 = log(POLAR_RMIN), ds = (log(POLAR_RSPLIT) - s0) / n_in;
+  const double t0 = asin(POLAR_RSPLIT), dt = (0.5 * M_PI - t0) / n_out;
+  const double dphi = 2.0 * M_PI / n_phi;
+  for (int k = 0; k < n; k++) {
+    double area;
+    vec3 h = v3(0.0, 0.0, 1.0);
+    if (k == n - 1) {
+      area = M_PI * POLAR_RMIN * POLAR_RMIN;
+    } else {
+      int j = k / n_phi, a = k % n_phi;
+      double phi = (a + 0.5 * (j & 1) + 0.25) * dphi, r;
+      if (j < n_in) { /* dA = r dr dφ = r² ds dφ */
+        r = exp(s0 + (j + 0.5) * ds);
+        area = r * r * ds * dphi;
+        h = v3(r * cos(phi), r * sin(phi), sqrt(fmax(0.0, 1.0 - r * r)));
+      } else { /* r = sin θh: dA = sin θh cos θh dθh dφ */
+        double th = t0 + (j - n_in + 0.5) * dt;
+        r = sin(th);
+        area = r * cos(th) * dt * dphi;
+        h = v3(r * cos(phi), r * sin(phi), cos(th));
+      }
+    }
+    /* dωo = 4 |ωo·h| dωh and dωh = dA / cos θh (the Jacobians of proxy.h) */
+    double wh = v3_dot(wi, h), w = 0.0;
+    vec3 wo = v3_sub(v3_scale(h, 2.0 * wh), wi);
+    if (wh > 0.0 && h.z > 0.0 && wo.z > MIN_COS) w = wo.z * 4.0 * wh / h.z * area;
+    if (!(w > 0.0) || !isfinite(w)) w = 0.0, wo = v3(0.0, 0.0, 1.0);
+    q->wo[3 * k] = wo.x, q->wo[3 * k + 1] = wo.y, q->wo[3 * k + 2] = wo.z;
+    q->weight[k] = w;
+  }
+  return NBRDF_OK;
+}
+
 static nbrdf_status quad_init(model_albedo_quad *q, double theta_i, int n, uint64_t seed,
                               double proxy_sigma, int lattice, nbrdf_error *err) {
   memset(q, 0, sizeof *q);
@@ -196,8 +258,10 @@ double model_albedo_quad_sum(const model_albedo_quad *q, const double *f, double
 static nbrdf_status decoded(const model_decoder *dec, model_runner *runner, size_t n_latents,
                             const float *latents, const float *sigma, int n_theta,
                             const double *theta_deg, int samples, uint64_t seed, int lattice,
-                            double *rho, double *se, nbrdf_error *err) {
+                            int polar_phi, double *rho, double *se, nbrdf_error *err) {
   if (n_latents == 0 || n_theta <= 0) return NBRDF_OK;
+  /* polar_phi > 0: the polar rule, samples = rings × polar_phi + 1, one set for all latents */
+  if (polar_phi > 0) sigma = NULL;
   if (samples < 16 || samples > MAX_ROWS)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "decoded albedo: %d samples, expected 16..%d",
                      samples, MAX_ROWS);
@@ -220,7 +284,10 @@ static nbrdf_status decoded(const model_decoder *dec, model_runner *runner, size
       size_t m = n_latents - l0 < per ? n_latents - l0 : per;
       /* Without proxies every latent shares one set of directions. */
       for (size_t l = 0; st == NBRDF_OK && l < m; l++)
-        if (sigma || l == 0)
+        if (polar_phi > 0 && l == 0)
+          st = model_albedo_quad_init_polar(&quads[l], th, (samples - 1) / polar_phi, polar_phi,
+                                            err);
+        else if (polar_phi <= 0 && (sigma || l == 0))
           st = quad_init(&quads[l], th, samples, seed, sigma ? sigma[l0 + l] : 0.0, lattice, err);
       for (size_t l = 0; st == NBRDF_OK && l < m; l++) {
         const model_albedo_quad *q = &quads[sigma ? l : 0];
@@ -262,8 +329,8 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
                                   const float *latents, const float *sigma, int n_theta,
                                   const double *theta_deg, int samples, uint64_t seed, double *rho,
                                   double *se, nbrdf_error *err) {
-  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed, 0, rho,
-                 se, err);
+  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed, 0, 0,
+                 rho, se, err);
 }
 
 nbrdf_status model_albedo_decoded_lattice(const model_decoder *dec, model_runner *runner,
@@ -271,6 +338,17 @@ nbrdf_status model_albedo_decoded_lattice(const model_decoder *dec, model_runner
                                           const float *sigma, int n_theta,
                                           const double *theta_deg, int samples, uint64_t seed,
                                           double *rho, nbrdf_error *err) {
-  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed, 1, rho,
-                 NULL, err);
+  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed, 1, 0,
+                 rho, NULL, err);
+}
+
+nbrdf_status model_albedo_decoded_polar(const model_decoder *dec, model_runner *runner,
+                                        size_t n_latents, const float *latents, int n_theta,
+                                        const double *theta_deg, int n_rings, int n_phi,
+                                        double *rho, nbrdf_error *err) {
+  if (n_rings < 3 || n_phi < 4)
+    return core_fail(err, NBRDF_ERR_ARGUMENT,
+                     "decoded albedo: %d rings of %d, expected >= 3 of >= 4", n_rings, n_phi);
+  return decoded(dec, runner, n_latents, latents, NULL, n_theta, theta_deg, n_rings * n_phi + 1,
+                 0, 0, n_phi, rho, NULL, err);
 }

@@ -53,6 +53,14 @@ nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n,
  * equal n (bench/bench_audit_margin.c measures it against brute force). */
 nbrdf_status model_albedo_quad_init_lattice(model_albedo_quad *q, double theta_i, int n,
                                             uint64_t seed, double proxy_sigma, nbrdf_error *err);
+/* A deterministic product rule instead of samples (no seed, one technique):
+ * n_rings × n_phi nodes over the disk of projected half vectors plus one at the
+ * mirror direction, rings log-spaced in radius near the mirror (a lobe of any
+ * width, down to α ≈ 0.003, falls on several of them) and evenly spaced in θh
+ * beyond. The audit uses it where the lattice needed 5× the queries for the
+ * same spread against brute force (bench/bench_audit_quad.c, docs/BAKE.md). */
+nbrdf_status model_albedo_quad_init_polar(model_albedo_quad *q, double theta_i, int n_rings,
+                                          int n_phi, nbrdf_error *err);
 void model_albedo_quad_free(model_albedo_quad *q); /* zeroes it */
 
 /* ρ̂ = Σ weight_k f[k] from the values f[k] = f(ωi, ωo_k) (no cosine), and its
@@ -74,5 +82,12 @@ nbrdf_status model_albedo_decoded_lattice(const model_decoder *dec, model_runner
                                           const float *sigma, int n_theta,
                                           const double *theta_deg, int samples, uint64_t seed,
                                           double *rho, nbrdf_error *err);
+
+/* model_albedo_decoded on the nodes of model_albedo_quad_init_polar (the same
+ * nodes for every latent: n_rings × n_phi + 1 decoder queries per angle). */
+nbrdf_status model_albedo_decoded_polar(const model_decoder *dec, model_runner *runner,
+                                        size_t n_latents, const float *latents, int n_theta,
+                                        const double *theta_deg, int n_rings, int n_phi,
+                                        double *rho, nbrdf_error *err);
 
 #endif

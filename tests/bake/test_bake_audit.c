@@ -107,6 +107,112 @@ static void test_sharp_coat(nbrdf_model *model) {
   texture_latent_reader_close(r);
 }
 
+/* Level-0 latents and proxies of a baked mono texture: n texels of D. */
+static float *read_latents(const char *path, int *n_out, int *d_out) {
+  nbrdf_error e, *err = &e;
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, path, err), err);
+  if (!r) return NULL;
+  const texture_latent_info *info = texture_latent_reader_info(r);
+  const int D = info->layout.latent_dim, n = info->width * info->height;
+  float *tex = malloc(sizeof(float) * n * info->channels), *lat = malloc(sizeof(float) * n * D);
+  CHECK_OK(texture_latent_reader_read(r, 0, 0, 0, info->width, info->height, tex, err), err);
+  for (int i = 0; i < n; i++)
+    for (int k = 0; k < D; k++)
+      lat[i * D + k] = tex[i * info->channels + texture_latent_index_latent(&info->layout, 0, k)];
+  free(tex);
+  texture_latent_reader_close(r);
+  *n_out = n, *d_out = D;
+  return lat;
+}
+
+/* The issue's clearcoat over a metal whose roughness and reflectance vary
+ * (alpha1 0.01, eta 1.45, albedo 0.8, sigma_t 1; decoded albedo 0.75-0.9),
+ * with (patch = 1) a 2 x 2 patch of a tuple that creates energy (the sharp coat
+ * above: alpha1 0.01, eta 1.1, alpha2 0.4, r0 1, sigma_t 0). The audit
+ * measures only some of the tuples and clears the others by its bound; the
+ * dense audit (bake_albedo_precise on every latent) is the reference: with the
+ * patch, the audit must report the dense worst itself (a tuple above the limit
+ * is never cleared) and name a texel of the patch; without it, nothing is
+ * above the limit and the audit's worst, the largest of the tuples it
+ * measured, is at most TOL below the dense worst. */
+#define PW 32
+#define PH 16
+#define TOL 0.06
+static void test_clearcoat_patch(nbrdf_model *model, int patch) {
+  nbrdf_error e, *err = &e;
+  static float a2[PW * PH], r0[PW * PH], eta[PW * PH], st[PW * PH];
+  for (int y = 0; y < PH; y++)
+    for (int x = 0; x < PW; x++) {
+      int i = y * PW + x, in = patch && x >= 20 && x < 22 && y >= 9 && y < 11;
+      a2[i] = in ? 0.4f : 0.02f + 0.68f * (float)x / (PW - 1);
+      r0[i] = in ? 1.0f : 0.5f + 0.5f * (float)y / (PH - 1);
+      eta[i] = in ? 1.1f : 1.45f;
+      st[i] = in ? 0.0f : 1.0f;
+    }
+  char pa2[640], pr0[640], peta[640], pst[640], out[640];
+  snprintf(pa2, sizeof pa2, "%s/p_a2.exr", tmp);
+  snprintf(pr0, sizeof pr0, "%s/p_r0.exr", tmp);
+  snprintf(peta, sizeof peta, "%s/p_eta.exr", tmp);
+  snprintf(pst, sizeof pst, "%s/p_st.exr", tmp);
+  snprintf(out, sizeof out, "%s/patch%d.exr", tmp, patch);
+  CHECK_OK(texture_image_write(pa2, PW, PH, 1, a2, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(pr0, PW, PH, 1, r0, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(peta, PW, PH, 1, eta, NBRDF_PIXEL_FLOAT, err), err);
+  CHECK_OK(texture_image_write(pst, PW, PH, 1, st, NBRDF_PIXEL_FLOAT, err), err);
+  nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA1], 0.01f);
+  in.param[NBRDF_BAKE_ETA].path = peta;
+  in.param[NBRDF_BAKE_ALPHA2].path = pa2;
+  in.param[NBRDF_BAKE_R0].path = pr0;
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALBEDO], 0.8f);
+  in.param[NBRDF_BAKE_SIGMA_T].path = pst;
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.storage = NBRDF_BAKE_FLOAT;
+  o.mip_levels = 1;
+  char msgs[2048] = "";
+  o.warning = collect, o.user = msgs;
+  nbrdf_bake_report rep;
+  CHECK_OK(nbrdf_bake(model, &in, &o, out, &rep, err), err);
+  CHECK(rep.audited == PW * PH - (patch ? 3 : 0));
+  int n = 0, D = 0;
+  float *lat = read_latents(out, &n, &D);
+  if (!lat) return;
+  double *dense = malloc(sizeof(double) * n);
+  CHECK_OK(bake_albedo_precise(model, NULL, (size_t)n, lat, NULL, dense, NULL, err), err);
+  double worst = 0.0;
+  int worst_i = 0;
+  for (int i = 0; i < n; i++)
+    if (dense[i] > worst) worst = dense[i], worst_i = i;
+  printf("clearcoat%s: audit worst %.4f (%zu of %zu measured, %.2f CPU-s), dense worst %.4f at "
+         "texel (%d, %d)\n",
+         patch ? " with an energy-creating patch" : "", rep.max_albedo, rep.audit_measured,
+         rep.audited, rep.audit_seconds, worst, worst_i % PW, worst_i / PW);
+  /* the bound clears most of the map: otherwise this tests the dense audit */
+  CHECK_MSG(rep.audit_measured * 4 < rep.audited, "%zu of %zu measured", rep.audit_measured,
+            rep.audited);
+  /* the audit's worst is one of the dense values (other batch shapes: 1e-4) */
+  CHECK_MSG(rep.max_albedo <= worst + 1e-4, "audit %.4f above the dense worst %.4f",
+            rep.max_albedo, worst);
+  if (patch) {
+    CHECK_MSG(worst > BAKE_AUDIT_LIMIT + 0.03, "dense worst %.4f: no longer creates energy",
+              worst);
+    CHECK_MSG(fabs(rep.max_albedo - worst) <= 1e-4, "audit %.4f vs dense %.4f", rep.max_albedo,
+              worst);
+    CHECK_MSG(strstr(msgs, "above 1.01") && (strstr(msgs, "texel (20, 9)") ||
+                                             strstr(msgs, "texel (21, 9)") ||
+                                             strstr(msgs, "texel (20, 10)") ||
+                                             strstr(msgs, "texel (21, 10)")),
+              "%s", msgs);
+  } else {
+    CHECK_MSG(worst <= BAKE_AUDIT_LIMIT, "dense worst %.4f: the clearcoat creates energy",
+              worst);
+    CHECK_MSG(worst - rep.max_albedo <= TOL, "audit %.4f, dense %.4f", rep.max_albedo, worst);
+    CHECK_MSG(!strstr(msgs, "energy audit"), "%s", msgs);
+  }
+  free(lat), free(dense);
+}
+
 int main(void) {
   nbrdf_error e, *err = &e;
   snprintf(tmp, sizeof tmp, "%s", testing_tmpdir());
@@ -116,6 +222,8 @@ int main(void) {
   CHECK_OK(nbrdf_model_load(bundle, &model, err), err);
   if (!model) return testing_finish();
   test_sharp_coat(model);
+  test_clearcoat_patch(model, 0);
+  test_clearcoat_patch(model, 1);
   nbrdf_model_destroy(model);
   return testing_finish();
 }
