@@ -9,7 +9,7 @@
  *   verify_heatmap.c    the error heat-map PNG
  * Lobe image sets follow src/lobe/lobe.h's pixels: VERIFY_N_THETA images of
  * NBRDF_LOBE_RES² doubles, one colour channel each: METRICS.md's θi 0°, 30°,
- * 60°, 80° and the grazing 85°, 89° (issue 35), image k asked of the decoder
+ * 60°, 80° and the grazing 85°, 89° (what renders see), image k asked of the decoder
  * with ωi and ωo rotated by verify_phi_deg[k] about the normal, so that
  * azimuths off the plane of ωi = (sin θ, 0, cos θ) are seen too (the
  * isotropic truth is the same image; a decoder need not be). */
