@@ -296,12 +296,7 @@ static void report_choice(const bake_fit_result *fit, nbrdf_bake_accuracy reques
   rep->fell_back = fell_back;
   if (fell_back || (au && fit->heldout)) {
     rep->accuracy = fell_back ? NBRDF_BAKE_FAST : rep->accuracy;
-    rep->budget = fit->budget;
-    rep->distinct = fit->distinct;
-    rep->fitted_tuples = fit->fitted;
-    rep->heldout_tuples = fit->heldout;
-    rep->heldout_error = fit->heldout_error;
-    rep->heldout_error_fast = fit->heldout_error_fast;
+    bake_fit_result_report(fit, rep);
   }
   if (!au) return;
   rep->max_error = 100.0 * au->max_error;

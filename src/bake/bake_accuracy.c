@@ -146,6 +146,15 @@ void bake_fit_result_free(bake_fit_result *r) {
   memset(r, 0, sizeof *r);
 }
 
+void bake_fit_result_report(const bake_fit_result *r, nbrdf_bake_report *rep) {
+  rep->budget = r->budget;
+  rep->distinct = r->distinct;
+  rep->fitted_tuples = r->fitted;
+  rep->heldout_tuples = r->heldout;
+  rep->heldout_error = r->heldout_error;
+  rep->heldout_error_fast = r->heldout_error_fast;
+}
+
 double bake_accuracy_budget(const nbrdf_bake_options *o) {
   return o->budget > 0.0                         ? o->budget
          : o->accuracy == NBRDF_BAKE_COMPACT     ? NBRDF_BAKE_BUDGET_COMPACT

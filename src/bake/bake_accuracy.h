@@ -64,6 +64,10 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
                                nbrdf_error *err);
 void bake_fit_result_free(bake_fit_result *r);
 
+/* The fit's figures in the bake report: budget, distinct, fitted and held-out tuples, the
+ * held-out medians of the level and of fast. */
+void bake_fit_result_report(const bake_fit_result *r, nbrdf_bake_report *rep);
+
 /* How far a level's held-out median may exceed fast's on the same tuples before the level
  * counts as worse than fast (a fraction: 0.25 percentage points). Both are medians against
  * the same ground truth, so its noise largely cancels; what is left is the decoders'. */

@@ -139,12 +139,7 @@ static void audit_fitted(const nbrdf_bake_options *o, const bake_fit_result *r,
   }
   if (!rep) return;
   rep->accuracy = o->accuracy;
-  rep->budget = r->budget;
-  rep->distinct = r->distinct;
-  rep->fitted_tuples = r->fitted;
-  rep->heldout_tuples = r->heldout;
-  rep->heldout_error = r->heldout_error;
-  rep->heldout_error_fast = r->heldout_error_fast;
+  bake_fit_result_report(r, rep);
 }
 
 static void audit_compact(const nbrdf_bake_options *o, const bake_fit_result *r,
