@@ -26,6 +26,7 @@
 #include "bake/bake_audit.h"
 #include "bake/bake_tuple.h"
 #include "bench_clock.h"
+#include "bench_sgemm.h"
 #include "core/rng.h"
 #include "model/albedo_quad.h"
 #include "model/bundle.h"
@@ -107,6 +108,7 @@ int main(int argc, char **argv) {
   size_t n;
   int D;
   float *lat = NULL, *sig = NULL;
+  double *ua1 = NULL; /* normalised alpha1 per latent (--bases only) */
   if (file) {
     if (load_texture(file, &n, &D, &lat, &sig, &err)) return fail(&err);
   } else {
@@ -131,6 +133,8 @@ int main(int argc, char **argv) {
       }
       for (int id = 0; id < P; id++)
         t[b].p[id] = unnormalise(lo, hi, id, u[id]);
+      if (!ua1) ua1 = malloc(n * sizeof *ua1);
+      ua1[b] = u[NBRDF_BAKE_ALPHA1];
     }
     if (bake_tuples_evaluate(model, t, NULL, n, out, &err) != NBRDF_OK) return fail(&err);
     lat = malloc(n * D * sizeof *lat), sig = malloc(n * sizeof *sig);
@@ -153,8 +157,18 @@ int main(int argc, char **argv) {
   double c1 = bench_cpu_seconds();
   const int q_polar = T * (BAKE_AUDIT_POLAR_RINGS * BAKE_AUDIT_POLAR_PHI + 1);
   printf("%s: %zu latents; polar rule %d queries each, %.2f CPU-s = %.3f us per query\n",
-         file ? file : sharp ? "sharp clearcoat tuples" : "tuples over the whole range", n,
-         q_polar, c1 - c0, 1e6 * (c1 - c0) / ((double)n * q_polar));
+         file    ? file
+         : sharp ? "sharp clearcoat tuples"
+                 : "tuples over the whole range",
+         n, q_polar, c1 - c0, 1e6 * (c1 - c0) / ((double)n * q_polar));
+  /* The decoder's rate against the machine's sgemm at its widest shapes (rows x 96 x 96). */
+  printf("decoder: %.1f GFLOP/s (2 x %.0f MACs per query); cblas_sgemm 4096 x 96 x 96: %.1f, "
+         "256 x 96 x 96: %.1f, 4096 x 1024 x 1024: %.1f GFLOP/s (CPU time)\n",
+         2.0 * (double)nn_spec_macs(nn_get_spec(model->decoder->nn)) * (double)n * q_polar /
+             (c1 - c0) * 1e-9,
+         (double)nn_spec_macs(nn_get_spec(model->decoder->nn)),
+         bench_sgemm_gflops(4096, 96, 96, 0.3, 1), bench_sgemm_gflops(256, 96, 96, 0.3, 1),
+         bench_sgemm_gflops(4096, 1024, 1024, 0.5, 1));
   int hist[T] = {0};
   double top = 0.0;
   for (size_t k = 0; k < n; k++) {
@@ -183,7 +197,8 @@ int main(int argc, char **argv) {
     }
     printf("  angles {");
     for (int a = 0, first = 1; a < T; a++)
-      if (subsets[s] >> a & 1) printf("%s%g", first ? "" : ", ", bake_audit_theta_deg[a]), first = 0;
+      if (subsets[s] >> a & 1)
+        printf("%s%g", first ? "" : ", ", bake_audit_theta_deg[a]), first = 0;
     printf("}: maximum there %.1f %%; all six minus these: up to %.4f (%.4f where > 0.8)\n",
            100.0 * at / (double)n, deficit, deficit_hi);
   }
@@ -206,6 +221,36 @@ int main(int argc, char **argv) {
            cnt[0], gap[0], cnt[1], gap[1], cnt[2], gap[2], n_grow, grow);
     printf("  screen {0, 89}, rho(0) <= rho(89): %zu latents, deficit up to %.4f\n", n_grow2,
            grow2);
+  }
+  /* By the sampler's proxy width sigma (free: the bake stores it): the deficit of
+   * {89} and of {85, 89} for sigma below each threshold. */
+  {
+    static const double below[] = {0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1e9};
+    for (size_t s = 0; s < sizeof below / sizeof below[0]; s++) {
+      double d89 = 0.0, d8589 = 0.0;
+      size_t cnt = 0;
+      for (size_t k = 0; k < n; k++) {
+        if (!(sig[k] < below[s])) continue;
+        const double *r = rp + k * T;
+        cnt++, d89 = fmax(d89, mx[k] - r[5]), d8589 = fmax(d8589, mx[k] - fmax(r[4], r[5]));
+      }
+      printf("  proxy sigma < %g: %zu latents; all six minus {89}: up to %.4f, minus {85, 89}: "
+             "%.4f\n",
+             below[s], cnt, d89, d8589);
+    }
+  }
+  /* By normalised alpha1 (eighths, the audit's grid): the deficit of {89}, {85, 89}. */
+  for (int g = 0; ua1 && g < BAKE_AUDIT_GRID; g++) {
+    double d89 = 0.0, d8589 = 0.0;
+    size_t cnt = 0;
+    for (size_t k = 0; k < n; k++) {
+      if ((int)(ua1[k] * BAKE_AUDIT_GRID) != g) continue;
+      const double *r = rp + k * T;
+      cnt++, d89 = fmax(d89, mx[k] - r[5]), d8589 = fmax(d8589, mx[k] - fmax(r[4], r[5]));
+    }
+    printf("  normalised alpha1 in [%d, %d)/8: %zu latents; all six minus {89}: up to %.4f, minus "
+           "{85, 89}: %.4f\n",
+           g, g + 1, cnt, d89, d8589);
   }
   for (int j = 0; j < n_samples; j++) {
     double d0 = bench_cpu_seconds();
@@ -239,11 +284,11 @@ int main(int argc, char **argv) {
            "polar %.4f .. %+.4f; median largest stderr %.4f; pass (estimate + %g stderr <= "
            "%.2f at every angle) %.1f %%, largest polar value of those %.4f; polar minus upper "
            "bound up to %+.4f\n",
-           samples[j], T * samples[j], d1 - d0, diff_lo, diff_hi, se_med, k_se,
-           BAKE_AUDIT_LIMIT, 100.0 * pass / (double)n, pass_top, miss);
+           samples[j], T * samples[j], d1 - d0, diff_lo, diff_hi, se_med, k_se, BAKE_AUDIT_LIMIT,
+           100.0 * pass / (double)n, pass_top, miss);
   }
   model_runner_destroy(&runner);
-  free(rp), free(rs), free(se), free(mx), free(lat), free(sig);
+  free(rp), free(rs), free(se), free(mx), free(lat), free(sig), free(ua1);
   nbrdf_model_destroy(model);
   return 0;
 }

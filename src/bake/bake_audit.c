@@ -38,8 +38,9 @@ static nbrdf_status albedo_max(const nbrdf_model *model, struct gpu_network *gpu
   double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
   if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   model_runner runner;
-  nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
-                        : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  nbrdf_status st =
+      gpu ? model_gpu_runner(gpu, 8192, &runner, err)
+          : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
   if (!st)
     st = model_albedo_decoded(model->decoder, &runner, n, latents, sigma, BAKE_AUDIT_N_THETA,
                               bake_audit_theta_deg, BAKE_AUDIT_SAMPLES, AUDIT_SEED, rho, NULL, err);
@@ -111,8 +112,9 @@ nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *g
   double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
   if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   model_runner runner;
-  nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
-                        : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  nbrdf_status st =
+      gpu ? model_gpu_runner(gpu, 8192, &runner, err)
+          : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
   /* The polar rule does not need the proxy: its rings cover every lobe width. */
   (void)sigma;
   if (!st) {
@@ -250,8 +252,9 @@ static nbrdf_status polar_at(const nbrdf_model *model, struct gpu_network *gpu, 
   double *r = malloc(n * (size_t)nt * sizeof *r);
   if (!r) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   model_runner runner;
-  nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
-                        : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  nbrdf_status st =
+      gpu ? model_gpu_runner(gpu, 8192, &runner, err)
+          : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
   if (!st) {
     st = model_albedo_decoded_polar(model->decoder, &runner, n, lat, nt, deg,
                                     BAKE_AUDIT_POLAR_RINGS, BAKE_AUDIT_POLAR_PHI, r, err);

@@ -1,8 +1,8 @@
 /* Bake-time energy audit: the largest decoded directional albedo
  * over θi of the distinct latents a bake evaluates (the polar rule of
  * model/albedo_quad.h, measured where a bound cannot clear them, below), the
- * worst of the bake with its texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy: a
- * renderer shows it as an over-bright rim or fireflies. */
+ * worst of the bake with its texel and parameters. A latent above BAKE_AUDIT_LIMIT creates energy:
+ * a renderer shows it as an over-bright rim or fireflies. */
 #ifndef NBRDF_BAKE_BAKE_AUDIT_H
 #define NBRDF_BAKE_BAKE_AUDIT_H
 
@@ -133,9 +133,9 @@ void bake_audit_init(bake_audit *a, size_t cap);
 void bake_audit_free(bake_audit *a);
 
 /* Audits n distinct tuples t[idx[k]] (prepared: inside [lo, hi], the trained
- * range) with outputs out[idx[k] · (D + 2) ..] (latent, sigma, w). *band_worst (index into the tuples' numbering, or (size_t)-1) and
- * *band_value receive the worst of them when it beats the bake's so far; the
- * caller then names its texel (bake_audit_found). */
+ * range) with outputs out[idx[k] · (D + 2) ..] (latent, sigma, w). *band_worst (index into the
+ * tuples' numbering, or (size_t)-1) and *band_value receive the worst of them when it beats the
+ * bake's so far; the caller then names its texel (bake_audit_found). */
 nbrdf_status bake_audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
                                const float *lo, const float *hi, const float *out,
                                const size_t *idx, size_t n, size_t *band_worst, nbrdf_error *err);

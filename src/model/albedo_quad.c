@@ -343,18 +343,17 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
 
 nbrdf_status model_albedo_decoded_lattice(const model_decoder *dec, model_runner *runner,
                                           size_t n_latents, const float *latents,
-                                          const float *sigma, int n_theta,
-                                          const double *theta_deg, int samples, uint64_t seed,
-                                          double *rho, nbrdf_error *err) {
+                                          const float *sigma, int n_theta, const double *theta_deg,
+                                          int samples, uint64_t seed, double *rho,
+                                          nbrdf_error *err) {
   return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed,
                  QUAD_LATTICE, 0, rho, NULL, err);
 }
 
 nbrdf_status model_albedo_decoded_proxy(const model_decoder *dec, model_runner *runner,
-                                        size_t n_latents, const float *latents,
-                                        const float *sigma, int n_theta, const double *theta_deg,
-                                        int samples, uint64_t seed, double *rho, double *se,
-                                        nbrdf_error *err) {
+                                        size_t n_latents, const float *latents, const float *sigma,
+                                        int n_theta, const double *theta_deg, int samples,
+                                        uint64_t seed, double *rho, double *se, nbrdf_error *err) {
   if (!sigma)
     return core_fail(err, NBRDF_ERR_ARGUMENT, "decoded albedo: the proxy rule needs sigma");
   return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed,
@@ -368,6 +367,6 @@ nbrdf_status model_albedo_decoded_polar(const model_decoder *dec, model_runner *
   if (n_rings < 3 || n_phi < 4)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "decoded albedo: %d rings of %d, expected >= 3 of >= 4", n_rings, n_phi);
-  return decoded(dec, runner, n_latents, latents, NULL, n_theta, theta_deg, n_rings * n_phi + 1,
-                 0, QUAD_JITTER, n_phi, rho, NULL, err);
+  return decoded(dec, runner, n_latents, latents, NULL, n_theta, theta_deg, n_rings * n_phi + 1, 0,
+                 QUAD_JITTER, n_phi, rho, NULL, err);
 }
