@@ -108,7 +108,8 @@ int main(int argc, char **argv) {
   size_t n;
   int D;
   float *lat = NULL, *sig = NULL;
-  double *ua1 = NULL; /* normalised alpha1 per latent (--bases only) */
+  double *ua1 = NULL;     /* normalised alpha1 per latent (--bases only) */
+  bake_tuple *tup = NULL; /* the tuples (--bases only) */
   if (file) {
     if (load_texture(file, &n, &D, &lat, &sig, &err)) return fail(&err);
   } else {
@@ -142,7 +143,8 @@ int main(int argc, char **argv) {
       memcpy(lat + k * D, out + k * (D + 2), D * sizeof *lat);
       sig[k] = out[k * (D + 2) + D];
     }
-    free(t), free(out);
+    tup = t;
+    free(out);
   }
   model_runner runner;
   if (model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, &err) != NBRDF_OK)
@@ -219,6 +221,20 @@ int main(int argc, char **argv) {
            "%.4f; at 85 deg %zu, %.4f; at 89 deg %zu, %.4f; rising from 0 to 85 to 89 deg %zu, "
            "%.4f\n",
            cnt[0], gap[0], cnt[1], gap[1], cnt[2], gap[2], n_grow, grow);
+    /* the tuple the screen misses most (a test's case: it must be measured at all six) */
+    size_t worst_k = 0;
+    double worst_gap = -1.0;
+    for (size_t k = 0; tup && k < n; k++) {
+      const double *r = rp + k * T;
+      double g = mx[k] - fmax(r[0], fmax(r[4], r[5]));
+      if (g > worst_gap) worst_gap = g, worst_k = k;
+    }
+    if (tup)
+      printf("  largest miss of the screen %.4f (six angles %.4f) at alpha1 %g eta %g alpha2 %g "
+             "r0 %g albedo %g sigma_t %g\n",
+             worst_gap, mx[worst_k], (double)tup[worst_k].p[0], (double)tup[worst_k].p[1],
+             (double)tup[worst_k].p[2], (double)tup[worst_k].p[3], (double)tup[worst_k].p[4],
+             (double)tup[worst_k].p[5]);
     printf("  screen {0, 89}, rho(0) <= rho(89): %zu latents, deficit up to %.4f\n", n_grow2,
            grow2);
   }
@@ -288,7 +304,7 @@ int main(int argc, char **argv) {
            100.0 * pass / (double)n, pass_top, miss);
   }
   model_runner_destroy(&runner);
-  free(rp), free(rs), free(se), free(mx), free(lat), free(sig), free(ua1);
+  free(rp), free(rs), free(se), free(mx), free(lat), free(sig), free(ua1), free(tup);
   nbrdf_model_destroy(model);
   return 0;
 }
