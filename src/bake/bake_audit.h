@@ -90,7 +90,8 @@ struct gpu_network;
  * the polar rule's 6 x (8 x 24 + 1) nodes each, all n in one batch of decoder
  * passes (`gpu`: the decoder on a GPU, or NULL). Deterministic; sigma (the
  * proxies) is not used. Shared with `nbrdf verify`, whose per-texel figure is
- * thus the audit's. */
+ * thus the audit's (where the bake measured a tuple at the screen's three
+ * angles only, at most the measured 0.0010 above it). */
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
                                  int *theta_index, nbrdf_error *err);
