@@ -75,7 +75,7 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * of BAKE_AUDIT_REGIONS x BAKE_AUDIT_REGIONS bins of normalised (alpha1, alpha2):
  * bake_audit_slope[bin of alpha1][bin of alpha2][parameter]; a bound between two
  * tuples uses the largest slope of every region between them. */
-#define BAKE_AUDIT_REGIONS 4
+#define BAKE_AUDIT_REGIONS 8
 extern const double bake_audit_slope[BAKE_AUDIT_REGIONS][BAKE_AUDIT_REGIONS]
                                     [NBRDF_BAKE_PARAM_COUNT];
 /* How far the albedo can move from normalised parameters v to u:
