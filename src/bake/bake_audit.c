@@ -267,11 +267,16 @@ static nbrdf_status polar_at(const nbrdf_model *model, struct gpu_network *gpu, 
   return st;
 }
 
-/* The largest of rho's angles in mask, and where (index into bake_audit_theta_deg). */
+/* The largest of rho's angles in mask, and where (index into bake_audit_theta_deg);
+ * NaN when one is NaN (as an anchor it then clears nothing: every bound compares false). */
 static double max_at(const double *rho, int mask, int *theta) {
   double m = -INFINITY;
-  for (int t = 0; t < BAKE_AUDIT_N_THETA; t++)
-    if (mask >> t & 1 && rho[t] > m) m = rho[t], *theta = t;
+  *theta = 0;
+  for (int t = 0; t < BAKE_AUDIT_N_THETA; t++) {
+    if (!(mask >> t & 1)) continue;
+    if (isnan(rho[t])) return NAN;
+    if (rho[t] > m) m = rho[t], *theta = t;
+  }
   return m;
 }
 
