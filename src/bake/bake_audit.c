@@ -38,8 +38,9 @@ static nbrdf_status albedo_max(const nbrdf_model *model, struct gpu_network *gpu
   double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
   if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   model_runner runner;
-  nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
-                        : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  nbrdf_status st =
+      gpu ? model_gpu_runner(gpu, 8192, &runner, err)
+          : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
   if (!st)
     st = model_albedo_decoded(model->decoder, &runner, n, latents, sigma, BAKE_AUDIT_N_THETA,
                               bake_audit_theta_deg, BAKE_AUDIT_SAMPLES, AUDIT_SEED, rho, NULL, err);
@@ -111,8 +112,9 @@ nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *g
   double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
   if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   model_runner runner;
-  nbrdf_status st = gpu ? model_gpu_runner(gpu, 8192, &runner, err)
-                        : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  nbrdf_status st =
+      gpu ? model_gpu_runner(gpu, 8192, &runner, err)
+          : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
   /* The polar rule does not need the proxy: its rings cover every lobe width. */
   (void)sigma;
   if (!st) {
@@ -153,6 +155,7 @@ void bake_audit_init(bake_audit *a, size_t cap) {
 
 void bake_audit_free(bake_audit *a) {
   free(a->lat), free(a->sigma), free(a->u), free(a->maxv), free(a->theta), free(a->guess);
+  free(a->upper), free(a->rho), free(a->rest);
   free(a->pick), free(a->pending), free(a->q), free(a->cells), free(a->anchors);
   size_t cap = a->cap;
   struct gpu_network *gpu = a->gpu_decoder;
@@ -216,7 +219,11 @@ static int anchors_room(bake_audit *a, size_t more) {
 static int scratch_room(bake_audit *a, size_t n, size_t D) {
   if (n <= a->scratch_cap) return 1;
   free(a->lat), free(a->sigma), free(a->u), free(a->maxv), free(a->theta), free(a->guess);
+  free(a->upper), free(a->rho), free(a->rest);
   free(a->pick), free(a->pending), free(a->q);
+  a->upper = malloc(n * sizeof *a->upper);
+  a->rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *a->rho);
+  a->rest = malloc(n * sizeof *a->rest);
   a->lat = malloc(n * D * sizeof *a->lat);
   a->sigma = malloc(n * sizeof *a->sigma);
   a->u = malloc(n * NBRDF_BAKE_PARAM_COUNT * sizeof *a->u);
@@ -228,15 +235,60 @@ static int scratch_room(bake_audit *a, size_t n, size_t D) {
   a->q = malloc(n * NBRDF_BAKE_PARAM_COUNT * sizeof *a->q);
   a->scratch_cap = n;
   if (a->lat && a->sigma && a->u && a->maxv && a->theta && a->guess && a->pick && a->pending &&
-      a->q)
+      a->q && a->upper && a->rho && a->rest)
     return 1;
   a->scratch_cap = 0;
   return 0;
 }
 
-/* Measures the m tuples idx[pick[j]] (one batch) into maxv[j], theta[j]. */
+/* The polar rule at the angles of mask (bits into bake_audit_theta_deg) for
+ * the n latents lat [n × D]: rho[k · BAKE_AUDIT_N_THETA + angle] of those angles. */
+static nbrdf_status polar_at(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
+                             const float *lat, int mask, double *rho, nbrdf_error *err) {
+  double deg[BAKE_AUDIT_N_THETA];
+  int at[BAKE_AUDIT_N_THETA], nt = 0;
+  for (int t = 0; t < BAKE_AUDIT_N_THETA; t++)
+    if (mask >> t & 1) deg[nt] = bake_audit_theta_deg[t], at[nt++] = t;
+  double *r = malloc(n * (size_t)nt * sizeof *r);
+  if (!r) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+  model_runner runner;
+  nbrdf_status st =
+      gpu ? model_gpu_runner(gpu, 8192, &runner, err)
+          : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  if (!st) {
+    st = model_albedo_decoded_polar(model->decoder, &runner, n, lat, nt, deg,
+                                    BAKE_AUDIT_POLAR_RINGS, BAKE_AUDIT_POLAR_PHI, r, err);
+    model_runner_destroy(&runner);
+  }
+  for (size_t k = 0; k < n && !st; k++)
+    for (int j = 0; j < nt; j++)
+      rho[k * BAKE_AUDIT_N_THETA + at[j]] = r[k * (size_t)nt + (size_t)j];
+  free(r);
+  return st;
+}
+
+/* The largest of rho's angles in mask, and where (index into bake_audit_theta_deg);
+ * NaN when one is NaN (as an anchor it then clears nothing: every bound compares false). */
+static double max_at(const double *rho, int mask, int *theta) {
+  double m = -INFINITY;
+  *theta = 0;
+  for (int t = 0; t < BAKE_AUDIT_N_THETA; t++) {
+    if (!(mask >> t & 1)) continue;
+    if (isnan(rho[t])) return NAN;
+    if (rho[t] > m) m = rho[t], *theta = t;
+  }
+  return m;
+}
+
+/* Measures the m tuples idx[pick[j]] into maxv[j], theta[j] (the measured
+ * maximum) and upper[j] (the anchor's value): first at the screen's angles, then
+ * at the others (those tuples in one batch) where the screen's values do not
+ * rise towards grazing or its maximum plus BAKE_AUDIT_THETA_GAP is above the
+ * limit. */
 static nbrdf_status measure(bake_audit *a, const nbrdf_model *model, const float *out,
                             const size_t *idx, size_t m, nbrdf_error *err) {
+  enum { ALL = (1 << BAKE_AUDIT_N_THETA) - 1 };
+  _Static_assert(BAKE_AUDIT_SCREEN_MASK == 0x31, "the rising test reads angles 0, 4 and 5");
   const size_t D = (size_t)nbrdf_model_latent_dim(model);
   const size_t stored = a->compact ? (size_t)a->compact->work_dim : D;
   for (size_t j = 0; j < m; j++) {
@@ -248,7 +300,34 @@ static nbrdf_status measure(bake_audit *a, const nbrdf_model *model, const float
     a->sigma[j] = o[stored];
   }
   a->measured += m;
-  return bake_albedo_precise(model, a->gpu_decoder, m, a->lat, a->sigma, a->maxv, a->theta, err);
+  nbrdf_status st = polar_at(model, a->gpu_decoder, m, a->lat, BAKE_AUDIT_SCREEN_MASK, a->rho, err);
+  size_t nr = 0;
+  for (size_t j = 0; j < m && !st; j++) {
+    a->maxv[j] = max_at(a->rho + j * BAKE_AUDIT_N_THETA, BAKE_AUDIT_SCREEN_MASK, &a->theta[j]);
+    const double *rho = a->rho + j * BAKE_AUDIT_N_THETA;
+    /* rising towards grazing over the screen's angles (0, 85, 89 deg) */
+    int rising = rho[0] <= rho[4] && rho[4] <= rho[5];
+    a->upper[j] = a->maxv[j] + BAKE_AUDIT_THETA_GAP;
+    if (!rising || a->upper[j] > BAKE_AUDIT_LIMIT) {
+      /* compact the latents to finish at the front of lat (j >= nr) */
+      memmove(a->lat + nr * D, a->lat + j * D, D * sizeof *a->lat);
+      a->rest[nr++] = j;
+    }
+  }
+  if (st || !nr) return st;
+  a->finished += nr;
+  double *r = malloc(nr * BAKE_AUDIT_N_THETA * sizeof *r);
+  if (!r) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+  st = polar_at(model, a->gpu_decoder, nr, a->lat, ALL & ~BAKE_AUDIT_SCREEN_MASK, r, err);
+  for (size_t i = 0; i < nr && !st; i++) {
+    size_t j = a->rest[i];
+    double *rho = a->rho + j * BAKE_AUDIT_N_THETA;
+    for (int t = 0; t < BAKE_AUDIT_N_THETA; t++)
+      if (!(BAKE_AUDIT_SCREEN_MASK >> t & 1)) rho[t] = r[i * BAKE_AUDIT_N_THETA + (size_t)t];
+    a->maxv[j] = a->upper[j] = max_at(rho, ALL, &a->theta[j]);
+  }
+  free(r);
+  return st;
 }
 
 /* Records measured tuple j (tuple index k) in the counts and the worst. */
@@ -377,7 +456,7 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
     if (st) return st;
     for (size_t j = 0; j < m; j++) {
       size_t k = a->pick[j];
-      add_anchor(a, a->u + k * P, a->q + k * P, a->maxv[j]);
+      add_anchor(a, a->u + k * P, a->q + k * P, a->upper[j]);
       tally(a, j, idx[k], band_worst);
     }
   }

@@ -126,8 +126,13 @@ nbrdf_status model_albedo_quad_init_polar(model_albedo_quad *q, double theta_i, 
   return NBRDF_OK;
 }
 
+/* kind: QUAD_JITTER or QUAD_LATTICE with the ladder, QUAD_PROXY the cosine and
+ * proxy techniques only (jittered strata). */
+enum { QUAD_JITTER, QUAD_LATTICE, QUAD_PROXY };
+
 static nbrdf_status quad_init(model_albedo_quad *q, double theta_i, int n, uint64_t seed,
-                              double proxy_sigma, int lattice, nbrdf_error *err) {
+                              double proxy_sigma, int kind, nbrdf_error *err) {
+  const int lattice = kind == QUAD_LATTICE, ladder_n = kind == QUAD_PROXY ? 0 : N_LADDER;
   memset(q, 0, sizeof *q);
   if (!(theta_i >= 0.0 && theta_i < 0.5 * M_PI))
     return core_fail(err, NBRDF_ERR_ARGUMENT,
@@ -141,17 +146,20 @@ static nbrdf_status quad_init(model_albedo_quad *q, double theta_i, int n, uint6
   int nt = 0;
   /* Shares: a fifth cosine (it alone covers the whole hemisphere), the rest
    * spread over the lobe techniques. */
-  int lobes = N_LADDER + (proxy_sigma > 0.0);
+  int lobes = ladder_n + (proxy_sigma > 0.0);
+  if (kind == QUAD_PROXY && !(proxy_sigma > 0.0))
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "albedo quadrature: the proxy rule needs sigma > 0");
   tech[nt] = (technique){0, 0.0};
-  share[nt++] = 0.2;
-  for (int j = 0; j < N_LADDER; j++) {
+  /* The proxy rule: a quarter cosine (the Lambert part and the far tails). */
+  share[nt++] = kind == QUAD_PROXY ? 0.25 : 0.2;
+  for (int j = 0; j < ladder_n; j++) {
     tech[nt] = (technique){1, ladder[j]};
     share[nt++] = 0.8 / lobes;
   }
   if (proxy_sigma > 0.0) {
     tech[nt] =
         (technique){2, proxy_sigma < MODEL_PROXY_SIGMA_MIN ? MODEL_PROXY_SIGMA_MIN : proxy_sigma};
-    share[nt++] = 0.8 / lobes;
+    share[nt++] = (kind == QUAD_PROXY ? 0.75 : 0.8) / lobes;
   }
   q->wo = malloc((size_t)n * 3 * sizeof *q->wo);
   q->weight = malloc((size_t)n * sizeof *q->weight);
@@ -216,12 +224,12 @@ static nbrdf_status quad_init(model_albedo_quad *q, double theta_i, int n, uint6
 
 nbrdf_status model_albedo_quad_init(model_albedo_quad *q, double theta_i, int n, uint64_t seed,
                                     double proxy_sigma, nbrdf_error *err) {
-  return quad_init(q, theta_i, n, seed, proxy_sigma, 0, err);
+  return quad_init(q, theta_i, n, seed, proxy_sigma, QUAD_JITTER, err);
 }
 
 nbrdf_status model_albedo_quad_init_lattice(model_albedo_quad *q, double theta_i, int n,
                                             uint64_t seed, double proxy_sigma, nbrdf_error *err) {
-  return quad_init(q, theta_i, n, seed, proxy_sigma, 1, err);
+  return quad_init(q, theta_i, n, seed, proxy_sigma, QUAD_LATTICE, err);
 }
 
 void model_albedo_quad_free(model_albedo_quad *q) {
@@ -257,7 +265,7 @@ double model_albedo_quad_sum(const model_albedo_quad *q, const double *f, double
 
 static nbrdf_status decoded(const model_decoder *dec, model_runner *runner, size_t n_latents,
                             const float *latents, const float *sigma, int n_theta,
-                            const double *theta_deg, int samples, uint64_t seed, int lattice,
+                            const double *theta_deg, int samples, uint64_t seed, int kind,
                             int polar_phi, double *rho, double *se, nbrdf_error *err) {
   if (n_latents == 0 || n_theta <= 0) return NBRDF_OK;
   /* polar_phi > 0: the polar rule, samples = rings × polar_phi + 1, one set for all latents */
@@ -288,7 +296,7 @@ static nbrdf_status decoded(const model_decoder *dec, model_runner *runner, size
           st = model_albedo_quad_init_polar(&quads[l], th, (samples - 1) / polar_phi, polar_phi,
                                             err);
         else if (polar_phi <= 0 && (sigma || l == 0))
-          st = quad_init(&quads[l], th, samples, seed, sigma ? sigma[l0 + l] : 0.0, lattice, err);
+          st = quad_init(&quads[l], th, samples, seed, sigma ? sigma[l0 + l] : 0.0, kind, err);
       for (size_t l = 0; st == NBRDF_OK && l < m; l++) {
         const model_albedo_quad *q = &quads[sigma ? l : 0];
         for (int k = 0; k < samples; k++) {
@@ -329,17 +337,27 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
                                   const float *latents, const float *sigma, int n_theta,
                                   const double *theta_deg, int samples, uint64_t seed, double *rho,
                                   double *se, nbrdf_error *err) {
-  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed, 0, 0,
-                 rho, se, err);
+  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed,
+                 QUAD_JITTER, 0, rho, se, err);
 }
 
 nbrdf_status model_albedo_decoded_lattice(const model_decoder *dec, model_runner *runner,
                                           size_t n_latents, const float *latents,
-                                          const float *sigma, int n_theta,
-                                          const double *theta_deg, int samples, uint64_t seed,
-                                          double *rho, nbrdf_error *err) {
-  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed, 1, 0,
-                 rho, NULL, err);
+                                          const float *sigma, int n_theta, const double *theta_deg,
+                                          int samples, uint64_t seed, double *rho,
+                                          nbrdf_error *err) {
+  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed,
+                 QUAD_LATTICE, 0, rho, NULL, err);
+}
+
+nbrdf_status model_albedo_decoded_proxy(const model_decoder *dec, model_runner *runner,
+                                        size_t n_latents, const float *latents, const float *sigma,
+                                        int n_theta, const double *theta_deg, int samples,
+                                        uint64_t seed, double *rho, double *se, nbrdf_error *err) {
+  if (!sigma)
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "decoded albedo: the proxy rule needs sigma");
+  return decoded(dec, runner, n_latents, latents, sigma, n_theta, theta_deg, samples, seed,
+                 QUAD_PROXY, 0, rho, se, err);
 }
 
 nbrdf_status model_albedo_decoded_polar(const model_decoder *dec, model_runner *runner,
@@ -349,6 +367,6 @@ nbrdf_status model_albedo_decoded_polar(const model_decoder *dec, model_runner *
   if (n_rings < 3 || n_phi < 4)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "decoded albedo: %d rings of %d, expected >= 3 of >= 4", n_rings, n_phi);
-  return decoded(dec, runner, n_latents, latents, NULL, n_theta, theta_deg, n_rings * n_phi + 1,
-                 0, 0, n_phi, rho, NULL, err);
+  return decoded(dec, runner, n_latents, latents, NULL, n_theta, theta_deg, n_rings * n_phi + 1, 0,
+                 QUAD_JITTER, n_phi, rho, NULL, err);
 }

@@ -79,9 +79,18 @@ nbrdf_status model_albedo_decoded(const model_decoder *dec, model_runner *runner
 /* model_albedo_decoded on the lattice directions of model_albedo_quad_init_lattice. */
 nbrdf_status model_albedo_decoded_lattice(const model_decoder *dec, model_runner *runner,
                                           size_t n_latents, const float *latents,
-                                          const float *sigma, int n_theta,
-                                          const double *theta_deg, int samples, uint64_t seed,
-                                          double *rho, nbrdf_error *err);
+                                          const float *sigma, int n_theta, const double *theta_deg,
+                                          int samples, uint64_t seed, double *rho,
+                                          nbrdf_error *err);
+
+/* model_albedo_decoded with two techniques only, cosine (a quarter of the
+ * samples) and each latent's proxy Gaussian (sigma required, every entry > 0),
+ * on jittered strata: the sampling network's pdf proxy as a screen
+ * (bench/bench_audit_screen.c measures it against the polar rule). */
+nbrdf_status model_albedo_decoded_proxy(const model_decoder *dec, model_runner *runner,
+                                        size_t n_latents, const float *latents, const float *sigma,
+                                        int n_theta, const double *theta_deg, int samples,
+                                        uint64_t seed, double *rho, double *se, nbrdf_error *err);
 
 /* model_albedo_decoded on the nodes of model_albedo_quad_init_polar (the same
  * nodes for every latent: n_rings × n_phi + 1 decoder queries per angle). */

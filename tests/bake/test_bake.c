@@ -411,8 +411,9 @@ static void test_energy_audit(void) {
    * values, so at most the largest (1e-4 relative: other GEMM shapes, a few float ulps
    * through the decoder and the sum; OpenBLAS's result for a row can depend on the rows
    * beside it), and at least the largest less the bound's widest reach (every slope over
-   * two cells, and the quadrature's noise). */
-  double reach = BAKE_AUDIT_NOISE, slope[NBRDF_BAKE_PARAM_COUNT];
+   * two cells, the quadrature's noise, and the gap of a tuple measured at the screen's
+   * three angles only). */
+  double reach = BAKE_AUDIT_NOISE + BAKE_AUDIT_THETA_GAP, slope[NBRDF_BAKE_PARAM_COUNT];
   bake_audit_slope_max(slope);
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
     reach += 2.0 * slope[id] / BAKE_AUDIT_GRID;
