@@ -44,19 +44,6 @@ static int region(double u) {
   return r < 0 ? 0 : r >= R ? R - 1 : r;
 }
 
-/* The value whose normalised coordinate is u (bisection: normalise is monotone). */
-static float unnormalise(const float *lo, const float *hi, int id, double u) {
-  double a = lo[id], b = hi[id];
-  for (int i = 0; i < 60; i++) {
-    double m = 0.5 * (a + b);
-    if (model_material_normalise(lo, hi, id, (float)m) < u)
-      a = m;
-    else
-      b = m;
-  }
-  return (float)(0.5 * (a + b));
-}
-
 static int fail(const nbrdf_error *err) {
   fprintf(stderr, "bench_audit_margin: %s\n", err->message);
   return 1;
@@ -217,7 +204,7 @@ int main(int argc, char **argv) {
   }
   for (size_t k = 0; k < n; k++)
     for (int id = 0; id < P; id++) {
-      t[k].p[id] = unnormalise(lo, hi, id, u[k * P + id]);
+      t[k].p[id] = model_material_unnormalise(lo, hi, id, u[k * P + id]);
       u[k * P + id] = model_material_normalise(lo, hi, id, t[k].p[id]);
     }
   if (bake_tuples_evaluate(model, t, NULL, n, out, &err) != NBRDF_OK) return fail(&err);

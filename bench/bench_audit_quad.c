@@ -29,18 +29,6 @@
 
 enum { P = NBRDF_BAKE_PARAM_COUNT };
 
-static float unnormalise(const float *lo, const float *hi, int id, double u) {
-  double a = lo[id], b = hi[id];
-  for (int i = 0; i < 60; i++) {
-    double m = 0.5 * (a + b);
-    if (model_material_normalise(lo, hi, id, (float)m) < u)
-      a = m;
-    else
-      b = m;
-  }
-  return (float)(0.5 * (a + b));
-}
-
 static int fail(const nbrdf_error *err) {
   fprintf(stderr, "bench_audit_quad: %s\n", err->message);
   return 1;
@@ -98,7 +86,7 @@ int main(int argc, char **argv) {
         if (id == NBRDF_BAKE_SIGMA_T) u = model_material_normalise(lo, hi, id, 1.0f);
         if (id == NBRDF_BAKE_R0) u = 0.5 + 0.5 * u;
       }
-      t[k].p[id] = unnormalise(lo, hi, id, u);
+      t[k].p[id] = model_material_unnormalise(lo, hi, id, u);
     }
   if (at) { /* one tuple, alpha2 swept over +-25 % */
     float b[P];

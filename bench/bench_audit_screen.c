@@ -42,18 +42,6 @@ static int fail(const nbrdf_error *err) {
   return 1;
 }
 
-static float unnormalise(const float *lo, const float *hi, int id, double u) {
-  double a = lo[id], b = hi[id];
-  for (int i = 0; i < 60; i++) {
-    double m = 0.5 * (a + b);
-    if (model_material_normalise(lo, hi, id, (float)m) < u)
-      a = m;
-    else
-      b = m;
-  }
-  return (float)(0.5 * (a + b));
-}
-
 static int load_texture(const char *file, size_t *n_out, int *D_out, float **lat, float **sig,
                         nbrdf_error *err) {
   texture_latent_reader *r = NULL;
@@ -133,7 +121,7 @@ int main(int argc, char **argv) {
         u[NBRDF_BAKE_R0] = 0.5 + 0.5 * u[NBRDF_BAKE_R0];
       }
       for (int id = 0; id < P; id++)
-        t[b].p[id] = unnormalise(lo, hi, id, u[id]);
+        t[b].p[id] = model_material_unnormalise(lo, hi, id, u[id]);
       if (!ua1) ua1 = malloc(n * sizeof *ua1);
       ua1[b] = u[NBRDF_BAKE_ALPHA1];
     }

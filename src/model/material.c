@@ -118,6 +118,11 @@ float model_material_normalise(const float *lo_, const float *hi_, int id, float
   return hi > lo ? (warp(id, v) - lo) / (hi - lo) : 0.0f;
 }
 
+float model_material_unnormalise(const float *lo_, const float *hi_, int id, double u) {
+  float lo = warp(id, lo_[id]), hi = warp(id, hi_[id]);
+  return unwarp(id, (float)(lo + (hi - lo) * u));
+}
+
 float model_material_quantise(const float *lo_, const float *hi_, int id, int bits, float v) {
   float lo = warp(id, lo_[id]), hi = warp(id, hi_[id]);
   if (!(hi > lo)) return v;

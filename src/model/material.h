@@ -95,6 +95,9 @@ void model_material_clamp_warning(char *buf, size_t cap, const char *name, const
  * accuracy levels measure distances between tuples. */
 float model_material_normalise(const float *lo, const float *hi, int id, float v);
 
+/* The value whose normalised coordinate is u: the inverse of model_material_normalise. */
+float model_material_unnormalise(const float *lo, const float *hi, int id, double u);
+
 /* 2^bits levels over the trained range (nbrdf_bake_options.quantise_bits),
  * spaced in the same warped scale; the ends of the range are levels. */
 float model_material_quantise(const float *lo, const float *hi, int id, int bits, float v);

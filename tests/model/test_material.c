@@ -66,9 +66,28 @@ static void test_truth_is_the_layered_brdf(void) {
   CHECK_FAILS(model_material_truth(bad, &m, &err), NBRDF_ERR_ARGUMENT, &err, "eta");
 }
 
+/* unnormalise inverts normalise in each parameter's warped scale (sqrt for alpha, log1p for
+ * sigma_t), ends exact to float rounding. */
+static void test_normalise_round_trip(void) {
+  const float lo[MODEL_MATERIAL_PARAMS] = {0.01f, 1.05f, 0.01f, 0.0f, 0.0f, 0.0f};
+  const float hi[MODEL_MATERIAL_PARAMS] = {1.0f, 2.0f, 1.0f, 1.0f, 1.0f, NBRDF_BAKE_SIGMA_T_MAX};
+  for (int id = 0; id < MODEL_MATERIAL_PARAMS; id++) {
+    for (int k = 0; k <= 8; k++) {
+      double u = k / 8.0;
+      float v = model_material_unnormalise(lo, hi, id, u);
+      CHECK_MSG(v >= lo[id] - 1e-6f * (1 + hi[id]) && v <= hi[id] * (1 + 1e-6f),
+                "param %d u %g: %g outside [%g, %g]", id, u, v, lo[id], hi[id]);
+      CHECK_NEAR(model_material_normalise(lo, hi, id, v), u, 1e-5);
+    }
+  }
+  /* The warp is not linear: alpha's midpoint in the normalised scale is below the mean. */
+  CHECK(model_material_unnormalise(lo, hi, NBRDF_BAKE_ALPHA1, 0.5) < 0.5f * (lo[0] + hi[0]));
+}
+
 int main(void) {
   RUN(test_names_and_conventions);
   RUN(test_clamp_ranges);
   RUN(test_truth_is_the_layered_brdf);
+  RUN(test_normalise_round_trip);
   return testing_finish();
 }
