@@ -174,13 +174,20 @@ class NBRDF_OT_preview_object(bpy.types.Operator):
                     "nbrdf: preview %s: %s" % (preview.state, preview.message))
         return {"CANCELLED"}
 
-    def execute(self, context):
+    def _start(self, context):
+        """The preview started and registered as running, or None (reported)."""
         try:
             preview = start_preview(context)
         except SetupError as e:
             self.report({"ERROR"}, "nbrdf: %s" % e)
-            return {"CANCELLED"}
+            return None
         _running["preview"] = preview
+        return preview
+
+    def execute(self, context):
+        preview = self._start(context)
+        if preview is None:
+            return {"CANCELLED"}
         try:
             preview.wait()
         finally:
@@ -188,12 +195,9 @@ class NBRDF_OT_preview_object(bpy.types.Operator):
         return self._report_end(preview)
 
     def invoke(self, context, event):
-        try:
-            preview = start_preview(context)
-        except SetupError as e:
-            self.report({"ERROR"}, "nbrdf: %s" % e)
+        preview = self._start(context)
+        if preview is None:
             return {"CANCELLED"}
-        _running["preview"] = preview
         self._preview = preview
         wm = context.window_manager
         self._timer = wm.event_timer_add(0.1, window=context.window)

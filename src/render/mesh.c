@@ -127,3 +127,14 @@ nbrdf_status render_mesh_load(const char *path, render_mesh **out, nbrdf_error *
   return core_fail(err, NBRDF_ERR_ARGUMENT,
                    "%s: unknown mesh format (expected .gltf, .glb, .ply or .obj)", path);
 }
+
+nbrdf_status render_mesh_deliver(nbrdf_status st, render_mesh *m, int has_normals,
+                                 const char *what, render_mesh **out, nbrdf_error *err) {
+  if (st == NBRDF_OK) st = render_mesh_finish(m, has_normals, what, err);
+  if (st != NBRDF_OK) {
+    render_mesh_free(m);
+    return st;
+  }
+  *out = m;
+  return NBRDF_OK;
+}

@@ -46,6 +46,11 @@ int render_mesh_add_triangle(render_mesh *m, uint32_t a, uint32_t b, uint32_t c)
 nbrdf_status render_mesh_finish(render_mesh *m, int has_normals, const char *what,
                                 nbrdf_error *err);
 
+/* A reader's last step: when st is NBRDF_OK, finishes m and hands it to *out; otherwise (or
+ * when finishing fails) frees m. Returns the status. */
+nbrdf_status render_mesh_deliver(nbrdf_status st, render_mesh *m, int has_normals,
+                                 const char *what, render_mesh **out, nbrdf_error *err);
+
 nbrdf_status render_mesh_read_obj(const char *path, render_mesh **out, nbrdf_error *err);
 nbrdf_status render_mesh_read_ply(const char *path, render_mesh **out, nbrdf_error *err);
 nbrdf_status render_mesh_read_gltf(const char *path, render_mesh **out, nbrdf_error *err);

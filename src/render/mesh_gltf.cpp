@@ -293,6 +293,7 @@ extern "C" nbrdf_status render_mesh_read_gltf(const char *path, render_mesh **ou
   *out = nullptr;
   nbrdf_error local;
   if (!err) err = &local;
+  render_mesh *m = nullptr;  // freed in the handler when tinygltf or the walk throws
   try {
     tinygltf::Model model;
     tinygltf::TinyGLTF loader;
@@ -311,7 +312,7 @@ extern "C" nbrdf_status render_mesh_read_gltf(const char *path, render_mesh **ou
                        glb ? "binary (.glb)" : "(.gltf)",
                        e.empty() ? "no reason given" : e.c_str());
     }
-    render_mesh *m = render_mesh_new();
+    m = render_mesh_new();
     if (!m) return core_fail(err, NBRDF_ERR_MEMORY, "%s: out of memory", path);
     reader r{model, path, err, m};
     int has_normals = 0;
@@ -336,14 +337,9 @@ extern "C" nbrdf_status render_mesh_read_gltf(const char *path, render_mesh **ou
                      "%s: no triangles in the default scene (expected a mesh with TRIANGLES "
                      "primitives)",
                      path);
-    if (st == NBRDF_OK) st = render_mesh_finish(m, has_normals, path, err);
-    if (st != NBRDF_OK) {
-      render_mesh_free(m);
-      return st;
-    }
-    *out = m;
-    return NBRDF_OK;
+    return render_mesh_deliver(st, m, has_normals, path, out, err);
   } catch (const std::exception &x) {
+    if (m && !*out) render_mesh_free(m);
     return core_fail(err, NBRDF_ERR_FORMAT, "%s: %s", path, x.what());
   }
 }

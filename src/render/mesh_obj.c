@@ -225,12 +225,6 @@ nbrdf_status render_mesh_read_obj(const char *path, render_mesh **out, nbrdf_err
   if (st == NBRDF_OK && s.m->triangles == 0)
     st = core_fail(err, NBRDF_ERR_FORMAT, "%s: no faces ('f' lines with v/vt corners expected)",
                    path);
-  if (st == NBRDF_OK) st = render_mesh_finish(s.m, s.any_vn, path, err);
   free(s.v.v), free(s.vt.v), free(s.vn.v), free(s.map.key), free(s.map.val);
-  if (st != NBRDF_OK) {
-    render_mesh_free(s.m);
-    return st;
-  }
-  *out = s.m;
-  return NBRDF_OK;
+  return render_mesh_deliver(st, s.m, s.any_vn, path, out, err);
 }

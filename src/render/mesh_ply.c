@@ -302,11 +302,5 @@ nbrdf_status render_mesh_read_ply(const char *path, render_mesh **out, nbrdf_err
   if (st == NBRDF_OK && (!seen_vertex || !seen_face))
     st = core_fail(err, NBRDF_ERR_FORMAT, "%s: expected elements vertex and face in the header",
                    path);
-  if (st == NBRDF_OK) st = render_mesh_finish(m, has_normals, path, err);
-  if (st != NBRDF_OK) {
-    render_mesh_free(m);
-    return st;
-  }
-  *out = m;
-  return NBRDF_OK;
+  return render_mesh_deliver(st, m, has_normals, path, out, err);
 }
