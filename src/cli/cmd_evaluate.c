@@ -23,7 +23,7 @@ static void evaluate_options(evaluate_args *a, cli_opt_visit visit, void *user) 
       {.type = CLI_OPT_PATH, .name = "--decoder", .meta = "FILE", .dest = &a->decoder,
        .help = "a decoder alone (sets rep and single)"},
       {.type = CLI_OPT_STRING, .name = "--sets", .meta = "LIST", .dest = &a->sets,
-       .help = "held-out sets, comma-separated: rep, single, layer,\nlayer3, table, tails"},
+       .help = "held-out sets, comma-separated: rep, single, layer,\nlayer3, table, tails, tails-rep"},
       {.type = CLI_OPT_INT, .name = "--count", .meta = "N", .lo = 1, .hi = 100000,
        .dest = &a->s.count, .help = "BRDFs per set (100)"},
       {.type = CLI_OPT_INT, .name = "--walks", .meta = "N", .lo = 2, .hi = 1 << 30,
@@ -68,9 +68,10 @@ void cmd_evaluate_usage(FILE *out) {
           "and dielectrics projected), layer (two-layer, tables + layering network, as a bake\n"
           "does), layer3 (three layers, recursive layering), table (the single BRDFs from the\n"
           "bundle's base tables: their interpolation error), tails (as layer, on coats\n"
-          "with eta <= 1.2, alpha1 <= 0.05 or both, a third each, figures per region).\n"
-          "A decoder alone serves rep and\n"
-          "single. References: exact for single BRDFs, the whole-lobe estimator with --walks\n"
+          "with eta <= 1.2, alpha1 <= 0.05 or both, a third each, figures per region),\n"
+          "tails-rep (the tails BRDFs projected: the decoder's own limit there).\n"
+          "A decoder alone serves rep, single and tails-rep. References: exact for single BRDFs, "
+          "the whole-lobe estimator with --walks\n"
           "walks per image (16000) for layered ones; its own seed-to-seed error on the first\n"
           "--noise-brdfs BRDFs (10) is reported. --cache DIR keeps references between runs.\n"
           "Also per set: the point-wise error (median |f/f_ref - 1| where f_ref > 1 %% of the\n"
@@ -136,7 +137,9 @@ int cmd_evaluate(int argc, char **argv) {
     if (!eval_set_parse(tok, &set) || n_results == EVAL_SET_COUNT) {
       st = NBRDF_ERR_ARGUMENT;
       snprintf(err.message, sizeof err.message,
-               "unknown or repeated set '%s' (rep, single, layer, layer3, table, tails)", tok);
+               "unknown or repeated set '%s' (rep, single, layer, layer3, table, tails, "
+               "tails-rep)",
+               tok);
       break;
     }
     st = eval_run(model, dec, set, &s, &results[n_results], &err);
@@ -160,7 +163,7 @@ int cmd_evaluate(int argc, char **argv) {
     for (int t = 0; t < EVAL_N_THETA_ALL; t++)
       printf(" %g: %+.3f", eval_theta_all_deg[t], r->max_albedo_excess[t]);
     printf("\n");
-    for (int g = 0; g < TRAIN_TAILS_REGIONS && set == EVAL_TAILS; g++)
+    for (int g = 0; g < TRAIN_TAILS_REGIONS && eval_set_has_regions(set); g++)
       printf("        region %-12s median %6.2f %%  p90 %6.2f %%  (%d BRDFs)\n",
              train_tails_region_name(g), 100 * r->region_median[g], 100 * r->region_p90[g],
              r->region_n[g]);

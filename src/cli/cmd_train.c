@@ -37,7 +37,10 @@ void cmd_train_usage(FILE *out) {
       "Auto-decoder training (paper §3.2): decoder weights and one latent per training\n"
       "BRDF learned together. DIR holds checkpoint.safetensors (resume: run the same\n"
       "command again), decoder.safetensors and log.csv. Ctrl-C (SIGTERM, SIGHUP)\n"
-      "checkpoints and stops.\n"
+      "checkpoints and stops. --init-bundle DIR fine-tunes a bundle's decoder: its\n"
+      "weights, and each BRDF's latent as the bundle gives its parameters (tables and\n"
+      "layering network), are where the run starts; retrain the tables and layering\n"
+      "network through the new decoder afterwards (scripts/train-tails.sh).\n"
       "\n"
       "A checkpoint records the settings a resume must share (nbrdf.options): another\n"
       "value is refused, naming the setting and both values.\n"
@@ -73,7 +76,7 @@ void cmd_train_usage(FILE *out) {
 typedef struct decoder_args {
   train_decoder_settings s;
   cli_train_list data;
-  const char *preset, *encoding, *output;
+  const char *preset, *encoding, *output, *init_bundle;
   double steps, minutes, rows, lrw, lrl, l2, decay, gamma, seed, ckpt, nval, width, blocks, octaves,
       bweight, stop_at, energy, energy_brdfs;
   cli_progress_state prog;
@@ -105,6 +108,9 @@ static void decoder_options(void *args, cli_opt_visit visit, void *user) {
        .parse = cli_train_read_list, .help = "the data sets (nbrdf dataset)"},
       {.type = CLI_OPT_PATH, .name = "--run", .meta = "DIR", .dest = &a->s.run_dir,
        .help = "the run's folder: checkpoint, decoder, log"},
+      {.type = CLI_OPT_PATH, .name = "--init-bundle", .meta = "DIR", .dest = &a->init_bundle,
+       .help = "fine-tune: start from this bundle's decoder (its architecture)\n"
+               "and the latents it gives each BRDF's parameters"},
       {.help = "architecture (a preset, or your own residual MLP):"},
       {.type = CLI_OPT_STRING, .name = "--preset", .meta = "NAME",
        .choices = "paper|large|medium|small", .dest = &a->preset,
@@ -154,7 +160,8 @@ static void decoder_args_init(decoder_args *a) {
   memset(a, 0, sizeof *a);
   train_decoder_settings *s = &a->s;
   train_decoder_settings_default(s);
-  a->preset = "medium", a->encoding = "halfdiff", a->output = "log1p";
+  a->preset = NULL, a->encoding = NULL, a->output = NULL; /* NULL: not given (medium, halfdiff,
+                                                              log1p) */
   a->steps = (double)s->steps, a->rows = s->rows_per_brdf, a->lrw = s->lr_weights;
   a->lrl = s->lr_latent, a->l2 = s->latent_l2, a->decay = s->decay_every;
   a->gamma = s->decay_gamma, a->seed = (double)s->seed, a->ckpt = s->checkpoint_seconds / 60.0;
@@ -187,7 +194,11 @@ static int train_decoder(int argc, char **argv) {
     return rc == CLI_OPTIONS_HELP ? CLI_EXIT_OK : rc;
   }
   train_decoder_settings s = a.s;
-  const char **data = a.data.item, *preset = a.preset, *encoding = a.encoding, *output = a.output;
+  int arch_given =
+      a.preset || a.encoding || a.output || a.width > 0 || a.blocks > 0 || a.octaves > 0;
+  const char **data = a.data.item, *preset = a.preset ? a.preset : "medium",
+             *encoding = a.encoding ? a.encoding : "halfdiff",
+             *output = a.output ? a.output : "log1p";
   char *data_list = a.data.copy;
   int n_data = a.data.n;
   double steps = a.steps, minutes = a.minutes, rows = a.rows, lrw = a.lrw, lrl = a.lrl, l2 = a.l2,
@@ -199,8 +210,20 @@ static int train_decoder(int argc, char **argv) {
     free(data_list);
     return cli_usage_error("train", "--data and --run are required");
   }
+  if (a.init_bundle && arch_given) {
+    free(data_list);
+    return cli_usage_error("train", "--init-bundle takes the bundle's decoder architecture: "
+                                    "give no --preset, --width, --blocks, --encoding, --octaves "
+                                    "or --output with it");
+  }
   nbrdf_error err = {0};
   nbrdf_status st;
+  nbrdf_model *init = NULL;
+  if (a.init_bundle && nbrdf_model_load(a.init_bundle, &init, &err)) {
+    free(data_list);
+    return cli_fail_error("train", &err);
+  }
+  s.init = init;
   if (width > 0 || blocks > 0) {
     model_encoding enc = {MODEL_ENCODING_HALFDIFF, (int)octaves};
     if (!model_encoding_kind_parse(encoding, &enc.kind))
@@ -215,16 +238,19 @@ static int train_decoder(int argc, char **argv) {
   }
   if (st) {
     free(data_list);
+    nbrdf_model_destroy(init);
     return cli_fail_error("train", &err);
   }
   cli_inputs inputs; /* the run's checkpoint is read and rewritten: resuming is the point */
   cli_inputs_init(&inputs);
+  cli_inputs_add_model(&inputs, init);
   for (int k = 0; k < n_data; k++)
     cli_inputs_add(&inputs, data[k]);
   static const char *const run_files[] = {"checkpoint.safetensors", "decoder.safetensors",
                                           "log.csv", NULL};
   if (cli_outputs_check_in("train", &inputs, s.run_dir, run_files) != CLI_EXIT_OK) {
     free(data_list);
+    nbrdf_model_destroy(init);
     return CLI_EXIT_FAILURE;
   }
   s.data = data, s.n_data = n_data;
@@ -240,6 +266,7 @@ static int train_decoder(int argc, char **argv) {
   train_decoder_result r;
   st = train_decoder_run(&s, &r, &err);
   cli_cancel_unwatch();
+  nbrdf_model_destroy(init);
   if (!prog.json) fputc('\n', stderr);
   cli_train_limits_note("checkpoint.safetensors", r.legacy_resume);
   free(data_list);

@@ -9,6 +9,7 @@
 #include "eval/evaluate.h"
 #include "lobe/lobe.h"
 #include "model/bundle.h"
+#include "train/params_latent.h"
 #include "train/table_fit.h"
 
 #define IMG ((size_t)NBRDF_LOBE_RES * NBRDF_LOBE_RES)
@@ -39,32 +40,6 @@ nbrdf_status eval_decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, do
   return st;
 }
 
-static nbrdf_status base(const nbrdf_model *m, nbrdf_base_kind kind, double p0, double p1,
-                         float *out, nbrdf_error *err) {
-  float f0 = (float)p0, f1 = (float)p1;
-  return nbrdf_model_base_latents(m, kind, 1, &f0, &f1, NBRDF_RANGE_CLAMP, out, NULL, err);
-}
-
-/* Latent of a BRDF from the bundle as a bake obtains it: the base from its
- * table, then recursive layering, the innermost coat over the conductor first
- * (train_params: coat[0] is the outermost). */
-static nbrdf_status bundle_latent(const nbrdf_model *m, const train_params *p, float *out,
-                                  nbrdf_error *err) {
-  float below[64], top[64], next[64];
-  nbrdf_status st = p->kind == TRAIN_DIELECTRIC
-                        ? base(m, NBRDF_BASE_DIELECTRIC, p->base_alpha, p->base_eta, below, err)
-                        : base(m, NBRDF_BASE_CONDUCTOR, p->base_alpha, p->base_r0, below, err);
-  for (int c = p->n_coats - 1; c >= 0 && !st; c--) {
-    const train_coat *k = &p->coat[c];
-    float a = (float)k->albedo, s = (float)k->sigma_t;
-    st = base(m, NBRDF_BASE_DIELECTRIC, k->alpha, k->eta, top, err);
-    if (!st) st = nbrdf_model_layer(m, 1, top, below, &a, &s, next, err);
-    if (!st) memcpy(below, next, sizeof next);
-  }
-  if (!st) memcpy(out, below, (size_t)nbrdf_model_latent_dim(m) * sizeof *out);
-  return st;
-}
-
 static int cmp_double(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
@@ -92,7 +67,7 @@ static void summarise(eval_result *r) {
   for (int i = 0; i < r->n; i++)
     if (r->cases[i].lobe_error == r->median) r->median_index = i;
   /* tails: the same figures per region (case i is in region i % 3) */
-  for (int g = 0; g < TRAIN_TAILS_REGIONS && r->set == EVAL_TAILS; g++) {
+  for (int g = 0; g < TRAIN_TAILS_REGIONS && eval_set_has_regions(r->set); g++) {
     int m = 0;
     for (int i = g; i < r->n; i += TRAIN_TAILS_REGIONS)
       e[m++] = r->cases[i].lobe_error;
@@ -139,8 +114,7 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
   memset(r, 0, sizeof *r);
   r->set = set, r->n = s->count;
   if (model) dec = model->decoder;
-  if ((set == EVAL_LAYER || set == EVAL_LAYER3 || set == EVAL_TABLE || set == EVAL_TAILS) &&
-      !model)
+  if ((set == EVAL_LAYER || set == EVAL_LAYER3 || set == EVAL_TABLE || set == EVAL_TAILS) && !model)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "evaluate: the %s set needs a bundle (tables and layering network)",
                      eval_set_name(set));
@@ -160,15 +134,16 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
     eval_set_draw(set, i, &params[i]);
     r->cases[i].params = params[i];
   }
+  int projected = set == EVAL_REP || set == EVAL_SINGLE || set == EVAL_TAILS_REP;
   double t0 = now_s();
   eval_extra_ref extra = {0};
   nbrdf_status st = eval_reference(set, s, r->ref, &r->ref_noise, err);
   if (!st) st = eval_reference_extra(set, s, &extra, err);
   double t1 = now_s();
-  if (!st && (set == EVAL_REP || set == EVAL_SINGLE))
+  if (!st && projected)
     st = train_project_params(dec, n, params, family, s->project_steps, 1, lat, NULL, err);
-  for (size_t i = 0; i < n && !st && set != EVAL_REP && set != EVAL_SINGLE; i++)
-    st = bundle_latent(model, &params[i], lat + i * D, err);
+  for (size_t i = 0; i < n && !st && !projected; i++)
+    st = train_params_bundle_latent(model, &params[i], lat + i * D, err);
   if (!st) st = eval_score_latents(dec, n, lat, r->ref, r->approx, r->cases, err);
   if (!st) st = eval_score_extra(model, dec, n, lat, r->ref, &extra, r->cases, err);
   eval_extra_ref_free(&extra);

@@ -35,6 +35,7 @@ typedef enum eval_set {
   EVAL_LAYER3,
   EVAL_TABLE,
   EVAL_TAILS,
+  EVAL_TAILS_REP, /* the tails BRDFs projected: the decoder's own limit there */
   EVAL_SET_COUNT
 } eval_set;
 
@@ -98,6 +99,10 @@ typedef struct eval_result {
 } eval_result;
 
 const char *eval_set_name(eval_set set);
+/* Whether a set reports per-region figures (tails, tails-rep). */
+int eval_set_has_regions(eval_set set);
+/* The set whose reference images a set uses (table: single's; tails-rep: tails'). */
+eval_set eval_set_reference_of(eval_set set);
 /* The held-out family a set draws from (train/params.h). */
 train_heldout eval_set_heldout(eval_set set);
 /* BRDF `index` of a set: its held-out family, kind and distribution. */

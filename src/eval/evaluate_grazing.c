@@ -42,8 +42,8 @@ void eval_extra_ref_free(eval_extra_ref *x) {
 }
 
 static void cache_path(char *out, size_t size, eval_set set, const eval_settings *s) {
-  snprintf(out, size, "%s/ref-%s-n%d-w%d-grazing.safetensors", s->cache_dir, eval_set_name(set),
-           s->count, s->walks);
+  snprintf(out, size, "%s/ref-%s-n%d-w%d-grazing.safetensors", s->cache_dir,
+           eval_set_name(eval_set_reference_of(set)), s->count, s->walks);
 }
 
 static int load_cache(const char *path, const eval_settings *s, eval_extra_ref *x) {

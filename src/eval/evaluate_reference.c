@@ -7,8 +7,8 @@
 
 #include "brdf/brdf_handle.h"
 #include "brdf/layered_lobe.h"
-#include "core/progress.h"
 #include "core/error.h"
+#include "core/progress.h"
 #include "core/rng.h"
 #include "eval/evaluate.h"
 #include "lobe/lobe.h"
@@ -18,18 +18,25 @@
 #define PER_BRDF (NBRDF_LOBE_N_THETA * IMG)
 #define REF_TAG UINT64_C(0x6e62726472656673)
 
-static const char *const names[EVAL_SET_COUNT] = {"rep",    "single", "layer",
-                                                  "layer3", "table",  "tails"};
+static const char *const names[EVAL_SET_COUNT] = {"rep",   "single", "layer",    "layer3",
+                                                  "table", "tails",  "tails-rep"};
 static const train_heldout heldout[EVAL_SET_COUNT] = {
-    TRAIN_HELDOUT_REP,    TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_LAYER,
-    TRAIN_HELDOUT_LAYER3, TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_TAILS};
+    TRAIN_HELDOUT_REP,    TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3,
+    TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_TAILS,  TRAIN_HELDOUT_TAILS};
+
+int eval_set_has_regions(eval_set set) { return set == EVAL_TAILS || set == EVAL_TAILS_REP; }
+
+eval_set eval_set_reference_of(eval_set set) {
+  return set == EVAL_TABLE ? EVAL_SINGLE : set == EVAL_TAILS_REP ? EVAL_TAILS : set;
+}
 
 train_heldout eval_set_heldout(eval_set set) { return heldout[set]; }
 
 void eval_set_draw(eval_set set, uint64_t index, train_params *p) {
   train_heldout h = heldout[set];
   train_params_draw_from(train_heldout_seed(h), train_heldout_kind(h),
-                         set == EVAL_TAILS ? TRAIN_DRAWS_TAILS : TRAIN_DRAWS_TABLE2, index, p);
+                         eval_set_has_regions(set) ? TRAIN_DRAWS_TAILS : TRAIN_DRAWS_TABLE2, index,
+                         p);
 }
 
 const char *eval_set_name(eval_set set) {
@@ -130,7 +137,7 @@ static int cmp_double(const void *a, const void *b) {
 nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images, double *noise,
                             nbrdf_error *err) {
   char path[4096];
-  if (set == EVAL_TABLE) set = EVAL_SINGLE; /* the same BRDFs */
+  set = eval_set_reference_of(set); /* the same BRDFs share one reference */
   if (s->cache_dir) {
     cache_path(path, sizeof path, set, s);
     if (load_cache(path, s, images, noise)) return NBRDF_OK;

@@ -118,7 +118,7 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
     fprintf(f, "},\n      \"max_albedo_brdf\": {\"index\": %d, \"params\": ", x->max_albedo_index);
     params_json(f, &x->cases[x->max_albedo_index].params);
     fprintf(f, "},\n");
-    if (x->set == EVAL_TAILS) {
+    if (eval_set_has_regions(x->set)) {
       fputs("      \"regions\": {", f);
       for (int g = 0; g < TRAIN_TAILS_REGIONS; g++)
         fprintf(f, "%s\"%s\": {\"count\": %d, \"median_lobe_error\": %.6g, \"p90_lobe_error\": %.6g}",

@@ -10,9 +10,11 @@
 #include "core/error.h"
 #include "core/rng.h"
 #include "model/autodecoder.h"
+#include "model/bundle_parts.h"
 #include "train/checkpoint.h"
 #include "train/dataset.h"
 #include "train/energy_reference.h"
+#include "train/params_latent.h"
 #include "train/projection.h"
 #include "train/samples.h"
 #include "train/trainer.h"
@@ -181,6 +183,7 @@ static nbrdf_status run_options(const decoder_run *d, char *out, size_t size, nb
   trainer_option(out, size, "loss", "%s", model_loss_name(s->loss));
   trainer_option(out, size, "brdf-weight", "%.17g", s->brdf_weight);
   trainer_option(out, size, "seed", "%llu", (unsigned long long)s->seed);
+  if (s->init) trainer_option(out, size, "init-bundle", "%s", nbrdf_model_checksum(s->init));
   if (s->energy.lambda > 0) { /* absent when off: runs from before the penalty still match */
     trainer_option(out, size, "energy", "%s", trainer_float_text(s->energy.lambda, num));
     char angles[256] = "";
@@ -202,6 +205,25 @@ static nbrdf_status require(const nn_st_reader *r, const char *k, const char *wa
                    "%s: the checkpoint was made with another %s than this run's (start a new "
                    "run folder, or give the same settings)",
                    nn_st_label(r), what);
+}
+
+/* --init-bundle: the bundle's decoder weights and the latents it gives the data's BRDFs. */
+static nbrdf_status init_from_bundle(const nbrdf_model *m, model_decoder *dec,
+                                     const train_samples *data, float *lat, nbrdf_error *err) {
+  char *want = NULL, *have = NULL;
+  nbrdf_status st = nn_spec_to_json(&dec->cfg.spec, &want, err);
+  if (!st) st = nn_spec_to_json(&m->decoder->cfg.spec, &have, err);
+  if (!st && (strcmp(want, have) || m->latent_dim != dec->cfg.latent_dim))
+    st = core_fail(err, NBRDF_ERR_MISMATCH,
+                   "train decoder: the bundle's decoder (%s) is not the run's architecture (%s)",
+                   have, want);
+  free(want), free(have);
+  if (st) return st;
+  memcpy(nn_params(dec->nn), nn_params(m->decoder->nn), nn_param_count(dec->nn) * sizeof(float));
+  size_t D = (size_t)dec->cfg.latent_dim;
+  for (size_t b = 0; b < data->n_brdfs && !st; b++)
+    st = train_params_bundle_latent(m, &data->params[b], lat + b * D, err);
+  return st;
 }
 
 /* Checkpoints from before nbrdf.options: architecture and data as they were
@@ -253,12 +275,17 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
     return st;
   }
   st = make_validation(s->validation_brdfs, &val, err);
-  size_t nl = data.n_brdfs * (size_t)s->arch.latent_dim;
-  if (!st) st = model_decoder_create(&s->arch, s->seed, &d.dec, err);
+  size_t nl = data.n_brdfs * (size_t)(s->init ? s->init->latent_dim : s->arch.latent_dim);
+  /* A fine-tune keeps the bundle's architecture (the CLI refuses another). */
+  model_decoder_config arch = s->init ? s->init->decoder->cfg : s->arch;
+  if (!st) st = model_decoder_create(&arch, s->seed, &d.dec, err);
   if (!st && (!(lat = malloc(nl * sizeof *lat)) || !options))
     st = core_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for latents");
   if (!st) {
     init_latents(lat, nl, s->seed);
+    if (s->init) st = init_from_bundle(s->init, d.dec, &data, lat, err);
+  }
+  if (!st) {
     model_fit_options o = MODEL_FIT_OPTIONS_DEFAULT;
     o.loss = s->loss;
     o.rows_per_brdf = s->rows_per_brdf;

@@ -24,6 +24,7 @@
 #include "model/decoder.h"
 #include "model/energy.h"
 #include "model/loss.h"
+#include "nbrdf/model.h"
 #include "nbrdf/status.h"
 
 #define TRAIN_VALIDATION_FIRST 100000u
@@ -48,6 +49,10 @@ typedef struct train_decoder_settings {
    * count for little). */
   double brdf_weight;
   uint64_t seed;
+  /* A fine-tune (NULL: none): the decoder starts from this bundle's weights (arch must be its
+   * decoder's: it replaces `arch`) and each BRDF's latent from the one the bundle gives its
+   * parameters (train/params_latent.h), so the run starts where the bundle is, not from noise. */
+  const nbrdf_model *init;
   /* Energy penalty (model/energy.h, train/energy_reference.h): λ = 0 is off;
    * energy_brdfs latents are penalised per step. */
   model_energy_options energy;

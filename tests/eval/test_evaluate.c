@@ -123,6 +123,15 @@ static void test_single_set(void) {
         CHECK(tr.region_p90[g] == tr.region_median[g]);
       }
       CHECK(tr.cases[0].params.coat[0].eta <= 1.2 && tr.cases[1].params.coat[0].alpha <= 0.05);
+      /* tails-rep: the same BRDFs and references, projected by a decoder alone, with regions. */
+      eval_result rr;
+      CHECK_OK(eval_run(NULL, dec, EVAL_TAILS_REP, &ts, &rr, &err), &err);
+      if (rr.cases) {
+        CHECK(!strcmp(eval_set_name(rr.set), "tails-rep") && rr.region_n[2] == 2);
+        CHECK(!memcmp(rr.ref, tr.ref, (size_t)ts.count * PER * sizeof *rr.ref));
+        CHECK(rr.cases[5].params.coat[0].alpha == tr.cases[5].params.coat[0].alpha);
+        eval_result_free(&rr);
+      }
       eval_result_free(&tr);
     }
   }

@@ -2,7 +2,8 @@
  * interrupted and resumed from its checkpoint ends with the same weights as
  * an uninterrupted one, a checkpoint of other data is refused, per-BRDF loss
  * weights take effect, and the base tables fitted with the trained decoder
- * (warped axes) load and reproduce their nodes. */
+ * (warped axes) load and reproduce their nodes; a fine-tune (--init-bundle)
+ * starts from the bundle's weights and the latents it gives each BRDF. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +14,7 @@
 #include "testing.h"
 #include "train/checkpoint.h"
 #include "train/dataset.h"
+#include "train/params_latent.h"
 #include "train/samples.h"
 #include "train/table_fit.h"
 #include "train/train_decoder.h"
@@ -282,11 +284,54 @@ static void test_tables_from_trained_decoder(void) {
   model_decoder_destroy(dec);
 }
 
+static void test_init_from_bundle(void) {
+  const char *data[1] = {path_of("c.nbds")}; /* test_loss_falls_and_resume_is_exact's */
+  char dir[512];
+  snprintf(dir, sizeof dir, "%s/init-bundle", testing_tmpdir());
+  nbrdf_model *m = NULL;
+  nbrdf_error err;
+  CHECK_OK(model_bundle_init_random(dir, "init-test", 5, "small", &err), &err);
+  CHECK_OK(nbrdf_model_load(dir, &m, &err), &err);
+  if (!m) return;
+  /* One step at zero learning rates: what the run starts from is what it saves. */
+  train_decoder_settings s = tiny(data, path_of("run_init"), 1);
+  s.init = m, s.lr_weights = 0, s.lr_latent = 0, s.latent_l2 = 0;
+  s.arch.spec.n_layers = 0; /* ignored: the bundle's architecture is the run's */
+  train_decoder_result r;
+  CHECK_OK(train_decoder_run(&s, &r, &err), &err);
+  size_t n = 0;
+  float *w = load_params(path_of("run_init/decoder.safetensors"), &n);
+  CHECK(w && n == nn_param_count(m->decoder->nn));
+  if (w && n == nn_param_count(m->decoder->nn))
+    CHECK_MSG(!memcmp(w, nn_params(m->decoder->nn), n * sizeof *w), "weights not the bundle's");
+  free(w);
+  train_samples d;
+  CHECK_OK(train_samples_load(1, data, &d, &err), &err);
+  nn_st_reader *ck = NULL;
+  CHECK_OK(nn_st_open(path_of("run_init/checkpoint.safetensors"), &ck, &err), &err);
+  int64_t shape[1] = {(int64_t)d.n_brdfs * 32};
+  const float *lat = NULL;
+  if (ck) CHECK_OK(nn_st_expect(ck, "latents", 1, shape, &lat, NULL), &err);
+  for (size_t b = 0; lat && b < d.n_brdfs; b++) {
+    float want[32];
+    CHECK_OK(train_params_bundle_latent(m, &d.params[b], want, &err), &err);
+    CHECK_MSG(!memcmp(want, lat + b * 32, sizeof want), "BRDF %zu: latent not the bundle's", b);
+  }
+  nn_st_close(ck);
+  train_samples_free(&d);
+  /* A resume from another start is refused, naming it. */
+  s.init = NULL, s.steps = 2;
+  CHECK_OK(model_decoder_preset("small", 32, &s.arch, &err), &err);
+  CHECK_FAILS(train_decoder_run(&s, &r, &err), NBRDF_ERR_MISMATCH, &err, "init-bundle");
+  nbrdf_model_destroy(m);
+}
+
 int main(void) {
   RUN(test_loss_falls_and_resume_is_exact);
   RUN(test_legacy_checkpoint);
   RUN(test_brdf_weight);
   RUN(test_energy_penalty);
   RUN(test_tables_from_trained_decoder);
+  RUN(test_init_from_bundle);
   return testing_finish();
 }
