@@ -33,12 +33,13 @@ static void dataset_options(dataset_args *a, cli_opt_visit visit, void *user) {
        .help = "conductor, dielectric, single (half each), layered2, layered3"},
       {.type = CLI_OPT_U64, .name = "--count", .meta = "N", .lo = 1, .dest = &a->s.count,
        .seen = &a->have_count, .help = "BRDFs to draw"},
-      {.type = CLI_OPT_ENUM, .name = "--draws", .meta = "D", .choices = "table2|coverage|tails",
+      {.type = CLI_OPT_ENUM, .name = "--draws", .meta = "D", .choices = "table2|coverage|tails|mirror",
        .dest = &a->s.draws,
        .help = "table2 (default): the paper's Table 2; coverage: more low-IOR\n"
                "coats (eta = 1 5 %, eta in [1, 1.2] 20 %) and sharp coats\n"
                "(alpha <= 0.03 15 %); tails: only low-IOR (eta <= 1.2) and sharp\n"
-               "(alpha <= 0.05) coats, a third each and both (docs/DATASET.md)"},
+               "(alpha <= 0.05) coats, a third each and both; mirror: smooth\n"
+               "bright bases (alpha2 0.01-0.05, r0 0.8-1) under any coat (docs/DATASET.md)"},
       {.type = CLI_OPT_U64, .name = "--seed", .meta = "S", .dest = &a->s.seed,
        .seen = &a->have_seed,
        .help = "unsigned 64-bit seed (held-out sets use another seed family)"},
@@ -78,7 +79,7 @@ void cmd_dataset_options(cli_opt_visit visit, void *user) {
 void cmd_dataset_usage(FILE *out) {
   fprintf(out, "usage: nbrdf dataset --out FILE --kind KIND --count N --seed S [--incident K]\n"
                "                     [--outgoing M] [--sampled S] [--spp N] [--threads T]\n"
-               "                     [--draws table2|coverage|tails]\n"
+               "                     [--draws table2|coverage|tails|mirror]\n"
                "                     [--progress=json]\n"
                "       nbrdf dataset --check FILE\n"
                "\n"

@@ -1,4 +1,5 @@
 /* nbrdf evaluate: the docs/METRICS.md figures of a model on the held-out sets. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,7 +24,7 @@ static void evaluate_options(evaluate_args *a, cli_opt_visit visit, void *user) 
       {.type = CLI_OPT_PATH, .name = "--decoder", .meta = "FILE", .dest = &a->decoder,
        .help = "a decoder alone (sets rep and single)"},
       {.type = CLI_OPT_STRING, .name = "--sets", .meta = "LIST", .dest = &a->sets,
-       .help = "held-out sets, comma-separated: rep, single, layer,\nlayer3, table, tails, tails-rep"},
+       .help = "held-out sets, comma-separated: rep, single, layer,\nlayer3, table, tails, tails-rep, extremes"},
       {.type = CLI_OPT_INT, .name = "--count", .meta = "N", .lo = 1, .hi = 100000,
        .dest = &a->s.count, .help = "BRDFs per set (100)"},
       {.type = CLI_OPT_INT, .name = "--walks", .meta = "N", .lo = 2, .hi = 1 << 30,
@@ -69,7 +70,9 @@ void cmd_evaluate_usage(FILE *out) {
           "does), layer3 (three layers, recursive layering), table (the single BRDFs from the\n"
           "bundle's base tables: their interpolation error), tails (as layer, on coats\n"
           "with eta <= 1.2, alpha1 <= 0.05 or both, a third each, figures per region),\n"
-          "tails-rep (the tails BRDFs projected: the decoder's own limit there).\n"
+          "tails-rep (the tails BRDFs projected: the decoder's own limit there),\n"
+          "extremes (nine named constants at the corners, e.g. a smooth coat over a\n"
+          "mirror, each with its decoded and true directional albedo per theta_i).\n"
           "A decoder alone serves rep, single and tails-rep. References: exact for single BRDFs, "
           "the whole-lobe estimator with --walks\n"
           "walks per image (16000) for layered ones; its own seed-to-seed error on the first\n"
@@ -138,11 +141,14 @@ int cmd_evaluate(int argc, char **argv) {
       st = NBRDF_ERR_ARGUMENT;
       snprintf(err.message, sizeof err.message,
                "unknown or repeated set '%s' (rep, single, layer, layer3, table, tails, "
-               "tails-rep)",
+               "tails-rep, extremes)",
                tok);
       break;
     }
-    st = eval_run(model, dec, set, &s, &results[n_results], &err);
+    eval_settings ss = s; /* a fixed set (extremes) has as many BRDFs as it has */
+    if (eval_set_size_max(set) && ss.count > eval_set_size_max(set))
+      ss.count = eval_set_size_max(set);
+    st = eval_run(model, dec, set, &ss, &results[n_results], &err);
     if (st) break;
     const eval_result *r = &results[n_results++];
     if (!prog.json) fputc('\n', stderr);
@@ -163,6 +169,18 @@ int cmd_evaluate(int argc, char **argv) {
     for (int t = 0; t < EVAL_N_THETA_ALL; t++)
       printf(" %g: %+.3f", eval_theta_all_deg[t], r->max_albedo_excess[t]);
     printf("\n");
+    for (int i = 0; i < r->n && set == EVAL_EXTREMES; i++) {
+      const eval_case *c = &r->cases[i];
+      double worst = 0.0; /* |decoded - reference albedo| over theta_i <= 85 deg */
+      for (int t = 0; t < EVAL_N_THETA_ALL && eval_theta_all_deg[t] <= 85.0; t++)
+        worst = fmax(worst, fabs(c->albedo[t] - c->albedo_ref[t]));
+      printf("        %-42s lobe %6.2f %%  albedo |decoded - truth| <= 85 deg: %.3f  (",
+             eval_extremes_name(i), 100 * c->lobe_error, worst);
+      for (int t = 0; t < EVAL_N_THETA_ALL; t++)
+        printf("%s%g: %.3f/%.3f", t ? ", " : "", eval_theta_all_deg[t], c->albedo[t],
+               c->albedo_ref[t]);
+      printf(")\n");
+    }
     for (int g = 0; g < TRAIN_TAILS_REGIONS && eval_set_has_regions(set); g++)
       printf("        region %-12s median %6.2f %%  p90 %6.2f %%  (%d BRDFs)\n",
              train_tails_region_name(g), 100 * r->region_median[g], 100 * r->region_p90[g],

@@ -113,8 +113,12 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
                       const eval_settings *s, eval_result *r, nbrdf_error *err) {
   memset(r, 0, sizeof *r);
   r->set = set, r->n = s->count;
+  if (eval_set_size_max(set) && s->count > eval_set_size_max(set))
+    return core_fail(err, NBRDF_ERR_ARGUMENT, "evaluate: the %s set has %d BRDFs, not %d",
+                     eval_set_name(set), eval_set_size_max(set), s->count);
   if (model) dec = model->decoder;
-  if ((set == EVAL_LAYER || set == EVAL_LAYER3 || set == EVAL_TABLE || set == EVAL_TAILS) && !model)
+  int projected = set == EVAL_REP || set == EVAL_SINGLE || set == EVAL_TAILS_REP;
+  if (!projected && !model)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "evaluate: the %s set needs a bundle (tables and layering network)",
                      eval_set_name(set));
@@ -134,7 +138,6 @@ nbrdf_status eval_run(const nbrdf_model *model, model_decoder *dec, eval_set set
     eval_set_draw(set, i, &params[i]);
     r->cases[i].params = params[i];
   }
-  int projected = set == EVAL_REP || set == EVAL_SINGLE || set == EVAL_TAILS_REP;
   double t0 = now_s();
   eval_extra_ref extra = {0};
   nbrdf_status st = eval_reference(set, s, r->ref, &r->ref_noise, err);

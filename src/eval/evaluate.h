@@ -36,6 +36,7 @@ typedef enum eval_set {
   EVAL_TABLE,
   EVAL_TAILS,
   EVAL_TAILS_REP, /* the tails BRDFs projected: the decoder's own limit there */
+  EVAL_EXTREMES,  /* named constants at the corners (evaluate_extremes.c), end to end */
   EVAL_SET_COUNT
 } eval_set;
 
@@ -99,6 +100,12 @@ typedef struct eval_result {
 } eval_result;
 
 const char *eval_set_name(eval_set set);
+/* The extremes set: its size, the name and the parameters of case `index`. */
+#define EVAL_EXTREMES_COUNT 9
+const char *eval_extremes_name(int index);
+void eval_extremes_params(int index, train_params *p);
+/* The most BRDFs a set has (0: any number). */
+int eval_set_size_max(eval_set set);
 /* Whether a set reports per-region figures (tails, tails-rep). */
 int eval_set_has_regions(eval_set set);
 /* The set whose reference images a set uses (table: single's; tails-rep: tails'). */

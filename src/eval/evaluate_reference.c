@@ -18,11 +18,14 @@
 #define PER_BRDF (NBRDF_LOBE_N_THETA * IMG)
 #define REF_TAG UINT64_C(0x6e62726472656673)
 
-static const char *const names[EVAL_SET_COUNT] = {"rep",   "single", "layer",    "layer3",
-                                                  "table", "tails",  "tails-rep"};
+static const char *const names[EVAL_SET_COUNT] = {"rep",   "single", "layer",     "layer3",
+                                                  "table", "tails",  "tails-rep", "extremes"};
 static const train_heldout heldout[EVAL_SET_COUNT] = {
     TRAIN_HELDOUT_REP,    TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_LAYER, TRAIN_HELDOUT_LAYER3,
-    TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_TAILS,  TRAIN_HELDOUT_TAILS};
+    TRAIN_HELDOUT_SINGLE, TRAIN_HELDOUT_TAILS,  TRAIN_HELDOUT_TAILS,
+    TRAIN_HELDOUT_LAYER /* extremes: fixed cases; the family seeds their references only */};
+
+int eval_set_size_max(eval_set set) { return set == EVAL_EXTREMES ? EVAL_EXTREMES_COUNT : 0; }
 
 int eval_set_has_regions(eval_set set) { return set == EVAL_TAILS || set == EVAL_TAILS_REP; }
 
@@ -33,6 +36,10 @@ eval_set eval_set_reference_of(eval_set set) {
 train_heldout eval_set_heldout(eval_set set) { return heldout[set]; }
 
 void eval_set_draw(eval_set set, uint64_t index, train_params *p) {
+  if (set == EVAL_EXTREMES) {
+    eval_extremes_params((int)index, p);
+    return;
+  }
   train_heldout h = heldout[set];
   train_params_draw_from(train_heldout_seed(h), train_heldout_kind(h),
                          eval_set_has_regions(set) ? TRAIN_DRAWS_TAILS : TRAIN_DRAWS_TABLE2, index,

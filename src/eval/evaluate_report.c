@@ -121,10 +121,17 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
     if (eval_set_has_regions(x->set)) {
       fputs("      \"regions\": {", f);
       for (int g = 0; g < TRAIN_TAILS_REGIONS; g++)
-        fprintf(f, "%s\"%s\": {\"count\": %d, \"median_lobe_error\": %.6g, \"p90_lobe_error\": %.6g}",
+        fprintf(f,
+                "%s\"%s\": {\"count\": %d, \"median_lobe_error\": %.6g, \"p90_lobe_error\": %.6g}",
                 g ? ", " : "", train_tails_region_name(g), x->region_n[g], x->region_median[g],
                 x->region_p90[g]);
       fputs("},\n", f);
+    }
+    if (x->set == EVAL_EXTREMES) {
+      fputs("      \"case_names\": [", f);
+      for (int i = 0; i < x->n; i++)
+        fprintf(f, "%s\"%s\"", i ? ", " : "", eval_extremes_name(i));
+      fputs("],\n", f);
     }
     extra_json(f, x);
     fprintf(f, "      \"lobe_errors\": [");

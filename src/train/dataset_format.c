@@ -87,7 +87,7 @@ int train_ds_decode_header(const unsigned char in[TRAIN_DS_HEADER_BYTES], train_
            spp = train_ds_get_u32(in + 44);
   if (version == TRAIN_DATASET_VERSION_DRAWS) {
     draws = kind >> 16, kind &= 0xffffu;
-    if (draws != TRAIN_DRAWS_COVERAGE && draws != TRAIN_DRAWS_TAILS)
+    if (draws != TRAIN_DRAWS_COVERAGE && draws != TRAIN_DRAWS_TAILS && draws != TRAIN_DRAWS_MIRROR)
       return *why = "unknown parameter distribution", 0;
   }
   if (kind > TRAIN_SINGLE || k < 1 || k > 4096 || m < 1 || m > 65536 || sampled > m || spp < 2 ||

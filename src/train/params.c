@@ -53,14 +53,15 @@ double train_draw_sigma_t(double u) {
   return SIGMA_T[i < 0 ? 0 : i > 3 ? 3 : i];
 }
 
-static const char *const DRAWS_NAMES[] = {"table2", "coverage", "tails"};
+static const char *const DRAWS_NAMES[] = {"table2", "coverage", "tails", "mirror"};
+#define N_DRAWS ((int)(sizeof DRAWS_NAMES / sizeof *DRAWS_NAMES))
 
 const char *train_draws_name(train_draws draws) {
-  return (unsigned)draws < 3u ? DRAWS_NAMES[draws] : "?";
+  return (unsigned)draws < (unsigned)N_DRAWS ? DRAWS_NAMES[draws] : "?";
 }
 
 int train_draws_parse(const char *name) {
-  for (int d = 0; d < 3; d++)
+  for (int d = 0; d < N_DRAWS; d++)
     if (name && !strcmp(name, DRAWS_NAMES[d])) return d;
   return -1;
 }
@@ -99,16 +100,22 @@ static double draw_eta_tails(int region, double u) {
   return region == 1 ? 1.2 + 0.8 * u : 1.0 + 0.2 * u;
 }
 
+/* MIRROR's coat α: log-uniform on [0.01, 0.05] half the time (one uniform, split). */
+static double draw_alpha_mirror(double u) {
+  return u < 0.5 ? 0.01 * pow(5.0, 2.0 * u) : train_draw_alpha(2.0 * u - 1.0);
+}
+
 /* `region` matters to TAILS only. */
 static double draw_alpha(train_draws d, int region, double u) {
   return d == TRAIN_DRAWS_COVERAGE ? train_draw_alpha_coverage(u)
          : d == TRAIN_DRAWS_TAILS  ? draw_alpha_tails(region, u)
+         : d == TRAIN_DRAWS_MIRROR ? draw_alpha_mirror(u)
                                    : train_draw_alpha(u);
 }
 static double draw_eta(train_draws d, int region, double u) {
-  return d == TRAIN_DRAWS_COVERAGE ? train_draw_eta_coverage(u)
-         : d == TRAIN_DRAWS_TAILS  ? draw_eta_tails(region, u)
-                                   : train_draw_eta(u);
+  return d == TRAIN_DRAWS_COVERAGE || d == TRAIN_DRAWS_MIRROR ? train_draw_eta_coverage(u)
+         : d == TRAIN_DRAWS_TAILS                             ? draw_eta_tails(region, u)
+                                                              : train_draw_eta(u);
 }
 
 static void draw_coat(core_rng *rng, train_draws d, int region, train_coat *c) {
@@ -138,11 +145,14 @@ void train_params_draw_from(uint64_t family, train_kind kind, train_draws draws,
     draw_coat(&rng, draws, region, &p->coat[c]);
   /* The conductor base keeps Table 2's α; a dielectric is a coat on its own. */
   double u = core_rng_uniform(&rng);
-  p->base_alpha = kind == TRAIN_DIELECTRIC ? draw_alpha(draws, region, u) : train_draw_alpha(u);
+  int mirror = draws == TRAIN_DRAWS_MIRROR && kind != TRAIN_DIELECTRIC;
+  p->base_alpha = kind == TRAIN_DIELECTRIC ? draw_alpha(draws, region, u)
+                  : mirror                 ? 0.01 * pow(5.0, u)
+                                           : train_draw_alpha(u);
   if (kind == TRAIN_DIELECTRIC)
     p->base_eta = draw_eta(draws, region, core_rng_uniform(&rng));
   else
-    p->base_r0 = core_rng_uniform(&rng);
+    p->base_r0 = mirror ? 1.0 - 0.2 * core_rng_uniform(&rng) : core_rng_uniform(&rng);
 }
 
 nbrdf_status train_params_create(const train_params *p, nbrdf_brdf **out, nbrdf_error *err) {

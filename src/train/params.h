@@ -61,7 +61,12 @@ typedef struct train_params {
 typedef enum train_draws {
   TRAIN_DRAWS_TABLE2 = 0,
   TRAIN_DRAWS_COVERAGE = 1,
-  TRAIN_DRAWS_TAILS = 2
+  TRAIN_DRAWS_TAILS = 2,
+  /* - MIRROR: the corner of smooth, bright bases, where a coat must keep almost all the
+   *   light (the `extremes` set's smooth coat over a mirror): conductor α log-uniform on
+   *   [0.01, 0.05], R0 ∈ U(0.8, 1); coats with COVERAGE's η (η = 1 included) and α
+   *   log-uniform on [0.01, 0.05] half the time, Table 2's otherwise; A and σT Table 2's. */
+  TRAIN_DRAWS_MIRROR = 3
 } train_draws;
 /* The TAILS region of draw `index`: 0 low IOR, 1 sharp, 2 both. */
 #define TRAIN_TAILS_REGIONS 3

@@ -138,12 +138,24 @@ static void test_single_set(void) {
   nbrdf_model_destroy(m);
   eval_result_free(&r);
 
+  /* extremes: fixed named cases, as many as there are. */
+  train_params xp;
+  eval_set_draw(EVAL_EXTREMES, 0, &xp);
+  CHECK(xp.kind == TRAIN_LAYERED2 && xp.coat[0].alpha == 0.01 && xp.coat[0].eta == 1.5 &&
+        xp.base_r0 == 1.0 && xp.base_alpha == 0.01);
+  CHECK(strstr(eval_extremes_name(0), "mirror") && eval_set_size_max(EVAL_EXTREMES) == 9);
   eval_result none;
   CHECK_FAILS(eval_run(NULL, dec, EVAL_LAYER, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
               "needs a bundle");
   CHECK_FAILS(eval_run(NULL, dec, EVAL_TABLE, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
               "needs a bundle");
   CHECK_FAILS(eval_run(NULL, dec, EVAL_TAILS, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
+              "needs a bundle");
+  eval_settings many = s;
+  many.count = 12;
+  CHECK_FAILS(eval_run(NULL, dec, EVAL_EXTREMES, &many, &none, &err), NBRDF_ERR_ARGUMENT, &err,
+              "has 9 BRDFs");
+  CHECK_FAILS(eval_run(NULL, dec, EVAL_EXTREMES, &s, &none, &err), NBRDF_ERR_ARGUMENT, &err,
               "needs a bundle");
   model_decoder_destroy(dec);
 }

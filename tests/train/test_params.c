@@ -168,9 +168,40 @@ static void test_tails_draws(void) {
   CHECK(train_heldout_seed(TRAIN_HELDOUT_TAILS) != train_heldout_seed(TRAIN_HELDOUT_LAYER));
 }
 
+/* MIRROR: smooth bright conductor bases under coats half sharp, eta = 1 included. */
+static void test_mirror_draws(void) {
+  uint64_t fam = train_family_seed(6);
+  int sharp = 0, no_coat = 0, n = 2000;
+  double lo_a2 = 9, hi_a2 = 0, lo_r0 = 9;
+  for (int i = 0; i < n; i++) {
+    train_params p;
+    train_params_draw_from(fam, TRAIN_LAYERED3, TRAIN_DRAWS_MIRROR, (uint64_t)i, &p);
+    CHECK(p.base_alpha >= 0.01 && p.base_alpha <= 0.05 + 1e-12);
+    CHECK(p.base_r0 > 0.8 && p.base_r0 <= 1.0);
+    lo_a2 = fmin(lo_a2, p.base_alpha), hi_a2 = fmax(hi_a2, p.base_alpha);
+    lo_r0 = fmin(lo_r0, p.base_r0);
+    for (int c = 0; c < 2; c++) {
+      CHECK(p.coat[c].alpha >= 0.01 && p.coat[c].alpha <= 1.0);
+      CHECK(p.coat[c].eta >= 1.0 && p.coat[c].eta <= 2.0);
+      sharp += p.coat[c].alpha <= 0.05, no_coat += p.coat[c].eta == 1.0;
+    }
+  }
+  CHECK(lo_a2 < 0.011 && hi_a2 > 0.048 && lo_r0 < 0.81);
+  /* half log-uniform on [0.01, 0.05] plus Table 2's own share below 0.05 (~22 % of it) */
+  CHECK_MSG(sharp > 0.55 * 2 * n && sharp < 0.67 * 2 * n, "%d sharp coats of %d", sharp, 2 * n);
+  CHECK_MSG(no_coat > 0.03 * 2 * n && no_coat < 0.07 * 2 * n, "%d eta = 1 of %d", no_coat, 2 * n);
+  /* a dielectric alone keeps its own (coat-like) draws */
+  train_params d;
+  train_params_draw_from(fam, TRAIN_DIELECTRIC, TRAIN_DRAWS_MIRROR, 3, &d);
+  CHECK(d.base_eta >= 1.0 && d.base_r0 == 0.0);
+  CHECK(train_draws_parse("mirror") == TRAIN_DRAWS_MIRROR);
+  CHECK(!strcmp(train_draws_name(TRAIN_DRAWS_MIRROR), "mirror"));
+}
+
 int main(void) {
   RUN(test_coverage_draws);
   RUN(test_tails_draws);
+  RUN(test_mirror_draws);
   RUN(test_table2_moments);
   RUN(test_draw_functions);
   RUN(test_determinism_and_families);
