@@ -170,10 +170,18 @@ typedef struct nbrdf_bake_range {
   double min, max;
   double lo, hi;             /* the trained range */
   nbrdf_range_policy policy; /* CLAMP: baked as lo or hi; REFUSE: the bake fails after the report */
+  /* alpha1 and alpha2: the lowest value (units as lo) that the levels fitting their own ground
+   * truth (FITTED, SPECIALISED, COMPACT, and AUTO when it climbs there) take as given, below
+   * lo (GGX alpha NBRDF_GT_ALPHA_MIN); FAST still bakes what is below lo as lo. Any other
+   * parameter: lo. below_fit counts the texels below fit_lo (counted in `below` too). */
+  double fit_lo;
+  size_t below_fit;
+  nbrdf_bake_accuracy accuracy; /* the level asked for: what the message says happens */
 } nbrdf_bake_range;
 
 /* The report's line in words, e.g. "alpha1 (perceptual roughness): 1,204 texels below 0.1
- * (min 0.02) will be baked as 0.1". Returns `buf`. */
+ * (min 0.02) will be baked as 0.1", or at a fitting level "alpha1 (GGX alpha): 0.002 is below
+ * 0.01: fast bakes it as 0.01; fitted, specialised and compact fit it as given". Returns `buf`. */
 const char *nbrdf_bake_range_message(const nbrdf_bake_range *range, char *buf, size_t cap);
 
 typedef struct nbrdf_bake_options {

@@ -208,6 +208,8 @@ static nbrdf_status evaluate_and_write(const bake_texture *t, const bake_level *
   size_t cache_max = band_rows < H ? o->tuple_cache : 0;
   bake_band_init(&band, ev->model, src, &ev->work, W, o->roughness, o->range, cache_max,
                  o->quantise_bits);
+  float take_hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_taken_ranges(ev->model, o->accuracy, band.take, take_hi);
   band.tick = band_tick;
   band.audit_tick = audit_tick;
   band.tick_user = prog;
@@ -344,6 +346,12 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
                         bake_fit_worse_than_fast(fit);
   nbrdf_bake_options lo = *o;
   lo.accuracy = fell_back ? NBRDF_BAKE_FAST : chosen;
+  /* Fast after a fitting level was asked for (a fallback, auto's choice): the range check
+   * let alpha below the trained range through as the fitting levels take it, and the range
+   * report said fast bakes it as the trained minimum; anything the policy refuses was
+   * refused then, so clamping here moves only those. */
+  if (lo.accuracy == NBRDF_BAKE_FAST && bake_level_fits_alpha(o->accuracy))
+    lo.range = NBRDF_RANGE_CLAMP;
   if (fell_back && o->warning) {
     char msg[512];
     snprintf(msg, sizeof msg,

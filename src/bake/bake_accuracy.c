@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "bake/bake_heldout.h"
+#include "bake/bake_range.h"
 #include "bake/bake_select.h"
 #include "core/error.h"
 
@@ -200,7 +201,11 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
   int64_t student_macs;
   nbrdf_status sm = student_macs_of(o, &student_macs, err);
   if (sm != NBRDF_OK) return sm;
-  bake_gather_settings gs = {lo, hi, o->roughness, o->range, o->quantise_bits, o->cancel};
+  /* alpha1 and alpha2 below the trained range are fitted as given (bake_range.h): their
+   * ground truth is that of the user's values, the networks see the trained minimum. */
+  float take[NBRDF_BAKE_PARAM_COUNT], take_hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_taken_ranges(model, o->accuracy, take, take_hi);
+  bake_gather_settings gs = {lo, hi, take, o->roughness, o->range, o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;
   size_t n_cand = 0;
   nbrdf_status st = bake_gather_tuples(scenes, n_scenes, &gs, &cand, &n_cand, &r->distinct, err);
@@ -281,7 +286,11 @@ nbrdf_status bake_accuracy_fast_error(const nbrdf_model *model, const bake_scene
   *fast = 0.0, *heldout = 0, *distinct = 0;
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
   model_material_ranges(model, lo, hi);
-  bake_gather_settings gs = {lo, hi, o->roughness, o->range, o->quantise_bits, o->cancel};
+  /* alpha1 and alpha2 below the trained range are fitted as given (bake_range.h): their
+   * ground truth is that of the user's values, the networks see the trained minimum. */
+  float take[NBRDF_BAKE_PARAM_COUNT], take_hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_taken_ranges(model, o->accuracy, take, take_hi);
+  bake_gather_settings gs = {lo, hi, take, o->roughness, o->range, o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;
   size_t n_cand = 0;
   nbrdf_status st = bake_gather_tuples(scenes, n_scenes, &gs, &cand, &n_cand, distinct, err);
