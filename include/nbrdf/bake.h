@@ -271,7 +271,13 @@ typedef struct nbrdf_bake_options {
   /* Non-zero: a level worse than fast on its held-out tuples is baked anyway (with the
    * warning) instead of falling back to fast: for measuring the levels themselves. */
   int no_fallback;
+  /* SPECIALISED and COMPACT: the weight of the energy term in the decoder fine-tune (docs/BAKE.md,
+   * "Sharp coats"): 0 (default) NBRDF_BAKE_FIT_ENERGY_DEFAULT, < 0 off (for measuring what it
+   * does; the held-out check's energy guard still falls back). */
+  double fit_energy;
 } nbrdf_bake_options;
+
+#define NBRDF_BAKE_FIT_ENERGY_DEFAULT 0.1
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
 
@@ -281,7 +287,7 @@ typedef struct nbrdf_bake_options {
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL, NULL,\
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,        \
-        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL, 0.0, 0, 0            \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL, 0.0, 0, 0, 0.0       \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
@@ -311,7 +317,8 @@ typedef struct nbrdf_bake_report {
   /* The accuracy asked for (AUTO or a level); `accuracy` above is the texture's. */
   nbrdf_bake_accuracy requested;
   /* The level asked for (or auto's best) was worse than fast on its held-out tuples beyond
-   * the margin: the texture is fast's (accuracy FAST; heldout_error is the level's). */
+   * the margin, or created energy (creates_energy below): the texture is fast's (accuracy
+   * FAST; heldout_error is the level's). */
   int fell_back;
   /* AUTO: the target (percent), whether a level met it, every level tried in order (fast
    * first) with its held-out median (fraction), and when none met it the budget that would
@@ -326,6 +333,14 @@ typedef struct nbrdf_bake_report {
    * process CPU seconds the audit took. */
   size_t audit_measured;
   double audit_seconds;
+  /* FITTED / SPECIALISED / COMPACT: the held-out check's energy guard (docs/BAKE.md,
+   * "Held-out check"): the largest decoded directional albedo of the level's latents over the
+   * fit_albedo_tuples fitted and held-out tuples, fast's on the same tuples, and whether the
+   * level creates energy there (above max(1.01, fast's + 0.03): it then falls back, or auto
+   * does not choose it). fit_albedo_tuples 0: not measured (a fit file from before). */
+  size_t fit_albedo_tuples;
+  double fit_max_albedo, fit_max_albedo_fast;
+  int creates_energy;
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

@@ -280,6 +280,7 @@ static void accuracy_attribute(const bake_fit_result *fit, nbrdf_bake_accuracy r
     append(buf, cap, d);
   }
   if (fell_back) append(buf, cap, "; fellBack=1");
+  if (fell_back && bake_fit_creates_energy(fit)) append(buf, cap, "; fellBackFor=energy");
   if (rest[0]) {
     append(buf, cap, "; ");
     append(buf, cap, rest);
@@ -353,13 +354,15 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
   if (lo.accuracy == NBRDF_BAKE_FAST && bake_level_fits_alpha(o->accuracy))
     lo.range = NBRDF_RANGE_CLAMP;
   if (fell_back && o->warning) {
-    char msg[512];
-    snprintf(msg, sizeof msg,
-             "the %s texture's held-out lobe error (%.2f %%) is worse than the fast level's "
-             "(%.2f %%) on the same %zu tuples (θi up to 89°, off-plane azimuths): baked at "
-             "fast instead; give it a larger --budget (this one: %g s)",
-             nbrdf_bake_accuracy_name(chosen), 100.0 * fit->heldout_error,
-             100.0 * fit->heldout_error_fast, fit->heldout, fit->budget);
+    char why[640], msg[896];
+    bake_fit_worse_message(fit, chosen, why, sizeof why);
+    /* The lobe error may improve with more budget; energy created by the fine-tune is a
+     * property of the level at that roughness (docs/BAKE.md, "Sharp coats"). */
+    const int lobe = fit->heldout_error > fit->heldout_error_fast;
+    snprintf(msg, sizeof msg, "%s: baked at fast instead; %s%g s)%s", why,
+             lobe ? "give it a larger --budget (this one: " : "(budget ", fit->budget,
+             bake_fit_creates_energy(fit) ? "; --no-fallback keeps the level's texture anyway"
+                                          : "");
     o->warning(o->user, msg);
   }
   char attr[1024];
