@@ -170,10 +170,18 @@ typedef struct nbrdf_bake_range {
   double min, max;
   double lo, hi;             /* the trained range */
   nbrdf_range_policy policy; /* CLAMP: baked as lo or hi; REFUSE: the bake fails after the report */
+  /* alpha1 and alpha2: the lowest value (units as lo) that the levels fitting their own ground
+   * truth (FITTED, SPECIALISED, COMPACT, and AUTO when it climbs there) take as given, below
+   * lo (GGX alpha NBRDF_GT_ALPHA_MIN); FAST still bakes what is below lo as lo. Any other
+   * parameter: lo. below_fit counts the texels below fit_lo (counted in `below` too). */
+  double fit_lo;
+  size_t below_fit;
+  nbrdf_bake_accuracy accuracy; /* the level asked for: what the message says happens */
 } nbrdf_bake_range;
 
 /* The report's line in words, e.g. "alpha1 (perceptual roughness): 1,204 texels below 0.1
- * (min 0.02) will be baked as 0.1". Returns `buf`. */
+ * (min 0.02) will be baked as 0.1", or at a fitting level "alpha1 (GGX alpha): 0.002 is below
+ * 0.01: fast bakes it as 0.01; fitted, specialised and compact fit it as given". Returns `buf`. */
 const char *nbrdf_bake_range_message(const nbrdf_bake_range *range, char *buf, size_t cap);
 
 typedef struct nbrdf_bake_options {
@@ -263,7 +271,13 @@ typedef struct nbrdf_bake_options {
   /* Non-zero: a level worse than fast on its held-out tuples is baked anyway (with the
    * warning) instead of falling back to fast: for measuring the levels themselves. */
   int no_fallback;
+  /* SPECIALISED and COMPACT: the weight of the energy term in the decoder fine-tune (docs/BAKE.md,
+   * "Sharp coats"): 0 (default) NBRDF_BAKE_FIT_ENERGY_DEFAULT, < 0 off (for measuring what it
+   * does; the held-out check's energy guard still falls back). */
+  double fit_energy;
 } nbrdf_bake_options;
+
+#define NBRDF_BAKE_FIT_ENERGY_DEFAULT 0.1
 
 #define NBRDF_BAKE_ENERGY_AUDIT_DEFAULT 16384
 
@@ -273,7 +287,7 @@ typedef struct nbrdf_bake_options {
   {                                                                                                \
     NBRDF_BAKE_HALF, 0, 64, NBRDF_ROUGHNESS_ALPHA, NBRDF_RANGE_CLAMP, NULL, NULL, NULL, NULL, NULL,\
         NBRDF_BAKE_TUPLE_CACHE_DEFAULT, 0, NBRDF_BAKE_ZIP, NBRDF_BAKE_ENERGY_AUDIT_DEFAULT,        \
-        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL, 0.0, 0, 0            \
+        NBRDF_BAKE_FAST, 0.0, 1u, 0, 0, NBRDF_DEVICE_CPU, NULL, NULL, NULL, 0.0, 0, 0, 0.0       \
   }
 
 /* What a finished bake did (optional output of nbrdf_bake). */
@@ -303,7 +317,8 @@ typedef struct nbrdf_bake_report {
   /* The accuracy asked for (AUTO or a level); `accuracy` above is the texture's. */
   nbrdf_bake_accuracy requested;
   /* The level asked for (or auto's best) was worse than fast on its held-out tuples beyond
-   * the margin: the texture is fast's (accuracy FAST; heldout_error is the level's). */
+   * the margin, or created energy (creates_energy below): the texture is fast's (accuracy
+   * FAST; heldout_error is the level's). */
   int fell_back;
   /* AUTO: the target (percent), whether a level met it, every level tried in order (fast
    * first) with its held-out median (fraction), and when none met it the budget that would
@@ -318,6 +333,14 @@ typedef struct nbrdf_bake_report {
    * process CPU seconds the audit took. */
   size_t audit_measured;
   double audit_seconds;
+  /* FITTED / SPECIALISED / COMPACT: the held-out check's energy guard (docs/BAKE.md,
+   * "Held-out check"): the largest decoded directional albedo of the level's latents over the
+   * fit_albedo_tuples fitted and held-out tuples, fast's on the same tuples, and whether the
+   * level creates energy there (above max(1.01, fast's + 0.03): it then falls back, or auto
+   * does not choose it). fit_albedo_tuples 0: not measured (a fit file from before). */
+  size_t fit_albedo_tuples;
+  double fit_max_albedo, fit_max_albedo_fast;
+  int creates_energy;
 } nbrdf_bake_report;
 
 /* Bakes `inputs` with `model` into `out_path`. All maps must share one

@@ -110,6 +110,14 @@ typedef struct nbrdf_verify_report {
   size_t decoded;         /* distinct latents decoded into lobe images */
   size_t decoder_queries; /* decoder evaluations (one colour channel each) */
   size_t clamped;         /* parameters moved into the ground truth's range, per look-up */
+  /* Look-ups (as `clamped`) whose alpha1 or alpha2 is below the model's trained range
+   * (alpha_trained_min for alpha1): the ground truth is still that of the values as given.
+   * alpha_clamped_by_texture: the texture is at the fast level (or fell back to it), whose
+   * latents stand for such alpha clamped to the trained minimum; else a fitting level fitted
+   * them as given (docs/BAKE.md, "Sharp coats"). */
+  size_t below_trained_alpha;
+  int alpha_clamped_by_texture;
+  double alpha_trained_min;
   /* Every tile of every level is read first; texels (any level) holding a
    * non-finite latent are counted here, the first one located. */
   size_t nonfinite;

@@ -208,6 +208,8 @@ static nbrdf_status evaluate_and_write(const bake_texture *t, const bake_level *
   size_t cache_max = band_rows < H ? o->tuple_cache : 0;
   bake_band_init(&band, ev->model, src, &ev->work, W, o->roughness, o->range, cache_max,
                  o->quantise_bits);
+  float take_hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_taken_ranges(ev->model, o->accuracy, band.take, take_hi);
   band.tick = band_tick;
   band.audit_tick = audit_tick;
   band.tick_user = prog;
@@ -278,6 +280,7 @@ static void accuracy_attribute(const bake_fit_result *fit, nbrdf_bake_accuracy r
     append(buf, cap, d);
   }
   if (fell_back) append(buf, cap, "; fellBack=1");
+  if (fell_back && bake_fit_creates_energy(fit)) append(buf, cap, "; fellBackFor=energy");
   if (rest[0]) {
     append(buf, cap, "; ");
     append(buf, cap, rest);
@@ -344,14 +347,22 @@ static nbrdf_status run(const nbrdf_model *model, texture_param_source **src,
                         bake_fit_worse_than_fast(fit);
   nbrdf_bake_options lo = *o;
   lo.accuracy = fell_back ? NBRDF_BAKE_FAST : chosen;
+  /* Fast after a fitting level was asked for (a fallback, auto's choice): the range check
+   * let alpha below the trained range through as the fitting levels take it, and the range
+   * report said fast bakes it as the trained minimum; anything the policy refuses was
+   * refused then, so clamping here moves only those. */
+  if (lo.accuracy == NBRDF_BAKE_FAST && bake_level_fits_alpha(o->accuracy))
+    lo.range = NBRDF_RANGE_CLAMP;
   if (fell_back && o->warning) {
-    char msg[512];
-    snprintf(msg, sizeof msg,
-             "the %s texture's held-out lobe error (%.2f %%) is worse than the fast level's "
-             "(%.2f %%) on the same %zu tuples (θi up to 89°, off-plane azimuths): baked at "
-             "fast instead; give it a larger --budget (this one: %g s)",
-             nbrdf_bake_accuracy_name(chosen), 100.0 * fit->heldout_error,
-             100.0 * fit->heldout_error_fast, fit->heldout, fit->budget);
+    char why[640], msg[896];
+    bake_fit_worse_message(fit, chosen, why, sizeof why);
+    /* The lobe error may improve with more budget; energy created by the fine-tune is a
+     * property of the level at that roughness (docs/BAKE.md, "Sharp coats"). */
+    const int lobe = fit->heldout_error > fit->heldout_error_fast;
+    snprintf(msg, sizeof msg, "%s: baked at fast instead; %s%g s)%s", why,
+             lobe ? "give it a larger --budget (this one: " : "(budget ", fit->budget,
+             bake_fit_creates_energy(fit) ? "; --no-fallback keeps the level's texture anyway"
+                                          : "");
     o->warning(o->user, msg);
   }
   char attr[1024];

@@ -5,7 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_audit.h"
+#include "bake/bake_energy_check.h"
 #include "bake/bake_heldout.h"
+#include "bake/bake_range.h"
 #include "bake/bake_select.h"
 #include "core/error.h"
 
@@ -46,12 +49,60 @@
 #define LOBE_RES 32
 #define LOBE_WALKS 512
 
-int bake_fit_worse_than_fast(const bake_fit_result *r) {
+static int lobe_worse(const bake_fit_result *r) {
   return r->heldout > 0 && r->heldout_error > r->heldout_error_fast + BAKE_FALLBACK_MARGIN;
+}
+
+int bake_fit_creates_energy(const bake_fit_result *r) {
+  return r->albedo_tuples > 0 && bake_energy_creates(r->albedo_max, r->albedo_max_fast);
+}
+
+int bake_fit_worse_than_fast(const bake_fit_result *r) {
+  return lobe_worse(r) || bake_fit_creates_energy(r);
+}
+
+void bake_fit_worse_message(const bake_fit_result *r, nbrdf_bake_accuracy level, char *buf,
+                            size_t cap) {
+  buf[0] = '\0';
+  const char *name = nbrdf_bake_accuracy_name(level);
+  size_t len = 0;
+  if (lobe_worse(r))
+    len = (size_t)snprintf(buf, cap,
+                           "the %s texture's held-out lobe error (%.2f %%) is worse than the "
+                           "fast level's (%.2f %%) on the same %zu tuples (θi up to 89°, "
+                           "off-plane azimuths)",
+                           name, 100.0 * r->heldout_error, 100.0 * r->heldout_error_fast,
+                           r->heldout);
+  if (len < cap && bake_fit_creates_energy(r)) {
+    if (len) len += (size_t)snprintf(buf + len, cap - len, "; ");
+    if (len < cap) bake_fit_energy_message(r, level, buf + len, cap - len);
+  }
+}
+
+void bake_fit_energy_message(const bake_fit_result *r, nbrdf_bake_accuracy level, char *buf,
+                             size_t cap) {
+  snprintf(buf, cap,
+           "the %s decoder creates energy: its largest decoded directional albedo over the %zu "
+           "fitted and held-out tuples is %.3f, above the limit %.3f (max of the audit's %.2f "
+           "and fast's %.3f + %.2f on the same tuples)",
+           nbrdf_bake_accuracy_name(level), r->albedo_tuples, r->albedo_max,
+           bake_energy_limit(r->albedo_max_fast), BAKE_AUDIT_LIMIT, r->albedo_max_fast,
+           BAKE_ENERGY_MARGIN);
 }
 
 static double step_cost(size_t n_fit, int rows, int64_t macs, double passes) {
   return (double)n_fit * rows * (double)macs * passes / MAC_RATE;
+}
+
+/* The joint fine-tune's energy term (bake_fit.h): its rows per penalised tuple, the audit's
+ * rule at its six angles, forward and backward like the data term's. Charged whether or not
+ * it is on (it is by default): a plan does not depend on the option. */
+#define ENERGY_ROWS (BAKE_AUDIT_N_THETA * (BAKE_FIT_ENERGY_RINGS * BAKE_AUDIT_POLAR_PHI + 1))
+
+static double joint_cost(size_t n_fit, int rows, int64_t macs) {
+  size_t k = n_fit < BAKE_FIT_ENERGY_BRDFS ? n_fit : BAKE_FIT_ENERGY_BRDFS;
+  return step_cost(n_fit, rows, macs, JOINT_PASSES) +
+         step_cost(k, ENERGY_ROWS, macs, JOINT_PASSES) / BAKE_FIT_ENERGY_EVERY;
 }
 
 static int rows_for(size_t n_fit) { return n_fit <= 32 ? 256 : 128; }
@@ -63,7 +114,7 @@ static nbrdf_status plan_fit(nbrdf_bake_accuracy level, double share, double bud
   memset(p, 0, sizeof *p);
   const int joint = level >= NBRDF_BAKE_SPECIALISED;
   const double per_step = step_cost(1, 256, macs, PROJECT_PASSES) +
-                          (joint ? 3.0 * step_cost(1, 256, macs, JOINT_PASSES) : 0.0);
+                          (joint ? 3.0 * joint_cost(1, 256, macs) : 0.0);
   const double min_cost = COST_LOBE + MIN_INCIDENT * COST_INCIDENT + MIN_STEPS * per_step;
   if (!(budget >= min_cost)) {
     char also[128] = "";
@@ -98,7 +149,7 @@ static nbrdf_status plan_fit(nbrdf_bake_accuracy level, double share, double bud
     int rows = rows_for(n_fit);
     double left = rest - n_fit * p->incident * COST_INCIDENT;
     double one = step_cost(n_fit, rows, macs, PROJECT_PASSES) +
-                 (joint ? 3.0 * step_cost(n_fit, rows, macs, JOINT_PASSES) : 0.0);
+                 (joint ? 3.0 * joint_cost(n_fit, rows, macs) : 0.0);
     double steps = left / one; /* projection steps; joint: three times as many joint steps */
     if (steps >= MIN_STEPS || n_fit == 1) {
       if (steps > MAX_STEPS) steps = MAX_STEPS;
@@ -110,12 +161,12 @@ static nbrdf_status plan_fit(nbrdf_bake_accuracy level, double share, double bud
         /* What the projection leaves goes to the joint fit, up to MAX_JOINT
          * steps (a scene of few tuples affords many: the fit keeps improving). */
         double js = (left - steps * step_cost(n_fit, rows, macs, PROJECT_PASSES)) /
-                    step_cost(n_fit, rows, macs, JOINT_PASSES);
+                    joint_cost(n_fit, rows, macs);
         p->joint_steps = js > MAX_JOINT ? MAX_JOINT : js < 3 * MIN_STEPS ? 3 * MIN_STEPS : (int)js;
       }
       p->cost = p->n_held * COST_LOBE + n_fit * p->incident * COST_INCIDENT +
                 p->project_steps * step_cost(n_fit, rows, macs, PROJECT_PASSES) +
-                p->joint_steps * step_cost(n_fit, rows, macs, JOINT_PASSES);
+                p->joint_steps * joint_cost(n_fit, rows, macs);
       return NBRDF_OK;
     }
   }
@@ -153,6 +204,16 @@ void bake_fit_result_report(const bake_fit_result *r, nbrdf_bake_report *rep) {
   rep->heldout_tuples = r->heldout;
   rep->heldout_error = r->heldout_error;
   rep->heldout_error_fast = r->heldout_error_fast;
+  rep->fit_albedo_tuples = r->albedo_tuples;
+  rep->fit_max_albedo = r->albedo_max;
+  rep->fit_max_albedo_fast = r->albedo_max_fast;
+  rep->creates_energy = bake_fit_creates_energy(r);
+}
+
+float bake_fit_energy_weight(const nbrdf_bake_options *o) {
+  return o->fit_energy < 0.0 ? 0.0f
+         : o->fit_energy > 0.0 ? (float)o->fit_energy
+                               : (float)NBRDF_BAKE_FIT_ENERGY_DEFAULT;
 }
 
 double bake_accuracy_budget(const nbrdf_bake_options *o) {
@@ -200,7 +261,11 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
   int64_t student_macs;
   nbrdf_status sm = student_macs_of(o, &student_macs, err);
   if (sm != NBRDF_OK) return sm;
-  bake_gather_settings gs = {lo, hi, o->roughness, o->range, o->quantise_bits, o->cancel};
+  /* alpha1 and alpha2 below the trained range are fitted as given (bake_range.h): their
+   * ground truth is that of the user's values, the networks see the trained minimum. */
+  float take[NBRDF_BAKE_PARAM_COUNT], take_hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_taken_ranges(model, o->accuracy, take, take_hi);
+  bake_gather_settings gs = {lo, hi, take, o->roughness, o->range, o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;
   size_t n_cand = 0;
   nbrdf_status st = bake_gather_tuples(scenes, n_scenes, &gs, &cand, &n_cand, &r->distinct, err);
@@ -235,7 +300,7 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
       core_ticker_tick(ticker, "ground truth", ts.total, ts.total, 1))
     st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled after the ground truth");
   bake_fit_settings fs = {plan.project_steps, plan.joint_steps, plan.rows_per_brdf, o->seed,
-                          ticker, o->cancel};
+                          ticker, o->cancel, bake_fit_energy_weight(o)};
   if (st == NBRDF_OK)
     st = bake_fit_run(model, sel.fit, sel.n_fit, &samples, &fs, &r->correction, err);
   bake_compact_settings cs = {width, plan.distil_steps, plan.distil_rows, o->seed + 3, ticker,
@@ -247,16 +312,33 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
     st = bake_heldout_error(model, &r->correction, compact ? &r->compact : NULL, sel.held,
                             sel.n_held, images, LOBE_RES, o->seed, &r->heldout_error,
                             &r->heldout_error_fast, NULL, err);
+  /* The energy guard on every tuple whose truth the fit or the check used. */
+  bake_tuple *both = NULL;
+  size_t n_both = sel.n_fit + (sel.held_are_fitted ? 0 : sel.n_held);
+  if (st == NBRDF_OK) {
+    both = malloc(sizeof *both * (n_both ? n_both : 1));
+    if (!both) st = core_fail(err, NBRDF_ERR_MEMORY, "bake: out of memory for the energy check");
+  }
+  if (st == NBRDF_OK) {
+    memcpy(both, sel.fit, sizeof *both * sel.n_fit);
+    if (!sel.held_are_fitted) memcpy(both + sel.n_fit, sel.held, sizeof *both * sel.n_held);
+    st = bake_energy_measure(model, &r->correction, compact ? &r->compact : NULL, both, n_both,
+                             &r->albedo_max, &r->albedo_max_fast, NULL, err);
+    r->albedo_tuples = st == NBRDF_OK ? n_both : 0;
+  }
+  free(both);
   if (st == NBRDF_OK) {
     r->fitted = sel.n_fit;
     r->heldout = sel.n_held;
     r->level = o->accuracy;
     snprintf(r->attribute, sizeof r->attribute,
              "level=%s; budget=%g; cost=%.1f; distinct=%zu; fitted=%zu; heldout=%zu%s; "
-             "heldoutError=%.4f; fastError=%.4f; seed=%llu",
+             "heldoutError=%.4f; fastError=%.4f; maxAlbedoFit=%.4f; fastMaxAlbedoFit=%.4f; "
+             "seed=%llu",
              nbrdf_bake_accuracy_name(o->accuracy), r->budget, plan.cost, r->distinct, r->fitted,
              r->heldout, sel.held_are_fitted ? " (fitted tuples, independent truth)" : "",
-             r->heldout_error, r->heldout_error_fast, (unsigned long long)o->seed);
+             r->heldout_error, r->heldout_error_fast, r->albedo_max, r->albedo_max_fast,
+             (unsigned long long)o->seed);
     if (compact) {
       size_t len = strlen(r->attribute);
       snprintf(r->attribute + len, sizeof r->attribute - len,
@@ -281,7 +363,11 @@ nbrdf_status bake_accuracy_fast_error(const nbrdf_model *model, const bake_scene
   *fast = 0.0, *heldout = 0, *distinct = 0;
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
   model_material_ranges(model, lo, hi);
-  bake_gather_settings gs = {lo, hi, o->roughness, o->range, o->quantise_bits, o->cancel};
+  /* alpha1 and alpha2 below the trained range are fitted as given (bake_range.h): their
+   * ground truth is that of the user's values, the networks see the trained minimum. */
+  float take[NBRDF_BAKE_PARAM_COUNT], take_hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_taken_ranges(model, o->accuracy, take, take_hi);
+  bake_gather_settings gs = {lo, hi, take, o->roughness, o->range, o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;
   size_t n_cand = 0;
   nbrdf_status st = bake_gather_tuples(scenes, n_scenes, &gs, &cand, &n_cand, distinct, err);

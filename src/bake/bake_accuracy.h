@@ -49,6 +49,11 @@ typedef struct bake_fit_result {
   bake_compact compact;       /* COMPACT: the basis and the student (else zero) */
   size_t distinct, fitted, heldout;
   double heldout_error, heldout_error_fast;
+  /* The energy guard (bake_energy_check.h) over the fitted and held-out tuples: the largest
+   * decoded directional albedo with the level's decoder and with fast's, and how many tuples
+   * (0: not measured, a fit file from before the guard; no energy verdict then). */
+  double albedo_max, albedo_max_fast;
+  size_t albedo_tuples;
   nbrdf_bake_accuracy level; /* the level fitted (FAST: nothing fitted) */
   double budget;
   char attribute[512]; /* NBRDF_ATTR_ACCURACY */
@@ -73,9 +78,24 @@ void bake_fit_result_report(const bake_fit_result *r, nbrdf_bake_report *rep);
  * the same ground truth, so its noise largely cancels; what is left is the decoders'. */
 #define BAKE_FALLBACK_MARGIN 0.0025
 
-/* Non-zero when the fit's held-out error is worse than the fast level's beyond the margin:
- * the bake then falls back to fast (docs/BAKE.md, "Held-out check"). */
+/* Non-zero when the fit's held-out error is worse than the fast level's beyond the margin,
+ * or when its decoder creates energy on the tuples it was checked on (bake_fit_creates_energy):
+ * the bake then falls back to fast and auto never chooses it (docs/BAKE.md, "Held-out
+ * check"). */
 int bake_fit_worse_than_fast(const bake_fit_result *r);
+/* Non-zero when the energy guard measured the fit and its largest decoded albedo exceeds
+ * bake_energy_limit of fast's (bake_energy_check.h). */
+int bake_fit_creates_energy(const bake_fit_result *r);
+/* Why a fit is worse than fast, for a warning: "the LEVEL texture's held-out lobe error
+ * (...) is worse than..." and/or "its decoder creates energy: ...", naming the figures. */
+void bake_fit_worse_message(const bake_fit_result *r, nbrdf_bake_accuracy level, char *buf,
+                            size_t cap);
+/* The energy part of it alone: "the LEVEL decoder creates energy: ... 805.000, above ...". */
+void bake_fit_energy_message(const bake_fit_result *r, nbrdf_bake_accuracy level, char *buf,
+                             size_t cap);
+
+/* The fine-tune's energy weight of o->fit_energy: 0 gives the default, < 0 off (0). */
+float bake_fit_energy_weight(const nbrdf_bake_options *o);
 
 /* o->budget, or the default of o->accuracy. */
 double bake_accuracy_budget(const nbrdf_bake_options *o);

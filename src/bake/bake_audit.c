@@ -105,6 +105,24 @@ void bake_audit_slope_max(double *slope) {
   }
 }
 
+nbrdf_status bake_albedo_precise_with(const model_decoder *dec, size_t n, const float *latents,
+                                      double *maxv, int *theta_index, nbrdf_error *err) {
+  if (n == 0) return NBRDF_OK;
+  double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
+  if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+  model_runner runner;
+  nbrdf_status st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  if (!st) {
+    st = model_albedo_decoded_polar(dec, &runner, n, latents, BAKE_AUDIT_N_THETA,
+                                    bake_audit_theta_deg, BAKE_AUDIT_POLAR_RINGS,
+                                    BAKE_AUDIT_POLAR_PHI, rho, err);
+    model_runner_destroy(&runner);
+  }
+  if (!st) max_over_theta(rho, n, maxv, theta_index);
+  free(rho);
+  return st;
+}
+
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
                                  int *theta_index, nbrdf_error *err) {

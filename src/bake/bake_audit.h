@@ -9,6 +9,7 @@
 #include <stddef.h>
 
 #include "bake/bake_tuple.h"
+#include "model/decoder.h"
 #include "model/netio.h"
 #include "nbrdf/model.h"
 
@@ -95,6 +96,12 @@ struct gpu_network;
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
                                  int *theta_index, nbrdf_error *err);
+
+/* The same measurement with any decoder of the model's layout on the CPU (a fit's
+ * fine-tuned copy, a compact student with its coordinates): the held-out check's energy
+ * guard (bake_energy_check.h). */
+nbrdf_status bake_albedo_precise_with(const model_decoder *dec, size_t n, const float *latents,
+                                      double *maxv, int *theta_index, nbrdf_error *err);
 
 typedef struct bake_audit_cell bake_audit_cell;
 typedef struct bake_audit_anchor bake_audit_anchor;

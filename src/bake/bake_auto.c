@@ -66,6 +66,12 @@ static nbrdf_status try_level(const nbrdf_model *model, const bake_scene *scenes
   a->error[a->tried] = r->heldout_error;
   a->worse[a->tried] = bake_fit_worse_than_fast(r);
   a->tried++;
+  if (o->warning && bake_fit_creates_energy(r)) {
+    char why[512], msg[640];
+    bake_fit_energy_message(r, level, why, sizeof why);
+    snprintf(msg, sizeof msg, "auto: %s not chosen: %s", nbrdf_bake_accuracy_name(level), why);
+    o->warning(o->user, msg);
+  }
   return NBRDF_OK;
 }
 

@@ -54,6 +54,7 @@ void bake_band_init(bake_band *b, const nbrdf_model *model, texture_param_source
   b->roughness = roughness;
   b->range = range;
   model_material_ranges(model, b->lo, b->hi);
+  memcpy(b->take, b->lo, sizeof b->take);
 }
 
 void bake_band_free(bake_band *b) {
@@ -84,12 +85,12 @@ static nbrdf_status check_value(bake_band *b, int id, float *v, int x, int y, in
                                 nbrdf_error *err) {
   const float typed = *v;
   model_material_verdict verdict =
-      model_material_prepare(b->lo, b->hi, id, b->roughness, b->range, v, NULL);
+      model_material_prepare(b->take, b->hi, id, b->roughness, b->range, v, NULL);
   if (verdict == MODEL_VALUE_CLAMPED) b->clamped[id]++;
   if (verdict <= MODEL_VALUE_CLAMPED) return NBRDF_OK;
   char at[600];
   bake_source_where(b->src, id, x, y, c, at, sizeof at);
-  return model_material_fail(verdict, b->lo, b->hi, id, b->roughness, at, typed, err);
+  return model_material_fail(verdict, b->take, b->hi, id, b->roughness, at, typed, err);
 }
 
 static uint64_t tuple_hash(const bake_tuple *t) {
@@ -234,8 +235,7 @@ nbrdf_status bake_band_run(bake_band *b, int y0, int rows, float *texels, nbrdf_
           float v = texture_param_band_at(&band[id], x, j, c);
           nbrdf_status st = check_value(b, id, &v, x, y0 + j, c, err);
           if (st != NBRDF_OK) return st;
-          t.p[id] =
-              b->quantise_bits ? model_material_quantise(b->lo, b->hi, id, b->quantise_bits, v) : v;
+          t.p[id] = b->quantise_bits ? bake_quantise(b->lo, b->hi, id, b->quantise_bits, v) : v;
         }
         b->slot[((size_t)j * b->width + x) * C + c] = intern(b, &t, &n_uniq);
       }

@@ -36,6 +36,9 @@ typedef struct bake_band {
   nbrdf_range_policy range;
   int quantise_bits;                                            /* 0: off */
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT]; /* trained ranges */
+  /* The lower ends values are taken down to as given (bake_taken_ranges): lo after init; the
+   * fitting levels lower alpha1's and alpha2's, whose latents the correction then carries. */
+  float take[NBRDF_BAKE_PARAM_COUNT];
   /* scratch, grown as needed */
   bake_tuple *uniq; /* distinct tuples of the band */
   float *uniq_out;  /* their latent, sigma, w: latent_dim + 2 floats each */

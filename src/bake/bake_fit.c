@@ -4,10 +4,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_audit.h"
 #include "bake/bake_select.h"
 #include "core/error.h"
 #include "model/autodecoder.h"
 #include "model/bundle.h"
+#include "train/energy_reference.h"
 #include "train/trainer.h"
 
 void bake_correction_free(bake_correction *c) {
@@ -31,20 +33,52 @@ static nbrdf_status clone_decoder(const model_decoder *src, model_decoder **out,
 typedef struct fit_run {
   model_fit *fit;
   const model_samples *ms;
+  train_energy *energy; /* NULL: no energy term */
+  const float *z;
 } fit_run;
+
+nbrdf_status bake_fit_step(model_fit *fit, const model_samples *ms, train_energy *energy,
+                           const float *z, int64_t step, double *loss, nbrdf_error *err) {
+  nbrdf_status st = model_fit_gradient(fit, ms, step, loss, err);
+  double penalty = 0.0;
+  if (st == NBRDF_OK && energy && step % BAKE_FIT_ENERGY_EVERY == 0)
+    st = train_energy_add_fit(energy, fit, z, step, &penalty, err);
+  if (st == NBRDF_OK) *loss += penalty;
+  return st;
+}
+
+nbrdf_status bake_fit_energy_create(const model_decoder *dec, const train_samples *samples,
+                                    float lambda, uint64_t seed, train_energy **out,
+                                    nbrdf_error *err) {
+  *out = NULL;
+  if (!(lambda > 0.0f)) return NBRDF_OK;
+  model_energy_options eo = MODEL_ENERGY_OPTIONS_DEFAULT;
+  eo.lambda = lambda * BAKE_FIT_ENERGY_EVERY; /* applied every BAKE_FIT_ENERGY_EVERY steps */
+  /* The audit's angles and rule (bake_audit.h): what the held-out check's guard measures. */
+  eo.n_theta = BAKE_AUDIT_N_THETA;
+  for (int t = 0; t < BAKE_AUDIT_N_THETA; t++)
+    eo.theta_deg[t] = bake_audit_theta_deg[t];
+  eo.polar_rings = BAKE_FIT_ENERGY_RINGS, eo.polar_phi = BAKE_AUDIT_POLAR_PHI;
+  eo.seed = seed;
+  size_t n = samples->n_brdfs;
+  return train_energy_create(dec, samples, &eo,
+                             n < BAKE_FIT_ENERGY_BRDFS ? (int)(n ? n : 1) : BAKE_FIT_ENERGY_BRDFS,
+                             out, err);
+}
 
 static nbrdf_status fit_gradient(void *user, int64_t step, double *loss, nbrdf_error *err) {
   fit_run *f = user;
-  return model_fit_gradient(f->fit, f->ms, step, loss, err);
+  return bake_fit_step(f->fit, f->ms, f->energy, f->z, step, loss, err);
 }
 
 /* `steps` steps of one fit in the shared trainer (in memory: a bake's fit is short and
  * restarts with the bake), ticking stage "fit" from `done0` of `total`. Learning rates
  * halve every third of the run. */
 static nbrdf_status fit_steps(model_decoder *dec, size_t n, float *z, const model_fit_options *o,
-                              int steps, const model_samples *ms, const bake_fit_settings *s,
-                              int done0, int total, nbrdf_error *err) {
-  fit_run f = {NULL, ms};
+                              int steps, const model_samples *ms, train_energy *energy,
+                              const bake_fit_settings *s, int done0, int total,
+                              nbrdf_error *err) {
+  fit_run f = {NULL, ms, energy, z};
   nbrdf_status st = model_fit_create(dec, n, z, o, &f.fit, err);
   if (st != NBRDF_OK) return st;
   int decay = steps / 3 > 0 ? steps / 3 : 0;
@@ -115,14 +149,19 @@ nbrdf_status bake_fit_run(const nbrdf_model *model, const bake_tuple *t, size_t 
   o.lr_latent = 1e-2f;
   /* Frozen decoder: the fit never writes its weights (as nbrdf_model_project). */
   if (st == NBRDF_OK && s->project_steps > 0)
-    st = fit_steps(model->decoder, n, z, &o, s->project_steps, &ms, s, 0, total, err);
+    st = fit_steps(model->decoder, n, z, &o, s->project_steps, &ms, NULL, s, 0, total, err);
   if (st == NBRDF_OK && s->joint_steps > 0) {
     st = clone_decoder(model->decoder, &c->decoder, err);
     o.lr_latent = 5e-3f;
     o.lr_weights = 5e-4f;
     o.seed = s->seed + 1;
+    train_energy *energy = NULL;
     if (st == NBRDF_OK)
-      st = fit_steps(c->decoder, n, z, &o, s->joint_steps, &ms, s, s->project_steps, total, err);
+      st = bake_fit_energy_create(c->decoder, samples, s->energy, s->seed + 2, &energy, err);
+    if (st == NBRDF_OK)
+      st = fit_steps(c->decoder, n, z, &o, s->joint_steps, &ms, energy, s, s->project_steps,
+                     total, err);
+    train_energy_destroy(energy);
   }
   if (st == NBRDF_OK && s->ticker && core_ticker_tick(s->ticker, "fit", total, total, 1))
     st = core_fail(err, NBRDF_ERR_CANCELLED, "bake: cancelled after the fit");

@@ -31,7 +31,21 @@ typedef struct bake_fit_settings {
   uint64_t seed;
   core_ticker *ticker; /* stage "fit", done/total in steps; may be NULL */
   volatile sig_atomic_t *cancel;
+  /* The joint fine-tune's energy term (model/energy.h through train/energy_reference.h): its
+   * weight λ (0: off). Each joint step penalises min(n, BAKE_FIT_ENERGY_BRDFS) fitted tuples'
+   * decoded directional albedo above min(1, ρ + 2 se + 0.01), ρ their ground truth's
+   * (nbrdf_brdf_albedo), by the audit's polar rule of BAKE_FIT_ENERGY_RINGS rings at its six θi (0-89°). Without it
+   * a decoder fine-tuned on lobes sharper than it was trained on (α 0.001) matches the lobe
+   * samples while its lobe integrates to hundreds (docs/notes/2026-11-29-sharp-alpha.md). */
+  float energy;
 } bake_fit_settings;
+
+/* Applied on every BAKE_FIT_ENERGY_EVERY-th step with its weight times as much (the same
+ * expected gradient for a quarter of its decoder rows: the smallest specialised plan stays
+ * under 2 s of the cost model). */
+#define BAKE_FIT_ENERGY_EVERY 4
+#define BAKE_FIT_ENERGY_BRDFS 8
+#define BAKE_FIT_ENERGY_RINGS 12
 
 typedef struct bake_correction {
   int latent_dim;
@@ -51,6 +65,22 @@ nbrdf_status bake_fit_run(const nbrdf_model *model, const bake_tuple *t, size_t 
                           const train_samples *samples, const bake_fit_settings *s,
                           bake_correction *c, nbrdf_error *err);
 void bake_correction_free(bake_correction *c);
+
+struct train_energy;
+struct model_fit;
+struct model_samples;
+/* The joint fine-tune's energy term for `dec` over the fit's BRDFs `samples` (their
+ * parameters give the ceilings): *out NULL when lambda <= 0. */
+nbrdf_status bake_fit_energy_create(const model_decoder *dec, const train_samples *samples,
+                                    float lambda, uint64_t seed, struct train_energy **out,
+                                    nbrdf_error *err);
+/* One step of the fit's objective, what its trainer calls: the data term of
+ * model_fit_gradient and, with `energy` (may be NULL) on every BAKE_FIT_ENERGY_EVERY-th step,
+ * the energy term of the BRDFs the step draws (z: the fit's latents), both in the fit's
+ * gradients; *loss their sum. */
+nbrdf_status bake_fit_step(struct model_fit *fit, const struct model_samples *ms,
+                           struct train_energy *energy, const float *z, int64_t step,
+                           double *loss, nbrdf_error *err);
 
 /* Adds the carried correction to the latents of n tuples: tuple t[idx[k]]
  * (idx NULL: t[k]) has its latent at out + idx[k] * stride (idx NULL:

@@ -98,6 +98,10 @@ static nbrdf_status fill(nn_st_writer *w, const nbrdf_fit *f, nbrdf_error *err) 
   if (st == NBRDF_OK) st = meta_f(w, "nbrdf.heldout_error", err, "%.17g", r->heldout_error);
   if (st == NBRDF_OK)
     st = meta_f(w, "nbrdf.heldout_error_fast", err, "%.17g", r->heldout_error_fast);
+  if (st == NBRDF_OK) st = meta_f(w, "nbrdf.albedo_tuples", err, "%zu", r->albedo_tuples);
+  if (st == NBRDF_OK) st = meta_f(w, "nbrdf.albedo_max", err, "%.17g", r->albedo_max);
+  if (st == NBRDF_OK)
+    st = meta_f(w, "nbrdf.albedo_max_fast", err, "%.17g", r->albedo_max_fast);
   if (st == NBRDF_OK) st = meta_f(w, "nbrdf.budget", err, "%.17g", r->budget);
   if (st == NBRDF_OK) st = meta(w, "nbrdf.attribute", r->attribute, err);
   for (int id = 0; st == NBRDF_OK && id < NBRDF_BAKE_PARAM_COUNT; id++) {
@@ -268,6 +272,14 @@ static nbrdf_status read_result(const nn_st_reader *r, nbrdf_fit *f, nbrdf_error
   if (st == NBRDF_OK)
     st = model_meta_double(r, "nbrdf.heldout_error_fast", 0.0, 1e30, &res->heldout_error_fast,
                            err);
+  /* The energy guard's figures: absent from fit files made before it (no verdict then). */
+  if (st == NBRDF_OK && nn_st_metadata_get(r, "nbrdf.albedo_tuples")) {
+    st = meta_size(r, "nbrdf.albedo_tuples", &res->albedo_tuples, err);
+    if (st == NBRDF_OK)
+      st = model_meta_double(r, "nbrdf.albedo_max", 0.0, 1e30, &res->albedo_max, err);
+    if (st == NBRDF_OK)
+      st = model_meta_double(r, "nbrdf.albedo_max_fast", 0.0, 1e30, &res->albedo_max_fast, err);
+  }
   if (st == NBRDF_OK) st = model_meta_double(r, "nbrdf.budget", 0.0, 1e30, &res->budget, err);
   if (st == NBRDF_OK) st = nn_st_metadata_require(r, "nbrdf.attribute", &v, err);
   if (st == NBRDF_OK) snprintf(res->attribute, sizeof res->attribute, "%s", v);

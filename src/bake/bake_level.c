@@ -137,6 +137,12 @@ static void audit_fitted(const nbrdf_bake_options *o, const bake_fit_result *r,
              100.0 * r->heldout_error_fast, r->heldout, r->budget);
     o->warning(o->user, msg);
   }
+  /* Kept (--no-fallback, a fit baked as asked): the guard's verdict is still said. */
+  if (o->warning && bake_fit_creates_energy(r)) {
+    char msg[512];
+    bake_fit_energy_message(r, o->accuracy, msg, sizeof msg);
+    o->warning(o->user, msg);
+  }
   if (!rep) return;
   rep->accuracy = o->accuracy;
   bake_fit_result_report(r, rep);

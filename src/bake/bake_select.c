@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bake/bake_range.h"
 #include "core/error.h"
 #include "core/rng.h"
 #include "model/material.h"
@@ -85,6 +86,7 @@ static nbrdf_status gather_scene(tuple_set *set, const bake_scene *sc,
   nbrdf_status st = NBRDF_OK;
   const int band_rows = 64;
   texture_param_source **src = sc->src;
+  const float *take = s->take ? s->take : s->lo;
   for (int y0 = 0; st == NBRDF_OK && y0 < sc->height; y0 += band_rows) {
     int rows = sc->height - y0 < band_rows ? sc->height - y0 : band_rows;
     if (s->cancel && *s->cancel) {
@@ -102,7 +104,7 @@ static nbrdf_status gather_scene(tuple_set *set, const bake_scene *sc,
             float v = texture_param_band_at(&band[id], x, j, c);
             const float typed = v;
             model_material_verdict verdict =
-                model_material_prepare(s->lo, s->hi, id, s->roughness, s->range, &v, NULL);
+                model_material_prepare(take, s->hi, id, s->roughness, s->range, &v, NULL);
             if (verdict > MODEL_VALUE_CLAMPED) {
               char at[400];
               int len = snprintf(at, sizeof at, "%s at texel (%d, %d)",
@@ -111,12 +113,10 @@ static nbrdf_status gather_scene(tuple_set *set, const bake_scene *sc,
               texture_param_map *m = name_map ? texture_param_source_get_map(src[id]) : NULL;
               if (m && len > 0 && (size_t)len < sizeof at)
                 snprintf(at + len, sizeof at - (size_t)len, " of %s", texture_param_map_path(m));
-              st = model_material_fail(verdict, s->lo, s->hi, id, s->roughness, at, typed, err);
+              st = model_material_fail(verdict, take, s->hi, id, s->roughness, at, typed, err);
               break;
             }
-            t.p[id] = s->quantise_bits
-                          ? model_material_quantise(s->lo, s->hi, id, s->quantise_bits, v)
-                          : v;
+            t.p[id] = s->quantise_bits ? bake_quantise(s->lo, s->hi, id, s->quantise_bits, v) : v;
           }
           if (st == NBRDF_OK) set_add(set, &t, distinct);
         }

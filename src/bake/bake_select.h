@@ -28,6 +28,7 @@ typedef struct bake_scene {
 
 typedef struct bake_gather_settings {
   const float *lo, *hi; /* trained ranges */
+  const float *take;    /* lower ends taken as given (bake_taken_ranges); NULL: lo */
   nbrdf_roughness roughness;
   nbrdf_range_policy range;
   int quantise_bits;

@@ -24,7 +24,7 @@ static void json_text(const char *key, const char *text) {
 
 void cli_range_report(void *user, const nbrdf_bake_range *r) {
   const cli_progress_state *p = user;
-  char msg[512];
+  char msg[768];
   nbrdf_bake_range_message(r, msg, sizeof msg);
   if (p->json) {
     printf("{\"event\":\"range\"");
@@ -36,6 +36,12 @@ void cli_range_report(void *user, const nbrdf_bake_range *r) {
     if (r->above) json_number("max", r->max);
     json_number("lo", r->lo);
     json_number("hi", r->hi);
+    /* alpha1, alpha2: what the fitting levels take as given, and how many are below even it. */
+    if (r->fit_lo > 0.0 && r->fit_lo < r->lo) {
+      json_number("fit_lo", r->fit_lo);
+      if (r->below) printf(",\"below_fit\":%zu", r->below_fit);
+    }
+    json_text("accuracy", nbrdf_bake_accuracy_name(r->accuracy));
     json_text("policy", r->policy == NBRDF_RANGE_REFUSE ? "refuse" : "clamp");
     json_text("message", msg);
     printf("}\n");

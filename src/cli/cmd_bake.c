@@ -26,7 +26,8 @@ typedef struct bake_args {
   int force;
   cli_progress_state ps;
   uint64_t energy_audit;
-  int budget_given, compact_given, max_error_given;
+  int budget_given, compact_given, max_error_given, fit_energy_given;
+  double fit_energy; /* --fit-energy (0: off) */
   const char *fit; /* --fit */
 } bake_args;
 
@@ -177,6 +178,11 @@ static void bake_options(bake_args *a, cli_opt_visit visit, void *user) {
        .help = "fitted/specialised/compact: bake the level even when its\n"
                "held-out error is worse than fast's (by default such a\n"
                "bake falls back to fast and says so)"},
+      {.type = CLI_OPT_DOUBLE, .name = "--fit-energy", .meta = "LAMBDA", .lo = 0.0, .hi = 1e6,
+       .dest = &a->fit_energy, .seen = &a->fit_energy_given,
+       .help = "specialised/compact: weight of the energy term in the\n"
+               "decoder fine-tune (default 0.1; 0: off, for measuring it;\n"
+               "the held-out check still falls back on energy creation)"},
       {.type = CLI_OPT_FLAG, .name = "--require", .dest = &a->opts.require, .value = 1,
        .help = "auto: fail (exit 1, no file) when no level within the\n"
                "budget meets --max-error, instead of baking the best"},
@@ -295,6 +301,10 @@ static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
              nbrdf_bake_accuracy_name(rep->accuracy), nbrdf_bake_accuracy_name(rep->requested),
              rep->fell_back ? "true" : "false", rep->budget, rep->distinct, rep->fitted_tuples,
              rep->heldout_tuples, rep->heldout_error, rep->heldout_error_fast);
+    if (rep->requested != NBRDF_BAKE_FAST && rep->fit_albedo_tuples)
+      printf(",\"fit_max_albedo\":%.5f,\"fit_max_albedo_fast\":%.5f,\"creates_energy\":%s",
+             rep->fit_max_albedo, rep->fit_max_albedo_fast,
+             rep->creates_energy ? "true" : "false");
     if (rep->requested == NBRDF_BAKE_AUTO) {
       printf(",\"max_error\":%g,\"met\":%s,\"tried\":[", rep->max_error,
              rep->met ? "true" : "false");
@@ -325,6 +335,11 @@ static void print_report(const bake_args *a, const nbrdf_bake_report *rep) {
              rep->budget, rep->fitted_tuples, rep->distinct, rep->heldout_tuples,
              100.0 * rep->heldout_error, 100.0 * rep->heldout_error_fast,
              rep->fell_back ? "; worse than fast: the texture is fast's" : "");
+    if ((rep->accuracy != NBRDF_BAKE_FAST || rep->fell_back) && rep->fit_albedo_tuples)
+      printf("energy guard: decoded directional albedo up to %.3f on the fit's %zu tuples "
+             "(fast: %.3f)%s\n",
+             rep->fit_max_albedo, rep->fit_albedo_tuples, rep->fit_max_albedo_fast,
+             rep->creates_energy ? "; creates energy" : "");
     if (rep->compact_dim)
       printf("compact: %d latent channels per colour channel (%.2f %% of the scene's latent "
              "variance), decoder %lld multiply-adds per query\n",
@@ -360,6 +375,7 @@ int cmd_bake(int argc, char **argv) {
   if (a.budget_given && a.opts.accuracy == NBRDF_BAKE_FAST)
     return cli_usage_error(
         "bake", "--budget applies to --accuracy fitted, specialised, compact or auto, not fast");
+  if (a.fit_energy_given) a.opts.fit_energy = a.fit_energy > 0.0 ? a.fit_energy : -1.0;
   if (a.opts.accuracy == NBRDF_BAKE_AUTO && !a.max_error_given)
     return cli_usage_error("bake", "--accuracy auto needs --max-error P (percent)");
   if (a.opts.accuracy != NBRDF_BAKE_AUTO && (a.max_error_given || a.opts.require))

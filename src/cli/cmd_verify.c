@@ -177,6 +177,14 @@ static void print_report(const verify_args *a, const nbrdf_verify_report *r) {
     }
   }
   free(order);
+  if (r->below_trained_alpha)
+    printf("note: %zu look-up(s) have alpha1 or alpha2 below the model's trained range (alpha "
+           "%g); the ground truth is of the values as given, %s\n",
+           r->below_trained_alpha, r->alpha_trained_min,
+           r->alpha_clamped_by_texture
+               ? "while this fast texture was baked with them clamped to the trained minimum "
+                 "(a fitted or specialised bake fits them as given: docs/BAKE.md, \"Sharp coats\")"
+               : "which this texture's level fitted");
   printf("energy: max decoded directional albedo of the compared texels %.4f%s\n", r->max_albedo,
          r->max_albedo > 1.01 ? " (above 1.01: the model creates energy there)" : "");
   printf("cost: %.2f s ground truth, %.2f s decoding (%zu distinct latents, %zu decoder "

@@ -61,6 +61,16 @@ nbrdf_status model_energy_create(const model_decoder *dec, const model_energy_op
   if (!(o->lambda >= 0.0f) || !isfinite(o->lambda))
     return core_fail(err, NBRDF_ERR_ARGUMENT, "energy penalty: lambda = %g, expected >= 0",
                      (double)o->lambda);
+  model_energy_options own = *o;
+  if (o->polar_rings > 0) {
+    if (o->polar_rings < 3 || o->polar_phi < 4 || o->polar_rings * o->polar_phi + 1 > 4096)
+      return core_fail(err, NBRDF_ERR_ARGUMENT,
+                       "energy penalty: a polar rule of %d rings of %d (>= 3 of >= 4, at most "
+                       "4,095 nodes)",
+                       o->polar_rings, o->polar_phi);
+    own.samples = o->polar_rings * o->polar_phi + 1;
+  }
+  o = &own;
   if (o->n_theta < 1 || o->n_theta > MODEL_ENERGY_MAX_THETA || o->samples < 16 || o->samples > 4096)
     return core_fail(err, NBRDF_ERR_ARGUMENT,
                      "energy penalty: %d angles (1..%d) and %d samples (16..4096)", o->n_theta,
@@ -99,8 +109,11 @@ static nbrdf_status make_directions(model_energy *e, int64_t step, nbrdf_error *
   int S = e->o.samples;
   for (int t = 0; t < e->o.n_theta; t++) {
     model_albedo_quad q;
-    nbrdf_status st = model_albedo_quad_init(&q, e->o.theta_deg[t] * (M_PI / 180.0), S,
-                                             core_hash64(e->o.seed, (uint64_t)step), 0.0, err);
+    double th = e->o.theta_deg[t] * (M_PI / 180.0);
+    nbrdf_status st =
+        e->o.polar_rings > 0
+            ? model_albedo_quad_init_polar(&q, th, e->o.polar_rings, e->o.polar_phi, err)
+            : model_albedo_quad_init(&q, th, S, core_hash64(e->o.seed, (uint64_t)step), 0.0, err);
     if (st) return st;
     for (int k = 0; k < S; k++) {
       size_t r = (size_t)t * S + (size_t)k;

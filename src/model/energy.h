@@ -32,11 +32,17 @@ typedef struct model_energy_options {
   double theta_deg[MODEL_ENERGY_MAX_THETA]; /* degrees, [0, 90) */
   int samples;                              /* quadrature directions per θi (>= 16) */
   uint64_t seed;
+  /* > 0: instead of sampled directions, the polar product rule of albedo_quad.h with
+   * polar_rings rings of polar_phi nodes plus the mirror node (samples is then
+   * rings × phi + 1), the same every step: the energy audit's rule (bake_audit.h), whose
+   * centre node sees a spike at the mirror direction that 128 sampled directions mostly
+   * miss (the bake's fine-tune at α 0.001, docs/BAKE.md "Sharp coats"). */
+  int polar_rings, polar_phi;
 } model_energy_options;
 
 /* λ = 0 (off); θi ∈ {0, 40, 60, 75, 85, 89}°, grazing included; 128 directions each. */
 #define MODEL_ENERGY_OPTIONS_DEFAULT                                                               \
-  { 0.0f, 6, {0.0, 40.0, 60.0, 75.0, 85.0, 89.0}, 128, 0x656e65726779u }
+  { 0.0f, 6, {0.0, 40.0, 60.0, 75.0, 85.0, 89.0}, 128, 0x656e65726779u, 0, 0 }
 
 /* Parses a comma-separated list of angles in degrees into o (message names `option`). */
 nbrdf_status model_energy_parse_angles(const char *text, const char *option,

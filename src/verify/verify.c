@@ -35,6 +35,8 @@ typedef struct verify_run {
   size_t texel_index; /* of the texel being compared, for the progress */
   int references;     /* references computed for it so far */
   int last_image;
+  float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT]; /* the model's trained ranges */
+  int fast; /* the texture is at the fast level (its alpha clamped to the trained range) */
 } verify_run;
 
 /* Between chunks of a reference's random walks: the progress moves within a
@@ -65,6 +67,12 @@ static nbrdf_status open_texture(verify_run *v, nbrdf_error *err) {
   st = texture_latent_reader_model(v->reader, v->model, &v->decoding, err);
   if (st != NBRDF_OK) return st;
   v->colours = texture_latent_colours(&v->info->layout);
+  model_material_ranges(v->model, v->lo, v->hi);
+  /* A fast texture (no accuracy attribute, level=fast, or a fallback to it) stands for alpha
+   * clamped to the trained range; the fitting levels fit alpha down to 0.001 as given. */
+  char level[32];
+  v->fast = !texture_latent_setting(v->info->accuracy, "level", level, sizeof level) ||
+            !strcmp(level, "fast");
   if (v->o.roughness == NBRDF_VERIFY_ROUGHNESS_FROM_TEXTURE) {
     /* Every bake records roughness=; a texture without it (another writer's)
      * is read as alpha, the model's own convention. A value this build does
@@ -138,6 +146,9 @@ static nbrdf_status footprint_reference(verify_run *v, nbrdf_verify_texel *out, 
       nbrdf_status st = texel_tuple(v, pts[k].x, pts[k].y, c, &t, err);
       if (st == NBRDF_OK) st = verify_refs_get(v->refs, &t, &a, &b, &v->rep->clamped, err);
       if (st != NBRDF_OK) return st;
+      if (t.p[NBRDF_BAKE_ALPHA1] < v->lo[NBRDF_BAKE_ALPHA1] ||
+          t.p[NBRDF_BAKE_ALPHA2] < v->lo[NBRDF_BAKE_ALPHA2])
+        v->rep->below_trained_alpha++;
       double *ra = v->run_a + (size_t)c * VERIFY_SET, *rb = v->run_b + (size_t)c * VERIFY_SET;
       for (size_t i = 0; i < VERIFY_SET; i++)
         ra[i] += a[i] / n, rb[i] += b[i] / n;
@@ -248,6 +259,8 @@ static nbrdf_status run(verify_run *v, const nbrdf_bake_inputs *in, nbrdf_error 
   nbrdf_model_own_decoder(v->decoding, &rep->decoder);
   rep->decoder.bytes = NULL; /* the model's, gone with it */
   rep->max_albedo = NAN;
+  rep->alpha_clamped_by_texture = v->fast;
+  rep->alpha_trained_min = v->lo[NBRDF_BAKE_ALPHA1];
   verify_damage damage;
   st = verify_scan(v->reader, &damage, err);
   rep->nonfinite = damage.texels;

@@ -91,6 +91,9 @@ static cJSON *build(const nbrdf_verify_report *r, const char *texture, size_t wo
     cJSON_AddStringToObject(root, "decoder_checksum", r->decoder.checksum);
   }
   cJSON_AddNumberToObject(root, "clamped_parameters", (double)r->clamped);
+  cJSON_AddNumberToObject(root, "below_trained_alpha", (double)r->below_trained_alpha);
+  cJSON_AddBoolToObject(root, "texture_clamps_alpha",
+                        r->below_trained_alpha && r->alpha_clamped_by_texture);
   cJSON_AddNumberToObject(root, "reference_seconds", r->reference_seconds);
   cJSON_AddNumberToObject(root, "decode_seconds", r->decode_seconds);
   number(root, "max_albedo", r->max_albedo);

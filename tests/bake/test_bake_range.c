@@ -2,14 +2,18 @@
  * outside the trained range is reported at once, before any network work, in the units the
  * user typed, with exact texel counts for maps this test makes (a texel once whatever its
  * channels, a constant once); REFUSE reports the same and then fails naming the first
- * texel. */
+ * texel. The fitting levels take alpha1 and alpha2 down to NBRDF_GT_ALPHA_MIN as given: the
+ * report says what each level does, and their held-out truth is that of the value given
+ * (with the shipped model: its fast level's error tells the truths apart). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "model/bundle.h"
 #include "nbrdf/bake.h"
+#include "nbrdf/brdf.h"
 #include "testing.h"
+#include "texture/latent_exr.h"
 #include "texture/oiio_shim.h"
 
 static nbrdf_model *model;
@@ -172,6 +176,109 @@ static void test_refuse(void) {
   CHECK(s.reports == 1 && s.r[NBRDF_BAKE_ALPHA1].below == BELOW + 1);
 }
 
+/* A constant scene with alpha1 `a1` (GGX alpha) and everything else inside the range. */
+static nbrdf_bake_inputs constant_scene(float a1) {
+  nbrdf_bake_inputs in = NBRDF_BAKE_INPUTS_DEFAULT;
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA1], a1);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ETA], 0.5f * (lo[1] + hi[1]));
+  grid(NBRDF_BASE_CONDUCTOR, lo, hi);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALPHA2], 0.5f * (lo[0] + hi[0]));
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_R0], 0.5f * (lo[1] + hi[1]));
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_ALBEDO], 0.5f);
+  nbrdf_bake_param_constant(&in.param[NBRDF_BAKE_SIGMA_T], 1.0f);
+  return in;
+}
+
+/* The texture's header: sources and the accuracy attribute, into buffers. */
+static void header(const char *file, char *sources, char *accuracy, size_t cap) {
+  nbrdf_error e, *err = &e;
+  texture_latent_reader *r = NULL;
+  CHECK_OK(texture_latent_reader_open(&r, file, err), err);
+  if (!r) return;
+  const texture_latent_info *info = texture_latent_reader_info(r);
+  snprintf(sources, cap, "%s", info->sources ? info->sources : "");
+  snprintf(accuracy, cap, "%s", info->accuracy ? info->accuracy : "");
+  texture_latent_reader_close(r);
+}
+
+/* SPECIALISED takes alpha1 = 0.002 (below the trained range) as given: nothing is clamped, the
+ * header records 0.002, and the held-out error is measured against the truth of 0.002, not of
+ * the trained minimum: the universal networks' latent is the same for 0.002 and for the
+ * minimum (the base tables clamp), so with the same seed and streams fast's held-out error
+ * differs only if the truth does. FAST clamps the same value and says so. */
+static void test_fitting_levels(void) {
+  nbrdf_error e, *err = &e;
+  /* The shipped model: an untrained one decodes nothing, whose error is 1 against any truth. */
+  nbrdf_model *random = model;
+  char bundle[1024];
+  snprintf(bundle, sizeof bundle, "%s/models/default", testing_source_dir());
+  CHECK_OK(nbrdf_model_load(bundle, &model, err), err);
+  if (!model) {
+    model = random;
+    return;
+  }
+  float lo[2], hi[2];
+  grid(NBRDF_BASE_DIELECTRIC, lo, hi);
+  CHECK_MSG(lo[0] > 0.002f, "the trained alpha1 starts at %g: nothing below it to test", lo[0]);
+  nbrdf_bake_inputs given = constant_scene(0.002f), trained = constant_scene(lo[0]);
+  nbrdf_bake_options o = NBRDF_BAKE_OPTIONS_DEFAULT;
+  o.mip_levels = 1, o.energy_audit = 0, o.seed = 5;
+  o.accuracy = NBRDF_BAKE_SPECIALISED, o.budget = 4.0, o.no_fallback = 1;
+  seen s = {0};
+  o.range_report = on_range, o.user = &s;
+  nbrdf_bake_report a, b;
+  CHECK_OK(nbrdf_bake(model, &given, &o, path("given.exr"), &a, err), err);
+  CHECK_MSG(s.reports == 1, "%d range reports", s.reports);
+  const nbrdf_bake_range *r = &s.r[NBRDF_BAKE_ALPHA1];
+  CHECK(r->below == 1 && r->below_fit == 0 && r->min == (double)0.002f);
+  CHECK(r->accuracy == NBRDF_BAKE_SPECIALISED && r->fit_lo == (double)(float)NBRDF_GT_ALPHA_MIN);
+  char m[768];
+  nbrdf_bake_range_message(r, m, sizeof m);
+  CHECK_MSG(strstr(m, "0.002 is below") && strstr(m, "fast bakes it as") &&
+                strstr(m, "specialised and compact fit it as given"),
+            "%s", m);
+  CHECK_MSG(a.clamped == 0, "%zu clamped", a.clamped);
+  char sources[1024], accuracy[1024];
+  header(path("given.exr"), sources, accuracy, sizeof sources);
+  CHECK_MSG(strstr(sources, "alpha1=0.002"), "%s", sources);
+  CHECK_MSG(strstr(accuracy, "level=specialised"), "%s", accuracy);
+  CHECK_OK(nbrdf_bake(model, &trained, &o, path("trained.exr"), &b, err), err);
+  CHECK(a.heldout_tuples == 1 && b.heldout_tuples == 1);
+  CHECK_MSG(isfinite(a.heldout_error_fast) && isfinite(b.heldout_error_fast) &&
+                fabs(a.heldout_error_fast - b.heldout_error_fast) >
+                    1e-3 * fabs(b.heldout_error_fast),
+            "fast's held-out error %g at alpha1 0.002, %g at %g: the same truth?",
+            a.heldout_error_fast, b.heldout_error_fast, lo[0]);
+
+  /* FAST clamps it (REFUSE refuses it); a fitting level under REFUSE takes it. */
+  nbrdf_bake_options f = NBRDF_BAKE_OPTIONS_DEFAULT;
+  f.mip_levels = 1, f.energy_audit = 0;
+  memset(&s, 0, sizeof s);
+  f.range_report = on_range, f.user = &s;
+  CHECK_OK(nbrdf_bake(model, &given, &f, path("fast.exr"), &a, err), err);
+  CHECK(a.clamped == 1 && s.r[NBRDF_BAKE_ALPHA1].accuracy == NBRDF_BAKE_FAST);
+  nbrdf_bake_range_message(&s.r[NBRDF_BAKE_ALPHA1], m, sizeof m);
+  CHECK_MSG(strstr(m, "0.002 is below") && strstr(m, "and will be baked as") &&
+                strstr(m, "fit down to 0.001 as given"),
+            "%s", m);
+  f.range = NBRDF_RANGE_REFUSE;
+  CHECK_FAILS(nbrdf_bake(model, &given, &f, path("fast.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha1 (constant) = 0.002");
+  o.range = NBRDF_RANGE_REFUSE, o.accuracy = NBRDF_BAKE_FITTED, o.no_fallback = 0;
+  CHECK_OK(nbrdf_bake(model, &given, &o, path("fitted.exr"), &a, err), err);
+  /* Fitted, or fast after the held-out check: then clamped, as the report said. */
+  CHECK_MSG(a.fell_back ? a.clamped == 1 : a.clamped == 0, "fell back %d, clamped %zu", a.fell_back,
+            a.clamped);
+  /* Below what the fitting levels take: refused under REFUSE, else fitted as that floor. */
+  nbrdf_bake_inputs floor = constant_scene(0.0005f);
+  CHECK_FAILS(nbrdf_bake(model, &floor, &o, path("floor.exr"), NULL, err), NBRDF_ERR_ARGUMENT, err,
+              "alpha1 (constant) = 0.0005");
+  nbrdf_model_destroy(model);
+  model = random;
+}
+
 /* Without range_report, each parameter is one warning line (nbrdf_bake_range_message). */
 static void collect(void *user, const char *message) {
   char *buf = user;
@@ -213,6 +320,24 @@ static void test_messages(void) {
                     "alpha1 (perceptual roughness): 1,234,567 texels below 0.1 (min 0.02; "
                     "trained range [0.1, 1]); 1 texel above 1 (max 1.5; trained range [0.1, 1])"),
             "%s", m);
+  /* With what the fitting levels take (alpha 0.001, r 0.0316): per level. */
+  r.above = 0, r.below = 1204, r.below_fit = 3, r.fit_lo = sqrt(0.001), r.min = 0.02;
+  CHECK_MSG(!strcmp(nbrdf_bake_range_message(&r, m, sizeof m),
+                    "alpha1 (perceptual roughness): 1,204 texels below 0.1 (min 0.02; trained range "
+                    "[0.1, 1]; fitted, specialised and compact take down to 0.0316 as given)"),
+            "%s", m);
+  r.accuracy = NBRDF_BAKE_SPECIALISED;
+  CHECK_MSG(!strcmp(nbrdf_bake_range_message(&r, m, sizeof m),
+                    "alpha1 (perceptual roughness): 1,204 texels below 0.1 (min 0.02): fast bakes "
+                    "them as 0.1; fitted, specialised and compact fit them as given, but 3 below "
+                    "0.0316, the lowest they take, are refused"),
+            "%s", m);
+  r.policy = NBRDF_RANGE_CLAMP, r.accuracy = NBRDF_BAKE_AUTO;
+  CHECK_MSG(!strcmp(nbrdf_bake_range_message(&r, m, sizeof m),
+                    "alpha1 (perceptual roughness): 1,204 texels below 0.1 (min 0.02): fast bakes "
+                    "them as 0.1; fitted, specialised and compact fit them as given, and 3 below "
+                    "0.0316 as 0.0316"),
+            "%s", m);
 }
 
 int main(void) {
@@ -225,6 +350,7 @@ int main(void) {
   RUN(test_clamp);
   RUN(test_refuse);
   RUN(test_messages);
+  RUN(test_fitting_levels);
   nbrdf_model_destroy(model);
   return testing_finish();
 }

@@ -142,8 +142,53 @@ static void test_options(void) {
               "not an angle");
 }
 
+/* The polar rule (polar_rings > 0): ρ̂ is the audit's measurement (model_albedo_decoded_polar)
+ * whatever the step, and a rule too small is refused. */
+static void test_polar(void) {
+  nbrdf_error err = {0};
+  model_decoder_config cfg;
+  CHECK_OK(model_decoder_preset("small", D, &cfg, &err), &err);
+  model_decoder *dec = NULL;
+  CHECK_OK(model_decoder_create(&cfg, 12u, &dec, &err), &err);
+  if (!dec) return;
+  model_energy_options o = MODEL_ENERGY_OPTIONS_DEFAULT;
+  o.lambda = 1.0f, o.polar_rings = 12, o.polar_phi = 8, o.samples = 0; /* samples unused */
+  model_energy *e = NULL;
+  CHECK_OK(model_energy_create(dec, &o, &e, &err), &err);
+  float lat[N * D];
+  for (int k = 0; k < N * D; k++)
+    lat[k] = (float)(1.2 * cos(1.9 * k + 0.2));
+  float ceil[N * MODEL_ENERGY_MAX_THETA];
+  for (int k = 0; k < N * MODEL_ENERGY_MAX_THETA; k++)
+    ceil[k] = 1e9f;
+  double a[N * MODEL_ENERGY_MAX_THETA], b[N * MODEL_ENERGY_MAX_THETA],
+      want[N * MODEL_ENERGY_MAX_THETA];
+  if (e) {
+    CHECK_OK(model_energy_add(e, N, lat, ceil, 1, NULL, NULL, NULL, a, &err), &err);
+    CHECK_OK(model_energy_add(e, N, lat, ceil, 7, NULL, NULL, NULL, b, &err), &err);
+    model_runner run;
+    CHECK_OK(model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &run, &err), &err);
+    CHECK_OK(model_albedo_decoded_polar(dec, &run, N, lat, o.n_theta, o.theta_deg, 12, 8, want,
+                                        &err),
+             &err);
+    model_runner_destroy(&run);
+    int some = 0;
+    for (int k = 0; k < N * o.n_theta; k++) {
+      CHECK(a[k] == b[k]);
+      CHECK_REL(a[k], want[k], 1e-5, 1e-9);
+      some |= want[k] > 0.0;
+    }
+    CHECK(some);
+  }
+  model_energy_destroy(e);
+  o.polar_rings = 2;
+  CHECK_FAILS(model_energy_create(dec, &o, &e, &err), NBRDF_ERR_ARGUMENT, &err, "polar rule");
+  model_decoder_destroy(dec);
+}
+
 int main(void) {
   RUN(test_gradients);
+  RUN(test_polar);
   RUN(test_options);
   return testing_finish();
 }
