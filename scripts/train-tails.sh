@@ -1,21 +1,18 @@
 #!/usr/bin/env bash
-# Fine-tunes a bundle for the tails of the universal path (issue 35 part 3): low-IOR coats
-# (eta <= 1.2) and sharp coats (alpha1 <= 0.05). The decoder is kept, so the new bundle
-# reads every texture the old one baked (--reads-textures-of); what changes is what a bake
-# feeds it:
-#   - base tables re-projected with the eta nodes dense at the dim end (eta-warp 2, 12 nodes:
-#     the dielectric's reflectance changes fastest just above eta = 1);
-#   - the layering network fine-tuned from the old one, through the frozen decoder, on
-#     two-layer BRDFs of the `tails` draws mixed with Table 2's two- and three-layer ones
-#     (the replay keeps the Table-2 figures), with the energy penalty on.
-# The sampler is the old bundle's (it maps latents of the same decoder).
-# Every stage resumes (run the script again after an interruption); deterministic by seed.
+# Fine-tunes a bundle's layering network for the tails of the universal path (issue 35
+# part 3): low-IOR coats (eta <= 1.2), sharp coats (alpha1 <= 0.05) and smooth bright bases.
+# The decoder, the base tables and the sampler are the base bundle's, so the new bundle reads
+# every texture the old one baked (--reads-textures-of); what changes is the latent a bake
+# gets for a tuple. Three stages from the base's network, through its frozen decoder
+# (decoded loss, energy penalty 0.1), each on more data than the last: two-layer BRDFs of
+# the `tails` draws and the `mirror` draws, mixed with Table 2's two- and three-layer ones
+# (the replay that holds the Table-2 figures). Every stage resumes (run the script again
+# after an interruption); deterministic by seed. docs/TRAINING.md, "Tails fine-tune", has
+# the figures of the run and of the variants that were worse.
 #
 #   bash scripts/train-tails.sh [WORK_DIR] [BUNDLE_DIR]
 #   (defaults: data/tails and models/tails; BASE=models/default the bundle fine-tuned;
-#    NBRDF=path/to/nbrdf; TABLES warp (or base: the base bundle's tables); TAILS_COUNT 3000, REPLAY2 1500, REPLAY3 150, EPOCHS 60,
-#    EVAL_WALKS 500; NBRDF_EVALUATE=0 stops before the evaluation)
-# docs/TRAINING.md, "Tails fine-tune", has the figures of a run.
+#    NBRDF=path/to/nbrdf; NBRDF_EVALUATE=0 stops before the evaluation)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 work=${1:-data/tails}
@@ -27,48 +24,47 @@ export OPENBLAS_NUM_THREADS=1
 mkdir -p "$work"
 stage() { echo "== $(date -u +%H:%M:%S) $*"; }
 
-# 1. Data: the tails draws (seed 5, a training family) and a replay of the default's data
-#    (seed 1 and 3: the first records of the files models/default trained on).
-stage "data: ${TAILS_COUNT:-3000} tails two-layer BRDFs, ${REPLAY2:-1500} + ${REPLAY3:-150} replayed"
-"$nbrdf" dataset --out "$work/layered2-tails.nbds" --kind layered2 --count "${TAILS_COUNT:-3000}" \
-  --seed 5 --draws tails
-"$nbrdf" dataset --out "$work/layered2-table2.nbds" --kind layered2 --count "${REPLAY2:-1500}" \
-  --seed 1 --draws table2
-"$nbrdf" dataset --out "$work/layered3-table2.nbds" --kind layered3 --count "${REPLAY3:-150}" \
-  --seed 3 --draws table2
-data="$work/layered2-tails.nbds,$work/layered2-table2.nbds,$work/layered3-table2.nbds"
+# 1. Data. Seeds 1 and 3 are the first records of the files models/default trained on;
+#    5 (tails), 6 (mirror) and 4 (more three-layer) are training families of their own.
+#    About 75 minutes on 2 quiet cores (mirror bases and three layers walk longest).
+stage "data: 2220 tails + 300 mirror two-layer BRDFs; 1500 two-layer + 600 three-layer replayed"
+ds() { "$nbrdf" dataset --out "$work/$1.nbds" --kind "$2" --count "$3" --seed "$4" --draws "$5"; }
+ds layered2-tails layered2 2220 5 tails
+ds layered2-mirror layered2 300 6 mirror
+ds layered2-table2 layered2 1500 1 table2
+ds layered3-table2 layered3 150 3 table2
+ds layered3-table2-s4 layered3 450 4 table2
+t="$work/layered2-tails.nbds" m="$work/layered2-mirror.nbds" r2="$work/layered2-table2.nbds"
+r3="$work/layered3-table2.nbds" r3b="$work/layered3-table2-s4.nbds"
 
-# 2. Base tables with the base bundle's decoder, eta nodes 1 + u^2 (12 of them); TABLES=base
-#    keeps the base bundle's.
-if [ "${TABLES:-warp}" = base ]; then
-  cp "$base/base_tables.safetensors" "$work/base_tables.safetensors"
-elif [ ! -f "$work/base_tables.safetensors" ]; then
-  stage "base tables, eta warped (resumable)"
-  "$nbrdf" train tables --decoder "$base/decoder.safetensors" -o "$work/base_tables.safetensors" \
-    --checkpoint "$work/base_tables.ckpt" --eta-min 1 --eta-warp 2 --eta-nodes 12
-fi
-
-# 3. Layering network: from the base bundle's, decoded loss through its frozen decoder.
-if [ ! -f "$work/layering.safetensors" ]; then
-  stage "layering network, tails fine-tune (resumable)"
+# 2. The layering network, in three stages (NAME INIT EPOCHS DECAY DATA).
+tune() {
+  local name=$1 init=$2 epochs=$3 decay=$4 data=$5
+  [ -f "$work/$name.safetensors" ] && return 0
+  stage "layering network, $name: $epochs epochs (resumable)"
   "$nbrdf" train layering --loss decoded --preset paper --decoder "$base/decoder.safetensors" \
-    --tables "$work/base_tables.safetensors" --init "$base/layering.safetensors" \
-    --data "$data" --epochs "${EPOCHS:-60}" --lr 2.5e-4 --decay-every 20 --energy 0.1 \
-    --checkpoint "$work/layering.ckpt" -o "$work/layering.safetensors" --log "$work/layering.csv"
-fi
+    --tables "$base/base_tables.safetensors" --init "$init" --data "$data" --epochs "$epochs" \
+    --lr 2.5e-4 --decay-every "$decay" --energy 0.1 --checkpoint "$work/$name.ckpt" \
+    -o "$work/$name.safetensors" --log "$work/$name.csv"
+}
+tune layering-1 "$base/layering.safetensors" 60 20 "$t:1500,$m,$r2:600,$r3"
+tune layering-2 "$work/layering-1.safetensors" 60 20 "$t,$m,$r2:900,$r3"
+tune layering-3 "$work/layering-2.safetensors" 30 10 "$t,$m,$r2,$r3,$r3b"
 
-# 4. The bundle: the base's decoder and sampler, so it reads the base's textures.
+# 3. The bundle: the base's decoder, tables and sampler, so it reads the base's textures.
 stage "bundle -> $bundle"
 "$nbrdf" train bundle -o "$bundle" --name "$(basename "$bundle")" --decoder "$base/decoder.safetensors" \
-  --tables "$work/base_tables.safetensors" --layering "$work/layering.safetensors" \
+  --tables "$base/base_tables.safetensors" --layering "$work/layering-3.safetensors" \
   --sampler "$base/sampler.safetensors" --reads-textures-of "$base" \
-  --note "scripts/train-tails.sh: $base fine-tuned for low-IOR and sharp coats (tables eta-warp 2, 12 eta nodes; layering ${EPOCHS:-60} epochs on tails + replay, energy 0.1)"
+  --note "scripts/train-tails.sh: $base's layering network fine-tuned for low-IOR, sharp and mirror-like layers (150 epochs in three stages on tails, mirror and replayed Table-2 data, energy 0.1)"
 
 [ "${NBRDF_EVALUATE:-1}" = 1 ] || { stage "done (NBRDF_EVALUATE=0: not evaluated)"; exit 0; }
-stage "evaluation: tails, layer, layer3, table"
-#    (tails: 99 BRDFs, a third per region; the others 100, as the model cards)
-"$nbrdf" evaluate --bundle "$bundle" --sets tails --count 99 --walks "${EVAL_WALKS:-500}" \
-  --cache "$work/../evalcache" --json "$work/evaluation-tails.json"
-"$nbrdf" evaluate --bundle "$bundle" --sets layer,layer3,table --count 100 \
-  --walks "${EVAL_WALKS:-500}" --cache "$work/../evalcache" --json "$work/evaluation.json"
+stage "evaluation: layer, layer3, tails, extremes (500-walk references, cached)"
+cache="$work/../evalcache"
+"$nbrdf" evaluate --bundle "$bundle" --sets layer,layer3 --count 100 --walks 500 --cache "$cache" \
+  --json "$work/evaluation.json"
+"$nbrdf" evaluate --bundle "$bundle" --sets tails --count 99 --walks 500 --cache "$cache" \
+  --json "$work/evaluation-tails.json"
+"$nbrdf" evaluate --bundle "$bundle" --sets extremes --walks 500 --cache "$cache" \
+  --json "$work/evaluation-extremes.json"
 stage "done"
