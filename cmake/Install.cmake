@@ -28,9 +28,10 @@ configure_file(${PROJECT_SOURCE_DIR}/cmake/install/nbrdf.pc.in ${PROJECT_BINARY_
 install(FILES ${PROJECT_BINARY_DIR}/nbrdf.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 
 # models/medium decodes at half the default's cost; models/v1, the default until 2026-11-26,
-# decodes the textures baked with it.
+# decodes the textures baked with it; models/tails is the default fine-tuned for low-IOR and
+# sharp coats (docs/MODEL_CARD_TAILS.md).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/models/default ${PROJECT_SOURCE_DIR}/models/medium
-  ${PROJECT_SOURCE_DIR}/models/v1
+  ${PROJECT_SOURCE_DIR}/models/v1 ${PROJECT_SOURCE_DIR}/models/tails
   DESTINATION ${CMAKE_INSTALL_DATADIR}/nbrdf/models)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/shaders/ DESTINATION ${CMAKE_INSTALL_DATADIR}/nbrdf/shaders
   FILES_MATCHING PATTERN "*.glsl" PATTERN "*.comp" PATTERN "README.md")

@@ -187,14 +187,16 @@ static void test_grid_edits(void) {
 
 /* The shipped bundles pass every check and keep the checksums recorded in
  * the textures baked with them (docs/MODEL_CARD_DEFAULT.md): models/default,
- * models/medium (its decoder half the cost) and models/v1, the default until
- * 2026-11-26, kept for its textures. */
+ * models/medium (its decoder half the cost), models/v1, the default until
+ * 2026-11-26, kept for its textures, and models/tails (default's layering network
+ * fine-tuned for the tails; docs/MODEL_CARD_TAILS.md). */
 static void test_shipped_bundles(void) {
-  static const char *const dirs[3][2] = {{"models/default", "e3f05d7c80d59511"},
+  static const char *const dirs[4][2] = {{"models/default", "e3f05d7c80d59511"},
                                          {"models/medium", "4ba239f7ac35f1d8"},
-                                         {"models/v1", "0ab22d273b6be904"}};
+                                         {"models/v1", "0ab22d273b6be904"},
+                                         {"models/tails", "de71cdcf8c2baa8d"}};
   const char *src = testing_source_dir();
-  for (int k = 0; k < 3; k++) {
+  for (int k = 0; k < 4; k++) {
     nbrdf_error err = {0};
     nbrdf_model *m = NULL;
     CHECK_OK(nbrdf_model_load(path_in(src, dirs[k][0]), &m, &err), &err);
