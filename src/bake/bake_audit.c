@@ -105,45 +105,43 @@ void bake_audit_slope_max(double *slope) {
   }
 }
 
-nbrdf_status bake_albedo_precise_with(const model_decoder *dec, size_t n, const float *latents,
-                                      double *maxv, int *theta_index, nbrdf_error *err) {
-  if (n == 0) return NBRDF_OK;
+/* The polar rule's maximum over θi of n latents through `runner`, destroyed here; st: whether
+ * creating it failed. */
+static nbrdf_status precise_run(const model_decoder *dec, model_runner *runner, nbrdf_status st,
+                                size_t n, const float *latents, double *maxv, int *theta_index,
+                                nbrdf_error *err) {
+  if (st) return st; /* the runner was not created */
   double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
-  if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
-  model_runner runner;
-  nbrdf_status st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &runner, err);
-  if (!st) {
-    st = model_albedo_decoded_polar(dec, &runner, n, latents, BAKE_AUDIT_N_THETA,
+  if (!rho) st = core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+  if (!st)
+    st = model_albedo_decoded_polar(dec, runner, n, latents, BAKE_AUDIT_N_THETA,
                                     bake_audit_theta_deg, BAKE_AUDIT_POLAR_RINGS,
                                     BAKE_AUDIT_POLAR_PHI, rho, err);
-    model_runner_destroy(&runner);
-  }
+  model_runner_destroy(runner);
   if (!st) max_over_theta(rho, n, maxv, theta_index);
   free(rho);
   return st;
+}
+
+nbrdf_status bake_albedo_precise_with(const model_decoder *dec, size_t n, const float *latents,
+                                      double *maxv, int *theta_index, nbrdf_error *err) {
+  if (n == 0) return NBRDF_OK;
+  model_runner runner;
+  nbrdf_status st = model_runner_create(dec->nn, 4096, NBRDF_NN_INFER, &runner, err);
+  return precise_run(dec, &runner, st, n, latents, maxv, theta_index, err);
 }
 
 nbrdf_status bake_albedo_precise(const nbrdf_model *model, struct gpu_network *gpu, size_t n,
                                  const float *latents, const float *sigma, double *maxv,
                                  int *theta_index, nbrdf_error *err) {
   if (n == 0) return NBRDF_OK;
-  double *rho = malloc(n * BAKE_AUDIT_N_THETA * sizeof *rho);
-  if (!rho) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   model_runner runner;
   nbrdf_status st =
       gpu ? model_gpu_runner(gpu, 8192, &runner, err)
           : model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, err);
   /* The polar rule does not need the proxy: its rings cover every lobe width. */
   (void)sigma;
-  if (!st) {
-    st = model_albedo_decoded_polar(model->decoder, &runner, n, latents, BAKE_AUDIT_N_THETA,
-                                    bake_audit_theta_deg, BAKE_AUDIT_POLAR_RINGS,
-                                    BAKE_AUDIT_POLAR_PHI, rho, err);
-    model_runner_destroy(&runner);
-  }
-  if (!st) max_over_theta(rho, n, maxv, theta_index);
-  free(rho);
-  return st;
+  return precise_run(model->decoder, &runner, st, n, latents, maxv, theta_index, err);
 }
 
 struct bake_audit_cell {
