@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 
+#include "bake/bake_audit_rule.h"
 #include "bake/bake_tuple.h"
 #include "model/decoder.h"
 #include "model/netio.h"
@@ -21,11 +22,9 @@
  * 16,384 directions), so a latent whose cheap maximum exceeds
  * BAKE_AUDIT_REFINE_ABOVE is measured again with 6 × 1,024 (mean 1.053, up to
  * 1.13 there). */
-#define BAKE_AUDIT_N_THETA 6
 #define BAKE_AUDIT_SAMPLES 32
 #define BAKE_AUDIT_REFINE_ABOVE 0.9
 #define BAKE_AUDIT_REFINE_SAMPLES 1024
-extern const double bake_audit_theta_deg[BAKE_AUDIT_N_THETA];
 
 /* Maximum over bake_audit_theta_deg of the decoded albedo of n latents
  * [n × D] with their proxy sigma [n] (may be NULL): maxv[n], theta_index[n]
@@ -51,11 +50,8 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * bound's reach of the true largest. Deterministic: tuples are met in bake
  * order. */
 #define BAKE_AUDIT_GRID 8
-/* The precise measurement's nodes per θi: the polar rule of albedo_quad.h with
- * 24 rings of 8 (193 decoder queries; the lattice of 1,024 directions before
- * it spread as much against brute force: bench/bench_audit_quad.c). */
-#define BAKE_AUDIT_POLAR_RINGS 24
-#define BAKE_AUDIT_POLAR_PHI 8
+/* The precise measurement's rule: BAKE_AUDIT_POLAR_RINGS x BAKE_AUDIT_POLAR_PHI
+ * (bake_audit_rule.h). */
 #define BAKE_AUDIT_NOISE 0.03
 /* The audit measures a tuple at the angles of BAKE_AUDIT_SCREEN_MASK (bits
  * into bake_audit_theta_deg: 0, 85 and 89 deg) first, half the queries, and

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bake/bake_audit.h"
+#include "bake/bake_audit_rule.h"
 #include "bake/bake_select.h"
 #include "core/error.h"
 #include "model/autodecoder.h"
