@@ -54,7 +54,7 @@ nbrdf_status bake_fit_energy_create(const model_decoder *dec, const train_sample
   if (!(lambda > 0.0f)) return NBRDF_OK;
   model_energy_options eo = MODEL_ENERGY_OPTIONS_DEFAULT;
   eo.lambda = lambda * BAKE_FIT_ENERGY_EVERY; /* applied every BAKE_FIT_ENERGY_EVERY steps */
-  /* The audit's angles and rule (bake_audit.h): what the held-out check's guard measures. */
+  /* The audit's angles and rule (bake_audit_rule.h): what the held-out check's guard measures. */
   eo.n_theta = BAKE_AUDIT_N_THETA;
   for (int t = 0; t < BAKE_AUDIT_N_THETA; t++)
     eo.theta_deg[t] = bake_audit_theta_deg[t];

@@ -34,7 +34,7 @@ typedef struct model_energy_options {
   uint64_t seed;
   /* > 0: instead of sampled directions, the polar product rule of albedo_quad.h with
    * polar_rings rings of polar_phi nodes plus the mirror node (samples is then
-   * rings × phi + 1), the same every step: the energy audit's rule (bake_audit.h), whose
+   * rings × phi + 1), the same every step: the energy audit's rule (bake_audit_rule.h), whose
    * centre node sees a spike at the mirror direction that 128 sampled directions mostly
    * miss (the bake's fine-tune at α 0.001, docs/BAKE.md "Sharp coats"). */
   int polar_rings, polar_phi;

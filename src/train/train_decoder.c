@@ -207,20 +207,13 @@ static nbrdf_status require(const nn_st_reader *r, const char *k, const char *wa
                    nn_st_label(r), what);
 }
 
-/* --init-bundle: the bundle's decoder weights and the latents it gives the data's BRDFs. */
+/* --init-bundle: the bundle's decoder weights (the run was created with its architecture)
+ * and the latents it gives the data's BRDFs. */
 static nbrdf_status init_from_bundle(const nbrdf_model *m, model_decoder *dec,
                                      const train_samples *data, float *lat, nbrdf_error *err) {
-  char *want = NULL, *have = NULL;
-  nbrdf_status st = nn_spec_to_json(&dec->cfg.spec, &want, err);
-  if (!st) st = nn_spec_to_json(&m->decoder->cfg.spec, &have, err);
-  if (!st && (strcmp(want, have) || m->latent_dim != dec->cfg.latent_dim))
-    st = core_fail(err, NBRDF_ERR_MISMATCH,
-                   "train decoder: the bundle's decoder (%s) is not the run's architecture (%s)",
-                   have, want);
-  free(want), free(have);
-  if (st) return st;
   memcpy(nn_params(dec->nn), nn_params(m->decoder->nn), nn_param_count(dec->nn) * sizeof(float));
   size_t D = (size_t)dec->cfg.latent_dim;
+  nbrdf_status st = NBRDF_OK;
   for (size_t b = 0; b < data->n_brdfs && !st; b++)
     st = train_params_bundle_latent(m, &data->params[b], lat + b * D, err);
   return st;
@@ -275,9 +268,9 @@ nbrdf_status train_decoder_run(const train_decoder_settings *s, train_decoder_re
     return st;
   }
   st = make_validation(s->validation_brdfs, &val, err);
-  size_t nl = data.n_brdfs * (size_t)(s->init ? s->init->latent_dim : s->arch.latent_dim);
   /* A fine-tune keeps the bundle's architecture (the CLI refuses another). */
   model_decoder_config arch = s->init ? s->init->decoder->cfg : s->arch;
+  size_t nl = data.n_brdfs * (size_t)arch.latent_dim;
   if (!st) st = model_decoder_create(&arch, s->seed, &d.dec, err);
   if (!st && (!(lat = malloc(nl * sizeof *lat)) || !options))
     st = core_fail(err, NBRDF_ERR_MEMORY, "train decoder: out of memory for latents");
