@@ -1,9 +1,11 @@
 /* The energy audit's bound (src/bake/bake_audit.h): how fast the decoded
- * albedo moves per unit of normalised parameter (bake_audit_slope), how far the
- * audit's quadrature is from a brute-force one (BAKE_AUDIT_NOISE), and whether
- * representative + slopes + noise really bounds the tuples of a cell.
+ * albedo moves per unit of normalised parameter (the measurement of `nbrdf bundle
+ * audit-slopes`, bake_audit_slopes.h), how far the audit's quadrature is from a
+ * brute-force one (BAKE_AUDIT_NOISE), and whether representative + the bundle's
+ * slopes + noise really bounds the tuples of a cell (another --seed than the
+ * bundle's table was measured with checks it on a new draw).
  *
- *   bench_audit_margin [--bundle DIR] [--bases N] [--sharp] [--no-brute] [--noise X]
+ *   bench_audit_margin [--bundle DIR] [--bases N] [--sharp] [--no-brute]
  *                      [--seed S]
  *   bench_audit_margin [--bundle DIR] --texture FILE [--top K]
  *
@@ -27,22 +29,18 @@
 #include <string.h>
 
 #include "bake/bake_audit.h"
+#include "bake/bake_audit_slopes.h"
+#include "model/audit_slopes.h"
 #include "bake/bake_tuple.h"
 #include "model/material.h"
 #include "nbrdf/bake.h"
 #include "bench_clock.h"
-#include "core/rng.h"
 #include "model/albedo_quad.h"
 #include "model/bundle.h"
 #include "model/netio.h"
 #include "texture/latent_exr.h"
 
 enum { P = NBRDF_BAKE_PARAM_COUNT, R = BAKE_AUDIT_REGIONS };
-
-static int region(double u) {
-  int r = (int)(u * R);
-  return r < 0 ? 0 : r >= R ? R - 1 : r;
-}
 
 static int fail(const nbrdf_error *err) {
   fprintf(stderr, "bench_audit_margin: %s\n", err->message);
@@ -124,7 +122,6 @@ static int texture(const nbrdf_model *model, const char *file, int k) {
 int main(int argc, char **argv) {
   const char *bundle = NULL, *file = NULL;
   int bases = 24, sharp = 0, k_top = 8, no_brute = 0;
-  double noise = BAKE_AUDIT_NOISE;
   unsigned long long seed = 11;
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--bundle") && i + 1 < argc)
@@ -135,8 +132,6 @@ int main(int argc, char **argv) {
       sharp = 1;
     else if (!strcmp(argv[i], "--no-brute"))
       no_brute = 1;
-    else if (!strcmp(argv[i], "--noise") && i + 1 < argc)
-      noise = atof(argv[++i]);
     else if (!strcmp(argv[i], "--seed") && i + 1 < argc)
       seed = strtoull(argv[++i], NULL, 10);
     else if (!strcmp(argv[i], "--texture") && i + 1 < argc)
@@ -154,127 +149,74 @@ int main(int argc, char **argv) {
     nbrdf_model_destroy(model);
     return rc;
   }
-  float lo[P], hi[P];
-  model_material_ranges(model, lo, hi);
-  const int D = nbrdf_model_latent_dim(model);
-  /* per base: the base, N_STEP steps along each parameter, one cell member */
-  enum { N_STEP = 4 };
-  static const double step[N_STEP] = {1.0 / 32, 1.0 / 16, 1.0 / 8, 1.0 / 4};
-  const int per = N_STEP * P + 2;
-  const size_t n = (size_t)bases * per;
-  bake_tuple *t = calloc(n, sizeof *t);
-  double *u = calloc(n * P, sizeof *u);
-  float *out = malloc(n * (D + 2) * sizeof *out);
-  float *lat = malloc(n * D * sizeof *lat), *sig = malloc(n * sizeof *sig);
-  double *mx = malloc(n * sizeof *mx), *brute = malloc(bases * sizeof *brute);
-  double *rho = malloc(bases * BAKE_AUDIT_N_THETA * sizeof *rho);
-  const double cell = 1.0 / BAKE_AUDIT_GRID;
-  core_rng rng;
-  core_rng_init(&rng, seed, sharp);
-  for (int b = 0; b < bases; b++) {
-    double *ub = u + (size_t)b * per * P;
-    for (int id = 0; id < P; id++)
-      ub[id] = core_rng_uniform(&rng);
-    /* stratified over the slope regions of (alpha1, alpha2) */
-    ub[NBRDF_BAKE_ALPHA1] = (b % R + ub[NBRDF_BAKE_ALPHA1]) / R;
-    ub[NBRDF_BAKE_ALPHA2] = (b / R % R + ub[NBRDF_BAKE_ALPHA2]) / R;
-    if (sharp) {
-      ub[NBRDF_BAKE_ALPHA1] = 0.0;
-      ub[NBRDF_BAKE_ETA] = model_material_normalise(lo, hi, NBRDF_BAKE_ETA, 1.45f);
-      ub[NBRDF_BAKE_ALBEDO] = model_material_normalise(lo, hi, NBRDF_BAKE_ALBEDO, 0.8f);
-      ub[NBRDF_BAKE_SIGMA_T] = model_material_normalise(lo, hi, NBRDF_BAKE_SIGMA_T, 1.0f);
-      ub[NBRDF_BAKE_R0] = 0.5 + 0.5 * ub[NBRDF_BAKE_R0];
-    }
-    for (int s = 1; s < per; s++) {
-      double *us = ub + (size_t)s * P;
-      memcpy(us, ub, P * sizeof *us);
-      if (s <= N_STEP * P) { /* a step along one parameter, inward */
-        int id = (s - 1) / N_STEP;
-        double h = step[(s - 1) % N_STEP];
-        us[id] += us[id] + h <= 1.0 ? h : -h;
-      } else { /* a tuple of the base's cell (base: its representative) */
-        for (int id = 0; id < P; id++) {
-          if (sharp && id != NBRDF_BAKE_ALPHA2 && id != NBRDF_BAKE_R0) continue;
-          int q = (int)(ub[id] * BAKE_AUDIT_GRID);
-          q = q >= BAKE_AUDIT_GRID ? BAKE_AUDIT_GRID - 1 : q;
-          us[id] = (q + core_rng_uniform(&rng)) * cell;
-        }
-      }
-    }
-  }
-  for (size_t k = 0; k < n; k++)
-    for (int id = 0; id < P; id++) {
-      t[k].p[id] = model_material_unnormalise(lo, hi, id, u[k * P + id]);
-      u[k * P + id] = model_material_normalise(lo, hi, id, t[k].p[id]);
-    }
-  if (bake_tuples_evaluate(model, t, NULL, n, out, &err) != NBRDF_OK) return fail(&err);
-  for (size_t k = 0; k < n; k++) {
-    memcpy(lat + k * D, out + k * (D + 2), D * sizeof *lat);
-    sig[k] = out[k * (D + 2) + D];
-  }
+  /* The library's measurement (bake_audit_slopes.h): the table `nbrdf bundle
+   * audit-slopes` would record, and every tuple it measured. */
+  bake_audit_slopes_options so = BAKE_AUDIT_SLOPES_OPTIONS_DEFAULT;
+  so.bases = sharp ? 0 : bases, so.sharp_bases = sharp ? bases : 0, so.seed = seed;
+  static double table[R * R * P];
+  bake_audit_slopes_draws d;
   double w0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
-  if (bake_albedo_precise(model, NULL, n, lat, sig, mx, NULL, &err) != NBRDF_OK) return fail(&err);
+  if (bake_audit_slopes_measure(model, &so, table, &d, &err) != NBRDF_OK) return fail(&err);
   double w1 = bench_wall_seconds(), c1 = bench_cpu_seconds();
+  const int D = nbrdf_model_latent_dim(model), per = d.per;
+  const size_t n = d.n_bases * (size_t)per;
+  const double *u = d.u, *mx = d.value;
+  const bake_tuple *t = d.t;
+  double *brute = malloc(d.n_bases * sizeof *brute);
+  double *rho = malloc(d.n_bases * BAKE_AUDIT_N_THETA * sizeof *rho);
+  /* The bundle's own slopes, against which the cell members are checked (none: the
+   * table just measured). */
+  const double *slopes = model_audit_slopes(model) ? model_audit_slopes(model) : table;
   /* brute force on the bases */
   model_runner runner;
   if (model_runner_create(model->decoder->nn, 4096, NBRDF_NN_INFER, &runner, &err) != NBRDF_OK)
     return fail(&err);
-  for (int b = 0; b < bases; b++) {
-    size_t k = (size_t)b * per;
+  for (size_t b = 0; b < d.n_bases; b++) {
+    size_t k = b * per;
     if (no_brute) { /* slopes and bounds only: the audit's own value stands in */
       brute[b] = mx[k];
       continue;
     }
-    if (model_albedo_decoded(model->decoder, &runner, 1, lat + k * D, sig + k, BAKE_AUDIT_N_THETA,
-                             bake_audit_theta_deg, 16384, UINT64_C(0x62727574),
-                             rho + (size_t)b * BAKE_AUDIT_N_THETA, NULL, &err) != NBRDF_OK)
+    if (model_albedo_decoded(model->decoder, &runner, 1, d.lat + k * D, d.sigma + k,
+                             BAKE_AUDIT_N_THETA, bake_audit_theta_deg, 16384, UINT64_C(0x62727574),
+                             rho + b * BAKE_AUDIT_N_THETA, NULL, &err) != NBRDF_OK)
       return fail(&err);
     brute[b] = 0.0;
     for (int a = 0; a < BAKE_AUDIT_N_THETA; a++)
-      brute[b] = fmax(brute[b], rho[(size_t)b * BAKE_AUDIT_N_THETA + a]);
+      brute[b] = fmax(brute[b], rho[b * BAKE_AUDIT_N_THETA + a]);
   }
   model_runner_destroy(&runner);
-  size_t at[P] = {0}, at_step[P] = {0};
-  static double reg[R][R][P];
-  static int seen[R][R];
-  double slope[P] = {0}, raw[P] = {0}, under = 0.0, over = 0.0, violation = -INFINITY, top = 0.0;
-  for (int b = 0; b < bases; b++) {
-    size_t k = (size_t)b * per;
+  double raw[P] = {0}, under = 0.0, over = 0.0, violation = -INFINITY, top = 0.0;
+  size_t above = 0;
+  for (size_t b = 0; b < d.n_bases; b++) {
+    size_t k = b * per;
     top = fmax(top, brute[b]);
     under = fmax(under, brute[b] - mx[k]);
     over = fmax(over, mx[k] - brute[b]);
-    /* The bound's model: |m(u) - m(a)| <= NOISE + slope |u - a| (m: the audit's
-     * measurement, whose error is part of NOISE), so the slope that this pair
-     * needs is (|Δm| - NOISE) / |Δu|; raw: |Δm| / |Δu| at the step 1/16. */
-    for (int id = 0; id < P; id++)
-      if (!sharp || id == NBRDF_BAKE_ALPHA2 || id == NBRDF_BAKE_R0)
-        for (int j = 0; j < N_STEP; j++) {
-          size_t s = k + 1 + (size_t)id * N_STEP + j;
-          double du = fabs(u[s * P + id] - u[k * P + id]), dm = fabs(mx[s] - mx[k]);
-          if (!(du > 0.0)) continue;
-          double need = (dm - noise) / du;
-          if (need > slope[id]) {
-            slope[id] = need;
-            at[id] = k, at_step[id] = s;
-          }
-          /* every region the step spans needs it (bake_audit_reach takes the largest) */
-          int a0 = region(u[k * P + NBRDF_BAKE_ALPHA1]), a1 = region(u[s * P + NBRDF_BAKE_ALPHA1]);
-          int b0 = region(u[k * P + NBRDF_BAKE_ALPHA2]), b1 = region(u[s * P + NBRDF_BAKE_ALPHA2]);
-          for (int a = a0 < a1 ? a0 : a1; a <= (a0 < a1 ? a1 : a0); a++)
-            for (int c = b0 < b1 ? b0 : b1; c <= (b0 < b1 ? b1 : b0); c++)
-              reg[a][c][id] = fmax(reg[a][c][id], need), seen[a][c] = 1;
-          if (step[j] == 1.0 / 16) raw[id] = fmax(raw[id], dm / du);
-        }
-    size_t m = k + N_STEP * P + 1;
+    /* raw: |Δm| / |Δu| at the step 1/16 */
+    for (int id = 0; id < P; id++) {
+      size_t s = k + 1 + (size_t)id * BAKE_AUDIT_SLOPES_STEPS + 1;
+      double du = fabs(u[s * P + id] - u[k * P + id]);
+      if (du > 0.0) raw[id] = fmax(raw[id], fabs(mx[s] - mx[k]) / du);
+    }
+    size_t m = k + BAKE_AUDIT_SLOPES_STEPS * P + 1;
     float fu[P], fv[P];
     for (int id = 0; id < P; id++)
       fu[id] = (float)u[m * P + id], fv[id] = (float)u[k * P + id];
-    double bound = mx[k] + BAKE_AUDIT_NOISE + bake_audit_reach(fu, fv);
+    double bound = mx[k] + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, fu, fv);
     violation = fmax(violation, mx[m] - bound);
+    /* single steps that need more than the bundle's table gives them */
+    for (int s = 1; s <= BAKE_AUDIT_SLOPES_STEPS * P; s++) {
+      size_t ks = k + (size_t)s;
+      float a[P], c[P];
+      for (int j = 0; j < P; j++)
+        a[j] = (float)u[ks * P + j], c[j] = (float)u[k * P + j];
+      if (fabs(mx[ks] - mx[k]) > BAKE_AUDIT_NOISE + bake_audit_reach(slopes, a, c) + 1e-12)
+        above++;
+    }
   }
-  printf("%d bases (%s), %zu latents, audit quadrature %.2f CPU-s (%.2f wall) = %.0f "
-         "latents/CPU-s\n",
-         bases, sharp ? "sharp clearcoat" : "whole range", n, c1 - c0, w1 - w0,
+  printf("%zu bases (%s), %zu latents, measured in %.2f CPU-s (%.2f wall) = %.0f latents/CPU-s\n",
+         d.n_bases, sharp ? "sharp clearcoat" : "whole range", n, c1 - c0, w1 - w0,
          (double)n / (c1 - c0));
   printf("largest brute-force albedo %.4f; audit minus brute force: down %.4f, up %.4f "
          "(BAKE_AUDIT_NOISE %.3f)\n",
@@ -282,42 +224,43 @@ int main(int argc, char **argv) {
   printf("largest |change| per unit normalised parameter at the step 1/16:");
   for (int id = 0; id < P; id++)
     printf(" %s %.3f", nbrdf_bake_param_name((nbrdf_bake_param_id)id), raw[id]);
-  printf("\nslope the bound needs, (|change| - noise %.3f) / step, steps 1/32 to 1/4:", noise);
+  printf("\nslope the bound needs, (|change| - noise %.3f) / step, steps 1/32 to 1/4:",
+         BAKE_AUDIT_NOISE);
   for (int id = 0; id < P; id++)
-    printf(" %s %.3f", nbrdf_bake_param_name((nbrdf_bake_param_id)id), slope[id]);
+    printf(" %s %.3f", nbrdf_bake_param_name((nbrdf_bake_param_id)id), d.need[id]);
   printf("\nwhere (the base's alpha1 eta alpha2 r0 albedo sigma_t -> its value, the step's value):\n");
   for (int id = 0; id < P; id++) {
-    if (!(slope[id] > 0.0)) continue;
+    if (!(d.need[id] > 0.0)) continue;
     printf("  %s:", nbrdf_bake_param_name((nbrdf_bake_param_id)id));
     for (int j = 0; j < P; j++)
-      printf(" %g", (double)t[at[id]].p[j]);
-    printf(" -> %.4f; step to %g -> %.4f\n", mx[at[id]], (double)t[at_step[id]].p[id],
-           mx[at_step[id]]);
+      printf(" %g", (double)t[d.need_at[id]].p[j]);
+    printf(" -> %.4f; step to %g -> %.4f\n", mx[d.need_at[id]],
+           (double)t[d.need_step[id]].p[id], mx[d.need_step[id]]);
   }
-  printf("bake_audit_slope, largest of the regions:");
   double smax[P];
-  bake_audit_slope_max(smax);
+  bake_audit_slope_max(model_audit_slopes(model), smax);
+  printf("the bundle's audit slopes (%s), largest of the regions:",
+         model_audit_slopes(model) ? "model.json" : "none");
   for (int id = 0; id < P; id++)
     printf(" %.3f", smax[id]);
-  /* The table for src/bake/bake_audit_slopes.inc: each region's need times 1.5, at
-   * least a third of the parameter's largest need over all regions (64 bases per
-   * region miss steeper spots: with 1.25 and no floor a random cell member of another
-   * draw exceeded its bound by 0.017); a region no step reached gets the largest. */
-  printf("\nper region (alpha1 bin, alpha2 bin), need x 1.5, at least the largest / 3:\n");
+  printf("\nsteps whose change exceeds noise + the bundle's reach: %zu of %zu\n", above,
+         d.n_bases * BAKE_AUDIT_SLOPES_STEPS * P);
+  printf("the table `nbrdf bundle audit-slopes` would record from these draws (alpha1 bin, "
+         "alpha2 bin):\n");
   for (int a = 0; a < R; a++) {
     printf("  {");
     for (int c = 0; c < R; c++) {
       printf("{");
-      for (int id = 0; id < P; id++) {
-        double v = seen[a][c] ? fmax(reg[a][c][id], slope[id] / 3.0) : slope[id];
-        printf("%.2f%s", fmax(0.25, ceil(150.0 * v) / 100.0), id + 1 < P ? ", " : "");
-      }
+      for (int id = 0; id < P; id++)
+        printf("%.2f%s", table[((size_t)a * R + c) * P + id], id + 1 < P ? ", " : "");
       printf("}%s", c + 1 < R ? ", " : "");
     }
     printf("}%s\n", a + 1 < R ? "," : "");
   }
-  printf("\nlargest cell member minus its bound: %.4f (must be <= 0)\n", violation);
-  free(t), free(u), free(out), free(lat), free(sig), free(mx), free(brute), free(rho);
+  printf("\nlargest cell member minus its bound (the %s slopes): %.4f (must be <= 0)\n",
+         model_audit_slopes(model) ? "bundle's" : "measured", violation);
+  free(brute), free(rho);
+  bake_audit_slopes_draws_free(&d);
   nbrdf_model_destroy(model);
   return 0;
 }

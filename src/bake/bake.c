@@ -17,6 +17,7 @@
 #include "bake/bake_range.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "model/audit_slopes.h"
 #include "model/bundle.h"
 #include "model/material.h"
 #include "texture/latent_exr.h"
@@ -135,6 +136,15 @@ static void audit(const bake_texture *t, const bake_level *level, const bake_fit
   char audit_msg[768];
   bake_audit_message(&band->audit, t->rgb, audit_msg, sizeof audit_msg);
   if (audit_msg[0] && o->warning) o->warning(o->user, audit_msg);
+  if (band->audit.audited > 1 && !model_audit_slopes(ev->stored_model) &&
+      nbrdf_model_is_trained(ev->stored_model) && o->warning) {
+    snprintf(audit_msg, sizeof audit_msg,
+             "energy audit: bundle '%s' carries no audit slopes, so each of its %zu distinct "
+             "tuples was measured (%.2f CPU-s); `nbrdf bundle audit-slopes DIR` measures them "
+             "once for the bundle",
+             nbrdf_model_name(ev->stored_model), band->audit.audited, band->audit.seconds);
+    o->warning(o->user, audit_msg);
+  }
   if (!rep) return;
   rep->width = t->width, rep->height = t->height;
   rep->colour_channels = t->rgb ? 3 : 1;

@@ -11,6 +11,7 @@
 #include "bake/bake_compact.h"
 #include "core/error.h"
 #include "model/albedo_quad.h"
+#include "model/audit_slopes.h"
 #include "model/bundle.h"
 #include "model/material.h"
 #include "model/model_gpu.h"
@@ -68,18 +69,15 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
   return albedo_max(model, NULL, n, latents, sigma, maxv, theta_index, err);
 }
 
-/* Measured by bench/bench_audit_margin.c (docs/BAKE.md): per region of
- * normalised (alpha1, alpha2), the largest slope per unit of normalised
- * alpha1, eta, alpha2, r0, albedo, sigma_t that a step of 1/32 to 1/4 needs
- * beside BAKE_AUDIT_NOISE, with the shipped model, times a safety factor. */
-#include "bake/bake_audit_slopes.inc"
-
 static int region(float u) {
   int r = (int)(u * BAKE_AUDIT_REGIONS);
   return r < 0 ? 0 : r >= BAKE_AUDIT_REGIONS ? BAKE_AUDIT_REGIONS - 1 : r;
 }
 
-double bake_audit_reach(const float *u, const float *v) {
+_Static_assert(BAKE_AUDIT_REGIONS == MODEL_AUDIT_REGIONS, "the bundle's table is the audit's");
+
+double bake_audit_reach(const double *slopes, const float *u, const float *v) {
+  if (!slopes) return INFINITY;
   int au = region(u[NBRDF_BAKE_ALPHA1]), av = region(v[NBRDF_BAKE_ALPHA1]);
   int bu = region(u[NBRDF_BAKE_ALPHA2]), bv = region(v[NBRDF_BAKE_ALPHA2]);
   int a0 = au < av ? au : av, a1 = au < av ? av : au;
@@ -90,18 +88,17 @@ double bake_audit_reach(const float *u, const float *v) {
     if (du == 0.0) continue;
     for (int a = a0; a <= a1; a++)
       for (int b = b0; b <= b1; b++)
-        s = fmax(s, bake_audit_slope[a][b][id]);
+        s = fmax(s, slopes[((size_t)a * BAKE_AUDIT_REGIONS + b) * NBRDF_BAKE_PARAM_COUNT + id]);
     d += s * du;
   }
   return d;
 }
 
-void bake_audit_slope_max(double *slope) {
+void bake_audit_slope_max(const double *slopes, double *slope) {
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    slope[id] = 0.0;
-    for (int a = 0; a < BAKE_AUDIT_REGIONS; a++)
-      for (int b = 0; b < BAKE_AUDIT_REGIONS; b++)
-        slope[id] = fmax(slope[id], bake_audit_slope[a][b][id]);
+    slope[id] = slopes ? 0.0 : INFINITY;
+    for (int k = 0; slopes && k < BAKE_AUDIT_REGIONS * BAKE_AUDIT_REGIONS; k++)
+      slope[id] = fmax(slope[id], slopes[(size_t)k * NBRDF_BAKE_PARAM_COUNT + id]);
   }
 }
 
@@ -358,7 +355,8 @@ static void tally(bake_audit *a, size_t j, size_t k, size_t *band_worst) {
 /* The smallest bound anchor + noise + reach over the anchors of the tuple's cell
  * and of the cells next to it along one parameter (stops at the first that
  * clears the limit); *near: the value of the anchor that gave it (NAN: none). */
-static double bound(const bake_audit *a, const float *u, const unsigned char *q, double *near) {
+static double bound(const bake_audit *a, const double *slopes, const float *u,
+                    const unsigned char *q, double *near) {
   enum { P = NBRDF_BAKE_PARAM_COUNT };
   double best = INFINITY;
   *near = NAN;
@@ -373,7 +371,7 @@ static double bound(const bake_audit *a, const float *u, const unsigned char *q,
     const bake_audit_cell *c = &a->cells[cell_slot(a, cell_key(qn))];
     if (!c->key) continue;
     for (size_t i = c->head; i != NO_ANCHOR; i = a->anchors[i].next) {
-      double b = a->anchors[i].value + BAKE_AUDIT_NOISE + bake_audit_reach(u, a->anchors[i].u);
+      double b = a->anchors[i].value + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, u, a->anchors[i].u);
       if (b < best) best = b, *near = a->anchors[i].value;
       if (best <= BAKE_AUDIT_LIMIT) return best;
     }
@@ -425,6 +423,8 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
   if (n > room) a->skipped += n - room, n = room;
   if (n == 0) return NBRDF_OK;
   const size_t D = (size_t)nbrdf_model_latent_dim(model);
+  /* Measured for the bundle's weights, or none: then no tuple is cleared by another. */
+  const double *slopes = model_audit_slopes(model);
   if (!scratch_room(a, n, D) || !cells_room(a, n) || !anchors_room(a, n))
     return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   for (size_t k = 0; k < n; k++) {
@@ -447,7 +447,7 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
     size_t keep = 0;
     for (size_t i = 0; i < np; i++) {
       size_t k = a->pending[i];
-      if (!(bound(a, a->u + k * P, a->q + k * P, &a->guess[k]) <= BAKE_AUDIT_LIMIT))
+      if (!(bound(a, slopes, a->u + k * P, a->q + k * P, &a->guess[k]) <= BAKE_AUDIT_LIMIT))
         a->pending[keep++] = k;
     }
     np = keep;
@@ -459,7 +459,7 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
       for (size_t j = 0; round < AUDIT_ROUNDS - 1 && j < m && !covered; j++) {
         size_t pj = a->pick[j];
         double g = isnan(a->guess[pj]) ? AUDIT_GUESS : a->guess[pj];
-        covered = g + BAKE_AUDIT_NOISE + bake_audit_reach(a->u + k * P, a->u + pj * P) <=
+        covered = g + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, a->u + k * P, a->u + pj * P) <=
                   BAKE_AUDIT_LIMIT;
       }
       if (covered)

@@ -41,8 +41,9 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * an anchor of its cell or of a cell next to it along one parameter gives the
  * bound anchor + BAKE_AUDIT_NOISE + bake_audit_reach(tuple, anchor) <=
  * BAKE_AUDIT_LIMIT: the slopes bound how fast the decoded albedo moves per unit
- * of normalised parameter and the noise the quadrature's error (both measured
- * by bench/bench_audit_margin.c). The others are measured in rounds of picks
+ * of normalised parameter (the bundle's, measured for its weights by `nbrdf bundle
+ * audit-slopes`; a bundle without them has every distinct tuple measured) and the
+ * noise the quadrature's error (bench/bench_audit_margin.c). The others are measured in rounds of picks
  * spread so that each is expected to clear those near it; the last round
  * measures all that are left. So a verdict above the limit is never left to a
  * bound, and the worst value is exact (to the quadrature) whenever it is near
@@ -70,16 +71,16 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * lobes are sharp (alpha1 ~0.01, alpha2 ~0.05: 1.02 to 0.77 over a step of 0.06
  * in normalised alpha2), and is gentle elsewhere. So they are given per region
  * of BAKE_AUDIT_REGIONS x BAKE_AUDIT_REGIONS bins of normalised (alpha1, alpha2):
- * bake_audit_slope[bin of alpha1][bin of alpha2][parameter]; a bound between two
- * tuples uses the largest slope of every region between them. */
+ * slopes[(bin of alpha1 · BAKE_AUDIT_REGIONS + bin of alpha2) · 6 + parameter],
+ * the bundle's own (model/audit_slopes.h, measured by bake_audit_slopes.h); a
+ * bound between two tuples uses the largest slope of every region between them. */
 #define BAKE_AUDIT_REGIONS 8
-extern const double bake_audit_slope[BAKE_AUDIT_REGIONS][BAKE_AUDIT_REGIONS]
-                                    [NBRDF_BAKE_PARAM_COUNT];
 /* How far the albedo can move from normalised parameters v to u:
- * Σ_i slope_i |u_i - v_i|, slope_i the largest over the regions between them. */
-double bake_audit_reach(const float *u, const float *v);
-/* The largest slope of each parameter over all regions. */
-void bake_audit_slope_max(double *slope);
+ * Σ_i slope_i |u_i - v_i|, slope_i the largest over the regions between them;
+ * infinite when slopes is NULL (a bundle without them). */
+double bake_audit_reach(const double *slopes, const float *u, const float *v);
+/* The largest slope of each parameter over all regions (infinite without slopes). */
+void bake_audit_slope_max(const double *slopes, double *slope);
 
 struct gpu_network;
 

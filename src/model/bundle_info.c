@@ -38,6 +38,11 @@ void model_bundle_describe(const nbrdf_model *m, FILE *out) {
   fprintf(out, "           input sigma_t as log1p(sigma_t)\n");
   net_line(out, "sampler:", m->sampler->preset, m->sampler->nn);
   fprintf(out, "           sigma = %g + softplus, w = sigmoid\n", MODEL_PROXY_SIGMA_MIN);
+  fprintf(out, "audit:     %s\n",
+          m->has_audit_slopes
+              ? "slopes measured for these weights (model.json \"audit_slopes\")"
+              : "no slopes: a bake's energy audit measures every distinct tuple (`nbrdf bundle "
+                "audit-slopes DIR` measures them)");
   for (int k = 0; k < 2; k++) {
     const model_base_table *t = &m->tables[k];
     fprintf(out, "table %s: %d x %d grid\n", model_table_name(t->kind), t->n[0], t->n[1]);

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "model/audit_slopes.h"
 #include "model/files.h"
 #include "model/proxy.h"
 
@@ -105,6 +106,7 @@ nbrdf_status model_bundle_read_json(const char *dir, nbrdf_model *m, char checks
     st =
         core_fail(err, NBRDF_ERR_FORMAT, "%s: \"checksum\" must be 16 lower-case hex digits", path);
   if (st == NBRDF_OK) st = read_reads(root, path, m, err);
+  if (st == NBRDF_OK) st = model_audit_slopes_read(root, path, m, err);
   if (st == NBRDF_OK) {
     snprintf(m->name, sizeof m->name, "%s", name->valuestring);
     m->trained = cJSON_IsTrue(trained);

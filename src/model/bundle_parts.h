@@ -24,6 +24,11 @@ typedef struct model_bundle_ref {
   char checksum_hex[17];
 } model_bundle_ref;
 
+/* The energy audit's slopes (audit_slopes.h): per region of MODEL_AUDIT_REGIONS x
+ * MODEL_AUDIT_REGIONS bins of normalised (alpha1, alpha2), one per parameter. */
+#define MODEL_AUDIT_REGIONS 8
+#define MODEL_AUDIT_PARAMS 6
+
 /* The four weight files, in checksum order. */
 extern const char *const model_bundle_files[4];
 /* model.json, the four model_bundle_files and MODEL_CARD.md (nbrdf_model_files). */
@@ -52,6 +57,10 @@ struct nbrdf_model {
   char decoder_checksum_hex[17]; /* FNV-1a 64 of decoder_bytes */
   model_bundle_ref reads[MODEL_READS_MAX]; /* model.json's "reads_textures_of" */
   int n_reads;
+  /* model.json's "audit_slopes", measured for these weights (a derived model
+   * carries its bundle's); has_audit_slopes 0: none. */
+  double audit_slope[MODEL_AUDIT_REGIONS][MODEL_AUDIT_REGIONS][MODEL_AUDIT_PARAMS];
+  int has_audit_slopes;
 };
 
 /* What a bundle is made of, for saving (all borrowed). */

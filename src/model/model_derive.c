@@ -69,6 +69,8 @@ nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t siz
   memcpy(m->checksum_hex, root->checksum_hex, sizeof m->checksum_hex);
   memcpy(m->reads, root->reads, sizeof m->reads);
   m->n_reads = root->n_reads;
+  memcpy(m->audit_slope, root->audit_slope, sizeof m->audit_slope);
+  m->has_audit_slopes = root->has_audit_slopes;
   m->layering = root->layering;
   m->sampler = root->sampler;
   m->tables[0] = root->tables[0];

@@ -33,6 +33,21 @@ check "another decoder, another checksum" test -z "$(grep "checksum $sum_b" "$TM
 expect_exit 0 "$NBRDF" bundle info "$TMP/paper"
 check "paper decoder: 1058560 MACs" grep -q "1058560 MACs per query" "$TMP/out"
 
+# Audit slopes: none after init; measured and recorded by audit-slopes, shown by info.
+check "bundle info says it has no audit slopes" grep -q "^audit: .*no slopes" "$TMP/info"
+expect_exit 0 "$NBRDF" bundle audit-slopes "$B" --bases 16 --clearcoat-bases 4 --progress=json
+check "audit-slopes names model.json" grep -q "model.json: audit slopes of 'untrained'" "$TMP/out"
+check "audit-slopes reports progress" grep -q '"stage":"audit slopes"' "$TMP/out"
+check "model.json has the slopes" grep -q '"audit_slopes"' "$B/model.json"
+check "model.json records the command" grep -q 'audit-slopes --bases 16 --clearcoat-bases 4 --seed 11' "$B/model.json"
+expect_exit 0 "$NBRDF" bundle info "$B"
+check "bundle info says the slopes were measured" grep -q "^audit: .*slopes measured" "$TMP/out"
+expect_exit 2 "$NBRDF" bundle audit-slopes "$B" --bases 0 --clearcoat-bases 0
+expect_exit 2 "$NBRDF" bundle audit-slopes "$B" --bases -5
+expect_exit 2 "$NBRDF" bundle audit-slopes
+expect_exit 1 "$NBRDF" bundle audit-slopes "$TMP/no-such-bundle"
+expect_err "no-such-bundle/model.json"
+
 # An existing bundle is not overwritten without --force.
 expect_exit 1 "$NBRDF" bundle init "$B"
 expect_err "already holds a bundle"
