@@ -8,7 +8,7 @@
  *
  *   bench_audit_head [--bundle DIR] [--train N,N..] [--width W,W..] [--input params|latent,..]
  *                    [--steps S] [--under K] [--safety F] [--draw N] [--seed S]
- *                    [--corner-p P] [--cache DIR]
+ *                    [--corner-p P] [--probe-m X] [--cache DIR]
  *                    [--material NAME BAKE-ARGS...]...
  *
  * Training set (seed S): half uniform over the normalised range, stratified over the audit's
@@ -26,7 +26,9 @@
  * --roughness alpha|perceptual; range clamp) gathers the maps' distinct tuples as the bake
  * does (bake_gather_tuples), measures all of them (cached), and per head prints the share
  * the head clears, true - head there, the head's CPU seconds, and what the audit
- * (bake_audit_tuples) measures on all tuples against on those the head leaves. */
+ * (bake_audit_tuples) measures on all tuples against on those the head leaves; the same
+ * with the margin --probe-m X (0.08; 0: not), with how many of the draws' tuples above the
+ * limit a head with that margin would clear (wrongly). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -292,13 +294,15 @@ typedef struct under {
   double bin[R];    /* max true - head per bin of normalised alpha1 */
   size_t worst;     /* index of the max */
   double worst_head;
+  size_t wrong; /* true > BAKE_AUDIT_LIMIT yet head + probe <= BAKE_AUDIT_LIMIT */
 } under_stat;
 
-static nbrdf_status under_stats(head *h, const set *s, under_stat *o, nbrdf_error *err) {
+static nbrdf_status under_stats(head *h, const set *s, double probe, under_stat *o,
+                               nbrdf_error *err) {
   double *e = malloc(s->n * sizeof *e), *pred = malloc(s->n * sizeof *pred);
   if (!e || !pred) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   nbrdf_status st = head_predict(h, s, s->n, NULL, pred, err);
-  o->near = -INFINITY, o->n_near = o->n_over = 0, o->worst = 0;
+  o->near = -INFINITY, o->n_near = o->n_over = o->wrong = 0, o->worst = 0;
   for (int b = 0; b < R; b++)
     o->bin[b] = -INFINITY;
   for (size_t k = 0; st == NBRDF_OK && k < s->n; k++) {
@@ -306,6 +310,7 @@ static nbrdf_status under_stats(head *h, const set *s, under_stat *o, nbrdf_erro
     if (e[k] > e[o->worst]) o->worst = k;
     if (s->y[k] > NEAR) o->n_near++, o->near = fmax(o->near, e[k]);
     o->n_over += s->y[k] > BAKE_AUDIT_LIMIT;
+    o->wrong += s->y[k] > BAKE_AUDIT_LIMIT && pred[k] + probe <= BAKE_AUDIT_LIMIT;
     int b = (int)(s->u[k * P + NBRDF_BAKE_ALPHA1] * R);
     b = b < 0 ? 0 : b >= R ? R - 1 : b;
     o->bin[b] = fmax(o->bin[b], e[k]);
@@ -426,10 +431,10 @@ static nbrdf_status material_row(const ctx *c, head *h, const material *m, doubl
   double cpu = 0.0, worst = -1.0;
   if (st == NBRDF_OK) st = audit(c, s, left, n_left, &measured, &cpu, &worst, err);
   if (st == NBRDF_OK)
-    printf("  %s: cleared %zu of %zu (%.1f %%), true - head there up to %.4f (%zu above M), "
+    printf("  %s, M = %.3f: cleared %zu of %zu (%.1f %%), true - head there up to %.4f (%zu above M), "
            "largest true value cleared %.4f; head %.4f CPU-s; audit of the rest: %zu measured, "
            "%.3f CPU-s (all: %zu, %.3f CPU-s)\n",
-           m->name, cleared, s->n, 100.0 * (double)cleared / (double)s->n, worst_e, missed,
+           m->name, M, cleared, s->n, 100.0 * (double)cleared / (double)s->n, worst_e, missed,
            worst_cleared, head_cpu, measured, cpu, m->all_measured, m->all_cpu);
   free(pred), free(left);
   return st;
@@ -451,7 +456,7 @@ int main(int argc, char **argv) {
   long trains[4] = {4096}, widths[4] = {32};
   int n_train = 1, n_width = 1, inputs = 1; /* bit 0: params, bit 1: latent */
   int steps = 20000, n_draw = 8192;
-  double under = 4.0, safety = 1.5, corner_p = 0.2;
+  double under = 4.0, safety = 1.5, corner_p = 0.2, probe = 0.08;
   unsigned long long seed = 21;
   ctx c = {0};
   c.cache = "/tmp/nbrdf-audit-head";
@@ -476,6 +481,8 @@ int main(int argc, char **argv) {
       n_draw = atoi(argv[++i]);
     else if (!strcmp(argv[i], "--seed") && i + 1 < argc)
       seed = strtoull(argv[++i], NULL, 10);
+    else if (!strcmp(argv[i], "--probe-m") && i + 1 < argc)
+      probe = atof(argv[++i]);
     else if (!strcmp(argv[i], "--corner-p") && i + 1 < argc)
       corner_p = atof(argv[++i]);
     else if (!strcmp(argv[i], "--cache") && i + 1 < argc)
@@ -532,12 +539,12 @@ int main(int argc, char **argv) {
         double train_cpu = 0.0, worst = -INFINITY, near = -INFINITY, bin[R];
         under_stat ut, u[N_KIND];
         if (head_train(&h, &train, steps, under, seed, &train_cpu, &err) != NBRDF_OK ||
-            under_stats(&h, &train, &ut, &err) != NBRDF_OK)
+            under_stats(&h, &train, probe, &ut, &err) != NBRDF_OK)
           return fail(&err);
         for (int r = 0; r < R; r++)
           bin[r] = -INFINITY;
         for (int k = 0; k < N_KIND; k++) {
-          if (under_stats(&h, &test[k], &u[k], &err) != NBRDF_OK) return fail(&err);
+          if (under_stats(&h, &test[k], probe, &u[k], &err) != NBRDF_OK) return fail(&err);
           worst = fmax(worst, u[k].q[0]);
           near = fmax(near, u[k].near);
           for (int r = 0; r < R; r++)
@@ -554,17 +561,20 @@ int main(int argc, char **argv) {
           const bake_tuple *t = &test[k].t[u[k].worst];
           printf("  %s: worst at alpha1 %.4g eta %.4g alpha2 %.4g r0 %.4g albedo %.4g sigma_t "
                  "%.4g: true %.4f, head %.4f; true > %.2f: %zu tuples (%zu > %.2f), true - head "
-                 "there up to %.4f\n",
+                 "there up to %.4f; with M = %.3f %zu of those would be cleared\n",
                  kind_name[k], (double)t->p[0], (double)t->p[1], (double)t->p[2],
                  (double)t->p[3], (double)t->p[4], (double)t->p[5], test[k].y[u[k].worst],
-                 u[k].worst_head, NEAR, u[k].n_near, u[k].n_over, BAKE_AUDIT_LIMIT, u[k].near);
+                 u[k].worst_head, NEAR, u[k].n_near, u[k].n_over, BAKE_AUDIT_LIMIT, u[k].near, probe,
+                 u[k].wrong);
         }
         printf("  max true - head by eighth of normalised alpha1 (three draws):");
         for (int r = 0; r < R; r++)
           printf(" %.3f", bin[r]);
         printf("; where true > %.2f: %.4f\n", NEAR, near);
         for (int m = 0; m < n_mat; m++)
-          if (material_row(&c, &h, &mat[m], M, &err) != NBRDF_OK) return fail(&err);
+          if (material_row(&c, &h, &mat[m], M, &err) != NBRDF_OK ||
+              (probe > 0.0 && material_row(&c, &h, &mat[m], probe, &err) != NBRDF_OK))
+            return fail(&err);
         head_free(&h);
       }
     set_free(&train);
