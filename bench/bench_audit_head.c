@@ -288,17 +288,17 @@ static int cmp_double(const void *a, const void *b) {
 #define NEAR (BAKE_AUDIT_LIMIT - 0.1)
 
 typedef struct under {
-  double q[3];      /* true - head: max, p99.9, p99 */
-  double near;      /* max true - head where true > NEAR (-inf: none) */
+  double q[3]; /* true - head: max, p99.9, p99 */
+  double near; /* max true - head where true > NEAR (-inf: none) */
   size_t n_near, n_over;
-  double bin[R];    /* max true - head per bin of normalised alpha1 */
-  size_t worst;     /* index of the max */
+  double bin[R]; /* max true - head per bin of normalised alpha1 */
+  size_t worst;  /* index of the max */
   double worst_head;
   size_t wrong; /* true > BAKE_AUDIT_LIMIT yet head + probe <= BAKE_AUDIT_LIMIT */
 } under_stat;
 
 static nbrdf_status under_stats(head *h, const set *s, double probe, under_stat *o,
-                               nbrdf_error *err) {
+                                nbrdf_error *err) {
   double *e = malloc(s->n * sizeof *e), *pred = malloc(s->n * sizeof *pred);
   if (!e || !pred) return core_fail(err, NBRDF_ERR_MEMORY, "out of memory");
   nbrdf_status st = head_predict(h, s, s->n, NULL, pred, err);
@@ -431,11 +431,12 @@ static nbrdf_status material_row(const ctx *c, head *h, const material *m, doubl
   double cpu = 0.0, worst = -1.0;
   if (st == NBRDF_OK) st = audit(c, s, left, n_left, &measured, &cpu, &worst, err);
   if (st == NBRDF_OK)
-    printf("  %s, M = %.3f: cleared %zu of %zu (%.1f %%), true - head there up to %.4f (%zu above M), "
-           "largest true value cleared %.4f; head %.4f CPU-s; audit of the rest: %zu measured, "
-           "%.3f CPU-s (all: %zu, %.3f CPU-s)\n",
-           m->name, M, cleared, s->n, 100.0 * (double)cleared / (double)s->n, worst_e, missed,
-           worst_cleared, head_cpu, measured, cpu, m->all_measured, m->all_cpu);
+    printf(
+        "  %s, M = %.3f: cleared %zu of %zu (%.1f %%), true - head there up to %.4f (%zu above M), "
+        "largest true value cleared %.4f; head %.4f CPU-s; audit of the rest: %zu measured, "
+        "%.3f CPU-s (all: %zu, %.3f CPU-s)\n",
+        m->name, M, cleared, s->n, 100.0 * (double)cleared / (double)s->n, worst_e, missed,
+        worst_cleared, head_cpu, measured, cpu, m->all_measured, m->all_cpu);
   free(pred), free(left);
   return st;
 }
@@ -562,10 +563,9 @@ int main(int argc, char **argv) {
           printf("  %s: worst at alpha1 %.4g eta %.4g alpha2 %.4g r0 %.4g albedo %.4g sigma_t "
                  "%.4g: true %.4f, head %.4f; true > %.2f: %zu tuples (%zu > %.2f), true - head "
                  "there up to %.4f; with M = %.3f %zu of those would be cleared\n",
-                 kind_name[k], (double)t->p[0], (double)t->p[1], (double)t->p[2],
-                 (double)t->p[3], (double)t->p[4], (double)t->p[5], test[k].y[u[k].worst],
-                 u[k].worst_head, NEAR, u[k].n_near, u[k].n_over, BAKE_AUDIT_LIMIT, u[k].near, probe,
-                 u[k].wrong);
+                 kind_name[k], (double)t->p[0], (double)t->p[1], (double)t->p[2], (double)t->p[3],
+                 (double)t->p[4], (double)t->p[5], test[k].y[u[k].worst], u[k].worst_head, NEAR,
+                 u[k].n_near, u[k].n_over, BAKE_AUDIT_LIMIT, u[k].near, probe, u[k].wrong);
         }
         printf("  max true - head by eighth of normalised alpha1 (three draws):");
         for (int r = 0; r < R; r++)
