@@ -8,6 +8,7 @@
 # (/usr/bin/time), the load average, the worst albedo and the share of the audit.
 # AUDIT_MATERIAL=examples bakes the dielectric coat of examples/make_maps.sh instead. The
 # bake's own line gives how many latents the audit measured and its CPU seconds.
+# BUNDLE=DIR bakes with another bundle (its own audit slopes; models/default by default).
 #   bench/audit_cost.sh [SIZE] [RUNS] [CAP] NBRDF...   (128, 3, the default cap, build/nbrdf)
 set -u
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -21,6 +22,7 @@ export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1} OMP_WAIT_POLICY=${OMP_WAI
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 material=${AUDIT_MATERIAL:-clearcoat}
+bundle=${BUNDLE:-$root/models/default}
 if [ "$material" = examples ]; then
   # The dielectric coat of examples/make_maps.sh (alpha1 0.05..0.9, eta stripes 1.3 / 1.7, a
   # copper / silver checker, painted albedo, sigma_t steps), resized to SIZE².
@@ -28,7 +30,7 @@ if [ "$material" = examples ]; then
   for f in alpha1.png eta.exr alpha2.png r0.png albedo.png sigma_t.exr; do
     oiiotool "$tmp/maps/$f" --resize:filter=box "${size}x${size}" -o "$tmp/$f"
   done
-  args=(--bundle "$root/models/default" --alpha1 "$tmp/alpha1.png" --eta "$tmp/eta.exr"
+  args=(--bundle "$bundle" --alpha1 "$tmp/alpha1.png" --eta "$tmp/eta.exr"
     --alpha2 "$tmp/alpha2.png" --r0 "$tmp/r0.png" --albedo "$tmp/albedo.png"
     --sigma-t "$tmp/sigma_t.exr" --range clamp)
 else
@@ -39,7 +41,7 @@ else
   oiiotool --pattern fill:topleft=0.95,0.64,0.54:topright=0.56,0.57,0.58:bottomleft=1.0,0.86,0.57:bottomright=0.91,0.92,0.92 \
     "${size}x${size}" 3 --pattern noise:type=uniform:min=-0.04:max=0.04:seed=2 \
     "${size}x${size}" 3 --add -d uint8 -o "$tmp/base.png"
-  args=(--bundle "$root/models/default" --roughness perceptual --alpha1 0.05 --eta 1.45
+  args=(--bundle "$bundle" --roughness perceptual --alpha1 0.05 --eta 1.45
     --alpha2 "$tmp/rough.png" --r0 "$tmp/base.png" --albedo 0.8 --sigma-t 1 --range clamp)
 fi
 

@@ -194,7 +194,7 @@ static void test_shipped_bundles(void) {
   static const char *const dirs[4][2] = {{"models/default", "e3f05d7c80d59511"},
                                          {"models/medium", "4ba239f7ac35f1d8"},
                                          {"models/v1", "0ab22d273b6be904"},
-                                         {"models/tails", "de71cdcf8c2baa8d"}};
+                                         {"models/tails", "331b5980d9948d2d"}};
   const char *src = testing_source_dir();
   for (int k = 0; k < 4; k++) {
     nbrdf_error err = {0};
