@@ -34,13 +34,7 @@ if [ "$material" = examples ]; then
     --alpha2 "$tmp/alpha2.png" --r0 "$tmp/r0.png" --albedo "$tmp/albedo.png"
     --sigma-t "$tmp/sigma_t.exr" --range clamp)
 else
-  # A gradient with noise: every texel its own roughness / colour, as a painted map has.
-  oiiotool --pattern fill:topleft=0.15:topright=0.85:bottomleft=0.25:bottomright=0.6 \
-    "${size}x${size}" 1 --pattern noise:type=uniform:min=-0.05:max=0.05:seed=1 \
-    "${size}x${size}" 1 --add -d uint8 -o "$tmp/rough.png"
-  oiiotool --pattern fill:topleft=0.95,0.64,0.54:topright=0.56,0.57,0.58:bottomleft=1.0,0.86,0.57:bottomright=0.91,0.92,0.92 \
-    "${size}x${size}" 3 --pattern noise:type=uniform:min=-0.04:max=0.04:seed=2 \
-    "${size}x${size}" 3 --add -d uint8 -o "$tmp/base.png"
+  bash "$root/bench/clearcoat_maps.sh" "$size" "$tmp"
   args=(--bundle "$bundle" --roughness perceptual --alpha1 0.05 --eta 1.45
     --alpha2 "$tmp/rough.png" --r0 "$tmp/base.png" --albedo 0.8 --sigma-t 1 --range clamp)
 fi

@@ -12,13 +12,8 @@ bench=${BENCH:-$root/build/bench/bench_audit_head}
 export OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1} OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-# clearcoat: as audit_cost.sh (a gradient with noise, every texel its own roughness / colour)
-oiiotool --pattern fill:topleft=0.15:topright=0.85:bottomleft=0.25:bottomright=0.6 \
-  "${size}x${size}" 1 --pattern noise:type=uniform:min=-0.05:max=0.05:seed=1 \
-  "${size}x${size}" 1 --add -d uint8 -o "$tmp/rough.png"
-oiiotool --pattern fill:topleft=0.95,0.64,0.54:topright=0.56,0.57,0.58:bottomleft=1.0,0.86,0.57:bottomright=0.91,0.92,0.92 \
-  "${size}x${size}" 3 --pattern noise:type=uniform:min=-0.04:max=0.04:seed=2 \
-  "${size}x${size}" 3 --add -d uint8 -o "$tmp/base.png"
+# clearcoat: as audit_cost.sh
+bash "$root/bench/clearcoat_maps.sh" "$size" "$tmp"
 # dielectric coat: as audit_cost.sh with AUDIT_MATERIAL=examples
 bash "$root/examples/make_maps.sh" "$tmp/maps" >/dev/null
 for f in alpha1.png eta.exr alpha2.png r0.png albedo.png sigma_t.exr; do
