@@ -69,7 +69,9 @@ void cmd_train_usage(FILE *out) {
       "initial weights (and the card must say so). --reads-textures-of OLD_DIR: the new\n"
       "bundle also reads textures baked with OLD_DIR (and those OLD_DIR reads); refused\n"
       "unless both decoder.safetensors are the same bytes (a texture decodes with its\n"
-      "bundle's decoder, so a retrained layering network or tables keep old textures).\n");
+      "bundle's decoder, so a retrained layering network or tables keep old textures).\n"
+      "Then `nbrdf bundle audit-slopes DIR` measures the energy audit's slopes for the new\n"
+      "weights (without them a bake measures every distinct tuple's albedo).\n");
   cmd_train_options(print_table, out);
 }
 
