@@ -30,14 +30,14 @@
 
 #include "bake/bake_audit.h"
 #include "bake/bake_audit_slopes.h"
-#include "model/audit_slopes.h"
 #include "bake/bake_tuple.h"
-#include "model/material.h"
-#include "nbrdf/bake.h"
 #include "bench_clock.h"
 #include "model/albedo_quad.h"
+#include "model/audit_slopes.h"
 #include "model/bundle.h"
+#include "model/material.h"
 #include "model/netio.h"
+#include "nbrdf/bake.h"
 #include "texture/latent_exr.h"
 
 enum { P = NBRDF_BAKE_PARAM_COUNT, R = BAKE_AUDIT_REGIONS };
@@ -93,8 +93,7 @@ static int texture(const nbrdf_model *model, const char *file, int k) {
       sig[i * C + c] = tex[i * info->channels + texture_latent_index_sigma(&info->layout, c)];
     }
   double c0 = bench_cpu_seconds();
-  if (bake_albedo_precise(model, NULL, n, lat, sig, now, NULL, &err) != NBRDF_OK)
-    return fail(&err);
+  if (bake_albedo_precise(model, NULL, n, lat, sig, now, NULL, &err) != NBRDF_OK) return fail(&err);
   double c1 = bench_cpu_seconds();
   if (bake_albedo_max(model, n, lat, sig, old, NULL, &err) != NBRDF_OK) return fail(&err);
   double c2 = bench_cpu_seconds();
@@ -211,8 +210,7 @@ int main(int argc, char **argv) {
       float a[P], c[P];
       for (int j = 0; j < P; j++)
         a[j] = (float)u[ks * P + j], c[j] = (float)u[k * P + j];
-      if (fabs(mx[ks] - mx[k]) > BAKE_AUDIT_NOISE + bake_audit_reach(slopes, a, c) + 1e-12)
-        above++;
+      if (fabs(mx[ks] - mx[k]) > BAKE_AUDIT_NOISE + bake_audit_reach(slopes, a, c) + 1e-12) above++;
     }
   }
   printf("%zu bases (%s), %zu latents, measured in %.2f CPU-s (%.2f wall) = %.0f latents/CPU-s\n",
@@ -228,14 +226,15 @@ int main(int argc, char **argv) {
          BAKE_AUDIT_NOISE);
   for (int id = 0; id < P; id++)
     printf(" %s %.3f", nbrdf_bake_param_name((nbrdf_bake_param_id)id), d.need[id]);
-  printf("\nwhere (the base's alpha1 eta alpha2 r0 albedo sigma_t -> its value, the step's value):\n");
+  printf(
+      "\nwhere (the base's alpha1 eta alpha2 r0 albedo sigma_t -> its value, the step's value):\n");
   for (int id = 0; id < P; id++) {
     if (!(d.need[id] > 0.0)) continue;
     printf("  %s:", nbrdf_bake_param_name((nbrdf_bake_param_id)id));
     for (int j = 0; j < P; j++)
       printf(" %g", (double)t[d.need_at[id]].p[j]);
-    printf(" -> %.4f; step to %g -> %.4f\n", mx[d.need_at[id]],
-           (double)t[d.need_step[id]].p[id], mx[d.need_step[id]]);
+    printf(" -> %.4f; step to %g -> %.4f\n", mx[d.need_at[id]], (double)t[d.need_step[id]].p[id],
+           mx[d.need_step[id]]);
   }
   double smax[P];
   bake_audit_slope_max(model_audit_slopes(model), smax);

@@ -371,7 +371,8 @@ static double bound(const bake_audit *a, const double *slopes, const float *u,
     const bake_audit_cell *c = &a->cells[cell_slot(a, cell_key(qn))];
     if (!c->key) continue;
     for (size_t i = c->head; i != NO_ANCHOR; i = a->anchors[i].next) {
-      double b = a->anchors[i].value + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, u, a->anchors[i].u);
+      double b =
+          a->anchors[i].value + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, u, a->anchors[i].u);
       if (b < best) best = b, *near = a->anchors[i].value;
       if (best <= BAKE_AUDIT_LIMIT) return best;
     }
@@ -447,7 +448,8 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
     size_t keep = 0;
     for (size_t i = 0; i < np; i++) {
       size_t k = a->pending[i];
-      if (!(bound(a, slopes, a->u + k * P, a->q + k * P, &a->guess[k]) <= BAKE_AUDIT_LIMIT))
+      if (!slopes ||
+          !(bound(a, slopes, a->u + k * P, a->q + k * P, &a->guess[k]) <= BAKE_AUDIT_LIMIT))
         a->pending[keep++] = k;
     }
     np = keep;
@@ -456,7 +458,8 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
     for (size_t i = 0; i < np; i++) {
       size_t k = a->pending[i];
       int covered = 0;
-      for (size_t j = 0; round < AUDIT_ROUNDS - 1 && j < m && !covered; j++) {
+      /* without slopes nothing clears anything: every tuple is a pick of the first round */
+      for (size_t j = 0; slopes && round < AUDIT_ROUNDS - 1 && j < m && !covered; j++) {
         size_t pj = a->pick[j];
         double g = isnan(a->guess[pj]) ? AUDIT_GUESS : a->guess[pj];
         covered = g + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, a->u + k * P, a->u + pj * P) <=

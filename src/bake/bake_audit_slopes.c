@@ -20,8 +20,8 @@ static int region(double u) {
 }
 
 /* The `per` tuples of base b (normalised, into ub) drawn from rng. */
-static void draw_base(core_rng *rng, int sharp, size_t b, const float *lo, const float *hi,
-                      int per, double *ub) {
+static void draw_base(core_rng *rng, int sharp, size_t b, const float *lo, const float *hi, int per,
+                      double *ub) {
   for (int id = 0; id < P; id++)
     ub[id] = core_rng_uniform(rng);
   /* stratified over the slope regions of (alpha1, alpha2) */
@@ -59,9 +59,9 @@ void bake_audit_slopes_draws_free(bake_audit_slopes_draws *d) {
   memset(d, 0, sizeof *d);
 }
 
-nbrdf_status bake_audit_slopes_measure(const nbrdf_model *model,
-                                       const bake_audit_slopes_options *o, double *table,
-                                       bake_audit_slopes_draws *keep, nbrdf_error *err) {
+nbrdf_status bake_audit_slopes_measure(const nbrdf_model *model, const bake_audit_slopes_options *o,
+                                       double *table, bake_audit_slopes_draws *keep,
+                                       nbrdf_error *err) {
   if (!model || !o || !table || o->bases < 0 || o->sharp_bases < 0 ||
       o->bases + o->sharp_bases < 1 || o->bases > (1 << 20) || o->sharp_bases > (1 << 20))
     return core_fail(err, NBRDF_ERR_ARGUMENT,
@@ -102,8 +102,8 @@ nbrdf_status bake_audit_slopes_measure(const nbrdf_model *model,
   }
   for (size_t b0 = 0; b0 < nb && !st; b0 += CHUNK) {
     if (o->progress && o->progress(o->user, "audit slopes", (double)b0, (double)nb)) {
-      st = core_fail(err, NBRDF_ERR_CANCELLED, "audit slopes: cancelled at base %zu of %zu", b0,
-                     nb);
+      st =
+          core_fail(err, NBRDF_ERR_CANCELLED, "audit slopes: cancelled at base %zu of %zu", b0, nb);
       break;
     }
     size_t m = (nb - b0 < CHUNK ? nb - b0 : CHUNK) * per, k0 = b0 * per;
@@ -152,8 +152,10 @@ nbrdf_status bake_audit_slopes_measure(const nbrdf_model *model,
         double need = (dm - BAKE_AUDIT_NOISE) / du;
         if (need > d.need[id]) d.need[id] = need, d.need_at[id] = k, d.need_step[id] = s;
         /* every region the step spans needs it (bake_audit_reach takes the largest) */
-        int a0 = region(d.u[k * P + NBRDF_BAKE_ALPHA1]), a1 = region(d.u[s * P + NBRDF_BAKE_ALPHA1]);
-        int c0 = region(d.u[k * P + NBRDF_BAKE_ALPHA2]), c1 = region(d.u[s * P + NBRDF_BAKE_ALPHA2]);
+        int a0 = region(d.u[k * P + NBRDF_BAKE_ALPHA1]),
+            a1 = region(d.u[s * P + NBRDF_BAKE_ALPHA1]);
+        int c0 = region(d.u[k * P + NBRDF_BAKE_ALPHA2]),
+            c1 = region(d.u[s * P + NBRDF_BAKE_ALPHA2]);
         for (int a = a0 < a1 ? a0 : a1; a <= (a0 < a1 ? a1 : a0); a++)
           for (int c = c0 < c1 ? c0 : c1; c <= (c0 < c1 ? c1 : c0); c++)
             reg[a][c][id] = fmax(reg[a][c][id], need), seen[a][c] = 1;

@@ -13,14 +13,16 @@ _Static_assert(MODEL_AUDIT_PARAMS == NBRDF_BAKE_PARAM_COUNT, "one slope per bake
 
 enum { R = MODEL_AUDIT_REGIONS, P = MODEL_AUDIT_PARAMS };
 
-const char *const model_audit_slopes_params[MODEL_AUDIT_PARAMS] = {"alpha1", "eta", "alpha2", "r0", "albedo", "sigma_t"};
+const char *const model_audit_slopes_params[MODEL_AUDIT_PARAMS] = {"alpha1", "eta",    "alpha2",
+                                                                   "r0",     "albedo", "sigma_t"};
 
 static nbrdf_status bad(nbrdf_error *err, const char *path, const char *what) {
-  return core_fail(err, NBRDF_ERR_FORMAT,
-                   "%s: \"audit_slopes\": %s (expected {\"regions\": %d, \"parameters\": [\"alpha1\", "
-                   "\"eta\", \"alpha2\", \"r0\", \"albedo\", \"sigma_t\"], \"table\": %d x %d x %d "
-                   "slopes > 0}, as `nbrdf bundle audit-slopes DIR` writes)",
-                   path, what, R, R, R, P);
+  return core_fail(
+      err, NBRDF_ERR_FORMAT,
+      "%s: \"audit_slopes\": %s (expected {\"regions\": %d, \"parameters\": [\"alpha1\", "
+      "\"eta\", \"alpha2\", \"r0\", \"albedo\", \"sigma_t\"], \"table\": %d x %d x %d "
+      "slopes > 0}, as `nbrdf bundle audit-slopes DIR` writes)",
+      path, what, R, R, R, P);
 }
 
 nbrdf_status model_audit_slopes_read(const cJSON *root, const char *path, nbrdf_model *m,
@@ -55,8 +57,8 @@ nbrdf_status model_audit_slopes_read(const cJSON *root, const char *path, nbrdf_
         const cJSON *v = cJSON_GetArrayItem(e, id);
         if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble) || !(v->valuedouble > 0.0)) {
           char what[96];
-          snprintf(what, sizeof what, "table[%d][%d][%d] (%s) is not a finite number > 0", a, b,
-                   id, model_audit_slopes_params[id]);
+          snprintf(what, sizeof what, "table[%d][%d][%d] (%s) is not a finite number > 0", a, b, id,
+                   model_audit_slopes_params[id]);
           return bad(err, path, what);
         }
         m->audit_slope[a][b][id] = v->valuedouble;

@@ -27,8 +27,8 @@ static double *at(double *t, int a, int b, int id) { return &t[((size_t)a * R + 
 static void test_reach(void) {
   for (size_t k = 0; k < (size_t)R * R * P; k++)
     table[k] = 1.0;
-  *at(table, 0, 0, NBRDF_BAKE_ETA) = 4.0;  /* region (0, 0) */
-  *at(table, 1, 0, NBRDF_BAKE_ETA) = 9.0;  /* region (1, 0): alpha1's second bin */
+  *at(table, 0, 0, NBRDF_BAKE_ETA) = 4.0; /* region (0, 0) */
+  *at(table, 1, 0, NBRDF_BAKE_ETA) = 9.0; /* region (1, 0): alpha1's second bin */
   *at(table, 7, 7, NBRDF_BAKE_R0) = 5.0;
   float u[P] = {0.01f, 0.5f, 0.01f, 0.5f, 0.5f, 0.5f}, v[P];
   memcpy(v, u, sizeof v);
@@ -84,8 +84,7 @@ static void test_json(const char *dir) {
   char dec[700];
   snprintf(dec, sizeof dec, "%s/decoder.safetensors", dir);
   CHECK_OK(nbrdf_model_with_decoder_file(m2, dec, &derived, err), err);
-  CHECK(derived && model_audit_slopes(derived) &&
-        model_audit_slopes(derived)[3] == table[3]);
+  CHECK(derived && model_audit_slopes(derived) && model_audit_slopes(derived)[3] == table[3]);
   nbrdf_model_destroy(derived);
   nbrdf_model_destroy(m2);
   /* damaged entries: the file and the entry named, the bundle refused */
@@ -151,8 +150,7 @@ static void test_measure(const char *dir) {
       lo = fmin(lo, t1[(size_t)k * P + id]), hi = fmax(hi, t1[(size_t)k * P + id]);
     double need = d.need[id];
     CHECK_MSG(lo >= 0.25 && lo >= ceil(150.0 * need / 3.0) / 100.0 - 1e-9,
-              "%s: smallest %g, need %g", nbrdf_bake_param_name((nbrdf_bake_param_id)id), lo,
-              need);
+              "%s: smallest %g, need %g", nbrdf_bake_param_name((nbrdf_bake_param_id)id), lo, need);
     CHECK_MSG(hi <= fmax(0.25, ceil(150.0 * need) / 100.0) + 1e-9, "%s: largest %g, need %g",
               nbrdf_bake_param_name((nbrdf_bake_param_id)id), hi, need);
   }
