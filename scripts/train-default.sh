@@ -122,6 +122,8 @@ stage "bundle -> $bundle"
   --tables "$work/base_tables.safetensors" --layering "$final_layering" \
   --sampler "$work/sampler.safetensors" --card docs/MODEL_CARD_DEFAULT.md \
   --note "trained by scripts/train-default.sh (decoder ${DECODER_STEPS:-14342} steps; layering paper preset, decoded loss, 300 + 150 epochs, energy fine-tune $energy_tune); measured figures in MODEL_CARD.md"
+# The energy audit's slopes, measured for these weights (docs/BAKE.md, "Slopes"; about 3 minutes).
+"$nbrdf" bundle audit-slopes "$bundle"
 
 # 7. Model quality on the held-out sets (references cached in $work/evalcache; about 2.5 hours
 #    of references on a fresh machine). NBRDF_EVALUATE=0 stops before it.
