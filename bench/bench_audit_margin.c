@@ -186,7 +186,7 @@ int main(int argc, char **argv) {
   }
   model_runner_destroy(&runner);
   double raw[P] = {0}, under = 0.0, over = 0.0, violation = -INFINITY, top = 0.0;
-  size_t above = 0;
+  size_t above = 0, worst_member = 0, worst_base = 0, missed = 0;
   for (size_t b = 0; b < d.n_bases; b++) {
     size_t k = b * per;
     top = fmax(top, brute[b]);
@@ -203,7 +203,9 @@ int main(int argc, char **argv) {
     for (int id = 0; id < P; id++)
       fu[id] = (float)u[m * P + id], fv[id] = (float)u[k * P + id];
     double bound = mx[k] + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, fu, fv);
-    violation = fmax(violation, mx[m] - bound);
+    if (mx[m] - bound > violation) violation = mx[m] - bound, worst_member = m, worst_base = k;
+    /* what the audit would get wrong: a member its base clears that is above the limit */
+    missed += bound <= BAKE_AUDIT_LIMIT && mx[m] > BAKE_AUDIT_LIMIT;
     /* single steps that need more than the bundle's table gives them */
     for (int s = 1; s <= BAKE_AUDIT_SLOPES_STEPS * P; s++) {
       size_t ks = k + (size_t)s;
@@ -258,6 +260,16 @@ int main(int argc, char **argv) {
   }
   printf("\nlargest cell member minus its bound (the %s slopes): %.4f (must be <= 0)\n",
          model_audit_slopes(model) ? "bundle's" : "measured", violation);
+  printf("  the member:");
+  for (int j = 0; j < P; j++)
+    printf(" %g", (double)t[worst_member].p[j]);
+  printf(" -> %.4f; its base:", mx[worst_member]);
+  for (int j = 0; j < P; j++)
+    printf(" %g", (double)t[worst_base].p[j]);
+  printf(" -> %.4f\n", mx[worst_base]);
+  printf("cell members above %.2f that their base's bound clears (the audit would miss them): "
+         "%zu of %zu\n",
+         BAKE_AUDIT_LIMIT, missed, d.n_bases);
   free(brute), free(rho);
   bake_audit_slopes_draws_free(&d);
   nbrdf_model_destroy(model);
