@@ -10,11 +10,7 @@
 # Environment: BUDGET (20), TARGETS ("10 5 3"), MAPS_SIZE (64), TEXELS (8), SPP (256),
 # SCENES ("maps carpaint varnish lacquer").
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-build="$(cd "${1:-$root/build}" && pwd)"
-work="${2:-$(mktemp -d)}"
-mkdir -p "$work"
-nbrdf="$build/nbrdf"
+source "$(dirname "$0")/bench_dirs.sh" "$@"
 budget=${BUDGET:-20}
 targets=${TARGETS:-"10 5 3"}
 size=${MAPS_SIZE:-64}

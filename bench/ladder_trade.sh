@@ -10,11 +10,7 @@
 # Environment: LEVELS ("fast fitted"), CONSTANTS (held-out indices, "6 14 0 1 2 3"),
 # MAPS (1: include the maps), MAPS_SIZE (256; another size resizes them with oiiotool), SPP (verify walks, 256), TEXELS (64), BUDGET (empty: default).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-build="$(cd "${1:-$root/build}" && pwd)"
-work="${2:-$(mktemp -d)}"
-mkdir -p "$work"
-nbrdf="$build/nbrdf"
+source "$(dirname "$0")/bench_dirs.sh" "$@"
 levels=${LEVELS:-"fast fitted"}
 constants=${CONSTANTS-"6 14 0 1 2 3"} # CONSTANTS="" runs none
 spp=${SPP:-256}

@@ -16,11 +16,7 @@
 # Environment: ALPHA1S ("0.001 0.0025 0.005"), ALPHA2S ("0.05 0.3"), BUDGET_FITTED (120),
 # BUDGET_SPECIALISED (300), SPP (1024), SEED (1), ENERGY_OFF (1: the --fit-energy 0 column).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-build="$(cd "${1:-$root/build}" && pwd)"
-work="${2:-$(mktemp -d)}"
-mkdir -p "$work"
-nbrdf="$build/nbrdf"
+source "$(dirname "$0")/bench_dirs.sh" "$@"
 alpha1s=${ALPHA1S:-"0.001 0.0025 0.005"}
 alpha2s=${ALPHA2S:-"0.05 0.3"}
 bf=${BUDGET_FITTED:-120}

@@ -11,12 +11,9 @@
 #   bench/tile_set_fit.sh [BUILD_DIR] [WORK_DIR]
 # Environment: BUDGET (the seam fits' budget, 60), PARTS ("ten seams").
 set -euo pipefail
-root="$(cd "$(dirname "$0")/.." && pwd)"
-nbrdf="$(cd "${1:-$root/build}" && pwd)/nbrdf"
-work="${2:-$(mktemp -d)}"
+source "$(dirname "$0")/bench_dirs.sh" "$@"
 budget=${BUDGET:-60}
 parts=${PARTS:-ten seams}
-mkdir -p "$work"
 cd "$work"
 export OPENBLAS_NUM_THREADS=1
 t() { /usr/bin/time -f "%e %U" -o "$1.time" "${@:2}" >"$1.log" 2>&1; cat "$1.time"; }

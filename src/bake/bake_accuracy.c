@@ -248,6 +248,19 @@ nbrdf_status bake_accuracy_check(const nbrdf_model *model, const nbrdf_bake_opti
   return st;
 }
 
+/* The distinct tuples of the scenes as the fit sees them (bake_gather_tuples; lo, hi: the
+ * trained ranges). alpha1 and alpha2 below the trained range are fitted as given
+ * (bake_range.h): their ground truth is that of the user's values, the networks see the
+ * trained minimum. */
+static nbrdf_status gather(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
+                           const nbrdf_bake_options *o, const float *lo, const float *hi,
+                           bake_tuple **cand, size_t *n_cand, size_t *distinct, nbrdf_error *err) {
+  float take[NBRDF_BAKE_PARAM_COUNT], take_hi[NBRDF_BAKE_PARAM_COUNT];
+  bake_taken_ranges(model, o->accuracy, take, take_hi);
+  bake_gather_settings gs = {lo, hi, take, o->roughness, o->range, o->quantise_bits, o->cancel};
+  return bake_gather_tuples(scenes, n_scenes, &gs, cand, n_cand, distinct, err);
+}
+
 nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scenes, size_t n_scenes,
                                const nbrdf_bake_options *o, core_ticker *ticker, bake_fit_result *r,
                                nbrdf_error *err) {
@@ -261,14 +274,9 @@ nbrdf_status bake_accuracy_fit(const nbrdf_model *model, const bake_scene *scene
   int64_t student_macs;
   nbrdf_status sm = student_macs_of(o, &student_macs, err);
   if (sm != NBRDF_OK) return sm;
-  /* alpha1 and alpha2 below the trained range are fitted as given (bake_range.h): their
-   * ground truth is that of the user's values, the networks see the trained minimum. */
-  float take[NBRDF_BAKE_PARAM_COUNT], take_hi[NBRDF_BAKE_PARAM_COUNT];
-  bake_taken_ranges(model, o->accuracy, take, take_hi);
-  bake_gather_settings gs = {lo, hi, take, o->roughness, o->range, o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;
   size_t n_cand = 0;
-  nbrdf_status st = bake_gather_tuples(scenes, n_scenes, &gs, &cand, &n_cand, &r->distinct, err);
+  nbrdf_status st = gather(model, scenes, n_scenes, o, lo, hi, &cand, &n_cand, &r->distinct, err);
   bake_plan plan;
   if (st == NBRDF_OK)
     st = bake_plan_make(o->accuracy, r->budget, r->distinct, nbrdf_model_decoder_macs(model),
@@ -363,14 +371,9 @@ nbrdf_status bake_accuracy_fast_error(const nbrdf_model *model, const bake_scene
   *fast = 0.0, *heldout = 0, *distinct = 0;
   float lo[NBRDF_BAKE_PARAM_COUNT], hi[NBRDF_BAKE_PARAM_COUNT];
   model_material_ranges(model, lo, hi);
-  /* alpha1 and alpha2 below the trained range are fitted as given (bake_range.h): their
-   * ground truth is that of the user's values, the networks see the trained minimum. */
-  float take[NBRDF_BAKE_PARAM_COUNT], take_hi[NBRDF_BAKE_PARAM_COUNT];
-  bake_taken_ranges(model, o->accuracy, take, take_hi);
-  bake_gather_settings gs = {lo, hi, take, o->roughness, o->range, o->quantise_bits, o->cancel};
   bake_tuple *cand = NULL;
   size_t n_cand = 0;
-  nbrdf_status st = bake_gather_tuples(scenes, n_scenes, &gs, &cand, &n_cand, distinct, err);
+  nbrdf_status st = gather(model, scenes, n_scenes, o, lo, hi, &cand, &n_cand, distinct, err);
   /* FITTED's plan at this budget and its selection: the held-out tuples are then those the
    * fitted level is measured on, with the same truth (same seed and streams). */
   bake_plan plan;

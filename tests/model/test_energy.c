@@ -19,12 +19,19 @@ static double penalty_at(model_energy *e, const float *lat, const float *ceil) {
   return p;
 }
 
-static void test_gradients(void) {
+/* A randomly initialised decoder of the small preset (NULL after a failed check). */
+static model_decoder *small_decoder(unsigned seed) {
   nbrdf_error err = {0};
   model_decoder_config cfg;
   CHECK_OK(model_decoder_preset("small", D, &cfg, &err), &err);
   model_decoder *dec = NULL;
-  CHECK_OK(model_decoder_create(&cfg, 11u, &dec, &err), &err);
+  CHECK_OK(model_decoder_create(&cfg, seed, &dec, &err), &err);
+  return dec;
+}
+
+static void test_gradients(void) {
+  nbrdf_error err = {0};
+  model_decoder *dec = small_decoder(11u);
   if (!dec) return;
   model_energy_options o = MODEL_ENERGY_OPTIONS_DEFAULT;
   o.lambda = 2.0f, o.samples = 64;
@@ -146,10 +153,7 @@ static void test_options(void) {
  * whatever the step, and a rule too small is refused. */
 static void test_polar(void) {
   nbrdf_error err = {0};
-  model_decoder_config cfg;
-  CHECK_OK(model_decoder_preset("small", D, &cfg, &err), &err);
-  model_decoder *dec = NULL;
-  CHECK_OK(model_decoder_create(&cfg, 12u, &dec, &err), &err);
+  model_decoder *dec = small_decoder(12u);
   if (!dec) return;
   model_energy_options o = MODEL_ENERGY_OPTIONS_DEFAULT;
   o.lambda = 1.0f, o.polar_rings = 12, o.polar_phi = 8, o.samples = 0; /* samples unused */
