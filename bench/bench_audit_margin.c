@@ -152,7 +152,7 @@ int main(int argc, char **argv) {
    * audit-slopes` would record, and every tuple it measured. */
   bake_audit_slopes_options so = BAKE_AUDIT_SLOPES_OPTIONS_DEFAULT;
   so.bases = sharp ? 0 : bases, so.sharp_bases = sharp ? bases : 0, so.seed = seed;
-  static double table[R * R * P];
+  static double table[R * R * P * BAKE_AUDIT_DIRS];
   bake_audit_slopes_draws d;
   double w0 = bench_wall_seconds(), c0 = bench_cpu_seconds();
   if (bake_audit_slopes_measure(model, &so, table, &d, &err) != NBRDF_OK) return fail(&err);
@@ -186,7 +186,8 @@ int main(int argc, char **argv) {
   }
   model_runner_destroy(&runner);
   double raw[P] = {0}, under = 0.0, over = 0.0, violation = -INFINITY, top = 0.0;
-  size_t above = 0, worst_member = 0, worst_base = 0, missed = 0;
+  size_t above = 0, worst_member = 0, worst_base = 0, missed = 0, above_of[P] = {0};
+  double excess_of[P] = {0};
   for (size_t b = 0; b < d.n_bases; b++) {
     size_t k = b * per;
     top = fmax(top, brute[b]);
@@ -212,7 +213,13 @@ int main(int argc, char **argv) {
       float a[P], c[P];
       for (int j = 0; j < P; j++)
         a[j] = (float)u[ks * P + j], c[j] = (float)u[k * P + j];
-      if (fabs(mx[ks] - mx[k]) > BAKE_AUDIT_NOISE + bake_audit_reach(slopes, a, c) + 1e-12) above++;
+      /* a rise from the base to the step, or from the step back to the base */
+      double ex = fmax(mx[ks] - mx[k] - BAKE_AUDIT_NOISE - bake_audit_reach(slopes, a, c),
+                       mx[k] - mx[ks] - BAKE_AUDIT_NOISE - bake_audit_reach(slopes, c, a));
+      if (ex > 1e-12) {
+        int id = (s - 1) / BAKE_AUDIT_SLOPES_STEPS;
+        above++, above_of[id]++, excess_of[id] = fmax(excess_of[id], ex);
+      }
     }
   }
   printf("%zu bases (%s), %zu latents, measured in %.2f CPU-s (%.2f wall) = %.0f latents/CPU-s\n",
@@ -244,16 +251,23 @@ int main(int argc, char **argv) {
          model_audit_slopes(model) ? "model.json" : "none");
   for (int id = 0; id < P; id++)
     printf(" %.3f", smax[id]);
-  printf("\nsteps whose change exceeds noise + the bundle's reach: %zu of %zu\n", above,
-         d.n_bases * BAKE_AUDIT_SLOPES_STEPS * P);
+  printf("\nsteps whose change exceeds noise + the bundle's reach: %zu of %zu; per parameter "
+         "(count, largest excess):",
+         above, d.n_bases * BAKE_AUDIT_SLOPES_STEPS * P);
+  for (int id = 0; id < P; id++)
+    printf(" %s %zu %.3f", nbrdf_bake_param_name((nbrdf_bake_param_id)id), above_of[id],
+           excess_of[id]);
+  printf("\n");
   printf("the table `nbrdf bundle audit-slopes` would record from these draws (alpha1 bin, "
-         "alpha2 bin):\n");
+         "alpha2 bin; up/down per parameter):\n");
   for (int a = 0; a < R; a++) {
     printf("  {");
     for (int c = 0; c < R; c++) {
       printf("{");
-      for (int id = 0; id < P; id++)
-        printf("%.2f%s", table[((size_t)a * R + c) * P + id], id + 1 < P ? ", " : "");
+      for (int id = 0; id < P; id++) {
+        const double *e = table + (((size_t)a * R + c) * P + (size_t)id) * BAKE_AUDIT_DIRS;
+        printf("%.2f/%.2f%s", e[0], e[1], id + 1 < P ? ", " : "");
+      }
       printf("}%s", c + 1 < R ? ", " : "");
     }
     printf("}%s\n", a + 1 < R ? "," : "");

@@ -74,7 +74,13 @@ static int region(float u) {
   return r < 0 ? 0 : r >= BAKE_AUDIT_REGIONS ? BAKE_AUDIT_REGIONS - 1 : r;
 }
 
-_Static_assert(BAKE_AUDIT_REGIONS == MODEL_AUDIT_REGIONS, "the bundle's table is the audit's");
+_Static_assert(BAKE_AUDIT_REGIONS == MODEL_AUDIT_REGIONS && BAKE_AUDIT_DIRS == MODEL_AUDIT_DIRS,
+               "the bundle's table is the audit's");
+
+static const double *slope_at(const double *slopes, int a, int b, int id) {
+  return slopes + (((size_t)a * BAKE_AUDIT_REGIONS + (size_t)b) * NBRDF_BAKE_PARAM_COUNT +
+                   (size_t)id) * BAKE_AUDIT_DIRS;
+}
 
 double bake_audit_reach(const double *slopes, const float *u, const float *v) {
   if (!slopes) return INFINITY;
@@ -84,22 +90,37 @@ double bake_audit_reach(const double *slopes, const float *u, const float *v) {
   int b0 = bu < bv ? bu : bv, b1 = bu < bv ? bv : bu;
   double d = 0.0;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    double du = fabs((double)u[id] - (double)v[id]), s = 0.0;
+    double du = (double)u[id] - (double)v[id], s = 0.0;
     if (du == 0.0) continue;
+    int dir = du > 0.0 ? 0 : 1;
     for (int a = a0; a <= a1; a++)
       for (int b = b0; b <= b1; b++)
-        s = fmax(s, slopes[((size_t)a * BAKE_AUDIT_REGIONS + b) * NBRDF_BAKE_PARAM_COUNT + id]);
-    d += s * du;
+        s = fmax(s, slope_at(slopes, a, b, id)[dir]);
+    d += s * fabs(du);
   }
   return d;
 }
 
-void bake_audit_slope_max(const double *slopes, double *slope) {
+/* The largest (or with `least`, the smallest) slope of each parameter over the
+ * regions and directions. */
+static void slope_extreme(const double *slopes, int least, double *slope) {
+  enum { N = BAKE_AUDIT_REGIONS * BAKE_AUDIT_REGIONS };
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    slope[id] = slopes ? 0.0 : INFINITY;
-    for (int k = 0; slopes && k < BAKE_AUDIT_REGIONS * BAKE_AUDIT_REGIONS; k++)
-      slope[id] = fmax(slope[id], slopes[(size_t)k * NBRDF_BAKE_PARAM_COUNT + id]);
+    slope[id] = least ? INFINITY : 0.0;
+    for (int k = 0; k < N; k++)
+      for (int dir = 0; dir < BAKE_AUDIT_DIRS; dir++) {
+        double x = slopes[((size_t)k * NBRDF_BAKE_PARAM_COUNT + (size_t)id) * BAKE_AUDIT_DIRS + dir];
+        slope[id] = least ? fmin(slope[id], x) : fmax(slope[id], x);
+      }
   }
+}
+
+void bake_audit_slope_max(const double *slopes, double *slope) {
+  if (slopes)
+    slope_extreme(slopes, 0, slope);
+  else
+    for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+      slope[id] = INFINITY;
 }
 
 /* The polar rule's maximum over θi of n latents through `runner`, destroyed here; st: whether
@@ -352,11 +373,29 @@ static void tally(bake_audit *a, size_t j, size_t k, size_t *band_worst) {
   }
 }
 
-/* The smallest bound anchor + noise + reach over the anchors of the tuple's cell
- * and of the cells next to it along one parameter (stops at the first that
- * clears the limit); *near: the value of the anchor that gave it (NAN: none). */
-static double bound(const bake_audit *a, const double *slopes, const float *u,
-                    const unsigned char *q, double *near) {
+/* Whether cells q and r are the same or next to each other along one parameter. */
+static int next_cell(const unsigned char *q, const unsigned char *r) {
+  int steps = 0;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+    steps += abs((int)q[id] - (int)r[id]);
+  return steps <= 1;
+}
+
+static void cell_of(const float *u, unsigned char *q) {
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    int g = (int)(u[id] * BAKE_AUDIT_GRID);
+    q[id] = (unsigned char)(g < 0 ? 0 : g >= BAKE_AUDIT_GRID ? BAKE_AUDIT_GRID - 1 : g);
+  }
+}
+
+/* The smallest bound anchor + noise + reach over the anchors (stops at the first
+ * that clears the limit): those of the tuple's cell and of the cells next to it
+ * along one parameter first, then the others, newest first (the bake meets
+ * tuples in texel order, so its recent anchors are the likely near ones), each
+ * skipped when even the smallest slopes (smin) cannot clear it; *near: the
+ * value of the anchor that gave it (NAN: none). */
+static double bound(const bake_audit *a, const double *slopes, const double *smin,
+                    const float *u, const unsigned char *q, double *near) {
   enum { P = NBRDF_BAKE_PARAM_COUNT };
   double best = INFINITY;
   *near = NAN;
@@ -376,6 +415,19 @@ static double bound(const bake_audit *a, const double *slopes, const float *u,
       if (b < best) best = b, *near = a->anchors[i].value;
       if (best <= BAKE_AUDIT_LIMIT) return best;
     }
+  }
+  for (size_t i = a->n_anchors; i-- > 0;) {
+    const bake_audit_anchor *an = &a->anchors[i];
+    double lb = an->value + BAKE_AUDIT_NOISE;
+    for (int id = 0; id < P; id++)
+      lb += smin[id] * fabs((double)u[id] - (double)an->u[id]);
+    if (!(lb < best) || lb > BAKE_AUDIT_LIMIT) continue;
+    unsigned char qa[P];
+    cell_of(an->u, qa);
+    if (next_cell(q, qa)) continue; /* tried above */
+    double b = an->value + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, u, an->u);
+    if (b < best) best = b, *near = an->value;
+    if (best <= BAKE_AUDIT_LIMIT) return best;
   }
   return best;
 }
@@ -399,6 +451,39 @@ static double cpu_seconds(void) {
   struct timespec ts;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The smallest slope of each parameter over the regions and directions (0 without slopes). */
+static void smallest_slopes(const double *slopes, double *smin) {
+  if (slopes)
+    slope_extreme(slopes, 1, smin);
+  else
+    for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
+      smin[id] = 0.0;
+}
+
+typedef struct audit_order {
+  double key;
+  size_t k;
+} audit_order;
+
+/* Σ_i (up slope_i - down slope_i) u_i in the tuple's region: large where an anchor
+ * clears much below it (0 without slopes). */
+static double pick_key(const double *slopes, const float *u) {
+  if (!slopes) return 0.0;
+  double key = 0.0;
+  for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
+    const double *s = slope_at(slopes, region(u[NBRDF_BAKE_ALPHA1]), region(u[NBRDF_BAKE_ALPHA2]), id);
+    key += (s[0] - s[1]) * (double)u[id];
+  }
+  return key;
+}
+
+/* Descending key; ties in bake order, so the order is the same on every machine. */
+static int by_key(const void *x, const void *y) {
+  const audit_order *p = x, *q = y;
+  if (p->key != q->key) return p->key > q->key ? -1 : 1;
+  return (p->k > q->k) - (p->k < q->k);
 }
 
 static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const bake_tuple *t,
@@ -428,16 +513,23 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
   const double *slopes = model_audit_slopes(model);
   if (!scratch_room(a, n, D) || !cells_room(a, n) || !anchors_room(a, n))
     return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
+  double smin[P];
+  smallest_slopes(slopes, smin);
+  audit_order *order = malloc(n * sizeof *order);
+  if (!order) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   for (size_t k = 0; k < n; k++) {
     float *u = a->u + k * P;
-    unsigned char *q = a->q + k * P;
-    for (int id = 0; id < P; id++) {
+    for (int id = 0; id < P; id++)
       u[id] = model_material_normalise(lo, hi, id, t[idx[k]].p[id]);
-      int g = (int)(u[id] * BAKE_AUDIT_GRID);
-      q[id] = (unsigned char)(g < 0 ? 0 : g >= BAKE_AUDIT_GRID ? BAKE_AUDIT_GRID - 1 : g);
-    }
-    a->pending[k] = k;
+    cell_of(u, a->q + k * P);
+    order[k] = (audit_order){pick_key(slopes, u), k};
   }
+  /* Picks are made in this order: a tuple high where the albedo rises faster than it
+   * falls clears more below it than one low clears above it. */
+  qsort(order, n, sizeof *order, by_key);
+  for (size_t k = 0; k < n; k++)
+    a->pending[k] = order[k].k;
+  free(order);
   /* Rounds: a tuple some anchor's bound clears is done; of the others, a spread
    * set is measured (a pick stands for the pending tuples it is expected to
    * clear), and the rest wait for the next round; the last round measures all
@@ -449,7 +541,7 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
     for (size_t i = 0; i < np; i++) {
       size_t k = a->pending[i];
       if (!slopes ||
-          !(bound(a, slopes, a->u + k * P, a->q + k * P, &a->guess[k]) <= BAKE_AUDIT_LIMIT))
+          !(bound(a, slopes, smin, a->u + k * P, a->q + k * P, &a->guess[k]) <= BAKE_AUDIT_LIMIT))
         a->pending[keep++] = k;
     }
     np = keep;

@@ -38,13 +38,18 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
  * every measured tuple (bake_albedo_precise) is an anchor, filed in its cell of
  * a grid of BAKE_AUDIT_GRID steps over each parameter's normalised range
  * (model_material_normalise). A tuple is cleared without being measured when
- * an anchor of its cell or of a cell next to it along one parameter gives the
- * bound anchor + BAKE_AUDIT_NOISE + bake_audit_reach(tuple, anchor) <=
+ * an anchor gives the bound anchor + BAKE_AUDIT_NOISE + bake_audit_reach(tuple,
+ * anchor) <=
  * BAKE_AUDIT_LIMIT: the slopes bound how fast the decoded albedo moves per unit
  * of normalised parameter (the bundle's, measured for its weights by `nbrdf bundle
  * audit-slopes`; a bundle without them has every distinct tuple measured) and the
- * noise the quadrature's error (bench/bench_audit_margin.c). The others are measured in rounds of picks
- * spread so that each is expected to clear those near it; the last round
+ * noise the quadrature's error (bench/bench_audit_margin.c). The anchors of the
+ * tuple's cell and of the cells next to it along one parameter are tried first,
+ * then every anchor (a material that varies in several parameters at once has
+ * its nearest anchors in diagonal cells). The others are measured in rounds of
+ * picks spread so that each is expected to clear those near it, the tuples the
+ * slopes favour as anchors (high where rising is steeper than falling) picked
+ * first; the last round
  * measures all that are left. So a verdict above the limit is never left to a
  * bound, and the worst value is exact (to the quadrature) whenever it is near
  * or above the limit; below it, it is the largest measured value, within the
@@ -70,16 +75,20 @@ nbrdf_status bake_albedo_max(const nbrdf_model *model, size_t n, const float *la
 /* The slopes depend on where: the decoded albedo has a steep ridge where both
  * lobes are sharp (alpha1 ~0.01, alpha2 ~0.05: 1.02 to 0.77 over a step of 0.06
  * in normalised alpha2), and is gentle elsewhere. So they are given per region
- * of BAKE_AUDIT_REGIONS x BAKE_AUDIT_REGIONS bins of normalised (alpha1, alpha2):
- * slopes[(bin of alpha1 · BAKE_AUDIT_REGIONS + bin of alpha2) · 6 + parameter],
- * the bundle's own (model/audit_slopes.h, measured by bake_audit_slopes.h); a
- * bound between two tuples uses the largest slope of every region between them. */
+ * of BAKE_AUDIT_REGIONS x BAKE_AUDIT_REGIONS bins of normalised (alpha1, alpha2)
+ * and per direction: slopes[((bin of alpha1 · BAKE_AUDIT_REGIONS + bin of
+ * alpha2) · 6 + parameter) · 2 + (0: u above v, 1: u below v)], the bundle's own
+ * (model/audit_slopes.h, measured by bake_audit_slopes.h); a bound between two
+ * tuples uses the largest slope of every region between them. */
 #define BAKE_AUDIT_REGIONS 8
-/* How far the albedo can move from normalised parameters v to u:
- * Σ_i slope_i |u_i - v_i|, slope_i the largest over the regions between them;
- * infinite when slopes is NULL (a bundle without them). */
+#define BAKE_AUDIT_DIRS 2
+/* How far the albedo can rise from the measured tuple v to u:
+ * Σ_i slope_i |u_i - v_i|, slope_i the largest over the regions between them in
+ * the direction from v_i to u_i; infinite when slopes is NULL (a bundle without
+ * them). */
 double bake_audit_reach(const double *slopes, const float *u, const float *v);
-/* The largest slope of each parameter over all regions (infinite without slopes). */
+/* The largest slope of each parameter over all regions and both directions
+ * (infinite without slopes). */
 void bake_audit_slope_max(const double *slopes, double *slope);
 
 struct gpu_network;

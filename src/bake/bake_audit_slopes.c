@@ -9,7 +9,12 @@
 #include "core/rng.h"
 #include "model/material.h"
 
-enum { P = NBRDF_BAKE_PARAM_COUNT, R = BAKE_AUDIT_REGIONS, N_STEP = BAKE_AUDIT_SLOPES_STEPS };
+enum {
+  P = NBRDF_BAKE_PARAM_COUNT,
+  R = BAKE_AUDIT_REGIONS,
+  DIRS = BAKE_AUDIT_DIRS,
+  N_STEP = BAKE_AUDIT_SLOPES_STEPS
+};
 static const double step_of[N_STEP] = {1.0 / 32, 1.0 / 16, 1.0 / 8, 1.0 / 4};
 /* Bases measured per call of the decoder's batch (progress and cancel between). */
 #define CHUNK 64
@@ -129,45 +134,58 @@ nbrdf_status bake_audit_slopes_measure(const nbrdf_model *model, const bake_audi
     bake_audit_slopes_draws_free(&d);
     return st;
   }
-  /* The bound's model: |m(u) - m(a)| <= NOISE + slope |u - a| (m: the audit's
-   * measurement, whose error is part of NOISE). */
-  static const double zero[R][R][P];
-  double(*reg)[R][P] = malloc(sizeof zero);
+  /* The bound's model: m(u) - m(a) <= NOISE + Σ slope |u - a|, the slope of the
+   * direction from a to u (m: the audit's measurement, whose error is part of
+   * NOISE). A step between a base and a tuple is a rise one way and a fall the
+   * other, so it gives a need to both directions. */
+  static const double zero[R][R][P][DIRS];
+  double(*reg)[R][P][DIRS] = malloc(sizeof zero);
+  double top[P][DIRS] = {{0}};
   int seen[R][R] = {{0}};
   if (!reg) {
     bake_audit_slopes_draws_free(&d);
     return core_fail(err, NBRDF_ERR_MEMORY, "audit slopes: out of memory");
   }
   memcpy(reg, zero, sizeof zero);
+  /* Every step counts, the clearcoat's along all six parameters too: one-sided slopes
+   * need them (in that family a lower medium albedo raises the decoded albedo, which
+   * the whole range's draws hardly see). */
   for (size_t b = 0; b < nb; b++) {
-    int is_sharp = b >= (size_t)o->bases;
     size_t k = b * per;
     for (int id = 0; id < P; id++) {
-      if (is_sharp && id != NBRDF_BAKE_ALPHA2 && id != NBRDF_BAKE_R0) continue;
       for (int j = 0; j < N_STEP; j++) {
         size_t s = k + 1 + (size_t)id * N_STEP + (size_t)j;
-        double du = fabs(d.u[s * P + id] - d.u[k * P + id]);
-        double dm = fabs(d.value[s] - d.value[k]);
-        if (!(du > 0.0)) continue;
-        double need = (dm - BAKE_AUDIT_NOISE) / du;
+        double du = d.u[s * P + id] - d.u[k * P + id];
+        double dm = d.value[s] - d.value[k];
+        if (du == 0.0) continue;
+        double need = (fabs(dm) - BAKE_AUDIT_NOISE) / fabs(du);
         if (need > d.need[id]) d.need[id] = need, d.need_at[id] = k, d.need_step[id] = s;
+        /* from the base to the step (direction of du) it rises by dm; back, by -dm */
+        double want[DIRS];
+        want[du > 0.0 ? 0 : 1] = (dm - BAKE_AUDIT_NOISE) / fabs(du);
+        want[du > 0.0 ? 1 : 0] = (-dm - BAKE_AUDIT_NOISE) / fabs(du);
         /* every region the step spans needs it (bake_audit_reach takes the largest) */
         int a0 = region(d.u[k * P + NBRDF_BAKE_ALPHA1]),
             a1 = region(d.u[s * P + NBRDF_BAKE_ALPHA1]);
         int c0 = region(d.u[k * P + NBRDF_BAKE_ALPHA2]),
             c1 = region(d.u[s * P + NBRDF_BAKE_ALPHA2]);
-        for (int a = a0 < a1 ? a0 : a1; a <= (a0 < a1 ? a1 : a0); a++)
-          for (int c = c0 < c1 ? c0 : c1; c <= (c0 < c1 ? c1 : c0); c++)
-            reg[a][c][id] = fmax(reg[a][c][id], need), seen[a][c] = 1;
+        for (int dir = 0; dir < DIRS; dir++) {
+          top[id][dir] = fmax(top[id][dir], want[dir]);
+          for (int a = a0 < a1 ? a0 : a1; a <= (a0 < a1 ? a1 : a0); a++)
+            for (int c = c0 < c1 ? c0 : c1; c <= (c0 < c1 ? c1 : c0); c++)
+              reg[a][c][id][dir] = fmax(reg[a][c][id][dir], want[dir]), seen[a][c] = 1;
+        }
       }
     }
   }
   for (int a = 0; a < R; a++)
     for (int c = 0; c < R; c++)
-      for (int id = 0; id < P; id++) {
-        double v = seen[a][c] ? fmax(reg[a][c][id], d.need[id] / 3.0) : d.need[id];
-        table[((size_t)a * R + c) * P + id] = fmax(0.25, ceil(150.0 * v) / 100.0);
-      }
+      for (int id = 0; id < P; id++)
+        for (int dir = 0; dir < DIRS; dir++) {
+          double v =
+              seen[a][c] ? fmax(reg[a][c][id][dir], top[id][dir] / 3.0) : top[id][dir];
+          table[(((size_t)a * R + c) * P + id) * DIRS + dir] = fmax(0.25, ceil(150.0 * v) / 100.0);
+        }
   free(reg);
   if (keep)
     *keep = d;

@@ -1,13 +1,15 @@
 /* Measures the energy audit's slopes for a bundle's own weights (`nbrdf bundle
  * audit-slopes`, docs/BAKE.md "Slopes"): how far the audit's value (the largest
  * decoded albedo over its angles, bake_albedo_precise) moves per unit of each
- * normalised parameter, per region of (alpha1, alpha2). Base tuples are drawn
- * over the whole range, stratified over the regions, and from the clearcoat
+ * normalised parameter, per region of (alpha1, alpha2) and direction. Base
+ * tuples are drawn over the whole range, stratified over the regions, and from the clearcoat
  * family (alpha1 at the range's low end, eta 1.45, albedo 0.8, sigma_t 1; alpha2
  * and r0 drawn); from each base, steps of 1/32 to 1/4 along every parameter.
- * A step needs the slope (|Δ| - BAKE_AUDIT_NOISE) / |Δu| in every region it
- * spans; a region's entry is its largest need times 1.5, at least a third of
- * the parameter's largest over all regions and at least 0.25 (64 bases a region
+ * A step that changes the audit's value by Δ over Δu needs the slope
+ * (Δ - BAKE_AUDIT_NOISE) / |Δu| in its own direction and (-Δ - BAKE_AUDIT_NOISE)
+ * / |Δu| in the other, in every region it spans; a region's entry is its largest
+ * need times 1.5, at least a third of the parameter's largest in that direction
+ * over all regions and at least 0.25 (64 bases a region
  * miss steeper spots: with 1.25 and no floor a cell member of another draw
  * exceeded its bound); a region no step reached gets the parameter's largest.
  * Deterministic by seed (up to the BLAS's rounding). */
@@ -45,11 +47,12 @@ typedef struct bake_audit_slopes_draws {
   double *value; /* the audit's value of each */
   float *lat;    /* their latents [n_bases · per × D] */
   float *sigma;  /* their proxies' sigma */
-  double need[NBRDF_BAKE_PARAM_COUNT]; /* the largest need of each parameter */
+  double need[NBRDF_BAKE_PARAM_COUNT]; /* the largest need of each parameter, either way */
   size_t need_at[NBRDF_BAKE_PARAM_COUNT], need_step[NBRDF_BAKE_PARAM_COUNT]; /* its pair */
 } bake_audit_slopes_draws;
 
-/* Measures the table [BAKE_AUDIT_REGIONS][BAKE_AUDIT_REGIONS][6] into `table`;
+/* Measures the table [BAKE_AUDIT_REGIONS][BAKE_AUDIT_REGIONS][6][BAKE_AUDIT_DIRS]
+ * into `table`;
  * `draws` (may be NULL) receives what was measured (free with
  * bake_audit_slopes_draws_free). */
 nbrdf_status bake_audit_slopes_measure(const nbrdf_model *model,

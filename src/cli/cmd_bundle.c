@@ -181,7 +181,7 @@ static int bundle_audit_slopes(int argc, char **argv) {
   o.progress = cli_progress, o.user = &prog;
   cli_progress_start(&prog);
   cli_cancel_watch();
-  double table[BAKE_AUDIT_REGIONS * BAKE_AUDIT_REGIONS * NBRDF_BAKE_PARAM_COUNT];
+  double table[BAKE_AUDIT_REGIONS * BAKE_AUDIT_REGIONS * NBRDF_BAKE_PARAM_COUNT * BAKE_AUDIT_DIRS];
   nbrdf_status st = bake_audit_slopes_measure(m, &o, table, NULL, &err);
   if (!prog.json) fputc('\n', stderr);
   char note[256];

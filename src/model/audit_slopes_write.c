@@ -12,25 +12,29 @@
 #include "model/bundle_json.h"
 #include "model/files.h"
 
-enum { R = MODEL_AUDIT_REGIONS, P = MODEL_AUDIT_PARAMS };
+enum { R = MODEL_AUDIT_REGIONS, P = MODEL_AUDIT_PARAMS, DIRS = MODEL_AUDIT_DIRS };
 
 static cJSON *slopes_json(const double *table, const char *note) {
   cJSON *o = cJSON_CreateObject(), *names = cJSON_CreateArray(), *t = cJSON_CreateArray();
-  if (!o || !names || !t) {
-    cJSON_Delete(o), cJSON_Delete(names), cJSON_Delete(t);
+  const char *const dir_names[DIRS] = {"up", "down"};
+  cJSON *dirs = cJSON_CreateStringArray(dir_names, DIRS);
+  if (!o || !names || !t || !dirs) {
+    cJSON_Delete(o), cJSON_Delete(names), cJSON_Delete(t), cJSON_Delete(dirs);
     return NULL;
   }
   cJSON_AddNumberToObject(o, "regions", R);
   for (int id = 0; id < P; id++)
     cJSON_AddItemToArray(names, cJSON_CreateString(model_audit_slopes_params[id]));
   cJSON_AddItemToObject(o, "parameters", names);
+  cJSON_AddItemToObject(o, "directions", dirs);
   if (note) cJSON_AddStringToObject(o, "note", note);
   for (int a = 0; a < R; a++) {
     cJSON *row = cJSON_CreateArray();
     for (int b = 0; b < R; b++) {
       cJSON *e = cJSON_CreateArray();
       for (int id = 0; id < P; id++)
-        cJSON_AddItemToArray(e, cJSON_CreateNumber(table[((size_t)a * R + b) * P + id]));
+        cJSON_AddItemToArray(
+            e, cJSON_CreateDoubleArray(table + (((size_t)a * R + b) * P + (size_t)id) * DIRS, DIRS));
       cJSON_AddItemToArray(row, e);
     }
     cJSON_AddItemToArray(t, row);
@@ -41,7 +45,7 @@ static cJSON *slopes_json(const double *table, const char *note) {
 
 nbrdf_status model_audit_slopes_write(const char *dir, const char *checksum, const double *table,
                                       const char *note, nbrdf_error *err) {
-  for (size_t k = 0; k < (size_t)R * R * P; k++)
+  for (size_t k = 0; k < (size_t)R * R * P * DIRS; k++)
     if (!isfinite(table[k]) || !(table[k] > 0.0))
       return core_fail(err, NBRDF_ERR_ARGUMENT,
                        "%s: audit slope %zu is %g, not a finite number > 0 (nothing written)", dir,

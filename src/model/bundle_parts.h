@@ -25,9 +25,11 @@ typedef struct model_bundle_ref {
 } model_bundle_ref;
 
 /* The energy audit's slopes (audit_slopes.h): per region of MODEL_AUDIT_REGIONS x
- * MODEL_AUDIT_REGIONS bins of normalised (alpha1, alpha2), one per parameter. */
+ * MODEL_AUDIT_REGIONS bins of normalised (alpha1, alpha2), one per parameter and
+ * direction (up: the tuple's parameter above the measured one's; down: below). */
 #define MODEL_AUDIT_REGIONS 8
 #define MODEL_AUDIT_PARAMS 6
+#define MODEL_AUDIT_DIRS 2
 
 /* The four weight files, in checksum order. */
 extern const char *const model_bundle_files[4];
@@ -59,7 +61,7 @@ struct nbrdf_model {
   int n_reads;
   /* model.json's "audit_slopes", measured for these weights (a derived model
    * carries its bundle's); has_audit_slopes 0: none. */
-  double audit_slope[MODEL_AUDIT_REGIONS][MODEL_AUDIT_REGIONS][MODEL_AUDIT_PARAMS];
+  double audit_slope[MODEL_AUDIT_REGIONS][MODEL_AUDIT_REGIONS][MODEL_AUDIT_PARAMS][MODEL_AUDIT_DIRS];
   int has_audit_slopes;
 };
 
