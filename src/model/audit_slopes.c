@@ -60,6 +60,7 @@ static nbrdf_status read_entry(const cJSON *e, int split, const char *path, int 
 nbrdf_status model_audit_slopes_read(const cJSON *root, const char *path, nbrdf_model *m,
                                      nbrdf_error *err) {
   m->has_audit_slopes = 0;
+  m->audit_slopes_both_ways = 0;
   const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "audit_slopes");
   if (!o) return NBRDF_OK;
   if (!cJSON_IsObject(o)) return bad(err, path, "not an object");
@@ -94,6 +95,7 @@ nbrdf_status model_audit_slopes_read(const cJSON *root, const char *path, nbrdf_
     }
   }
   m->has_audit_slopes = 1;
+  m->audit_slopes_both_ways = !split;
   return NBRDF_OK;
 }
 

@@ -39,10 +39,14 @@ void model_bundle_describe(const nbrdf_model *m, FILE *out) {
   net_line(out, "sampler:", m->sampler->preset, m->sampler->nn);
   fprintf(out, "           sigma = %g + softplus, w = sigmoid\n", MODEL_PROXY_SIGMA_MIN);
   fprintf(out, "audit:     %s\n",
-          m->has_audit_slopes
-              ? "slopes measured for these weights (model.json \"audit_slopes\")"
-              : "no slopes: a bake's energy audit measures every distinct tuple (`nbrdf bundle "
-                "audit-slopes DIR` measures them)");
+          !m->has_audit_slopes
+              ? "no slopes: a bake's energy audit measures every distinct tuple (`nbrdf bundle "
+                "audit-slopes DIR` measures them)"
+          : m->audit_slopes_both_ways
+              ? "slopes measured for these weights (model.json \"audit_slopes\"), one per "
+                "parameter both ways (the first form; `nbrdf bundle audit-slopes DIR` measures "
+                "them per direction, which clears more)"
+              : "slopes measured for these weights (model.json \"audit_slopes\"), per direction");
   for (int k = 0; k < 2; k++) {
     const model_base_table *t = &m->tables[k];
     fprintf(out, "table %s: %d x %d grid\n", model_table_name(t->kind), t->n[0], t->n[1]);

@@ -63,6 +63,7 @@ struct nbrdf_model {
    * carries its bundle's); has_audit_slopes 0: none. */
   double audit_slope[MODEL_AUDIT_REGIONS][MODEL_AUDIT_REGIONS][MODEL_AUDIT_PARAMS][MODEL_AUDIT_DIRS];
   int has_audit_slopes;
+  int audit_slopes_both_ways; /* read from the first form: one slope a parameter, both ways */
 };
 
 /* What a bundle is made of, for saving (all borrowed). */

@@ -71,6 +71,7 @@ nbrdf_status model_derive(const nbrdf_model *base, const void *bytes, size_t siz
   m->n_reads = root->n_reads;
   memcpy(m->audit_slope, root->audit_slope, sizeof m->audit_slope);
   m->has_audit_slopes = root->has_audit_slopes;
+  m->audit_slopes_both_ways = root->audit_slopes_both_ways;
   m->layering = root->layering;
   m->sampler = root->sampler;
   m->tables[0] = root->tables[0];

@@ -41,7 +41,7 @@ check "audit-slopes reports progress" grep -q '"stage":"audit slopes"' "$TMP/out
 check "model.json has the slopes" grep -q '"audit_slopes"' "$B/model.json"
 check "model.json records the command" grep -q 'audit-slopes --bases 16 --clearcoat-bases 4 --seed 11' "$B/model.json"
 expect_exit 0 "$NBRDF" bundle info "$B"
-check "bundle info says the slopes were measured" grep -q "^audit: .*slopes measured" "$TMP/out"
+check "bundle info says the slopes were measured" grep -q "^audit: .*slopes measured.*per direction$" "$TMP/out"
 expect_exit 2 "$NBRDF" bundle audit-slopes "$B" --bases 0 --clearcoat-bases 0
 expect_exit 2 "$NBRDF" bundle audit-slopes "$B" --bases -5
 expect_exit 2 "$NBRDF" bundle audit-slopes
