@@ -78,8 +78,9 @@ _Static_assert(BAKE_AUDIT_REGIONS == MODEL_AUDIT_REGIONS && BAKE_AUDIT_DIRS == M
                "the bundle's table is the audit's");
 
 static const double *slope_at(const double *slopes, int a, int b, int id) {
-  return slopes + (((size_t)a * BAKE_AUDIT_REGIONS + (size_t)b) * NBRDF_BAKE_PARAM_COUNT +
-                   (size_t)id) * BAKE_AUDIT_DIRS;
+  return slopes +
+         (((size_t)a * BAKE_AUDIT_REGIONS + (size_t)b) * NBRDF_BAKE_PARAM_COUNT + (size_t)id) *
+             BAKE_AUDIT_DIRS;
 }
 
 double bake_audit_reach(const double *slopes, const float *u, const float *v) {
@@ -102,26 +103,21 @@ double bake_audit_reach(const double *slopes, const float *u, const float *v) {
 }
 
 /* The largest (or with `least`, the smallest) slope of each parameter over the
- * regions and directions. */
+ * regions and directions; without slopes, infinite (or 0). */
 static void slope_extreme(const double *slopes, int least, double *slope) {
   enum { N = BAKE_AUDIT_REGIONS * BAKE_AUDIT_REGIONS };
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    slope[id] = least ? INFINITY : 0.0;
-    for (int k = 0; k < N; k++)
+    slope[id] = (least != 0) == (slopes != NULL) ? INFINITY : 0.0;
+    for (int k = 0; slopes && k < N; k++)
       for (int dir = 0; dir < BAKE_AUDIT_DIRS; dir++) {
-        double x = slopes[((size_t)k * NBRDF_BAKE_PARAM_COUNT + (size_t)id) * BAKE_AUDIT_DIRS + dir];
+        double x =
+            slopes[((size_t)k * NBRDF_BAKE_PARAM_COUNT + (size_t)id) * BAKE_AUDIT_DIRS + dir];
         slope[id] = least ? fmin(slope[id], x) : fmax(slope[id], x);
       }
   }
 }
 
-void bake_audit_slope_max(const double *slopes, double *slope) {
-  if (slopes)
-    slope_extreme(slopes, 0, slope);
-  else
-    for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
-      slope[id] = INFINITY;
-}
+void bake_audit_slope_max(const double *slopes, double *slope) { slope_extreme(slopes, 0, slope); }
 
 /* The polar rule's maximum over θi of n latents through `runner`, destroyed here; st: whether
  * creating it failed. */
@@ -170,6 +166,7 @@ struct bake_audit_cell {
 /* A measured tuple: its normalised parameters and maximum albedo. */
 struct bake_audit_anchor {
   float u[NBRDF_BAKE_PARAM_COUNT];
+  unsigned char q[NBRDF_BAKE_PARAM_COUNT]; /* its cell */
   double value;
   size_t next; /* the next anchor of its cell */
 };
@@ -394,8 +391,8 @@ static void cell_of(const float *u, unsigned char *q) {
  * tuples in texel order, so its recent anchors are the likely near ones), each
  * skipped when even the smallest slopes (smin) cannot clear it; *near: the
  * value of the anchor that gave it (NAN: none). */
-static double bound(const bake_audit *a, const double *slopes, const double *smin,
-                    const float *u, const unsigned char *q, double *near) {
+static double bound(const bake_audit *a, const double *slopes, const double *smin, const float *u,
+                    const unsigned char *q, double *near) {
   enum { P = NBRDF_BAKE_PARAM_COUNT };
   double best = INFINITY;
   *near = NAN;
@@ -421,10 +418,7 @@ static double bound(const bake_audit *a, const double *slopes, const double *smi
     double lb = an->value + BAKE_AUDIT_NOISE;
     for (int id = 0; id < P; id++)
       lb += smin[id] * fabs((double)u[id] - (double)an->u[id]);
-    if (!(lb < best) || lb > BAKE_AUDIT_LIMIT) continue;
-    unsigned char qa[P];
-    cell_of(an->u, qa);
-    if (next_cell(q, qa)) continue; /* tried above */
+    if (!(lb < best) || lb > BAKE_AUDIT_LIMIT || next_cell(q, an->q)) continue; /* or tried above */
     double b = an->value + BAKE_AUDIT_NOISE + bake_audit_reach(slopes, u, an->u);
     if (b < best) best = b, *near = an->value;
     if (best <= BAKE_AUDIT_LIMIT) return best;
@@ -442,6 +436,7 @@ static void add_anchor(bake_audit *a, const float *u, const unsigned char *q, do
   }
   bake_audit_anchor *an = &a->anchors[a->n_anchors];
   memcpy(an->u, u, sizeof an->u);
+  memcpy(an->q, q, sizeof an->q);
   an->value = value;
   an->next = a->cells[s].head;
   a->cells[s].head = a->n_anchors++;
@@ -451,15 +446,6 @@ static double cpu_seconds(void) {
   struct timespec ts;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-/* The smallest slope of each parameter over the regions and directions (0 without slopes). */
-static void smallest_slopes(const double *slopes, double *smin) {
-  if (slopes)
-    slope_extreme(slopes, 1, smin);
-  else
-    for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++)
-      smin[id] = 0.0;
 }
 
 typedef struct audit_order {
@@ -473,7 +459,8 @@ static double pick_key(const double *slopes, const float *u) {
   if (!slopes) return 0.0;
   double key = 0.0;
   for (int id = 0; id < NBRDF_BAKE_PARAM_COUNT; id++) {
-    const double *s = slope_at(slopes, region(u[NBRDF_BAKE_ALPHA1]), region(u[NBRDF_BAKE_ALPHA2]), id);
+    const double *s =
+        slope_at(slopes, region(u[NBRDF_BAKE_ALPHA1]), region(u[NBRDF_BAKE_ALPHA2]), id);
     key += (s[0] - s[1]) * (double)u[id];
   }
   return key;
@@ -514,7 +501,7 @@ static nbrdf_status audit_tuples(bake_audit *a, const nbrdf_model *model, const 
   if (!scratch_room(a, n, D) || !cells_room(a, n) || !anchors_room(a, n))
     return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   double smin[P];
-  smallest_slopes(slopes, smin);
+  slope_extreme(slopes, 1, smin);
   audit_order *order = malloc(n * sizeof *order);
   if (!order) return core_fail(err, NBRDF_ERR_MEMORY, "energy audit: out of memory");
   for (size_t k = 0; k < n; k++) {

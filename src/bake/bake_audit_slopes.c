@@ -182,8 +182,7 @@ nbrdf_status bake_audit_slopes_measure(const nbrdf_model *model, const bake_audi
     for (int c = 0; c < R; c++)
       for (int id = 0; id < P; id++)
         for (int dir = 0; dir < DIRS; dir++) {
-          double v =
-              seen[a][c] ? fmax(reg[a][c][id][dir], top[id][dir] / 3.0) : top[id][dir];
+          double v = seen[a][c] ? fmax(reg[a][c][id][dir], top[id][dir] / 3.0) : top[id][dir];
           table[(((size_t)a * R + c) * P + id) * DIRS + dir] = fmax(0.25, ceil(150.0 * v) / 100.0);
         }
   free(reg);

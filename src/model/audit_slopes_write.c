@@ -33,8 +33,8 @@ static cJSON *slopes_json(const double *table, const char *note) {
     for (int b = 0; b < R; b++) {
       cJSON *e = cJSON_CreateArray();
       for (int id = 0; id < P; id++)
-        cJSON_AddItemToArray(
-            e, cJSON_CreateDoubleArray(table + (((size_t)a * R + b) * P + (size_t)id) * DIRS, DIRS));
+        cJSON_AddItemToArray(e, cJSON_CreateDoubleArray(
+                                    table + (((size_t)a * R + b) * P + (size_t)id) * DIRS, DIRS));
       cJSON_AddItemToArray(row, e);
     }
     cJSON_AddItemToArray(t, row);

@@ -18,7 +18,12 @@
 #include "nbrdf/bake.h"
 #include "testing.h"
 
-enum { R = BAKE_AUDIT_REGIONS, P = NBRDF_BAKE_PARAM_COUNT, DIRS = BAKE_AUDIT_DIRS, N = R * R * P * DIRS };
+enum {
+  R = BAKE_AUDIT_REGIONS,
+  P = NBRDF_BAKE_PARAM_COUNT,
+  DIRS = BAKE_AUDIT_DIRS,
+  N = R * R * P * DIRS
+};
 enum { UP = 0, DOWN = 1 };
 
 static double table[N];
@@ -137,9 +142,12 @@ static void test_json(const char *dir) {
       {"\"directions\":\t[\"up\", \"down\"]", "\"directions\":\t[\"down\", \"up\"]"},
       {"\"table\":\t[[[[1, 2.5]", "\"table\":\t[[[1"},
   };
-  const char *needles[] = {"\"regions\" is not the audit's", "\"parameters\"",
+  const char *needles[] = {"\"regions\" is not the audit's",
+                           "\"parameters\"",
                            "table[0][0][0][1] (alpha1, down) is not a finite number > 0",
-                           "[up, down] pair", "\"directions\" is not", "[up, down] pair"};
+                           "[up, down] pair",
+                           "\"directions\" is not",
+                           "[up, down] pair"};
   for (int k = 0; good && k < 6; k++) {
     char *p = strstr(good, edits[k][0]);
     CHECK_MSG(p != NULL, "model.json has no '%s'", edits[k][0]);
@@ -171,10 +179,12 @@ static void test_json(const char *dir) {
     CHECK(p != NULL);
     if (p) {
       f = fopen(json, "w");
-      fprintf(f, "%.*s\"table\":\t[[[[1, 1]%s", (int)(p - one), one, p + strlen("\"table\":\t[[[1"));
+      fprintf(f, "%.*s\"table\":\t[[[[1, 1]%s", (int)(p - one), one,
+              p + strlen("\"table\":\t[[[1"));
       fclose(f);
       nbrdf_model *bad = NULL;
-      CHECK_FAILS(nbrdf_model_load(dir, &bad, err), NBRDF_ERR_FORMAT, err, "\"directions\" is absent");
+      CHECK_FAILS(nbrdf_model_load(dir, &bad, err), NBRDF_ERR_FORMAT, err,
+                  "\"directions\" is absent");
       nbrdf_model_destroy(bad);
     }
     free(one);
@@ -223,8 +233,10 @@ static void test_measure(const char *dir) {
         size_t k = b * d.per, ks = k + 1 + (size_t)id * BAKE_AUDIT_SLOPES_STEPS + (size_t)j;
         double du = d.u[ks * P + id] - d.u[k * P + id], dm = d.value[ks] - d.value[k];
         if (du == 0.0) continue;
-        top[id][du > 0 ? UP : DOWN] = fmax(top[id][du > 0 ? UP : DOWN], (dm - BAKE_AUDIT_NOISE) / fabs(du));
-        top[id][du > 0 ? DOWN : UP] = fmax(top[id][du > 0 ? DOWN : UP], (-dm - BAKE_AUDIT_NOISE) / fabs(du));
+        top[id][du > 0 ? UP : DOWN] =
+            fmax(top[id][du > 0 ? UP : DOWN], (dm - BAKE_AUDIT_NOISE) / fabs(du));
+        top[id][du > 0 ? DOWN : UP] =
+            fmax(top[id][du > 0 ? DOWN : UP], (-dm - BAKE_AUDIT_NOISE) / fabs(du));
       }
     }
   for (int id = 0; id < P; id++)
