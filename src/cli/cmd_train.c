@@ -26,7 +26,8 @@ void cmd_train_usage(FILE *out) {
       "                          [--preset small|medium|paper] [--epochs N] [--batch N] [--lr X]\n"
       "                          [--rows N] [--decay-every EPOCHS] [--seed S] [--log CSV]\n"
       "                          [--energy LAMBDA [--energy-angles LIST]\n"
-      "                          [--energy-brdfs K (8 pairs per batch)]] (decoded loss)\n"
+      "                          [--energy-brdfs K (8 pairs per batch)]\n"
+      "                          [--energy-floor M]] (decoded loss)\n"
       "                          [trainer flags]\n"
       "       nbrdf train sampler --run DIR -o FILE [--brdfs N] [--epochs N]\n"
       "                          [--layering F --tables T --data FILE[,...]] [trainer flags]\n"
@@ -80,7 +81,7 @@ typedef struct decoder_args {
   cli_train_list data;
   const char *preset, *encoding, *output, *init_bundle;
   double steps, minutes, rows, lrw, lrl, l2, decay, gamma, seed, ckpt, nval, width, blocks, octaves,
-      bweight, stop_at, energy, energy_brdfs;
+      bweight, stop_at, energy, energy_brdfs, energy_floor;
   cli_progress_state prog;
 } decoder_args;
 
@@ -151,6 +152,9 @@ static void decoder_options(void *args, cli_opt_visit visit, void *user) {
       {.type = CLI_OPT_CUSTOM, .name = "--energy-angles", .meta = "LIST", .dest = &a->s.energy,
        .parse = read_angles, .help = "the penalty's angles in degrees (0,40,60,75,85,89)"},
       NUM("--energy-brdfs", "K", 1, 4096, energy_brdfs, "BRDFs penalised per step (32)"),
+      NUM("--energy-floor", "M", 0, 1, energy_floor,
+          "also penalise decoded albedo below the truth's − 2 standard\n"
+          "errors − M (two-sided; off unless given)"),
       CLI_PROGRESS_OPTION(&a->prog, "progress as JSON lines on stdout (text on stderr without it)"),
       {0},
   };
@@ -168,7 +172,7 @@ static void decoder_args_init(decoder_args *a) {
   a->lrl = s->lr_latent, a->l2 = s->latent_l2, a->decay = s->decay_every;
   a->gamma = s->decay_gamma, a->seed = (double)s->seed, a->ckpt = s->checkpoint_seconds / 60.0;
   a->nval = s->validation_brdfs, a->bweight = s->brdf_weight, a->energy = s->energy.lambda;
-  a->energy_brdfs = s->energy_brdfs;
+  a->energy_brdfs = s->energy_brdfs, a->energy_floor = s->energy.floor_margin;
   a->prog = cli_progress_init(CLI_PROGRESS_COUNT, NULL);
 }
 
@@ -262,6 +266,7 @@ static int train_decoder(int argc, char **argv) {
   s.checkpoint_seconds = 60.0 * ckpt, s.validation_brdfs = (int)nval, s.brdf_weight = bweight;
   s.stop_at_step = (int64_t)stop_at;
   s.energy.lambda = (float)energy, s.energy_brdfs = (int)energy_brdfs;
+  s.energy.floor_margin = (float)a.energy_floor;
   cli_progress_start(&prog);
   s.progress = cli_progress, s.user = &prog, s.cancel = cli_cancel_flag();
   cli_cancel_watch();

@@ -133,7 +133,7 @@ static double df_do(model_output output, float o) {
 }
 
 nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, const float *ceiling,
-                              int64_t step, float *grad_latent, float *grad_weights,
+                              const float *floor, int64_t step, float *grad_latent, float *grad_weights,
                               double *penalty, double *albedo, nbrdf_error *err) {
   if (penalty) *penalty = 0.0;
   if (n == 0) return NBRDF_OK;
@@ -166,15 +166,17 @@ nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, c
                  (double)model_output_to_f(dec->cfg.output, e->runner.y[r0 + k]);
         if (albedo) albedo[(l0 + l) * T + t] = rho;
         double excess = rho - (double)ceiling[(l0 + l) * T + t];
-        int on = excess > 0.0;
-        active |= on;
-        if (on) total += scale * excess;
+        double deficit = floor ? (double)floor[(l0 + l) * T + t] - rho : 0.0;
+        /* sign of ∂P/∂ρ̂: +1 above the ceiling, −1 below the floor, 0 between */
+        double sign = excess > 0.0 ? 1.0 : deficit > 0.0 ? -1.0 : 0.0;
+        active |= sign != 0.0;
+        total += scale * (excess > 0.0 ? excess : deficit > 0.0 ? deficit : 0.0);
         for (int k = 0; k < S; k++)
-          e->dy[r0 + k] = on ? (float)(scale * e->weight[(size_t)t * S + k] *
-                                       df_do(dec->cfg.output, e->runner.y[r0 + k]))
-                             : 0.0f;
+          e->dy[r0 + k] = sign != 0.0 ? (float)(sign * scale * e->weight[(size_t)t * S + k] *
+                                                df_do(dec->cfg.output, e->runner.y[r0 + k]))
+                                      : 0.0f;
       }
-    /* A pass with no latent above its ceiling has a zero gradient. */
+    /* A pass with no latent outside its bounds has a zero gradient. */
     if (!backprop || !active) continue;
     st = nn_backward(dec->nn, e->runner.ws, e->dy, grad_latent ? e->dx : NULL, grad_weights, err);
     if (st || !grad_latent) continue;

@@ -2,6 +2,7 @@
  * reflect more than its BRDF does.
  *
  *   P = λ · mean over latents l and angles t of max(0, ρ̂_l(θt) − c_l(θt))
+ *       (+ max(0, b_l(θt) − ρ̂_l(θt)) where the caller gives floors b)
  *
  * ρ̂ is the decoded albedo by the importance-sampled quadrature of
  * albedo_quad.h with fixed directions per step (drawn from the stream (seed,
@@ -38,11 +39,16 @@ typedef struct model_energy_options {
    * centre node sees a spike at the mirror direction that 128 sampled directions mostly
    * miss (the bake's fine-tune at α 0.001, docs/BAKE.md "Sharp coats"). */
   int polar_rings, polar_phi;
+  /* >= 0: the training loops also give each latent a floor, the truth's albedo − 2 se − this
+   * margin (train/energy_reference.h), and the penalty adds λ · max(0, floor − ρ̂): a smooth
+   * coat over a mirror decoded 0.62 of its light at 85° where the truth keeps 0.98, which the
+   * ceiling alone never sees. < 0: off (the hinge above the ceiling only). */
+  float floor_margin;
 } model_energy_options;
 
 /* λ = 0 (off); θi ∈ {0, 40, 60, 75, 85, 89}°, grazing included; 128 directions each. */
 #define MODEL_ENERGY_OPTIONS_DEFAULT                                                               \
-  { 0.0f, 6, {0.0, 40.0, 60.0, 75.0, 85.0, 89.0}, 128, 0x656e65726779u, 0, 0 }
+  { 0.0f, 6, {0.0, 40.0, 60.0, 75.0, 85.0, 89.0}, 128, 0x656e65726779u, 0, 0, -1.0f }
 
 /* Parses a comma-separated list of angles in degrees into o (message names `option`). */
 nbrdf_status model_energy_parse_angles(const char *text, const char *option,
@@ -55,13 +61,13 @@ nbrdf_status model_energy_create(const model_decoder *dec, const model_energy_op
                                  model_energy **out, nbrdf_error *err);
 void model_energy_destroy(model_energy *e);
 
-/* P of n latents [n × D] against ceilings [n × n_theta] with the directions of
- * `step`; *penalty (may be NULL) receives P. ∂P/∂latents is ADDED into
+/* P of n latents [n × D] against ceilings [n × n_theta] (and floors [n × n_theta], may be
+ * NULL: none) with the directions of `step`; *penalty (may be NULL) receives P. ∂P/∂latents is ADDED into
  * grad_latent [n × D] and ∂P/∂weights into grad_weights (each may be NULL:
  * nothing is back-propagated when both are). albedo [n × n_theta] (may be
  * NULL) receives ρ̂. */
 nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, const float *ceiling,
-                              int64_t step, float *grad_latent, float *grad_weights,
+                              const float *floor, int64_t step, float *grad_latent, float *grad_weights,
                               double *penalty, double *albedo, nbrdf_error *err);
 
 #endif

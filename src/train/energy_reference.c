@@ -19,14 +19,17 @@ struct train_energy {
   int per_step;
   int D;
   float *ceiling;           /* [n_brdfs × n_theta], NaN until computed */
+  float *floors;            /* [n_brdfs × n_theta] beside it; NULL when o.floor_margin < 0 */
   float *lat, *grad, *ceil; /* [per_step × D], [per_step × D], [per_step × n_theta] */
+  float *flo;               /* [per_step × n_theta]; NULL without floors */
   size_t *pick;             /* [per_step] */
 };
 
 void train_energy_destroy(train_energy *e) {
   if (!e) return;
   model_energy_destroy(e->pen);
-  free(e->ceiling), free(e->lat), free(e->grad), free(e->ceil), free(e->pick);
+  free(e->ceiling), free(e->floors), free(e->lat), free(e->grad), free(e->ceil), free(e->flo);
+  free(e->pick);
   free(e);
 }
 
@@ -49,7 +52,13 @@ nbrdf_status train_energy_create(const model_decoder *dec, const train_samples *
     e->grad = malloc(K * (size_t)e->D * sizeof *e->grad);
     e->ceil = malloc(K * T * sizeof *e->ceil);
     e->pick = malloc(K * sizeof *e->pick);
-    if (!e->ceiling || !e->lat || !e->grad || !e->ceil || !e->pick)
+    int want_floors = o->floor_margin >= 0.0f;
+    if (want_floors) {
+      e->floors = malloc((data->n_brdfs ? data->n_brdfs : 1) * T * sizeof *e->floors);
+      e->flo = malloc(K * T * sizeof *e->flo);
+    }
+    if (!e->ceiling || !e->lat || !e->grad || !e->ceil || !e->pick ||
+        (want_floors && (!e->floors || !e->flo)))
       st = core_fail(err, NBRDF_ERR_MEMORY, "energy penalty: out of memory");
   }
   if (st) {
@@ -62,13 +71,16 @@ nbrdf_status train_energy_create(const model_decoder *dec, const train_samples *
   return NBRDF_OK;
 }
 
-/* The ceilings of BRDF b (a pure function of b and the options). */
+/* The ceilings (and floors) of BRDF b (a pure function of b and the options). */
 static void compute(train_energy *e, size_t b) {
   float *c = e->ceiling + b * (size_t)e->o.n_theta;
+  float *lo = e->floors ? e->floors + b * (size_t)e->o.n_theta : NULL;
   nbrdf_brdf *brdf = NULL;
   if (!e->data->params || train_params_create(&e->data->params[b], &brdf, NULL) != NBRDF_OK) {
-    for (int t = 0; t < e->o.n_theta; t++)
+    for (int t = 0; t < e->o.n_theta; t++) {
       c[t] = 1.0f; /* no reference: energy conservation */
+      if (lo) lo[t] = 0.0f;
+    }
     return;
   }
   for (int t = 0; t < e->o.n_theta; t++) {
@@ -78,12 +90,14 @@ static void compute(train_energy *e, size_t b) {
                           &se, NULL) != NBRDF_OK)
       rho = 1.0, se = 0.0;
     c[t] = (float)fmin(1.0, rho + 2.0 * se + 0.01);
+    if (lo) lo[t] = (float)fmax(0.0, rho - 2.0 * se - (double)e->o.floor_margin);
   }
   nbrdf_brdf_destroy(brdf);
 }
 
-nbrdf_status train_energy_ceilings(train_energy *e, size_t n, const size_t *brdfs, float *out,
-                                   nbrdf_error *err) {
+/* Ceilings of n BRDFs into out and, where on and lo is not NULL, their floors into lo. */
+static nbrdf_status bounds(train_energy *e, size_t n, const size_t *brdfs, float *out, float *lo,
+                           nbrdf_error *err) {
   size_t T = (size_t)e->o.n_theta;
   for (size_t i = 0; i < n; i++) {
     size_t b = brdfs[i];
@@ -92,8 +106,14 @@ nbrdf_status train_energy_ceilings(train_energy *e, size_t n, const size_t *brdf
                        e->data->n_brdfs);
     if (isnan(e->ceiling[b * T])) compute(e, b);
     memcpy(out + i * T, e->ceiling + b * T, T * sizeof *out);
+    if (e->floors && lo) memcpy(lo + i * T, e->floors + b * T, T * sizeof *lo);
   }
   return NBRDF_OK;
+}
+
+nbrdf_status train_energy_ceilings(train_energy *e, size_t n, const size_t *brdfs, float *out,
+                                   nbrdf_error *err) {
+  return bounds(e, n, brdfs, out, NULL, err);
 }
 
 nbrdf_status train_energy_add_fit(train_energy *e, model_fit *fit, const float *latents,
@@ -119,11 +139,11 @@ nbrdf_status train_energy_add_fit(train_energy *e, model_fit *fit, const float *
     e->pick[k] = b;
     memcpy(e->lat + k * D, latents + b * D, D * sizeof *e->lat);
   }
-  nbrdf_status st = train_energy_ceilings(e, K, e->pick, e->ceil, err);
+  nbrdf_status st = bounds(e, K, e->pick, e->ceil, e->flo, err);
   memset(e->grad, 0, K * D * sizeof *e->grad);
   if (!st)
-    st = model_energy_add(e->pen, K, e->lat, e->ceil, step, e->grad, model_fit_grad_weights(fit),
-                          &pen, NULL, err);
+    st = model_energy_add(e->pen, K, e->lat, e->ceil, e->flo, step, e->grad,
+                          model_fit_grad_weights(fit), &pen, NULL, err);
   if (st) return st;
   float *g = model_fit_grad_latent(fit);
   for (size_t k = 0; k < K; k++)
@@ -141,8 +161,8 @@ nbrdf_status train_energy_pairs(train_energy *e, size_t m, const size_t *idx, co
   size_t K = (size_t)e->per_step < m ? (size_t)e->per_step : m;
   for (size_t k = 0; k < K; k++)
     e->pick[k] = brdf_of[idx[k]];
-  nbrdf_status st = train_energy_ceilings(e, K, e->pick, e->ceil, err);
+  nbrdf_status st = bounds(e, K, e->pick, e->ceil, e->flo, err);
   /* z rows 0..K-1 are those pairs' latents, contiguous: no copy needed. */
-  if (!st) st = model_energy_add(e->pen, K, z, e->ceil, step, dz, NULL, penalty, NULL, err);
+  if (!st) st = model_energy_add(e->pen, K, z, e->ceil, e->flo, step, dz, NULL, penalty, NULL, err);
   return st;
 }

@@ -5,7 +5,9 @@
  * Ceiling of BRDF b at θi: min(1, ρ + 2 se + 0.01), ρ and se from
  * nbrdf_brdf_albedo of its parameters (the data set's record), so the penalty
  * fires only where the decoded albedo exceeds the truth by more than its
- * noise and a 1 % margin; 1 where the parameters give no BRDF. Computed on
+ * noise and a 1 % margin; 1 where the parameters give no BRDF. With
+ * o->floor_margin >= 0 also a floor max(0, ρ − 2 se − margin) (0 without a
+ * BRDF): the penalty is then two-sided (model/energy.h). Computed on
  * first use per BRDF (a pure function of the BRDF's index: resumed runs see
  * the same values) and kept for the run.
  *

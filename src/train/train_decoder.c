@@ -192,6 +192,9 @@ static nbrdf_status run_options(const decoder_run *d, char *out, size_t size, nb
                s->energy.theta_deg[k]);
     trainer_option(out, size, "energy-angles", "%s", angles);
     trainer_option(out, size, "energy-brdfs", "%d", s->energy_brdfs);
+    if (s->energy.floor_margin >= 0.0f) /* absent when off: earlier runs still match */
+      trainer_option(out, size, "energy-floor", "%s",
+                     trainer_float_text(s->energy.floor_margin, num));
   }
   free(spec);
   return NBRDF_OK;

@@ -93,6 +93,8 @@ static void run_options(const decoded_run *t, char *out, size_t size) {
   if (s->energy.lambda > 0.0f) /* only when on: runs without the penalty still resume */
     trainer_option(out, size, "energy", "%g/%d/%d", (double)s->energy.lambda, s->energy.n_theta,
                    s->energy_brdfs);
+  if (s->energy.lambda > 0.0f && s->energy.floor_margin >= 0.0f)
+    trainer_option(out, size, "energy-floor", "%g", (double)s->energy.floor_margin);
 }
 
 static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {
