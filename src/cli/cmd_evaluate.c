@@ -152,10 +152,11 @@ int cmd_evaluate(int argc, char **argv) {
     if (st) break;
     const eval_result *r = &results[n_results++];
     if (!prog.json) fputc('\n', stderr);
-    printf("%-7s median %6.2f %%  p90 %6.2f %%  worst %6.2f %% (#%d)  median albedo error %.4f  "
-           "max albedo %.4f  reference noise %.2f %%\n",
-           tok, 100 * r->median, 100 * r->p90, 100 * r->worst, r->worst_index,
-           r->median_albedo_error, r->max_albedo, 100 * r->ref_noise);
+    printf("%-7s median %6.2f %% (90 %% interval %.2f-%.2f)  p90 %6.2f %%  worst %6.2f %% (#%d)  "
+           "median albedo error %.4f  max albedo %.4f  reference noise %.2f %%\n",
+           tok, 100 * r->median, 100 * r->median_lo, 100 * r->median_hi, 100 * r->p90,
+           100 * r->worst, r->worst_index, r->median_albedo_error, r->max_albedo,
+           100 * r->ref_noise);
     printf("        point-wise median %6.2f %% (by theta_i", 100 * r->median_pointwise_all);
     for (int t = 0; t < EVAL_N_THETA_ALL; t++)
       printf(" %g: %.1f", eval_theta_all_deg[t], 100 * r->median_pointwise[t]);
@@ -182,9 +183,10 @@ int cmd_evaluate(int argc, char **argv) {
       printf(")\n");
     }
     for (int g = 0; g < TRAIN_TAILS_REGIONS && eval_set_has_regions(set); g++)
-      printf("        region %-12s median %6.2f %%  p90 %6.2f %%  (%d BRDFs)\n",
-             train_tails_region_name(g), 100 * r->region_median[g], 100 * r->region_p90[g],
-             r->region_n[g]);
+      printf("        region %-12s median %6.2f %% (90 %% interval %.2f-%.2f)  p90 %6.2f %%  "
+             "(%d BRDFs)\n",
+             train_tails_region_name(g), 100 * r->region_median[g], 100 * r->region_median_lo[g],
+             100 * r->region_median_hi[g], 100 * r->region_p90[g], r->region_n[g]);
     fflush(stdout);
   }
   cli_cancel_unwatch();

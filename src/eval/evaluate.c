@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "eval/evaluate.h"
+#include "eval/median_interval.h"
 #include "lobe/lobe.h"
 #include "model/bundle.h"
 #include "train/params_latent.h"
@@ -66,6 +67,8 @@ static void summarise(eval_result *r) {
   r->median_albedo_error = a[r->n / 2];
   for (int i = 0; i < r->n; i++)
     if (r->cases[i].lobe_error == r->median) r->median_index = i;
+  /* seeded by the set alone: the same cases give the same interval */
+  eval_median_interval(e, r->n, (uint64_t)r->set, &r->median_lo, &r->median_hi);
   /* tails: the same figures per region (case i is in region i % 3) */
   for (int g = 0; g < TRAIN_TAILS_REGIONS && eval_set_has_regions(r->set); g++) {
     int m = 0;
@@ -76,6 +79,8 @@ static void summarise(eval_result *r) {
     qsort(e, (size_t)m, sizeof *e, cmp_double);
     int q90 = (int)ceil(0.9 * m) - 1;
     r->region_median[g] = e[m / 2], r->region_p90[g] = e[q90 < 0 ? 0 : q90];
+    eval_median_interval(e, m, (uint64_t)r->set * 16 + (uint64_t)g + 1, &r->region_median_lo[g],
+                         &r->region_median_hi[g]);
   }
   free(e), free(a);
 }

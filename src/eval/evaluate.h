@@ -93,8 +93,11 @@ typedef struct eval_result {
   double median_pointwise_all;
   double max_decoded_albedo[EVAL_N_THETA_ALL], max_albedo_excess[EVAL_N_THETA_ALL];
   int max_decoded_albedo_index, max_decoded_albedo_theta; /* the largest ρ̂ of all */
+  /* The median's 90 % bootstrap interval (eval/median_interval.h). */
+  double median_lo, median_hi;
   /* tails only: median and p90 lobe error per region (train_tails_region), n of each. */
   double region_median[TRAIN_TAILS_REGIONS], region_p90[TRAIN_TAILS_REGIONS];
+  double region_median_lo[TRAIN_TAILS_REGIONS], region_median_hi[TRAIN_TAILS_REGIONS];
   int region_n[TRAIN_TAILS_REGIONS];
   double seconds_reference, seconds_model;
 } eval_result;

@@ -106,6 +106,8 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
     fprintf(f, "%s\n    \"%s\": {\n", k ? "," : "", eval_set_name(x->set));
     fprintf(f, "      \"median_lobe_error\": %.6g,\n      \"p90_lobe_error\": %.6g,\n", x->median,
             x->p90);
+    fputs("      \"median_interval90\": [", f);
+    num(f, x->median_lo), fputs(", ", f), num(f, x->median_hi), fputs("],\n", f);
     fprintf(f, "      \"median_albedo_error\": %.6g,\n      \"max_albedo\": %.6g,\n",
             x->median_albedo_error, x->max_albedo);
     fprintf(f, "      \"reference_noise\": %.6g,\n", x->ref_noise);
@@ -121,10 +123,15 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
     if (eval_set_has_regions(x->set)) {
       fputs("      \"regions\": {", f);
       for (int g = 0; g < TRAIN_TAILS_REGIONS; g++)
+      {
         fprintf(f,
-                "%s\"%s\": {\"count\": %d, \"median_lobe_error\": %.6g, \"p90_lobe_error\": %.6g}",
+                "%s\"%s\": {\"count\": %d, \"median_lobe_error\": %.6g, \"p90_lobe_error\": %.6g, "
+                "\"median_interval90\": [",
                 g ? ", " : "", train_tails_region_name(g), x->region_n[g], x->region_median[g],
                 x->region_p90[g]);
+        num(f, x->region_median_lo[g]), fputs(", ", f), num(f, x->region_median_hi[g]);
+        fputs("]}", f);
+      }
       fputs("},\n", f);
     }
     if (x->set == EVAL_EXTREMES) {

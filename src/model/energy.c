@@ -133,8 +133,9 @@ static double df_do(model_output output, float o) {
 }
 
 nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, const float *ceiling,
-                              const float *floor, int64_t step, float *grad_latent, float *grad_weights,
-                              double *penalty, double *albedo, nbrdf_error *err) {
+                              const float *floor, int64_t step, float *grad_latent,
+                              float *grad_weights, double *penalty, double *albedo,
+                              nbrdf_error *err) {
   if (penalty) *penalty = 0.0;
   if (n == 0) return NBRDF_OK;
   nbrdf_status st = make_directions(e, step, err);

@@ -62,12 +62,12 @@ nbrdf_status model_energy_create(const model_decoder *dec, const model_energy_op
 void model_energy_destroy(model_energy *e);
 
 /* P of n latents [n × D] against ceilings [n × n_theta] (and floors [n × n_theta], may be
- * NULL: none) with the directions of `step`; *penalty (may be NULL) receives P. ∂P/∂latents is ADDED into
- * grad_latent [n × D] and ∂P/∂weights into grad_weights (each may be NULL:
- * nothing is back-propagated when both are). albedo [n × n_theta] (may be
- * NULL) receives ρ̂. */
+ * NULL: none) with the directions of `step`; *penalty (may be NULL) receives P. ∂P/∂latents is
+ * ADDED into grad_latent [n × D] and ∂P/∂weights into grad_weights (each may be NULL: nothing is
+ * back-propagated when both are). albedo [n × n_theta] (may be NULL) receives ρ̂. */
 nbrdf_status model_energy_add(model_energy *e, size_t n, const float *latents, const float *ceiling,
-                              const float *floor, int64_t step, float *grad_latent, float *grad_weights,
-                              double *penalty, double *albedo, nbrdf_error *err);
+                              const float *floor, int64_t step, float *grad_latent,
+                              float *grad_weights, double *penalty, double *albedo,
+                              nbrdf_error *err);
 
 #endif

@@ -61,6 +61,9 @@ static void test_single_set(void) {
     fclose(f);
   }
   CHECK(strstr(buf, "\"single\"") && strstr(buf, "\"median_lobe_error\""));
+  /* the median's interval brackets it and is written beside it */
+  CHECK(r.median_lo <= r.median && r.median <= r.median_hi);
+  CHECK(strstr(buf, "\"median_interval90\": ["));
   CHECK(strstr(buf, "\"median_pointwise_error\"") &&
         strstr(buf, "\"max_decoded_albedo_per_theta\""));
 
