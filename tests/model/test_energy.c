@@ -29,18 +29,60 @@ static model_decoder *small_decoder(unsigned seed) {
   return dec;
 }
 
+/* Latent entries whose gradient gl differs from central differences of the penalty
+ * (bounds ceil and, may be NULL, lo). h = 1e-2 in float on O(1) inputs keeps the
+ * decoder's round-off (~1e-7 relative) far below the curvature term. */
+static int latent_mismatches(model_energy *e, float *lat, const float *ceil, const float *lo,
+                             const float *gl) {
+  const float h = 1e-2f;
+  double gmax = 0.0;
+  for (int k = 0; k < N * D; k++)
+    gmax = fmax(gmax, fabs(gl[k]));
+  CHECK(gmax > 0.0);
+  int bad = 0;
+  for (int k = 0; k < N * D; k++) {
+    float keep = lat[k];
+    lat[k] = keep + h;
+    double up = penalty_at(e, lat, ceil, lo);
+    lat[k] = keep - h;
+    double down = penalty_at(e, lat, ceil, lo);
+    lat[k] = keep;
+    double num = (up - down) / (2.0 * h);
+    if (fabs(num - gl[k]) > 0.03 * fabs(num) + 0.01 * gmax) {
+      bad++;
+      printf("latent %d: analytic %g numeric %g\n", k, gl[k], num);
+    }
+  }
+  return bad;
+}
+
+/* A penalty of weight lambda (64 sampled directions) on a small random decoder, and N
+ * latents amp · sin(freq k + phase); NULL *e after a failed check. */
+static model_energy *penalty_setup(unsigned seed, float lambda, double amp, double freq,
+                                   double phase, model_decoder **dec, float *lat) {
+  nbrdf_error err = {0};
+  *dec = small_decoder(seed);
+  if (!*dec) return NULL;
+  model_energy_options o = MODEL_ENERGY_OPTIONS_DEFAULT;
+  o.lambda = lambda, o.samples = 64;
+  model_energy *e = NULL;
+  CHECK_OK(model_energy_create(*dec, &o, &e, &err), &err);
+  for (int k = 0; k < N * D; k++)
+    lat[k] = (float)(amp * sin(freq * k + phase));
+  return e;
+}
+
 static void test_gradients(void) {
   nbrdf_error err = {0};
-  model_decoder *dec = small_decoder(11u);
-  if (!dec) return;
   model_energy_options o = MODEL_ENERGY_OPTIONS_DEFAULT;
   o.lambda = 2.0f, o.samples = 64;
-  model_energy *e = NULL;
-  CHECK_OK(model_energy_create(dec, &o, &e, &err), &err);
-  if (!e) return;
+  model_decoder *dec = NULL;
   float lat[N * D];
-  for (int k = 0; k < N * D; k++)
-    lat[k] = (float)(1.5 * sin(2.3 * k + 0.4));
+  model_energy *e = penalty_setup(11u, o.lambda, 1.5, 2.3, 0.4, &dec, lat);
+  if (!e) {
+    model_decoder_destroy(dec);
+    return;
+  }
   /* Ceilings: half of ρ̂ at even angles (active), twice ρ̂ at odd ones. */
   const int T = o.n_theta;
   double rho[N * MODEL_ENERGY_MAX_THETA];
@@ -90,28 +132,9 @@ static void test_gradients(void) {
     if (rho[k] > ceil[k]) expect += o.lambda * (rho[k] - ceil[k]) / (N * T);
   CHECK_REL(p, expect, 1e-6, 1e-12);
   CHECK(p > 0.0);
-  /* Central differences in float: h = 1e-2 on O(1) inputs keeps the
-   * round-off of the decoder (~1e-7 relative) far below the curvature term. */
+  CHECK(latent_mismatches(e, lat, ceil, NULL, gl) == 0);
   const float h = 1e-2f;
   int bad = 0;
-  double gmax = 0.0;
-  for (int k = 0; k < N * D; k++)
-    gmax = fmax(gmax, fabs(gl[k]));
-  CHECK(gmax > 0.0);
-  for (int k = 0; k < N * D; k++) {
-    float keep = lat[k];
-    lat[k] = keep + h;
-    double up = penalty_at(e, lat, ceil, NULL);
-    lat[k] = keep - h;
-    double down = penalty_at(e, lat, ceil, NULL);
-    lat[k] = keep;
-    double num = (up - down) / (2.0 * h);
-    if (fabs(num - gl[k]) > 0.03 * fabs(num) + 0.01 * gmax) {
-      bad++;
-      printf("latent %d: analytic %g numeric %g\n", k, gl[k], num);
-    }
-  }
-  CHECK(bad == 0);
   /* Weights: every 97th parameter. */
   float *w = nn_params(dec->nn);
   double wmax = 0.0;
@@ -195,16 +218,15 @@ static void test_polar(void) {
  * latents between their bounds give no penalty. */
 static void test_floor(void) {
   nbrdf_error err = {0};
-  model_decoder *dec = small_decoder(17u);
-  if (!dec) return;
   model_energy_options o = MODEL_ENERGY_OPTIONS_DEFAULT;
   o.lambda = 1.5f, o.samples = 64;
-  model_energy *e = NULL;
-  CHECK_OK(model_energy_create(dec, &o, &e, &err), &err);
-  if (!e) return;
+  model_decoder *dec = NULL;
   float lat[N * D];
-  for (int k = 0; k < N * D; k++)
-    lat[k] = (float)(1.2 * cos(1.7 * k + 0.2));
+  model_energy *e = penalty_setup(17u, o.lambda, 1.2, 1.7, 1.77, &dec, lat);
+  if (!e) {
+    model_decoder_destroy(dec);
+    return;
+  }
   const int T = o.n_theta;
   double rho[N * MODEL_ENERGY_MAX_THETA];
   float ceil[N * MODEL_ENERGY_MAX_THETA], lo[N * MODEL_ENERGY_MAX_THETA];
@@ -223,26 +245,7 @@ static void test_floor(void) {
   CHECK_OK(model_energy_add(e, N, lat, ceil, lo, 5, gl, NULL, &p, NULL, &err), &err);
   CHECK(p > 0.0);
   CHECK_REL(p, expect, 1e-6, 1e-12);
-  const float h = 1e-2f;
-  double gmax = 0.0;
-  for (int k = 0; k < N * D; k++)
-    gmax = fmax(gmax, fabs(gl[k]));
-  CHECK(gmax > 0.0);
-  int bad = 0;
-  for (int k = 0; k < N * D; k++) {
-    float keep = lat[k];
-    lat[k] = keep + h;
-    double up = penalty_at(e, lat, ceil, lo);
-    lat[k] = keep - h;
-    double down = penalty_at(e, lat, ceil, lo);
-    lat[k] = keep;
-    double num = (up - down) / (2.0 * h);
-    if (fabs(num - gl[k]) > 0.03 * fabs(num) + 0.01 * gmax) {
-      bad++;
-      printf("floor, latent %d: analytic %g numeric %g\n", k, gl[k], num);
-    }
-  }
-  CHECK(bad == 0);
+  CHECK(latent_mismatches(e, lat, ceil, lo, gl) == 0);
   /* Without floors the same call has nothing to penalise. */
   CHECK(penalty_at(e, lat, ceil, NULL) == 0.0);
   free(gl);
