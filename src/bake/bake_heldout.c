@@ -6,6 +6,7 @@
 
 #include "bake/bake_truth.h"
 #include "core/error.h"
+#include "core/sort.h"
 #include "model/bundle.h"
 
 static double lobe_error(size_t n, const double *ref, const double *approx) {
@@ -15,14 +16,9 @@ static double lobe_error(size_t n, const double *ref, const double *approx) {
   return den > 0.0 ? num / den : (num > 0.0 ? INFINITY : 0.0);
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 static double median(double *v, size_t n) {
   if (n == 0) return 0.0;
-  qsort(v, n, sizeof *v, cmp_double);
+  core_sort_doubles(v, n);
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 

@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include "core/error.h"
+#include "core/sort.h"
 #include "eval/evaluate.h"
 #include "eval/median_interval.h"
 #include "lobe/lobe.h"
@@ -41,11 +42,6 @@ nbrdf_status eval_decoder_lobe_fn(void *user, size_t n, const nbrdf_query *q, do
   return st;
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 static void summarise(eval_result *r) {
   double *e = malloc((size_t)r->n * sizeof *e), *a = malloc((size_t)r->n * sizeof *a);
   if (!e || !a) {
@@ -59,8 +55,8 @@ static void summarise(eval_result *r) {
     if (r->cases[i].max_albedo > r->max_albedo)
       r->max_albedo = r->cases[i].max_albedo, r->max_albedo_index = i;
   }
-  qsort(e, (size_t)r->n, sizeof *e, cmp_double);
-  qsort(a, (size_t)r->n, sizeof *a, cmp_double);
+  core_sort_doubles(e, (size_t)r->n);
+  core_sort_doubles(a, (size_t)r->n);
   r->median = e[r->n / 2];
   int k90 = (int)ceil(0.9 * r->n) - 1;
   r->p90 = e[k90 < 0 ? 0 : k90];
@@ -76,7 +72,7 @@ static void summarise(eval_result *r) {
       e[m++] = r->cases[i].lobe_error;
     r->region_n[g] = m;
     if (!m) continue;
-    qsort(e, (size_t)m, sizeof *e, cmp_double);
+    core_sort_doubles(e, (size_t)m);
     int q90 = (int)ceil(0.9 * m) - 1;
     r->region_median[g] = e[m / 2], r->region_p90[g] = e[q90 < 0 ? 0 : q90];
     eval_median_interval(e, m, (uint64_t)r->set * 16 + (uint64_t)g + 1, &r->region_median_lo[g],

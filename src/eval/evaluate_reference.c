@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/rng.h"
+#include "core/sort.h"
 #include "eval/evaluate.h"
 #include "lobe/lobe.h"
 #include "nn/safetensors.h"
@@ -136,11 +137,6 @@ static void save_cache(const char *path, const eval_settings *s, const double *i
   free(x);
 }
 
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
-
 nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images, double *noise,
                             nbrdf_error *err) {
   char path[4096];
@@ -176,7 +172,7 @@ nbrdf_status eval_reference(eval_set set, const eval_settings *s, double *images
   }
   *noise = 0.0;
   if (n_noise > 0) {
-    qsort(errs, (size_t)n_noise, sizeof *errs, cmp_double);
+    core_sort_doubles(errs, (size_t)n_noise);
     *noise = errs[n_noise / 2];
   }
   free(second), free(errs);

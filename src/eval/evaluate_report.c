@@ -36,6 +36,11 @@ static void num(FILE *f, double v) {
     fputs("null", f);
 }
 
+/* A median's 90 % interval as a JSON pair of numbers. */
+static void interval(FILE *f, double lo, double hi) {
+  fputc('[', f), num(f, lo), fputs(", ", f), num(f, hi), fputc(']', f);
+}
+
 static void array(FILE *f, const char *key, const double *v, int n) {
   fprintf(f, "      \"%s\": [", key);
   for (int t = 0; t < n; t++) {
@@ -106,8 +111,9 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
     fprintf(f, "%s\n    \"%s\": {\n", k ? "," : "", eval_set_name(x->set));
     fprintf(f, "      \"median_lobe_error\": %.6g,\n      \"p90_lobe_error\": %.6g,\n", x->median,
             x->p90);
-    fputs("      \"median_interval90\": [", f);
-    num(f, x->median_lo), fputs(", ", f), num(f, x->median_hi), fputs("],\n", f);
+    fputs("      \"median_interval90\": ", f);
+    interval(f, x->median_lo, x->median_hi);
+    fputs(",\n", f);
     fprintf(f, "      \"median_albedo_error\": %.6g,\n      \"max_albedo\": %.6g,\n",
             x->median_albedo_error, x->max_albedo);
     fprintf(f, "      \"reference_noise\": %.6g,\n", x->ref_noise);
@@ -122,15 +128,14 @@ nbrdf_status eval_write_json(const char *path, const char *model_label, const ev
     fprintf(f, "},\n");
     if (eval_set_has_regions(x->set)) {
       fputs("      \"regions\": {", f);
-      for (int g = 0; g < TRAIN_TAILS_REGIONS; g++)
-      {
+      for (int g = 0; g < TRAIN_TAILS_REGIONS; g++) {
         fprintf(f,
                 "%s\"%s\": {\"count\": %d, \"median_lobe_error\": %.6g, \"p90_lobe_error\": %.6g, "
-                "\"median_interval90\": [",
+                "\"median_interval90\": ",
                 g ? ", " : "", train_tails_region_name(g), x->region_n[g], x->region_median[g],
                 x->region_p90[g]);
-        num(f, x->region_median_lo[g]), fputs(", ", f), num(f, x->region_median_hi[g]);
-        fputs("]}", f);
+        interval(f, x->region_median_lo[g], x->region_median_hi[g]);
+        fputc('}', f);
       }
       fputs("},\n", f);
     }

@@ -5,11 +5,7 @@
 #include <stdlib.h>
 
 #include "core/rng.h"
-
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
+#include "core/sort.h"
 
 int eval_median_interval(const double *x, int n, uint64_t seed, double *lo, double *hi) {
   *lo = *hi = NAN;
@@ -27,10 +23,10 @@ int eval_median_interval(const double *x, int n, uint64_t seed, double *lo, doub
       int k = (int)(core_rng_uniform(&rng) * n);
       sample[i] = x[k < n ? k : n - 1];
     }
-    qsort(sample, (size_t)n, sizeof *sample, cmp_double);
+    core_sort_doubles(sample, (size_t)n);
     medians[b] = sample[n / 2];
   }
-  qsort(medians, EVAL_MEDIAN_RESAMPLES, sizeof *medians, cmp_double);
+  core_sort_doubles(medians, EVAL_MEDIAN_RESAMPLES);
   *lo = medians[(int)(0.05 * EVAL_MEDIAN_RESAMPLES)];
   *hi = medians[(int)(0.95 * EVAL_MEDIAN_RESAMPLES) - 1];
   free(sample), free(medians);

@@ -2,12 +2,8 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/sort.h"
 #include "lobe/lobe.h"
-
-static int cmp_double(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
 
 double lobe_median_finite(size_t n, const double *x) {
   double *v = malloc((n ? n : 1) * sizeof *v);
@@ -17,7 +13,7 @@ double lobe_median_finite(size_t n, const double *x) {
     if (isfinite(x[k])) v[m++] = x[k];
   double med = NAN;
   if (m > 0) {
-    qsort(v, m, sizeof *v, cmp_double);
+    core_sort_doubles(v, m);
     med = m % 2 ? v[m / 2] : 0.5 * (v[m / 2 - 1] + v[m / 2]);
   }
   free(v);

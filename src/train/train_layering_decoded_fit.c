@@ -90,11 +90,12 @@ static void run_options(const decoded_run *t, char *out, size_t size) {
                  (unsigned long long)train_hash_floats(
                      TRAIN_HASH_START, nn_params_const(t->dec->nn), nn_param_count(t->dec->nn)));
   trainer_option(out, size, "tables", "%016llx", (unsigned long long)t->tables_hash);
-  if (s->energy.lambda > 0.0f) /* only when on: runs without the penalty still resume */
+  if (s->energy.lambda > 0.0f) { /* only when on: runs without the penalty still resume */
     trainer_option(out, size, "energy", "%g/%d/%d", (double)s->energy.lambda, s->energy.n_theta,
                    s->energy_brdfs);
-  if (s->energy.lambda > 0.0f && s->energy.floor_margin >= 0.0f)
-    trainer_option(out, size, "energy-floor", "%g", (double)s->energy.floor_margin);
+    if (s->energy.floor_margin >= 0.0f)
+      trainer_option(out, size, "energy-floor", "%g", (double)s->energy.floor_margin);
+  }
 }
 
 static nbrdf_status setup(decoded_run *t, size_t D, nbrdf_error *err) {

@@ -3,16 +3,12 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include "core/sort.h"
 #include "verify/verify_internal.h"
-
-static int compare_doubles(const void *a, const void *b) {
-  double x = *(const double *)a, y = *(const double *)b;
-  return (x > y) - (x < y);
-}
 
 double verify_quantile(double *v, size_t n, double q) {
   if (n == 0) return NAN;
-  qsort(v, n, sizeof *v, compare_doubles);
+  core_sort_doubles(v, n);
   double pos = q * (double)(n - 1);
   size_t i = (size_t)pos;
   if (i + 1 >= n) return v[n - 1];
